@@ -1,0 +1,41 @@
+// gmotion command line: subcommands over the pipeline library; maps errors to exit codes.
+#include "cli/commands.hpp"
+#include "common/status.hpp"
+
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <exception>
+
+int main(int argc, char** argv) {
+  using gm::ExitCode;
+  CLI::App app{
+      "gmotion — a G-code executing motion interpreter: parser, sample-data interpolator,\n"
+      "FIR Acc/Dec (Chen & Lee 1998), servo model and encoder-trace logger.\n"
+      "Exit codes: 0 ok, 1 program or input error, 2 usage error, 3 internal error."};
+  app.set_version_flag("--version", std::string("gmotion ") + GMOTION_VERSION);
+  app.require_subcommand(1);
+
+  gm::cli::Context ctx;
+  gm::cli::add_run(app, ctx);
+  gm::cli::add_check(app, ctx);
+  gm::cli::add_moves(app, ctx);
+  gm::cli::add_design(app, ctx);
+  gm::cli::add_analyze(app, ctx);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int rc = app.exit(e);  // prints help/version (rc 0) or the usage error
+    return rc == 0 ? 0 : static_cast<int>(ExitCode::UsageError);
+  } catch (const gm::InputError& e) {
+    std::fflush(stdout);
+    fmt::print(stderr, "gmotion: error: {}\n", e.what());
+    return static_cast<int>(ExitCode::InputError);
+  } catch (const std::exception& e) {
+    std::fflush(stdout);
+    fmt::print(stderr, "gmotion: internal error: {}\n", e.what());
+    return static_cast<int>(ExitCode::InternalError);
+  }
+  return ctx.exit_code;
+}

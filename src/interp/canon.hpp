@@ -1,0 +1,71 @@
+// Canonical commands: what the interpreter hands the interpolator, in mm, mm/min and seconds,
+// in machine coordinates (units converted, work offsets, G92 and tool length applied).
+#pragma once
+
+#include "common/axis.hpp"
+
+#include <string>
+#include <variant>
+
+namespace gm {
+
+enum class Plane { XY, XZ, YZ };  ///< G17, G18, G19
+
+/// How the block ends: exact stop (G61, or G9 for one block) waits for the Acc/Dec output to
+/// settle before the next block; continuous (G64) and exact path (G61.1) run back to back.
+enum class PathMode { ExactStop, ExactPath, Continuous };
+
+enum class MotionKind { Rapid, Line, Arc };
+
+/// One motion block. `start_mm` is where the previous block ended.
+struct Motion {
+  int line = 0;  ///< 1-based source line of the block
+  MotionKind kind = MotionKind::Line;
+  AxisVec start_mm = AxisVec::Zero();
+  AxisVec end_mm = AxisVec::Zero();
+  /// Programmed feed in mm/min (G94). Unused for rapids (the machine's rapid rate applies).
+  double feed_mm_min = 0.0;
+  /// G93 inverse time: the move takes this long at 100 % override (seconds); 0 = not G93.
+  double inverse_time_s = 0.0;
+  // Arcs only -------------------------------------------------------------------------------
+  AxisVec center_mm = AxisVec::Zero();  ///< centre; its normal-axis component equals start's
+  bool ccw = false;                     ///< G3 (counter-clockwise seen from +normal) vs G2
+  int turns = 1;                        ///< LinuxCNC P: 1 = the ordinary arc, K adds K-1 full turns
+  Plane plane = Plane::XY;
+  // Block end -------------------------------------------------------------------------------
+  PathMode path_mode = PathMode::Continuous;  ///< G9 in the block forces ExactStop
+};
+
+/// G4: zero velocity for `seconds`.
+struct Dwell {
+  int line = 0;
+  double seconds = 0.0;
+};
+
+/// Non-motion events the downstream stages care about.
+enum class EventKind {
+  Pause,            ///< M0 (program stop); recorded, the simulation continues
+  OptionalPause,    ///< M1
+  End,              ///< M2 / M30
+  OverrideEnable,   ///< M48, or M50 P1 / M50 alone: feed override takes effect
+  OverrideDisable,  ///< M49, or M50 P0: feed override is 100 %
+  Message,          ///< (MSG, text)
+};
+
+struct Event {
+  int line = 0;
+  EventKind kind = EventKind::End;
+  std::string text;  ///< message text for EventKind::Message
+};
+
+using Canon = std::variant<Motion, Dwell, Event>;
+
+/// A pull source of canonical commands (the interpreter over a program stream, or a list in tests).
+class CanonSource {
+ public:
+  virtual ~CanonSource() = default;
+  /// Writes the next command into `out`; false when the stream has ended.
+  virtual bool next(Canon& out) = 0;
+};
+
+}  // namespace gm

@@ -1,0 +1,59 @@
+// The machine description every stage reads: period, BLU, limits, plant, gains, Acc/Dec choice.
+#pragma once
+
+#include "common/axis.hpp"
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace gm {
+
+/// Which controller's arc end-radius tolerance rule the interpreter applies.
+enum class ArcRule { LinuxCnc, Grbl, G2core };
+
+/// One axis: resolution, limits (Eq. 7 and 26 of the paper), plant and servo gains.
+struct AxisConfig {
+  double blu_mm = 0.001;        ///< basic length unit: one encoder count, mm
+  double v_max_mm_s = 1000.0;   ///< velocity limit V_max
+  double f_max_N = 4000.0;      ///< force limit F_max (drive command saturates at it)
+  double p_max_W = 500.0;       ///< power limit P_max
+  double mass_kg = 500.0;       ///< equivalent mass m
+  double damping_kg_s = 500.0;  ///< equivalent viscous damping c
+  /// Plant G(s) = num(s)/den(s) from drive command to motor velocity, highest power first.
+  /// The paper's first-order plant b/(s+a) is num = {b}, den = {1, a}.
+  std::vector<double> plant_num{33.518};
+  std::vector<double> plant_den{1.0, 14.45};
+  double kvp = 0.0422;  ///< velocity-loop proportional gain
+  double kvi = 0.0094;  ///< velocity-loop integral gain
+  double kp_1_s = 30.0; ///< position-loop gain, 1/s
+  double backlash_blu = 0.0;  ///< lost motion (off by default)
+  double coulomb_N = 0.0;     ///< Coulomb friction (off by default)
+};
+
+/// The whole machine. Defaults are the built-in default machine (3 axes XYZ, paper numbers).
+struct Machine {
+  std::string name = "default";
+  std::string source = "<built-in>";  ///< file it was read from
+  double period_s = 0.004;            ///< interpolation period T
+  int servo_substeps = 1;             ///< servo period = T / servo_substeps
+  double rapid_mm_min = 6000.0;       ///< G0 rate (path speed)
+  double max_override = 2.0;          ///< largest feed override, 2.0 = 200 %
+  std::string profile = "blackman";   ///< Acc/Dec profile spec (see accdec/profile.hpp)
+  double tau_s = 0.164;               ///< Acc/Dec time constant (N+1)T
+  ArcRule arc_rule = ArcRule::LinuxCnc;
+  std::array<AxisConfig, kAxes> axes{};
+  std::vector<double> tool_lengths_mm;            ///< index = tool number (T0 = index 0)
+  std::array<AxisVec, 6> work_offsets_mm{
+      AxisVec::Zero(), AxisVec::Zero(), AxisVec::Zero(),
+      AxisVec::Zero(), AxisVec::Zero(), AxisVec::Zero()};  ///< G54..G59
+
+  /// Per-axis BLU as a vector, mm.
+  AxisVec blu_mm() const {
+    AxisVec b;
+    for (int i = 0; i < kAxes; ++i) b[i] = axes[static_cast<std::size_t>(i)].blu_mm;
+    return b;
+  }
+};
+
+}  // namespace gm

@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Installs the Debian packages gmotion's build, tests and tools need — only those missing.
+# Idempotent; quiet when nothing is missing; works as root or through sudo.
+# Usage: tools/install-deps.sh [--with-oracle]   (--with-oracle adds linuxcnc-uspace for rs274)
+set -euo pipefail
+
+packages=(
+  cmake ninja-build g++ pkg-config
+  libeigen3-dev libboost-dev libfmt-dev catch2 libcli11-dev libtomlplusplus-dev libbenchmark-dev
+  python3 python3-matplotlib
+)
+[[ "${1:-}" == "--with-oracle" ]] && packages+=(linuxcnc-uspace)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+[[ ${#missing[@]} -eq 0 ]] && exit 0
+
+echo "install-deps: installing ${missing[*]}" >&2
+sudo_cmd=()
+if [[ $(id -u) -ne 0 ]]; then
+  command -v sudo >/dev/null || { echo "install-deps: not root and no sudo; install: ${missing[*]}" >&2; exit 1; }
+  sudo_cmd=(sudo)
+fi
+export DEBIAN_FRONTEND=noninteractive
+# Refresh the package lists once if they are empty or older than a day.
+if [[ -z "$(find /var/lib/apt/lists -maxdepth 1 -name '*Packages*' -mtime -1 2>/dev/null | head -n1)" ]]; then
+  "${sudo_cmd[@]}" apt-get update -qq
+fi
+"${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
