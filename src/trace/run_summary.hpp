@@ -1,0 +1,78 @@
+// The end-of-run summary: errors, peaks with their source lines, limit checks, final position.
+#pragma once
+
+#include "common/axis.hpp"
+#include "machine/machine.hpp"
+#include "pipeline/sample_record.hpp"
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+namespace gm {
+
+/// A peak value and the source line where it occurred.
+struct Peak {
+  double value = 0.0;
+  int line = 0;
+  void update(double v, int at_line) {
+    if (v > value) value = v, line = at_line;
+  }
+};
+
+/// One per-axis limit (Eq. 26): how many samples exceeded it, the worst value and its line.
+struct LimitCheck {
+  double limit = 0.0;
+  std::int64_t violations = 0;
+  Peak worst;
+};
+
+struct AxisSummary {
+  Peak following_err_blu;          ///< max |ref − enc|
+  Peak velocity_mm_s;              ///< of the Acc/Dec output (the commanded motion)
+  Peak accel_mm_s2;
+  Peak jerk_mm_s3;
+  LimitCheck v_limit, f_limit, p_limit;  ///< V'[k] ≤ V_max, F = m·a + c·V ≤ F_max, P = F·V ≤ P_max
+  std::int64_t final_ref_err_blu = 0;    ///< Acc/Dec output − programmed end
+  std::int64_t final_enc_err_blu = 0;    ///< encoder − programmed end
+};
+
+/// Accumulates statistics over the samples of a run (constant memory).
+class RunSummary {
+ public:
+  explicit RunSummary(const Machine& machine);
+
+  /// Adds one sample (every sample, not only the decimated trace rows).
+  void add(const SampleRecord& s);
+  /// Records the end: the last sample, the programmed end point and whether the axes settled.
+  void finish(const SampleRecord& last, const AxisBlu& program_end_blu, bool settled);
+
+  /// Human-readable summary, several lines.
+  std::string text() const;
+  /// The same as one JSON object.
+  std::string json() const;
+
+  std::int64_t samples = 0;
+  double cycle_time_s = 0.0;     ///< until the axes settled
+  double program_time_s = 0.0;   ///< until the interpolator finished
+  Peak contour_err_blu;          ///< max |contour error| of the actual position
+  double contour_rms_blu = 0.0;
+  bool settled = false;
+  std::array<AxisSummary, kAxes> axes{};
+  /// Mean signed radial deviation over the steady part of arc blocks (BLU; NaN if no arcs).
+  double arc_ref_radial_dev_blu = 0.0;
+  double arc_enc_radial_dev_blu = 0.0;
+  std::int64_t arc_samples = 0;
+
+ private:
+  const Machine& machine_;
+  AxisVec blu_mm_;
+  double period_s_;
+  double contour_sq_sum_ = 0.0;
+  double arc_ref_sum_ = 0.0, arc_enc_sum_ = 0.0;
+  AxisBlu prev_ref_ = AxisBlu::Zero();
+  AxisVec prev_v_ = AxisVec::Zero(), prev_a_ = AxisVec::Zero();
+  std::int64_t last_motion_k_ = 0;
+};
+
+}  // namespace gm
