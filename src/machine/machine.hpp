@@ -12,6 +12,12 @@ namespace gm {
 /// Which controller's arc end-radius tolerance rule the interpreter applies.
 enum class ArcRule { LinuxCnc, Grbl, G2core };
 
+/// Structure of the digital velocity controller (both are "PI": proportional + integral).
+/// Ip: u = Kvi*sum(e) - Kvp*y (proportional on the feedback only; no closed-loop zero; the
+///     structure under which the paper's gains give 33 ms rise time and no overshoot).
+/// Pi: u = Kvp*e + Kvi*sum(e) (proportional on the error; adds a zero, overshoots ~13-50 %).
+enum class VelocityLoopForm { Ip, Pi };
+
 /// One axis: resolution, limits (Eq. 7 and 26 of the paper), plant and servo gains.
 struct AxisConfig {
   double blu_mm = 0.001;        ///< basic length unit: one encoder count, mm
@@ -29,6 +35,21 @@ struct AxisConfig {
   double kp_1_s = 30.0; ///< position-loop gain, 1/s
   double backlash_blu = 0.0;  ///< lost motion (off by default)
   double coulomb_N = 0.0;     ///< Coulomb friction (off by default)
+
+  // --- Unit mapping of the servo model (see src/servo/servo_axis.hpp and the README). ---
+  /// Motor velocity in BLU/s per unit of plant output (the plant's velocity unit is not given by
+  /// the paper). With kv_period_s = 4 ms the velocity feedback gain is 34000*0.004 = 136 counts
+  /// per sample per plant unit: the loop gain at which the paper's x and y gains are critically
+  /// damped (136.28 and 136.22) with a 33 ms rise time.
+  double plant_blu_s_per_unit = 34000.0;
+  /// Velocity-loop gain reference period: the velocity feedback is measured in encoder counts per
+  /// kv_period_s and Kvi multiplies the error summed once per kv_period_s (paper: T = 4 ms).
+  double kv_period_s = 0.004;
+  VelocityLoopForm kv_form = VelocityLoopForm::Ip;  ///< velocity controller structure
+  /// Force per unit of drive command, N/unit (the drive command is in volts in the paper). 0 means
+  /// derive it from the plant: mass_kg * (num[0]/den[0]) * plant_blu_s_per_unit * blu_mm * 1e-3
+  /// (relative degree 1 only). The drive command saturates at +-f_max_N / drive_N_per_unit.
+  double drive_N_per_unit = 0.0;
 };
 
 /// The whole machine. Defaults are the built-in default machine (3 axes XYZ, paper numbers).

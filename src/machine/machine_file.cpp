@@ -1,0 +1,303 @@
+// TOML machine file reader/writer (toml++): every error names the key, the file and the line.
+#include "machine/machine_file.hpp"
+
+#include "common/status.hpp"
+#include "servo/discrete_plant.hpp"
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace gm {
+namespace {
+
+std::string fmt_double(double v) { return fmt::format("{}", v); }  // shortest round-trip
+
+const char* type_name(const toml::node& n) {
+  switch (n.type()) {
+    case toml::node_type::string: return "a string";
+    case toml::node_type::integer: return "an integer";
+    case toml::node_type::floating_point: return "a float";
+    case toml::node_type::boolean: return "a boolean";
+    case toml::node_type::array: return "an array";
+    case toml::node_type::table: return "a table";
+    case toml::node_type::date: return "a date";
+    case toml::node_type::time: return "a time";
+    case toml::node_type::date_time: return "a date-time";
+    default: return "nothing";
+  }
+}
+
+/// One TOML table being read: tracks which keys were consumed so leftovers are reported.
+class Reader {
+ public:
+  Reader(const toml::table& t, std::string prefix, std::string source)
+      : t_(t), prefix_(std::move(prefix)), source_(std::move(source)) {}
+
+  [[noreturn]] void fail_at(const toml::source_region& r, const std::string& key,
+                            const std::string& msg) const {
+    throw InputError(fmt::format("{}:{}: key '{}': {}", source_, r.begin.line, key, msg));
+  }
+  std::string full(std::string_view k) const { return prefix_ + std::string(k); }
+
+  const toml::node* get(std::string_view k, bool required) {
+    seen_.insert(std::string(k));
+    const toml::node* n = t_.get(k);
+    if (n == nullptr && required) fail_at(t_.source(), full(k), "required key is missing");
+    return n;
+  }
+
+  /// A finite number (integer or float); `check` returns "" or the violated condition.
+  template <class Check>
+  bool number(std::string_view k, double& out, bool required, Check check) {
+    const toml::node* n = get(k, required);
+    if (n == nullptr) return false;
+    double v = 0.0;
+    if (auto i = n->as_integer()) v = static_cast<double>(i->get());
+    else if (auto f = n->as_floating_point()) v = f->get();
+    else fail_at(n->source(), full(k), fmt::format("must be a number (got {})", type_name(*n)));
+    if (!std::isfinite(v)) fail_at(n->source(), full(k), fmt::format("must be finite (got {})", v));
+    if (std::string c = check(v); !c.empty())
+      fail_at(n->source(), full(k), fmt::format("{} (got {})", c, fmt_double(v)));
+    out = v;
+    return true;
+  }
+  bool integer(std::string_view k, int& out, bool required, long long lo, long long hi) {
+    const toml::node* n = get(k, required);
+    if (n == nullptr) return false;
+    auto i = n->as_integer();
+    if (!i) fail_at(n->source(), full(k), fmt::format("must be an integer (got {})", type_name(*n)));
+    const long long v = i->get();
+    if (v < lo || v > hi)
+      fail_at(n->source(), full(k), fmt::format("must be in {}..{} (got {})", lo, hi, v));
+    out = static_cast<int>(v);
+    return true;
+  }
+  bool string(std::string_view k, std::string& out, bool required) {
+    const toml::node* n = get(k, required);
+    if (n == nullptr) return false;
+    auto s = n->as_string();
+    if (!s) fail_at(n->source(), full(k), fmt::format("must be a string (got {})", type_name(*n)));
+    if (s->get().empty()) fail_at(n->source(), full(k), "must not be empty");
+    out = s->get();
+    return true;
+  }
+  bool numbers(std::string_view k, std::vector<double>& out, bool required, std::size_t min_n,
+               std::size_t max_n) {
+    const toml::node* n = get(k, required);
+    if (n == nullptr) return false;
+    auto a = n->as_array();
+    if (!a) fail_at(n->source(), full(k), fmt::format("must be an array of numbers (got {})", type_name(*n)));
+    if (a->size() < min_n || a->size() > max_n)
+      fail_at(n->source(), full(k),
+              min_n == max_n ? fmt::format("must have {} elements (got {})", min_n, a->size())
+                             : fmt::format("must have {}..{} elements (got {})", min_n, max_n, a->size()));
+    std::vector<double> v;
+    for (std::size_t i = 0; i < a->size(); ++i) {
+      const toml::node& e = *a->get(i);
+      double d = 0.0;
+      if (auto in = e.as_integer()) d = static_cast<double>(in->get());
+      else if (auto f = e.as_floating_point()) d = f->get();
+      else fail_at(e.source(), fmt::format("{}[{}]", full(k), i), fmt::format("must be a number (got {})", type_name(e)));
+      if (!std::isfinite(d)) fail_at(e.source(), fmt::format("{}[{}]", full(k), i), "must be finite");
+      v.push_back(d);
+    }
+    out = std::move(v);
+    return true;
+  }
+  const toml::table* table(std::string_view k, bool required) {
+    const toml::node* n = get(k, required);
+    if (n == nullptr) return nullptr;
+    auto t = n->as_table();
+    if (!t) fail_at(n->source(), full(k), fmt::format("must be a table (got {})", type_name(*n)));
+    return t;
+  }
+  /// Reports the first key that was never asked for (a typo or an unsupported key).
+  void reject_unknown() const {
+    for (auto&& [key, node] : t_) {
+      if (seen_.count(std::string(key.str())) == 0) {
+        const toml::source_region& r = key.source().begin.line != 0 ? key.source() : node.source();
+        fail_at(r, full(key.str()), "unknown key");
+      }
+    }
+  }
+  const toml::table& tbl() const { return t_; }
+  const std::string& source() const { return source_; }
+
+ private:
+  const toml::table& t_;
+  std::string prefix_;
+  std::string source_;
+  std::set<std::string> seen_;
+};
+
+auto positive = [](double v) { return v > 0.0 ? "" : "must be > 0"; };
+auto non_negative = [](double v) { return v >= 0.0 ? "" : "must be >= 0"; };
+auto any_value = [](double) { return ""; };
+
+void read_axis(Reader& r, AxisConfig& a, double machine_blu_mm) {
+  a.blu_mm = machine_blu_mm;
+  r.number("blu_mm", a.blu_mm, false, positive);
+  r.number("v_max_mm_s", a.v_max_mm_s, false, positive);
+  r.number("f_max_N", a.f_max_N, false, positive);
+  r.number("p_max_W", a.p_max_W, false, positive);
+  r.number("mass_kg", a.mass_kg, false, positive);
+  r.number("damping_kg_s", a.damping_kg_s, false, non_negative);
+  r.numbers("plant_num", a.plant_num, true, 1, DiscretePlant::kMaxOrder);
+  r.numbers("plant_den", a.plant_den, true, 2, DiscretePlant::kMaxOrder + 1);
+  r.number("kvp", a.kvp, true, non_negative);
+  r.number("kvi", a.kvi, true, non_negative);
+  r.number("kp_1_s", a.kp_1_s, true, positive);
+  r.number("backlash_blu", a.backlash_blu, false, non_negative);
+  r.number("coulomb_N", a.coulomb_N, false, non_negative);
+  r.number("plant_blu_s_per_unit", a.plant_blu_s_per_unit, false, positive);
+  r.number("kv_period_s", a.kv_period_s, false, positive);
+  r.number("drive_N_per_unit", a.drive_N_per_unit, false, non_negative);
+  std::string form;
+  if (r.string("kv_form", form, false)) {
+    if (form == "ip") a.kv_form = VelocityLoopForm::Ip;
+    else if (form == "pi") a.kv_form = VelocityLoopForm::Pi;
+    else r.fail_at(r.tbl().get("kv_form")->source(), r.full("kv_form"),
+                   fmt::format("must be \"ip\" or \"pi\" (got \"{}\")", form));
+  }
+  // The plant must discretise; the drive mapping must be derivable.
+  const toml::node* den = r.tbl().get("plant_den");
+  try {
+    DiscretePlant p(a.plant_num, a.plant_den, a.plant_blu_s_per_unit, 1e-3);
+    if (a.drive_N_per_unit == 0.0 && p.accel_gain_blu_s2() == 0.0)
+      r.fail_at(den->source(), r.full("drive_N_per_unit"),
+                "required for a plant of relative degree > 1 (cannot derive it from mass_kg)");
+    if (a.drive_N_per_unit == 0.0 && !(p.accel_gain_blu_s2() > 0.0))
+      r.fail_at(den->source(), r.full("plant_num"), "high-frequency gain must be > 0");
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    if (msg.rfind("plant: ", 0) != 0) throw;
+    r.fail_at(den->source(), r.full("plant_den"), msg.substr(7));
+  }
+  r.reject_unknown();
+}
+
+}  // namespace
+
+Machine default_machine() {
+  Machine m;
+  m.name = "default";
+  m.source = "<built-in>";
+  AxisConfig& y = m.axes[static_cast<std::size_t>(Axis::Y)];
+  y.plant_num = {32.07};
+  y.plant_den = {1.0, 13.823};
+  y.kvp = 0.0442;
+  y.kvi = 0.0098;
+  return m;
+}
+
+Machine parse_machine_toml(std::string_view text, std::string_view source_name) {
+  const std::string src(source_name);
+  toml::table root;
+  try {
+    root = toml::parse(text, src);
+  } catch (const toml::parse_error& e) {
+    throw InputError(fmt::format("{}:{}: TOML syntax error: {}", src, e.source().begin.line, e.description()));
+  }
+  Machine m = default_machine();
+  m.source = src;
+  Reader r(root, "", src);
+  r.string("name", m.name, true);
+  r.number("period_s", m.period_s, true, [](double v) { return v > 0.0 && v <= 1.0 ? "" : "must be in (0, 1] s"; });
+  r.integer("servo_substeps", m.servo_substeps, false, 1, 1000);
+  r.number("rapid_mm_min", m.rapid_mm_min, false, positive);
+  double pct = m.max_override * 100.0;
+  r.number("max_override_percent", pct, false, [](double v) { return v >= 100.0 && v <= 1000.0 ? "" : "must be in 100..1000"; });
+  m.max_override = pct / 100.0;
+  std::string rule;
+  if (r.string("arc_rule", rule, false)) {
+    if (rule == "linuxcnc") m.arc_rule = ArcRule::LinuxCnc;
+    else if (rule == "grbl") m.arc_rule = ArcRule::Grbl;
+    else if (rule == "g2core") m.arc_rule = ArcRule::G2core;
+    else r.fail_at(root.get("arc_rule")->source(), "arc_rule",
+                   fmt::format("must be \"linuxcnc\", \"grbl\" or \"g2core\" (got \"{}\")", rule));
+  }
+  double blu_mm = 0.001;
+  r.number("blu_mm", blu_mm, false, positive);
+
+  if (const toml::table* acc = r.table("accdec", false)) {
+    Reader ar(*acc, "accdec.", src);
+    ar.string("profile", m.profile, false);
+    const double period = m.period_s;
+    ar.number("tau_s", m.tau_s, false, [period](double v) {
+      return v >= period ? "" : "must be >= period_s (at least one tap)";
+    });
+    ar.reject_unknown();
+  }
+  const toml::table* axes = r.table("axes", true);
+  Reader axr(*axes, "axes.", src);
+  for (int i = 0; i < kAxes; ++i) {
+    const char letter = static_cast<char>(kAxisLetters[static_cast<std::size_t>(i)] - 'A' + 'a');
+    const std::string k(1, letter);
+    const toml::table* at = axr.table(k, true);
+    Reader ar(*at, "axes." + k + ".", src);
+    read_axis(ar, m.axes[static_cast<std::size_t>(i)], blu_mm);
+  }
+  axr.reject_unknown();
+  r.numbers("tools", m.tool_lengths_mm, false, 0, 100000);
+  if (const toml::table* wo = r.table("work_offsets", false)) {
+    Reader wr(*wo, "work_offsets.", src);
+    for (int g = 0; g < 6; ++g) {
+      std::vector<double> v;
+      if (wr.numbers(fmt::format("g{}", 54 + g), v, false, kAxes, kAxes))
+        for (int a = 0; a < kAxes; ++a)
+          m.work_offsets_mm[static_cast<std::size_t>(g)][a] = v[static_cast<std::size_t>(a)];
+    }
+    wr.reject_unknown();
+  }
+  r.reject_unknown();
+  return m;
+}
+
+Machine load_machine_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(fmt::format("{}: cannot open machine file", path.string()));
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse_machine_toml(ss.str(), path.string());
+}
+
+std::string machine_to_toml(const Machine& m) {
+  auto list = [](const auto& v) {
+    std::string s = "[";
+    for (std::size_t i = 0; i < static_cast<std::size_t>(v.size()); ++i)
+      s += (i ? ", " : "") + fmt_double(v[i]);
+    return s + "]";
+  };
+  const char* rule = m.arc_rule == ArcRule::Grbl ? "grbl" : m.arc_rule == ArcRule::G2core ? "g2core" : "linuxcnc";
+  std::string s;
+  s += fmt::format("name = \"{}\"\nperiod_s = {}\nservo_substeps = {}\nrapid_mm_min = {}\n",
+                   m.name, fmt_double(m.period_s), m.servo_substeps, fmt_double(m.rapid_mm_min));
+  s += fmt::format("max_override_percent = {}\narc_rule = \"{}\"\nblu_mm = {}\n",
+                   fmt_double(m.max_override * 100.0), rule, fmt_double(m.axes[0].blu_mm));
+  s += "tools = " + list(m.tool_lengths_mm) + "\n\n";
+  s += fmt::format("[accdec]\nprofile = \"{}\"\ntau_s = {}\n", m.profile, fmt_double(m.tau_s));
+  for (int i = 0; i < kAxes; ++i) {
+    const AxisConfig& a = m.axes[static_cast<std::size_t>(i)];
+    s += fmt::format("\n[axes.{}]\n", static_cast<char>(kAxisLetters[static_cast<std::size_t>(i)] - 'A' + 'a'));
+    s += fmt::format("blu_mm = {}\nv_max_mm_s = {}\nf_max_N = {}\np_max_W = {}\n", fmt_double(a.blu_mm),
+                     fmt_double(a.v_max_mm_s), fmt_double(a.f_max_N), fmt_double(a.p_max_W));
+    s += fmt::format("mass_kg = {}\ndamping_kg_s = {}\nplant_num = {}\nplant_den = {}\n",
+                     fmt_double(a.mass_kg), fmt_double(a.damping_kg_s), list(a.plant_num), list(a.plant_den));
+    s += fmt::format("kvp = {}\nkvi = {}\nkp_1_s = {}\nbacklash_blu = {}\ncoulomb_N = {}\n", fmt_double(a.kvp),
+                     fmt_double(a.kvi), fmt_double(a.kp_1_s), fmt_double(a.backlash_blu), fmt_double(a.coulomb_N));
+    s += fmt::format("plant_blu_s_per_unit = {}\nkv_period_s = {}\nkv_form = \"{}\"\ndrive_N_per_unit = {}\n",
+                     fmt_double(a.plant_blu_s_per_unit), fmt_double(a.kv_period_s),
+                     a.kv_form == VelocityLoopForm::Ip ? "ip" : "pi", fmt_double(a.drive_N_per_unit));
+  }
+  s += "\n[work_offsets]\n";
+  for (int g = 0; g < 6; ++g)
+    s += fmt::format("g{} = {}\n", 54 + g, list(m.work_offsets_mm[static_cast<std::size_t>(g)]));
+  return s;
+}
+
+}  // namespace gm

@@ -1,0 +1,28 @@
+// The TOML machine file: load, validate (errors name key, file and line) and write a Machine.
+#pragma once
+
+#include "machine/machine.hpp"
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+namespace gm {
+
+/// Reads and validates a machine file. Throws gm::InputError with a located message
+/// "FILE:LINE: key 'axes.x.blu_mm': must be > 0 (got -1)" for a TOML syntax error, a missing
+/// required key, a mistyped value, an unknown key or an out-of-range value.
+Machine load_machine_file(const std::filesystem::path& path);
+
+/// The built-in default machine (3 axes XYZ, the paper's numbers; y has the paper's y plant).
+/// Needs no file; equal to programs/machines/default.toml.
+Machine default_machine();
+
+/// Parses machine TOML text; source_name is used in messages and stored in Machine::source.
+Machine parse_machine_toml(std::string_view text, std::string_view source_name);
+
+/// Writes a complete machine file (every key) that parse_machine_toml reads back to an equal
+/// Machine (doubles are written with round-trip precision).
+std::string machine_to_toml(const Machine& m);
+
+}  // namespace gm

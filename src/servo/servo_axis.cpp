@@ -1,0 +1,116 @@
+// Per-axis semi-closed-loop servo: encoder, P position loop, PI velocity loop, ZOH plant.
+#include "servo/servo_axis.hpp"
+
+#include "common/status.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace gm {
+
+ServoAxis::ServoAxis(const AxisConfig& axis, double period_s, int substeps,
+                     std::int64_t start_blu)
+    : plant_(axis.plant_num, axis.plant_den, axis.plant_blu_s_per_unit,
+             substeps >= 1 && period_s > 0.0 ? period_s / substeps : 1.0),
+      form_(axis.kv_form),
+      kvp_(axis.kvp),
+      kvi_(axis.kvi),
+      kp_(axis.kp_1_s),
+      h_s_(substeps >= 1 ? period_s / substeps : period_s),
+      kv_period_s_(axis.kv_period_s),
+      substeps_(substeps),
+      start_blu_(start_blu),
+      prev_count_(start_blu),
+      prev_ref_(start_blu) {
+  if (!(period_s > 0.0)) throw InputError(fmt::format("servo: period must be > 0 (got {})", period_s));
+  if (substeps < 1) throw InputError(fmt::format("servo: substeps must be >= 1 (got {})", substeps));
+  if (!(kv_period_s_ > 0.0))
+    throw InputError(fmt::format("servo: kv_period_s must be > 0 (got {})", kv_period_s_));
+  if (!(kvp_ >= 0.0) || !(kvi_ >= 0.0) || !(kp_ > 0.0))
+    throw InputError("servo: gains must be kvp >= 0, kvi >= 0, kp_1_s > 0");
+  n_per_unit_ = axis.drive_N_per_unit;
+  if (n_per_unit_ == 0.0) {
+    if (plant_.accel_gain_blu_s2() == 0.0)
+      throw InputError("servo: drive_N_per_unit must be given for a plant of relative degree > 1");
+    n_per_unit_ = axis.mass_kg * plant_.accel_gain_blu_s2() * axis.blu_mm * 1e-3;
+  }
+  if (!(n_per_unit_ > 0.0))
+    throw InputError(fmt::format("servo: drive_N_per_unit must be > 0 (got {})", n_per_unit_));
+  u_max_ = axis.f_max_N / n_per_unit_;
+  u_coulomb_ = axis.coulomb_N / n_per_unit_;
+  half_backlash_ = 0.5 * axis.backlash_blu;
+}
+
+std::int64_t ServoAxis::count_now() const {
+  return start_blu_ + static_cast<std::int64_t>(std::llround(plant_.position_blu()));
+}
+
+std::int64_t ServoAxis::step(std::int64_t ref_blu) {
+  if (!have_ref_) {
+    prev_ref_ = ref_blu;
+    have_ref_ = true;
+  }
+  const std::int64_t count0 = count_now();
+  const double delta = static_cast<double>(ref_blu - prev_ref_);
+  saturated_ = false;
+  for (int j = 0; j < substeps_; ++j) {
+    const double r = static_cast<double>(ref_blu) + delta * j / substeps_;
+    servo_sample(r, true, 0.0);
+  }
+  prev_ref_ = ref_blu;
+  return count0;
+}
+
+void ServoAxis::step_velocity(double v_ref_blu_s) {
+  saturated_ = false;
+  for (int j = 0; j < substeps_; ++j) servo_sample(0.0, false, v_ref_blu_s);
+}
+
+void ServoAxis::servo_sample(double pos_ref_blu, bool position_loop, double v_ref_blu_s) {
+  const std::int64_t count = count_now();
+  // Velocity feedback and reference in encoder counts per kv_period_s.
+  const double y = static_cast<double>(count - prev_count_) * (kv_period_s_ / h_s_);
+  prev_count_ = count;
+  const double vref_blu_s =
+      position_loop ? kp_ * (pos_ref_blu - static_cast<double>(count)) : v_ref_blu_s;
+  const double r_v = vref_blu_s * kv_period_s_;
+  const double e = r_v - y;
+  const double di = e * (h_s_ / kv_period_s_);
+  double integ = integ_ + di;
+  double u = form_ == VelocityLoopForm::Ip ? kvi_ * integ - kvp_ * y : kvp_ * e + kvi_ * integ;
+  if (u > u_max_ || u < -u_max_) {
+    saturated_ = true;
+    const double sat = std::clamp(u, -u_max_, u_max_);
+    // Conditional integration: keep the old sum if the new one pushes further into the limit.
+    if ((u > u_max_ && di > 0.0) || (u < -u_max_ && di < 0.0)) integ = integ_;
+    u = sat;
+  }
+  integ_ = integ;
+  u_ = u;
+  plant_step(u);
+  // Lost motion: the table stays put until the motor has crossed the dead band.
+  const double p = plant_.position_blu();
+  if (p - table_rel_ > half_backlash_) table_rel_ = p - half_backlash_;
+  else if (p - table_rel_ < -half_backlash_) table_rel_ = p + half_backlash_;
+}
+
+void ServoAxis::plant_step(double u) {
+  if (u_coulomb_ <= 0.0) {
+    plant_.step(u);
+    return;
+  }
+  // Coulomb friction as a drive-unit disturbance u_c sign(v), with stiction at v = 0.
+  const double v0 = plant_.velocity_blu_s();
+  if (v0 == 0.0) {
+    if (std::abs(u) <= u_coulomb_) return;  // stuck: static friction balances the drive
+    plant_.step(u - std::copysign(u_coulomb_, u));
+    return;
+  }
+  plant_.step(u - std::copysign(u_coulomb_, v0));
+  const double v1 = plant_.velocity_blu_s();
+  if ((v0 > 0.0 && v1 < 0.0) || (v0 < 0.0 && v1 > 0.0)) plant_.stop();  // sticks at reversal
+}
+
+}  // namespace gm

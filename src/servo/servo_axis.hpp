@@ -1,0 +1,74 @@
+// One axis of the semi-closed-loop servo: P position loop, PI velocity loop, plant, encoder.
+#pragma once
+
+#include "machine/machine.hpp"
+#include "servo/discrete_plant.hpp"
+
+#include <cstdint>
+
+namespace gm {
+
+/// Discrete servo model of one axis (Chen & Lee 1998, section 7, Fig. 16), run at the servo
+/// period h = T / substeps. Per servo sample, in this order:
+///  1. encoder: count = start_blu + round(motor position) — rounding, i.e. the count changes
+///     half-way between two BLU (an incremental encoder whose zero sits half a count off);
+///  2. velocity feedback y = (count - previous count) * kv_period_s / h, counts per kv_period_s
+///     (the backward difference of the encoder: what a digital servo measures);
+///  3. position loop: r_v = Kp * (ref - count) * kv_period_s (same unit as y); within one
+///     period T the reference is extrapolated linearly from the last two references
+///     (ref[k] + (ref[k]-ref[k-1]) j/substeps), exact for constant velocity;
+///  4. velocity loop: I += (r_v - y) * h / kv_period_s; Ip form u = Kvi I - Kvp y, Pi form
+///     u = Kvp (r_v - y) + Kvi I; u saturates at +-u_max = f_max_N / drive_N_per_unit with
+///     conditional integration (the sum is not updated while it would deepen saturation);
+///  5. plant: u held over h (exact ZOH), minus Coulomb friction (stick-slip) if enabled;
+///  6. lost motion: the table follows the motor inside a dead band of width backlash_blu.
+/// The drive command u is in plant input units (volts in the paper: 10 V = rated torque).
+/// Construction may allocate; step() allocates nothing.
+class ServoAxis {
+ public:
+  /// axis: plant, gains and mapping; period_s = T > 0; substeps >= 1; start_blu: the motor and
+  /// the table start at rest at this count. Throws gm::InputError on an invalid configuration.
+  ServoAxis(const AxisConfig& axis, double period_s, int substeps, std::int64_t start_blu);
+
+  /// One interpolation period T with position reference ref_blu (the Acc/Dec output for this
+  /// sample). Returns the encoder count (BLU) read at the start of the period, i.e. at the same
+  /// instant the reference ref_blu belongs to (what a controller logs next to its reference).
+  std::int64_t step(std::int64_t ref_blu);
+
+  /// One period T with the position loop open: the velocity loop follows v_ref_blu_s (BLU/s).
+  /// For velocity step responses and diagnostics; do not mix with step() on the same object.
+  void step_velocity(double v_ref_blu_s);
+
+  double drive_command() const { return u_; }  ///< last drive command, drive units (V)
+  double velocity_blu_s() const { return plant_.velocity_blu_s(); }  ///< motor velocity now
+  bool saturated() const { return saturated_; }  ///< any servo sample of the last step saturated
+  std::int64_t encoder_blu() const { return count_now(); }  ///< motor encoder count now
+  double motor_blu() const { return static_cast<double>(start_blu_) + plant_.position_blu(); }
+  /// Table ("actual") position, BLU, continuous: the motor position minus the lost motion.
+  /// Equal to motor_blu() when backlash_blu = 0. A DBB/linear scale would measure this.
+  double table_blu() const { return static_cast<double>(start_blu_) + table_rel_; }
+  double drive_limit() const { return u_max_; }  ///< saturation level of the drive command
+  double drive_N_per_unit() const { return n_per_unit_; }  ///< force per drive unit, N
+
+ private:
+  std::int64_t count_now() const;
+  void servo_sample(double pos_ref_blu, bool position_loop, double v_ref_blu_s);
+  void plant_step(double u);
+
+  DiscretePlant plant_;
+  VelocityLoopForm form_;
+  double kvp_, kvi_, kp_;
+  double h_s_, kv_period_s_;
+  int substeps_;
+  double u_max_ = 0.0, n_per_unit_ = 0.0, u_coulomb_ = 0.0, half_backlash_ = 0.0;
+  std::int64_t start_blu_;
+  std::int64_t prev_count_;
+  std::int64_t prev_ref_;
+  bool have_ref_ = false;
+  double integ_ = 0.0;
+  double u_ = 0.0;
+  double table_rel_ = 0.0;
+  bool saturated_ = false;
+};
+
+}  // namespace gm
