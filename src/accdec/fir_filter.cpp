@@ -1,0 +1,100 @@
+// FirAccDec: exact integer FIR on relative positions (direct, symmetric and running-sum forms).
+#include "accdec/fir_filter.hpp"
+
+#include "common/status.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+namespace gm {
+
+namespace {
+
+// acc / den rounded to nearest, halves away from zero (den > 0).
+template <typename Acc>
+std::int64_t div_round_half_away(Acc acc, Acc den) {
+  Acc q = acc / den;
+  const Acc r = acc % den;
+  const Acc twice = r < 0 ? -2 * r : 2 * r;
+  if (twice >= den) q += acc < 0 ? -1 : 1;
+  return static_cast<std::int64_t>(q);
+}
+
+}  // namespace
+
+FirAccDec::FirAccDec(const Taps& taps, const AxisBlu& start_pos_blu, FirStructure structure)
+    : taps_(taps.integer), start_(start_pos_blu), last_in_(start_pos_blu) {
+  if (taps_.empty()) throw InputError(fmt::format("profile '{}': no integer taps", taps.profile));
+  std::int64_t sum = 0;
+  for (std::size_t i = 0; i < taps_.size(); ++i) {
+    if (taps_[i] < 0)
+      throw InputError(fmt::format("profile '{}': integer tap b{} = {} is negative",
+                                   taps.profile, i, taps_[i]));
+    sum += taps_[i];
+  }
+  if (sum <= 0) throw InputError(fmt::format("profile '{}': b_s = {} must be > 0", taps.profile, sum));
+  b_s_ = sum;
+  length_ = static_cast<int>(taps_.size());
+  equal_run_ = length_;  // the history is the start position repeated
+
+  const bool all_equal = std::all_of(taps_.begin(), taps_.end(),
+                                     [&](std::int64_t b) { return b == taps_.front(); });
+  const bool symmetric = std::equal(taps_.begin(), taps_.end(), taps_.rbegin());
+  if (structure == FirStructure::Auto)
+    structure = all_equal ? FirStructure::RunningSum
+              : symmetric ? FirStructure::Symmetric
+                          : FirStructure::Direct;
+  if (structure == FirStructure::RunningSum && !all_equal)
+    throw InputError(fmt::format("profile '{}': the running-sum form needs equal taps", taps.profile));
+  if (structure == FirStructure::Symmetric && !symmetric)
+    throw InputError(fmt::format("profile '{}': the symmetric form needs b_i = b_(N-i)", taps.profile));
+  structure_ = structure;
+  hist_.assign(static_cast<std::size_t>(length_) * kAxes, 0);
+  running_.fill(0);
+}
+
+FirAccDec::Acc FirAccDec::convolve(int axis) const {
+  const int n = length_;
+  // Relative position i samples ago.
+  auto at = [&](int i) -> Acc {
+    int slot = head_ - i;
+    if (slot < 0) slot += n;
+    return hist_[static_cast<std::size_t>(slot) * kAxes + static_cast<std::size_t>(axis)];
+  };
+  Acc acc = 0;
+  if (structure_ == FirStructure::Symmetric) {
+    const int half = n / 2;  // pairs (i, N-i) for i < half; middle tap when n is odd
+    for (int i = 0; i < half; ++i) acc += Acc{taps_[static_cast<std::size_t>(i)]} * (at(i) + at(n - 1 - i));
+    if (n % 2 == 1) acc += Acc{taps_[static_cast<std::size_t>(half)]} * at(half);
+  } else {
+    for (int i = 0; i < n; ++i) acc += Acc{taps_[static_cast<std::size_t>(i)]} * at(i);
+  }
+  return acc;
+}
+
+void FirAccDec::step(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu) {
+  if (in_pos_blu == last_in_) {
+    if (equal_run_ < length_) ++equal_run_;
+  } else {
+    equal_run_ = 1;
+    last_in_ = in_pos_blu;
+  }
+  head_ = head_ + 1 == length_ ? 0 : head_ + 1;  // the oldest slot becomes the newest
+  for (int a = 0; a < kAxes; ++a) {
+    const std::size_t idx = static_cast<std::size_t>(head_) * kAxes + static_cast<std::size_t>(a);
+    const std::int64_t rel = in_pos_blu[a] - start_[a];
+    Acc acc;
+    if (structure_ == FirStructure::RunningSum) {
+      running_[static_cast<std::size_t>(a)] += Acc{rel} - Acc{hist_[idx]};
+      acc = running_[static_cast<std::size_t>(a)] * Acc{taps_.front()};
+      hist_[idx] = rel;
+    } else {
+      hist_[idx] = rel;
+      acc = convolve(a);
+    }
+    out_pos_blu[a] = start_[a] + div_round_half_away(acc, Acc{b_s_});
+  }
+}
+
+}  // namespace gm

@@ -1,0 +1,62 @@
+// The FIR Acc/Dec filter (Eq. 8, Step 3): integer taps applied to all axes in integer arithmetic.
+#pragma once
+
+#include "accdec/taps.hpp"
+#include "common/axis.hpp"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace gm {
+
+/// How the convolution is evaluated; all give bit-identical outputs (exact integer sums).
+enum class FirStructure {
+  Auto,        ///< RunningSum if all taps are equal, else Symmetric if b_i = b_{N-i}, else Direct
+  Direct,      ///< Σ b_i·P[k-i] (Fig. 6a)
+  Symmetric,   ///< Σ b_i·(P[k-i] + P[k-N+i]) (+ middle tap), half the multiplies (Fig. 6b/6c)
+  RunningSum   ///< equal taps only: S[k] = S[k-1] + P[k] - P[k-N-1], output b·S[k]/b_s
+};
+
+/// Per-axis FIR Acc/Dec on positions. By Eq. 12 the position dynamics equal the velocity
+/// dynamics, so the filter runs on positions relative to the start position:
+///   out[k] = start + round_half_away( Σ_i b_i·(in[k-i] - start) / b_s ),
+/// with the history before the first sample equal to the start. The sum is exact (__int128),
+/// so once the last N+1 inputs are equal to P the output is exactly P. Velocity |Δout| never
+/// exceeds the input's peak |Δin| + 1 BLU (convex combination + rounding).
+/// Valid for positions with |in - start| < 2^62 BLU. Allocates only in the constructor.
+class FirAccDec {
+ public:
+  /// `taps.integer` must be non-empty with all taps >= 0 and b_s > 0 (else gm::InputError).
+  FirAccDec(const Taps& taps, const AxisBlu& start_pos_blu,
+            FirStructure structure = FirStructure::Auto);
+
+  /// One sample: input = the interpolator's commanded position (BLU); output = the smoothed
+  /// reference position (BLU).
+  void step(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu);
+
+  /// True when the last N+1 inputs are equal (then output == input exactly).
+  bool settled() const { return equal_run_ >= length_; }
+  /// N+1.
+  int length() const { return length_; }
+  /// The structure in use (after resolving Auto).
+  FirStructure structure() const { return structure_; }
+
+ private:
+  __extension__ using Acc = __int128;
+
+  Acc convolve(int axis) const;  // Σ b_i·hist[k-i] for the current head
+
+  std::vector<std::int64_t> taps_;   // integer taps b_0..b_N
+  std::int64_t b_s_ = 1;
+  int length_ = 1;
+  FirStructure structure_ = FirStructure::Direct;
+  AxisBlu start_ = AxisBlu::Zero();
+  AxisBlu last_in_ = AxisBlu::Zero();
+  int equal_run_ = 0;                // consecutive equal inputs, counting the implicit history
+  std::vector<std::int64_t> hist_;   // ring: hist_[slot*kAxes + axis] = in - start
+  int head_ = 0;                     // slot of the newest sample
+  std::array<Acc, kAxes> running_{}; // RunningSum: Σ of the last N+1 relative positions
+};
+
+}  // namespace gm

@@ -1,0 +1,164 @@
+// Tap design: linear, S-curves (Eq. 20-23), fir1 window designs (Eq. 24-25), custom, cascades.
+#include "accdec/taps.hpp"
+
+#include "accdec/profile_spec.hpp"
+#include "accdec/window.hpp"
+#include "common/status.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+namespace gm {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Eq. 22a/23: b_{k-1} ∝ a'[k] = 6(k/n) - 6(k/n)^2 = 6k(n-k)/n^2, k = 1..n -> raw k(n-k).
+// Eq. 22b/23: b_{k-1} ∝ a'[k] = 30(k/n)^2 - 60(k/n)^3 + 30(k/n)^4 = 30k^2(n-k)^2/n^4 -> k^2(n-k)^2.
+// The raw taps are exact integers (as doubles), so Step 3 keeps the shape exactly for small n.
+// Note Eq. 23 samples a'(t) at t = k/n, k = 1..n: the last tap a'(1) is 0, the first is not.
+std::vector<double> scurve_taps(int n, int degree) {
+  std::vector<double> b(static_cast<std::size_t>(n));
+  for (int k = 1; k <= n; ++k) {
+    const double p = static_cast<double>(k) * static_cast<double>(n - k);
+    b[static_cast<std::size_t>(k - 1)] = degree == 1 ? p : p * p;
+  }
+  return b;
+}
+
+std::vector<double> cascade_taps(const std::vector<int>& lengths) {
+  std::vector<double> b{1.0};
+  for (int len : lengths) {
+    std::vector<double> c(b.size() + static_cast<std::size_t>(len) - 1, 0.0);
+    for (std::size_t i = 0; i < b.size(); ++i)
+      for (int j = 0; j < len; ++j) c[i + static_cast<std::size_t>(j)] += b[i];
+    b = std::move(c);
+  }
+  return b;
+}
+
+std::vector<double> normalised(std::vector<double> b) {
+  double sum = 0;
+  for (double v : b) sum += v;
+  for (double& v : b) v /= sum;
+  return b;
+}
+
+}  // namespace
+
+int tap_count(double tau_s, double period_s) {
+  if (!(period_s > 0) || !std::isfinite(period_s))
+    throw InputError(fmt::format("sampling period T = {} s must be > 0", period_s));
+  if (!(tau_s > 0) || !std::isfinite(tau_s))
+    throw InputError(fmt::format("Acc/Dec time constant tau = {} s must be > 0", tau_s));
+  const double ratio = tau_s / period_s;
+  const double n = std::round(ratio);
+  if (n < 1 || std::abs(ratio - n) > 1e-6 * std::max(1.0, n) || n > 1e7)
+    throw InputError(fmt::format(
+        "Acc/Dec time constant tau = {} s is not a whole number of periods T = {} s "
+        "(tau/T = {:.6g}); Eq. 24 needs tau = (N+1)T with N+1 an integer >= 1", tau_s, period_s,
+        ratio));
+  return static_cast<int>(n);
+}
+
+std::vector<std::int64_t> integerize_taps(const std::vector<double>& real, bool& exact) {
+  double peak = 0;
+  for (double v : real) peak = std::max(peak, v);
+  std::vector<std::int64_t> out(real.size(), 0);
+  // Exact: a small multiplier making every tap an integer.
+  for (int m = 1; m <= 1000 && peak > 0; ++m) {
+    bool ok = true;
+    for (double v : real) {
+      const double s = v * m;
+      if (std::abs(s - std::round(s)) > 1e-9 * std::max(1.0, std::abs(s)) || s > 16777216.0) {
+        ok = false;
+        break;
+      }
+    }
+    if (!ok) continue;
+    std::int64_t g = 0;
+    for (std::size_t i = 0; i < real.size(); ++i) {
+      out[i] = static_cast<std::int64_t>(std::llround(real[i] * m));
+      g = std::gcd(g, out[i]);
+    }
+    if (g > 1)
+      for (auto& v : out) v /= g;
+    exact = true;
+    return out;
+  }
+  exact = false;
+  const double scale = 65536.0 / peak;
+  for (std::size_t i = 0; i < real.size(); ++i) {
+    out[i] = static_cast<std::int64_t>(std::llround(real[i] * scale));
+    if (real[i] > 0 && out[i] == 0) out[i] = 1;
+  }
+  return out;
+}
+
+Taps design_taps(std::string_view profile_spec, double tau_s, double period_s) {
+  const ProfileSpec spec = parse_profile_spec(profile_spec);
+  const int n = tap_count(tau_s, period_s);
+  Taps t;
+  t.profile = spec.text;
+  t.N = n - 1;
+  t.cutoff = kNaN;
+  t.max_nonneg_cutoff = kNaN;
+  if (const int fixed = spec.fixed_length(); fixed > 0 && fixed != n)
+    throw InputError(fmt::format(
+        "profile '{}' has {} taps, so tau must be {} x T = {:.6g} s; got tau = {} s "
+        "(tau/T = {})", spec.text, fixed, fixed, fixed * period_s, tau_s, n));
+
+  std::vector<double> raw;
+  switch (spec.kind) {
+    case ProfileKind::Linear:
+      raw.assign(static_cast<std::size_t>(n), 1.0);
+      break;
+    case ProfileKind::SCurve1:
+    case ProfileKind::SCurve2:
+      if (n < 2)
+        throw InputError(fmt::format("profile '{}' needs tau >= 2T (its last tap a'(1) is 0); "
+                                     "got tau = {} s, T = {} s", spec.text, tau_s, period_s));
+      raw = scurve_taps(n, spec.kind == ProfileKind::SCurve1 ? 1 : 2);
+      break;
+    case ProfileKind::Window: {
+      const auto w = make_window(spec.window, n, spec.kaiser_beta);
+      t.max_nonneg_cutoff = max_nonnegative_cutoff(spec.window, t.N);
+      t.cutoff = spec.cutoff_rule == CutoffRule::Paper       ? std::min(1.0, 2.0 / n)
+               : spec.cutoff_rule == CutoffRule::MaxNonNeg ? t.max_nonneg_cutoff
+                                                           : spec.cutoff;
+      raw = fir1_lowpass(t.N, t.cutoff, w);
+      double sum = 0;
+      for (double v : raw) sum += v;
+      if (!(sum > 0))
+        throw InputError(fmt::format("profile '{}' with N = {} has all-zero taps (the window "
+                                     "vanishes); use a larger tau (got tau = {} s, T = {} s)",
+                                     spec.text, t.N, tau_s, period_s));
+      break;
+    }
+    case ProfileKind::Custom:
+      raw = spec.custom_taps;
+      break;
+    case ProfileKind::Cascade:
+      raw = cascade_taps(spec.cascade_lengths);
+      break;
+  }
+  for (std::size_t i = 0; i < raw.size(); ++i)
+    if (raw[i] < 0)
+      throw InputError(fmt::format(
+          "profile '{}' (N = {}, cutoff {:.6g}) gives tap b{} = {:.6g} < 0; section 2 requires "
+          "every b_i >= 0 (largest non-negative cutoff here: {:.6g})", spec.text, t.N, t.cutoff, i,
+          raw[i], t.max_nonneg_cutoff));
+  t.real = normalised(raw);
+  // The raw taps are proportional to `real`; integers there (linear, S-curves, cascades,
+  // simple custom taps) are kept exactly.
+  t.integer = integerize_taps(raw, t.integer_exact);
+  t.b_s = std::accumulate(t.integer.begin(), t.integer.end(), std::int64_t{0});
+  return t;
+}
+
+}  // namespace gm

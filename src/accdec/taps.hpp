@@ -1,0 +1,42 @@
+// Acc/Dec tap design (paper sections 2, 4, 5): profile spec + tau + T -> real and integer taps.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace gm {
+
+/// A designed Acc/Dec filter D(z) = (1/b_s) Σ b_i z^-i, i = 0..N (Eq. 8). Designing is separate
+/// from applying (FirAccDec applies `integer`).
+struct Taps {
+  std::string profile;                 ///< the spec it came from
+  int N = 0;                           ///< filter order; N+1 taps; tau = (N+1)T (Eq. 24)
+  double cutoff = 0;                   ///< normalised to Nyquist for window designs, else NaN
+  std::vector<double> real;            ///< the designed taps, DC gain 1 (sum = 1)
+  std::vector<std::int64_t> integer;   ///< integer taps (Step 3), all >= 0, applied by FirAccDec
+  std::int64_t b_s = 0;                ///< position convergent factor: sum of integer taps (Eq. 5)
+  bool integer_exact = false;          ///< integer taps are exactly proportional to `real`
+  double max_nonneg_cutoff = 0;        ///< window designs: largest cutoff with all taps >= 0, else NaN
+};
+
+/// Designs the taps of `profile_spec` (see profile_spec.hpp) for time constant `tau_s` and
+/// sampling period `period_s` (both seconds): N + 1 = tau/T taps.
+/// Throws gm::InputError when tau/T is not within 1e-6 of an integer >= 1, when a fixed-length
+/// profile (custom, cascade) does not have tau/T taps, when a tap is negative (naming it), or
+/// when the spec is malformed.
+Taps design_taps(std::string_view profile_spec, double tau_s, double period_s);
+
+/// Number of taps tau/T for a time constant and period, or throws gm::InputError naming both
+/// values when the ratio is not within 1e-6 (relative) of an integer >= 1.
+int tap_count(double tau_s, double period_s);
+
+/// Step 3: integer taps for real taps (all >= 0, sum > 0). If the taps are exactly proportional
+/// to small integers (every tap times some m in 1..1000 is within 1e-9 of an integer, and the
+/// largest integer is <= 2^24), those integers divided by their gcd are used (exact shape).
+/// Otherwise the taps are scaled so the largest is 2^16 and rounded to nearest; a positive
+/// real tap never rounds to 0 (it becomes 1). Sets `exact` accordingly.
+std::vector<std::int64_t> integerize_taps(const std::vector<double>& real, bool& exact);
+
+}  // namespace gm
