@@ -75,7 +75,8 @@ std::vector<std::int64_t> integerize_taps(const std::vector<double>& real, bool&
     bool ok = true;
     for (double v : real) {
       const double s = v * m;
-      if (std::abs(s - std::round(s)) > 1e-9 * std::max(1.0, std::abs(s)) || s > 16777216.0) {
+      if (std::abs(s - std::round(s)) > 1e-9 * std::max(1.0, std::abs(s)) || s > 16777216.0 ||
+          (v > 0 && std::round(s) < 1)) {
         ok = false;
         break;
       }
