@@ -1,0 +1,233 @@
+// Machine file: the bundled files load with the paper's numbers; every error names key+file+line.
+#include "machine/machine_file.hpp"
+
+#include "common/status.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <string>
+
+using gm::Machine;
+
+namespace {
+
+const std::filesystem::path kMachines = std::filesystem::path(GMOTION_TESTS_DIR) / ".." / "programs" / "machines";
+
+void require_equal(const Machine& a, const Machine& b) {
+  CHECK(a.name == b.name);
+  CHECK(a.period_s == b.period_s);
+  CHECK(a.servo_substeps == b.servo_substeps);
+  CHECK(a.rapid_mm_min == b.rapid_mm_min);
+  CHECK(a.max_override == b.max_override);
+  CHECK(a.profile == b.profile);
+  CHECK(a.tau_s == b.tau_s);
+  CHECK(a.arc_rule == b.arc_rule);
+  CHECK(a.tool_lengths_mm == b.tool_lengths_mm);
+  for (std::size_t g = 0; g < 6; ++g) CHECK(a.work_offsets_mm[g] == b.work_offsets_mm[g]);
+  for (std::size_t i = 0; i < gm::kAxes; ++i) {
+    INFO("axis " << i);
+    const gm::AxisConfig &x = a.axes[i], &y = b.axes[i];
+    CHECK(x.blu_mm == y.blu_mm);
+    CHECK(x.v_max_mm_s == y.v_max_mm_s);
+    CHECK(x.f_max_N == y.f_max_N);
+    CHECK(x.p_max_W == y.p_max_W);
+    CHECK(x.mass_kg == y.mass_kg);
+    CHECK(x.damping_kg_s == y.damping_kg_s);
+    CHECK(x.plant_num == y.plant_num);
+    CHECK(x.plant_den == y.plant_den);
+    CHECK(x.kvp == y.kvp);
+    CHECK(x.kvi == y.kvi);
+    CHECK(x.kp_1_s == y.kp_1_s);
+    CHECK(x.backlash_blu == y.backlash_blu);
+    CHECK(x.coulomb_N == y.coulomb_N);
+    CHECK(x.plant_blu_s_per_unit == y.plant_blu_s_per_unit);
+    CHECK(x.kv_period_s == y.kv_period_s);
+    CHECK(x.kv_form == y.kv_form);
+    CHECK(x.drive_N_per_unit == y.drive_N_per_unit);
+  }
+}
+
+// A minimal valid file; tests patch one line at a time.
+const std::string kMinimal = R"(name = "m"
+period_s = 0.004
+[axes.x]
+plant_num = [33.518]
+plant_den = [1, 14.45]
+kvp = 0.0422
+kvi = 0.0094
+kp_1_s = 30
+[axes.y]
+plant_num = [32.07]
+plant_den = [1, 13.823]
+kvp = 0.0442
+kvi = 0.0098
+kp_1_s = 30
+[axes.z]
+plant_num = [33.518]
+plant_den = [1, 14.45]
+kvp = 0.0422
+kvi = 0.0094
+kp_1_s = 30
+)";
+
+std::string error_of(const std::string& text) {
+  try {
+    gm::parse_machine_toml(text, "t.toml");
+  } catch (const gm::InputError& e) {
+    return e.what();
+  }
+  return "<no error>";
+}
+
+std::string replace(std::string s, const std::string& from, const std::string& to) {
+  const auto p = s.find(from);
+  REQUIRE(p != std::string::npos);
+  return s.replace(p, from.size(), to);
+}
+
+}  // namespace
+
+TEST_CASE("paper.toml loads with the paper's numbers", "[machine]") {
+  const Machine m = gm::load_machine_file(kMachines / "paper.toml");
+  CHECK(m.name == "chen-lee-1998");
+  CHECK(m.period_s == 0.004);
+  CHECK(m.servo_substeps == 1);
+  CHECK(m.profile == "blackman");
+  CHECK(m.tau_s == 0.164);
+  CHECK(m.source.find("paper.toml") != std::string::npos);
+  const auto& x = m.axes[0];
+  const auto& y = m.axes[1];
+  const auto& z = m.axes[2];
+  CHECK(x.blu_mm == 0.001);
+  CHECK(x.v_max_mm_s == 1000.0);  // 1 m/s
+  CHECK(x.f_max_N == 4000.0);
+  CHECK(x.p_max_W == 500.0);
+  CHECK(x.mass_kg == 500.0);
+  CHECK(x.damping_kg_s == 500.0);
+  CHECK(x.plant_num == std::vector<double>{33.518});
+  CHECK(x.plant_den == std::vector<double>{1.0, 14.45});
+  CHECK(y.plant_num == std::vector<double>{32.07});
+  CHECK(y.plant_den == std::vector<double>{1.0, 13.823});
+  CHECK(x.kvp == 0.0422);
+  CHECK(x.kvi == 0.0094);
+  CHECK(y.kvp == 0.0442);
+  CHECK(y.kvi == 0.0098);
+  CHECK(z.plant_num == x.plant_num);
+  CHECK(z.plant_den == x.plant_den);
+  for (const auto& a : m.axes) {
+    CHECK(a.kp_1_s == 30.0);
+    CHECK(a.backlash_blu == 0.0);
+    CHECK(a.coulomb_N == 0.0);
+  }
+}
+
+TEST_CASE("default.toml equals default_machine()", "[machine]") {
+  Machine f = gm::load_machine_file(kMachines / "default.toml");
+  const Machine d = gm::default_machine();
+  CHECK(d.source == "<built-in>");
+  require_equal(f, d);
+}
+
+TEST_CASE("machine_to_toml round-trips the default and a modified machine", "[machine]") {
+  const Machine d = gm::default_machine();
+  require_equal(gm::parse_machine_toml(gm::machine_to_toml(d), "rt.toml"), d);
+  Machine m = d;
+  m.name = "odd";
+  m.period_s = 0.001 / 3.0;
+  m.servo_substeps = 7;
+  m.max_override = 1.5;
+  m.arc_rule = gm::ArcRule::G2core;
+  m.tool_lengths_mm = {0.0, 12.345678901234567, -3.0};
+  m.work_offsets_mm[2] << 1.0 / 3.0, -2.5, 1e-9;
+  m.axes[1].backlash_blu = 2.5;
+  m.axes[1].kv_form = gm::VelocityLoopForm::Pi;
+  m.axes[2].plant_num = {2.0};
+  m.axes[2].plant_den = {1.0, 3.0, 2.0};
+  m.axes[2].drive_N_per_unit = 123.0;
+  require_equal(gm::parse_machine_toml(gm::machine_to_toml(m), "rt.toml"), m);
+}
+
+TEST_CASE("minimal file: optional keys take the documented defaults", "[machine]") {
+  const Machine m = gm::parse_machine_toml(kMinimal, "t.toml");
+  CHECK(m.name == "m");
+  CHECK(m.servo_substeps == 1);
+  CHECK(m.rapid_mm_min == 6000.0);
+  CHECK(m.max_override == 2.0);
+  CHECK(m.tau_s == 0.164);
+  CHECK(m.axes[0].blu_mm == 0.001);
+  CHECK(m.axes[0].plant_blu_s_per_unit == 34000.0);
+  CHECK(m.axes[0].kv_form == gm::VelocityLoopForm::Ip);
+  // The machine-level blu_mm is the axes' default; an axis may override it.
+  const Machine b = gm::parse_machine_toml(
+      replace(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\nblu_mm = 0.0005\n"), "[axes.z]\n",
+              "[axes.z]\nblu_mm = 0.01\n"),
+      "t.toml");
+  CHECK(b.axes[0].blu_mm == 0.0005);
+  CHECK(b.axes[2].blu_mm == 0.01);
+}
+
+TEST_CASE("out-of-range value: exact message with key, file and line", "[machine]") {
+  // [axes.x] is line 3, so plant_num is line 4; blu_mm inserted as line 4.
+  CHECK(error_of(replace(kMinimal, "[axes.x]\n", "[axes.x]\nblu_mm = -1\n")) ==
+        "t.toml:4: key 'axes.x.blu_mm': must be > 0 (got -1)");
+  CHECK(error_of(replace(kMinimal, "period_s = 0.004", "period_s = 0")) ==
+        "t.toml:2: key 'period_s': must be in (0, 1] s (got 0)");
+  CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\nservo_substeps = 0\n")) ==
+        "t.toml:3: key 'servo_substeps': must be in 1..1000 (got 0)");
+  CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\n[accdec]\ntau_s = 0\n")) ==
+        "t.toml:4: key 'accdec.tau_s': must be >= period_s (at least one tap) (got 0)");
+  CHECK(error_of(replace(kMinimal, "kp_1_s = 30\n[axes.y]", "kp_1_s = -30\n[axes.y]")) ==
+        "t.toml:8: key 'axes.x.kp_1_s': must be > 0 (got -30)");
+  CHECK(error_of(replace(kMinimal, "[axes.y]\n", "[axes.y]\ncoulomb_N = -5\n")) ==
+        "t.toml:10: key 'axes.y.coulomb_N': must be >= 0 (got -5)");
+  CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\narc_rule = \"fanuc\"\n")) ==
+        "t.toml:3: key 'arc_rule': must be \"linuxcnc\", \"grbl\" or \"g2core\" (got \"fanuc\")");
+  CHECK(error_of(replace(kMinimal, "[axes.z]\n", "[axes.z]\nkv_form = \"pid\"\n")) ==
+        "t.toml:16: key 'axes.z.kv_form': must be \"ip\" or \"pi\" (got \"pid\")");
+  CHECK(error_of(replace(kMinimal, "plant_den = [1, 13.823]", "plant_den = [0, 13.823]")) ==
+        "t.toml:11: key 'axes.y.plant_den': the leading denominator coefficient must be finite and non-zero");
+  CHECK(error_of(replace(kMinimal, "plant_num = [32.07]", "plant_num = [1, 32.07]")) ==
+        "t.toml:11: key 'axes.y.plant_den': must be strictly proper (numerator degree < denominator degree)");
+  CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\nmax_override_percent = 50\n")) ==
+        "t.toml:3: key 'max_override_percent': must be in 100..1000 (got 50)");
+  CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\nblu_mm = nan\n")) ==
+        "t.toml:3: key 'blu_mm': must be finite (got nan)");
+}
+
+TEST_CASE("missing required key: names the key, the file and the table's line", "[machine]") {
+  CHECK(error_of(replace(kMinimal, "kvi = 0.0094\nkp_1_s = 30\n[axes.y]", "kp_1_s = 30\n[axes.y]")) ==
+        "t.toml:3: key 'axes.x.kvi': required key is missing");
+  CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "")) == "t.toml:1: key 'period_s': required key is missing");
+  const std::string no_z = kMinimal.substr(0, kMinimal.find("[axes.z]"));
+  CHECK(error_of(no_z) == "t.toml:3: key 'axes.z': required key is missing");
+}
+
+TEST_CASE("mistyped value: names the key, the file and the line", "[machine]") {
+  CHECK(error_of(replace(kMinimal, "kvp = 0.0442", "kvp = \"0.0442\"")) ==
+        "t.toml:12: key 'axes.y.kvp': must be a number (got a string)");
+  CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\nservo_substeps = 2.5\n")) ==
+        "t.toml:3: key 'servo_substeps': must be an integer (got a float)");
+  CHECK(error_of(replace(kMinimal, "plant_num = [33.518]\nplant_den = [1, 14.45]\nkvp = 0.0422\nkvi = 0.0094\nkp_1_s = 30\n[axes.y]",
+                         "plant_num = [33.518, \"a\"]\nplant_den = [1, 14.45]\nkvp = 0.0422\nkvi = 0.0094\nkp_1_s = 30\n[axes.y]")) ==
+        "t.toml:4: key 'axes.x.plant_num[1]': must be a number (got a string)");
+  CHECK(error_of(kMinimal + "tools = 5\n") == "t.toml:21: key 'axes.z.tools': unknown key");
+  CHECK(error_of("tools = 5\n" + kMinimal) == "t.toml:1: key 'tools': must be an array of numbers (got an integer)");
+  CHECK(error_of("work_offsets = { g54 = [1, 2] }\n" + kMinimal) ==
+        "t.toml:1: key 'work_offsets.g54': must have 3 elements (got 2)");
+}
+
+TEST_CASE("unknown key (a typo): names the key, the file and the line", "[machine]") {
+  CHECK(error_of(replace(kMinimal, "[axes.y]\n", "[axes.y]\nblu_m = 0.001\n")) ==
+        "t.toml:10: key 'axes.y.blu_m': unknown key");
+  CHECK(error_of("perod_s = 0.004\n" + kMinimal) == "t.toml:1: key 'perod_s': unknown key");
+  CHECK(error_of(kMinimal + "[axes.w]\nkvp = 1\n") == "t.toml:21: key 'axes.w': unknown key");
+  CHECK(error_of(kMinimal + "[accdec]\ntau = 0.1\n") == "t.toml:22: key 'accdec.tau': unknown key");
+  CHECK(error_of(kMinimal + "[work_offsets]\ng60 = [0, 0, 0]\n") == "t.toml:22: key 'work_offsets.g60': unknown key");
+}
+
+TEST_CASE("TOML syntax error and unreadable file", "[machine]") {
+  const std::string e = error_of(replace(kMinimal, "kvp = 0.0442", "kvp = = 0.0442"));
+  CHECK(e.rfind("t.toml:12: TOML syntax error:", 0) == 0);
+  CHECK_THROWS_WITH(gm::load_machine_file("/nonexistent/m.toml"), Catch::Contains("/nonexistent/m.toml"));
+}
