@@ -102,8 +102,9 @@ void print_human(const DesignOptions& o, const std::vector<DesignAttempt>& attem
     if (!a.f_ok) verdict += " F";
     if (!a.p_ok) verdict += " P";
     if (!a.ok() && i + 1 < attempts.size()) verdict += " -> tau += T";
-    fmt::print("{:>7}  {:>9.6g}  {:>5}  {:>9.6g}  {:>12}  {:>11.6g}  {:>10.6g}  {:>9.6g}  {}\n",
-               i + 1, a.tau_s, a.taps.N, a.taps.cutoff, a.taps.b_s, a.peak_accel_m_s2,
+    const std::string cutoff = std::isfinite(a.taps.cutoff) ? fmt::format("{:.6g}", a.taps.cutoff) : "-";
+    fmt::print("{:>7}  {:>9.6g}  {:>5}  {:>9}  {:>12}  {:>11.6g}  {:>10.6g}  {:>9.6g}  {}\n",
+               i + 1, a.tau_s, a.taps.N, cutoff, a.taps.b_s, a.peak_accel_m_s2,
                a.peak_force_N, a.peak_power_W, verdict);
   }
   const DesignAttempt& a = attempts.back();

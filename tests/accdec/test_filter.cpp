@@ -1,5 +1,6 @@
 // FirAccDec: hand-worked outputs, exact convergence for every profile (seeded property test),
 // velocity bound, rounding against a long-double reference, and equality of the structures.
+#include "accdec/analysis.hpp"
 #include "accdec/fir_filter.hpp"
 #include "accdec/taps.hpp"
 #include "common/status.hpp"
@@ -158,4 +159,36 @@ TEST_CASE("direct, symmetric and running-sum structures give identical outputs")
   CHECK_THROWS_AS(FirAccDec(bk, AxisBlu::Zero(), FirStructure::RunningSum), gm::InputError);
   CHECK_THROWS_AS(FirAccDec(gm::design_taps("scurve2", 0.02, 0.004), AxisBlu::Zero(),
                             FirStructure::Symmetric), gm::InputError);
+}
+
+TEST_CASE("a sampled circle through the integer filter loses R(1-|D|) of radius (Eq. 9-12, Fig. 13)") {
+  // R 4000 BLU, V 15000 BLU/s, T 4 ms: ωT = 0.015 rad per sample; start at (R, 0) with the history
+  // there, so the first N+1 outputs are the transient ("notch") and then the radius is steady.
+  const double R = 4000, V = 15000, T = 0.004, wT = V / R * T;
+  for (const char* spec : {"linear", "scurve1", "scurve2", "blackman"}) {
+    INFO(spec);
+    const auto taps = gm::design_taps(spec, 0.164, T);
+    // Expected steady radius from |D| of the applied integer taps, computed here.
+    long double re = 0, im = 0;
+    for (std::size_t i = 0; i < taps.integer.size(); ++i) {
+      re += static_cast<long double>(taps.integer[i]) * std::cos(static_cast<long double>(i) * wT);
+      im -= static_cast<long double>(taps.integer[i]) * std::sin(static_cast<long double>(i) * wT);
+    }
+    const double expected = R * static_cast<double>(std::sqrt(re * re + im * im) / taps.b_s);
+    FirAccDec f(taps, blu(4000, 0, 0));
+    AxisBlu o;
+    double sum = 0;
+    int count = 0;
+    const int samples = 41 + static_cast<int>(2 * 3.14159265358979 / wT) + 1;
+    for (int k = 1; k <= samples; ++k) {
+      f.step(blu(std::llround(R * std::cos(k * wT)), std::llround(R * std::sin(k * wT)), 0), o);
+      if (k <= 41) continue;
+      const double r = std::hypot(static_cast<double>(o[0]), static_cast<double>(o[1]));
+      CHECK(std::abs(r - expected) <= 1.0);
+      sum += r;
+      ++count;
+    }
+    CHECK(sum / count == Approx(expected).margin(0.1));
+    CHECK(R - sum / count == Approx(gm::radius_loss_sampled(taps.real, R, V, T)).margin(0.15));
+  }
 }
