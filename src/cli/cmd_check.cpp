@@ -1,11 +1,61 @@
-// gmotion check — placeholder until its stage lands (replaced by the owner of that stage).
+// gmotion check PROGRAM: validates a G-code program, printing every error or a one-line summary.
 #include "cli/commands.hpp"
+#include "common/status.hpp"
+#include "interp/program.hpp"
+#include "machine/machine_file.hpp"
+
+#include <fmt/format.h>
+
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <memory>
 
 namespace gm::cli {
 
 void add_check(CLI::App& app, Context& ctx) {
-  auto* sub = app.add_subcommand("check", "(not yet available)");
-  sub->callback([&ctx] { ctx.exit_code = 3; });
+  auto* sub = app.add_subcommand("check", "Validate a G-code program: every error (file:line:col), or a summary");
+  struct Opts {
+    std::string program;
+    std::string machine_file;
+    bool block_delete = false;
+    std::string arc_rule;
+  };
+  auto opts = std::make_shared<Opts>();
+  sub->add_option("PROGRAM", opts->program, "G-code file ('-' reads stdin)")->required();
+  sub->add_option("--machine", opts->machine_file, "machine description file (TOML)");
+  sub->add_flag("--block-delete", opts->block_delete, "skip lines that start with '/'");
+  sub->add_option("--arc-rule", opts->arc_rule, "arc end-radius tolerance rule")
+      ->check(CLI::IsMember({"linuxcnc", "grbl", "g2core"}));
+  sub->callback([opts, &ctx] {
+    Machine machine;
+    if (!opts->machine_file.empty()) machine = load_machine_file(opts->machine_file);
+    if (!opts->arc_rule.empty()) {
+      static const std::map<std::string, ArcRule> rules{
+          {"linuxcnc", ArcRule::LinuxCnc}, {"grbl", ArcRule::Grbl}, {"g2core", ArcRule::G2core}};
+      machine.arc_rule = rules.at(opts->arc_rule);
+    }
+    InterpreterOptions io{&machine, opts->block_delete};
+    CheckSummary s;
+    std::cout.flush();
+    if (opts->program == "-") {
+      s = check_program(std::cin, "<stdin>", io, std::cerr);
+    } else {
+      std::ifstream in(opts->program, std::ios::binary);
+      if (!in) throw InputError(fmt::format("cannot open program '{}'", opts->program));
+      s = check_program(in, opts->program, io, std::cerr);
+    }
+    if (s.errors > 0) {
+      fmt::print(stderr, "{}: {} error{}\n", opts->program == "-" ? "<stdin>" : opts->program, s.errors,
+                 s.errors == 1 ? "" : "s");
+      ctx.exit_code = static_cast<int>(ExitCode::InputError);
+      return;
+    }
+    fmt::print("{}: ok: {} blocks, {} moves, path {:.3f} mm, {:.3f} s at programmed feed (rapids at {:g} mm/min)\n",
+               opts->program == "-" ? "<stdin>" : opts->program, s.blocks, s.moves, s.path_length_mm,
+               s.time_at_feed_s, machine.rapid_mm_min);
+    ctx.exit_code = 0;
+  });
 }
 
 }  // namespace gm::cli

@@ -1,11 +1,95 @@
-// gmotion moves — placeholder until its stage lands (replaced by the owner of that stage).
+// gmotion moves PROGRAM: the canonical moves as JSON Lines (mm, mm/min, machine coordinates).
 #include "cli/commands.hpp"
+#include "common/status.hpp"
+#include "interp/program.hpp"
+#include "machine/machine_file.hpp"
+
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <unistd.h>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
 
 namespace gm::cli {
 
+namespace {
+
+const char* plane_name(Plane p) { return p == Plane::XY ? "XY" : p == Plane::XZ ? "XZ" : "YZ"; }
+
+// One JSON object per canonical move. Numbers are printed shortest-round-trip ({} in fmt).
+// Rapids print "feed":0 (the machine's rapid rate applies; it is not part of the program).
+void print_move(std::FILE* f, const Canon& c) {
+  if (const auto* m = std::get_if<Motion>(&c)) {
+    const char* kind = m->kind == MotionKind::Rapid ? "rapid" : m->kind == MotionKind::Line ? "line" : "arc";
+    fmt::print(f, "{{\"line\":{},\"kind\":\"{}\",\"end\":[{},{},{}],\"feed\":{}", m->line, kind, m->end_mm[0] + 0.0,
+               m->end_mm[1] + 0.0, m->end_mm[2] + 0.0, m->kind == MotionKind::Rapid ? 0.0 : m->feed_mm_min);
+    if (m->kind == MotionKind::Arc)
+      fmt::print(f, ",\"center\":[{},{},{}],\"dir\":\"{}\",\"turns\":{},\"plane\":\"{}\"", m->center_mm[0] + 0.0,
+                 m->center_mm[1] + 0.0, m->center_mm[2] + 0.0, m->ccw ? "ccw" : "cw", m->turns, plane_name(m->plane));
+    fmt::print(f, "}}\n");
+  } else if (const auto* d = std::get_if<Dwell>(&c)) {
+    fmt::print(f, "{{\"line\":{},\"kind\":\"dwell\",\"seconds\":{}}}\n", d->line, d->seconds);
+  }
+}
+
+}  // namespace
+
 void add_moves(CLI::App& app, Context& ctx) {
-  auto* sub = app.add_subcommand("moves", "(not yet available)");
-  sub->callback([&ctx] { ctx.exit_code = 3; });
+  auto* sub = app.add_subcommand("moves", "Print the canonical moves as JSON Lines (mm, mm/min, machine coordinates)");
+  struct Opts {
+    std::string program;
+    std::string machine_file;
+    bool block_delete = false;
+  };
+  auto opts = std::make_shared<Opts>();
+  sub->add_option("PROGRAM", opts->program, "G-code file ('-' reads stdin)")->required();
+  sub->add_option("--machine", opts->machine_file, "machine description file (TOML)");
+  sub->add_flag("--block-delete", opts->block_delete, "skip lines that start with '/'");
+  sub->callback([opts, &ctx] {
+    Machine machine;
+    if (!opts->machine_file.empty()) machine = load_machine_file(opts->machine_file);
+    const InterpreterOptions io{&machine, opts->block_delete};
+    const std::string name = opts->program == "-" ? "<stdin>" : opts->program;
+
+    // Nothing is printed if the program has any error: check it whole first, then stream it.
+    // stdin is spooled to a temporary file so that it can be read twice without being held.
+    std::fstream spool;
+    std::ifstream file;
+    std::istream* in = nullptr;
+    std::string spool_path;
+    if (opts->program == "-") {
+      char tmpl[] = "/tmp/gmotion-moves-XXXXXX";
+      const int fd = mkstemp(tmpl);
+      if (fd < 0) throw std::runtime_error("cannot create a temporary file for stdin");
+      close(fd);
+      spool_path = tmpl;
+      spool.open(spool_path, std::ios::in | std::ios::out | std::ios::binary | std::ios::trunc);
+      std::remove(spool_path.c_str());  // unlinked: vanishes when closed
+      spool << std::cin.rdbuf();
+      in = &spool;
+    } else {
+      file.open(opts->program, std::ios::binary);
+      if (!file) throw InputError(fmt::format("cannot open program '{}'", opts->program));
+      in = &file;
+    }
+    const CheckSummary s = check_program(*in, name, io, std::cerr);
+    if (s.errors > 0) {
+      fmt::print(stderr, "{}: {} error{}\n", name, s.errors, s.errors == 1 ? "" : "s");
+      ctx.exit_code = static_cast<int>(ExitCode::InputError);
+      return;
+    }
+    in->clear();
+    in->seekg(0);
+    ProgramStream stream(*in, name, io);
+    Canon c;
+    while (stream.next(c)) print_move(stdout, c);
+    std::fflush(stdout);
+    ctx.exit_code = 0;
+  });
 }
 
 }  // namespace gm::cli

@@ -1,0 +1,236 @@
+// The grammar facade: compacts a line (LinuxCNC spacing rules), runs the X3 block rule over it,
+// converts numbers, and turns every failure into a located SyntaxError with resynchronisation.
+#include "grammar/parse.hpp"
+
+#include "grammar/parse_items.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cstdio>
+#include <cmath>
+#include <string>
+#include <system_error>
+
+namespace gm::grammar {
+
+namespace {
+
+bool starts_item(char c) { return (c >= 'A' && c <= 'Z') || c == '(' || c == ';'; }
+
+std::string describe_char(char c) {
+  const auto u = static_cast<unsigned char>(c);
+  if (u >= 0x21 && u < 0x7f) return std::string("'") + c + "'";
+  char buf[8];
+  std::snprintf(buf, sizeof buf, "0x%02X", u);
+  return buf;
+}
+
+// Shortens long numbers for messages: the first digits and the total count.
+std::string show_number(std::string_view s) {
+  if (s.size() <= 24) return std::string(s);
+  return std::string(s.substr(0, 12)) + "...(" + std::to_string(s.size()) + " characters)";
+}
+
+// Converts the number text [sign] digits [. digits] [E [sign] digits]. Returns false if the
+// value does not fit a finite double; `has_exponent` reports an exponent part.
+bool to_double(std::string_view s, double& value, bool& has_exponent) {
+  bool negative = false;
+  if (!s.empty() && (s.front() == '+' || s.front() == '-')) {
+    negative = s.front() == '-';
+    s.remove_prefix(1);
+  }
+  has_exponent = s.find('E') != std::string_view::npos;
+  double v = 0.0;
+  auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v, std::chars_format::general);
+  if (ec == std::errc::result_out_of_range) {
+    // Underflow (a tiny number written out) is zero to every machine; overflow is an error.
+    const auto first_nonzero = s.find_first_not_of("0.");
+    const auto point = s.find('.');
+    const bool below_one = first_nonzero == std::string_view::npos ||
+                           (point != std::string_view::npos && point < first_nonzero);
+    if (below_one && !has_exponent) {
+      value = 0.0;
+      return true;
+    }
+    return false;
+  }
+  if (ec != std::errc() || ptr != s.data() + s.size() || !std::isfinite(v)) return false;
+  value = negative ? -v : v;
+  return true;
+}
+
+// Skips a '[...]' expression or a '#<name>' parameter so their contents make no further errors.
+const char* skip_unsupported(const char* pos, const char* end) {
+  if (pos == end) return pos;
+  if (*pos == '[') {
+    int depth = 0;
+    while (pos != end) {
+      if (*pos == '[') ++depth;
+      if (*pos == ']' && --depth == 0) break;
+      ++pos;
+    }
+  } else if (*pos == '#' && pos + 1 != end && pos[1] == '<') {
+    while (pos != end && *pos != '>') ++pos;
+  }
+  return pos;
+}
+
+}  // namespace
+
+void BlockParser::add_error(Block& out, ErrorCode code, int offset, std::string message) {
+  if (out.errors.size() >= kMaxErrorsPerLine) return;
+  const int col = columns_[static_cast<std::size_t>(offset)];
+  out.errors.push_back(SyntaxError{code, SourceLoc{line_, col}, std::move(message)});
+}
+
+void BlockParser::parse(std::string_view text, int line, Block& out) {
+  line_ = line;
+  out.line = line;
+  out.block_delete = false;
+  out.percent = false;
+  out.words.clear();
+  out.message_count = 0;
+  out.errors.clear();
+  if (!text.empty() && text.back() == '\r') text.remove_suffix(1);
+
+  // 1. Compact: drop spaces/tabs outside comments, upper-case letters outside comments.
+  compact_.clear();
+  columns_.clear();
+  enum class State { Code, Paren, Rest } state = State::Code;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    char c = text[i];
+    if (state == State::Code) {
+      if (c == ' ' || c == '\t') continue;
+      if (c >= 'a' && c <= 'z') c = static_cast<char>(c - 'a' + 'A');
+      if (c == '(') state = State::Paren;
+      if (c == ';') state = State::Rest;
+    } else if (state == State::Paren && c == ')') {
+      state = State::Code;
+    }
+    compact_.push_back(c);
+    columns_.push_back(static_cast<int>(i) + 1);
+  }
+  columns_.push_back(static_cast<int>(text.size()) + 1);  // end-of-line position
+
+  std::size_t start = 0;
+  if (!compact_.empty() && compact_[0] == '/') {
+    out.block_delete = true;
+    start = 1;
+  }
+  if (start < compact_.size() && compact_[start] == '%') {
+    out.percent = true;
+    ++start;
+  }
+
+  // O-word lines (subroutines, loops: `O100 sub`, `o<name> call`) have their own syntax: one error.
+  {
+    std::size_t k = start;
+    if (k < compact_.size() && compact_[k] == 'N')
+      for (++k; k < compact_.size() && ((compact_[k] >= '0' && compact_[k] <= '9') || compact_[k] == '.'); ++k) {}
+    if (k < compact_.size() && compact_[k] == 'O') {
+      add_error(out, ErrorCode::OWordsUnsupported, static_cast<int>(k), "O-words are not supported");
+      return;
+    }
+  }
+
+  // 2. Parse items, resynchronising after each error at the next letter, '(' or ';'.
+  const char* const begin = compact_.data();
+  const char* const end = begin + compact_.size();
+  ast_.reset(begin);
+  const char* pos = begin + start;
+  while (pos != end) {
+    ItemFailure fail;
+    const char* item_start = pos;
+    if (parse_items(pos, end, ast_, fail)) {
+      if (pos == end) break;
+      const char c = *pos;
+      const int off = static_cast<int>(pos - begin);
+      if (c == '#')
+        add_error(out, ErrorCode::ParametersUnsupported, off, "parameters ('#') are not supported");
+      else if (c == '[')
+        add_error(out, ErrorCode::ExpressionsUnsupported, off, "expressions ('[...]') are not supported");
+      else if ((c >= '0' && c <= '9') || c == '.' || c == '+' || c == '-')
+        add_error(out, ErrorCode::NumberWithoutLetter, off, "number without a word letter in front");
+      else if (c == ')')
+        add_error(out, ErrorCode::UnexpectedCharacter, off, "')' without a matching '('");
+      else
+        add_error(out, ErrorCode::UnexpectedCharacter, off,
+                  "unexpected character " + describe_char(c));
+      pos = skip_unsupported(pos, end);
+    } else {
+      const int off = static_cast<int>(fail.where - begin);
+      if (fail.code == ErrorCode::ExpectedNumber) {
+        const ast::Word& w = ast_.words[ast_.word_count - 1];
+        --ast_.word_count;  // drop the incomplete word
+        const char at = fail.where == end ? '\0' : *fail.where;
+        if (w.letter == 'O')
+          add_error(out, ErrorCode::OWordsUnsupported, w.id_first, "O-words are not supported");
+        else if (at == '#')
+          add_error(out, ErrorCode::ParametersUnsupported, off, "parameters ('#') are not supported");
+        else if (at == '[')
+          add_error(out, ErrorCode::ExpressionsUnsupported, off, "expressions ('[...]') are not supported");
+        else
+          add_error(out, ErrorCode::ExpectedNumber, off,
+                    std::string("expected a number after '") + w.letter + "'" +
+                        (fail.where == end ? "" : ", found " + describe_char(*fail.where)));
+        pos = skip_unsupported(fail.where, end);
+      } else {
+        --ast_.comment_count;
+        if (fail.code == ErrorCode::NestedComment)
+          add_error(out, ErrorCode::NestedComment, off, "nested comment: '(' inside a comment");
+        else
+          add_error(out, ErrorCode::UnclosedComment, static_cast<int>(item_start - begin),
+                    "comment not closed: missing ')'");
+        break;  // the rest of the line is comment text of unknown extent
+      }
+    }
+    // Resynchronise: next item start after the failure point.
+    if (pos == item_start || (pos != end && !starts_item(*pos))) ++pos;
+    while (pos != end && !starts_item(*pos)) ++pos;
+  }
+
+  // 3. Convert the words.
+  for (std::size_t i = 0; i < ast_.word_count; ++i) {
+    const ast::Word& w = ast_.words[i];
+    const std::string_view num(begin + w.num_first, static_cast<std::size_t>(w.num_last - w.num_first));
+    const SourceLoc loc{line, columns_[static_cast<std::size_t>(w.id_first)]};
+    if (w.letter == 'O') {
+      add_error(out, ErrorCode::OWordsUnsupported, w.id_first, "O-words are not supported");
+      continue;
+    }
+    double value = 0.0;
+    bool has_exponent = false;
+    if (!to_double(num, value, has_exponent)) {
+      add_error(out, ErrorCode::NumberOutOfRange, w.num_first,
+                std::string("number out of range: ") + w.letter + show_number(num));
+      continue;
+    }
+    if (has_exponent) {
+      add_error(out, ErrorCode::ExponentUnsupported, w.num_first,
+                std::string("exponent in ") + w.letter + show_number(num) +
+                    ": G-code numbers have no exponent (E is a word letter)");
+      continue;
+    }
+    out.words.push_back(Word{w.letter, value, loc});
+  }
+  std::stable_sort(out.errors.begin(), out.errors.end(),
+                   [](const SyntaxError& a, const SyntaxError& b) { return a.loc.column < b.loc.column; });
+
+  // 4. Messages: (MSG, text), case-insensitive, leading spaces allowed.
+  for (std::size_t i = 0; i < ast_.comment_count; ++i) {
+    const ast::Comment& c = ast_.comments[i];
+    std::string_view t(begin + c.text_first, static_cast<std::size_t>(c.text_last - c.text_first));
+    while (!t.empty() && (t.front() == ' ' || t.front() == '\t')) t.remove_prefix(1);
+    if (t.size() < 4) continue;
+    auto up = [](char ch) { return (ch >= 'a' && ch <= 'z') ? static_cast<char>(ch - 32) : ch; };
+    if (up(t[0]) != 'M' || up(t[1]) != 'S' || up(t[2]) != 'G' || t[3] != ',') continue;
+    t.remove_prefix(4);
+    while (!t.empty() && (t.front() == ' ' || t.front() == '\t')) t.remove_prefix(1);
+    if (out.message_count == out.messages.size()) out.messages.emplace_back();
+    Message& m = out.messages[out.message_count++];
+    m.text.assign(t);
+    m.loc = SourceLoc{line, columns_[static_cast<std::size_t>(c.id_first)]};
+  }
+}
+
+}  // namespace gm::grammar

@@ -1,0 +1,20 @@
+// The X3-free entry point into the instantiated grammar (defined in gcode.cpp).
+#pragma once
+
+#include "grammar/ast.hpp"
+#include "interp/error_codes.hpp"
+
+namespace gm::grammar {
+
+/// Why parse_items stopped early.
+struct ItemFailure {
+  ErrorCode code = ErrorCode::None;  ///< ExpectedNumber, UnclosedComment or NestedComment
+  const char* where = nullptr;       ///< the character the expectation failed on
+};
+
+/// Parses words and comments from `first` up to `last` into `out` (appending). Advances `first`
+/// past what it matched. Returns false on an expectation failure (`fail` says which and where);
+/// returns true when it stopped, possibly before `last`, at a character that starts no item.
+bool parse_items(const char*& first, const char* last, ast::Block& out, ItemFailure& fail);
+
+}  // namespace gm::grammar

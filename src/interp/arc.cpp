@@ -1,0 +1,126 @@
+// Arc centre and tolerance rules of LinuxCNC, grbl and g2core (numbers cited from their sources).
+#include "interp/arc.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace gm {
+
+namespace {
+
+// LinuxCNC interp_internal.hh: CENTER_ARC_RADIUS_TOLERANCE_{INCH,MM} = 2*0.001*sqrt2 in,
+// 2*0.01*sqrt2 mm; RADIUS_TOLERANCE_INCH = 0.00005 in, RADIUS_TOLERANCE_MM = 0.00005*25.4 mm;
+// SPIRAL_RELATIVE_TOLERANCE = 0.001. All in program units.
+constexpr double kLcncSpiralTolInch = 2 * 0.001 * std::numbers::sqrt2;
+constexpr double kLcncSpiralTolMm = 2 * 0.01 * std::numbers::sqrt2;
+constexpr double kLcncRadiusTolInch = 0.00005;
+constexpr double kLcncRadiusTolMm = 0.00005 * 25.4;
+constexpr double kLcncSpiralRel = 0.001;
+// grbl gcode.c (mm): fail if dr > 0.005 and (dr > 0.5 or dr > 0.001 r).
+constexpr double kGrblMinMm = 0.005, kGrblMaxMm = 0.5, kGrblRel = 0.001;
+// g2core plan_arc.h (mm): ARC_RADIUS_ERROR_MAX 1.0, ARC_RADIUS_ERROR_MIN 0.005, TOLERANCE 0.001.
+constexpr double kG2MinMm = 0.005, kG2MaxMm = 1.0, kG2Rel = 0.001;
+
+}  // namespace
+
+ArcResult compute_arc(const ArcInput& in) {
+  ArcResult res;
+  const bool inch = in.mm_per_unit != 1.0;
+  const double radius_tol = inch ? kLcncRadiusTolInch : kLcncRadiusTolMm;
+  const char* unit = inch ? "in" : "mm";
+
+  if (in.use_r) {
+    if (in.end_a == in.start_a && in.end_b == in.start_b) {
+      res.error = ErrorCode::ArcRSameEndPoint;
+      res.message = "R-form arc ends where it starts; a full circle needs I/J/K";
+      return res;
+    }
+    const double abs_r = std::fabs(in.r);
+    const double mid_a = (in.end_a + in.start_a) / 2.0, mid_b = (in.end_b + in.start_b) / 2.0;
+    double half = std::hypot(mid_a - in.end_a, mid_b - in.end_b);
+    bool too_small = false;
+    if (in.rule == ArcRule::LinuxCnc) {
+      too_small = half - abs_r > radius_tol;
+    } else {
+      // grbl and g2core: only when 4r^2 < d^2 (no slack), compared in mm.
+      too_small = abs_r < half;
+    }
+    if (too_small || abs_r == 0.0) {
+      res.error = ErrorCode::ArcRadiusTooSmall;
+      res.message = fmt::format(
+          "arc radius too small to reach the end point: |R| = {:.6g} {}, half the chord = {:.6g} {} "
+          "(short by {:.6g} {})",
+          abs_r, unit, half, unit, half - abs_r, unit);
+      return res;
+    }
+    if (half > abs_r) half = abs_r;  // within tolerance: a semicircle
+    // Centre on the perpendicular bisector; left of the chord for a short CCW arc (LinuxCNC).
+    const double chord_angle = std::atan2(in.end_b - in.start_b, in.end_a - in.start_a);
+    const bool right = (!in.ccw && in.r > 0) || (in.ccw && in.r < 0);
+    const double theta = right ? chord_angle - std::numbers::pi / 2 : chord_angle + std::numbers::pi / 2;
+    const double offset = std::sqrt(std::max(0.0, abs_r * abs_r - half * half));
+    res.center_a = mid_a + offset * std::cos(theta);
+    res.center_b = mid_b + offset * std::sin(theta);
+    res.rel_a = res.center_a - in.start_a;
+    res.rel_b = res.center_b - in.start_b;
+    return res;
+  }
+
+  if (in.offsets_absolute) {
+    res.center_a = in.off_a;
+    res.center_b = in.off_b;
+    res.rel_a = in.off_a - in.start_a;
+    res.rel_b = in.off_b - in.start_b;
+  } else {
+    res.center_a = in.start_a + in.off_a;
+    res.center_b = in.start_b + in.off_b;
+    res.rel_a = in.off_a;
+    res.rel_b = in.off_b;
+  }
+  const double r1 = std::hypot(res.center_a - in.start_a, res.center_b - in.start_b);
+  const double r2 = std::hypot(res.center_a - in.end_a, res.center_b - in.end_b);
+  if (r1 < radius_tol || r2 < radius_tol) {
+    res.error = ErrorCode::ArcZeroRadius;
+    res.message = fmt::format("zero radius arc: r1 = {:.6g} {}, r2 = {:.6g} {} (minimum {:.6g} {})", r1, unit,
+                              r2, unit, radius_tol, unit);
+    return res;
+  }
+  const double abs_err = std::fabs(r1 - r2);
+  const double rel_err = abs_err / std::max(r1, r2);
+  bool bad = false;
+  std::string rule_text;
+  switch (in.rule) {
+    case ArcRule::LinuxCnc: {
+      const double tol = inch ? kLcncSpiralTolInch : kLcncSpiralTolMm;
+      bad = abs_err > 100.0 * tol || (abs_err > tol && rel_err > kLcncSpiralRel);
+      rule_text = fmt::format("linuxcnc: fails above {:.6g} {}, or above {:.6g} {} and 0.1 %", 100.0 * tol,
+                              unit, tol, unit);
+      break;
+    }
+    case ArcRule::Grbl: {
+      const double dr_mm = abs_err * in.mm_per_unit, r_mm = r1 * in.mm_per_unit;
+      bad = dr_mm > kGrblMinMm && (dr_mm > kGrblMaxMm || dr_mm > kGrblRel * r_mm);
+      rule_text = "grbl: fails above 0.005 mm and (above 0.5 mm or 0.1 % of r1)";
+      break;
+    }
+    case ArcRule::G2core: {
+      const double dr_mm = abs_err * in.mm_per_unit, r_mm = r1 * in.mm_per_unit;
+      bad = dr_mm > kG2MaxMm || (dr_mm > kG2MinMm && dr_mm > kG2Rel * r_mm);
+      rule_text = "g2core: fails above 1.0 mm, or above 0.005 mm and 0.1 % of r1";
+      break;
+    }
+  }
+  if (bad) {
+    res.error = ErrorCode::ArcRadiusMismatch;
+    res.message = fmt::format(
+        "radius to end of arc differs from radius to start: r1 = {:.6g} {}, r2 = {:.6g} {}, "
+        "abs_err = {:.4g} {}, rel_err = {:.4f} % ({})",
+        r1, unit, r2, unit, abs_err, unit, rel_err * 100.0, rule_text);
+  }
+  return res;
+}
+
+}  // namespace gm

@@ -1,0 +1,57 @@
+// Whole-program entry points: check (all diagnostics + summary) and the streaming canon source.
+#pragma once
+
+#include "common/diagnostic.hpp"
+#include "interp/canon.hpp"
+#include "machine/machine.hpp"
+
+#include <cstdint>
+#include <istream>
+#include <memory>
+#include <ostream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace gm {
+
+struct InterpreterOptions {
+  const Machine* machine = nullptr;  ///< null: a default-constructed Machine
+  bool block_delete = false;         ///< honour '/' at line start (skip those lines)
+};
+
+struct CheckSummary {
+  std::int64_t blocks = 0;  ///< lines with at least one word that were interpreted
+  std::int64_t moves = 0;   ///< canonical motions (zero-length lines/rapids are not emitted)
+  double path_length_mm = 0;  ///< all motions, rapids included
+  /// Feed moves at programmed F (G93: 60/F), rapids at Machine::rapid_mm_min, plus dwells.
+  double time_at_feed_s = 0;
+  int errors = 0;
+};
+
+/// Validates a whole program, writing each diagnostic (formatted, file:line:col + caret) to
+/// `diag_out`; returns the summary. Reads the stream once, line by line.
+CheckSummary check_program(std::istream& in, std::string_view filename, const InterpreterOptions& opts,
+                           std::ostream& diag_out);
+
+class ProgramRunner;  // internal: reader + parser + interpreter
+
+/// Streams canonical commands: each line is parsed, interpreted and handed on before the next
+/// is read. Throws gm::InputError with the formatted diagnostic(s) at the first bad line.
+/// Run check_program first if nothing may run when the program has an error.
+class ProgramStream : public CanonSource {
+ public:
+  ProgramStream(std::istream& in, std::string filename, InterpreterOptions opts);
+  ~ProgramStream() override;
+  ProgramStream(const ProgramStream&) = delete;
+  ProgramStream& operator=(const ProgramStream&) = delete;
+  bool next(Canon& out) override;
+
+ private:
+  std::unique_ptr<ProgramRunner> runner_;
+  std::vector<Canon> queue_;  ///< canon of the current line (reused)
+  std::size_t head_ = 0;
+  std::vector<Diagnostic> diags_;
+};
+
+}  // namespace gm
