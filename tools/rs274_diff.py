@@ -1,0 +1,586 @@
+#!/usr/bin/env python3
+"""Differential test: LinuxCNC's standalone interpreter `rs274 -g` versus `gmotion moves`.
+
+Both sides are reduced to one list of canonical moves in mm and mm/min (the `gmotion moves`
+JSON-lines schema) and compared move by move: kind, end point, arc centre (the two in-plane
+components), direction, turns, plane, feed and source line.
+
+Usage:
+  rs274_diff.py --gmotion BIN FILE...            compare the given programs
+  rs274_diff.py --gmotion BIN --programs DIR...  every *.nc under DIR (those rs274 rejects skipped)
+  rs274_diff.py --gmotion BIN --random N         N generated programs (tools/gen_random_program.py)
+  rs274_diff.py --self-test                      check the rs274 output parser and the comparator
+  rs274_diff.py --rs274-moves FILE               print rs274's moves as gmotion-style JSON lines
+Exit: 0 all equal, 1 a mismatch / error, 2 usage, 77 rs274 not installed (ctest SKIP).
+
+How rs274 is read (each claim checked against rs274 2.9 output, see --self-test):
+  * `rs274 -g FILE` runs in batch mode, stdin closed; exit status 1 on an interpreter error.
+  * Values are printed with %.4f in the program's length units at that moment
+    (USE_LENGTH_UNITS(CANON_UNITS_INCHES) -> x 25.4). The comparison tolerance therefore adds
+    rs274's print rounding (0.5e-4 program units) to the requested tolerance.
+  * ARC_FEED(first_end, second_end, first_centre, second_centre, rotation, axis_end, a, b, c):
+    XY plane first/second = X/Y, axis = Z; XZ: first = Z, second = X, axis = Y;
+    YZ: first = Y, second = Z, axis = X. rotation < 0 is G2 (cw), > 0 G3, |rotation| = turns.
+  * SET_FEED_RATE gives program-units/min; in G93 the interpreter itself emits the equivalent
+    units/min rate before each move. A rate is converted with the units in force when it is
+    emitted and kept as a physical rate across later G20/G21 changes (as LinuxCNC's real canon,
+    emccanon, does; F executes before G20/G21 in a block).
+  * Only N words are echoed, so the program is fed to rs274 with every line renumbered
+    N<file line>, which makes rs274 report source line numbers.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+MM_PER_INCH = 25.4
+RS274_PRINT_HALF_ULP = 0.5e-4  # rs274 prints %.4f
+SKIP = 77
+
+
+# ---------------------------------------------------------------------------------------------
+# moves
+
+@dataclass
+class Move:
+    kind: str                      # rapid | line | arc | dwell
+    line: int | None = None        # source line (1-based) if known
+    end: list | None = None        # [x, y, z] mm
+    feed: float | None = None      # mm/min (lines and arcs)
+    center: list | None = None     # [x, y, z] mm, arcs; None entries = not known
+    dir: str | None = None         # cw | ccw
+    turns: int | None = None
+    plane: str | None = None       # XY | XZ | YZ
+    seconds: float | None = None   # dwell
+    tol_mm: float = 0.0            # extra tolerance: print rounding of this value on rs274's side
+    note: str = ""
+
+    def as_dict(self) -> dict:
+        d = {"line": self.line, "kind": self.kind}
+        if self.kind == "dwell":
+            d["seconds"] = self.seconds
+            return d
+        d["end"] = self.end
+        d["feed"] = self.feed
+        if self.kind == "arc":
+            d.update(center=self.center, dir=self.dir, turns=self.turns, plane=self.plane)
+        return d
+
+    def __str__(self) -> str:
+        def r(v):
+            if isinstance(v, float):
+                return round(v, 6)
+            if isinstance(v, list):
+                return [r(x) for x in v]
+            return v
+        s = json.dumps({k: r(v) for k, v in self.as_dict().items()})
+        return s + (f"  [{self.note}]" if self.note else "")
+
+
+# ---------------------------------------------------------------------------------------------
+# rs274 side
+
+_CALL = re.compile(r"^\s*(\d+)\s+N(\d*)(?:\.{5})?\s*([A-Z_0-9]+)\((.*)\)\s*$")
+
+
+def _floats(args: str) -> list:
+    out = []
+    for a in args.replace(",", " ").split():
+        try:
+            out.append(float(a))
+        except ValueError:
+            out.append(a)
+    return out
+
+
+def parse_rs274_output(text: str) -> list[Move]:
+    """Canonical calls printed by `rs274 -g` -> moves in mm / mm/min (see module docstring)."""
+    factor = 1.0             # mm per program unit
+    plane = "XY"
+    feed_mm_min = 0.0
+    feed_units_note = ""
+    moves: list[Move] = []
+    for raw in text.splitlines():
+        m = _CALL.match(raw)
+        if not m:
+            continue
+        nword, name, args = m.group(2), m.group(3), m.group(4)
+        line = int(nword) if nword else None
+        if name == "USE_LENGTH_UNITS":
+            new = MM_PER_INCH if "INCHES" in args else 1.0
+            if new != factor and feed_mm_min:
+                feed_units_note = "feed carried across a G20/G21 change (physical rate kept)"
+            factor = new
+        elif name == "SELECT_PLANE":
+            plane = args.strip().replace("CANON_PLANE_", "")
+        elif name == "SET_FEED_RATE":
+            feed_mm_min = _floats(args)[0] * factor
+            feed_units_note = ""
+        elif name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED"):
+            v = _floats(args)
+            mv = Move(kind="rapid" if name == "STRAIGHT_TRAVERSE" else "line", line=line,
+                      end=[v[0] * factor, v[1] * factor, v[2] * factor],
+                      tol_mm=RS274_PRINT_HALF_ULP * factor)
+            if mv.kind == "line":
+                mv.feed = feed_mm_min
+                mv.note = feed_units_note
+            moves.append(mv)
+        elif name == "ARC_FEED":
+            v = _floats(args)
+            fe, se, fc, sc, rot, ax = v[0], v[1], v[2], v[3], int(v[4]), v[5]
+            if plane == "XY":
+                end = [fe, se, ax]
+                cen = [fc, sc, None]
+            elif plane == "XZ":      # first = Z, second = X
+                end = [se, ax, fe]
+                cen = [sc, None, fc]
+            elif plane == "YZ":      # first = Y, second = Z
+                end = [ax, fe, se]
+                cen = [None, fc, sc]
+            else:
+                raise ValueError(f"ARC_FEED in unknown plane {plane!r}: {raw}")
+            moves.append(Move(kind="arc", line=line,
+                              end=[e * factor for e in end],
+                              center=[None if c is None else c * factor for c in cen],
+                              dir="cw" if rot < 0 else "ccw", turns=abs(rot), plane=plane,
+                              feed=feed_mm_min, note=feed_units_note,
+                              tol_mm=RS274_PRINT_HALF_ULP * factor))
+        elif name == "DWELL":
+            moves.append(Move(kind="dwell", line=line, seconds=_floats(args)[0]))
+    return moves
+
+
+_NWORD = re.compile(r"^(\s*/?\s*)[nN]\s*[0-9]+")
+
+
+def number_lines(text: str) -> str:
+    """Give every block the N word of its file line so rs274 echoes source line numbers."""
+    out = []
+    for i, line in enumerate(text.split("\n"), start=1):
+        s = line.strip()
+        if not s or s.startswith("%") or re.match(r"^/?\s*[oO]", s):
+            out.append(line)
+        elif _NWORD.match(line):
+            out.append(_NWORD.sub(lambda m: f"{m.group(1)}N{i}", line, count=1))
+        else:
+            m = re.match(r"^(\s*/?)(.*)$", line)
+            out.append(f"{m.group(1)}N{i} {m.group(2)}")
+    return "\n".join(out)
+
+
+@dataclass
+class Rs274Result:
+    ok: bool
+    moves: list = field(default_factory=list)
+    error: str = ""
+
+
+def run_rs274(rs274: str, program_text: str, timeout: float = 120.0) -> Rs274Result:
+    """Run `rs274 -g` on the text (renumbered) in a scratch directory; parse its moves."""
+    with tempfile.TemporaryDirectory(prefix="rs274diff-") as tmp:
+        path = os.path.join(tmp, "prog.ngc")
+        with open(path, "w") as fh:
+            fh.write(number_lines(program_text))
+            if not program_text.endswith("\n"):
+                fh.write("\n")
+        p = subprocess.run([rs274, "-g", path], cwd=tmp, stdin=subprocess.DEVNULL,
+                           capture_output=True, text=True, timeout=timeout)
+    err = "\n".join(l for l in p.stderr.splitlines() if l.strip() != "executing")
+    if p.returncode != 0:
+        return Rs274Result(False, error=err or f"rs274 exit status {p.returncode}")
+    return Rs274Result(True, parse_rs274_output(p.stdout))
+
+
+# ---------------------------------------------------------------------------------------------
+# gmotion side
+
+def parse_gmotion_output(text: str) -> list[Move]:
+    moves = []
+    for n, raw in enumerate(text.splitlines(), start=1):
+        if not raw.strip():
+            continue
+        try:
+            d = json.loads(raw)
+        except json.JSONDecodeError as e:
+            raise ValueError(f"gmotion moves output line {n} is not JSON ({e}): {raw!r}")
+        moves.append(Move(kind=d.get("kind"), line=d.get("line"), end=d.get("end"),
+                          feed=d.get("feed"), center=d.get("center"), dir=d.get("dir"),
+                          turns=d.get("turns"), plane=d.get("plane"), seconds=d.get("seconds")))
+    return moves
+
+
+def run_gmotion(gmotion: str, path: str, timeout: float = 120.0) -> tuple[bool, list, str]:
+    p = subprocess.run([gmotion, "moves", path], stdin=subprocess.DEVNULL, capture_output=True,
+                       text=True, timeout=timeout)
+    if p.returncode != 0:
+        return False, [], (p.stderr.strip() or f"gmotion exit status {p.returncode}")
+    try:
+        return True, parse_gmotion_output(p.stdout), ""
+    except ValueError as e:
+        return False, [], str(e)
+
+
+# ---------------------------------------------------------------------------------------------
+# comparison
+
+@dataclass
+class Tol:
+    mm: float = 1e-4
+    feed_rel: float = 1e-4
+    seconds: float = 1e-4
+
+
+def _vec_diff(a, b, extra):
+    """None if a == b within tolerance per component (None components skipped), else a message."""
+    if a is None or b is None or len(a) != 3 or len(b) != 3:
+        return f"{a} vs {b}"
+    for i in range(3):
+        if a[i] is None or b[i] is None:
+            continue
+        if not isinstance(b[i], (int, float)) or not math.isfinite(b[i]) or abs(a[i] - b[i]) > extra:
+            return f"{'XYZ'[i]}: {a[i]!r} vs {b[i]!r}"
+    return None
+
+
+def compare_move(ref: Move, got: Move, tol: Tol) -> str | None:
+    """None if `got` (gmotion) matches `ref` (rs274), else a one-line reason."""
+    if ref.kind != got.kind:
+        return f"kind {ref.kind} vs {got.kind}"
+    if ref.line is not None and got.line is not None and ref.line != got.line:
+        return f"line {ref.line} vs {got.line}"
+    if ref.kind == "dwell":
+        if got.seconds is None or abs(ref.seconds - got.seconds) > tol.seconds + RS274_PRINT_HALF_ULP:
+            return f"dwell seconds {ref.seconds} vs {got.seconds}"
+        return None
+    ptol = tol.mm + ref.tol_mm + 1e-9
+    d = _vec_diff(ref.end, got.end, ptol)
+    if d:
+        return f"end {d} (tol {ptol:.3g} mm)"
+    if ref.kind in ("line", "arc"):
+        if got.feed is None:
+            return "feed missing"
+        ftol = max(tol.feed_rel * abs(ref.feed), ref.tol_mm) + 1e-9
+        if abs(ref.feed - got.feed) > ftol:
+            return f"feed {ref.feed!r} vs {got.feed!r} mm/min (tol {ftol:.3g})"
+    if ref.kind == "arc":
+        if got.plane != ref.plane:
+            return f"plane {ref.plane} vs {got.plane}"
+        if got.dir != ref.dir:
+            return f"dir {ref.dir} vs {got.dir}"
+        if got.turns != ref.turns:
+            return f"turns {ref.turns} vs {got.turns}"
+        d = _vec_diff(ref.center, got.center, ptol)
+        if d:
+            return f"center {d} (tol {ptol:.3g} mm)"
+    return None
+
+
+def compare_moves(ref: list[Move], got: list[Move], tol: Tol):
+    """(index, reason) of the first mismatch, or None if the lists agree."""
+    for i in range(min(len(ref), len(got))):
+        why = compare_move(ref[i], got[i], tol)
+        if why:
+            return i, why
+    if len(ref) != len(got):
+        return min(len(ref), len(got)), f"move count {len(ref)} (rs274) vs {len(got)} (gmotion)"
+    return None
+
+
+def drop_zero_length(moves: list[Move], eps_mm: float) -> tuple[list[Move], int]:
+    """Remove rapids/lines that end where the previous move ended (start: origin)."""
+    out, dropped, prev = [], 0, [0.0, 0.0, 0.0]
+    for m in moves:
+        if m.kind in ("rapid", "line") and m.end is not None and all(
+                abs(a - b) <= eps_mm for a, b in zip(m.end, prev)):
+            dropped += 1
+            continue
+        if m.end is not None:
+            prev = m.end
+        out.append(m)
+    return out, dropped
+
+
+def describe_mismatch(ref, got, idx, why, program_text, label) -> str:
+    lines = program_text.split("\n")
+    out = [f"MISMATCH {label}: move #{idx + 1}: {why}"]
+    r = ref[idx] if idx < len(ref) else None
+    g = got[idx] if idx < len(got) else None
+    out.append(f"  rs274  : {r if r else '(no move)'}")
+    out.append(f"  gmotion: {g if g else '(no move)'}")
+    ln = (r.line if r and r.line else None) or (g.line if g and g.line else None)
+    if ln and 1 <= ln <= len(lines):
+        out.append(f"  program line {ln}: {lines[ln - 1]}")
+    if idx > 0:
+        out.append(f"  previous move (rs274): {ref[idx - 1] if idx - 1 < len(ref) else '-'}")
+    return "\n".join(out)
+
+
+# ---------------------------------------------------------------------------------------------
+# drivers
+
+def diff_program(args, text: str, path: str, label: str, *, must_accept: bool) -> str:
+    """'ok' | 'skip' | 'fail'; prints the first mismatch."""
+    rs = run_rs274(args.rs274, text)
+    if not rs.ok:
+        if must_accept:
+            print(f"FAIL {label}: rs274 rejected it (generator bug):\n  {rs.error}")
+            return "fail"
+        print(f"SKIP {label}: rs274 rejects it: {rs.error.splitlines()[0] if rs.error else ''}")
+        return "skip"
+    ok, got, err = run_gmotion(args.gmotion, path)
+    if not ok:
+        print(f"FAIL {label}: gmotion moves failed on a program rs274 accepts:\n  {err[:2000]}")
+        return "fail"
+    ref = rs.moves
+    if not args.keep_zero_length:
+        # rs274 prints zero-length G0/G1 blocks; a motion pipeline may drop them
+        ref, n_ref = drop_zero_length(ref, 1e-12)
+        got, n_got = drop_zero_length(got, 1e-12)
+        args.zero_dropped += n_ref
+    mm = compare_moves(ref, got, args.tol)
+    if mm:
+        print(describe_mismatch(ref, got, mm[0], mm[1], text, label))
+        return "fail"
+    if args.verbose:
+        print(f"ok   {label}: {len(ref)} moves")
+    args.moves_compared += len(ref)
+    return "ok"
+
+
+def collect_programs(roots: list[str]) -> list[Path]:
+    files: list[Path] = []
+    for r in roots:
+        p = Path(r)
+        if p.is_dir():
+            files += sorted(p.rglob("*.nc")) + sorted(p.rglob("*.ngc"))
+        else:
+            files.append(p)
+    return files
+
+
+def main_compare(args) -> int:
+    counts = {"ok": 0, "skip": 0, "fail": 0}
+    skipped = []
+    if args.random:
+        import gen_random_program as gen
+        feats = gen.parse_features(args.features)
+        with tempfile.TemporaryDirectory(prefix="rs274diff-gm-") as tmp:
+            for k in range(args.random):
+                seed = args.seed_base + k
+                text = gen.generate(seed, args.blocks, feats)
+                path = os.path.join(tmp, f"seed{seed}.nc")
+                Path(path).write_text(text)
+                res = diff_program(args, text, path, f"seed {seed}", must_accept=True)
+                counts[res] += 1
+                if res == "fail":
+                    print(f"  reproduce: tools/gen_random_program.py --seed {seed} --blocks {args.blocks}"
+                          + (f" --features {args.features}" if args.features else ""))
+                    print("  ---- program ----\n" + text + "  -----------------")
+                    if args.keep:
+                        os.makedirs(args.keep, exist_ok=True)
+                        shutil.copy(path, args.keep)
+                    if counts["fail"] >= args.max_failures:
+                        break
+    files = collect_programs(args.programs + args.files)
+    if not files and not args.random:
+        print(f"rs274_diff: no *.nc programs under {args.programs}; skipping")
+        return SKIP
+    for f in files:
+        text = f.read_text(errors="replace")
+        res = diff_program(args, text, str(f), str(f), must_accept=False)
+        counts[res] += 1
+        if res == "skip":
+            skipped.append(str(f))
+    print(f"rs274_diff: {counts['ok']} equal, {counts['fail']} mismatched, "
+          f"{counts['skip']} skipped (rejected by rs274); {args.moves_compared} moves compared"
+          + ("" if args.keep_zero_length else
+             f" ({args.zero_dropped} zero-length G0/G1 moves of rs274 left out)"))
+    for s in skipped:
+        print(f"  skipped: {s}")
+    if counts["ok"] + counts["fail"] == 0 and not args.allow_empty:
+        print("rs274_diff: nothing was compared")
+        return 1
+    return 1 if counts["fail"] else 0
+
+
+# ---------------------------------------------------------------------------------------------
+# self test
+
+# Real rs274 2.9 output (trimmed) with hand-worked expectations.
+_SELF_TEXT = """\
+    1 N..... USE_LENGTH_UNITS(CANON_UNITS_MM)
+    2 N..... SET_G5X_OFFSET(1, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+    8 N..... SELECT_PLANE(CANON_PLANE_XY)
+   10 N3     STRAIGHT_TRAVERSE(1.0000, 2.0000, 3.0000, 0.0000, 0.0000, 0.0000)
+   11 N4     SET_FEED_RATE(100.0000)
+   12 N4     STRAIGHT_FEED(10.0000, 2.0000, 3.0000, 0.0000, 0.0000, 0.0000)
+   13 N5     SELECT_PLANE(CANON_PLANE_XZ)
+   14 N5     ARC_FEED(-1.0000, 10.0000, 1.0000, 10.0000, -1, 2.0000, 0.0000, 0.0000, 0.0000)
+   15 N6     SELECT_PLANE(CANON_PLANE_YZ)
+   16 N6     ARC_FEED(2.0000, 3.0000, 2.0000, 1.0000, 2, 10.0000, 0.0000, 0.0000, 0.0000)
+   17 N7     DWELL(1.5000)
+   18 N8     SET_FEED_RATE(10.0000)
+   19 N8     USE_LENGTH_UNITS(CANON_UNITS_INCHES)
+   20 N8     STRAIGHT_FEED(1.0000, 0.0787, 0.1181, 0.0000, 0.0000, 0.0000)
+   21 N9     SET_FEED_RATE(4.0000)
+   22 N9     SELECT_PLANE(CANON_PLANE_XY)
+   23 N9     ARC_FEED(3.0000, 0.0787, 4.0000, 0.0787, -3, 1.1181, 0.0000, 0.0000, 0.0000)
+   24 N100000STRAIGHT_TRAVERSE(4.0000, 0.0787, 1.1181, 0.0000, 0.0000, 0.0000)
+   41 N..... PROGRAM_END()
+"""
+
+
+def _self_expected() -> list[Move]:
+    i = MM_PER_INCH
+    return [
+        Move("rapid", 3, [1, 2, 3]),
+        Move("line", 4, [10, 2, 3], feed=100),
+        # G18: first = Z, second = X  -> end X10 Y2 Z-1, centre X10 Z1, G2
+        Move("arc", 5, [10, 2, -1], 100, [10, None, 1], "cw", 1, "XZ"),
+        # G19: first = Y, second = Z  -> end X10 Y2 Z3, centre Y2 Z1, G3, P2
+        Move("arc", 6, [10, 2, 3], 100, [None, 2, 1], "ccw", 2, "YZ"),
+        Move("dwell", 7, seconds=1.5),
+        # F10 is executed before G20 in the block -> 10 mm/min
+        Move("line", 8, [1 * i, 0.0787 * i, 0.1181 * i], feed=10),
+        Move("arc", 9, [3 * i, 0.0787 * i, 1.1181 * i], 4 * i, [4 * i, 0.0787 * i, None], "cw", 3,
+             "XY"),
+        Move("rapid", 100000, [4 * i, 0.0787 * i, 1.1181 * i]),
+    ]
+
+
+# Three small programs with hand-worked moves (mm), run through the real rs274.
+_SELF_PROGRAMS = [
+    ("xy-mm",
+     "G21 G17 G90\nG0 X1 Y2 Z3\nG1 X10 F100\nG2 X20 Y10 I5 J4\nG4 P0.5\nM2\n",
+     [Move("rapid", 2, [1, 2, 3]), Move("line", 3, [10, 2, 3], 100),
+      Move("arc", 4, [20, 10, 3], 100, [15, 6, None], "cw", 1, "XY"),
+      Move("dwell", 5, seconds=0.5)]),
+    ("planes-incremental",
+     "G21 G90\nG1 X10 Z3 F60\nG18 G2 X10 Z-1 I0 K-2\nG19 G91 G3 Y0 Z4 J0 K2 P2\n"
+     "G17 G3 X-2 Y0 I-1 J0 Z1\nM2\n",
+     [Move("line", 2, [10, 0, 3], 60),
+      Move("arc", 3, [10, 0, -1], 60, [10, None, 1], "cw", 1, "XZ"),
+      Move("arc", 4, [10, 0, 3], 60, [None, 0, 1], "ccw", 2, "YZ"),
+      Move("arc", 5, [8, 0, 4], 60, [9, 0, None], "ccw", 1, "XY")]),
+    ("inch-g93",
+     "G20 G17 G90\nG1 X1 F2\nG93 G1 X3 F4\nG94 G1 Y1 F5\nG21 G1 X10\nM2\n",
+     [Move("line", 2, [25.4, 0, 0], 2 * 25.4),
+      Move("line", 3, [3 * 25.4, 0, 0], 8 * 25.4),     # 2 in in 1/4 min -> 8 in/min
+      Move("line", 4, [3 * 25.4, 25.4, 0], 5 * 25.4),
+      Move("line", 5, [10, 25.4, 0], 5 * 25.4)]),        # physical rate kept across G21
+]
+
+
+def self_test(args) -> int:
+    tol = Tol()
+    failures = 0
+
+    def check(label, cond, detail=""):
+        nonlocal failures
+        if not cond:
+            failures += 1
+            print(f"SELF-TEST FAIL {label} {detail}")
+        elif args.verbose:
+            print(f"self-test ok   {label}")
+
+    # 1. the parser on known text
+    got = parse_rs274_output(_SELF_TEXT)
+    exp = _self_expected()
+    mm = compare_moves(got, exp, tol)
+    check("parse canned rs274 text", mm is None,
+          describe_mismatch(got, exp, *mm, "", "canned") if mm else "")
+    # 2. the comparator must notice each kind of difference
+    base = [Move("arc", 4, [20, 10, 3], 100, [15, 6, 3], "cw", 1, "XY", tol_mm=5e-5)]
+    perturb = {
+        "end": dict(end=[20, 10.001, 3]), "center": dict(center=[15.001, 6, 3]),
+        "dir": dict(dir="ccw"), "turns": dict(turns=2), "plane": dict(plane="XZ"),
+        "feed": dict(feed=100.1), "line": dict(line=5), "kind": dict(kind="line"),
+    }
+    for name, change in perturb.items():
+        other = Move(**{**base[0].__dict__, **change, "tol_mm": 0.0})
+        check(f"comparator notices {name}", compare_moves(base, [other], tol) is not None)
+    near = Move(**{**base[0].__dict__, "end": [20 + 1.4e-4, 10, 3], "feed": 100.009})
+    check("comparator accepts within tolerance", compare_moves(base, [near], tol) is None)
+    check("comparator notices a missing move", compare_moves(base, [], tol) is not None)
+    # 3. renumbering
+    check("number_lines", number_lines("G0 X1\n\nN50 G1 X2\n/G1 X3\n%\n")
+          == "N1 G0 X1\n\nN3 G1 X2\n/N4 G1 X3\n%\n", repr(number_lines("G0 X1\n\nN50 G1 X2\n/G1 X3\n%\n")))
+    # 4. the real rs274 on three small programs against hand-worked moves
+    if shutil.which(args.rs274) or os.path.exists(args.rs274):
+        for label, text, expected in _SELF_PROGRAMS:
+            rs = run_rs274(args.rs274, text)
+            check(f"rs274 accepts {label}", rs.ok, rs.error)
+            if rs.ok:
+                mm = compare_moves(rs.moves, expected, tol)
+                check(f"rs274 moves of {label}", mm is None,
+                      "\n" + describe_mismatch(rs.moves, expected, *mm, text, label) if mm else "")
+        rs = run_rs274(args.rs274, "G21\nG2 X10 Y0 I3 J0 F10\nM2\n")
+        check("rs274 rejection is detected", not rs.ok)
+    else:
+        print(f"self-test: {args.rs274} not found; skipped the live rs274 checks")
+    print(f"rs274_diff self-test: {'FAILED (' + str(failures) + ')' if failures else 'passed'}")
+    return 1 if failures else 0
+
+
+# ---------------------------------------------------------------------------------------------
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description="rs274 vs gmotion moves differential test")
+    ap.add_argument("files", nargs="*", help="programs to compare")
+    ap.add_argument("--gmotion", help="path of the gmotion executable")
+    ap.add_argument("--rs274", default="rs274", help="LinuxCNC standalone interpreter (default: rs274)")
+    ap.add_argument("--programs", nargs="*", default=[], help="directories searched for *.nc/*.ngc")
+    ap.add_argument("--random", type=int, default=0, help="number of generated programs")
+    ap.add_argument("--seed-base", type=int, default=1)
+    ap.add_argument("--blocks", type=int, default=40, help="blocks per generated program")
+    ap.add_argument("--features", default=None, help="generator features, e.g. +g93,-syntax")
+    ap.add_argument("--tol-mm", type=float, default=1e-4)
+    ap.add_argument("--tol-feed-rel", type=float, default=1e-4)
+    ap.add_argument("--max-failures", type=int, default=5, help="stop random runs after this many")
+    ap.add_argument("--keep", help="copy failing generated programs into this directory")
+    ap.add_argument("--keep-zero-length", action="store_true",
+                    help="also compare zero-length G0/G1 moves (by default both sides drop them)")
+    ap.add_argument("--allow-empty", action="store_true", help="exit 0 if nothing was compared")
+    ap.add_argument("--self-test", action="store_true")
+    ap.add_argument("--rs274-moves", metavar="FILE", help="print rs274's moves of FILE as JSON lines")
+    ap.add_argument("-v", "--verbose", action="store_true")
+    args = ap.parse_args(argv)
+    args.tol = Tol(args.tol_mm, args.tol_feed_rel)
+    args.moves_compared = 0
+    args.zero_dropped = 0
+
+    have_rs274 = bool(shutil.which(args.rs274)) or os.access(args.rs274, os.X_OK)
+    if args.self_test:
+        return self_test(args)
+    if not have_rs274:
+        print(f"rs274_diff: {args.rs274} not installed; skipping (install linuxcnc-uspace)")
+        return SKIP
+    if args.rs274_moves:
+        rs = run_rs274(args.rs274, Path(args.rs274_moves).read_text())
+        if not rs.ok:
+            print(rs.error, file=sys.stderr)
+            return 1
+        for m in rs.moves:
+            print(json.dumps(m.as_dict()))
+        return 0
+    if not args.gmotion:
+        ap.error("--gmotion is required to compare")
+    if not (args.files or args.programs or args.random):
+        ap.error("nothing to compare: give FILEs, --programs DIR or --random N")
+    return main_compare(args)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
