@@ -138,7 +138,7 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
   const char* const end = begin + compact_.size();
   ast_.reset(begin);
   const char* pos = begin + start;
-  while (pos != end) {
+  while (pos != end && out.errors.size() < kMaxErrorsPerLine) {
     ItemFailure fail;
     const char* item_start = pos;
     if (parse_items(pos, end, ast_, fail)) {
@@ -175,12 +175,12 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
                         (fail.where == end ? "" : ", found " + describe_char(*fail.where)));
         pos = skip_unsupported(fail.where, end);
       } else {
+        const int open_paren = ast_.comments[ast_.comment_count - 1].id_first;
         --ast_.comment_count;
         if (fail.code == ErrorCode::NestedComment)
           add_error(out, ErrorCode::NestedComment, off, "nested comment: '(' inside a comment");
         else
-          add_error(out, ErrorCode::UnclosedComment, static_cast<int>(item_start - begin),
-                    "comment not closed: missing ')'");
+          add_error(out, ErrorCode::UnclosedComment, open_paren, "comment not closed: missing ')'");
         break;  // the rest of the line is comment text of unknown extent
       }
     }

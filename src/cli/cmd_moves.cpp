@@ -70,6 +70,9 @@ void add_moves(CLI::App& app, Context& ctx) {
       spool.open(spool_path, std::ios::in | std::ios::out | std::ios::binary | std::ios::trunc);
       std::remove(spool_path.c_str());  // unlinked: vanishes when closed
       spool << std::cin.rdbuf();
+      spool.flush();
+      spool.clear();
+      spool.seekg(0);
       in = &spool;
     } else {
       file.open(opts->program, std::ios::binary);

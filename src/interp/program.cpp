@@ -110,8 +110,10 @@ class ProgramRunner {
   std::int64_t blocks_ = 0;
 };
 
-CheckSummary check_program(std::istream& in, std::string_view filename, const InterpreterOptions& opts,
-                           std::ostream& diag_out) {
+namespace {
+
+template <typename Sink>
+CheckSummary run_check(std::istream& in, std::string_view filename, const InterpreterOptions& opts, Sink&& sink) {
   ProgramRunner runner(in, std::string(filename), opts);
   CheckSummary sum;
   std::vector<Canon> out;
@@ -122,7 +124,7 @@ CheckSummary check_program(std::istream& in, std::string_view filename, const In
     diags.clear();
     more = runner.step(out, diags);
     for (const auto& d : diags) {
-      diag_out << format_diagnostic(filename, d);
+      sink(d);
       ++sum.errors;
     }
     for (const auto& c : out) {
@@ -143,6 +145,18 @@ CheckSummary check_program(std::istream& in, std::string_view filename, const In
   }
   sum.blocks = runner.blocks();
   return sum;
+}
+
+}  // namespace
+
+CheckSummary check_program(std::istream& in, std::string_view filename, const InterpreterOptions& opts,
+                           std::ostream& diag_out) {
+  return run_check(in, filename, opts, [&](const Diagnostic& d) { diag_out << format_diagnostic(filename, d); });
+}
+
+CheckSummary check_program_diagnostics(std::istream& in, std::string_view filename, const InterpreterOptions& opts,
+                                       std::vector<Diagnostic>& diagnostics) {
+  return run_check(in, filename, opts, [&](const Diagnostic& d) { diagnostics.push_back(d); });
 }
 
 ProgramStream::ProgramStream(std::istream& in, std::string filename, InterpreterOptions opts)

@@ -34,6 +34,11 @@ struct CheckSummary {
 CheckSummary check_program(std::istream& in, std::string_view filename, const InterpreterOptions& opts,
                            std::ostream& diag_out);
 
+/// As check_program, but hands back the diagnostics (with their ErrorCode in `code`) instead of
+/// printing them (tests, tools).
+CheckSummary check_program_diagnostics(std::istream& in, std::string_view filename, const InterpreterOptions& opts,
+                                       std::vector<Diagnostic>& diagnostics);
+
 class ProgramRunner;  // internal: reader + parser + interpreter
 
 /// Streams canonical commands: each line is parsed, interpreted and handed on before the next

@@ -1,0 +1,166 @@
+// The grammar facade: LinuxCNC spacing, numbers, comments, located syntax errors, robustness.
+#include "grammar/parse.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <random>
+#include <string>
+
+using gm::ErrorCode;
+using gm::grammar::Block;
+using gm::grammar::BlockParser;
+
+namespace {
+Block parse(const std::string& text, int line = 1) {
+  BlockParser p;
+  Block b;
+  p.parse(text, line, b);
+  return b;
+}
+}  // namespace
+
+TEST_CASE("spaces and tabs outside comments are insignificant (G 0 1 X 1 0 is G01 X10)") {
+  const Block b = parse("G 0 1 X 1 0\t Y - 1 . 5");
+  REQUIRE_FALSE(b.has_errors());
+  REQUIRE(b.words.size() == 3);
+  CHECK(b.words[0].letter == 'G');
+  CHECK(b.words[0].value == 1.0);
+  CHECK(b.words[0].loc.column == 1);
+  CHECK(b.words[1].letter == 'X');
+  CHECK(b.words[1].value == 10.0);
+  CHECK(b.words[1].loc.column == 7);
+  CHECK(b.words[2].value == -1.5);
+  CHECK(b.words[2].loc.column == 14);
+}
+
+TEST_CASE("numbers: sign, leading and trailing point, either letter case") {
+  const Block b = parse("x-.5 f600. y+2.25 z.125");
+  REQUIRE_FALSE(b.has_errors());
+  REQUIRE(b.words.size() == 4);
+  CHECK(b.words[0].letter == 'X');
+  CHECK(b.words[0].value == -0.5);
+  CHECK(b.words[1].letter == 'F');
+  CHECK(b.words[1].value == 600.0);
+  CHECK(b.words[2].value == 2.25);
+  CHECK(b.words[3].value == 0.125);
+}
+
+TEST_CASE("comments: parentheses, semicolon, MSG kept, CR LF") {
+  Block b = parse("G1 (a comment) X1 ; rest G2 (ignored\r");
+  REQUIRE_FALSE(b.has_errors());
+  REQUIRE(b.words.size() == 2);
+  CHECK(b.words[1].letter == 'X');
+  CHECK(b.message_count == 0);
+  b = parse("(MSG, Hello  World) G4 P1");
+  REQUIRE_FALSE(b.has_errors());
+  REQUIRE(b.message_count == 1);
+  CHECK(b.messages[0].text == "Hello  World");
+  CHECK(b.messages[0].loc.column == 1);
+  CHECK(b.words.size() == 2);
+  b = parse("( msg,lower case kept)");
+  REQUIRE(b.message_count == 1);
+  CHECK(b.messages[0].text == "lower case kept");
+}
+
+TEST_CASE("block delete, percent and empty lines") {
+  Block b = parse("  / G0 X1");
+  CHECK(b.block_delete);
+  CHECK(b.words.size() == 2);
+  b = parse("%");
+  CHECK(b.percent);
+  CHECK(b.words.empty());
+  b = parse("   \t ");
+  CHECK(b.words.empty());
+  CHECK_FALSE(b.has_errors());
+}
+
+TEST_CASE("syntax errors carry code, line and column") {
+  struct Case {
+    const char* text;
+    ErrorCode code;
+    int column;
+  };
+  const Case cases[] = {
+      {"G1 X", ErrorCode::ExpectedNumber, 5},
+      {"G1 XY1", ErrorCode::ExpectedNumber, 5},
+      {"XNaN", ErrorCode::ExpectedNumber, 2},
+      {"G1 (a (b) c)", ErrorCode::NestedComment, 7},
+      {"G1 (open", ErrorCode::UnclosedComment, 4},
+      {"G1 X#1", ErrorCode::ParametersUnsupported, 5},
+      {"#1=2", ErrorCode::ParametersUnsupported, 1},
+      {"G1 X[1+2]", ErrorCode::ExpressionsUnsupported, 5},
+      {"o100 sub", ErrorCode::OWordsUnsupported, 1},
+      {"N10 O<x> call", ErrorCode::OWordsUnsupported, 5},
+      {"X1e400", ErrorCode::NumberOutOfRange, 2},
+      {"X1e3", ErrorCode::ExponentUnsupported, 2},
+      {"G1 * X1", ErrorCode::UnexpectedCharacter, 4},
+      {"G1 ) X1", ErrorCode::UnexpectedCharacter, 4},
+      {"12 X1", ErrorCode::NumberWithoutLetter, 1},
+  };
+  for (const auto& c : cases) {
+    INFO(c.text);
+    const Block b = parse(c.text, 7);
+    REQUIRE(b.errors.size() >= 1);
+    CHECK(b.errors[0].code == c.code);
+    CHECK(b.errors[0].loc.line == 7);
+    CHECK(b.errors[0].loc.column == c.column);
+  }
+}
+
+TEST_CASE("a number written out beyond double range is out of range; a tiny one is zero") {
+  Block b = parse("X1" + std::string(400, '0'));
+  REQUIRE(b.errors.size() == 1);
+  CHECK(b.errors[0].code == ErrorCode::NumberOutOfRange);
+  b = parse("X1" + std::string(100000, '0'));  // 10^5 digits
+  REQUIRE(b.errors.size() == 1);
+  CHECK(b.errors[0].code == ErrorCode::NumberOutOfRange);
+  b = parse("X0." + std::string(400, '0') + "1");
+  REQUIRE_FALSE(b.has_errors());
+  CHECK(b.words[0].value == 0.0);
+  b = parse("X1." + std::string(1000, '0'));
+  REQUIRE_FALSE(b.has_errors());
+  CHECK(b.words[0].value == 1.0);
+}
+
+TEST_CASE("every error of a line is reported, in column order") {
+  const Block b = parse("G1 X Y2 Z# F[1] (x (y)");
+  REQUIRE(b.errors.size() == 4);
+  CHECK(b.errors[0].code == ErrorCode::ExpectedNumber);
+  CHECK(b.errors[0].loc.column == 6);  // where the number should start
+  CHECK(b.errors[1].code == ErrorCode::ParametersUnsupported);
+  CHECK(b.errors[1].loc.column == 10);
+  CHECK(b.errors[2].code == ErrorCode::ExpressionsUnsupported);
+  CHECK(b.errors[2].loc.column == 13);
+  CHECK(b.errors[3].code == ErrorCode::NestedComment);
+  CHECK(b.errors[3].loc.column == 20);
+  // The good words survive (for the caller to ignore: a line with errors never runs).
+  CHECK(b.words.size() == 2);
+}
+
+TEST_CASE("random bytes never crash, hang or produce unlocated errors") {
+  const auto seed = std::random_device{}();
+  CAPTURE(seed);
+  std::mt19937 rng(seed);
+  BlockParser p;
+  Block b;
+  for (int i = 0; i < 2000; ++i) {
+    std::string s(static_cast<std::size_t>(rng() % 200), '\0');
+    for (auto& ch : s) ch = static_cast<char>(rng() % 256);
+    if (i % 2) for (auto& ch : s) if (ch == '\n') ch = ' ';
+    CAPTURE(i);
+    REQUIRE_NOTHROW(p.parse(s, i + 1, b));
+    for (const auto& e : b.errors) {
+      CHECK(e.code != ErrorCode::None);
+      CHECK(e.loc.line == i + 1);
+      CHECK(e.loc.column >= 1);
+      CHECK(e.loc.column <= static_cast<int>(s.size()) + 1);
+    }
+    CHECK(b.errors.size() <= gm::grammar::kMaxErrorsPerLine);
+  }
+}
+
+TEST_CASE("a megabyte line of letters is bounded to the per-line error cap") {
+  const Block b = parse(std::string(1u << 20, 'X'));
+  CHECK(b.errors.size() == gm::grammar::kMaxErrorsPerLine);
+  CHECK(b.errors[0].code == ErrorCode::ExpectedNumber);
+}

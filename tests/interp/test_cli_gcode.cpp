@@ -1,0 +1,62 @@
+// gmotion check / moves: exit codes, the JSON Lines format, stdin.
+#include <catch2/catch.hpp>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <sys/wait.h>
+
+namespace {
+struct Result {
+  int code;
+  std::string out;
+};
+Result sh(const std::string& cmd) {
+  FILE* p = popen(cmd.c_str(), "r");
+  REQUIRE(p != nullptr);
+  std::string out;
+  std::array<char, 4096> buf{};
+  while (std::size_t n = fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
+  const int status = pclose(p);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+std::string bin() { return GMOTION_BIN; }
+}  // namespace
+
+TEST_CASE("gmotion moves prints one JSON object per canonical move (mm, mm/min)") {
+  const auto r = sh("printf 'G20 G0 X1\\nG21\\nG1 X10 F600\\nG2 X20 I5\\nG4 P0.5\\nM2\\n' | " + bin() + " moves -");
+  CHECK(r.code == 0);
+  CHECK(r.out ==
+        "{\"line\":1,\"kind\":\"rapid\",\"end\":[25.4,0,0],\"feed\":0}\n"
+        "{\"line\":3,\"kind\":\"line\",\"end\":[10,0,0],\"feed\":600}\n"
+        "{\"line\":4,\"kind\":\"arc\",\"end\":[20,0,0],\"feed\":600,\"center\":[15,0,0],\"dir\":\"cw\",\"turns\":1,"
+        "\"plane\":\"XY\"}\n"
+        "{\"line\":5,\"kind\":\"dwell\",\"seconds\":0.5}\n");
+}
+
+TEST_CASE("gmotion moves prints nothing and exits 1 when any line is bad") {
+  const auto r = sh("printf 'G1 X1 F100\\nG1 X#2\\nM2\\n' | " + bin() + " moves - 2>/dev/null");
+  CHECK(r.code == 1);
+  CHECK(r.out.empty());
+}
+
+TEST_CASE("gmotion check: summary on success, all errors with caret on failure") {
+  auto r = sh("printf 'G1 X30 Y40 F600\\nM2\\n' | " + bin() + " check - 2>&1");
+  CHECK(r.code == 0);
+  // 50 mm at 600 mm/min = 5 s.
+  CHECK(r.out.find("2 blocks, 1 moves, path 50.000 mm, 5.000 s") != std::string::npos);
+  r = sh("printf 'G1 X1\\nG0 X1 X2\\n' | " + bin() + " check - 2>&1");
+  CHECK(r.code == 1);
+  CHECK(r.out.find("<stdin>:1:1: error: G1 with zero feed") != std::string::npos);
+  CHECK(r.out.find("<stdin>:2:7: error: X appears twice") != std::string::npos);
+  CHECK(r.out.find("\n        ^\n") != std::string::npos);
+  CHECK(r.out.find("<stdin>:2:1: error: missing program end") != std::string::npos);
+}
+
+TEST_CASE("gmotion check --arc-rule selects the tolerance rule") {
+  const std::string prog = "printf 'G1 F100\\nG2 X10 Y0 I5.01\\nM2\\n' | ";
+  CHECK(sh(prog + bin() + " check - 2>/dev/null").code == 0);
+  CHECK(sh(prog + bin() + " check - --arc-rule grbl 2>/dev/null").code == 1);
+  CHECK(sh(prog + bin() + " check - --arc-rule nonsense 2>/dev/null").code == 2);
+}
