@@ -16,5 +16,6 @@ void add_moves(CLI::App& app, Context& ctx);    ///< gmotion moves PROGRAM
 void add_design(CLI::App& app, Context& ctx);   ///< gmotion design ... (paper Fig. 9)
 void add_analyze(CLI::App& app, Context& ctx);  ///< gmotion analyze radius-error|response
 void add_run(CLI::App& app, Context& ctx);      ///< gmotion run PROGRAM (the whole pipeline)
+void add_compare(CLI::App& app, Context& ctx);  ///< gmotion compare PROGRAM (profiles side by side)
 
 }  // namespace gm::cli

@@ -1,0 +1,150 @@
+// gmotion compare: one program through several Acc/Dec profiles, measured against the analysis
+// (the paper's circle test: Fig. 13, Eq. 34/35).
+#include "accdec/analysis.hpp"
+#include "cli/commands.hpp"
+#include "cli/run_setup.hpp"
+#include "common/status.hpp"
+#include "pipeline/pipeline.hpp"
+#include "trace/run_summary.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <vector>
+
+namespace gm::cli {
+namespace {
+
+struct CompareFlags {
+  std::string program;
+  MachineFlags machine;
+  std::vector<std::string> profiles{"linear", "scurve1", "scurve2", "blackman"};
+  bool json = false;
+};
+
+// The first arc of the program: its radius and programmed tangent speed, for the analysis column.
+std::optional<Motion> first_arc(ProgramInput& program, const InterpreterOptions& opts) {
+  ProgramStream stream(program.rewind(), program.name(), opts);
+  Canon c;
+  while (stream.next(c))
+    if (const auto* m = std::get_if<Motion>(&c); m != nullptr && m->kind == MotionKind::Arc) return *m;
+  return std::nullopt;
+}
+
+struct Row {
+  std::string profile;
+  std::size_t taps = 0;
+  double analysis_blu = 0, accdec_blu = 0, total_blu = 0, predicted_total_blu = 0;
+  double cycle_s = 0, contour_max_blu = 0;
+  bool settled = false;
+};
+
+int compare(const CompareFlags& f) {
+  const Machine base = resolve_machine(f.machine);
+  ProgramInput program(f.program);
+  InterpreterOptions opts;
+  opts.machine = &base;
+  opts.block_delete = f.machine.block_delete;
+  if (!validate_program(program, opts)) return static_cast<int>(ExitCode::InputError);
+
+  const std::optional<Motion> arc = first_arc(program, opts);
+  const double blu = base.blu_mm().minCoeff();
+  double r_blu = 0, v_blu_s = 0;
+  if (arc) {
+    r_blu = (arc->start_mm - arc->center_mm).norm() / blu;  // planar arcs: in-plane radius
+    v_blu_s = arc->feed_mm_min / 60.0 / blu;
+  }
+  const double kp = base.axes[0].kp_1_s;
+  const double servo_eq35 = arc ? v_blu_s * v_blu_s / (2.0 * r_blu * kp * kp) : 0.0;
+
+  std::vector<Row> rows;
+  for (const std::string& profile : f.profiles) {
+    Row row;
+    row.profile = profile;
+    for (bool servo : {false, true}) {
+      if (servo && f.machine.no_servo) break;
+      RunConfig cfg;
+      cfg.machine = base;
+      cfg.machine.profile = profile;
+      cfg.servo = servo;
+      ProgramStream stream(program.rewind(), program.name(), opts);
+      Pipeline pipeline(cfg, stream);
+      RunSummary summary(cfg.machine);
+      SampleRecord rec, last;
+      PipelineStatus st;
+      while ((st = pipeline.step(OverrideInput{}, rec)) == PipelineStatus::Working) summary.add(rec), last = rec;
+      summary.finish(last, pipeline.program_end_blu(), st == PipelineStatus::Finished);
+      row.taps = pipeline.taps().integer.size();
+      if (arc) row.analysis_blu = radius_loss_sampled(pipeline.taps().real, r_blu, v_blu_s, cfg.machine.period_s);
+      if (!servo) {
+        row.accdec_blu = -summary.arc_ref_radial_dev_blu;
+      } else {
+        row.total_blu = -summary.arc_enc_radial_dev_blu;
+        row.cycle_s = summary.cycle_time_s;
+        row.contour_max_blu = summary.contour_err_blu.value;
+        row.settled = summary.settled;
+      }
+      if (f.machine.no_servo) {
+        row.cycle_s = summary.cycle_time_s;
+        row.contour_max_blu = summary.contour_err_blu.value;
+        row.settled = summary.settled;
+      }
+    }
+    row.predicted_total_blu = row.analysis_blu + servo_eq35;
+    rows.push_back(row);
+  }
+
+  if (f.json) {
+    std::string j = "{\"rows\":[";
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      const Row& r = rows[i];
+      j += fmt::format(
+          "{}{{\"profile\":\"{}\",\"taps\":{},\"analysis_blu\":{:.6g},\"accdec_blu\":{:.6g},\"total_blu\":{:.6g},"
+          "\"predicted_total_blu\":{:.6g},\"cycle_time_s\":{:.6g},\"contour_err_max_blu\":{:.6g},\"settled\":{}}}",
+          i ? "," : "", r.profile, r.taps, r.analysis_blu, r.accdec_blu, r.total_blu, r.predicted_total_blu,
+          r.cycle_s, r.contour_max_blu, r.settled ? "true" : "false");
+    }
+    j += fmt::format("],\"radius_blu\":{:.6g},\"v_tan_blu_s\":{:.6g},\"servo_eq35_blu\":{:.6g}}}\n", r_blu, v_blu_s,
+                     servo_eq35);
+    fmt::print("{}", j);
+    return 0;
+  }
+
+  fmt::print("{} on {}: T = {} s, tau = {} s", program.name(), base.name, base.period_s, base.tau_s);
+  if (arc)
+    fmt::print(", circle R = {:.0f} BLU at V_tan = {:.0f} BLU/s (line {})\n", r_blu, v_blu_s, arc->line);
+  else
+    fmt::print(", no arcs (radius columns are empty)\n");
+  fmt::print("Steady-state radius loss on arcs, BLU (positive = radius decreased):\n");
+  fmt::print("  {:<10} {:>5} {:>12} {:>12}", "profile", "taps", "analysis", "Acc/Dec");
+  if (!f.machine.no_servo) fmt::print(" {:>12} {:>14}", "with servo", "Acc/Dec+Eq.35");
+  fmt::print(" {:>10} {:>14}\n", "cycle s", "max contour");
+  for (const Row& r : rows) {
+    fmt::print("  {:<10} {:>5} {:>12.2f} {:>12.2f}", r.profile, r.taps, r.analysis_blu, r.accdec_blu);
+    if (!f.machine.no_servo) fmt::print(" {:>12.2f} {:>14.2f}", r.total_blu, r.predicted_total_blu);
+    fmt::print(" {:>10.3f} {:>14.2f}{}\n", r.cycle_s, r.contour_max_blu, r.settled ? "" : "  (not settled)");
+  }
+  fmt::print(
+      "analysis = R(1-|D(e^jwT)|), w = V/R (paper Eq. 13/14); Acc/Dec = measured on the filter output;\n"
+      "with servo = measured on the encoder; Eq. 35 servo lag V^2/(2 R Kp^2) = {:.2f} BLU (Kp = {} 1/s).\n",
+      servo_eq35, kp);
+  return 0;
+}
+
+}  // namespace
+
+void add_compare(CLI::App& app, Context& ctx) {
+  auto flags = std::make_shared<CompareFlags>();
+  auto* sub = app.add_subcommand("compare", "Run a program through several Acc/Dec profiles and tabulate radius loss");
+  sub->add_option("program", flags->program, "G-code program, or - for stdin")->required();
+  add_machine_flags(sub, flags->machine);
+  sub->add_option("--profiles", flags->profiles, "Comma-separated profiles")->delimiter(',');
+  sub->add_flag("--json", flags->json, "Print the table as JSON");
+  sub->callback([flags, &ctx] { ctx.exit_code = compare(*flags); });
+}
+
+}  // namespace gm::cli

@@ -1,0 +1,83 @@
+// Shared set-up of the pipeline commands: machine resolution and program input.
+#include "cli/run_setup.hpp"
+
+#include "common/status.hpp"
+#include "machine/machine_file.hpp"
+
+#include <fmt/format.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <unistd.h>
+
+namespace gm::cli {
+
+void add_machine_flags(CLI::App* sub, MachineFlags& f) {
+  sub->add_option("--machine", f.machine_file, "Machine file (TOML); default: the built-in 3-axis machine");
+  sub->add_option("--profile", f.profile, "Acc/Dec profile: linear, scurve1, scurve2, blackman, hann, ...");
+  sub->add_option("--tau", f.tau_s, "Acc/Dec time constant tau = (N+1)T, seconds");
+  sub->add_option("--period", f.period_s, "Interpolation period T, seconds");
+  sub->add_option("--blu", f.blu_mm, "Basic length unit of every axis, mm");
+  sub->add_flag("--no-servo", f.no_servo, "Ideal axes: the encoder reads the Acc/Dec output");
+  sub->add_flag("--block-delete", f.block_delete, "Skip blocks that start with '/'");
+}
+
+Machine resolve_machine(const MachineFlags& f) {
+  Machine m = f.machine_file.empty() ? default_machine() : load_machine_file(f.machine_file);
+  auto positive = [](const char* flag, double v) {
+    if (!(v > 0.0) || !std::isfinite(v))
+      throw InputError(fmt::format("{} must be a positive number of seconds or mm (got {})", flag, v));
+  };
+  if (f.profile) m.profile = *f.profile;
+  if (f.tau_s) positive("--tau", *f.tau_s), m.tau_s = *f.tau_s;
+  if (f.period_s) positive("--period", *f.period_s), m.period_s = *f.period_s;
+  if (f.blu_mm) {
+    positive("--blu", *f.blu_mm);
+    for (auto& a : m.axes) a.blu_mm = *f.blu_mm;
+  }
+  return m;
+}
+
+ProgramInput::ProgramInput(const std::string& path) : name_(path == "-" ? "<stdin>" : path) {
+  std::string open_path = path;
+  if (path == "-") {
+    char tmpl[] = "/tmp/gmotion-stdin-XXXXXX";
+    const int fd = mkstemp(tmpl);
+    if (fd < 0) throw InputError(fmt::format("cannot spool stdin: {}", std::strerror(errno)));
+    spool_path_ = tmpl;
+    std::FILE* out = fdopen(fd, "wb");
+    char buf[1 << 16];
+    std::size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, stdin)) > 0) std::fwrite(buf, 1, n, out);
+    std::fclose(out);
+    open_path = spool_path_;
+  } else {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+      throw InputError(fmt::format("cannot read program '{}': it is a directory", path));
+  }
+  file_.open(open_path, std::ios::binary);
+  if (!file_) throw InputError(fmt::format("cannot read program '{}': {}", path, std::strerror(errno)));
+  if (!spool_path_.empty()) std::remove(spool_path_.c_str());  // the open stream keeps it alive
+}
+
+std::istream& ProgramInput::rewind() {
+  file_.clear();
+  file_.seekg(0);
+  return file_;
+}
+
+bool validate_program(ProgramInput& program, const InterpreterOptions& opts) {
+  const CheckSummary s = check_program(program.rewind(), program.name(), opts, std::cerr);
+  if (s.errors > 0) {
+    fmt::print(stderr, "{}: {} error{}; nothing was run\n", program.name(), s.errors, s.errors == 1 ? "" : "s");
+    return false;
+  }
+  return true;
+}
+
+}  // namespace gm::cli

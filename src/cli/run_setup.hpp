@@ -1,0 +1,50 @@
+// What `run` and `compare` share: machine flags, resolving the machine, opening the program.
+#pragma once
+
+#include "interp/program.hpp"
+#include "machine/machine.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace gm::cli {
+
+/// Flags that choose the machine and override parts of it.
+struct MachineFlags {
+  std::string machine_file;            ///< empty: the built-in default machine
+  std::optional<std::string> profile;  ///< --profile NAME
+  std::optional<double> tau_s;         ///< --tau S
+  std::optional<double> period_s;      ///< --period S
+  std::optional<double> blu_mm;        ///< --blu MM (every axis)
+  bool no_servo = false;               ///< --no-servo: ideal axes
+  bool block_delete = false;           ///< --block-delete: honour '/'
+};
+
+/// Adds --machine, --profile, --tau, --period, --blu, --no-servo, --block-delete to `sub`.
+void add_machine_flags(CLI::App* sub, MachineFlags& flags);
+
+/// The machine file (or the built-in machine) with the flags applied. Throws gm::InputError.
+Machine resolve_machine(const MachineFlags& flags);
+
+/// A program opened for reading twice (validate, then run). `-` spools stdin to a temporary
+/// file first, so the same bytes are checked and run.
+class ProgramInput {
+ public:
+  explicit ProgramInput(const std::string& path);  ///< throws gm::InputError naming the path
+  std::istream& rewind();                          ///< the stream, at the start
+  const std::string& name() const { return name_; }
+
+ private:
+  std::string name_;
+  std::ifstream file_;
+  std::string spool_path_;
+};
+
+/// Validates the program; prints its diagnostics to stderr. Returns true when it has no error.
+bool validate_program(ProgramInput& program, const InterpreterOptions& opts);
+
+}  // namespace gm::cli

@@ -1,0 +1,141 @@
+// Sample-data interpolation with time carried across blocks, exact block ends, dwell, exact stop.
+#include "interpolator/interpolator.hpp"
+
+#include <cmath>
+
+namespace gm {
+
+Interpolator::Interpolator(const InterpolatorConfig& cfg, CanonSource& source)
+    : cfg_(cfg), source_(source), pos_mm_(cfg.start_mm) {}
+
+AxisBlu Interpolator::to_blu(const AxisVec& p_mm) const {
+  AxisBlu q;
+  for (int i = 0; i < kAxes; ++i) q[i] = std::llround(p_mm[i] / cfg_.blu_mm[i]);
+  return q;
+}
+
+double Interpolator::path_length_mm(const Motion& m) { return BlockGeometry::of(m).length_mm; }
+
+AxisVec Interpolator::position_on(const Motion& m, double s_mm) {
+  const BlockGeometry g = BlockGeometry::of(m);
+  return g.at_fraction(g.length_mm > 0.0 ? s_mm / g.length_mm : 1.0);
+}
+
+double Interpolator::block_speed_mm_s(const OverrideInput& ovr) const {
+  const double feed_scale = override_enabled_ ? ovr.feed_scale : 1.0;
+  if (block_.kind == MotionKind::Rapid)
+    return cfg_.rapid_mm_min / 60.0 * (override_enabled_ ? ovr.rapid_scale : 1.0);
+  if (block_.inverse_time_s > 0.0) return geom_.length_mm / block_.inverse_time_s * feed_scale;
+  return block_.feed_mm_min / 60.0 * feed_scale;
+}
+
+bool Interpolator::pull_next() {
+  while (!ended_) {
+    if (!source_.next(scratch_)) {
+      ended_ = true;
+      break;
+    }
+    if (auto* m = std::get_if<Motion>(&scratch_)) {
+      block_ = *m;
+      geom_ = BlockGeometry::of(block_);
+      has_block_ = true;
+      in_motion_ = true;
+      s_mm_ = 0.0;
+      line_ = block_.line;
+      ++block_seq_;
+      pending_events_ |= kEventBlockStart;
+      return true;
+    }
+    if (auto* d = std::get_if<Dwell>(&scratch_)) {
+      dwell_left_s_ = d->seconds;
+      dwell_line_ = d->line;
+      line_ = d->line;
+      if (dwell_left_s_ > 0.0) return true;
+      continue;
+    }
+    const Event& e = std::get<Event>(scratch_);
+    switch (e.kind) {
+      case EventKind::Pause:
+      case EventKind::OptionalPause: pending_events_ |= kEventPause; break;
+      case EventKind::Message: pending_events_ |= kEventMessage; break;
+      case EventKind::OverrideEnable: override_enabled_ = true; break;
+      case EventKind::OverrideDisable: override_enabled_ = false; break;
+      case EventKind::End: ended_ = true; break;
+    }
+  }
+  return false;
+}
+
+InterpStatus Interpolator::step(const OverrideInput& ovr, CommandSample& out) {
+  if (finished_) return InterpStatus::Finished;
+  std::uint32_t events = 0;
+  double dt = cfg_.period_s;  // time of this sample still to spend
+  bool moved_or_waited = false;
+
+  if (settle_left_ > 0) {
+    // Exact stop: the axes hold at the block end while the Acc/Dec output settles.
+    --settle_left_;
+    moved_or_waited = true;
+    dt = 0.0;
+  }
+  while (dt > 0.0) {
+    if (dwell_left_s_ > 0.0) {
+      events |= kEventDwell;
+      line_ = dwell_line_;
+      const double used = std::min(dt, dwell_left_s_);
+      dwell_left_s_ -= used;
+      dt -= used;
+      moved_or_waited = true;
+      continue;
+    }
+    if (!in_motion_) {
+      if (!pull_next()) break;
+      events |= pending_events_;
+      pending_events_ = 0;
+      continue;
+    }
+    const double v = block_speed_mm_s(ovr);
+    if (!(v > 0.0)) {
+      if (geom_.length_mm <= 0.0) {  // zero-length move: done, no time spent
+        in_motion_ = false;
+        continue;
+      }
+      events |= kEventHold;  // 0 % override: a feed hold, position stays
+      moved_or_waited = true;
+      break;
+    }
+    const double left = geom_.length_mm - s_mm_;
+    if (v * dt < left) {
+      s_mm_ += v * dt;
+      dt = 0.0;
+      pos_mm_ = geom_.at_fraction(s_mm_ / geom_.length_mm);
+      moved_or_waited = true;
+    } else {
+      dt -= left / v;
+      s_mm_ = geom_.length_mm;
+      pos_mm_ = geom_.end_mm;  // the block end, exactly
+      in_motion_ = false;
+      moved_or_waited = true;
+      if (block_.path_mode == PathMode::ExactStop) {
+        // Drop the rest of this sample and hold while the filter drains.
+        settle_left_ = cfg_.settle_samples;
+        break;
+      }
+    }
+  }
+  events |= pending_events_;
+  pending_events_ = 0;
+  if (!moved_or_waited && ended_ && !in_motion_ && dwell_left_s_ <= 0.0 && settle_left_ == 0) {
+    finished_ = true;
+    has_block_ = false;
+    return InterpStatus::Finished;
+  }
+  out.pos_blu = to_blu(pos_mm_);
+  out.line = line_;
+  out.block_seq = block_seq_;
+  out.events = events;
+  out.feed_scale = override_enabled_ ? ovr.feed_scale : 1.0;
+  return InterpStatus::Working;
+}
+
+}  // namespace gm

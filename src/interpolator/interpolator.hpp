@@ -1,0 +1,93 @@
+// The sample-data interpolator (paper Fig. 1): every period T, each axis's integer position
+// in BLU on the exact geometry, at feed × override; the increment per sample is V[k].
+#pragma once
+
+#include "common/axis.hpp"
+#include "interp/canon.hpp"
+#include "interpolator/geometry.hpp"
+
+#include <cstdint>
+
+namespace gm {
+
+struct InterpolatorConfig {
+  double period_s = 0.004;                       ///< T
+  AxisVec blu_mm = AxisVec::Constant(0.001);     ///< one count per axis
+  double rapid_mm_min = 6000;                    ///< G0 path speed at 100 % rapid override
+  int settle_samples = 0;                        ///< zero-velocity samples after an exact-stop block
+  AxisVec start_mm = AxisVec::Zero();
+};
+
+/// Overrides for one sample; 1.0 = 100 %. Ignored (taken as 1.0) while the program has
+/// disabled override (M49, M50 P0).
+struct OverrideInput {
+  double feed_scale = 1.0;
+  double rapid_scale = 1.0;
+};
+
+enum SampleEvent : std::uint32_t {
+  kEventNone = 0,
+  kEventPause = 1,       ///< M0/M1 passed in this sample
+  kEventMessage = 2,     ///< (MSG, ...) passed in this sample
+  kEventBlockStart = 4,  ///< a motion block started in this sample
+  kEventDwell = 8,       ///< the sample is (partly) a dwell
+  kEventHold = 16,       ///< the sample made no progress because the override is 0 %
+};
+
+struct CommandSample {
+  AxisBlu pos_blu = AxisBlu::Zero();  ///< commanded position after this sample
+  int line = 0;                       ///< source line of the block the sample ends in
+  std::uint64_t block_seq = 0;        ///< increments for each new Motion block
+  std::uint32_t events = 0;           ///< SampleEvent bits
+  double feed_scale = 1.0;            ///< the feed override in effect (1.0 if disabled)
+};
+
+enum class InterpStatus { Working, Finished };
+
+/// Pulls canonical commands from a CanonSource as it needs them and produces one sample per
+/// call. Time is what carries across blocks: a block that ends inside a sample hands the rest
+/// of the sample's time to the next block, so the feed is exact across block boundaries and
+/// every block end is the block's end point exactly. Nothing is allocated per sample.
+class Interpolator {
+ public:
+  Interpolator(const InterpolatorConfig& cfg, CanonSource& source);
+
+  /// Produces the next sample into `out`. Returns Finished (leaving `out` unchanged) once the
+  /// program has ended (M2/M30 or the end of the stream) and the last motion has been output.
+  InterpStatus step(const OverrideInput& ovr, CommandSample& out);
+
+  /// The motion block the last sample ended in (nullptr before the first and after the last).
+  const Motion* current_motion() const { return has_block_ ? &block_ : nullptr; }
+
+  /// Exact position at path length `s_mm` from the start of `m` (clamped to the block).
+  static AxisVec position_on(const Motion& m, double s_mm);
+  /// Path length of `m`, mm (helix: sqrt((R·θ)² + h²)).
+  static double path_length_mm(const Motion& m);
+
+ private:
+  bool pull_next();                  ///< loads the next motion or dwell; false at the end
+  double block_speed_mm_s(const OverrideInput& ovr) const;
+  AxisBlu to_blu(const AxisVec& p_mm) const;
+
+  InterpolatorConfig cfg_;
+  CanonSource& source_;
+  Canon scratch_;                    ///< reused for every pull (no per-block allocation)
+
+  Motion block_{};
+  BlockGeometry geom_{};
+  bool has_block_ = false;           ///< a motion block is loaded (possibly finished)
+  bool in_motion_ = false;           ///< the loaded block still has distance to go
+  double s_mm_ = 0.0;                ///< path length done in the current block
+  double dwell_left_s_ = 0.0;        ///< remaining dwell time
+  int dwell_line_ = 0;
+  int settle_left_ = 0;              ///< exact-stop hold samples still to emit
+  bool override_enabled_ = true;
+  bool ended_ = false;               ///< End seen or the stream ran out
+  bool finished_ = false;
+  std::uint64_t block_seq_ = 0;
+  std::uint32_t pending_events_ = 0; ///< events met while pulling, reported with the next sample
+  int line_ = 0;
+  AxisVec pos_mm_;
+};
+
+}  // namespace gm

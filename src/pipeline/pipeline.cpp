@@ -1,0 +1,115 @@
+// Joins interpolator, Acc/Dec, servo and contour measurement into one per-sample step.
+#include "pipeline/pipeline.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace gm {
+namespace {
+
+InterpolatorConfig interpolator_config(const Machine& m, int settle_samples) {
+  InterpolatorConfig c;
+  c.period_s = m.period_s;
+  c.blu_mm = m.blu_mm();
+  c.rapid_mm_min = m.rapid_mm_min;
+  c.settle_samples = settle_samples;
+  c.start_mm = AxisVec::Zero();
+  return c;
+}
+
+// Samples the servo needs to close most of a step: five position-loop time constants.
+std::int64_t servo_lag_samples(const Machine& m) {
+  double kp = std::numeric_limits<double>::infinity();
+  for (const auto& a : m.axes) kp = std::min(kp, a.kp_1_s);
+  return static_cast<std::int64_t>(std::ceil(5.0 / kp / m.period_s));
+}
+
+}  // namespace
+
+Pipeline::Pipeline(const RunConfig& cfg, CanonSource& source)
+    : cfg_(cfg),
+      blu_mm_(cfg.machine.blu_mm()),
+      contour_blu_mm_(blu_mm_.minCoeff()),
+      taps_(design_taps(cfg.machine.profile, cfg.machine.tau_s, cfg.machine.period_s)),
+      interp_(interpolator_config(cfg.machine, static_cast<int>(taps_.integer.size())), source),
+      accdec_(taps_, AxisBlu::Zero()),
+      window_(static_cast<std::int64_t>(taps_.integer.size()) + (cfg.servo ? servo_lag_samples(cfg.machine) : 0)),
+      ref_blu_(AxisBlu::Zero()),
+      enc_blu_(AxisBlu::Zero()),
+      last_cmd_blu_(AxisBlu::Zero()) {
+  if (cfg_.servo) {
+    for (int a = 0; a < kAxes; ++a)
+      servo_[static_cast<std::size_t>(a)].emplace(cfg_.machine.axes[static_cast<std::size_t>(a)],
+                                                  cfg_.machine.period_s, cfg_.machine.servo_substeps, 0);
+  }
+  steady_after_ = static_cast<std::int64_t>(taps_.integer.size()) +
+                  (cfg_.servo ? servo_lag_samples(cfg_.machine) : 0);
+  cmd_.pos_blu = AxisBlu::Zero();
+}
+
+bool Pipeline::settled() const {
+  if (!accdec_.settled()) return false;
+  if (!cfg_.servo) return true;
+  return quiet_samples_ >= 25;
+}
+
+PipelineStatus Pipeline::step(const OverrideInput& ovr, SampleRecord& out) {
+  if (!program_done_) {
+    if (interp_.step(ovr, cmd_) == InterpStatus::Finished) {
+      program_done_ = true;
+      done_k_ = k_;
+    } else {
+      last_cmd_blu_ = cmd_.pos_blu;
+      if (cmd_.block_seq != seen_block_) {
+        seen_block_ = cmd_.block_seq;
+        block_start_k_ = k_;
+        if (const Motion* m = interp_.current_motion()) window_.push(*m, k_);
+      }
+    }
+  }
+  if (program_done_) {
+    if (settled()) return PipelineStatus::Finished;
+    if (static_cast<double>(k_ - done_k_) * cfg_.machine.period_s > cfg_.settle_timeout_s)
+      return PipelineStatus::Unsettled;
+  }
+
+  accdec_.step(cmd_.pos_blu, ref_blu_);
+  if (cfg_.servo) {
+    bool quiet = true;
+    for (int a = 0; a < kAxes; ++a) {
+      ServoAxis& s = *servo_[static_cast<std::size_t>(a)];
+      enc_blu_[a] = s.step(ref_blu_[a]);
+      // The motor hunts inside one count at standstill (quantised feedback), so settling is
+      // judged on the encoder alone: within ±1 count of the reference.
+      quiet = quiet && std::llabs(enc_blu_[a] - ref_blu_[a]) <= 1;
+    }
+    quiet_samples_ = quiet ? quiet_samples_ + 1 : 0;
+  } else {
+    enc_blu_ = ref_blu_;
+  }
+
+  out.k = k_;
+  out.t_s = static_cast<double>(k_) * cfg_.machine.period_s;
+  out.line = cmd_.line;
+  out.cmd_blu = cmd_.pos_blu;
+  out.ref_blu = ref_blu_;
+  out.enc_blu = enc_blu_;
+  out.ferr_blu = ref_blu_ - enc_blu_;
+  out.feed_scale = cmd_.feed_scale;
+  out.events = program_done_ ? 0u : cmd_.events;
+
+  const AxisVec enc_mm = enc_blu_.cast<double>().cwiseProduct(blu_mm_);
+  out.contour_err_blu = window_.contour_error_mm(enc_mm, k_) / contour_blu_mm_;
+
+  out.arc_ref_dev_blu = out.arc_enc_dev_blu = std::numeric_limits<double>::quiet_NaN();
+  const Motion* m = program_done_ ? nullptr : interp_.current_motion();
+  if (m != nullptr && m->kind == MotionKind::Arc && k_ - block_start_k_ >= steady_after_) {
+    const AxisVec ref_mm = ref_blu_.cast<double>().cwiseProduct(blu_mm_);
+    out.arc_ref_dev_blu = PathWindow::radial_deviation_mm(*m, ref_mm) / contour_blu_mm_;
+    out.arc_enc_dev_blu = PathWindow::radial_deviation_mm(*m, enc_mm) / contour_blu_mm_;
+  }
+  ++k_;
+  return PipelineStatus::Working;
+}
+
+}  // namespace gm
