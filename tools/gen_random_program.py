@@ -80,6 +80,11 @@ class _Gen:
         self.incremental = False
         self.inverse_time = False
         self.pos = [0.0, 0.0, 0.0]  # current position in program units
+        # per axis: is pos exactly a value written in this program's current units (G90 word)?
+        # Sums of G91 increments and G20/G21 conversions can differ from the interpreters' own
+        # arithmetic by an ulp, which turns an end point written "equal" to the start into a
+        # near-full circle whose sweep (~0 or ~2 pi) depends on that ulp.
+        self.exact = [True, True, True]
         self.feed_set = False  # an F is in effect in the current unit system
         self.lines: list[str] = []
 
@@ -132,21 +137,26 @@ class _Gen:
                 d = self.rounded(new_abs[a] - self.pos[a])
                 words.append(self.word(AXIS_LETTERS[a], d))
                 self.pos[a] = self.pos[a] + d
+                self.exact[a] = d == 0.0 and self.exact[a]
             else:
                 v = self.rounded(new_abs[a])
                 words.append(self.word(AXIS_LETTERS[a], v))
                 self.pos[a] = v
+                self.exact[a] = True
         return words
 
     def random_point(self) -> list[float]:
         s = self.unit()
         return [self.pos[i] + self.rng.uniform(-40, 40) * s for i in range(3)]
 
-    def feed_words(self, must: bool) -> list[str]:
+    def feed_words(self, must: bool, length_lb: float = 0.0) -> list[str]:
+        """F words for a feed move; length_lb = a lower bound of its path length (program units)."""
         s = self.unit()
         if self.inverse_time:
-            # inverse time: F is 1/minutes for this block, required on every feed move
-            return [self.word("F", self.rng.uniform(0.5, 20.0), 3)]
+            # inverse time: F is 1/minutes for this block, required on every feed move. Aim at a
+            # units/min rate of 20..3000 mm/min so LinuxCNC's 0.1 units/min floor never applies.
+            rate = self.rng.uniform(20.0, 3000.0) * s
+            return [self.word("F", max(rate / max(length_lb, 1e-9), 1e-3), 4)]
         if must or not self.feed_set or self.rng.random() < 0.25:
             self.feed_set = True
             return [self.word("F", self.rng.uniform(20.0, 3000.0) * s, 3)]
@@ -165,9 +175,10 @@ class _Gen:
             if abs(p[a] - self.pos[a]) < 0.05 * self.unit():
                 p[a] = self.pos[a] + 1.0 * self.unit()
         words = [self.gcode("0" if rapid else "1")]
+        before = list(self.pos)
         words += self.target(p, axes)
         if not rapid:
-            words += self.feed_words(False)
+            words += self.feed_words(False, math.dist(before, self.pos))
         self.emit(words)
 
     def arc(self) -> None:
@@ -196,6 +207,7 @@ class _Gen:
             axes = [first, second] + ([normal] if helix else [])
             words += self.target(end, axes)
             real_chord = math.hypot(self.pos[first] - start[first], self.pos[second] - start[second])
+            length_lb = real_chord
             r = real_chord / 2 * rng.uniform(1.05, 3.0)
             if rng.random() < 0.5:
                 r = -r  # the >180 degree arc
@@ -213,12 +225,16 @@ class _Gen:
             r_true = math.hypot(i_off, j_off)
             end = list(start)
             axes: list[int] = []
+            length_lb = r_true * 2 * math.pi  # full circle
             if not full:
-                phi1 = phi0 + rng.uniform(0.2, 2 * math.pi - 0.2)
+                sweep = rng.uniform(0.2, 2 * math.pi - 0.2)
+                phi1 = phi0 + sweep
+                length_lb = r_true * min(sweep, 2 * math.pi - sweep) * 0.9
                 end[first] = c1 + r_true * math.cos(phi1)
                 end[second] = c2 + r_true * math.sin(phi1)
                 axes = [first, second]
-            elif rng.random() < 0.5 and all(self.rounded(start[a]) == start[a] for a in (first, second)):
+            elif rng.random() < 0.5 and not self.incremental and all(
+                    self.exact[a] for a in (first, second)):
                 axes = [first, second]  # full circle with the end point written out (exactly)
             if helix:
                 end[normal] = start[normal] + rng.uniform(-10, 10) * s
@@ -228,7 +244,7 @@ class _Gen:
             words.append(self.word(OFFSET_LETTERS[second], j_off))
         if turns > 1:
             words.append(f"P{turns}")
-        words += self.feed_words(False)
+        words += self.feed_words(False, length_lb)
         self.emit(words)
 
     def dwell(self) -> None:
@@ -237,6 +253,7 @@ class _Gen:
     def switch_units(self) -> None:
         self.inch = not self.inch
         self.pos = [p / MM_PER_INCH if self.inch else p * MM_PER_INCH for p in self.pos]
+        self.exact = [p == 0.0 for p in self.pos]
         code = "20" if self.inch else "21"
         if self.f["unit_feed"] and self.rng.random() < 0.5:
             # F in the same block as the unit change: LinuxCNC sets F first, in the old units

@@ -514,6 +514,10 @@ def self_test(args) -> int:
     near = Move(**{**base[0].__dict__, "end": [20 + 1.4e-4, 10, 3], "feed": 100.009})
     check("comparator accepts within tolerance", compare_moves(base, [near], tol) is None)
     check("comparator notices a missing move", compare_moves(base, [], tol) is not None)
+    zl = [Move("rapid", 1, [0, 0, 0]), Move("line", 2, [1, 0, 0], 5), Move("line", 3, [1, 0, 0], 5),
+          Move("arc", 4, [1, 0, 0], 5, [0, 0, 0], "cw", 1, "XY"), Move("rapid", 5, [1, 0, 0])]
+    kept, n = drop_zero_length(zl, 1e-12)
+    check("drop_zero_length", n == 3 and [m.line for m in kept] == [2, 4], f"{n} {[m.line for m in kept]}")
     # 3. renumbering
     check("number_lines", number_lines("G0 X1\n\nN50 G1 X2\n/G1 X3\n%\n")
           == "N1 G0 X1\n\nN3 G1 X2\n/N4 G1 X3\n%\n", repr(number_lines("G0 X1\n\nN50 G1 X2\n/G1 X3\n%\n")))
