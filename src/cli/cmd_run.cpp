@@ -2,6 +2,8 @@
 #include "cli/commands.hpp"
 #include "cli/run_setup.hpp"
 #include "common/status.hpp"
+#include "override/live_override.hpp"
+#include "override/override_schedule.hpp"
 #include "pipeline/pipeline.hpp"
 #include "trace/run_summary.hpp"
 #include "trace/trace_writer.hpp"
@@ -13,6 +15,7 @@
 #include <fstream>
 #include <memory>
 #include <optional>
+#include <thread>
 #include <unistd.h>
 
 namespace gm::cli {
@@ -26,15 +29,47 @@ struct RunFlags {
   int decimate = 1;
   std::string summary_json;
   double override_pct = 100.0;
+  double rapid_override_pct = 100.0;
+  std::string override_file;
+  std::string record_override;
+  bool realtime = false;
+  double max_time_s = 0.0;
+};
+
+// Writes the overrides in effect as a schedule that --override-file replays sample-exactly:
+// one `t_s,percent` (or `t_s,rapid=percent`) line per change, t = k·T printed round-trip exact.
+class OverrideRecorder {
+ public:
+  OverrideRecorder(const std::string& path, double period_s) : out_(path), period_s_(period_s) {
+    if (!out_) throw InputError(fmt::format("cannot write override record '{}'", path));
+    out_ << "# gmotion override record: replay with --override-file (t_s,percent; t_s,rapid=percent)\n";
+  }
+  void sample(std::int64_t k, double feed_pct, double rapid_pct) {
+    const double t = static_cast<double>(k) * period_s_;
+    if (feed_pct != feed_) out_ << fmt::format("{:.17g},{:.17g}\n", t, feed_pct), feed_ = feed_pct;
+    if (rapid_pct != rapid_) out_ << fmt::format("{:.17g},rapid={:.17g}\n", t, rapid_pct), rapid_ = rapid_pct;
+  }
+  void finish() {
+    out_.flush();
+    if (!out_) throw InputError("cannot write the override record");
+  }
+
+ private:
+  std::ofstream out_;
+  double period_s_;
+  double feed_ = -1.0, rapid_ = -1.0;
 };
 
 int run(const RunFlags& f) {
   RunConfig cfg;
   cfg.machine = resolve_machine(f.machine);
   cfg.servo = !f.machine.no_servo;
-  if (!(f.override_pct >= 0.0) || f.override_pct > cfg.machine.max_override * 100.0 + 1e-9)
-    throw InputError(fmt::format("--override {} is outside 0..{} % (the machine's maximum override)",
-                                 f.override_pct, cfg.machine.max_override * 100.0));
+  const double max_pct = cfg.machine.max_override * 100.0;
+  for (auto [flag, v] : {std::pair{"--override", f.override_pct}, std::pair{"--rapid-override", f.rapid_override_pct}})
+    if (!(v >= 0.0) || v > max_pct + 1e-9)
+      throw InputError(fmt::format("{} {} is outside 0..{} % (the machine's maximum override)", flag, v, max_pct));
+  const OverrideSchedule schedule =
+      f.override_file.empty() ? OverrideSchedule{} : OverrideSchedule::load(f.override_file, max_pct);
 
   ProgramInput program(f.program);
   InterpreterOptions opts;
@@ -62,14 +97,43 @@ int run(const RunFlags& f) {
   }
 
   RunSummary summary(cfg.machine);
+  OverridePlayer player(schedule, cfg.machine.period_s, f.override_pct, f.rapid_override_pct);
+  std::optional<LiveOverride> live;
+  if (f.realtime) live.emplace(STDIN_FILENO, max_pct);
+  std::optional<OverrideRecorder> recorder;
+  if (!f.record_override.empty()) recorder.emplace(f.record_override, cfg.machine.period_s);
   OverrideInput ovr;
-  ovr.feed_scale = f.override_pct / 100.0;
   SampleRecord rec, last;
-  const bool progress = isatty(STDERR_FILENO) != 0;
+  const bool progress = isatty(STDERR_FILENO) != 0 && !f.realtime;
   const auto t0 = std::chrono::steady_clock::now();
   auto next_progress = t0 + std::chrono::seconds(1);
+  std::int64_t k = 0;
+  int line = 0;
+  bool live_open = f.realtime;
   PipelineStatus st;
-  while ((st = pipeline.step(ovr, rec)) == PipelineStatus::Working) {
+  for (;; ++k) {
+    player.advance(k, line);
+    if (live_open) {
+      double feed = player.feed_percent(), rapid = player.rapid_percent();
+      live_open = live->poll(feed, rapid);
+      player.set(feed, rapid);
+    }
+    ovr.feed_scale = player.feed_scale();
+    ovr.rapid_scale = player.rapid_scale();
+    if (recorder) recorder->sample(k, player.feed_percent(), player.rapid_percent());
+    if ((st = pipeline.step(ovr, rec)) != PipelineStatus::Working) break;
+    line = rec.line;
+    if (f.max_time_s > 0 && rec.t_s > f.max_time_s) {
+      throw InputError(fmt::format("run stopped at --max-time {} s (line {}, feed override {} %)", f.max_time_s,
+                                   rec.line, player.feed_percent()));
+    }
+    if ((rec.events & kEventHold) != 0 && !live_open && !player.may_change())
+      throw InputError(fmt::format("feed held at 0 % override at line {} (t = {:.3f} s) and nothing in the "
+                                   "override schedule resumes it",
+                                   rec.line, rec.t_s));
+    if (f.realtime)
+      std::this_thread::sleep_until(t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                             std::chrono::duration<double>(rec.t_s + cfg.machine.period_s)));
     summary.add(rec);
     if (trace) trace->write(rec);
     last = rec;
@@ -81,6 +145,7 @@ int run(const RunFlags& f) {
   if (progress && std::chrono::steady_clock::now() > t0 + std::chrono::seconds(1)) fmt::print(stderr, "\n");
   summary.finish(last, pipeline.program_end_blu(), st == PipelineStatus::Finished);
   if (trace) trace->finish();
+  if (recorder) recorder->finish();
 
   std::FILE* text_out = f.trace_path == "-" ? stderr : stdout;
   fmt::print(text_out, "{}: {} on {} ({}, tau {} s, T {} s, {} taps, servo {})\n", program.name(),
@@ -106,7 +171,16 @@ void add_run(CLI::App& app, Context& ctx) {
   sub->add_option("--trace-format", flags->trace_format, "csv or bin")->check(CLI::IsMember({"csv", "bin"}));
   sub->add_option("--decimate", flags->decimate, "Write every K-th sample")->check(CLI::PositiveNumber);
   sub->add_option("--summary-json", flags->summary_json, "Write the summary as JSON to this file");
-  sub->add_option("--override", flags->override_pct, "Constant feed override, percent (default 100)");
+  sub->add_option("--override", flags->override_pct, "Feed override at the start, percent (default 100)");
+  sub->add_option("--rapid-override", flags->rapid_override_pct, "Rapid override at the start, percent (default 100)");
+  sub->add_option("--override-file", flags->override_file,
+                  "Override schedule: lines t_s,percent | line:N,percent | t_s,rapid=percent; # comments");
+  sub->add_flag("--realtime", flags->realtime,
+                "Pace the run at wall-clock speed and read override changes from stdin, one a line: "
+                "75 | rapid 25 | + | - | hold");
+  sub->add_option("--record-override", flags->record_override,
+                  "Write the overrides in effect as a schedule that --override-file replays exactly");
+  sub->add_option("--max-time", flags->max_time_s, "Stop the run (exit 1) when simulated time passes this, s");
   sub->callback([flags, &ctx] { ctx.exit_code = run(*flags); });
 }
 

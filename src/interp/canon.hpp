@@ -11,8 +11,11 @@ namespace gm {
 
 enum class Plane { XY, XZ, YZ };  ///< G17, G18, G19
 
-/// How the block ends: exact stop (G61, or G9 for one block) waits for the Acc/Dec output to
-/// settle before the next block; continuous (G64) and exact path (G61.1) run back to back.
+/// How the block ends (LinuxCNC's meanings): exact stop (G61.1, or G9 for one block), exact path
+/// (G61) and continuous (G64). With the Acc/Dec after interpolation a path is followed exactly
+/// only if the filter drains at each block end, so the interpolator holds the next block until
+/// the Acc/Dec output has settled in both exact modes; continuous mode runs blocks back to back
+/// and lets the filter blend the corners.
 enum class PathMode { ExactStop, ExactPath, Continuous };
 
 enum class MotionKind { Rapid, Line, Arc };

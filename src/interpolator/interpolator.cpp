@@ -116,8 +116,10 @@ InterpStatus Interpolator::step(const OverrideInput& ovr, CommandSample& out) {
       pos_mm_ = geom_.end_mm;  // the block end, exactly
       in_motion_ = false;
       moved_or_waited = true;
-      if (block_.path_mode == PathMode::ExactStop) {
-        // Drop the rest of this sample and hold while the filter drains.
+      if (block_.path_mode != PathMode::Continuous) {
+        // Exact stop (G61.1, G9) and exact path (G61): with the Acc/Dec after interpolation the
+        // path is followed exactly only if the filter drains at the block end, so both drop the
+        // rest of this sample and hold while it does.
         settle_left_ = cfg_.settle_samples;
         break;
       }

@@ -52,6 +52,12 @@ class OverridePlayer {
   void advance(std::int64_t k, int current_line);
 
   double feed_scale() const { return feed_percent_ / 100.0; }
+  double feed_percent() const { return feed_percent_; }
+  double rapid_percent() const { return rapid_percent_; }
+  /// Sets the values in effect (a live change); the schedule's later entries still apply.
+  void set(double feed_percent, double rapid_percent) { feed_percent_ = feed_percent, rapid_percent_ = rapid_percent; }
+  /// True while a time entry is still to come or any line entry exists (something may resume a hold).
+  bool may_change() const { return next_time_ < time_changes_.size() || !line_changes_.empty(); }
   double rapid_scale() const { return rapid_percent_ / 100.0; }
 
  private:

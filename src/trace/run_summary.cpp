@@ -1,6 +1,8 @@
 // Running statistics of a pipeline run and their text/JSON rendering.
 #include "trace/run_summary.hpp"
 
+#include "interpolator/interpolator.hpp"
+
 #include <fmt/format.h>
 
 #include <cmath>
@@ -56,6 +58,7 @@ void RunSummary::add(const SampleRecord& s) {
     arc_enc_sum_ += s.arc_enc_dev_blu;
     ++arc_samples;
   }
+  if ((s.events & kEventHold) != 0) ++hold_samples_;
   ++samples;
 }
 
@@ -67,6 +70,7 @@ void RunSummary::finish(const SampleRecord& last, const AxisBlu& program_end_blu
   settled = is_settled;
   cycle_time_s = static_cast<double>(samples) * period_s_;
   program_time_s = static_cast<double>(last_motion_k_ + 1) * period_s_;
+  hold_time_s = static_cast<double>(hold_samples_) * period_s_;
   contour_rms_blu = samples > 0 ? std::sqrt(contour_sq_sum_ / static_cast<double>(samples)) : 0.0;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   arc_ref_radial_dev_blu = arc_samples > 0 ? arc_ref_sum_ / static_cast<double>(arc_samples) : nan;
@@ -76,8 +80,9 @@ void RunSummary::finish(const SampleRecord& last, const AxisBlu& program_end_blu
 std::string RunSummary::text() const {
   std::string t;
   auto out = std::back_inserter(t);
-  fmt::format_to(out, "samples {}  cycle time {:.3f} s  (motion ends {:.3f} s){}\n", samples, cycle_time_s,
-                 program_time_s, settled ? "" : "  NOT SETTLED");
+  fmt::format_to(out, "samples {}  cycle time {:.3f} s  (motion ends {:.3f} s){}{}\n", samples, cycle_time_s,
+                 program_time_s, hold_time_s > 0 ? fmt::format(", {:.3f} s in feed hold", hold_time_s) : "",
+                 settled ? "" : "  NOT SETTLED");
   fmt::format_to(out, "contour error  max {:.2f} BLU (line {})  rms {:.2f} BLU\n", contour_err_blu.value,
                  contour_err_blu.line, contour_rms_blu);
   if (arc_samples > 0)
@@ -123,10 +128,10 @@ std::string RunSummary::json() const {
   std::string j;
   auto out = std::back_inserter(j);
   fmt::format_to(out,
-                 "{{\"samples\":{},\"cycle_time_s\":{},\"program_time_s\":{},\"settled\":{},"
+                 "{{\"samples\":{},\"cycle_time_s\":{},\"program_time_s\":{},\"hold_time_s\":{},\"settled\":{},"
                  "\"contour_err_max_blu\":{},\"contour_err_rms_blu\":{},"
                  "\"arc_ref_radial_dev_blu\":{},\"arc_enc_radial_dev_blu\":{},\"axes\":{{",
-                 samples, num(cycle_time_s), num(program_time_s), settled ? "true" : "false",
+                 samples, num(cycle_time_s), num(program_time_s), num(hold_time_s), settled ? "true" : "false",
                  peak(contour_err_blu), num(contour_rms_blu), num(arc_ref_radial_dev_blu),
                  num(arc_enc_radial_dev_blu));
   for (int a = 0; a < kAxes; ++a) {
