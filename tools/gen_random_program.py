@@ -28,6 +28,7 @@ MM_PER_INCH = 25.4
 #   arcs_r     R-format arcs
 #   multiturn  P>1 arcs
 #   dwell      G4 dwells
+#   g92        G92 axis offsets (set the current position) and G92.1 (clear)
 #   g93        inverse-time feed blocks (G93 ... G94)                      [opt-in]
 #   unit_feed  F in the same block as G20/G21, and feed carried across a
 #              unit change without a new F (LinuxCNC: F is executed before G20/G21, and the
@@ -40,6 +41,7 @@ DEFAULT_FEATURES = {
     "arcs_r": True,
     "multiturn": True,
     "dwell": True,
+    "g92": True,
     "g93": False,
     "unit_feed": False,
 }
@@ -85,6 +87,7 @@ class _Gen:
         # arithmetic by an ulp, which turns an end point written "equal" to the start into a
         # near-full circle whose sweep (~0 or ~2 pi) depends on that ulp.
         self.exact = [True, True, True]
+        self.g92 = [0.0, 0.0, 0.0]  # G92 offset, program units: machine = pos + g92
         self.feed_set = False  # an F is in effect in the current unit system
         self.lines: list[str] = []
 
@@ -247,12 +250,30 @@ class _Gen:
         words += self.feed_words(False, length_lb)
         self.emit(words)
 
+    def g92_offset(self) -> None:
+        if self.rng.random() < 0.3:
+            self.emit([self.gcode("92.1")])
+            self.pos = [p + o for p, o in zip(self.pos, self.g92)]
+            self.exact = [o == 0.0 and e for o, e in zip(self.g92, self.exact)]
+            self.g92 = [0.0, 0.0, 0.0]
+            return
+        axes = [a for a in range(3) if self.rng.random() < 0.6] or [self.rng.randrange(3)]
+        words = [self.gcode("92")]
+        for a in axes:
+            v = self.rounded(self.rng.uniform(-50, 50) * self.unit())
+            words.append(self.word(AXIS_LETTERS[a], v))
+            self.g92[a] += self.pos[a] - v
+            self.pos[a] = v
+            self.exact[a] = True
+        self.emit(words)
+
     def dwell(self) -> None:
         self.emit([self.gcode("4"), self.word("P", self.rng.uniform(0.0, 2.0), 3)])
 
     def switch_units(self) -> None:
         self.inch = not self.inch
         self.pos = [p / MM_PER_INCH if self.inch else p * MM_PER_INCH for p in self.pos]
+        self.g92 = [p / MM_PER_INCH if self.inch else p * MM_PER_INCH for p in self.g92]
         self.exact = [p == 0.0 for p in self.pos]
         code = "20" if self.inch else "21"
         if self.f["unit_feed"] and self.rng.random() < 0.5:
@@ -289,6 +310,8 @@ class _Gen:
                 self.switch_units()
             elif r < 0.95 and self.f["dwell"]:
                 self.dwell()
+            elif r < 0.955 and self.f["g92"]:
+                self.g92_offset()
             elif r < 0.97 and self.f["g93"]:
                 self.inverse_time = not self.inverse_time
                 self.emit([self.gcode("93" if self.inverse_time else "94")])

@@ -25,6 +25,10 @@ How rs274 is read (each claim checked against rs274 2.9 output, see --self-test)
     units/min rate before each move. A rate is converted with the units in force when it is
     emitted and kept as a physical rate across later G20/G21 changes (as LinuxCNC's real canon,
     emccanon, does; F executes before G20/G21 in a block).
+  * Move coordinates are printed in the program's coordinate system; the canon adds the work
+    offsets. SET_G5X_OFFSET(index, x, y, z, ...) and SET_G92_OFFSET(x, y, z, ...) are converted
+    with the units in force when emitted (as emccanon does) and added to ends and centres, giving
+    machine coordinates like `gmotion moves`. A non-zero SET_XY_ROTATION is not modelled (error).
   * Only N words are echoed, so the program is fed to rs274 with every line renumbered
     N<file line>, which makes rs274 report source line numbers.
 """
@@ -65,6 +69,7 @@ class Move:
     plane: str | None = None       # XY | XZ | YZ
     seconds: float | None = None   # dwell
     tol_mm: float = 0.0            # extra tolerance: print rounding of this value on rs274's side
+    feed_tol: float = 0.0          # the same for the feed, mm/min
     note: str = ""
 
     def as_dict(self) -> dict:
@@ -111,7 +116,15 @@ def parse_rs274_output(text: str) -> list[Move]:
     plane = "XY"
     feed_mm_min = 0.0
     feed_units_note = ""
+    feed_tol = 0.0
     moves: list[Move] = []
+    g5x = [0.0, 0.0, 0.0]    # mm
+    g92 = [0.0, 0.0, 0.0]    # mm
+    g5x_tol = g92_tol = 0.0  # print rounding of the offsets, mm
+
+    def mach(v, i):
+        return None if v is None else v * factor + g5x[i] + g92[i]
+
     for raw in text.splitlines():
         m = _CALL.match(raw)
         if not m:
@@ -123,18 +136,31 @@ def parse_rs274_output(text: str) -> list[Move]:
             if new != factor and feed_mm_min:
                 feed_units_note = "feed carried across a G20/G21 change (physical rate kept)"
             factor = new
+        elif name == "SET_G5X_OFFSET":
+            v = _floats(args)
+            g5x = [v[1] * factor, v[2] * factor, v[3] * factor]
+            g5x_tol = RS274_PRINT_HALF_ULP * factor if any(v[1:4]) else 0.0
+        elif name == "SET_G92_OFFSET":
+            v = _floats(args)
+            g92 = [v[0] * factor, v[1] * factor, v[2] * factor]
+            g92_tol = RS274_PRINT_HALF_ULP * factor if any(v[0:3]) else 0.0
+        elif name == "SET_XY_ROTATION":
+            if _floats(args)[0] != 0.0:
+                raise ValueError(f"XY rotation is not modelled by rs274_diff: {raw}")
         elif name == "SELECT_PLANE":
             plane = args.strip().replace("CANON_PLANE_", "")
         elif name == "SET_FEED_RATE":
             feed_mm_min = _floats(args)[0] * factor
+            feed_tol = RS274_PRINT_HALF_ULP * factor
             feed_units_note = ""
         elif name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED"):
             v = _floats(args)
             mv = Move(kind="rapid" if name == "STRAIGHT_TRAVERSE" else "line", line=line,
-                      end=[v[0] * factor, v[1] * factor, v[2] * factor],
-                      tol_mm=RS274_PRINT_HALF_ULP * factor)
+                      end=[mach(v[i], i) for i in range(3)],
+                      tol_mm=RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol)
             if mv.kind == "line":
                 mv.feed = feed_mm_min
+                mv.feed_tol = feed_tol
                 mv.note = feed_units_note
             moves.append(mv)
         elif name == "ARC_FEED":
@@ -152,11 +178,11 @@ def parse_rs274_output(text: str) -> list[Move]:
             else:
                 raise ValueError(f"ARC_FEED in unknown plane {plane!r}: {raw}")
             moves.append(Move(kind="arc", line=line,
-                              end=[e * factor for e in end],
-                              center=[None if c is None else c * factor for c in cen],
+                              end=[mach(end[i], i) for i in range(3)],
+                              center=[mach(cen[i], i) for i in range(3)],
                               dir="cw" if rot < 0 else "ccw", turns=abs(rot), plane=plane,
-                              feed=feed_mm_min, note=feed_units_note,
-                              tol_mm=RS274_PRINT_HALF_ULP * factor))
+                              feed=feed_mm_min, note=feed_units_note, feed_tol=feed_tol,
+                              tol_mm=RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol))
         elif name == "DWELL":
             moves.append(Move(kind="dwell", line=line, seconds=_floats(args)[0]))
     return moves
@@ -271,7 +297,7 @@ def compare_move(ref: Move, got: Move, tol: Tol) -> str | None:
     if ref.kind in ("line", "arc"):
         if got.feed is None:
             return "feed missing"
-        ftol = max(tol.feed_rel * abs(ref.feed), ref.tol_mm) + 1e-9
+        ftol = max(tol.feed_rel * abs(ref.feed), ref.feed_tol) + 1e-9
         if abs(ref.feed - got.feed) > ftol:
             return f"feed {ref.feed!r} vs {got.feed!r} mm/min (tol {ftol:.3g})"
     if ref.kind == "arc":
@@ -438,6 +464,10 @@ _SELF_TEXT = """\
    22 N9     SELECT_PLANE(CANON_PLANE_XY)
    23 N9     ARC_FEED(3.0000, 0.0787, 4.0000, 0.0787, -3, 1.1181, 0.0000, 0.0000, 0.0000)
    24 N100000STRAIGHT_TRAVERSE(4.0000, 0.0787, 1.1181, 0.0000, 0.0000, 0.0000)
+   25 N11    SET_G92_OFFSET(1.0000, 0.0000, -0.5000, 0.0000, 0.0000, 0.0000)
+   26 N12    USE_LENGTH_UNITS(CANON_UNITS_MM)
+   27 N12    SET_G5X_OFFSET(2, 10.0000, 20.0000, 0.0000, 0.0000, 0.0000, 0.0000)
+   28 N13    ARC_FEED(0.0000, 0.0000, 5.0000, 0.0000, 1, 0.0000, 0.0000, 0.0000, 0.0000)
    41 N..... PROGRAM_END()
 """
 
@@ -457,6 +487,8 @@ def _self_expected() -> list[Move]:
         Move("arc", 9, [3 * i, 0.0787 * i, 1.1181 * i], 4 * i, [4 * i, 0.0787 * i, None], "cw", 3,
              "XY"),
         Move("rapid", 100000, [4 * i, 0.0787 * i, 1.1181 * i]),
+        # G92 offset given in inches (1, 0, -0.5) stays 25.4 mm after G21; G55 offset (10, 20, 0) mm
+        Move("arc", 13, [10 + i, 20, -0.5 * i], 4 * i, [15 + i, 20, None], "ccw", 1, "XY"),
     ]
 
 
@@ -480,6 +512,11 @@ _SELF_PROGRAMS = [
       Move("line", 3, [3 * 25.4, 0, 0], 8 * 25.4),     # 2 in in 1/4 min -> 8 in/min
       Move("line", 4, [3 * 25.4, 25.4, 0], 5 * 25.4),
       Move("line", 5, [10, 25.4, 0], 5 * 25.4)]),        # physical rate kept across G21
+    ("g92-offset",
+     "G20 G17 G90\nG0 X1\nG92 X0 Y2\nG21 G1 X10 F100\nG2 X0 Y40.8 I-10 J0\nM2\n",
+     # G92 at X1 in -> offsets (+25.4, -50.8) mm, kept through G21; program centre (0, 50.8)
+     [Move("rapid", 2, [25.4, 0, 0]), Move("line", 4, [35.4, 0, 0], 2540),  # F before G21: 100 in/min
+      Move("arc", 5, [25.4, -10, 0], 2540, [25.4, 0, None], "cw", 1, "XY")]),
 ]
 
 
