@@ -35,10 +35,25 @@ std::optional<Motion> first_arc(ProgramInput& program, const InterpreterOptions&
   return std::nullopt;
 }
 
+// Runs the program once through the pipeline and returns its summary.
+RunSummary run_once(const RunConfig& cfg, ProgramInput& program, const InterpreterOptions& opts, std::size_t* taps,
+                    std::vector<double>* real_taps) {
+  ProgramStream stream(program.rewind(), program.name(), opts);
+  Pipeline pipeline(cfg, stream);
+  RunSummary summary(cfg.machine);
+  SampleRecord rec, last;
+  PipelineStatus st;
+  while ((st = pipeline.step(OverrideInput{}, rec)) == PipelineStatus::Working) summary.add(rec), last = rec;
+  summary.finish(last, pipeline.program_end_blu(), st == PipelineStatus::Finished);
+  if (taps) *taps = pipeline.taps().integer.size();
+  if (real_taps) *real_taps = pipeline.taps().real;
+  return summary;
+}
+
 struct Row {
   std::string profile;
   std::size_t taps = 0;
-  double analysis_blu = 0, accdec_blu = 0, total_blu = 0, predicted_total_blu = 0;
+  double analysis_blu = 0, accdec_blu = 0, total_blu = 0, additive_blu = 0, predicted_total_blu = 0;
   double cycle_s = 0, contour_max_blu = 0;
   bool settled = false;
 };
@@ -61,39 +76,40 @@ int compare(const CompareFlags& f) {
   const double kp = base.axes[0].kp_1_s;
   const double servo_eq35 = arc ? v_blu_s * v_blu_s / (2.0 * r_blu * kp * kp) : 0.0;
 
+  // The servo's own radius loss: the same program with the Acc/Dec off (one tap, tau = T).
+  double servo_alone_blu = 0.0;
+  if (!f.machine.no_servo && arc) {
+    RunConfig cfg;
+    cfg.machine = base;
+    cfg.machine.profile = "custom:1";
+    cfg.machine.tau_s = base.period_s;
+    servo_alone_blu = -run_once(cfg, program, opts, nullptr, nullptr).arc_enc_radial_dev_blu;
+  }
+
   std::vector<Row> rows;
   for (const std::string& profile : f.profiles) {
     Row row;
     row.profile = profile;
-    for (bool servo : {false, true}) {
-      if (servo && f.machine.no_servo) break;
-      RunConfig cfg;
-      cfg.machine = base;
-      cfg.machine.profile = profile;
-      cfg.servo = servo;
-      ProgramStream stream(program.rewind(), program.name(), opts);
-      Pipeline pipeline(cfg, stream);
-      RunSummary summary(cfg.machine);
-      SampleRecord rec, last;
-      PipelineStatus st;
-      while ((st = pipeline.step(OverrideInput{}, rec)) == PipelineStatus::Working) summary.add(rec), last = rec;
-      summary.finish(last, pipeline.program_end_blu(), st == PipelineStatus::Finished);
-      row.taps = pipeline.taps().integer.size();
-      if (arc) row.analysis_blu = radius_loss_sampled(pipeline.taps().real, r_blu, v_blu_s, cfg.machine.period_s);
-      if (!servo) {
-        row.accdec_blu = -summary.arc_ref_radial_dev_blu;
-      } else {
-        row.total_blu = -summary.arc_enc_radial_dev_blu;
-        row.cycle_s = summary.cycle_time_s;
-        row.contour_max_blu = summary.contour_err_blu.value;
-        row.settled = summary.settled;
-      }
-      if (f.machine.no_servo) {
-        row.cycle_s = summary.cycle_time_s;
-        row.contour_max_blu = summary.contour_err_blu.value;
-        row.settled = summary.settled;
-      }
+    RunConfig cfg;
+    cfg.machine = base;
+    cfg.machine.profile = profile;
+    cfg.servo = false;
+    std::vector<double> real_taps;
+    const RunSummary ideal = run_once(cfg, program, opts, &row.taps, &real_taps);
+    if (arc) row.analysis_blu = radius_loss_sampled(real_taps, r_blu, v_blu_s, base.period_s);
+    row.accdec_blu = -ideal.arc_ref_radial_dev_blu;
+    const RunSummary* shown = &ideal;
+    std::optional<RunSummary> with_servo;
+    if (!f.machine.no_servo) {
+      cfg.servo = true;
+      with_servo.emplace(run_once(cfg, program, opts, nullptr, nullptr));
+      row.total_blu = -with_servo->arc_enc_radial_dev_blu;
+      shown = &*with_servo;
     }
+    row.cycle_s = shown->cycle_time_s;
+    row.contour_max_blu = shown->contour_err_blu.value;
+    row.settled = shown->settled;
+    row.additive_blu = row.accdec_blu + servo_alone_blu;
     row.predicted_total_blu = row.analysis_blu + servo_eq35;
     rows.push_back(row);
   }
@@ -104,12 +120,12 @@ int compare(const CompareFlags& f) {
       const Row& r = rows[i];
       j += fmt::format(
           "{}{{\"profile\":\"{}\",\"taps\":{},\"analysis_blu\":{:.6g},\"accdec_blu\":{:.6g},\"total_blu\":{:.6g},"
-          "\"predicted_total_blu\":{:.6g},\"cycle_time_s\":{:.6g},\"contour_err_max_blu\":{:.6g},\"settled\":{}}}",
-          i ? "," : "", r.profile, r.taps, r.analysis_blu, r.accdec_blu, r.total_blu, r.predicted_total_blu,
-          r.cycle_s, r.contour_max_blu, r.settled ? "true" : "false");
+          "\"additive_blu\":{:.6g},\"predicted_total_blu\":{:.6g},\"cycle_time_s\":{:.6g},\"contour_err_max_blu\":{:.6g},\"settled\":{}}}",
+          i ? "," : "", r.profile, r.taps, r.analysis_blu, r.accdec_blu, r.total_blu, r.additive_blu,
+          r.predicted_total_blu, r.cycle_s, r.contour_max_blu, r.settled ? "true" : "false");
     }
-    j += fmt::format("],\"radius_blu\":{:.6g},\"v_tan_blu_s\":{:.6g},\"servo_eq35_blu\":{:.6g}}}\n", r_blu, v_blu_s,
-                     servo_eq35);
+    j += fmt::format("],\"radius_blu\":{:.6g},\"v_tan_blu_s\":{:.6g},\"servo_alone_blu\":{:.6g},\"servo_eq35_blu\":{:.6g}}}\n",
+                     r_blu, v_blu_s, servo_alone_blu, servo_eq35);
     fmt::print("{}", j);
     return 0;
   }
@@ -121,17 +137,18 @@ int compare(const CompareFlags& f) {
     fmt::print(", no arcs (radius columns are empty)\n");
   fmt::print("Steady-state radius loss on arcs, BLU (positive = radius decreased):\n");
   fmt::print("  {:<10} {:>5} {:>12} {:>12}", "profile", "taps", "analysis", "Acc/Dec");
-  if (!f.machine.no_servo) fmt::print(" {:>12} {:>14}", "with servo", "Acc/Dec+Eq.35");
+  if (!f.machine.no_servo) fmt::print(" {:>11} {:>14} {:>14}", "with servo", "Acc/Dec+servo", "analysis+Eq35");
   fmt::print(" {:>10} {:>14}\n", "cycle s", "max contour");
   for (const Row& r : rows) {
     fmt::print("  {:<10} {:>5} {:>12.2f} {:>12.2f}", r.profile, r.taps, r.analysis_blu, r.accdec_blu);
-    if (!f.machine.no_servo) fmt::print(" {:>12.2f} {:>14.2f}", r.total_blu, r.predicted_total_blu);
+    if (!f.machine.no_servo) fmt::print(" {:>11.2f} {:>14.2f} {:>14.2f}", r.total_blu, r.additive_blu, r.predicted_total_blu);
     fmt::print(" {:>10.3f} {:>14.2f}{}\n", r.cycle_s, r.contour_max_blu, r.settled ? "" : "  (not settled)");
   }
   fmt::print(
-      "analysis = R(1-|D(e^jwT)|), w = V/R (paper Eq. 13/14); Acc/Dec = measured on the filter output;\n"
-      "with servo = measured on the encoder; Eq. 35 servo lag V^2/(2 R Kp^2) = {:.2f} BLU (Kp = {} 1/s).\n",
-      servo_eq35, kp);
+      "analysis = R(1-|D(e^jwT)|), w = V/R (Eq. 13/14); Acc/Dec = measured on the filter output (servo off);\n"
+      "with servo = measured on the encoder; Acc/Dec+servo = Eq. 34 with the servo's own loss measured\n"
+      "(Acc/Dec off): {:.2f} BLU; analysis+Eq35 = Eq. 34 with Eq. 35's V^2/(2 R Kp^2) = {:.2f} BLU (Kp = {} 1/s).\n",
+      servo_alone_blu, servo_eq35, kp);
   return 0;
 }
 

@@ -75,6 +75,7 @@ InterpStatus Interpolator::step(const OverrideInput& ovr, CommandSample& out) {
   if (settle_left_ > 0) {
     // Exact stop: the axes hold at the block end while the Acc/Dec output settles.
     --settle_left_;
+    events |= kEventSettle;
     moved_or_waited = true;
     dt = 0.0;
   }

@@ -32,6 +32,7 @@ enum SampleEvent : std::uint32_t {
   kEventBlockStart = 4,  ///< a motion block started in this sample
   kEventDwell = 8,       ///< the sample is (partly) a dwell
   kEventHold = 16,       ///< the sample made no progress because the override is 0 %
+  kEventSettle = 32,     ///< exact stop: the axes wait at a block end for the Acc/Dec to settle
 };
 
 struct CommandSample {

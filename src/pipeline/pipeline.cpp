@@ -103,7 +103,11 @@ PipelineStatus Pipeline::step(const OverrideInput& ovr, SampleRecord& out) {
 
   out.arc_ref_dev_blu = out.arc_enc_dev_blu = std::numeric_limits<double>::quiet_NaN();
   const Motion* m = program_done_ ? nullptr : interp_.current_motion();
-  if (m != nullptr && m->kind == MotionKind::Arc && k_ - block_start_k_ >= steady_after_) {
+  // Steady: the interpolator has been moving on this arc for longer than the filter and servo
+  // delays, and is not waiting at its end (exact stop), in a dwell or in a hold.
+  constexpr std::uint32_t kNotMoving = kEventSettle | kEventDwell | kEventHold;
+  if ((out.events & kNotMoving) != 0) last_pause_k_ = k_;
+  if (m != nullptr && m->kind == MotionKind::Arc && k_ - std::max(block_start_k_, last_pause_k_) >= steady_after_) {
     const AxisVec ref_mm = ref_blu_.cast<double>().cwiseProduct(blu_mm_);
     out.arc_ref_dev_blu = PathWindow::radial_deviation_mm(*m, ref_mm) / contour_blu_mm_;
     out.arc_enc_dev_blu = PathWindow::radial_deviation_mm(*m, enc_mm) / contour_blu_mm_;

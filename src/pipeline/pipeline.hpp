@@ -61,6 +61,7 @@ class Pipeline {
   std::int64_t k_ = 0;
   std::uint64_t seen_block_ = 0;
   std::int64_t block_start_k_ = 0;
+  std::int64_t last_pause_k_ = -1;  ///< last sample the interpolator was not moving
   std::int64_t steady_after_ = 0;  ///< samples after a block start before it counts as steady
   bool program_done_ = false;
   std::int64_t done_k_ = 0;
