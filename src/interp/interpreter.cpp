@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
@@ -419,8 +420,10 @@ bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, 
     if (!zero_length) {
       if (mo.kind != MotionKind::Rapid) {
         if (s.inverse_time) {
-          mo.inverse_time_s = units::kSecondsPerMinute / inverse_f;
-          mo.feed_mm_min = motion_length_mm(mo) * inverse_f;
+          // LinuxCNC (interp_inverse.cc): rate = MAX(0.1, length × F) in program units/min.
+          const double length_mm = motion_length_mm(mo);
+          mo.feed_mm_min = std::max(0.1 * scale, length_mm * inverse_f);
+          mo.inverse_time_s = units::kSecondsPerMinute * length_mm / mo.feed_mm_min;
         } else {
           mo.feed_mm_min = s.feed_mm_min;
         }

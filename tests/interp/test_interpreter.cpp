@@ -62,6 +62,17 @@ TEST_CASE("work offsets G54-G59, G92, G92.1 and tool length G43/G49") {
   CHECK(m[5].end_mm[2] == Approx(0));
 }
 
+TEST_CASE("G93 rate has LinuxCNC's floor of 0.1 program units/min (interp_inverse.cc)") {
+  // 0.05 mm at F1 (1/min) would be 0.05 mm/min; LinuxCNC raises it to 0.1 mm/min: 30 s.
+  auto m = motions("G21 G93 G1 X0.05 F1\nM2\n");
+  REQUIRE(m.size() == 1);
+  CHECK(m[0].feed_mm_min == Approx(0.1));
+  CHECK(m[0].inverse_time_s == Approx(30.0));
+  // In inches the floor is 0.1 in/min = 2.54 mm/min (rs274 prints 0.1000 in G20).
+  m = motions("G20 G93 G1 X0.01 F1\nM2\n");
+  CHECK(m[0].feed_mm_min == Approx(2.54));
+}
+
 TEST_CASE("G93 inverse time: the move takes 60/F s and F is required on every block") {
   const auto m = motions("G93 G1 X10 F2\nG1 X20 F4\nM2\n");
   REQUIRE(m.size() == 2);
