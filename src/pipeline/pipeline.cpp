@@ -78,6 +78,7 @@ PipelineStatus Pipeline::step(const OverrideInput& ovr, SampleRecord& out) {
     bool quiet = true;
     for (int a = 0; a < kAxes; ++a) {
       ServoAxis& s = *servo_[static_cast<std::size_t>(a)];
+      table_blu_[a] = s.table_blu();  // at the start of the period, the instant the count is read
       enc_blu_[a] = s.step(ref_blu_[a]);
       // The motor hunts inside one count at standstill (quantised feedback), so settling is
       // judged on the encoder alone: within ±1 count of the reference.
@@ -86,6 +87,7 @@ PipelineStatus Pipeline::step(const OverrideInput& ovr, SampleRecord& out) {
     quiet_samples_ = quiet ? quiet_samples_ + 1 : 0;
   } else {
     enc_blu_ = ref_blu_;
+    table_blu_ = ref_blu_.cast<double>();
   }
 
   out.k = k_;
@@ -98,8 +100,11 @@ PipelineStatus Pipeline::step(const OverrideInput& ovr, SampleRecord& out) {
   out.feed_scale = cmd_.feed_scale;
   out.events = program_done_ ? 0u : cmd_.events;
 
+  // Contour error of the table (what a ballbar measures: lost motion and friction show here),
+  // not of the motor encoder a semi-closed loop reads.
   const AxisVec enc_mm = enc_blu_.cast<double>().cwiseProduct(blu_mm_);
-  out.contour_err_blu = window_.contour_error_mm(enc_mm, k_) / contour_blu_mm_;
+  const AxisVec table_mm = table_blu_.cwiseProduct(blu_mm_);
+  out.contour_err_blu = window_.contour_error_mm(table_mm, k_) / contour_blu_mm_;
 
   out.arc_ref_dev_blu = out.arc_enc_dev_blu = std::numeric_limits<double>::quiet_NaN();
   const Motion* m = program_done_ ? nullptr : interp_.current_motion();

@@ -58,6 +58,7 @@ class Pipeline {
   PathWindow window_;
   CommandSample cmd_{};
   AxisBlu ref_blu_, enc_blu_, last_cmd_blu_;
+  AxisVec table_blu_ = AxisVec::Zero();  ///< table positions (BLU, continuous) at the sample instant
   std::int64_t k_ = 0;
   std::uint64_t seen_block_ = 0;
   std::int64_t block_start_k_ = 0;

@@ -16,7 +16,7 @@ struct SampleRecord {
   AxisBlu ref_blu = AxisBlu::Zero();        ///< Acc/Dec output
   AxisBlu enc_blu = AxisBlu::Zero();        ///< encoder counts
   AxisBlu ferr_blu = AxisBlu::Zero();        ///< following error ref − enc
-  double contour_err_blu = 0.0;  ///< actual position to programmed path (signed radial on arcs)
+  double contour_err_blu = 0.0;  ///< table position to programmed path (signed radial on arcs)
   double feed_scale = 1.0;  ///< feed override in effect (1.0 = 100 %)
   std::uint32_t events = 0; ///< interpolator SampleEvent bits
   /// Signed radial deviation of the Acc/Dec output (ref) and of the encoder from the current
