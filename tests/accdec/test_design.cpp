@@ -2,6 +2,8 @@
 #include "accdec/design_procedure.hpp"
 #include "accdec/taps.hpp"
 
+#include "support/run_command.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -9,27 +11,8 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
-#include <sys/wait.h>
 
-namespace {
-
-struct Result {
-  int code;
-  std::string out;
-};
-
-Result run_gmotion(const std::string& args) {
-  const std::string cmd = std::string(GMOTION_BIN) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  REQUIRE(p != nullptr);
-  std::string out;
-  std::array<char, 4096> buf{};
-  while (std::size_t n = fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
-  const int status = pclose(p);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
-
-}  // namespace
+using gmtest::run_gmotion;
 
 TEST_CASE("section 6 example: Blackman N = 40 passes Step 4 at the first tau; Eq. 7 with its taps") {
   const gm::DesignLimits lim;  // paper defaults

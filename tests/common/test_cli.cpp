@@ -1,28 +1,9 @@
 // The CLI's documented contract: --version, --help and usage-error exit codes.
 #include <catch2/catch.hpp>
 
-#include <array>
-#include <cstdio>
-#include <string>
-#include <sys/wait.h>
+#include "support/run_command.hpp"
 
-namespace {
-struct Result {
-  int code;
-  std::string out;
-};
-// Runs the built gmotion with `args` (shell syntax), capturing stdout and stderr together.
-Result run_gmotion(const std::string& args) {
-  std::string cmd = std::string(GMOTION_BIN) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  REQUIRE(p != nullptr);
-  std::string out;
-  std::array<char, 4096> buf{};
-  while (std::size_t n = fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
-  int status = pclose(p);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
-}  // namespace
+using gmtest::run_gmotion;
 
 TEST_CASE("gmotion --version prints the project version and exits 0") {
   auto r = run_gmotion("--version");

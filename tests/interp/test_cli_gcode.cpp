@@ -1,26 +1,15 @@
 // gmotion check / moves: exit codes, the JSON Lines format, stdin.
 #include <catch2/catch.hpp>
 
+#include "support/run_command.hpp"
+
 #include <array>
 #include <cstdio>
 #include <fstream>
 #include <string>
-#include <sys/wait.h>
 
 namespace {
-struct Result {
-  int code;
-  std::string out;
-};
-Result sh(const std::string& cmd) {
-  FILE* p = popen(cmd.c_str(), "r");
-  REQUIRE(p != nullptr);
-  std::string out;
-  std::array<char, 4096> buf{};
-  while (std::size_t n = fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
-  const int status = pclose(p);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
+using gmtest::sh;
 std::string bin() { return GMOTION_BIN; }
 }  // namespace
 
