@@ -70,6 +70,10 @@ InterpStatus Interpolator::step(const OverrideInput& ovr, CommandSample& out) {
   if (finished_) return InterpStatus::Finished;
   std::uint32_t events = 0;
   double dt = cfg_.period_s;  // time of this sample still to spend
+  // Rounding in the sums of times and lengths must not create an extra sample: a remainder
+  // below these is nothing (1e-9 of a sample; 1e-9 mm, a millionth of a µm-BLU).
+  const double dt_eps = 1e-9 * cfg_.period_s;
+  constexpr double kLengthEps = 1e-9;
   bool moved_or_waited = false;
 
   if (settle_left_ > 0) {
@@ -79,12 +83,13 @@ InterpStatus Interpolator::step(const OverrideInput& ovr, CommandSample& out) {
     moved_or_waited = true;
     dt = 0.0;
   }
-  while (dt > 0.0) {
+  while (dt > dt_eps) {
     if (dwell_left_s_ > 0.0) {
       events |= kEventDwell;
       line_ = dwell_line_;
       const double used = std::min(dt, dwell_left_s_);
       dwell_left_s_ -= used;
+      if (dwell_left_s_ <= dt_eps) dwell_left_s_ = 0.0;
       dt -= used;
       moved_or_waited = true;
       continue;
@@ -106,13 +111,13 @@ InterpStatus Interpolator::step(const OverrideInput& ovr, CommandSample& out) {
       break;
     }
     const double left = geom_.length_mm - s_mm_;
-    if (v * dt < left) {
+    if (v * dt < left - kLengthEps) {
       s_mm_ += v * dt;
       dt = 0.0;
       pos_mm_ = geom_.at_fraction(s_mm_ / geom_.length_mm);
       moved_or_waited = true;
     } else {
-      dt -= left / v;
+      dt = std::max(0.0, dt - left / v);
       s_mm_ = geom_.length_mm;
       pos_mm_ = geom_.end_mm;  // the block end, exactly
       in_motion_ = false;

@@ -1,0 +1,311 @@
+// The sample-data interpolator against hand-worked cases: feed per sample, exact block ends,
+// time carried across blocks, arcs in every plane, multi-turn, helix, dwell, exact stop,
+// override steps and holds, G93; plus a seeded random property test.
+#include "interpolator/interpolator.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdlib>
+#include <random>
+#include <vector>
+
+using gm::AxisBlu;
+using gm::AxisVec;
+using gm::Canon;
+using gm::Motion;
+using gm::MotionKind;
+
+namespace {
+
+class VectorSource : public gm::CanonSource {
+ public:
+  explicit VectorSource(std::vector<Canon> v) : v_(std::move(v)) {}
+  bool next(Canon& out) override {
+    if (i_ >= v_.size()) return false;
+    out = v_[i_++];
+    return true;
+  }
+
+ private:
+  std::vector<Canon> v_;
+  std::size_t i_ = 0;
+};
+
+Motion line(AxisVec a, AxisVec b, double f_mm_min, int line_no = 1) {
+  Motion m;
+  m.kind = MotionKind::Line;
+  m.start_mm = a;
+  m.end_mm = b;
+  m.feed_mm_min = f_mm_min;
+  m.line = line_no;
+  return m;
+}
+
+Motion arc(AxisVec a, AxisVec b, AxisVec c, bool ccw, double f, gm::Plane plane = gm::Plane::XY, int turns = 1) {
+  Motion m;
+  m.kind = MotionKind::Arc;
+  m.start_mm = a;
+  m.end_mm = b;
+  m.center_mm = c;
+  m.ccw = ccw;
+  m.feed_mm_min = f;
+  m.plane = plane;
+  m.turns = turns;
+  return m;
+}
+
+gm::InterpolatorConfig config(double blu = 0.001, int settle = 0) {
+  gm::InterpolatorConfig c;
+  c.period_s = 0.004;
+  c.blu_mm = AxisVec::Constant(blu);
+  c.rapid_mm_min = 6000;
+  c.settle_samples = settle;
+  return c;
+}
+
+// All samples of a canon list at a constant override (or a per-sample one).
+std::vector<gm::CommandSample> samples(std::vector<Canon> canon, gm::InterpolatorConfig cfg = config(),
+                                       double (*scale)(std::int64_t) = nullptr) {
+  VectorSource src(std::move(canon));
+  gm::Interpolator ip(cfg, src);
+  std::vector<gm::CommandSample> out;
+  gm::CommandSample s;
+  for (std::int64_t k = 0;; ++k) {
+    gm::OverrideInput o;
+    if (scale) o.feed_scale = scale(k);
+    if (ip.step(o, s) == gm::InterpStatus::Finished) break;
+    out.push_back(s);
+    REQUIRE(k < 10'000'000);
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("a line at F600 moves 40 BLU per 4 ms sample and ends exactly") {
+  // 10 mm at 10 mm/s, T = 4 ms: 0.04 mm = 40 BLU a sample, 250 samples.
+  const auto s = samples({line(AxisVec::Zero(), AxisVec(10, 0, 0), 600)});
+  REQUIRE(s.size() == 250);
+  for (std::size_t k = 0; k < s.size(); ++k) CHECK(s[k].pos_blu == AxisBlu(40 * (static_cast<long>(k) + 1), 0, 0));
+  // 10.01 mm: ceil(10.01 / 0.04) = 251 samples, the last one short.
+  const auto t = samples({line(AxisVec::Zero(), AxisVec(10.01, 0, 0), 600)});
+  REQUIRE(t.size() == 251);
+  CHECK(t.back().pos_blu == AxisBlu(10010, 0, 0));
+  CHECK(t[249].pos_blu == AxisBlu(10000, 0, 0));
+}
+
+TEST_CASE("time carries across blocks: two collinear blocks sample like one") {
+  const auto one = samples({line(AxisVec::Zero(), AxisVec(7.3, 0, 0), 750)});
+  const auto two = samples({line(AxisVec::Zero(), AxisVec(2.01, 0, 0), 750), line(AxisVec(2.01, 0, 0), AxisVec(7.3, 0, 0), 750)});
+  REQUIRE(one.size() == two.size());
+  for (std::size_t k = 0; k < one.size(); ++k) CHECK(one[k].pos_blu == two[k].pos_blu);
+  // The second block started in the sample where the first ended: its block_seq is 2 there.
+  const std::size_t k_end = static_cast<std::size_t>(std::ceil(2.01 / (12.5 * 0.004))) - 1;  // 12.5 mm/s
+  CHECK(two[k_end].block_seq == 2);
+  CHECK(two[k_end - 1].block_seq == 1);
+}
+
+TEST_CASE("a quarter arc stays on the circle and ends exactly") {
+  // R = 10 mm, ccw from (10,0) to (0,10) about the origin at 600 mm/min: length 5π mm.
+  const auto s = samples({arc(AxisVec(10, 0, 0), AxisVec(0, 10, 0), AxisVec::Zero(), true, 600)});
+  CHECK(s.size() == static_cast<std::size_t>(std::ceil(5 * M_PI / 0.04)));
+  for (const auto& x : s) {
+    const double r = std::hypot(static_cast<double>(x.pos_blu[0]), static_cast<double>(x.pos_blu[1]));
+    CHECK(std::abs(r - 10000.0) <= 0.5 * std::sqrt(2.0));
+    CHECK(x.pos_blu[0] >= 0);
+    CHECK(x.pos_blu[1] >= 0);
+  }
+  CHECK(s.back().pos_blu == AxisBlu(0, 10000, 0));
+  // Counter-clockwise: Y grows first.
+  CHECK(s[0].pos_blu[1] > 0);
+}
+
+TEST_CASE("full circles and multi-turn arcs take the whole circumference per turn") {
+  // R = 4 mm at 900 mm/min (15 mm/s): one turn 2π·4/15 s.
+  const double turn_s = 2 * M_PI * 4 / 15;
+  for (int turns : {1, 3}) {
+    INFO("turns " << turns);
+    const auto s = samples({arc(AxisVec(4, 0, 0), AxisVec(4, 0, 0), AxisVec::Zero(), false, 900, gm::Plane::XY, turns)});
+    CHECK(std::abs(static_cast<double>(s.size()) * 0.004 - turns * turn_s) <= 0.004);
+    CHECK(s.back().pos_blu == AxisBlu(4000, 0, 0));
+    CHECK(s[0].pos_blu[1] < 0);  // G2 (clockwise) from +X goes toward −Y
+  }
+}
+
+TEST_CASE("a helix moves the normal axis in proportion to the angle; its length is sqrt((Rθ)² + h²)") {
+  // Two turns of R = 5 about (0,0) descending 4 mm, cw, 600 mm/min.
+  const auto s = samples({arc(AxisVec(5, 0, 0), AxisVec(5, 0, -4), AxisVec::Zero(), false, 600, gm::Plane::XY, 2)});
+  const double length = std::hypot(2 * 2 * M_PI * 5, 4.0);
+  CHECK(s.size() == static_cast<std::size_t>(std::ceil(length / 0.04)));
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    const double u = std::min(1.0, (static_cast<double>(k) + 1) * 0.04 / length);  // fraction done
+    CHECK(std::abs(static_cast<double>(s[k].pos_blu[2]) - (-4000.0 * u)) <= 0.5 + 1e-6);
+  }
+  CHECK(s.back().pos_blu == AxisBlu(5000, 0, -4000));
+}
+
+TEST_CASE("arcs in XZ and YZ turn the LinuxCNC way") {
+  // G18: in-plane axes (Z, X), ccw seen from +Y goes from +Z toward +X (rs274 ARC_FEED first
+  // axis Z, second X; rotation > 0 is G3). From (0,0,5) about the origin, ccw: X grows first.
+  auto s = samples({arc(AxisVec(0, 0, 5), AxisVec(5, 0, 0), AxisVec::Zero(), true, 600, gm::Plane::XZ)});
+  CHECK(s[0].pos_blu[0] > 0);
+  CHECK(s.back().pos_blu == AxisBlu(5000, 0, 0));
+  CHECK(s.size() == static_cast<std::size_t>(std::ceil(2.5 * M_PI / 0.04)));  // a quarter turn
+  // G19: in-plane axes (Y, Z), ccw from +Y toward +Z.
+  s = samples({arc(AxisVec(0, 5, 0), AxisVec(0, 0, 5), AxisVec::Zero(), true, 600, gm::Plane::YZ)});
+  CHECK(s[0].pos_blu[2] > 0);
+  CHECK(s.size() == static_cast<std::size_t>(std::ceil(2.5 * M_PI / 0.04)));
+  // The same end point clockwise is three quarters of a turn.
+  s = samples({arc(AxisVec(0, 5, 0), AxisVec(0, 0, 5), AxisVec::Zero(), false, 600, gm::Plane::YZ)});
+  CHECK(s[0].pos_blu[2] < 0);
+  CHECK(s.size() == static_cast<std::size_t>(std::ceil(7.5 * M_PI / 0.04)));
+}
+
+TEST_CASE("a dwell holds for exactly its time; exact stop holds settle_samples") {
+  gm::Dwell d;
+  d.seconds = 0.1;
+  d.line = 2;
+  // 1 mm at 600 mm/min = 25 samples, then 0.1 s = 25 samples of dwell, then 25 more.
+  auto s = samples({line(AxisVec::Zero(), AxisVec(1, 0, 0), 600), d, line(AxisVec(1, 0, 0), AxisVec(2, 0, 0), 600, 3)});
+  REQUIRE(s.size() == 75);
+  for (std::size_t k = 25; k < 50; ++k) {
+    CHECK(s[k].pos_blu == AxisBlu(1000, 0, 0));
+    CHECK((s[k].events & gm::kEventDwell) != 0);
+    CHECK(s[k].line == 2);
+  }
+  // Exact stop: a block of 1.01 mm ends inside sample 26; the rest of that sample is dropped
+  // and 7 settle samples follow before the next block starts.
+  Motion a = line(AxisVec::Zero(), AxisVec(1.01, 0, 0), 600);
+  a.path_mode = gm::PathMode::ExactStop;
+  s = samples({a, line(AxisVec(1.01, 0, 0), AxisVec(2.01, 0, 0), 600)}, config(0.001, 7));
+  REQUIRE(s.size() == 26 + 7 + 25);
+  CHECK(s[25].pos_blu == AxisBlu(1010, 0, 0));
+  for (std::size_t k = 26; k < 33; ++k) CHECK((s[k].events & gm::kEventSettle) != 0);
+  CHECK(s[33].pos_blu == AxisBlu(1050, 0, 0));  // the next block starts on a fresh sample
+}
+
+TEST_CASE("an override step changes V[k] at the next sample; 0 % holds without losing position") {
+  auto s = samples({line(AxisVec::Zero(), AxisVec(20, 0, 0), 600)}, config(),
+                   [](std::int64_t k) { return k < 10 ? 1.0 : k < 20 ? 2.0 : k < 30 ? 0.0 : 1.0; });
+  CHECK(s[9].pos_blu[0] - s[8].pos_blu[0] == 40);
+  CHECK(s[10].pos_blu[0] - s[9].pos_blu[0] == 80);  // doubled exactly at the next sample
+  for (std::size_t k = 20; k < 30; ++k) {
+    CHECK(s[k].pos_blu == s[19].pos_blu);
+    CHECK((s[k].events & gm::kEventHold) != 0);
+  }
+  CHECK(s[30].pos_blu[0] - s[29].pos_blu[0] == 40);
+  CHECK(s.back().pos_blu == AxisBlu(20000, 0, 0));
+  // 20 mm: 10 samples at 40 BLU, 10 at 80 (1.2 mm), 10 held, then 18.8 mm at 40 = 470 samples.
+  CHECK(s.size() == 10 + 10 + 10 + 470);
+}
+
+TEST_CASE("rapids run at the rapid rate times the rapid override; G93 takes its inverse time") {
+  Motion r = line(AxisVec::Zero(), AxisVec(10, 0, 0), 0);
+  r.kind = MotionKind::Rapid;
+  // 6000 mm/min = 100 mm/s: 0.4 mm a sample, 25 samples; at 50 % rapid override 50 samples.
+  CHECK(samples({r}).size() == 25);
+  VectorSource src({r});
+  gm::Interpolator ip(config(), src);
+  gm::CommandSample cs;
+  gm::OverrideInput o;
+  o.rapid_scale = 0.5;
+  o.feed_scale = 3.0;  // does not touch rapids
+  int n = 0;
+  while (ip.step(o, cs) == gm::InterpStatus::Working) ++n;
+  CHECK(n == 50);
+  // G93: 10 mm in 0.5 s whatever the F word: 125 samples.
+  Motion g = line(AxisVec::Zero(), AxisVec(10, 0, 0), 1200);
+  g.inverse_time_s = 0.5;
+  CHECK(samples({g}).size() == 125);
+}
+
+TEST_CASE("zero-length moves take no time; events pass through; OverrideDisable ignores the override") {
+  gm::Event off{1, gm::EventKind::OverrideDisable, {}};
+  gm::Event pause{1, gm::EventKind::Pause, {}};
+  auto s = samples({line(AxisVec::Zero(), AxisVec::Zero(), 600), off, pause, line(AxisVec::Zero(), AxisVec(1, 0, 0), 600)},
+                   config(), [](std::int64_t) { return 0.5; });
+  REQUIRE(s.size() == 25);  // 100 % although 50 % is asked: disabled
+  CHECK((s[0].events & gm::kEventPause) != 0);
+  CHECK(s[0].feed_scale == 1.0);
+  gm::Event end{1, gm::EventKind::End, {}};
+  s = samples({line(AxisVec::Zero(), AxisVec(1, 0, 0), 600), end, line(AxisVec(1, 0, 0), AxisVec(2, 0, 0), 600)});
+  CHECK(s.size() == 25);  // nothing after M2 runs
+}
+
+TEST_CASE("property: random chains end every block exactly and never outrun the feed") {
+  const char* env = std::getenv("GMOTION_SEED");
+  const std::uint64_t seed0 = env ? std::strtoull(env, nullptr, 10) : 42u;
+  for (int trial = 0; trial < (env ? 1 : 300); ++trial) {
+    const std::uint64_t seed = seed0 + static_cast<std::uint64_t>(trial);
+    INFO("seed " << seed << " (GMOTION_SEED=" << seed << " replays it)");
+    std::mt19937_64 rng(seed);
+    auto u = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
+    const double blu_mm = std::array<double, 3>{0.001, 0.0005, 0.01}[static_cast<std::size_t>(u(0, 3))];
+    std::vector<Canon> canon;
+    std::vector<AxisVec> ends;
+    AxisVec p = AxisVec::Zero();
+    double max_f = 0;
+    for (int b = 0; b < 8; ++b) {
+      const double f = u(50, 5000);
+      max_f = std::max(max_f, f);
+      if (u(0, 1) < 0.5) {
+        const AxisVec q(u(-20, 20), u(-20, 20), u(-5, 5));
+        canon.push_back(line(p, q, f));
+        p = q;
+      } else {
+        const auto plane = static_cast<gm::Plane>(static_cast<int>(u(0, 3)));
+        int a = 0, bb = 1, n = 2;
+        gm::plane_axes(plane, a, bb, n);
+        AxisVec c = p;
+        c[a] += u(-5, 5);
+        c[bb] += u(-5, 5);
+        const double r = std::hypot(p[a] - c[a], p[bb] - c[bb]), phi = u(-M_PI, M_PI);
+        AxisVec q = c;
+        q[a] = c[a] + r * std::cos(phi);
+        q[bb] = c[bb] + r * std::sin(phi);
+        q[n] = p[n] + u(-2, 2);  // helical
+        canon.push_back(arc(p, q, c, u(0, 1) < 0.5, f, plane, 1 + static_cast<int>(u(0, 2))));
+        p = q;
+      }
+      ends.push_back(p);
+    }
+    // Odd trials stop exactly after every block, so each block end is observable: the samples
+    // that wait for the filter (kEventSettle) must sit exactly on that block's rounded end.
+    const bool exact = trial % 2 == 1;
+    if (exact)
+      for (auto& c : canon) std::get<Motion>(c).path_mode = gm::PathMode::ExactStop;
+    auto rounded = [&](const AxisVec& v) {
+      AxisBlu q;
+      for (int i = 0; i < 3; ++i) q[i] = std::llround(v[i] / blu_mm);
+      return q;
+    };
+    gm::InterpolatorConfig cfg = config(blu_mm, exact ? 2 : 0);
+    VectorSource src(canon);
+    gm::Interpolator ip(cfg, src);
+    gm::CommandSample s, prev;
+    prev.pos_blu = AxisBlu::Zero();
+    std::uint64_t seq = 0;
+    double scale = 1.0;
+    int settles = 0;
+    for (std::int64_t k = 0;; ++k) {
+      if (k % 37 == 0) scale = u(0.1, 2.0);
+      gm::OverrideInput o;
+      o.feed_scale = scale;
+      if (ip.step(o, s) == gm::InterpStatus::Finished) break;
+      const double step_blu = (s.pos_blu - prev.pos_blu).cast<double>().norm();
+      CHECK(step_blu <= max_f / 60.0 * 2.0 * 0.004 / blu_mm + std::sqrt(3.0) + 1e-9);
+      CHECK(s.pos_blu.cast<double>().allFinite());
+      if ((s.events & gm::kEventSettle) != 0) {
+        ++settles;
+        CHECK(s.pos_blu == rounded(ends[s.block_seq - 1]));
+      }
+      seq = s.block_seq;
+      prev = s;
+    }
+    // The last sample is the last block's rounded end point, exactly.
+    CHECK(prev.pos_blu == rounded(ends.back()));
+    CHECK(seq == canon.size());
+    CHECK(settles == (exact ? 2 * static_cast<int>(canon.size()) : 0));
+  }
+}
