@@ -1,5 +1,7 @@
 // End to end through the library: every bundled program ends exactly; lost motion shows as
 // quadrant protrusions in the contour error (paper Fig. 17).
+#include "accdec/analysis.hpp"
+#include "accdec/taps.hpp"
 #include "interp/program.hpp"
 #include "machine/machine_file.hpp"
 #include "pipeline/pipeline.hpp"
@@ -96,4 +98,49 @@ TEST_CASE("lost motion and friction give outward quadrant protrusions (Fig. 17)"
   CHECK(spread(a.contour) < 3.0);
   // 4 BLU lost motion + 100 N friction: a protrusion of tens of BLU at each axis reversal.
   CHECK(spread(b.contour) > 20.0);
+}
+
+TEST_CASE("the paper's circle test: Acc/Dec radius loss matches the analysis, Eq. 34 adds up") {
+  const fs::path circle = kPrograms / "paper-circle.nc";
+  const gm::Machine m = gm::load_machine_file(kPrograms / "machines" / "paper.toml");
+  const double r = 4000.0, v = 15000.0, T = 0.004, w = v / r;
+  const int n = 41;
+  // Eq. 16 for the linear profile, computed here: A = sin(nωT/2) / (n sin(ωT/2)).
+  const double linear_closed = r * (1.0 - std::sin(n * w * T / 2) / (n * std::sin(w * T / 2)));
+  CHECK(linear_closed == Approx(62.70).margin(0.01));
+  auto steady_mean = [&](const std::string& profile, bool servo, bool ref) {
+    gm::Machine mm = m;
+    mm.profile = profile;
+    if (profile == "custom:1") mm.tau_s = T;
+    std::ifstream in(circle);
+    gm::InterpreterOptions opts;
+    opts.machine = &mm;
+    gm::ProgramStream stream(in, circle.string(), opts);
+    gm::RunConfig cfg;
+    cfg.machine = mm;
+    cfg.servo = servo;
+    gm::Pipeline p(cfg, stream);
+    gm::SampleRecord rec;
+    double sum = 0;
+    int count = 0;
+    while (p.step(gm::OverrideInput{}, rec) == gm::PipelineStatus::Working)
+      if (!std::isnan(rec.arc_ref_dev_blu)) sum += ref ? rec.arc_ref_dev_blu : rec.arc_enc_dev_blu, ++count;
+    REQUIRE(count > 800);
+    return -sum / count;  // radius loss, BLU
+  };
+  CHECK(steady_mean("linear", false, true) == Approx(linear_closed).margin(1.0));
+  const double servo_alone = steady_mean("custom:1", true, false);
+  for (const char* profile : {"linear", "scurve1", "scurve2", "blackman"}) {
+    INFO(profile);
+    const gm::Taps taps = gm::design_taps(profile, 0.164, T);
+    const double analysis = gm::radius_loss_sampled(taps.real, r, v, T);
+    const double accdec = steady_mean(profile, false, true);
+    CHECK(accdec == Approx(analysis).margin(1.0));
+    // Eq. 34: the total with the servo is the sum of the two losses (the servo's measured alone).
+    CHECK(steady_mean(profile, true, false) == Approx(accdec + servo_alone).margin(1.0));
+  }
+  // Eq. 35 assumes an ideal velocity loop (31.25 BLU); the paper's loop lags enough to make the
+  // position loop underdamped, and the radius grows slightly instead (README, "The circle test").
+  CHECK(servo_alone < 0.0);
+  CHECK(servo_alone > -5.0);
 }
