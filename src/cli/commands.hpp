@@ -16,6 +16,7 @@ void add_moves(CLI::App& app, Context& ctx);    ///< gmotion moves PROGRAM
 void add_design(CLI::App& app, Context& ctx);   ///< gmotion design ... (paper Fig. 9)
 void add_analyze(CLI::App& app, Context& ctx);  ///< gmotion analyze radius-error|response
 void add_run(CLI::App& app, Context& ctx);      ///< gmotion run PROGRAM (the whole pipeline)
+void add_diff(CLI::App& app, Context& ctx);     ///< gmotion diff A B (trace comparison)
 void add_compare(CLI::App& app, Context& ctx);  ///< gmotion compare PROGRAM (profiles side by side)
 
 }  // namespace gm::cli

@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   gm::cli::Context ctx;
   gm::cli::add_run(app, ctx);
   gm::cli::add_compare(app, ctx);
+  gm::cli::add_diff(app, ctx);
   gm::cli::add_check(app, ctx);
   gm::cli::add_moves(app, ctx);
   gm::cli::add_design(app, ctx);
