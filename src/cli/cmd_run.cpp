@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -20,6 +21,9 @@
 
 namespace gm::cli {
 namespace {
+
+volatile std::sig_atomic_t g_interrupted = 0;
+extern "C" void on_sigint(int) { g_interrupted = 1; }
 
 struct RunFlags {
   std::string program;
@@ -97,6 +101,8 @@ int run(const RunFlags& f) {
   }
 
   RunSummary summary(cfg.machine);
+  std::signal(SIGINT, on_sigint);
+  std::signal(SIGTERM, on_sigint);
   OverridePlayer player(schedule, cfg.machine.period_s, f.override_pct, f.rapid_override_pct);
   std::optional<LiveOverride> live;
   if (f.realtime) live.emplace(STDIN_FILENO, max_pct);
@@ -123,6 +129,8 @@ int run(const RunFlags& f) {
     if (recorder) recorder->sample(k, player.feed_percent(), player.rapid_percent());
     if ((st = pipeline.step(ovr, rec)) != PipelineStatus::Working) break;
     line = rec.line;
+    if (g_interrupted != 0)
+      throw InputError(fmt::format("interrupted at t = {:.3f} s (line {}); no trace was kept", rec.t_s, rec.line));
     if (f.max_time_s > 0 && rec.t_s > f.max_time_s) {
       throw InputError(fmt::format("run stopped at --max-time {} s (line {}, feed override {} %)", f.max_time_s,
                                    rec.line, player.feed_percent()));

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstring>
 #include <iterator>
+#include <sys/stat.h>
 
 namespace gm {
 namespace {
@@ -49,9 +50,18 @@ std::string trace_header(const TraceMeta& m) {
 
 TraceWriter::TraceWriter(std::string path, TraceFormat format, const TraceMeta& meta)
     : path_(std::move(path)), format_(format), decimate_(meta.decimate < 1 ? 1 : meta.decimate) {
+  struct stat st {};
+  const bool special = path_ != "-" && ::stat(path_.c_str(), &st) == 0 && !S_ISREG(st.st_mode);
   if (path_ == "-") {
     to_stdout_ = true;
     file_ = stdout;
+  } else if (special) {
+    // A device or FIFO (/dev/null, /dev/full, a pipe): written in place, never renamed over.
+    if (S_ISDIR(st.st_mode)) throw InputError(fmt::format("cannot write trace '{}': it is a directory", path_));
+    file_ = std::fopen(path_.c_str(), "wb");
+    if (file_ == nullptr)
+      throw InputError(fmt::format("cannot write trace '{}': {}", path_, std::strerror(errno)));
+    direct_ = true;
   } else {
     tmp_path_ = path_ + ".partial";
     file_ = std::fopen(tmp_path_.c_str(), "wb");
@@ -70,7 +80,7 @@ TraceWriter::TraceWriter(std::string path, TraceFormat format, const TraceMeta& 
 TraceWriter::~TraceWriter() {
   if (file_ != nullptr && !to_stdout_) {
     std::fclose(file_);
-    std::remove(tmp_path_.c_str());  // incomplete: leave nothing that looks like a trace
+    if (!direct_) std::remove(tmp_path_.c_str());  // incomplete: leave nothing that looks like a trace
   }
 }
 
@@ -117,6 +127,14 @@ void TraceWriter::flush_buffer() {
 
 void TraceWriter::finish() {
   flush_buffer();
+  if (direct_) {
+    const bool ok = std::fflush(file_) == 0;
+    const int err = errno;
+    const bool closed = std::fclose(file_) == 0;
+    file_ = nullptr;
+    if (!ok || !closed) throw InputError(fmt::format("cannot write trace '{}': {}", path_, std::strerror(err)));
+    return;
+  }
   if (to_stdout_) {
     if (std::fflush(stdout) != 0) throw InputError(fmt::format("cannot write trace to stdout: {}", std::strerror(errno)));
     file_ = nullptr;

@@ -30,8 +30,8 @@ struct TraceMeta {
 /// The `#` header lines (shared by CSV and binary) and the column line, each ending in '\n'.
 std::string trace_header(const TraceMeta& meta);
 
-/// Writes a trace to `path` ("-" = stdout). A file is written as `path.partial` and renamed to
-/// `path` only by finish(), so an interrupted run never leaves a file that looks complete; a
+/// Writes a trace to `path` ("-" = stdout; an existing device or FIFO is written in place). A
+/// file is written as `path.partial` and renamed to `path` only by finish(), so an interrupted run never leaves a file that looks complete; a
 /// writer destroyed without finish() removes its partial file. Throws gm::InputError when the
 /// path cannot be opened or written (the message names it and the reason).
 class TraceWriter {
@@ -59,6 +59,7 @@ class TraceWriter {
   int decimate_;
   std::FILE* file_ = nullptr;
   bool to_stdout_ = false;
+  bool direct_ = false;  ///< an existing device or FIFO: written in place
   fmt::memory_buffer buf_;
   std::int64_t rows_ = 0;
 };
