@@ -1,12 +1,12 @@
 // gmotion check PROGRAM: validates a G-code program, printing every error or a one-line summary.
 #include "cli/commands.hpp"
+#include "cli/run_setup.hpp"
 #include "common/status.hpp"
 #include "interp/program.hpp"
 #include "machine/machine_file.hpp"
 
 #include <fmt/format.h>
 
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -36,15 +36,9 @@ void add_check(CLI::App& app, Context& ctx) {
       machine.arc_rule = rules.at(opts->arc_rule);
     }
     InterpreterOptions io{&machine, opts->block_delete};
-    CheckSummary s;
     std::cout.flush();
-    if (opts->program == "-") {
-      s = check_program(std::cin, "<stdin>", io, std::cerr);
-    } else {
-      std::ifstream in(opts->program, std::ios::binary);
-      if (!in) throw InputError(fmt::format("cannot open program '{}'", opts->program));
-      s = check_program(in, opts->program, io, std::cerr);
-    }
+    ProgramInput program(opts->program);
+    const CheckSummary s = check_program(program.rewind(), program.name(), io, std::cerr);
     if (s.errors > 0) {
       fmt::print(stderr, "{}: {} error{}\n", opts->program == "-" ? "<stdin>" : opts->program, s.errors,
                  s.errors == 1 ? "" : "s");

@@ -1,5 +1,6 @@
 // gmotion moves PROGRAM: the canonical moves as JSON Lines (mm, mm/min, machine coordinates).
 #include "cli/commands.hpp"
+#include "cli/run_setup.hpp"
 #include "common/status.hpp"
 #include "interp/program.hpp"
 #include "machine/machine_file.hpp"
@@ -7,12 +8,7 @@
 #include <fmt/format.h>
 
 #include <cstdio>
-#include <cstdlib>
-#include <unistd.h>
-#include <fstream>
-#include <iostream>
 #include <memory>
-#include <sstream>
 
 namespace gm::cli {
 
@@ -55,38 +51,14 @@ void add_moves(CLI::App& app, Context& ctx) {
     const InterpreterOptions io{&machine, opts->block_delete};
     const std::string name = opts->program == "-" ? "<stdin>" : opts->program;
 
-    // Nothing is printed if the program has any error: check it whole first, then stream it.
-    // stdin is spooled to a temporary file so that it can be read twice without being held.
-    std::fstream spool;
-    std::ifstream file;
-    std::istream* in = nullptr;
-    std::string spool_path;
-    if (opts->program == "-") {
-      char tmpl[] = "/tmp/gmotion-moves-XXXXXX";
-      const int fd = mkstemp(tmpl);
-      if (fd < 0) throw std::runtime_error("cannot create a temporary file for stdin");
-      close(fd);
-      spool_path = tmpl;
-      spool.open(spool_path, std::ios::in | std::ios::out | std::ios::binary | std::ios::trunc);
-      std::remove(spool_path.c_str());  // unlinked: vanishes when closed
-      spool << std::cin.rdbuf();
-      spool.flush();
-      spool.clear();
-      spool.seekg(0);
-      in = &spool;
-    } else {
-      file.open(opts->program, std::ios::binary);
-      if (!file) throw InputError(fmt::format("cannot open program '{}'", opts->program));
-      in = &file;
-    }
-    const CheckSummary s = check_program(*in, name, io, std::cerr);
-    if (s.errors > 0) {
-      fmt::print(stderr, "{}: {} error{}\n", name, s.errors, s.errors == 1 ? "" : "s");
+    // Nothing is printed if the program has any error: check it whole first, then stream it
+    // (stdin is spooled to an unlinked temporary file so it can be read twice without being held).
+    ProgramInput program(opts->program);
+    if (!validate_program(program, io)) {
       ctx.exit_code = static_cast<int>(ExitCode::InputError);
       return;
     }
-    in->clear();
-    in->seekg(0);
+    std::istream* in = &program.rewind();
     ProgramStream stream(*in, name, io);
     Canon c;
     while (stream.next(c)) print_move(stdout, c);

@@ -74,7 +74,7 @@ std::istream& ProgramInput::rewind() {
 bool validate_program(ProgramInput& program, const InterpreterOptions& opts) {
   const CheckSummary s = check_program(program.rewind(), program.name(), opts, std::cerr);
   if (s.errors > 0) {
-    fmt::print(stderr, "{}: {} error{}; nothing was run\n", program.name(), s.errors, s.errors == 1 ? "" : "s");
+    fmt::print(stderr, "{}: {} error{}\n", program.name(), s.errors, s.errors == 1 ? "" : "s");
     return false;
   }
   return true;
