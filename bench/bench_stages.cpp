@@ -1,0 +1,142 @@
+// Micro-benchmarks per stage: parse+interpret MB/s, interpolator, FIR per profile and tap
+// count, servo, CSV trace rows and the whole pipeline, in samples (or bytes) per second.
+#include "accdec/fir_filter.hpp"
+#include "accdec/taps.hpp"
+#include "interp/program.hpp"
+#include "interpolator/interpolator.hpp"
+#include "machine/machine_file.hpp"
+#include "pipeline/pipeline.hpp"
+#include "servo/servo_axis.hpp"
+#include "trace/trace_writer.hpp"
+
+#include <benchmark/benchmark.h>
+#include <fmt/format.h>
+
+#include <cmath>
+#include <sstream>
+#include <string>
+
+namespace {
+
+// A program of `blocks` blocks mixing G1 and G2/G3 (IJK and R), deterministic.
+std::string program_text(int blocks) {
+  std::string t = "G21 G90 G64 G17 F1200\n";
+  double x = 0, y = 0;
+  for (int i = 0; i < blocks; ++i) {
+    switch (i % 4) {
+      case 0: x += 1.5; t += fmt::format("G1 X{:.3f} Y{:.3f}\n", x, y); break;
+      case 1: t += fmt::format("G2 X{:.3f} Y{:.3f} I0.5 J0\n", x + 1.0, y); x += 1.0; break;
+      case 2: y += 1.0; t += fmt::format("G1 X{:.3f} Y{:.3f} F1500\n", x, y); break;
+      default: t += fmt::format("G3 X{:.3f} Y{:.3f} R0.5\n", x - 1.0, y); x -= 1.0; break;
+    }
+  }
+  return t + "M2\n";
+}
+
+void BM_ParseInterpret(benchmark::State& state) {
+  const std::string text = program_text(20000);
+  const gm::Machine m = gm::default_machine();
+  for (auto _ : state) {
+    std::istringstream in(text);
+    std::ostringstream diag;
+    const auto s = gm::check_program(in, "bench.nc", gm::InterpreterOptions{&m, false}, diag);
+    benchmark::DoNotOptimize(s.moves);
+  }
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * text.size()));
+  state.SetItemsProcessed(state.iterations() * 20000);  // blocks
+}
+BENCHMARK(BM_ParseInterpret)->Unit(benchmark::kMillisecond);
+
+void BM_Fir(benchmark::State& state, const char* profile) {
+  const double tau = static_cast<double>(state.range(0)) * 0.004;
+  const gm::Taps taps = gm::design_taps(profile, tau, 0.004);
+  gm::FirAccDec fir(taps, gm::AxisBlu::Zero());
+  gm::AxisBlu in = gm::AxisBlu::Zero(), out;
+  std::int64_t k = 0;
+  for (auto _ : state) {
+    in += gm::AxisBlu(40 + (k & 7), -20, 3);
+    fir.step(in, out);
+    benchmark::DoNotOptimize(out);
+    ++k;
+  }
+  state.SetItemsProcessed(state.iterations());  // samples (3 axes each)
+}
+BENCHMARK_CAPTURE(BM_Fir, linear, "linear")->Arg(11)->Arg(41)->Arg(161);
+BENCHMARK_CAPTURE(BM_Fir, blackman, "blackman")->Arg(11)->Arg(41)->Arg(161);
+BENCHMARK_CAPTURE(BM_Fir, scurve2, "scurve2")->Arg(41);
+
+void BM_Servo(benchmark::State& state) {
+  const gm::Machine m = gm::default_machine();
+  gm::ServoAxis s(m.axes[0], m.period_s, 1, 0);
+  std::int64_t ref = 0, k = 0;
+  for (auto _ : state) {
+    ref = static_cast<std::int64_t>(4000 * std::sin(0.015 * static_cast<double>(k++)));
+    benchmark::DoNotOptimize(s.step(ref));
+  }
+  state.SetItemsProcessed(state.iterations());  // samples of one axis
+}
+BENCHMARK(BM_Servo);
+
+class TextSource : public gm::CanonSource {
+ public:
+  explicit TextSource(const std::string& text, const gm::Machine& m)
+      : in_(text), stream_(in_, "bench.nc", gm::InterpreterOptions{&m, false}) {}
+  bool next(gm::Canon& c) override { return stream_.next(c); }
+
+ private:
+  std::istringstream in_;
+  gm::ProgramStream stream_;
+};
+
+void BM_Interpolator(benchmark::State& state) {
+  const gm::Machine m = gm::default_machine();
+  const std::string text = program_text(2000);
+  std::int64_t samples = 0;
+  for (auto _ : state) {
+    TextSource src(text, m);
+    gm::InterpolatorConfig cfg;
+    gm::Interpolator ip(cfg, src);
+    gm::CommandSample s;
+    while (ip.step(gm::OverrideInput{}, s) == gm::InterpStatus::Working) ++samples;
+  }
+  state.SetItemsProcessed(samples);
+}
+BENCHMARK(BM_Interpolator)->Unit(benchmark::kMillisecond);
+
+void BM_Pipeline(benchmark::State& state) {
+  const gm::Machine m = gm::default_machine();
+  const std::string text = program_text(2000);
+  std::int64_t samples = 0;
+  for (auto _ : state) {
+    TextSource src(text, m);
+    gm::RunConfig cfg;
+    cfg.machine = m;
+    cfg.servo = state.range(0) != 0;
+    gm::Pipeline p(cfg, src);
+    gm::SampleRecord r;
+    while (p.step(gm::OverrideInput{}, r) == gm::PipelineStatus::Working) ++samples;
+  }
+  state.SetItemsProcessed(samples);
+}
+BENCHMARK(BM_Pipeline)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+void BM_TraceCsv(benchmark::State& state) {
+  gm::TraceMeta meta;
+  meta.period_s = 0.004;
+  gm::TraceWriter w("/dev/null", gm::TraceFormat::Csv, meta);
+  gm::SampleRecord s;
+  s.ref_blu = gm::AxisBlu(123456, -7890, 12);
+  for (auto _ : state) {
+    ++s.k;
+    s.t_s = static_cast<double>(s.k) * 0.004;
+    s.cmd_blu += gm::AxisBlu(40, -3, 1);
+    w.write(s);
+  }
+  w.finish();
+  state.SetItemsProcessed(state.iterations());  // rows
+}
+BENCHMARK(BM_TraceCsv);
+
+}  // namespace
+
+BENCHMARK_MAIN();
