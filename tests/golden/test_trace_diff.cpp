@@ -1,6 +1,7 @@
 // gmotion diff and the trace reader on hand-made traces: exact first divergence, tolerance,
 // CSV against its binary twin, row-count and header mismatches.
 #include "support/run_command.hpp"
+#include "support/scratch_dir.hpp"
 #include "trace/trace_reader.hpp"
 #include "trace/trace_writer.hpp"
 
@@ -48,11 +49,7 @@ std::string write(const fs::path& p, int rows, int bump_at = -1, int bump = 0, g
   return p.string();
 }
 
-fs::path dir() {
-  fs::path d = fs::temp_directory_path() / ("gmotion-diff-test-" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
+fs::path dir() { return gmtest::scratch_dir("diff-test"); }
 
 }  // namespace
 

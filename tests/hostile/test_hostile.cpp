@@ -1,6 +1,7 @@
 // Hostile inputs end with a clear located error or a correct run, in bounded time and memory
 // (every command runs under `timeout`, so a hang fails instead of blocking the suite).
 #include "support/run_command.hpp"
+#include "support/scratch_dir.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -13,11 +14,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path scratch() {
-  fs::path d = fs::temp_directory_path() / ("gmotion-hostile-" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
+fs::path scratch() { return gmtest::scratch_dir("hostile"); }
 
 // Writes `text` to a scratch program and runs `gmotion ARGS FILE EXTRA` under a 60 s timeout.
 gmtest::CommandResult on(const std::string& text, const std::string& args = "check", const std::string& extra = "") {

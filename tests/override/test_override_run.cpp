@@ -6,6 +6,7 @@
 #include "override/override_schedule.hpp"
 #include "pipeline/pipeline.hpp"
 #include "support/run_command.hpp"
+#include "support/scratch_dir.hpp"
 
 #include <catch2/catch.hpp>
 #include <fmt/format.h>
@@ -116,8 +117,7 @@ TEST_CASE("M49 and M50 P0 disable the override; M48 and M50 P1 enable it again")
 }
 
 TEST_CASE("record -> replay gives a byte-identical trace (schedule and live input)") {
-  const fs::path dir = fs::temp_directory_path() / ("gmotion-ovr-" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const fs::path dir = gmtest::scratch_dir("ovr");
   const std::string prog = (kRepo / "programs" / "override-replay.nc").string();
   const std::string sched = (kRepo / "programs" / "override-replay.csv").string();
   const std::string rec = (dir / "rec.csv").string(), a = (dir / "a.csv").string(), b = (dir / "b.csv").string();
@@ -139,8 +139,7 @@ TEST_CASE("record -> replay gives a byte-identical trace (schedule and live inpu
 }
 
 TEST_CASE("override CLI errors: bad schedule, out of range, endless hold, --max-time") {
-  const fs::path dir = fs::temp_directory_path() / ("gmotion-ovr-err-" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const fs::path dir = gmtest::scratch_dir("ovr-err");
   const std::string prog = (kRepo / "programs" / "square.nc").string();
   const std::string bad = (dir / "bad.csv").string();
   std::ofstream(bad) << "0,100\n1.0,fast\n";

@@ -2,6 +2,8 @@
 #include "common/status.hpp"
 #include "trace/trace_writer.hpp"
 
+#include "support/scratch_dir.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <cstdio>
@@ -46,11 +48,7 @@ std::string slurp(const fs::path& p) {
   ss << f.rdbuf();
   return ss.str();
 }
-fs::path temp_dir() {
-  fs::path d = fs::temp_directory_path() / ("gmotion-trace-test-" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
+fs::path temp_dir() { return gmtest::scratch_dir("trace-test"); }
 }  // namespace
 
 TEST_CASE("CSV trace: header then one row per sample, renamed into place by finish()") {
