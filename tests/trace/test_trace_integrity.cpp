@@ -1,0 +1,80 @@
+// Trace integrity from the command line: full disks, unwritable paths and SIGINT give a clear
+// message, a non-zero exit and never a file that looks complete.
+#include "support/run_command.hpp"
+#include "support/scratch_dir.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+const std::string kRepo = fs::path(GMOTION_TESTS_DIR).parent_path().string();
+const std::string kPocket = kRepo + "/programs/pocket.nc";
+fs::path scratch() { return gmtest::scratch_dir("integrity"); }
+}  // namespace
+
+TEST_CASE("a trace to /dev/full fails with the reason; /dev/full stays a device") {
+  const auto r = gmtest::run_gmotion("run " + kPocket + " --trace /dev/full");
+  CHECK(r.code == 1);
+  CHECK_THAT(r.out, Catch::Contains("cannot write trace '/dev/full': No space left on device"));
+  CHECK(fs::is_character_file("/dev/full"));
+  CHECK_FALSE(fs::exists("/dev/full.partial"));
+}
+
+TEST_CASE("an unwritable trace path is refused before the run") {
+  const auto r = gmtest::run_gmotion("run " + kPocket + " --trace /nonexistent-dir/t.csv");
+  CHECK(r.code == 1);
+  CHECK_THAT(r.out, Catch::Contains("cannot write trace '/nonexistent-dir/t.csv': No such file or directory"));
+  const auto d = gmtest::run_gmotion("run " + kPocket + " --trace " + scratch().string());
+  CHECK(d.code == 1);
+  CHECK_THAT(d.out, Catch::Contains("it is a directory"));
+}
+
+TEST_CASE("a full file system mid-run leaves no trace and no partial file") {
+  const fs::path mnt = scratch() / "small";
+  fs::create_directories(mnt);
+  if (gmtest::sh("mount -t tmpfs -o size=64k tmpfs " + mnt.string() + " 2>/dev/null").code != 0) {
+    WARN("cannot mount a small tmpfs here (not root?): case skipped");
+    return;
+  }
+  const std::string trace = (mnt / "t.csv").string();
+  const auto r = gmtest::run_gmotion("run " + kPocket + " --trace " + trace);
+  gmtest::sh("ls " + mnt.string() + " > " + (scratch() / "ls.txt").string());
+  gmtest::sh("umount " + mnt.string());
+  CHECK(r.code == 1);
+  CHECK_THAT(r.out, Catch::Contains("No space left on device"));
+  std::ifstream ls(scratch() / "ls.txt");
+  std::string left((std::istreambuf_iterator<char>(ls)), std::istreambuf_iterator<char>());
+  CHECK(left.empty());
+}
+
+TEST_CASE("SIGINT stops the run with a message and removes the partial trace") {
+  // A long program (a few thousand metres of feed) so the run is still going when SIGINT comes.
+  const fs::path dir = scratch();
+  const std::string prog = (dir / "long.nc").string(), trace = (dir / "t.csv").string();
+  {
+    std::ofstream p(prog);
+    p << "G21 G90 G64 F3000\n";
+    for (int i = 0; i < 2000; ++i) p << "G1 X" << (i % 2 ? 100 : 0) << " Y" << i * 0.01 << "\n";
+    p << "M2\n";
+  }
+  const auto r = gmtest::sh("(" + std::string(GMOTION_BIN) + " run " + prog + " --trace " + trace +
+                            " 2>&1 & pid=$!; sleep 0.5; kill -INT $pid; wait $pid; echo \"exit=$?\")");
+  CHECK_THAT(r.out, Catch::Contains("interrupted at t = "));
+  CHECK_THAT(r.out, Catch::Contains("exit=1"));
+  CHECK_FALSE(fs::exists(trace));
+  CHECK_FALSE(fs::exists(trace + ".partial"));
+}
+
+TEST_CASE("the same program and machine give byte-identical traces run after run") {
+  const fs::path dir = scratch();
+  const std::string a = (dir / "a.csv").string(), b = (dir / "b.csv").string();
+  REQUIRE(gmtest::run_gmotion("run " + kPocket + " --trace " + a).code == 0);
+  REQUIRE(gmtest::run_gmotion("run " + kPocket + " --trace " + b).code == 0);
+  CHECK(gmtest::sh("cmp " + a + " " + b).code == 0);
+}
