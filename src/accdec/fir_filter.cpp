@@ -52,6 +52,9 @@ FirAccDec::FirAccDec(const Taps& taps, const AxisBlu& start_pos_blu, FirStructur
   structure_ = structure;
   hist_.assign(static_cast<std::size_t>(length_) * kAxes, 0);
   running_.fill(0);
+  window_.setZero(4, 2 * length_);
+  taps_oldest_first_.assign(taps_.rbegin(), taps_.rend());
+  fast_limit_ = ((std::int64_t{1} << 53) - 1) / b_s_;
 }
 
 FirAccDec::Acc FirAccDec::convolve(int axis) const {
@@ -73,6 +76,15 @@ FirAccDec::Acc FirAccDec::convolve(int axis) const {
   return acc;
 }
 
+void FirAccDec::convolve_fast(std::array<std::int64_t, kAxes>& sums) const {
+  static_assert(kAxes <= 4, "the fast path packs the axes into 4 lanes");
+  Eigen::Vector4d acc = Eigen::Vector4d::Zero();
+  const double* col = window_.data() + 4 * (head_ + 1);  // the oldest sample of the window
+  for (int j = 0; j < length_; ++j, col += 4)
+    acc += taps_oldest_first_[static_cast<std::size_t>(j)] * Eigen::Map<const Eigen::Vector4d>(col);
+  for (int a = 0; a < kAxes; ++a) sums[static_cast<std::size_t>(a)] = static_cast<std::int64_t>(acc[a]);
+}
+
 void FirAccDec::step(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu) {
   if (in_pos_blu == last_in_) {
     if (equal_run_ < length_) ++equal_run_;
@@ -81,19 +93,35 @@ void FirAccDec::step(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu) {
     last_in_ = in_pos_blu;
   }
   head_ = head_ + 1 == length_ ? 0 : head_ + 1;  // the oldest slot becomes the newest
+  const bool running = structure_ == FirStructure::RunningSum;
   for (int a = 0; a < kAxes; ++a) {
     const std::size_t idx = static_cast<std::size_t>(head_) * kAxes + static_cast<std::size_t>(a);
     const std::int64_t rel = in_pos_blu[a] - start_[a];
-    Acc acc;
-    if (structure_ == FirStructure::RunningSum) {
-      running_[static_cast<std::size_t>(a)] += Acc{rel} - Acc{hist_[idx]};
-      acc = running_[static_cast<std::size_t>(a)] * Acc{taps_.front()};
-      hist_[idx] = rel;
+    const std::int64_t old = hist_[idx];
+    big_in_window_ += static_cast<int>(rel > fast_limit_ || rel < -fast_limit_) -
+                      static_cast<int>(old > fast_limit_ || old < -fast_limit_);
+    hist_[idx] = rel;
+    if (running) {
+      running_[static_cast<std::size_t>(a)] += Acc{rel} - Acc{old};
     } else {
-      hist_[idx] = rel;
-      acc = convolve(a);
+      window_(a, head_) = window_(a, head_ + length_) = static_cast<double>(rel);
     }
-    out_pos_blu[a] = start_[a] + div_round_half_away(acc, Acc{b_s_});
+  }
+  const bool fast = big_in_window_ == 0;  // every |rel| in the window <= fast_limit_
+  std::array<std::int64_t, kAxes> sums{};
+  if (fast && !running) convolve_fast(sums);
+  for (int a = 0; a < kAxes; ++a) {
+    std::int64_t q;
+    if (fast) {
+      // |sum| <= b_s * fast_limit_ < 2^53: int64 arithmetic is exact.
+      const std::int64_t sum = running ? static_cast<std::int64_t>(running_[static_cast<std::size_t>(a)]) * taps_.front()
+                                       : sums[static_cast<std::size_t>(a)];
+      q = div_round_half_away<std::int64_t>(sum, b_s_);
+    } else {
+      const Acc acc = running ? running_[static_cast<std::size_t>(a)] * Acc{taps_.front()} : convolve(a);
+      q = div_round_half_away(acc, Acc{b_s_});
+    }
+    out_pos_blu[a] = start_[a] + q;
   }
 }
 

@@ -4,6 +4,8 @@
 #include "accdec/taps.hpp"
 #include "common/axis.hpp"
 
+#include <Eigen/Core>
+
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -21,9 +23,16 @@ enum class FirStructure {
 /// Per-axis FIR Acc/Dec on positions. By Eq. 12 the position dynamics equal the velocity
 /// dynamics, so the filter runs on positions relative to the start position:
 ///   out[k] = start + round_half_away( Σ_i b_i·(in[k-i] - start) / b_s ),
-/// with the history before the first sample equal to the start. The sum is exact (__int128),
-/// so once the last N+1 inputs are equal to P the output is exactly P. Velocity |Δout| never
-/// exceeds the input's peak |Δin| + 1 BLU (convex combination + rounding).
+/// with the history before the first sample equal to the start. The sum is exact, so once the
+/// last N+1 inputs are equal to P the output is exactly P. Velocity |Δout| never exceeds the
+/// input's peak |Δin| + 1 BLU (convex combination + rounding).
+///
+/// Two evaluations, chosen per sample, give the same integer sum:
+///  - fast: while every relative position in the window is at most `exact_limit()` =
+///    (2^53 − 1) / b_s in magnitude, every product and partial sum is an integer below 2^53,
+///    so double arithmetic is exact; the three axes run side by side in one 4-lane vector over
+///    a contiguous (mirrored) window, which the compiler vectorises;
+///  - exact: otherwise, __int128 sums over the integer ring.
 /// Valid for positions with |in - start| < 2^62 BLU. Allocates only in the constructor.
 class FirAccDec {
  public:
@@ -41,11 +50,14 @@ class FirAccDec {
   int length() const { return length_; }
   /// The structure in use (after resolving Auto).
   FirStructure structure() const { return structure_; }
+  /// Largest |in - start| (BLU) the fast double evaluation handles exactly.
+  std::int64_t exact_limit() const { return fast_limit_; }
 
  private:
   __extension__ using Acc = __int128;
 
-  Acc convolve(int axis) const;  // Σ b_i·hist[k-i] for the current head
+  Acc convolve(int axis) const;  // Σ b_i·hist[k-i] for the current head (exact path)
+  void convolve_fast(std::array<std::int64_t, kAxes>& sums) const;  // the same sums, fast path
 
   std::vector<std::int64_t> taps_;   // integer taps b_0..b_N
   std::int64_t b_s_ = 1;
@@ -57,6 +69,12 @@ class FirAccDec {
   std::vector<std::int64_t> hist_;   // ring: hist_[slot*kAxes + axis] = in - start
   int head_ = 0;                     // slot of the newest sample
   std::array<Acc, kAxes> running_{}; // RunningSum: Σ of the last N+1 relative positions
+  // Fast path: the window as 4-lane columns (x, y, z, 0), each sample stored at slot and
+  // slot + N+1, so the last N+1 samples are columns head_+1 .. head_+N+1, oldest first.
+  Eigen::Matrix<double, 4, Eigen::Dynamic> window_;
+  std::vector<double> taps_oldest_first_;  // b_N .. b_0
+  std::int64_t fast_limit_ = 0;      // (2^53 - 1) / b_s
+  int big_in_window_ = 0;            // samples in the window with |rel| > fast_limit_
 };
 
 }  // namespace gm

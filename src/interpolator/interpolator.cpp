@@ -1,6 +1,8 @@
 // Sample-data interpolation with time carried across blocks, exact block ends, dwell, exact stop.
 #include "interpolator/interpolator.hpp"
 
+#include "common/rounding.hpp"
+
 #include <cmath>
 
 namespace gm {
@@ -10,7 +12,7 @@ Interpolator::Interpolator(const InterpolatorConfig& cfg, CanonSource& source)
 
 AxisBlu Interpolator::to_blu(const AxisVec& p_mm) const {
   AxisBlu q;
-  for (int i = 0; i < kAxes; ++i) q[i] = std::llround(p_mm[i] / cfg_.blu_mm[i]);
+  for (int i = 0; i < kAxes; ++i) q[i] = round_half_away(p_mm[i] / cfg_.blu_mm[i]);
   return q;
 }
 

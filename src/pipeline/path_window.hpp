@@ -12,9 +12,15 @@ namespace gm {
 /// Keeps the last few motion blocks (a fixed ring, no allocation) so the distance from the
 /// actual position — which lags the command by the Acc/Dec and servo delays — to the nearest
 /// point of the programmed path can be measured.
+///
+/// Per block, push() precomputes what the search needs (arc angles and radius, a bounding
+/// sphere), so a sample costs one bounding-sphere test per block in the window and the exact
+/// distance only for the blocks that can still be the nearest. The search starts at the block
+/// that was nearest for the previous sample; the result is the same as a plain scan from the
+/// newest block (ties go to the newer block).
 class PathWindow {
  public:
-  static constexpr int kCapacity = 64;
+  static constexpr int kCapacity = 64;  // a power of two
 
   /// `lag_samples`: blocks that ended more than this many samples ago are not searched.
   explicit PathWindow(std::int64_t lag_samples) : lag_samples_(lag_samples) {}
@@ -25,7 +31,8 @@ class PathWindow {
   /// Contour error of `p_mm` at sample `k`, mm: the signed radial deviation |p−c|−R (in the
   /// arc's plane; negative = inside) when the nearest block is an arc, else the unsigned
   /// distance to the nearest line segment. 0 when no block has been seen.
-  double contour_error_mm(const AxisVec& p_mm, std::int64_t k) const;
+  /// Not const: remembers where the nearest block was, to start the next search there.
+  double contour_error_mm(const AxisVec& p_mm, std::int64_t k);
 
   /// Signed radial deviation of `p_mm` from arc `m` (mm); `m` must be an arc.
   static double radial_deviation_mm(const Motion& m, const AxisVec& p_mm);
@@ -35,10 +42,24 @@ class PathWindow {
     Motion motion;
     std::int64_t first_sample = 0;
     std::int64_t last_sample = 0;  ///< the sample the next block started at (or ongoing)
+    // Precomputed at push() -------------------------------------------------------------
+    int ax_a = 0, ax_b = 1, ax_n = 2;  ///< arcs: in-plane axes and the normal axis
+    bool partial_arc = false;          ///< arcs: sweep < 2π (points past the ends exist)
+    bool planar = true;                ///< arcs: no helical lead
+    double radius_mm = 0.0;            ///< arcs: |start − centre| in the plane
+    double start_angle_rad = 0.0;      ///< arcs: angle of the start about the centre
+    double sweep_rad = 0.0;            ///< arcs: angle swept, > 0
+    AxisVec sphere_c_mm = AxisVec::Zero();  ///< a sphere holding every point the distance is to
+    double sphere_r_mm = -1.0;              ///< < 0: no bound (helix: the distance is radial only)
+    double margin_mm = 0.0;                 ///< slack for rounding in the bound test
   };
+  /// Distance and signed distance of `p_mm` to entry `e` (the exact computation).
+  static void distance_to(const Entry& e, const AxisVec& p_mm, double& dist, double& signed_dist);
+
   std::array<Entry, kCapacity> ring_{};
   int count_ = 0;
   int head_ = 0;  ///< index of the newest entry
+  int hint_age_ = 0;  ///< age (0 = newest) of the entry that was nearest last time
   std::int64_t lag_samples_;
 };
 

@@ -27,10 +27,16 @@ class DiscretePlant {
 
   int order() const { return n_; }
   /// Advances one period with drive command u held constant (ZOH).
+  /// z ← Ad z + Bd u, each row summed in column order (the order Eigen's product uses).
   void step(double u) {
-    next_.noalias() = ad_ * z_;
-    next_ += bd_ * u;
-    z_ = next_;
+    const int m = n_ + 1;
+    const double* a = ad_.data();  // column-major, leading dimension m
+    for (int i = 0; i < m; ++i) {
+      double s = a[i] * z_[0];
+      for (int j = 1; j < m; ++j) s += a[j * m + i] * z_[j];
+      next_[i] = s + bd_[i] * u;
+    }
+    z_.swap(next_);
   }
   /// Motor velocity, BLU/s (C x, scaled).
   double velocity_blu_s() const { return c_.dot(z_.head(n_)); }

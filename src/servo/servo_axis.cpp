@@ -1,6 +1,7 @@
 // Per-axis semi-closed-loop servo: encoder, P position loop, PI velocity loop, ZOH plant.
 #include "servo/servo_axis.hpp"
 
+#include "common/rounding.hpp"
 #include "common/status.hpp"
 
 #include <fmt/format.h>
@@ -44,7 +45,7 @@ ServoAxis::ServoAxis(const AxisConfig& axis, double period_s, int substeps,
 }
 
 std::int64_t ServoAxis::count_now() const {
-  return start_blu_ + static_cast<std::int64_t>(std::llround(plant_.position_blu()));
+  return start_blu_ + round_half_away(plant_.position_blu());
 }
 
 std::int64_t ServoAxis::step(std::int64_t ref_blu) {

@@ -13,6 +13,7 @@
 #include <iostream>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 using gm::AxisBlu;
@@ -190,5 +191,54 @@ TEST_CASE("a sampled circle through the integer filter loses R(1-|D|) of radius 
     }
     CHECK(sum / count == Approx(expected).margin(0.1));
     CHECK(R - sum / count == Approx(gm::radius_loss_sampled(taps.real, R, V, T)).margin(0.15));
+  }
+}
+
+TEST_CASE("fast (double) and exact (__int128) evaluations agree across the exact limit") {
+  // Independent reference: the definition, out = round_half_away(Σ b_i·x[k-i] / b_s), in
+  // __int128 with the history before k = 0 equal to 0 (the start).
+  const std::uint64_t seed = 77031;
+  std::mt19937_64 rng(seed);
+  CAPTURE(seed);
+  const std::pair<const char*, double> cases[] = {
+      {"blackman", 0.164}, {"scurve1", 0.164}, {"linear", 0.164}, {"custom:1,5,9,5,1", 0.02}};
+  for (const auto& [spec, tau_s] : cases) {
+    INFO(spec);
+    const auto taps = gm::design_taps(spec, tau_s, 0.004);
+    FirAccDec f(taps, AxisBlu::Zero());
+    const std::int64_t lim = f.exact_limit();
+    std::int64_t b_s = 0;
+    for (auto b : taps.integer) b_s += b;
+    REQUIRE(lim == ((std::int64_t{1} << 53) - 1) / b_s);
+    std::vector<std::int64_t> hist;
+    AxisBlu o;
+    // Wander around ±lim so the window holds small and large values, then come back so the
+    // fast path takes over again; positions go up to 16·lim (far beyond what doubles hold exactly).
+    std::int64_t x = 0;
+    for (int k = 0; k < 3000; ++k) {
+      const int phase = k / 500;  // 0: small, 1: near the limit, 2: far, 3: near, 4: small, 5: at ±lim
+      if (phase == 0 || phase == 4) x = std::uniform_int_distribution<std::int64_t>(-5000, 5000)(rng);
+      else if (phase == 1 || phase == 3) x = lim + std::uniform_int_distribution<std::int64_t>(-50, 50)(rng);
+      else if (phase == 2) x = std::uniform_int_distribution<std::int64_t>(-16 * lim, 16 * lim)(rng) | 1;
+      else x = (k % 2 == 0 ? lim : -lim) - (k % 3);
+      hist.push_back(x);
+      f.step(blu(x, -x, x / 3), o);
+      __extension__ using I128 = __int128;
+      I128 sum = 0, sum_z = 0;
+      for (std::size_t i = 0; i < taps.integer.size(); ++i) {
+        const std::int64_t h = k >= static_cast<int>(i) ? hist[static_cast<std::size_t>(k) - i] : 0;
+        sum += I128{taps.integer[i]} * h;
+        sum_z += I128{taps.integer[i]} * (h / 3);
+      }
+      auto round_div = [&](I128 s) {
+        I128 q = s / b_s, r = s % b_s;
+        if (2 * (r < 0 ? -r : r) >= b_s) q += s < 0 ? -1 : 1;
+        return static_cast<std::int64_t>(q);
+      };
+      INFO("k " << k << " x " << x);
+      REQUIRE(o[0] == round_div(sum));
+      REQUIRE(o[1] == -o[0]);
+      REQUIRE(o[2] == round_div(sum_z));
+    }
   }
 }
