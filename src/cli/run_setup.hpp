@@ -10,6 +10,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace gm::cli {
 
@@ -39,7 +40,9 @@ class ProgramInput {
   const std::string& name() const { return name_; }
 
  private:
+  static constexpr std::size_t kBufferBytes = std::size_t{1} << 20;
   std::string name_;
+  std::vector<char> buffer_;  ///< the stream's buffer (set before open); declared before file_
   std::ifstream file_;
   std::string spool_path_;
 };
