@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Installs the Debian packages gmotion's build, tests and tools need — only those missing.
 # Idempotent; quiet when nothing is missing; works as root or through sudo.
-# Usage: tools/install-deps.sh [--with-oracle]   (--with-oracle adds linuxcnc-uspace for rs274)
+# Usage: tools/install-deps.sh [--with-oracle] [--with-bench]
+#   --with-oracle  adds linuxcnc-uspace (rs274, the differential-test oracle)
+#   --with-bench   adds GNU time (peak RSS in tools/bench.sh)
 set -euo pipefail
 
 packages=(
@@ -9,7 +11,13 @@ packages=(
   libeigen3-dev libboost-dev libfmt-dev catch2 libcli11-dev libtomlplusplus-dev libbenchmark-dev
   python3 python3-matplotlib
 )
-[[ "${1:-}" == "--with-oracle" ]] && packages+=(linuxcnc-uspace)
+for flag in "$@"; do
+  case "$flag" in
+    --with-oracle) packages+=(linuxcnc-uspace) ;;
+    --with-bench) packages+=(time) ;;
+    *) echo "install-deps: unknown option '$flag'" >&2; exit 2 ;;
+  esac
+done
 
 missing=()
 for p in "${packages[@]}"; do

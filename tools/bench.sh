@@ -1,0 +1,117 @@
+#!/usr/bin/env bash
+# End-to-end benchmark: builds the bench preset (Release), generates a program of N blocks
+# mixing G1 and G2/G3 (IJK and R) with tools/gen_bench_program.py, and measures
+#   - parse+interpret: `gmotion check` MB/s and blocks/s, and `rs274 -g PROGRAM /dev/null`
+#     on the same program with the ratio (when rs274 is installed: install-deps --with-oracle);
+#   - `gmotion run` without a trace (default machine: 3 axes, blackman, tau 0.164 s, T 4 ms,
+#     servo on): samples/s and peak RSS;
+#   - `gmotion run --trace FILE.csv`: rows/s, trace size;
+#   - per-sample step latency (tests/bench/latency.cpp) on the first 100,000 blocks;
+#   - with --big: peak RSS of check and run on a 10 MB and a 1 GB program (the 10 MB body
+#     repeated; each copy starts with a rapid back to the origin), to show it stays flat;
+#   - with --micro: the Google Benchmark micro-benchmarks per stage.
+# Each timing is the best of 3 runs (1 for the traced run and the 1 GB ones). Prints a Markdown
+# table at the end. Work files go to build-bench/e2e/ (ignored by git).
+#
+# Usage: tools/bench.sh [--blocks N] [--big] [--micro]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+blocks=1000000 big=0 micro=0
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --blocks) blocks=$2; shift 2 ;;
+    --big) big=1; shift ;;
+    --micro) micro=1; shift ;;
+    *) echo "usage: tools/bench.sh [--blocks N] [--big] [--micro]" >&2; exit 2 ;;
+  esac
+done
+
+tools/install-deps.sh --with-bench
+cmake --preset bench >/dev/null
+cmake --build --preset bench >/dev/null
+bin=build-bench/bin
+work=build-bench/e2e
+mkdir -p "$work"
+
+gen() {  # gen BLOCKS FILE: the benchmark program, generated once and kept
+  [[ -s "$2" ]] || python3 tools/gen_bench_program.py --blocks "$1" -o "$2"
+}
+
+# measure RUNS CMD...: sets $secs (best wall time, s) and $rss_kb (largest peak RSS, KB).
+measure() {
+  local runs=$1 e m; shift
+  secs="" rss_kb=0
+  for ((i = 0; i < runs; i++)); do
+    /usr/bin/time -f "%e %M" -o "$work/time.txt" "$@" >/dev/null 2>"$work/stderr.txt" ||
+      { echo "bench: '$*' failed:" >&2; tail -3 "$work/stderr.txt" >&2; exit 1; }
+    read -r e m <"$work/time.txt"
+    if [[ -z "$secs" ]] || awk "BEGIN{exit !($e < $secs)}"; then secs=$e; fi
+    if ((m > rss_kb)); then rss_kb=$m; fi
+  done
+}
+calc() { awk "BEGIN{printf \"$1\", $2}"; }
+samples_of() { python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["samples"])' "$1"; }
+
+prog=$work/bench-$blocks.nc
+gen "$blocks" "$prog"
+bytes=$(stat -c %s "$prog")
+mb=$(calc "%.1f" "$bytes / 1e6")
+echo "program: $prog ($blocks blocks, $mb MB)"
+rows=()
+
+measure 3 "$bin/gmotion" check "$prog"
+check_s=$secs
+rows+=("| parse+interpret (\`gmotion check\`) | $(calc "%.0f" "$bytes / 1e6 / $secs") MB/s, $(calc "%.2f" "$blocks / 1e6 / $secs") M blocks/s | $secs s, peak RSS $((rss_kb / 1024)) MB |")
+if command -v rs274 >/dev/null; then
+  measure 3 rs274 -g "$prog" /dev/null
+  rows+=("| \`rs274 -g PROGRAM /dev/null\` (LinuxCNC) | $(calc "%.1f" "$bytes / 1e6 / $secs") MB/s | $secs s: gmotion check is $(calc "%.1f" "$secs / $check_s")x faster |")
+else
+  rows+=("| \`rs274\` | not installed (tools/install-deps.sh --with-oracle) | |")
+fi
+
+measure 3 "$bin/gmotion" run "$prog" --summary-json "$work/summary.json"
+samples=$(samples_of "$work/summary.json")
+rows+=("| \`gmotion run\`, no trace (blackman 41 taps, servo on) | $(calc "%.2f" "$samples / 1e6 / $secs") M samples/s | $samples samples in $secs s, peak RSS $((rss_kb / 1024)) MB |")
+measure 3 "$bin/gmotion" run "$prog" --no-servo
+rows+=("| \`gmotion run --no-servo\`, no trace | $(calc "%.2f" "$samples / 1e6 / $secs") M samples/s | $secs s |")
+
+measure 1 "$bin/gmotion" run "$prog" --trace "$work/trace.csv"
+trace_mb=$(calc "%.0f" "$(stat -c %s "$work/trace.csv") / 1e6")
+rm -f "$work/trace.csv"
+rows+=("| \`gmotion run --trace FILE.csv\` | $(calc "%.2f" "$samples / 1e6 / $secs") M rows/s | $secs s, $trace_mb MB of CSV, peak RSS $((rss_kb / 1024)) MB |")
+
+lat_prog=$work/bench-100000.nc
+gen 100000 "$lat_prog"
+"$bin/gmotion_latency" "$lat_prog" --repeat 3 | tee "$work/latency.txt"
+one=$(grep '^step, one run' "$work/latency.txt" | sed -E 's/.*p50 ([0-9.]+) +p99 ([0-9.]+) +p99.9 ([0-9.]+) +p99.99 ([0-9.]+).*/p50 \1, p99 \2, p99.9 \3, p99.99 \4/')
+best=$(grep '^step, fastest' "$work/latency.txt" | sed -E 's/.*p50 ([0-9.]+) +p99 ([0-9.]+) +p99.9 ([0-9.]+) +p99.99 ([0-9.]+).*/p50 \1, p99 \2, p99.9 \3, p99.99 \4/')
+gaps=$(grep '^machine:' "$work/latency.txt" | sed -E 's/.*\(([0-9]+)\/s;.*/\1/')
+rows+=("| per-sample step latency, one run (µs) | $one | the machine interrupts a bare clock loop $gaps times/s |")
+rows+=("| per-sample step latency, fastest of 3 runs per sample (µs) | $best | the work itself, interruptions removed |")
+
+if ((big)); then
+  body=$work/body-10mb.nc
+  [[ -s $body ]] || python3 tools/gen_bench_program.py --blocks 370000 --seed 7 | grep -v '^M2$' >"$body"
+  small=$work/prog-10mb.nc huge=$work/prog-1gb.nc
+  [[ -s $small ]] || { cat "$body"; echo M2; } >"$small"
+  [[ -s $huge ]] || { for _ in $(seq 100); do cat "$body"; done; echo M2; } >"$huge"
+  for p in "$small" "$huge"; do
+    sz=$(calc "%.0f" "$(stat -c %s "$p") / 1e6")
+    measure 1 "$bin/gmotion" check "$p"
+    rows+=("| peak RSS, \`gmotion check\`, $sz MB program | $((rss_kb / 1024)) MB | $secs s |")
+    measure 1 "$bin/gmotion" run "$p" --summary-json "$work/summary-big.json"
+    rows+=("| peak RSS, \`gmotion run\`, $sz MB program | $((rss_kb / 1024)) MB | $(samples_of "$work/summary-big.json") samples in $secs s |")
+  done
+fi
+
+if ((micro)); then
+  "$bin/gmotion_bench" --benchmark_min_time=0.2
+fi
+
+echo
+echo "gmotion $(git describe --always --dirty 2>/dev/null || echo '?'), $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(date -u +%Y-%m-%d)"
+echo
+echo "| measure | result | detail |"
+echo "|---|---|---|"
+printf '%s\n' "${rows[@]}"
