@@ -1,6 +1,8 @@
 // CSV and binary encoder traces with a metadata header; temp file + rename for integrity.
 #include "trace/trace_writer.hpp"
 
+#include "trace/csv_number.hpp"
+
 #include "common/status.hpp"
 
 #include <cerrno>
@@ -95,11 +97,33 @@ void TraceWriter::write(const SampleRecord& s) {
 }
 
 void TraceWriter::write_csv(const SampleRecord& s) {
-  auto out = std::back_inserter(buf_);
-  fmt::format_to(out, "{:.6f},{}", s.t_s, s.line);
-  for (int a = 0; a < kAxes; ++a)
-    fmt::format_to(out, ",{},{},{},{}", s.cmd_blu[a], s.ref_blu[a], s.enc_blu[a], s.ferr_blu[a]);
-  fmt::format_to(out, ",{:.3f},{:.6g}\n", s.contour_err_blu, s.feed_scale * 100.0);
+  // Same text as fmt "{:.6f},{}" + ",{},{},{},{}" per axis + ",{:.3f},{:.6g}\n", written by
+  // hand into the buffer (put_int/put_fixed are exact; see csv_number.hpp).
+  const std::size_t at = buf_.size();
+  buf_.resize(at + kMaxCsvRow);
+  char* p = buf_.data() + at;
+  p = put_fixed(p, s.t_s, 6);
+  *p++ = ',';
+  p = put_int(p, s.line);
+  for (int a = 0; a < kAxes; ++a) {
+    for (std::int64_t v : {s.cmd_blu[a], s.ref_blu[a], s.enc_blu[a], s.ferr_blu[a]}) {
+      *p++ = ',';
+      p = put_int(p, v);
+    }
+  }
+  *p++ = ',';
+  p = put_fixed(p, s.contour_err_blu, 3);
+  *p++ = ',';
+  const double pct = s.feed_scale * 100.0;
+  if (!(pct == last_pct_ && std::signbit(pct) == std::signbit(last_pct_))) {  // changes rarely
+    last_pct_ = pct;
+    last_pct_text_.clear();
+    fmt::format_to(std::back_inserter(last_pct_text_), "{:.6g}", pct);
+  }
+  std::memcpy(p, last_pct_text_.data(), last_pct_text_.size());
+  p += last_pct_text_.size();
+  *p++ = '\n';
+  buf_.resize(static_cast<std::size_t>(p - buf_.data()));
 }
 
 // Binary row: int64 k, int32 line, then per axis int64 cmd, ref, enc, ferr, then double

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include <cstdio>
+#include <limits>
 #include <string>
 
 namespace gm {
@@ -62,6 +63,9 @@ class TraceWriter {
   bool direct_ = false;  ///< an existing device or FIFO: written in place
   fmt::memory_buffer buf_;
   std::int64_t rows_ = 0;
+  static constexpr std::size_t kMaxCsvRow = 1200;  ///< 14 integers, 2 fixed-point, 1 %g, commas
+  double last_pct_ = std::numeric_limits<double>::quiet_NaN();  ///< override of the cached text
+  std::string last_pct_text_;                                   ///< "{:.6g}" of last_pct_ (SSO)
 };
 
 }  // namespace gm
