@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cstdint>
 #include <cstdio>
 #include <cmath>
 #include <string>
@@ -31,6 +32,33 @@ std::string show_number(std::string_view s) {
   return std::string(s.substr(0, 12)) + "...(" + std::to_string(s.size()) + " characters)";
 }
 
+// digits [. digits] (no sign, no exponent) with at most 15 significant digits and 22 decimals:
+// mantissa and 10^decimals are exact doubles, so one division gives the correctly rounded value,
+// exactly what from_chars gives (Clinger's fast path). False: take the general path.
+bool fast_decimal(std::string_view s, double& value) {
+  static constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+                                      1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+  std::uint64_t mantissa = 0;
+  int digits = 0, decimals = 0;
+  bool point = false, any = false;
+  for (char c : s) {
+    if (c == '.') {
+      if (point) return false;
+      point = true;
+      continue;
+    }
+    if (c < '0' || c > '9') return false;
+    any = true;
+    if (mantissa != 0 || c != '0') ++digits;  // leading zeros are not significant
+    if (digits > 15) return false;
+    mantissa = mantissa * 10 + static_cast<std::uint64_t>(c - '0');
+    if (point) ++decimals;
+  }
+  if (!any || decimals > 22) return false;
+  value = static_cast<double>(mantissa) / kPow10[decimals];
+  return true;
+}
+
 // Converts the number text [sign] digits [. digits] [E [sign] digits]. Returns false if the
 // value does not fit a finite double; `has_exponent` reports an exponent part.
 bool to_double(std::string_view s, double& value, bool& has_exponent) {
@@ -40,6 +68,10 @@ bool to_double(std::string_view s, double& value, bool& has_exponent) {
     s.remove_prefix(1);
   }
   has_exponent = s.find('E') != std::string_view::npos;
+  if (!has_exponent && fast_decimal(s, value)) {
+    if (negative) value = -value;
+    return true;
+  }
   double v = 0.0;
   auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v, std::chars_format::general);
   if (ec == std::errc::result_out_of_range) {
@@ -94,8 +126,11 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
   if (!text.empty() && text.back() == '\r') text.remove_suffix(1);
 
   // 1. Compact: drop spaces/tabs outside comments, upper-case letters outside comments.
-  compact_.clear();
-  columns_.clear();
+  // Written through pointers into buffers sized once for the line (the hot loop of a check).
+  compact_.resize(text.size());
+  columns_.resize(text.size() + 1);
+  char* cp = compact_.data();
+  int* colp = columns_.data();
   enum class State { Code, Paren, Rest } state = State::Code;
   for (std::size_t i = 0; i < text.size(); ++i) {
     char c = text[i];
@@ -107,10 +142,12 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
     } else if (state == State::Paren && c == ')') {
       state = State::Code;
     }
-    compact_.push_back(c);
-    columns_.push_back(static_cast<int>(i) + 1);
+    *cp++ = c;
+    *colp++ = static_cast<int>(i) + 1;
   }
-  columns_.push_back(static_cast<int>(text.size()) + 1);  // end-of-line position
+  *colp++ = static_cast<int>(text.size()) + 1;  // end-of-line position
+  compact_.resize(static_cast<std::size_t>(cp - compact_.data()));
+  columns_.resize(static_cast<std::size_t>(colp - columns_.data()));
 
   std::size_t start = 0;
   if (!compact_.empty() && compact_[0] == '/') {

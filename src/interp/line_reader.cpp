@@ -1,28 +1,47 @@
-// Line reading straight from the stream buffer: a bounded copy per line, nothing else held.
+// Line reading in large chunks split with memchr: a bounded copy per line, nothing else held.
 #include "interp/line_reader.hpp"
 
+#include <algorithm>
+#include <cstring>
 #include <limits>
 
 namespace gm {
 
+bool LineReader::fill() {
+  std::streambuf* sb = in_.rdbuf();
+  if (sb == nullptr) return false;
+  const std::streamsize n = sb->sgetn(chunk_.get(), static_cast<std::streamsize>(kChunkBytes));
+  pos_ = chunk_.get();
+  end_ = pos_ + (n > 0 ? n : 0);
+  return n > 0;
+}
+
+void LineReader::keep(const char* first, const char* last) {
+  const auto len = static_cast<std::size_t>(last - first);
+  const std::size_t room = max_ - std::min(max_, line_.size());
+  if (len > room) truncated_ = true;
+  line_.append(first, std::min(len, room));
+}
+
 bool LineReader::next() {
   line_.clear();
   truncated_ = false;
-  std::streambuf* sb = in_.rdbuf();
-  if (!sb) return false;
-  using traits = std::char_traits<char>;
-  auto c = sb->sgetc();
-  if (traits::eq_int_type(c, traits::eof())) {
+  bool any = false;
+  for (;;) {
+    if (pos_ == end_ && !fill()) break;
+    any = true;
+    const auto* nl = static_cast<const char*>(std::memchr(pos_, '\n', static_cast<std::size_t>(end_ - pos_)));
+    if (nl != nullptr) {
+      keep(pos_, nl);
+      pos_ = nl + 1;
+      break;
+    }
+    keep(pos_, end_);
+    pos_ = end_;
+  }
+  if (!any) {
     in_.setstate(std::ios::eofbit);
     return false;
-  }
-  while (true) {
-    c = sb->sbumpc();
-    if (traits::eq_int_type(c, traits::eof())) break;
-    const char ch = traits::to_char_type(c);
-    if (ch == '\n') break;
-    if (line_.size() < max_) line_.push_back(ch);
-    else truncated_ = true;
   }
   if (number_ < std::numeric_limits<int>::max()) ++number_;
   return true;

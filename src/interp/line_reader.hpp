@@ -3,16 +3,23 @@
 
 #include <cstddef>
 #include <istream>
+#include <memory>
 #include <string>
 
 namespace gm {
 
+/// Lines from a stream, read in chunks of kChunkBytes and split with memchr: one copy per line,
+/// at most max_length bytes of it; the memory held is the chunk plus the longest kept line.
 class LineReader {
  public:
-  /// `max_length`: bytes kept per line; the rest of a longer line is read and dropped.
-  LineReader(std::istream& in, std::size_t max_length) : in_(in), max_(max_length) {}
+  static constexpr std::size_t kChunkBytes = std::size_t{1} << 18;
 
-  /// Reads the next line (without '\n') into line(). False at end of input.
+  /// `max_length`: bytes kept per line; the rest of a longer line is read and dropped.
+  LineReader(std::istream& in, std::size_t max_length)
+      : in_(in), max_(max_length), chunk_(new char[kChunkBytes]) {}
+
+  /// Reads the next line (without '\n') into line(). False at end of input. The stream is read
+  /// ahead by up to one chunk.
   bool next();
   const std::string& line() const { return line_; }
   /// True if the last line was longer than max_length (line() holds its start).
@@ -21,8 +28,14 @@ class LineReader {
   int number() const { return number_; }
 
  private:
+  bool fill();                                  // reads the next chunk; false at end of input
+  void keep(const char* first, const char* last);  // appends to line_ up to max_
+
   std::istream& in_;
   std::size_t max_;
+  std::unique_ptr<char[]> chunk_;
+  const char* pos_ = nullptr;  ///< next unread byte of the chunk
+  const char* end_ = nullptr;  ///< end of the bytes in the chunk
   std::string line_;
   bool truncated_ = false;
   int number_ = 0;

@@ -10,53 +10,86 @@
 
 #include <fmt/format.h>
 
+#include <array>
+#include <condition_variable>
+#include <exception>
+#include <mutex>
+#include <string>
+#include <thread>
 #include <vector>
 
 namespace gm {
 
-/// Reads, parses and interprets one line per step; shared by check_program and ProgramStream.
+/// One line as read and parsed: what the front half (reader + grammar) hands to the back half
+/// (program rules + interpreter). Reused from line to line.
+struct ParsedLine {
+  int number = 0;          ///< 1-based line number
+  bool truncated = false;  ///< longer than grammar::kMaxLineLength (not parsed)
+  std::string text;        ///< the line as read (diagnostics echo it)
+  grammar::Block block;
+
+  /// Gives back memory a hostile line made this slot grow (kept lines stay small).
+  void trim() {
+    if (text.capacity() > kKeepBytes) std::string().swap(text);
+    if (block.words.capacity() > kKeepWords) std::vector<grammar::Word>().swap(block.words);
+  }
+  static constexpr std::size_t kKeepBytes = std::size_t{1} << 16;
+  static constexpr std::size_t kKeepWords = 1024;
+};
+
+/// The front half: reads and parses lines. Holds no interpreter state, so it can run ahead on
+/// another thread.
+class LineParser {
+ public:
+  explicit LineParser(std::istream& in) : reader_(in, grammar::kMaxLineLength) {}
+  /// Reads and parses the next line into `p`. False at end of input.
+  bool next(ParsedLine& p) {
+    if (!reader_.next()) return false;
+    p.number = reader_.number();
+    p.truncated = reader_.truncated();
+    p.text.assign(reader_.line());
+    if (!p.truncated) parser_.parse(p.text, p.number, p.block);
+    return true;
+  }
+  /// Number of the last line read (0 before the first).
+  int last_number() const { return reader_.number(); }
+
+ private:
+  LineReader reader_;
+  grammar::BlockParser parser_;
+};
+
+/// The back half: program-level rules (% delimiters, block delete, missing end) and the
+/// interpreter, one parsed line at a time; shared by check_program and ProgramStream.
 class ProgramRunner {
  public:
-  ProgramRunner(std::istream& in, std::string filename, const InterpreterOptions& opts)
+  ProgramRunner(std::string filename, const InterpreterOptions& opts)
       : filename_(std::move(filename)),
         machine_(opts.machine ? *opts.machine : default_machine_),
         block_delete_(opts.block_delete),
-        reader_(in, grammar::kMaxLineLength),
         interp_(machine_) {}
 
-  /// Processes the next line. Appends canon to `out` and diagnostics to `diags`.
-  /// Returns false when the program is over (end code, closing %, or end of input).
-  bool step(std::vector<Canon>& out, std::vector<Diagnostic>& diags) {
+  /// Processes one parsed line. Appends canon to `out` and diagnostics to `diags`.
+  /// Returns false when the program is over (end code or closing %).
+  bool process(const ParsedLine& p, std::vector<Canon>& out, std::vector<Diagnostic>& diags) {
     if (done_) return false;
-    if (!reader_.next()) {
-      done_ = true;
-      if (!interp_.state().ended) {
-        const int last = reader_.number() > 0 ? reader_.number() : 1;
-        diags.push_back(Diagnostic{Severity::Error, static_cast<int>(ErrorCode::MissingProgramEnd),
-                                   SourceLoc{last, 1},
-                                   opened_percent_ ? "missing program end: no closing '%' (or M2/M30)"
-                                                   : "missing program end: the program must end with M2 or M30",
-                                   last_line_});
-      }
-      return false;
-    }
-    const std::string& text = reader_.line();
-    const int line = reader_.number();
+    const std::string& text = p.text;
+    const int line = p.number;
     remember(text);
-    if (reader_.truncated()) {
+    if (p.truncated) {
       diags.push_back(Diagnostic{Severity::Error, static_cast<int>(ErrorCode::LineTooLong), SourceLoc{line, 1},
                                  fmt::format("line longer than {} bytes", grammar::kMaxLineLength), {}});
       return true;
     }
-    parser_.parse(text, line, block_);
-    if (block_.block_delete && block_delete_) return true;
-    if (block_.has_errors()) {
-      for (const auto& e : block_.errors)
+    const grammar::Block& block = p.block;
+    if (block.block_delete && block_delete_) return true;
+    if (block.has_errors()) {
+      for (const auto& e : block.errors)
         diags.push_back(Diagnostic{Severity::Error, static_cast<int>(e.code), e.loc, e.message, source_for(text)});
       first_content_seen_ = true;
       return true;
     }
-    if (block_.percent) {
+    if (block.percent) {
       if (!first_content_seen_) {
         opened_percent_ = true;
         first_content_seen_ = true;
@@ -66,11 +99,11 @@ class ProgramRunner {
         return false;
       }
     }
-    if (block_.words.empty() && block_.message_count == 0) return true;
+    if (block.words.empty() && block.message_count == 0) return true;
     first_content_seen_ = true;
-    if (!block_.words.empty()) ++blocks_;
+    if (!block.words.empty()) ++blocks_;
     InterpError err;
-    if (!interp_.execute(block_, out, err)) {
+    if (!interp_.execute(block, out, err)) {
       diags.push_back(Diagnostic{Severity::Error, static_cast<int>(err.code), err.loc, err.message, source_for(text)});
       return true;
     }
@@ -81,6 +114,21 @@ class ProgramRunner {
     return true;
   }
 
+  /// The input ended after line `last_line` (0: empty input): reports a missing program end.
+  void end_of_input(int last_line, std::vector<Diagnostic>& diags) {
+    if (done_) return;
+    done_ = true;
+    if (!interp_.state().ended) {
+      const int last = last_line > 0 ? last_line : 1;
+      diags.push_back(Diagnostic{Severity::Error, static_cast<int>(ErrorCode::MissingProgramEnd),
+                                 SourceLoc{last, 1},
+                                 opened_percent_ ? "missing program end: no closing '%' (or M2/M30)"
+                                                 : "missing program end: the program must end with M2 or M30",
+                                 last_line_});
+    }
+  }
+
+  bool done() const { return done_; }
   const std::string& filename() const { return filename_; }
   const Machine& machine() const { return machine_; }
   std::int64_t blocks() const { return blocks_; }
@@ -99,9 +147,6 @@ class ProgramRunner {
   Machine default_machine_;
   const Machine& machine_;
   bool block_delete_;
-  LineReader reader_;
-  grammar::BlockParser parser_;
-  grammar::Block block_;
   Interpreter interp_;
   std::string last_line_;
   bool done_ = false;
@@ -110,57 +155,207 @@ class ProgramRunner {
   std::int64_t blocks_ = 0;
 };
 
+/// Both halves on one thread: what ProgramStream pulls, a line at a time.
+class SerialRunner {
+ public:
+  SerialRunner(std::istream& in, std::string filename, const InterpreterOptions& opts)
+      : front_(in), back_(std::move(filename), opts) {}
+  /// Reads, parses and interprets one line; false when the program is over.
+  bool step(std::vector<Canon>& out, std::vector<Diagnostic>& diags) {
+    if (back_.done()) return false;
+    if (!front_.next(line_)) {
+      back_.end_of_input(front_.last_number(), diags);
+      return false;
+    }
+    const bool more = back_.process(line_, out, diags);
+    line_.trim();
+    return more;
+  }
+  const ProgramRunner& back() const { return back_; }
+
+ private:
+  LineParser front_;
+  ProgramRunner back_;
+  ParsedLine line_;
+};
+
 namespace {
 
+// Adds what `out` holds to the summary's counts.
+void account(const std::vector<Canon>& out, const Machine& machine, CheckSummary& sum) {
+  for (const auto& c : out) {
+    if (const auto* m = std::get_if<Motion>(&c)) {
+      ++sum.moves;
+      const double len = motion_length_mm(*m);
+      sum.path_length_mm += len;
+      if (m->kind == MotionKind::Rapid)
+        sum.time_at_feed_s += machine.rapid_mm_min > 0 ? len / machine.rapid_mm_min * 60.0 : 0.0;
+      else if (m->inverse_time_s > 0)
+        sum.time_at_feed_s += m->inverse_time_s;
+      else if (m->feed_mm_min > 0)
+        sum.time_at_feed_s += len / m->feed_mm_min * 60.0;
+    } else if (const auto* d = std::get_if<Dwell>(&c)) {
+      sum.time_at_feed_s += d->seconds;
+    }
+  }
+}
+
+/// Reading and parsing on a second thread, in batches, ahead of the interpreter on this one.
+/// Same diagnostics, in the same order, and the same summary as the serial check: the front
+/// half has no state the back half changes. A batch closes at kBatchLines lines or kBatchBytes
+/// bytes of text, so at most kBatches batches of bounded size are in memory.
+class ParallelFront {
+ public:
+  static constexpr std::size_t kBatches = 3;
+  static constexpr std::size_t kBatchLines = 1024;
+  static constexpr std::size_t kBatchBytes = std::size_t{1} << 20;
+
+  struct Batch {
+    std::vector<ParsedLine> lines = std::vector<ParsedLine>(kBatchLines);
+    std::size_t count = 0;
+    bool eof = false;       ///< the input ends after these lines
+    int last_number = 0;    ///< with eof: the last line number read
+    bool full = false;      ///< written by the producer, not yet consumed
+  };
+
+  explicit ParallelFront(std::istream& in) : front_(in), thread_([this] { produce(); }) {}
+  ~ParallelFront() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    changed_.notify_all();
+    thread_.join();
+  }
+  ParallelFront(const ParallelFront&) = delete;
+  ParallelFront& operator=(const ParallelFront&) = delete;
+
+  /// Waits for the next batch; rethrows what the reader thread threw.
+  Batch& acquire() {
+    Batch& b = batches_[next_];
+    std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait(lock, [&] { return b.full || error_ != nullptr; });
+    if (!b.full && error_ != nullptr) std::rethrow_exception(error_);
+    return b;
+  }
+  /// Hands the batch returned by acquire() back for refilling.
+  void release() {
+    Batch& b = batches_[next_];
+    for (std::size_t i = 0; i < b.count; ++i) b.lines[i].trim();
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      b.full = false;
+    }
+    changed_.notify_all();
+    next_ = (next_ + 1) % kBatches;
+  }
+
+ private:
+  void produce() {
+    try {
+      for (std::size_t i = 0;; i = (i + 1) % kBatches) {
+        Batch& b = batches_[i];
+        {
+          std::unique_lock<std::mutex> lock(mutex_);
+          changed_.wait(lock, [&] { return !b.full || stop_; });
+          if (stop_) return;
+        }
+        b.count = 0;
+        b.eof = false;
+        std::size_t bytes = 0;
+        while (b.count < kBatchLines && bytes < kBatchBytes) {
+          ParsedLine& p = b.lines[b.count];
+          if (!front_.next(p)) {
+            b.eof = true;
+            b.last_number = front_.last_number();
+            break;
+          }
+          bytes += p.text.size();
+          ++b.count;
+        }
+        {
+          std::lock_guard<std::mutex> lock(mutex_);
+          b.full = true;
+        }
+        changed_.notify_all();
+        if (b.eof) return;
+      }
+    } catch (...) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        error_ = std::current_exception();
+      }
+      changed_.notify_all();
+    }
+  }
+
+  LineParser front_;
+  std::array<Batch, kBatches> batches_;
+  std::size_t next_ = 0;  ///< the batch the consumer takes next
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  bool stop_ = false;
+  std::exception_ptr error_;
+  std::thread thread_;  ///< last: starts once everything above is constructed
+};
+
 template <typename Sink>
-CheckSummary run_check(std::istream& in, std::string_view filename, const InterpreterOptions& opts, Sink&& sink) {
-  ProgramRunner runner(in, std::string(filename), opts);
+CheckSummary run_check(std::istream& in, std::string_view filename, const InterpreterOptions& opts,
+                       CheckThreads threads, Sink&& sink) {
   CheckSummary sum;
   std::vector<Canon> out;
   std::vector<Diagnostic> diags;
-  bool more = true;
-  while (more) {
-    out.clear();
-    diags.clear();
-    more = runner.step(out, diags);
+  auto emit = [&](const Machine& machine) {
     for (const auto& d : diags) {
       sink(d);
       ++sum.errors;
     }
-    for (const auto& c : out) {
-      if (const auto* m = std::get_if<Motion>(&c)) {
-        ++sum.moves;
-        const double len = motion_length_mm(*m);
-        sum.path_length_mm += len;
-        if (m->kind == MotionKind::Rapid)
-          sum.time_at_feed_s += runner.machine().rapid_mm_min > 0 ? len / runner.machine().rapid_mm_min * 60.0 : 0.0;
-        else if (m->inverse_time_s > 0)
-          sum.time_at_feed_s += m->inverse_time_s;
-        else if (m->feed_mm_min > 0)
-          sum.time_at_feed_s += len / m->feed_mm_min * 60.0;
-      } else if (const auto* d = std::get_if<Dwell>(&c)) {
-        sum.time_at_feed_s += d->seconds;
-      }
+    account(out, machine, sum);
+    out.clear();
+    diags.clear();
+  };
+  if (threads == CheckThreads::Single || std::thread::hardware_concurrency() < 2) {
+    SerialRunner runner(in, std::string(filename), opts);
+    bool more = true;
+    while (more) {
+      more = runner.step(out, diags);
+      emit(runner.back().machine());
     }
+    sum.blocks = runner.back().blocks();
+    return sum;
   }
-  sum.blocks = runner.blocks();
+  ProgramRunner back(std::string(filename), opts);
+  ParallelFront front(in);
+  while (!back.done()) {
+    ParallelFront::Batch& b = front.acquire();
+    for (std::size_t i = 0; i < b.count && !back.done(); ++i) {
+      back.process(b.lines[i], out, diags);
+      emit(back.machine());
+    }
+    if (b.eof && !back.done()) {
+      back.end_of_input(b.last_number, diags);
+      emit(back.machine());
+    }
+    front.release();
+  }
+  sum.blocks = back.blocks();
   return sum;
 }
 
 }  // namespace
 
 CheckSummary check_program(std::istream& in, std::string_view filename, const InterpreterOptions& opts,
-                           std::ostream& diag_out) {
-  return run_check(in, filename, opts, [&](const Diagnostic& d) { diag_out << format_diagnostic(filename, d); });
+                           std::ostream& diag_out, CheckThreads threads) {
+  return run_check(in, filename, opts, threads, [&](const Diagnostic& d) { diag_out << format_diagnostic(filename, d); });
 }
 
 CheckSummary check_program_diagnostics(std::istream& in, std::string_view filename, const InterpreterOptions& opts,
-                                       std::vector<Diagnostic>& diagnostics) {
-  return run_check(in, filename, opts, [&](const Diagnostic& d) { diagnostics.push_back(d); });
+                                       std::vector<Diagnostic>& diagnostics, CheckThreads threads) {
+  return run_check(in, filename, opts, threads, [&](const Diagnostic& d) { diagnostics.push_back(d); });
 }
 
 ProgramStream::ProgramStream(std::istream& in, std::string filename, InterpreterOptions opts)
-    : runner_(std::make_unique<ProgramRunner>(in, std::move(filename), opts)) {}
+    : runner_(std::make_unique<SerialRunner>(in, std::move(filename), opts)) {}
 
 ProgramStream::~ProgramStream() = default;
 
@@ -172,7 +367,7 @@ bool ProgramStream::next(Canon& out) {
     const bool more = runner_->step(queue_, diags_);
     if (!diags_.empty()) {
       std::string msg;
-      for (const auto& d : diags_) msg += format_diagnostic(runner_->filename(), d);
+      for (const auto& d : diags_) msg += format_diagnostic(runner_->back().filename(), d);
       if (!msg.empty() && msg.back() == '\n') msg.pop_back();
       throw InputError(msg);
     }

@@ -29,17 +29,23 @@ struct CheckSummary {
   int errors = 0;
 };
 
+/// How check_program uses threads: Auto = reading and parsing on a second thread when the
+/// machine has two or more cores; Single = everything on the calling thread. Same results.
+enum class CheckThreads { Auto, Single };
+
 /// Validates a whole program, writing each diagnostic (formatted, file:line:col + caret) to
-/// `diag_out`; returns the summary. Reads the stream once, line by line.
+/// `diag_out`; returns the summary. Reads the stream once, line by line; with two or more
+/// cores, reading and parsing run on a second thread ahead of the interpreter (same result).
 CheckSummary check_program(std::istream& in, std::string_view filename, const InterpreterOptions& opts,
-                           std::ostream& diag_out);
+                           std::ostream& diag_out, CheckThreads threads = CheckThreads::Auto);
 
 /// As check_program, but hands back the diagnostics (with their ErrorCode in `code`) instead of
 /// printing them (tests, tools).
 CheckSummary check_program_diagnostics(std::istream& in, std::string_view filename, const InterpreterOptions& opts,
-                                       std::vector<Diagnostic>& diagnostics);
+                                       std::vector<Diagnostic>& diagnostics,
+                                       CheckThreads threads = CheckThreads::Auto);
 
-class ProgramRunner;  // internal: reader + parser + interpreter
+class SerialRunner;  // internal: reader + parser + interpreter, one line at a time
 
 /// Streams canonical commands: each line is parsed, interpreted and handed on before the next
 /// is read. Throws gm::InputError with the formatted diagnostic(s) at the first bad line.
@@ -53,7 +59,7 @@ class ProgramStream : public CanonSource {
   bool next(Canon& out) override;
 
  private:
-  std::unique_ptr<ProgramRunner> runner_;
+  std::unique_ptr<SerialRunner> runner_;
   std::vector<Canon> queue_;  ///< canon of the current line (reused)
   std::size_t head_ = 0;
   std::vector<Diagnostic> diags_;

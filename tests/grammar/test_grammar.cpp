@@ -3,6 +3,10 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
 #include <random>
 #include <string>
 
@@ -163,4 +167,33 @@ TEST_CASE("a megabyte line of letters is bounded to the per-line error cap") {
   const Block b = parse(std::string(1u << 20, 'X'));
   CHECK(b.errors.size() == gm::grammar::kMaxErrorsPerLine);
   CHECK(b.errors[0].code == ErrorCode::ExpectedNumber);
+}
+
+TEST_CASE("number conversion equals std::from_chars (fast decimal path and general path)") {
+  // The parser converts plain decimals with <= 15 significant digits by one exact division
+  // (mantissa / 10^decimals); every other number goes through from_chars. Both must give the
+  // correctly rounded double.
+  const std::uint64_t seed = 31337;
+  std::mt19937_64 rng(seed);
+  CAPTURE(seed);
+  for (int i = 0; i < 100000; ++i) {
+    const int int_digits = static_cast<int>(rng() % 12);
+    const int frac_digits = static_cast<int>(rng() % 25);
+    std::string num;
+    for (int d = 0; d < int_digits; ++d) num += static_cast<char>('0' + rng() % 10);
+    if (frac_digits > 0 || num.empty()) {
+      num += '.';
+      for (int d = 0; d < std::max(frac_digits, num.size() == 1 ? 1 : 0); ++d) num += static_cast<char>('0' + rng() % 10);
+    }
+    const bool negative = rng() % 2 == 0;
+    const Block b = parse(std::string("X") + (negative ? "-" : "") + num);
+    INFO(num);
+    REQUIRE(b.errors.empty());
+    REQUIRE(b.words.size() == 1);
+    double expect = 0;
+    std::from_chars(num.data(), num.data() + num.size(), expect);
+    if (negative) expect = -expect;
+    REQUIRE(b.words[0].value == expect);
+    REQUIRE(std::signbit(b.words[0].value) == std::signbit(expect));
+  }
 }

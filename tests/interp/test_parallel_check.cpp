@@ -1,0 +1,101 @@
+// check_program with reading and parsing on a second thread gives exactly the serial result:
+// the same diagnostics in the same order and the same summary, across batch boundaries.
+#include "gcode_helpers.hpp"
+
+#include <catch2/catch.hpp>
+#include <fmt/format.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+struct CheckResult {
+  gm::CheckSummary sum;
+  std::vector<gm::Diagnostic> diags;
+};
+
+CheckResult check(const std::string& text, gm::CheckThreads threads) {
+  std::istringstream in(text);
+  gm::Machine m;
+  CheckResult r;
+  r.sum = gm::check_program_diagnostics(in, "p.nc", gm::InterpreterOptions{&m, false}, r.diags, threads);
+  return r;
+}
+
+void require_same(const std::string& text) {
+  const CheckResult a = check(text, gm::CheckThreads::Single);
+  const CheckResult b = check(text, gm::CheckThreads::Auto);
+  REQUIRE(a.sum.blocks == b.sum.blocks);
+  REQUIRE(a.sum.moves == b.sum.moves);
+  REQUIRE(a.sum.errors == b.sum.errors);
+  REQUIRE(a.sum.path_length_mm == b.sum.path_length_mm);  // same additions in the same order
+  REQUIRE(a.sum.time_at_feed_s == b.sum.time_at_feed_s);
+  REQUIRE(a.diags.size() == b.diags.size());
+  for (std::size_t i = 0; i < a.diags.size(); ++i) {
+    INFO("diagnostic " << i);
+    REQUIRE(a.diags[i].code == b.diags[i].code);
+    REQUIRE(a.diags[i].loc.line == b.diags[i].loc.line);
+    REQUIRE(a.diags[i].loc.column == b.diags[i].loc.column);
+    REQUIRE(a.diags[i].message == b.diags[i].message);
+    REQUIRE(a.diags[i].source_line == b.diags[i].source_line);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("parallel check equals serial check on the bundled and bad programs") {
+  namespace fs = std::filesystem;
+  int files = 0;
+  for (const char* sub : {"../programs", "bad"}) {
+    for (const auto& e : fs::directory_iterator(fs::path(GMOTION_TESTS_DIR) / sub)) {
+      if (e.path().extension() != ".nc") continue;
+      std::ifstream f(e.path(), std::ios::binary);
+      std::stringstream ss;
+      ss << f.rdbuf();
+      INFO(e.path().string());
+      require_same(ss.str());
+      ++files;
+    }
+  }
+  CHECK(files >= 30);
+}
+
+TEST_CASE("parallel check equals serial check across batch boundaries (seeded)") {
+  const std::uint64_t seed = 5150;
+  std::mt19937_64 rng(seed);
+  CAPTURE(seed);
+  for (int round = 0; round < 6; ++round) {
+    // Several thousand lines (batches close at 1024 lines): moves, arcs, errors sprinkled at
+    // random, and an ending that varies: M2 then junk, a missing end, a closing '%'.
+    std::string p = round == 5 ? "%\nG21 G90 F1000\n" : "G21 G90 F1000\n";
+    const int lines = 1000 + static_cast<int>(rng() % 4000);
+    double x = 0;
+    for (int i = 0; i < lines; ++i) {
+      switch (rng() % 10) {
+        case 0: p += "G1 X#1\n"; break;                        // parameters: unsupported
+        case 1: p += fmt::format("G2 X{} Y0 R0.1\n", x + 5); x += 5; break;  // R too small
+        case 2: p += "(a comment only)\n"; break;
+        case 3: p += fmt::format("G3 X{} Y0 I-2 J0\n", x); break;  // full circle
+        case 4: p += std::string(static_cast<std::size_t>(rng() % 3000), ' ') + "G0 Z1\n"; break;
+        default: x += 1.25; p += fmt::format("G1 X{} Y{}\n", x, (i % 7) * 0.5); break;
+      }
+    }
+    if (round % 3 == 0) p += "M2\nG1 X(junk after the end\n";
+    else if (round == 5) p += "%\n";
+    // round 1, 2, 4: no end at all (a missing-end diagnostic on the last line)
+    INFO("round " << round << ", " << lines << " lines");
+    require_same(p);
+  }
+}
+
+TEST_CASE("parallel check handles an empty program and a program of one huge line") {
+  require_same("");
+  require_same(std::string(3u << 20, 'G'));  // longer than the line limit and a batch
+  require_same("G1 X1 F100\n" + std::string(2u << 20, ' ') + "\nM2\n");
+}
