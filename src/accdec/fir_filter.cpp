@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstring>
 
 namespace gm {
 
@@ -76,12 +77,21 @@ FirAccDec::Acc FirAccDec::convolve(int axis) const {
   return acc;
 }
 
+// AVX2 when the CPU has it (one 4-lane operation per tap), SSE2 otherwise; the sums are exact
+// integers either way, so the result does not depend on which one runs. GCC/Clang vector
+// extensions, so the lane width follows the clone's target (Eigen fixes it at compile time).
+__attribute__((target_clones("avx2", "default")))
 void FirAccDec::convolve_fast(std::array<std::int64_t, kAxes>& sums) const {
   static_assert(kAxes <= 4, "the fast path packs the axes into 4 lanes");
-  Eigen::Vector4d acc = Eigen::Vector4d::Zero();
+  __extension__ typedef double Lanes __attribute__((vector_size(32)));
+  Lanes acc = {0.0, 0.0, 0.0, 0.0};
   const double* col = window_.data() + 4 * (head_ + 1);  // the oldest sample of the window
-  for (int j = 0; j < length_; ++j, col += 4)
-    acc += taps_oldest_first_[static_cast<std::size_t>(j)] * Eigen::Map<const Eigen::Vector4d>(col);
+  const double* tap = taps_oldest_first_.data();
+  for (int j = 0; j < length_; ++j, col += 4) {
+    Lanes x;
+    std::memcpy(&x, col, sizeof x);  // columns are 16-byte aligned only
+    acc += tap[j] * x;
+  }
   for (int a = 0; a < kAxes; ++a) sums[static_cast<std::size_t>(a)] = static_cast<std::int64_t>(acc[a]);
 }
 

@@ -5,6 +5,7 @@
 #include "override/live_override.hpp"
 #include "override/override_schedule.hpp"
 #include "pipeline/pipeline.hpp"
+#include "pipeline/sample_queue.hpp"
 #include "trace/run_summary.hpp"
 #include "trace/trace_writer.hpp"
 
@@ -108,6 +109,15 @@ int run(const RunFlags& f) {
   if (f.realtime) live.emplace(STDIN_FILENO, max_pct);
   std::optional<OverrideRecorder> recorder;
   if (!f.record_override.empty()) recorder.emplace(f.record_override, cfg.machine.period_s);
+  // The summary and the trace consume the samples; with two cores they do it on the second
+  // one, fed in batches (same records, same order: the outputs are byte-identical). Real-time
+  // runs stay on one thread.
+  auto consume = [&](const SampleRecord& r) {
+    summary.add(r);
+    if (trace) trace->write(r);
+  };
+  std::optional<SampleQueue> queue;
+  if (!f.realtime && std::thread::hardware_concurrency() >= 2) queue.emplace(consume);
   OverrideInput ovr;
   SampleRecord rec, last;
   const bool progress = isatty(STDERR_FILENO) != 0 && !f.realtime;
@@ -142,14 +152,15 @@ int run(const RunFlags& f) {
     if (f.realtime)
       std::this_thread::sleep_until(t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                              std::chrono::duration<double>(rec.t_s + cfg.machine.period_s)));
-    summary.add(rec);
-    if (trace) trace->write(rec);
+    if (queue) queue->push(rec);
+    else consume(rec);
     last = rec;
     if (progress && (rec.k & 0xFFFF) == 0 && std::chrono::steady_clock::now() > next_progress) {
       fmt::print(stderr, "\r{}: t = {:.1f} s, line {}   ", program.name(), rec.t_s, rec.line);
       next_progress += std::chrono::seconds(1);
     }
   }
+  if (queue) queue->finish();
   if (progress && std::chrono::steady_clock::now() > t0 + std::chrono::seconds(1)) fmt::print(stderr, "\n");
   summary.finish(last, pipeline.program_end_blu(), st == PipelineStatus::Finished);
   if (trace) trace->finish();

@@ -1,0 +1,64 @@
+// Hands samples to a consumer on a second thread, in batches: the pipeline runs on while the
+// summary and the trace take their share of the work on the other core.
+#pragma once
+
+#include "pipeline/sample_record.hpp"
+
+#include <array>
+#include <condition_variable>
+#include <cstddef>
+#include <exception>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace gm {
+
+/// A bounded single-producer/single-consumer queue of SampleRecord batches with its consumer
+/// thread. The consumer sees every record pushed, in order, exactly once. Memory is fixed at
+/// construction (kBatches × kBatchSize records); push() blocks while every batch is full.
+/// An exception thrown by the consumer stops it and is rethrown by the next push() or finish().
+class SampleQueue {
+ public:
+  static constexpr std::size_t kBatches = 3;
+  static constexpr std::size_t kBatchSize = 4096;
+  using Consumer = std::function<void(const SampleRecord&)>;
+
+  /// Starts the consumer thread, which calls `consume` for each record.
+  explicit SampleQueue(Consumer consume);
+  /// Stops the consumer (records not handed over yet are dropped) and joins it.
+  ~SampleQueue();
+  SampleQueue(const SampleQueue&) = delete;
+  SampleQueue& operator=(const SampleQueue&) = delete;
+
+  /// Appends a record; hands the batch over when it is full. Allocates nothing.
+  void push(const SampleRecord& r) {
+    Batch& b = batches_[fill_];
+    b.records[b.count++] = r;
+    if (b.count == kBatchSize) hand_over();
+  }
+  /// Hands over the last partial batch and waits until the consumer has taken every record.
+  /// Rethrows the consumer's exception, if any.
+  void finish();
+
+ private:
+  struct Batch {
+    std::vector<SampleRecord> records = std::vector<SampleRecord>(kBatchSize);
+    std::size_t count = 0;
+    bool full = false;  ///< handed over, not yet consumed
+  };
+  void hand_over();
+  void consume_loop();
+
+  Consumer consume_;
+  std::array<Batch, kBatches> batches_;
+  std::size_t fill_ = 0;  ///< the batch the producer fills
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  bool stop_ = false;     ///< no more batches will come
+  std::exception_ptr error_;
+  std::thread thread_;    ///< last: starts once everything above is constructed
+};
+
+}  // namespace gm
