@@ -24,6 +24,37 @@ std::int64_t div_round_half_away(Acc acc, Acc den) {
 
 }  // namespace
 
+namespace {
+
+// Σ_j tap[j]·col[4j .. 4j+3] over n columns, four lanes at a time (GCC/Clang vector extensions,
+// so the lane width follows the target the caller is compiled for).
+__attribute__((always_inline)) inline void dot4(const double* col, const double* tap, int n, double* out) {
+  __extension__ typedef double Lanes __attribute__((vector_size(32)));
+  Lanes acc = {0.0, 0.0, 0.0, 0.0};
+  for (int j = 0; j < n; ++j, col += 4) {
+    Lanes x;
+    std::memcpy(&x, col, sizeof x);  // columns are 16-byte aligned only
+    acc += tap[j] * x;
+  }
+  std::memcpy(out, &acc, sizeof acc);
+}
+__attribute__((target("avx2"))) void dot4_avx2(const double* col, const double* tap, int n, double* out) {
+  dot4(col, tap, n, out);
+}
+void dot4_baseline(const double* col, const double* tap, int n, double* out) { dot4(col, tap, n, out); }
+
+// Asked once per filter: an explicit check rather than an ifunc (target_clones), whose
+// resolver runs before the sanitizers' runtimes are up.
+bool cpu_has_avx2() {
+  static const bool yes = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") != 0;
+  }();
+  return yes;
+}
+
+}  // namespace
+
 FirAccDec::FirAccDec(const Taps& taps, const AxisBlu& start_pos_blu, FirStructure structure)
     : taps_(taps.integer), start_(start_pos_blu), last_in_(start_pos_blu) {
   if (taps_.empty()) throw InputError(fmt::format("profile '{}': no integer taps", taps.profile));
@@ -56,6 +87,7 @@ FirAccDec::FirAccDec(const Taps& taps, const AxisBlu& start_pos_blu, FirStructur
   window_.setZero(4, 2 * length_);
   taps_oldest_first_.assign(taps_.rbegin(), taps_.rend());
   fast_limit_ = ((std::int64_t{1} << 53) - 1) / b_s_;
+  use_avx2_ = cpu_has_avx2();
 }
 
 FirAccDec::Acc FirAccDec::convolve(int axis) const {
@@ -77,21 +109,15 @@ FirAccDec::Acc FirAccDec::convolve(int axis) const {
   return acc;
 }
 
+
 // AVX2 when the CPU has it (one 4-lane operation per tap), SSE2 otherwise; the sums are exact
-// integers either way, so the result does not depend on which one runs. GCC/Clang vector
-// extensions, so the lane width follows the clone's target (Eigen fixes it at compile time).
-__attribute__((target_clones("avx2", "default")))
+// integers either way, so the result does not depend on which one runs.
 void FirAccDec::convolve_fast(std::array<std::int64_t, kAxes>& sums) const {
   static_assert(kAxes <= 4, "the fast path packs the axes into 4 lanes");
-  __extension__ typedef double Lanes __attribute__((vector_size(32)));
-  Lanes acc = {0.0, 0.0, 0.0, 0.0};
+  double acc[4];
   const double* col = window_.data() + 4 * (head_ + 1);  // the oldest sample of the window
-  const double* tap = taps_oldest_first_.data();
-  for (int j = 0; j < length_; ++j, col += 4) {
-    Lanes x;
-    std::memcpy(&x, col, sizeof x);  // columns are 16-byte aligned only
-    acc += tap[j] * x;
-  }
+  if (use_avx2_) dot4_avx2(col, taps_oldest_first_.data(), length_, acc);
+  else dot4_baseline(col, taps_oldest_first_.data(), length_, acc);
   for (int a = 0; a < kAxes; ++a) sums[static_cast<std::size_t>(a)] = static_cast<std::int64_t>(acc[a]);
 }
 

@@ -75,6 +75,7 @@ class FirAccDec {
   std::vector<double> taps_oldest_first_;  // b_N .. b_0
   std::int64_t fast_limit_ = 0;      // (2^53 - 1) / b_s
   int big_in_window_ = 0;            // samples in the window with |rel| > fast_limit_
+  bool use_avx2_ = false;            // the CPU runs the AVX2 version of the fast path
 };
 
 }  // namespace gm
