@@ -2,6 +2,7 @@
 // count, servo, CSV trace rows and the whole pipeline, in samples (or bytes) per second.
 #include "accdec/fir_filter.hpp"
 #include "accdec/taps.hpp"
+#include "grammar/parse.hpp"
 #include "interp/program.hpp"
 #include "interpolator/interpolator.hpp"
 #include "machine/machine_file.hpp"
@@ -15,6 +16,8 @@
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <string_view>
+#include <vector>
 
 namespace {
 
@@ -45,7 +48,28 @@ void BM_ParseInterpret(benchmark::State& state) {
   state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * text.size()));
   state.SetItemsProcessed(state.iterations() * 20000);  // blocks
 }
-BENCHMARK(BM_ParseInterpret)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ParseInterpret)->Unit(benchmark::kMillisecond)->UseRealTime();  // two threads
+
+void BM_Parse(benchmark::State& state) {
+  // The grammar alone (compaction, X3 rule, number conversion), line by line.
+  const std::string text = program_text(20000);
+  std::vector<std::string_view> lines;
+  for (std::size_t at = 0; at < text.size();) {
+    const std::size_t nl = text.find('\n', at);
+    lines.emplace_back(text.data() + at, nl - at);
+    at = nl + 1;
+  }
+  gm::grammar::BlockParser parser;
+  gm::grammar::Block block;
+  for (auto _ : state) {
+    int n = 0;
+    for (const auto& l : lines) parser.parse(l, ++n, block);
+    benchmark::DoNotOptimize(block.words.size());
+  }
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * text.size()));
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * lines.size()));  // lines
+}
+BENCHMARK(BM_Parse)->Unit(benchmark::kMillisecond);
 
 void BM_Fir(benchmark::State& state, const char* profile) {
   const double tau = static_cast<double>(state.range(0)) * 0.004;
