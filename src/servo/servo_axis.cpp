@@ -42,6 +42,8 @@ ServoAxis::ServoAxis(const AxisConfig& axis, double period_s, int substeps,
   u_max_ = axis.f_max_N / n_per_unit_;
   u_coulomb_ = axis.coulomb_N / n_per_unit_;
   half_backlash_ = 0.5 * axis.backlash_blu;
+  kv_over_h_ = kv_period_s_ / h_s_;
+  h_over_kv_ = h_s_ / kv_period_s_;
 }
 
 std::int64_t ServoAxis::count_now() const {
@@ -72,13 +74,13 @@ void ServoAxis::step_velocity(double v_ref_blu_s) {
 void ServoAxis::servo_sample(double pos_ref_blu, bool position_loop, double v_ref_blu_s) {
   const std::int64_t count = count_now();
   // Velocity feedback and reference in encoder counts per kv_period_s.
-  const double y = static_cast<double>(count - prev_count_) * (kv_period_s_ / h_s_);
+  const double y = static_cast<double>(count - prev_count_) * kv_over_h_;
   prev_count_ = count;
   const double vref_blu_s =
       position_loop ? kp_ * (pos_ref_blu - static_cast<double>(count)) : v_ref_blu_s;
   const double r_v = vref_blu_s * kv_period_s_;
   const double e = r_v - y;
-  const double di = e * (h_s_ / kv_period_s_);
+  const double di = e * h_over_kv_;
   double integ = integ_ + di;
   double u = form_ == VelocityLoopForm::Ip ? kvi_ * integ - kvp_ * y : kvp_ * e + kvi_ * integ;
   if (u > u_max_ || u < -u_max_) {

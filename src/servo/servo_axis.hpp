@@ -59,6 +59,7 @@ class ServoAxis {
   VelocityLoopForm form_;
   double kvp_, kvi_, kp_;
   double h_s_, kv_period_s_;
+  double kv_over_h_ = 1.0, h_over_kv_ = 1.0;  ///< kv_period_s / h and its inverse (divided once)
   int substeps_;
   double u_max_ = 0.0, n_per_unit_ = 0.0, u_coulomb_ = 0.0, half_backlash_ = 0.0;
   std::int64_t start_blu_;
