@@ -53,9 +53,12 @@ void PathWindow::push(const Motion& m, std::int64_t k) {
   if (m.kind == MotionKind::Arc) {
     const PlaneAxes ax = plane_axes(m.plane);
     e.ax_a = ax.a, e.ax_b = ax.b, e.ax_n = ax.n;
-    e.sweep_rad = arc_sweep_rad(m, ax);
-    e.partial_arc = e.sweep_rad < 2 * M_PI;
-    e.start_angle_rad = std::atan2(m.start_mm[ax.b] - m.center_mm[ax.b], m.start_mm[ax.a] - m.center_mm[ax.a]);
+    const double sweep_rad = arc_sweep_rad(m, ax);
+    e.partial_arc = sweep_rad < 2 * M_PI;
+    e.over_half_turn = sweep_rad > M_PI;
+    e.turn_sign = m.ccw ? 1.0 : -1.0;
+    e.u0_a = m.start_mm[ax.a] - m.center_mm[ax.a], e.u0_b = m.start_mm[ax.b] - m.center_mm[ax.b];
+    e.u1_a = m.end_mm[ax.a] - m.center_mm[ax.a], e.u1_b = m.end_mm[ax.b] - m.center_mm[ax.b];
     e.radius_mm = std::hypot(m.start_mm[ax.a] - m.center_mm[ax.a], m.start_mm[ax.b] - m.center_mm[ax.b]);
     e.planar = m.start_mm[ax.n] == m.end_mm[ax.n];
     // Planar arc: every point the distance is measured to (the circle's nearest point inside the
@@ -86,11 +89,14 @@ void PathWindow::distance_to(const Entry& e, const AxisVec& p_mm, double& dist, 
   const double dca = p_mm[e.ax_a] - m.center_mm[e.ax_a];
   const double dcb = p_mm[e.ax_b] - m.center_mm[e.ax_b];
   if (e.partial_arc) {
-    // Angle from the start to p in the direction of motion, in [0, 2π).
-    double progress = m.ccw ? std::atan2(dcb, dca) - e.start_angle_rad : e.start_angle_rad - std::atan2(dcb, dca);
-    while (progress < 0) progress += 2 * M_PI;
-    while (progress >= 2 * M_PI) progress -= 2 * M_PI;
-    if (progress > e.sweep_rad) {
+    // Is p inside the swept sector? Turning from the start ray towards p, and from p towards
+    // the end ray, in the direction of motion (cross products, no angles): for a sweep up to π
+    // both turns are positive; for more, p is outside only if it lies in the complementary
+    // sector (both turns negative).
+    const double to_p = e.turn_sign * (e.u0_a * dcb - e.u0_b * dca);
+    const double p_to_end = e.turn_sign * (dca * e.u1_b - dcb * e.u1_a);
+    const bool inside = e.over_half_turn ? !(to_p < 0.0 && p_to_end < 0.0) : (to_p >= 0.0 && p_to_end >= 0.0);
+    if (!inside) {
       // Beyond the arc's ends: the nearest point of this block is an end point.
       dist = signed_dist = std::min((p_mm - m.start_mm).norm(), (p_mm - m.end_mm).norm());
       return;

@@ -47,8 +47,10 @@ class PathWindow {
     bool partial_arc = false;          ///< arcs: sweep < 2π (points past the ends exist)
     bool planar = true;                ///< arcs: no helical lead
     double radius_mm = 0.0;            ///< arcs: |start − centre| in the plane
-    double start_angle_rad = 0.0;      ///< arcs: angle of the start about the centre
-    double sweep_rad = 0.0;            ///< arcs: angle swept, > 0
+    bool over_half_turn = false;       ///< arcs: sweep > π
+    double turn_sign = 1.0;            ///< arcs: +1 counter-clockwise (G3), −1 clockwise (G2)
+    double u0_a = 0, u0_b = 0;         ///< arcs: start − centre, in the plane
+    double u1_a = 0, u1_b = 0;         ///< arcs: end − centre, in the plane
     AxisVec sphere_c_mm = AxisVec::Zero();  ///< a sphere holding every point the distance is to
     double sphere_r_mm = -1.0;              ///< < 0: no bound (helix: the distance is radial only)
     double margin_mm = 0.0;                 ///< slack for rounding in the bound test
