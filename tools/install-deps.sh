@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Installs the Debian packages gmotion's build, tests and tools need — only those missing.
 # Idempotent; quiet when nothing is missing; works as root or through sudo.
-# Usage: tools/install-deps.sh [--with-oracle]   (--with-oracle adds linuxcnc-uspace for rs274)
+# Usage: tools/install-deps.sh [--with-oracle] [--with-fuzz]
+#   --with-oracle adds linuxcnc-uspace (rs274, for the differential tests);
+#   --with-fuzz adds clang-14 and libclang-rt-14-dev (libFuzzer and the sanitizers, tools/fuzz.sh).
 set -euo pipefail
 
 packages=(
@@ -9,7 +11,13 @@ packages=(
   libeigen3-dev libboost-dev libfmt-dev catch2 libcli11-dev libtomlplusplus-dev libbenchmark-dev
   python3 python3-matplotlib
 )
-[[ "${1:-}" == "--with-oracle" ]] && packages+=(linuxcnc-uspace)
+for flag in "$@"; do
+  case "$flag" in
+    --with-oracle) packages+=(linuxcnc-uspace) ;;
+    --with-fuzz) packages+=(clang-14 libclang-rt-14-dev) ;;
+    *) echo "install-deps: unknown flag '$flag' (accepted: --with-oracle, --with-fuzz)" >&2; exit 2 ;;
+  esac
+done
 
 missing=()
 for p in "${packages[@]}"; do
