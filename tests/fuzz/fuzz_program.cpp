@@ -3,8 +3,10 @@
 
 #include "common/diagnostic.hpp"
 #include "common/status.hpp"
+#include "interp/interpreter.hpp"
 #include "interp/program.hpp"
 
+#include <cmath>
 #include <cstdlib>
 #include <cstdio>
 #include <sstream>
@@ -14,7 +16,7 @@
 
 namespace {
 
-// Checks the program, then streams it; both must agree on whether it is valid and on the moves.
+// Checks the program, then streams it: both must agree on whether it is valid and on the moves.
 void check_and_stream(const std::string& text, bool block_delete) {
   gm::InterpreterOptions opts;
   opts.block_delete = block_delete;
@@ -29,8 +31,21 @@ void check_and_stream(const std::string& text, bool block_delete) {
   gm::Canon canon;
   std::int64_t moves = 0;
   try {
-    while (stream.next(canon))
-      if (std::holds_alternative<gm::Motion>(canon)) ++moves;
+    while (stream.next(canon)) {
+      if (const auto* m = std::get_if<gm::Motion>(&canon)) {
+        ++moves;
+        // What the interpolator is handed must be finite (it converts positions to integers).
+        if (!m->start_mm.allFinite() || !m->end_mm.allFinite() || !m->center_mm.allFinite() ||
+            !std::isfinite(m->feed_mm_min) || !std::isfinite(m->inverse_time_s) ||
+            !std::isfinite(gm::motion_length_mm(*m))) {
+          std::fprintf(stderr, "fuzz_program: line %d: a motion with a non-finite value\n", m->line);
+          std::abort();
+        }
+      } else if (const auto* d = std::get_if<gm::Dwell>(&canon); d && !std::isfinite(d->seconds)) {
+        std::fprintf(stderr, "fuzz_program: line %d: a dwell of %g s\n", d->line, d->seconds);
+        std::abort();
+      }
+    }
   } catch (const gm::InputError&) {
     if (sum.errors == 0) {
       std::fputs("fuzz_program: the stream threw on a program check_program accepted\n", stderr);
@@ -38,7 +53,11 @@ void check_and_stream(const std::string& text, bool block_delete) {
     }
     return;
   }
-  if (sum.errors == 0 && moves != sum.moves) {
+  if (sum.errors > 0) {
+    std::fputs("fuzz_program: the stream ran to its end through a program check_program refused\n", stderr);
+    std::abort();
+  }
+  if (moves != sum.moves) {
     std::fprintf(stderr, "fuzz_program: check counted %lld moves, the stream gave %lld\n",
                  static_cast<long long>(sum.moves), static_cast<long long>(moves));
     std::abort();
