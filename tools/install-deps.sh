@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Installs the Debian packages gmotion's build, tests and tools need — only those missing.
 # Idempotent; quiet when nothing is missing; works as root or through sudo.
-# Usage: tools/install-deps.sh [--with-oracle] [--with-bench]
-#   --with-oracle  adds linuxcnc-uspace (rs274, the differential-test oracle)
-#   --with-bench   adds GNU time (peak RSS in tools/bench.sh)
+# Usage: tools/install-deps.sh [--with-oracle] [--with-fuzz] [--with-bench]
+#   --with-oracle adds linuxcnc-uspace (rs274, for the differential tests);
+#   --with-fuzz adds clang-14 and libclang-rt-14-dev (libFuzzer and the sanitizers, tools/fuzz.sh);
+#   --with-bench adds GNU time (peak RSS in tools/bench.sh).
 set -euo pipefail
 
 packages=(
@@ -14,8 +15,9 @@ packages=(
 for flag in "$@"; do
   case "$flag" in
     --with-oracle) packages+=(linuxcnc-uspace) ;;
+    --with-fuzz) packages+=(clang-14 libclang-rt-14-dev) ;;
     --with-bench) packages+=(time) ;;
-    *) echo "install-deps: unknown option '$flag'" >&2; exit 2 ;;
+    *) echo "install-deps: unknown flag '$flag' (accepted: --with-oracle, --with-fuzz, --with-bench)" >&2; exit 2 ;;
   esac
 done
 

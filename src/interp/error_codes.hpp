@@ -43,6 +43,7 @@ enum class ErrorCode : int {
   NegativeValue = 217,        ///< S, T or H negative
   LineNumberNotFirst = 218,   ///< N after other words (LinuxCNC)
   AxisUnavailable = 219,      ///< A/B/C/U/V/W on this 3-axis machine
+  ValueOutOfRange = 220,      ///< a position beyond ±1e12 mm, a feed beyond 1e12 mm/min, a tool beyond 1e6
   // Arcs ---------------------------------------------------------------------------------------
   ArcRadiusTooSmall = 301,    ///< R form: |R| cannot reach the end point
   ArcRadiusMismatch = 302,    ///< IJK form: start and end radii differ beyond the rule's tolerance
@@ -92,6 +93,8 @@ inline constexpr std::array kErrorTable{
     ErrorInfo{ErrorCode::NegativeValue, "negative value", "This word must not be negative"},
     ErrorInfo{ErrorCode::LineNumberNotFirst, "line number not first", "N must be the first word of a block"},
     ErrorInfo{ErrorCode::AxisUnavailable, "axis not available", "This machine has the axes X, Y and Z only"},
+    ErrorInfo{ErrorCode::ValueOutOfRange, "value out of range",
+              "A position, feed or tool number beyond what the machine can represent"},
     ErrorInfo{ErrorCode::ArcRadiusTooSmall, "arc radius too small", "R cannot reach the end point"},
     ErrorInfo{ErrorCode::ArcRadiusMismatch, "arc radius mismatch", "Start and end radii differ beyond tolerance"},
     ErrorInfo{ErrorCode::ArcZeroRadius, "zero radius arc", "The arc centre is on its start or end point"},

@@ -120,6 +120,14 @@ bool fail(InterpError& err, ErrorCode code, SourceLoc loc, std::string msg) {
   return false;
 }
 
+// Largest magnitude of a machine position (mm) or a feed (mm/min) handed downstream, and the
+// largest tool number: beyond them a run's integer positions (BLU) and counts would overflow.
+constexpr double kMaxPositionMm = 1e12;
+constexpr double kMaxFeedMmMin = 1e12;
+constexpr double kMaxToolNumber = 1e6;
+
+bool within(double v, double limit) { return std::fabs(v) <= limit; }  // false for NaN
+
 bool near_integer(double v, double& rounded) {
   rounded = std::round(v);
   return std::fabs(v - rounded) < 1e-6;
@@ -261,11 +269,17 @@ bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, 
     if (f < 0) return rollback() || fail(err, ErrorCode::NegativeFeed, w['F']->loc, fmt::format("F{:g} is negative", f));
     if (s.inverse_time) inverse_f = f;
     else s.feed_mm_min = f * (s.inch ? units::kMmPerInch : 1.0);  // units before this block's G20/G21
+    if (!within(s.feed_mm_min, kMaxFeedMmMin))
+      return rollback() || fail(err, ErrorCode::ValueOutOfRange, w['F']->loc,
+                                fmt::format("F{:g} is {:g} mm/min, beyond {:g} mm/min", f, s.feed_mm_min, kMaxFeedMmMin));
   }
   if (w.has('T')) {
     double t = 0;
     if (!near_integer(w['T']->value, t))
       return rollback() || fail(err, ErrorCode::BadCodeNumber, w['T']->loc, fmt::format("T{:g} is not an integer", w['T']->value));
+    if (t > kMaxToolNumber)
+      return rollback() || fail(err, ErrorCode::ValueOutOfRange, w['T']->loc,
+                                fmt::format("T{:g}: tool numbers go up to {:g}", t, kMaxToolNumber));
     s.tool_selected = static_cast<int>(t);
   }
   if (w.has_m(kMToolChange)) s.tool_in_spindle = s.tool_selected;
@@ -293,19 +307,17 @@ bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, 
   }
   if (w.has_g(kGUnits)) s.inch = w.gv(kGUnits) == 200;
   if (g43) {
-    int tool = s.tool_in_spindle;
+    double tool = s.tool_in_spindle;  // H may be any size: compared as a double, never cast first
     if (w.has('H')) {
-      double h = 0;
-      if (!near_integer(w['H']->value, h))
+      if (!near_integer(w['H']->value, tool))
         return rollback() || fail(err, ErrorCode::BadCodeNumber, w['H']->loc, fmt::format("H{:g} is not an integer", w['H']->value));
-      tool = static_cast<int>(h);
     }
     const auto n = machine_.tool_lengths_mm.size();
-    if (static_cast<std::size_t>(tool) < n) s.tool_length_mm = machine_.tool_lengths_mm[static_cast<std::size_t>(tool)];
+    if (tool < static_cast<double>(n)) s.tool_length_mm = machine_.tool_lengths_mm[static_cast<std::size_t>(tool)];
     else if (tool == 0) s.tool_length_mm = 0.0;
     else
       return rollback() || fail(err, ErrorCode::ToolNumberOutOfRange, w.has('H') ? w['H']->loc : w.g_word[kGToolLength]->loc,
-                  fmt::format("tool {} has no length: the machine's tool table has {} entries", tool, n));
+                  fmt::format("tool {:g} has no length: the machine's tool table has {} entries", tool, n));
   } else if (w.has_g(kGToolLength)) {
     s.tool_length_mm = 0.0;  // G49
   }
@@ -364,6 +376,14 @@ bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, 
       if (!aw) continue;
       target[i] = s.incremental ? s.position_mm[i] + aw->value * scale : aw->value * scale + off[i];
     }
+    for (int i = 0; i < kAxes; ++i) {
+      if (within(target[i], kMaxPositionMm)) continue;
+      const auto* aw = w[kAxisLetters[static_cast<std::size_t>(i)]];
+      return rollback() || fail(err, ErrorCode::ValueOutOfRange, aw ? aw->loc : mloc,
+                                fmt::format("{} would move to {:g} mm (offsets included), outside -{:g}..{:g} mm",
+                                            kAxisLetters[static_cast<std::size_t>(i)], target[i], kMaxPositionMm,
+                                            kMaxPositionMm));
+    }
     Motion mo;
     mo.line = line;
     mo.start_mm = s.position_mm;
@@ -413,6 +433,14 @@ bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, 
       mo.center_mm = s.position_mm;
       mo.center_mm[ax.a] = s.position_mm[ax.a] + ar.rel_a * scale;
       mo.center_mm[ax.b] = s.position_mm[ax.b] + ar.rel_b * scale;
+      for (const int i : {ax.a, ax.b}) {
+        if (within(mo.center_mm[i], kMaxPositionMm)) continue;
+        const SourceLoc aloc = in.use_r ? w['R']->loc : w.has(la) ? w[la]->loc : w[lb]->loc;
+        return rollback() || fail(err, ErrorCode::ValueOutOfRange, aloc,
+                                  fmt::format("arc centre {} = {:g} mm, outside -{:g}..{:g} mm",
+                                              kAxisLetters[static_cast<std::size_t>(i)], mo.center_mm[i],
+                                              kMaxPositionMm, kMaxPositionMm));
+      }
       mo.ccw = in.ccw;
       mo.turns = turns;
     }
@@ -424,6 +452,10 @@ bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, 
           const double length_mm = motion_length_mm(mo);
           mo.feed_mm_min = std::max(0.1 * scale, length_mm * inverse_f);
           mo.inverse_time_s = units::kSecondsPerMinute * length_mm / mo.feed_mm_min;
+          if (!within(mo.feed_mm_min, kMaxFeedMmMin))
+            return rollback() || fail(err, ErrorCode::ValueOutOfRange, w['F']->loc,
+                                      fmt::format("G93 F{:g} over {:g} mm is {:g} mm/min, beyond {:g} mm/min",
+                                                  inverse_f, length_mm, mo.feed_mm_min, kMaxFeedMmMin));
         } else {
           mo.feed_mm_min = s.feed_mm_min;
         }

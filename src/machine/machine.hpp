@@ -9,6 +9,10 @@
 
 namespace gm {
 
+/// Most Acc/Dec taps tau/T a machine file may ask for (tau = 100 s at T = 1 ms): beyond it the
+/// design and the filter's history grow without bound, so the reader refuses the file.
+inline constexpr int kMaxAccDecTaps = 100000;
+
 /// Which controller's arc end-radius tolerance rule the interpreter applies.
 enum class ArcRule { LinuxCnc, Grbl, G2core };
 

@@ -135,9 +135,22 @@ class Reader {
   std::set<std::string> seen_;
 };
 
+// "" when tau_s gives an Acc/Dec filter of 1..kMaxAccDecTaps taps at period_s, else the rule.
+std::string tau_problem(double tau_s, double period_s) {
+  if (!(tau_s >= period_s)) return "must be >= period_s (at least one tap)";
+  if (tau_s / period_s > kMaxAccDecTaps + 0.5)
+    return fmt::format("must be <= {} x period_s = {} s (tau/T = {:.6g} taps; at most {})", kMaxAccDecTaps,
+                       fmt_double(kMaxAccDecTaps * period_s), tau_s / period_s, kMaxAccDecTaps);
+  return "";
+}
+
+// Smallest interpolation period (1 µs) and position-loop gain (a 1000 s time constant) a machine
+// file may give: with both, every sample count a run derives (5/(kp·T)) fits its integers.
+constexpr double kMinPeriod = 1e-6;
+constexpr double kMinKp = 1e-3;
+
 auto positive = [](double v) { return v > 0.0 ? "" : "must be > 0"; };
 auto non_negative = [](double v) { return v >= 0.0 ? "" : "must be >= 0"; };
-auto any_value = [](double) { return ""; };
 
 void read_axis(Reader& r, AxisConfig& a, double machine_blu_mm) {
   a.blu_mm = machine_blu_mm;
@@ -151,7 +164,8 @@ void read_axis(Reader& r, AxisConfig& a, double machine_blu_mm) {
   r.numbers("plant_den", a.plant_den, true, 2, DiscretePlant::kMaxOrder + 1);
   r.number("kvp", a.kvp, true, non_negative);
   r.number("kvi", a.kvi, true, non_negative);
-  r.number("kp_1_s", a.kp_1_s, true, positive);
+  // Five position-loop time constants (5/kp) are the servo lag a run counts in samples.
+  r.number("kp_1_s", a.kp_1_s, true, [](double v) { return v >= kMinKp ? "" : "must be >= 0.001 1/s"; });
   r.number("backlash_blu", a.backlash_blu, false, non_negative);
   r.number("coulomb_N", a.coulomb_N, false, non_negative);
   r.number("plant_blu_s_per_unit", a.plant_blu_s_per_unit, false, positive);
@@ -207,7 +221,7 @@ Machine parse_machine_toml(std::string_view text, std::string_view source_name) 
   m.source = src;
   Reader r(root, "", src);
   r.string("name", m.name, true);
-  r.number("period_s", m.period_s, true, [](double v) { return v > 0.0 && v <= 1.0 ? "" : "must be in (0, 1] s"; });
+  r.number("period_s", m.period_s, true, [](double v) { return v >= kMinPeriod && v <= 1.0 ? "" : "must be in 1e-06..1 s"; });
   r.integer("servo_substeps", m.servo_substeps, false, 1, 1000);
   r.number("rapid_mm_min", m.rapid_mm_min, false, positive);
   double pct = m.max_override * 100.0;
@@ -224,14 +238,20 @@ Machine parse_machine_toml(std::string_view text, std::string_view source_name) 
   double blu_mm = 0.001;
   r.number("blu_mm", blu_mm, false, positive);
 
-  if (const toml::table* acc = r.table("accdec", false)) {
+  const toml::table* acc = r.table("accdec", false);
+  if (acc != nullptr) {
     Reader ar(*acc, "accdec.", src);
     ar.string("profile", m.profile, false);
     const double period = m.period_s;
-    ar.number("tau_s", m.tau_s, false, [period](double v) {
-      return v >= period ? "" : "must be >= period_s (at least one tap)";
-    });
+    ar.number("tau_s", m.tau_s, false, [period](double v) { return tau_problem(v, period); });
     ar.reject_unknown();
+  }
+  if (acc == nullptr || acc->get("tau_s") == nullptr) {
+    // tau_s keeps its default: the period must still suit it (the file never names tau_s).
+    if (std::string c = tau_problem(m.tau_s, m.period_s); !c.empty())
+      r.fail_at(root.get("period_s")->source(), "period_s",
+                fmt::format("does not suit accdec.tau_s = {} s (the default): tau_s {} (got {})",
+                            fmt_double(m.tau_s), c, fmt_double(m.period_s)));
   }
   const toml::table* axes = r.table("axes", true);
   Reader axr(*axes, "axes.", src);

@@ -172,13 +172,13 @@ TEST_CASE("out-of-range value: exact message with key, file and line", "[machine
   CHECK(error_of(replace(kMinimal, "[axes.x]\n", "[axes.x]\nblu_mm = -1\n")) ==
         "t.toml:4: key 'axes.x.blu_mm': must be > 0 (got -1)");
   CHECK(error_of(replace(kMinimal, "period_s = 0.004", "period_s = 0")) ==
-        "t.toml:2: key 'period_s': must be in (0, 1] s (got 0)");
+        "t.toml:2: key 'period_s': must be in 1e-06..1 s (got 0)");
   CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\nservo_substeps = 0\n")) ==
         "t.toml:3: key 'servo_substeps': must be in 1..1000 (got 0)");
   CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\n[accdec]\ntau_s = 0\n")) ==
         "t.toml:4: key 'accdec.tau_s': must be >= period_s (at least one tap) (got 0)");
   CHECK(error_of(replace(kMinimal, "kp_1_s = 30\n[axes.y]", "kp_1_s = -30\n[axes.y]")) ==
-        "t.toml:8: key 'axes.x.kp_1_s': must be > 0 (got -30)");
+        "t.toml:8: key 'axes.x.kp_1_s': must be >= 0.001 1/s (got -30)");
   CHECK(error_of(replace(kMinimal, "[axes.y]\n", "[axes.y]\ncoulomb_N = -5\n")) ==
         "t.toml:10: key 'axes.y.coulomb_N': must be >= 0 (got -5)");
   CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\narc_rule = \"fanuc\"\n")) ==
@@ -193,6 +193,27 @@ TEST_CASE("out-of-range value: exact message with key, file and line", "[machine
         "t.toml:3: key 'max_override_percent': must be in 100..1000 (got 50)");
   CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\nblu_mm = nan\n")) ==
         "t.toml:3: key 'blu_mm': must be finite (got nan)");
+}
+
+TEST_CASE("values a run cannot use are refused by the reader (found by fuzzing)", "[machine]") {
+  // tau_s left at its default 0.164 s must still be at least one period.
+  CHECK(error_of(replace(kMinimal, "period_s = 0.004", "period_s = 0.202")) ==
+        "t.toml:2: key 'period_s': does not suit accdec.tau_s = 0.164 s (the default): tau_s must be >= "
+        "period_s (at least one tap) (got 0.202)");
+  // A huge tau/T would design and filter with billions of taps.
+  CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\n[accdec]\ntau_s = 4e6\n")) ==
+        "t.toml:4: key 'accdec.tau_s': must be <= 100000 x period_s = 400 s (tau/T = 1e+09 taps; at most "
+        "100000) (got 4000000)");
+  CHECK(error_of(replace(kMinimal, "period_s = 0.004", "period_s = 1e-6")).find(
+            "key 'period_s': does not suit accdec.tau_s = 0.164 s (the default): tau_s must be <= 100000") !=
+        std::string::npos);
+  // The servo lag 5/(kp T) is counted in samples: kp and T have floors.
+  CHECK(error_of(replace(kMinimal, "kp_1_s = 30\n[axes.y]", "kp_1_s = 1e-300\n[axes.y]")) ==
+        "t.toml:8: key 'axes.x.kp_1_s': must be >= 0.001 1/s (got 1e-300)");
+  CHECK(error_of(replace(kMinimal, "period_s = 0.004", "period_s = 1e-300")) ==
+        "t.toml:2: key 'period_s': must be in 1e-06..1 s (got 1e-300)");
+  CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\n[accdec]\ntau_s = 400\n")) ==
+        "<no error>");
 }
 
 TEST_CASE("missing required key: names the key, the file and the table's line", "[machine]") {

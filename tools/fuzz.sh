@@ -1,0 +1,81 @@
+#!/usr/bin/env bash
+# Fuzzes the G-code program, override-schedule and machine-file readers with libFuzzer, bounded.
+# Usage: tools/fuzz.sh [SECONDS_PER_TARGET]   (default 60)
+# Installs what is missing (tools/install-deps.sh --with-fuzz), builds the 'fuzz' preset (clang-14,
+# ASan+UBSan), seeds build-fuzz/corpus/<target> from tests/fuzz/seeds.txt and
+# tests/fuzz/regressions/<target>/, then runs each target for SECONDS_PER_TARGET and prints one
+# line per target: executions, seconds, corpus size, result. Exits 1 on a crash, timeout (> 10 s
+# for one input), out-of-memory (> 2048 MB) or leak, naming the input saved under
+# build-fuzz/artifacts/<target>/ and how to replay it.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+secs="${1:-60}"
+if ! [[ "$secs" =~ ^[1-9][0-9]*$ ]]; then
+  echo "usage: tools/fuzz.sh [SECONDS_PER_TARGET]  (a whole number of seconds >= 1)" >&2
+  exit 2
+fi
+
+tools/install-deps.sh --with-fuzz
+cmake --preset fuzz >/dev/null
+cmake --build --preset fuzz
+
+targets=(program override machine)
+declare -A globs=()
+while read -r target rest; do
+  [[ -z "$target" || "$target" == \#* ]] && continue
+  globs[$target]="$rest"
+done < tests/fuzz/seeds.txt
+
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
+shopt -s nullglob
+failed=()
+printf 'fuzz: %-9s %12s %8s %7s  %s\n' target executions seconds corpus result
+for t in "${targets[@]}"; do
+  corpus=build-fuzz/corpus/$t
+  artifacts=build-fuzz/artifacts/$t
+  log=build-fuzz/fuzz-$t.log
+  mkdir -p "$corpus" "$artifacts"
+  # Seeds are named by content, as libFuzzer names what it adds (same basename, different folder).
+  # shellcheck disable=SC2086  # the globs must expand
+  for f in ${globs[$t]:-} tests/fuzz/regressions/"$t"/*; do
+    [[ -f "$f" ]] && cp -f "$f" "$corpus/$(sha1sum <"$f" | cut -c1-40)"
+  done
+
+  start=$(date +%s)
+  rc=0
+  "build-fuzz/bin/fuzz_$t" "$corpus" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 \
+    -dict="tests/fuzz/$t.dict" -artifact_prefix="$artifacts/" -print_final_stats=1 >"$log" 2>&1 || rc=$?
+  elapsed=$(($(date +%s) - start))
+  execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n1)
+  if [[ -z "$execs" ]]; then  # no final stats after a crash: the last status line has the count
+    execs=$(sed -n 's/^#\([0-9][0-9]*\).*/\1/p' "$log" | tail -n1)
+  fi
+  size=$(find "$corpus" -maxdepth 1 -type f | wc -l)
+
+  result=clean
+  if [[ $rc -ne 0 ]]; then
+    if grep -q 'ERROR: libFuzzer: timeout' "$log"; then result=timeout
+    elif grep -q 'ERROR: libFuzzer: out-of-memory' "$log"; then result=oom
+    elif grep -q 'ERROR: LeakSanitizer' "$log"; then result=leak
+    else result=crash
+    fi
+  fi
+  printf 'fuzz: %-9s %12s %8s %7s  %s\n' "$t" "${execs:-?}" "$elapsed" "$size" "$result"
+  if [[ $result != clean ]]; then
+    failed+=("$t")
+    artifact=$(sed -n 's/.*Test unit written to \(.*\)$/\1/p' "$log" | tail -n1)
+    echo "fuzz: $t: $result; log: $log" >&2
+    grep -E -m5 'ERROR:|SUMMARY:|runtime error:' "$log" | sed 's/^/fuzz:   /' >&2 || true
+    if [[ -n "$artifact" ]]; then
+      echo "fuzz: $t: input saved as $artifact" >&2
+      echo "fuzz: $t: replay it with: build-fuzz/bin/fuzz_$t $artifact" >&2
+    fi
+  fi
+done
+
+if [[ ${#failed[@]} -gt 0 ]]; then
+  echo "fuzz: failing targets: ${failed[*]} (add each input to tests/fuzz/regressions/<target>/ once fixed)" >&2
+  exit 1
+fi
+echo "fuzz: every target clean for ${secs} s"
