@@ -8,6 +8,7 @@
 #include <charconv>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <cmath>
 #include <string>
 #include <system_error>
@@ -32,29 +33,33 @@ std::string show_number(std::string_view s) {
   return std::string(s.substr(0, 12)) + "...(" + std::to_string(s.size()) + " characters)";
 }
 
-// digits [. digits] (no sign, no exponent) with at most 15 significant digits and 22 decimals:
-// mantissa and 10^decimals are exact doubles, so one division gives the correctly rounded value,
-// exactly what from_chars gives (Clinger's fast path). False: take the general path.
+// digits [. digits] (no sign, no exponent) with at most 15 digits after the leading zeros:
+// mantissa (< 10^15) and 10^decimals (decimals <= 15) are exact doubles, so one division gives
+// the correctly rounded value, exactly what from_chars gives (Clinger's fast path). False: take
+// the general path.
 bool fast_decimal(std::string_view s, double& value) {
-  static constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
-                                      1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+  static constexpr double kPow10[] = {1e0, 1e1, 1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                      1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
+  auto digit = [](char c) { return static_cast<unsigned>(c - '0') < 10u; };
+  const char* p = s.data();
+  const char* const end = p + s.size();
+  const char* const first = p;
+  while (p != end && *p == '0') ++p;  // leading zeros are not significant
   std::uint64_t mantissa = 0;
-  int digits = 0, decimals = 0;
-  bool point = false, any = false;
-  for (char c : s) {
-    if (c == '.') {
-      if (point) return false;
-      point = true;
-      continue;
-    }
-    if (c < '0' || c > '9') return false;
-    any = true;
-    if (mantissa != 0 || c != '0') ++digits;  // leading zeros are not significant
-    if (digits > 15) return false;
-    mantissa = mantissa * 10 + static_cast<std::uint64_t>(c - '0');
-    if (point) ++decimals;
+  const char* const int_start = p;
+  for (; p != end && digit(*p); ++p) mantissa = mantissa * 10 + static_cast<std::uint64_t>(*p - '0');
+  const auto int_digits = p - int_start;
+  std::ptrdiff_t decimals = 0;
+  if (p != end && *p == '.') {
+    const char* const frac_start = ++p;
+    for (; p != end && digit(*p); ++p) mantissa = mantissa * 10 + static_cast<std::uint64_t>(*p - '0');
+    decimals = p - frac_start;
   }
-  if (!any || decimals > 22) return false;
+  // Anything left (a sign, an exponent, a second point), no digit at all, or more than 15
+  // digits after the leading zeros (the mantissa may have wrapped): the general path.
+  if (p != end || p == first || (int_digits == 0 && decimals == 0 && int_start == first) ||
+      int_digits + decimals > 15)
+    return false;
   value = static_cast<double>(mantissa) / kPow10[decimals];
   return true;
 }
@@ -131,8 +136,19 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
   columns_.resize(text.size() + 1);
   char* cp = compact_.data();
   int* colp = columns_.data();
+  const bool plain = std::memchr(text.data(), '(', text.size()) == nullptr &&
+                     std::memchr(text.data(), ';', text.size()) == nullptr;
+  if (plain) {  // no comment: every character is code (most lines)
+    for (std::size_t i = 0; i < text.size(); ++i) {
+      char c = text[i];
+      if (c == ' ' || c == '\t') continue;
+      if (static_cast<unsigned char>(c - 'a') < 26u) c = static_cast<char>(c - 'a' + 'A');
+      *cp++ = c;
+      *colp++ = static_cast<int>(i) + 1;
+    }
+  }
   enum class State { Code, Paren, Rest } state = State::Code;
-  for (std::size_t i = 0; i < text.size(); ++i) {
+  for (std::size_t i = 0; !plain && i < text.size(); ++i) {
     char c = text[i];
     if (state == State::Code) {
       if (c == ' ' || c == '\t') continue;

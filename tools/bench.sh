@@ -10,8 +10,9 @@
 #   - with --big: peak RSS of check and run on a 10 MB and a 1 GB program (the 10 MB body
 #     repeated; each copy starts with a rapid back to the origin), to show it stays flat;
 #   - with --micro: the Google Benchmark micro-benchmarks per stage.
-# Each timing is the best of 3 runs (1 for the traced run and the 1 GB ones). Prints a Markdown
-# table at the end. Work files go to build-bench/e2e/ (ignored by git).
+# Each timing is the best of 5 runs for check and rs274, 3 for run, 1 for the traced run and
+# the 1 GB ones (this machine's speed varies by tens of percent from minute to minute).
+# Prints a Markdown table at the end. Work files go to build-bench/e2e/ (ignored by git).
 #
 # Usage: tools/bench.sh [--blocks N] [--big] [--micro]
 set -euo pipefail
@@ -60,11 +61,11 @@ mb=$(calc "%.1f" "$bytes / 1e6")
 echo "program: $prog ($blocks blocks, $mb MB)"
 rows=()
 
-measure 3 "$bin/gmotion" check "$prog"
+measure 5 "$bin/gmotion" check "$prog"
 check_s=$secs
 rows+=("| parse+interpret (\`gmotion check\`) | $(calc "%.0f" "$bytes / 1e6 / $secs") MB/s, $(calc "%.2f" "$blocks / 1e6 / $secs") M blocks/s | $secs s, peak RSS $((rss_kb / 1024)) MB |")
 if command -v rs274 >/dev/null; then
-  measure 3 rs274 -g "$prog" /dev/null
+  measure 5 rs274 -g "$prog" /dev/null
   rows+=("| \`rs274 -g PROGRAM /dev/null\` (LinuxCNC) | $(calc "%.1f" "$bytes / 1e6 / $secs") MB/s | $secs s: gmotion check is $(calc "%.1f" "$secs / $check_s")x faster |")
 else
   rows+=("| \`rs274\` | not installed (tools/install-deps.sh --with-oracle) | |")
