@@ -1,6 +1,8 @@
 // Parsing of an Acc/Dec profile spec string into a ProfileSpec (see profile_spec.hpp for the grammar).
 #include "accdec/profile_spec.hpp"
 
+#include "machine/machine.hpp"
+
 #include "common/status.hpp"
 
 #include <fmt/format.h>
@@ -140,9 +142,13 @@ ProfileSpec parse_profile_spec(std::string_view spec) {
     if (!has_arg || arg.empty()) fail(spec, "cascade needs its lengths, e.g. cascade:21,21");
     int i = 0;
     for (std::string_view part : split_commas(arg)) {
+      if (i == kMaxCascadeStages)
+        fail(spec, fmt::format("more than {} cascade stages", kMaxCascadeStages));
       const double len = parse_number(spec, part, fmt::format("length L{}", i + 1));
-      if (len < 1 || len != std::floor(len) || len > 1e6)
+      if (len < 1 || len != std::floor(len))
         fail(spec, fmt::format("length L{} = {} is not an integer >= 1", i + 1, len));
+      if (len > kMaxAccDecTaps)
+        fail(spec, fmt::format("length L{} = {} is more than {} taps", i + 1, len, kMaxAccDecTaps));
       p.cascade_lengths.push_back(static_cast<int>(len));
       ++i;
     }

@@ -27,6 +27,9 @@ enum class CutoffRule {
   Explicit   ///< "@0.05": the given value, normalised to Nyquist, in (0, 1]
 };
 
+/// Most moving averages a cascade profile may chain (each at most kMaxAccDecTaps long).
+inline constexpr int kMaxCascadeStages = 16;
+
 /// A parsed profile spec; only the members of its kind are meaningful.
 struct ProfileSpec {
   std::string text;                       ///< the spec as given

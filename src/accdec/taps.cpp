@@ -4,6 +4,7 @@
 #include "accdec/profile_spec.hpp"
 #include "accdec/window.hpp"
 #include "common/status.hpp"
+#include "machine/machine.hpp"
 
 #include <fmt/format.h>
 
@@ -58,7 +59,11 @@ int tap_count(double tau_s, double period_s) {
     throw InputError(fmt::format("Acc/Dec time constant tau = {} s must be > 0", tau_s));
   const double ratio = tau_s / period_s;
   const double n = std::round(ratio);
-  if (n < 1 || std::abs(ratio - n) > 1e-6 * std::max(1.0, n) || n > 1e7)
+  if (ratio > kMaxAccDecTaps + 0.5)
+    throw InputError(fmt::format("Acc/Dec time constant tau = {} s is {:.6g} periods T = {} s; at most {} taps "
+                                 "(tau <= {:.6g} s)",
+                                 tau_s, ratio, period_s, kMaxAccDecTaps, kMaxAccDecTaps * period_s));
+  if (n < 1 || std::abs(ratio - n) > 1e-6 * std::max(1.0, n))
     throw InputError(fmt::format(
         "Acc/Dec time constant tau = {} s is not a whole number of periods T = {} s "
         "(tau/T = {:.6g}); Eq. 24 needs tau = (N+1)T with N+1 an integer >= 1", tau_s, period_s,

@@ -125,3 +125,20 @@ TEST_CASE("machine files with zero or negative BLU, T or tau are refused by key 
     CHECK_THAT(r.out, Catch::Contains("must be a positive number"));
   }
 }
+
+TEST_CASE("Acc/Dec flags asking for millions of taps or endless cascades are refused at once") {
+  const std::string prog = fs::path(GMOTION_TESTS_DIR).parent_path().string() + "/programs/square.nc";
+  const auto huge = gmtest::sh("timeout 20 " + std::string(GMOTION_BIN) + " run " + prog + " --tau 1000 --period 0.0001 2>&1");
+  CHECK(huge.code == 1);
+  CHECK_THAT(huge.out, Catch::Contains("tau = 1000 s is 1e+07 periods"));
+  CHECK_THAT(huge.out, Catch::Contains("at most 100000 taps"));
+  // 17 stages (one too many), and one stage longer than the tap limit.
+  const auto stages = gmtest::sh("timeout 20 " + std::string(GMOTION_BIN) + " run " + prog +
+                                 " --profile cascade:2,2,2,2,2,2,2,2,2,2,2,2,2,2,2,2,2 --tau 0.072 2>&1");
+  CHECK(stages.code == 1);
+  CHECK_THAT(stages.out, Catch::Contains("more than 16 cascade stages"));
+  const auto longest = gmtest::sh("timeout 20 " + std::string(GMOTION_BIN) + " run " + prog +
+                                  " --profile cascade:1000000,3 --tau 4000.008 2>&1");
+  CHECK(longest.code == 1);
+  CHECK_THAT(longest.out, Catch::Contains("is more than 100000 taps"));
+}
