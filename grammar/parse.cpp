@@ -132,8 +132,9 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
 
   // 1. Compact: drop spaces/tabs outside comments, upper-case letters outside comments.
   // Written through pointers into buffers sized once for the line (the hot loop of a check).
-  compact_.resize(text.size());
-  columns_.resize(text.size() + 1);
+  // The buffers only grow (a resize down and up again would zero-fill them on every line).
+  if (compact_.size() < text.size()) compact_.resize(text.size());
+  if (columns_.size() < text.size() + 1) columns_.resize(text.size() + 1);
   char* cp = compact_.data();
   int* colp = columns_.data();
   const bool plain = std::memchr(text.data(), '(', text.size()) == nullptr &&
@@ -162,15 +163,14 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
     *colp++ = static_cast<int>(i) + 1;
   }
   *colp++ = static_cast<int>(text.size()) + 1;  // end-of-line position
-  compact_.resize(static_cast<std::size_t>(cp - compact_.data()));
-  columns_.resize(static_cast<std::size_t>(colp - columns_.data()));
+  const std::string_view compact(compact_.data(), static_cast<std::size_t>(cp - compact_.data()));
 
   std::size_t start = 0;
-  if (!compact_.empty() && compact_[0] == '/') {
+  if (!compact.empty() && compact[0] == '/') {
     out.block_delete = true;
     start = 1;
   }
-  if (start < compact_.size() && compact_[start] == '%') {
+  if (start < compact.size() && compact[start] == '%') {
     out.percent = true;
     ++start;
   }
@@ -178,17 +178,17 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
   // O-word lines (subroutines, loops: `O100 sub`, `o<name> call`) have their own syntax: one error.
   {
     std::size_t k = start;
-    if (k < compact_.size() && compact_[k] == 'N')
-      for (++k; k < compact_.size() && ((compact_[k] >= '0' && compact_[k] <= '9') || compact_[k] == '.'); ++k) {}
-    if (k < compact_.size() && compact_[k] == 'O') {
+    if (k < compact.size() && compact[k] == 'N')
+      for (++k; k < compact.size() && ((compact[k] >= '0' && compact[k] <= '9') || compact[k] == '.'); ++k) {}
+    if (k < compact.size() && compact[k] == 'O') {
       add_error(out, ErrorCode::OWordsUnsupported, static_cast<int>(k), "O-words are not supported");
       return;
     }
   }
 
   // 2. Parse items, resynchronising after each error at the next letter, '(' or ';'.
-  const char* const begin = compact_.data();
-  const char* const end = begin + compact_.size();
+  const char* const begin = compact.data();
+  const char* const end = begin + compact.size();
   ast_.reset(begin);
   const char* pos = begin + start;
   while (pos != end && out.errors.size() < kMaxErrorsPerLine) {

@@ -16,15 +16,15 @@ bool LineReader::fill() {
   return n > 0;
 }
 
-void LineReader::keep(const char* first, const char* last) {
+void LineReader::keep(std::string& line, const char* first, const char* last) {
   const auto len = static_cast<std::size_t>(last - first);
-  const std::size_t room = max_ - std::min(max_, line_.size());
+  const std::size_t room = max_ - std::min(max_, line.size());
   if (len > room) truncated_ = true;
-  line_.append(first, std::min(len, room));
+  line.append(first, std::min(len, room));
 }
 
-bool LineReader::next() {
-  line_.clear();
+bool LineReader::next(std::string& line) {
+  line.clear();
   truncated_ = false;
   bool any = false;
   for (;;) {
@@ -32,11 +32,11 @@ bool LineReader::next() {
     any = true;
     const auto* nl = static_cast<const char*>(std::memchr(pos_, '\n', static_cast<std::size_t>(end_ - pos_)));
     if (nl != nullptr) {
-      keep(pos_, nl);
+      keep(line, pos_, nl);
       pos_ = nl + 1;
       break;
     }
-    keep(pos_, end_);
+    keep(line, pos_, end_);
     pos_ = end_;
   }
   if (!any) {

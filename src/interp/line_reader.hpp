@@ -18,25 +18,23 @@ class LineReader {
   LineReader(std::istream& in, std::size_t max_length)
       : in_(in), max_(max_length), chunk_(new char[kChunkBytes]) {}
 
-  /// Reads the next line (without '\n') into line(). False at end of input. The stream is read
-  /// ahead by up to one chunk.
-  bool next();
-  const std::string& line() const { return line_; }
-  /// True if the last line was longer than max_length (line() holds its start).
+  /// Reads the next line (without '\n') into `line`, replacing its content (its capacity is
+  /// reused). False at end of input. The stream is read ahead by up to one chunk.
+  bool next(std::string& line);
+  /// True if the last line was longer than max_length (`line` got its start).
   bool truncated() const { return truncated_; }
   /// 1-based number of the last line read.
   int number() const { return number_; }
 
  private:
   bool fill();                                  // reads the next chunk; false at end of input
-  void keep(const char* first, const char* last);  // appends to line_ up to max_
+  void keep(std::string& line, const char* first, const char* last);  // appends up to max_
 
   std::istream& in_;
   std::size_t max_;
   std::unique_ptr<char[]> chunk_;
   const char* pos_ = nullptr;  ///< next unread byte of the chunk
   const char* end_ = nullptr;  ///< end of the bytes in the chunk
-  std::string line_;
   bool truncated_ = false;
   int number_ = 0;
 };

@@ -44,10 +44,9 @@ class LineParser {
   explicit LineParser(std::istream& in) : reader_(in, grammar::kMaxLineLength) {}
   /// Reads and parses the next line into `p`. False at end of input.
   bool next(ParsedLine& p) {
-    if (!reader_.next()) return false;
+    if (!reader_.next(p.text)) return false;
     p.number = reader_.number();
     p.truncated = reader_.truncated();
-    p.text.assign(reader_.line());
     if (!p.truncated) parser_.parse(p.text, p.number, p.block);
     return true;
   }
