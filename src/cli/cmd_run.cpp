@@ -66,6 +66,10 @@ class OverrideRecorder {
 };
 
 int run(const RunFlags& f) {
+  // Caught from the start, so an interrupt during the check of a long program is not lost
+  // (a background job's SIGINT is otherwise ignored); the run stops at its first sample.
+  std::signal(SIGINT, on_sigint);
+  std::signal(SIGTERM, on_sigint);
   RunConfig cfg;
   cfg.machine = resolve_machine(f.machine);
   cfg.servo = !f.machine.no_servo;
@@ -102,8 +106,6 @@ int run(const RunFlags& f) {
   }
 
   RunSummary summary(cfg.machine);
-  std::signal(SIGINT, on_sigint);
-  std::signal(SIGTERM, on_sigint);
   OverridePlayer player(schedule, cfg.machine.period_s, f.override_pct, f.rapid_override_pct);
   std::optional<LiveOverride> live;
   if (f.realtime) live.emplace(STDIN_FILENO, max_pct);

@@ -54,13 +54,13 @@ TEST_CASE("a full file system mid-run leaves no trace and no partial file") {
 }
 
 TEST_CASE("SIGINT stops the run with a message and removes the partial trace") {
-  // A long program (4 km of feed, 20 M samples) so the run is still going when SIGINT comes.
+  // A long program (1 km of feed, 5 M samples) so the run is still going when SIGINT comes.
   const fs::path dir = scratch();
   const std::string prog = (dir / "long.nc").string(), trace = (dir / "t.csv").string();
   {
     std::ofstream p(prog);
     p << "G21 G90 G64 F3000\n";
-    for (int i = 0; i < 40000; ++i) p << "G1 X" << (i % 2 ? 100 : 0) << " Y" << i * 0.01 << "\n";
+    for (int i = 0; i < 10000; ++i) p << "G1 X" << (i % 2 ? 100 : 0) << " Y" << i * 0.01 << "\n";
     p << "M2\n";
   }
   const auto r = gmtest::sh("(" + std::string(GMOTION_BIN) + " run " + prog + " --trace " + trace +
