@@ -146,6 +146,12 @@ TEST_CASE("machine_to_toml round-trips the default and a modified machine", "[ma
   m.axes[2].plant_den = {1.0, 3.0, 2.0};
   m.axes[2].drive_N_per_unit = 123.0;
   require_equal(gm::parse_machine_toml(gm::machine_to_toml(m), "rt.toml"), m);
+  // Names with TOML's special characters (found by fuzz_machine: backslashes did not survive).
+  for (const char* name : {"de\\\\fault", "say \"hi\"", "tab\there", "bell\x07", "caf\xC3\xA9 \xE2\x86\x92"}) {
+    m.name = name;
+    INFO(name);
+    require_equal(gm::parse_machine_toml(gm::machine_to_toml(m), "rt.toml"), m);
+  }
 }
 
 TEST_CASE("minimal file: optional keys take the documented defaults", "[machine]") {
