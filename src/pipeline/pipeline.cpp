@@ -1,6 +1,10 @@
 // Joins interpolator, Acc/Dec, servo and contour measurement into one per-sample step.
 #include "pipeline/pipeline.hpp"
 
+#include "common/status.hpp"
+
+#include <fmt/format.h>
+
 #include <cmath>
 #include <limits>
 
@@ -79,7 +83,12 @@ PipelineStatus Pipeline::step(const OverrideInput& ovr, SampleRecord& out) {
     for (int a = 0; a < kAxes; ++a) {
       ServoAxis& s = *servo_[static_cast<std::size_t>(a)];
       table_blu_[a] = s.table_blu();  // at the start of the period, the instant the count is read
-      enc_blu_[a] = s.step(ref_blu_[a]);
+      try {
+        enc_blu_[a] = s.step(ref_blu_[a]);
+      } catch (const InputError& e) {
+        throw InputError(fmt::format("axis {} at t = {:.3f} s (line {}): {}", kAxisLetters[static_cast<std::size_t>(a)],
+                                     static_cast<double>(k_) * cfg_.machine.period_s, cmd_.line, e.what()));
+      }
       // The motor hunts inside one count at standstill (quantised feedback), so settling is
       // judged on the encoder alone: within ±1 count of the reference.
       quiet = quiet && std::llabs(enc_blu_[a] - ref_blu_[a]) <= 1;

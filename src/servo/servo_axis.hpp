@@ -23,9 +23,13 @@ namespace gm {
 ///  5. plant: u held over h (exact ZOH), minus Coulomb friction (stick-slip) if enabled;
 ///  6. lost motion: the table follows the motor inside a dead band of width backlash_blu.
 /// The drive command u is in plant input units (volts in the paper: 10 V = rated torque).
-/// Construction may allocate; step() allocates nothing.
+/// Construction may allocate; step() allocates nothing (but the exception when the loop diverges).
 class ServoAxis {
  public:
+  /// step() throws gm::InputError once the motor is this far (BLU) from its start: the loop
+  /// has diverged (1e15 BLU is a million km at 1 µm; counts stay exact below 2^53).
+  static constexpr double kMaxPositionBlu = 1e15;
+
   /// axis: plant, gains and mapping; period_s = T > 0; substeps >= 1; start_blu: the motor and
   /// the table start at rest at this count. Throws gm::InputError on an invalid configuration.
   ServoAxis(const AxisConfig& axis, double period_s, int substeps, std::int64_t start_blu);
@@ -33,6 +37,7 @@ class ServoAxis {
   /// One interpolation period T with position reference ref_blu (the Acc/Dec output for this
   /// sample). Returns the encoder count (BLU) read at the start of the period, i.e. at the same
   /// instant the reference ref_blu belongs to (what a controller logs next to its reference).
+  /// Throws gm::InputError when the loop has diverged (see kMaxPositionBlu).
   std::int64_t step(std::int64_t ref_blu);
 
   /// One period T with the position loop open: the velocity loop follows v_ref_blu_s (BLU/s).

@@ -344,3 +344,31 @@ TEST_CASE("invalid servo configuration throws", "[servo]") {
   ax.drive_N_per_unit = 500.0;
   CHECK_NOTHROW(ServoAxis(ax, kT, 1, 0));
 }
+
+TEST_CASE("an unstable loop is stopped with an error before its counts overflow") {
+  // Found by fuzz_machine: a plant gain of 3e306 made the counts run past int64 (UB in
+  // ref - count). The axis now throws once the motor is 1e15 BLU away.
+  AxisConfig a;
+  a.plant_num = {3.3e306};
+  a.plant_den = {1.0, 14.45};
+  a.kvp = 0.0422;
+  a.kvi = 0.0094;
+  a.kp_1_s = 30;
+  a.plant_blu_s_per_unit = 34000;
+  a.kv_period_s = 0.004;
+  a.drive_N_per_unit = 100.0;
+  gm::ServoAxis s(a, 0.004, 1, 0);
+  bool thrown = false;
+  try {
+    for (int k = 0; k < 1000; ++k) s.step(k);
+  } catch (const gm::InputError& e) {
+    thrown = true;
+    CHECK_THAT(e.what(), Catch::Contains("servo diverged"));
+  }
+  CHECK(thrown);
+  // A stable axis runs on.
+  AxisConfig b = a;
+  b.plant_num = {33.518};
+  gm::ServoAxis t(b, 0.004, 1, 0);
+  for (int k = 0; k < 1000; ++k) CHECK_NOTHROW(t.step(k));
+}
