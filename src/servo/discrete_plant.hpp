@@ -28,15 +28,14 @@ class DiscretePlant {
   int order() const { return n_; }
   /// Advances one period with drive command u held constant (ZOH).
   /// z ← Ad z + Bd u, each row summed in column order (the order Eigen's product uses).
+  /// Plants of order 1 and 2 (the usual ones) run a loop the compiler unrolls; the sums are the
+  /// same, term by term, as the general loop's.
   void step(double u) {
-    const int m = n_ + 1;
-    const double* a = ad_.data();  // column-major, leading dimension m
-    for (int i = 0; i < m; ++i) {
-      double s = a[i] * z_[0];
-      for (int j = 1; j < m; ++j) s += a[j * m + i] * z_[j];
-      next_[i] = s + bd_[i] * u;
+    switch (n_) {
+      case 1: step_sized<2>(u); return;
+      case 2: step_sized<3>(u); return;
+      default: step_general(u); return;
     }
-    z_.swap(next_);
   }
   /// Motor velocity, BLU/s (C x, scaled).
   double velocity_blu_s() const { return c_.dot(z_.head(n_)); }
@@ -54,6 +53,29 @@ class DiscretePlant {
   const State& bd() const { return bd_; }
 
  private:
+  template <int M>
+  void step_sized(double u) {
+    const double* a = ad_.data();  // column-major, leading dimension M
+    double* z = z_.data();
+    double next[M];
+    for (int i = 0; i < M; ++i) {
+      double s = a[i] * z[0];
+      for (int j = 1; j < M; ++j) s += a[j * M + i] * z[j];
+      next[i] = s + bd_[i] * u;
+    }
+    for (int i = 0; i < M; ++i) z[i] = next[i];
+  }
+  void step_general(double u) {
+    const int m = n_ + 1;
+    const double* a = ad_.data();
+    for (int i = 0; i < m; ++i) {
+      double s = a[i] * z_[0];
+      for (int j = 1; j < m; ++j) s += a[j * m + i] * z_[j];
+      next_[i] = s + bd_[i] * u;
+    }
+    z_.swap(next_);
+  }
+
   int n_ = 0;
   Matrix ad_;
   State bd_;

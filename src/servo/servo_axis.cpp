@@ -58,7 +58,9 @@ std::int64_t ServoAxis::step(std::int64_t ref_blu) {
   const std::int64_t count0 = count_now();
   const double delta = static_cast<double>(ref_blu - prev_ref_);
   saturated_ = false;
-  for (int j = 0; j < substeps_; ++j) {
+  // j = 0 gives ref + 0.0 = ref exactly, so one substep needs no extrapolation arithmetic.
+  servo_sample(static_cast<double>(ref_blu), true, 0.0);
+  for (int j = 1; j < substeps_; ++j) {
     const double r = static_cast<double>(ref_blu) + delta * j / substeps_;
     servo_sample(r, true, 0.0);
   }
@@ -77,7 +79,7 @@ void ServoAxis::step_velocity(double v_ref_blu_s) {
   for (int j = 0; j < substeps_; ++j) servo_sample(0.0, false, v_ref_blu_s);
 }
 
-void ServoAxis::servo_sample(double pos_ref_blu, bool position_loop, double v_ref_blu_s) {
+inline void ServoAxis::servo_sample(double pos_ref_blu, bool position_loop, double v_ref_blu_s) {
   const std::int64_t count = count_now();
   // Velocity feedback and reference in encoder counts per kv_period_s.
   const double y = static_cast<double>(count - prev_count_) * kv_over_h_;
@@ -105,7 +107,7 @@ void ServoAxis::servo_sample(double pos_ref_blu, bool position_loop, double v_re
   else if (p - table_rel_ < -half_backlash_) table_rel_ = p + half_backlash_;
 }
 
-void ServoAxis::plant_step(double u) {
+inline void ServoAxis::plant_step(double u) {
   if (u_coulomb_ <= 0.0) {
     plant_.step(u);
     return;
