@@ -1,11 +1,13 @@
 // FirAccDec: exact integer FIR on relative positions (direct, symmetric and running-sum forms).
 #include "accdec/fir_filter.hpp"
 
+#include "common/rounding.hpp"
 #include "common/status.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 
 namespace gm {
@@ -26,22 +28,60 @@ std::int64_t div_round_half_away(Acc acc, Acc den) {
 
 namespace {
 
-// Σ_j tap[j]·col[4j .. 4j+3] over n columns, four lanes at a time (GCC/Clang vector extensions,
-// so the lane width follows the target the caller is compiled for).
-__attribute__((always_inline)) inline void dot4(const double* col, const double* tap, int n, double* out) {
-  __extension__ typedef double Lanes __attribute__((vector_size(32)));
-  Lanes acc = {0.0, 0.0, 0.0, 0.0};
-  for (int j = 0; j < n; ++j, col += 4) {
-    Lanes x;
-    std::memcpy(&x, col, sizeof x);  // columns are 16-byte aligned only
-    acc += tap[j] * x;
+__extension__ typedef double Lanes __attribute__((vector_size(32)));
+
+// acc += t·col (columns are 16-byte aligned only, hence the copies; by reference, not by value,
+// so no function passes a 32-byte vector in registers without AVX).
+__attribute__((always_inline)) inline void add_product(Lanes& acc, double t, const double* col) {
+  Lanes x;
+  std::memcpy(&x, col, sizeof x);
+  acc += t * x;
+}
+// acc += t·(lo + hi): a mirrored pair of columns with equal taps.
+__attribute__((always_inline)) inline void add_pair_product(Lanes& acc, double t, const double* lo, const double* hi) {
+  Lanes x, y;
+  std::memcpy(&x, lo, sizeof x);
+  std::memcpy(&y, hi, sizeof y);
+  acc += t * (x + y);
+}
+
+// Σ_j tap[j]·col[4j .. 4j+3] over n columns, four lanes (axes) at a time, into out[0..3].
+// `folded`: the taps are symmetric (tap[j] = tap[n-1-j]), so pairs of columns are added first
+// and each pair multiplied once. Every product and partial sum is an integer below 2^53 (the
+// caller's condition), so the result does not depend on the order of the additions: two
+// accumulators, and the fold, give the same sums as one left-to-right loop. GCC/Clang vector
+// extensions, so the lane width follows the target the caller is compiled for.
+__attribute__((always_inline)) inline void dot4(const double* col, const double* tap, int n, bool folded,
+                                                double* out) {
+  Lanes acc0 = {0.0, 0.0, 0.0, 0.0}, acc1 = acc0;
+  if (folded) {
+    const int pairs = n / 2;
+    const double* hi = col + 4 * (n - 1);
+    int j = 0;
+    for (; j + 1 < pairs; j += 2) {
+      add_pair_product(acc0, tap[j], col + 4 * j, hi - 4 * j);
+      add_pair_product(acc1, tap[j + 1], col + 4 * (j + 1), hi - 4 * (j + 1));
+    }
+    for (; j < pairs; ++j) add_pair_product(acc0, tap[j], col + 4 * j, hi - 4 * j);
+    if (n % 2 == 1) add_product(acc1, tap[pairs], col + 4 * pairs);
+  } else {
+    int j = 0;
+    for (; j + 1 < n; j += 2) {
+      add_product(acc0, tap[j], col + 4 * j);
+      add_product(acc1, tap[j + 1], col + 4 * (j + 1));
+    }
+    if (j < n) add_product(acc0, tap[j], col + 4 * j);
   }
+  const Lanes acc = acc0 + acc1;
   std::memcpy(out, &acc, sizeof acc);
 }
-__attribute__((target("avx2"))) void dot4_avx2(const double* col, const double* tap, int n, double* out) {
-  dot4(col, tap, n, out);
+__attribute__((target("avx2"))) void dot4_avx2(const double* col, const double* tap, int n, bool folded,
+                                               double* out) {
+  dot4(col, tap, n, folded, out);
 }
-void dot4_baseline(const double* col, const double* tap, int n, double* out) { dot4(col, tap, n, out); }
+void dot4_baseline(const double* col, const double* tap, int n, bool folded, double* out) {
+  dot4(col, tap, n, folded, out);
+}
 
 // Asked once per filter: an explicit check rather than an ifunc (target_clones), whose
 // resolver runs before the sanitizers' runtimes are up.
@@ -67,6 +107,7 @@ FirAccDec::FirAccDec(const Taps& taps, const AxisBlu& start_pos_blu, FirStructur
   }
   if (sum <= 0) throw InputError(fmt::format("profile '{}': b_s = {} must be > 0", taps.profile, sum));
   b_s_ = sum;
+  b_s_real_ = static_cast<double>(sum);
   length_ = static_cast<int>(taps_.size());
   equal_run_ = length_;  // the history is the start position repeated
 
@@ -110,15 +151,14 @@ FirAccDec::Acc FirAccDec::convolve(int axis) const {
 }
 
 
-// AVX2 when the CPU has it (one 4-lane operation per tap), SSE2 otherwise; the sums are exact
-// integers either way, so the result does not depend on which one runs.
-void FirAccDec::convolve_fast(std::array<std::int64_t, kAxes>& sums) const {
+// AVX2 when the CPU has it (one 4-lane operation per tap pair), SSE2 otherwise; the sums are
+// exact integers either way, so the result does not depend on which one runs.
+void FirAccDec::convolve_fast(double (&sums)[4]) const {
   static_assert(kAxes <= 4, "the fast path packs the axes into 4 lanes");
-  double acc[4];
   const double* col = window_.data() + 4 * (head_ + 1);  // the oldest sample of the window
-  if (use_avx2_) dot4_avx2(col, taps_oldest_first_.data(), length_, acc);
-  else dot4_baseline(col, taps_oldest_first_.data(), length_, acc);
-  for (int a = 0; a < kAxes; ++a) sums[static_cast<std::size_t>(a)] = static_cast<std::int64_t>(acc[a]);
+  const bool folded = structure_ == FirStructure::Symmetric;
+  if (use_avx2_) dot4_avx2(col, taps_oldest_first_.data(), length_, folded, sums);
+  else dot4_baseline(col, taps_oldest_first_.data(), length_, folded, sums);
 }
 
 void FirAccDec::step(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu) {
@@ -144,14 +184,19 @@ void FirAccDec::step(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu) {
     }
   }
   const bool fast = big_in_window_ == 0;  // every |rel| in the window <= fast_limit_
-  std::array<std::int64_t, kAxes> sums{};
+  double sums[4] = {0.0, 0.0, 0.0, 0.0};
   if (fast && !running) convolve_fast(sums);
   for (int a = 0; a < kAxes; ++a) {
     std::int64_t q;
-    if (fast) {
+    if (fast && !running && std::fabs(sums[a]) < kQuotientExact) {
+      // |sum| < 2^51: the double quotient lies within 1/(4 b_s) of the exact one, and the
+      // exact one is at least 1/(2 b_s) from any half-integer it does not equal (a half is
+      // representable here), so rounding the double quotient rounds the exact one.
+      q = round_half_away(sums[a] / b_s_real_);
+    } else if (fast) {
       // |sum| <= b_s * fast_limit_ < 2^53: int64 arithmetic is exact.
       const std::int64_t sum = running ? static_cast<std::int64_t>(running_[static_cast<std::size_t>(a)]) * taps_.front()
-                                       : sums[static_cast<std::size_t>(a)];
+                                       : static_cast<std::int64_t>(sums[a]);
       q = div_round_half_away<std::int64_t>(sum, b_s_);
     } else {
       const Acc acc = running ? running_[static_cast<std::size_t>(a)] * Acc{taps_.front()} : convolve(a);

@@ -57,10 +57,12 @@ class FirAccDec {
   __extension__ using Acc = __int128;
 
   Acc convolve(int axis) const;  // Σ b_i·hist[k-i] for the current head (exact path)
-  void convolve_fast(std::array<std::int64_t, kAxes>& sums) const;  // the same sums, fast path
+  void convolve_fast(double (&sums)[4]) const;  // the same sums (exact integers in double), fast path
 
   std::vector<std::int64_t> taps_;   // integer taps b_0..b_N
   std::int64_t b_s_ = 1;
+  double b_s_real_ = 1.0;            // b_s_ as a double (exact whenever a fast sum is non-zero)
+  static constexpr double kQuotientExact = 2251799813685248.0;  // 2^51: see step()
   int length_ = 1;
   FirStructure structure_ = FirStructure::Direct;
   AxisBlu start_ = AxisBlu::Zero();

@@ -200,8 +200,12 @@ TEST_CASE("fast (double) and exact (__int128) evaluations agree across the exact
   const std::uint64_t seed = 77031;
   std::mt19937_64 rng(seed);
   CAPTURE(seed);
+  // Odd and even symmetric lengths (folded pairs, with and without a middle tap), asymmetric
+  // taps (scurve2, custom:3,1: no fold), and b_s = 2 and 4, whose quotients are often exact halves.
   const std::pair<const char*, double> cases[] = {
-      {"blackman", 0.164}, {"scurve1", 0.164}, {"linear", 0.164}, {"custom:1,5,9,5,1", 0.02}};
+      {"blackman", 0.164}, {"scurve1", 0.164}, {"linear", 0.164}, {"custom:1,5,9,5,1", 0.02},
+      {"scurve2", 0.164},  {"custom:1,5,5,1", 0.016}, {"custom:3,1", 0.008}, {"custom:1,1", 0.008},
+      {"custom:1,2,1", 0.012}};
   for (const auto& [spec, tau_s] : cases) {
     INFO(spec);
     const auto taps = gm::design_taps(spec, tau_s, 0.004);
@@ -215,12 +219,17 @@ TEST_CASE("fast (double) and exact (__int128) evaluations agree across the exact
     // Wander around ±lim so the window holds small and large values, then come back so the
     // fast path takes over again; positions go up to 16·lim (far beyond what doubles hold exactly).
     std::int64_t x = 0;
-    for (int k = 0; k < 3000; ++k) {
+    // Phase 6 holds the sums around ±2^51 (x near lim/4), where the rounding division moves
+    // from double to int64 arithmetic; phase 7 keeps every x just inside the limit, so the
+    // fast path runs with sums just below 2^53, where a double quotient would round wrongly.
+    for (int k = 0; k < 4000; ++k) {
       const int phase = k / 500;  // 0: small, 1: near the limit, 2: far, 3: near, 4: small, 5: at ±lim
       if (phase == 0 || phase == 4) x = std::uniform_int_distribution<std::int64_t>(-5000, 5000)(rng);
       else if (phase == 1 || phase == 3) x = lim + std::uniform_int_distribution<std::int64_t>(-50, 50)(rng);
       else if (phase == 2) x = std::uniform_int_distribution<std::int64_t>(-16 * lim, 16 * lim)(rng) | 1;
-      else x = (k % 2 == 0 ? lim : -lim) - (k % 3);
+      else if (phase == 5) x = (k % 2 == 0 ? lim : -lim) - (k % 3);
+      else if (phase == 6) x = (k % 4 < 2 ? 1 : -1) * (lim / 4 + std::uniform_int_distribution<std::int64_t>(-3, 3)(rng));
+      else x = lim - std::uniform_int_distribution<std::int64_t>(0, 60)(rng);
       hist.push_back(x);
       f.step(blu(x, -x, x / 3), o);
       __extension__ using I128 = __int128;
