@@ -86,6 +86,11 @@ int run(const RunFlags& f) {
   opts.block_delete = f.machine.block_delete;
   if (!validate_program(program, opts)) return static_cast<int>(ExitCode::InputError);
 
+  // The summary, the trace and the contour error consume the samples; with two cores they do
+  // it on the second one, fed in batches (same records, same order: the outputs are
+  // byte-identical). Real-time runs stay on one thread.
+  const bool two_threads = !f.realtime && std::thread::hardware_concurrency() >= 2;
+  cfg.defer_contour = two_threads;
   ProgramStream stream(program.rewind(), program.name(), opts);
   Pipeline pipeline(cfg, stream);
 
@@ -111,15 +116,15 @@ int run(const RunFlags& f) {
   if (f.realtime) live.emplace(STDIN_FILENO, max_pct);
   std::optional<OverrideRecorder> recorder;
   if (!f.record_override.empty()) recorder.emplace(f.record_override, cfg.machine.period_s);
-  // The summary and the trace consume the samples; with two cores they do it on the second
-  // one, fed in batches (same records, same order: the outputs are byte-identical). Real-time
-  // runs stay on one thread.
-  auto consume = [&](const SampleRecord& r) {
+  std::optional<ContourMeter> meter;
+  if (cfg.defer_contour) meter.emplace(pipeline.contour_meter());
+  auto consume = [&](SampleRecord& r, const Motion* started) {
+    if (meter) meter->measure(r, started);
     summary.add(r);
     if (trace) trace->write(r);
   };
   std::optional<SampleQueue> queue;
-  if (!f.realtime && std::thread::hardware_concurrency() >= 2) queue.emplace(consume);
+  if (two_threads) queue.emplace(consume);
   OverrideInput ovr;
   SampleRecord rec, last;
   const bool progress = isatty(STDERR_FILENO) != 0 && !f.realtime;
@@ -154,8 +159,8 @@ int run(const RunFlags& f) {
     if (f.realtime)
       std::this_thread::sleep_until(t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                              std::chrono::duration<double>(rec.t_s + cfg.machine.period_s)));
-    if (queue) queue->push(rec);
-    else consume(rec);
+    if (queue) queue->push(rec, pipeline.started_motion());
+    else consume(rec, nullptr);  // step() measured the contour itself
     last = rec;
     if (progress && (rec.k & 0xFFFF) == 0 && std::chrono::steady_clock::now() > next_progress) {
       fmt::print(stderr, "\r{}: t = {:.1f} s, line {}   ", program.name(), rec.t_s, rec.line);

@@ -34,6 +34,9 @@ class PathWindow {
   /// Not const: remembers where the nearest block was, to start the next search there.
   double contour_error_mm(const AxisVec& p_mm, std::int64_t k);
 
+  /// The block pushed last (the current one), nullptr before the first.
+  const Motion* newest() const { return count_ > 0 ? &ring_[static_cast<std::size_t>(head_)].motion : nullptr; }
+
   /// Signed radial deviation of `p_mm` from arc `m` (mm); `m` must be an arc.
   static double radial_deviation_mm(const Motion& m, const AxisVec& p_mm);
 

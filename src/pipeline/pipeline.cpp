@@ -32,12 +32,11 @@ std::int64_t servo_lag_samples(const Machine& m) {
 
 Pipeline::Pipeline(const RunConfig& cfg, CanonSource& source)
     : cfg_(cfg),
-      blu_mm_(cfg.machine.blu_mm()),
-      contour_blu_mm_(blu_mm_.minCoeff()),
       taps_(design_taps(cfg.machine.profile, cfg.machine.tau_s, cfg.machine.period_s)),
       interp_(interpolator_config(cfg.machine, static_cast<int>(taps_.integer.size())), source),
       accdec_(taps_, AxisBlu::Zero()),
-      window_(static_cast<std::int64_t>(taps_.integer.size()) + (cfg.servo ? servo_lag_samples(cfg.machine) : 0)),
+      lag_samples_(static_cast<std::int64_t>(taps_.integer.size()) + (cfg.servo ? servo_lag_samples(cfg.machine) : 0)),
+      meter_(contour_meter()),
       ref_blu_(AxisBlu::Zero()),
       enc_blu_(AxisBlu::Zero()),
       last_cmd_blu_(AxisBlu::Zero()) {
@@ -46,9 +45,12 @@ Pipeline::Pipeline(const RunConfig& cfg, CanonSource& source)
       servo_[static_cast<std::size_t>(a)].emplace(cfg_.machine.axes[static_cast<std::size_t>(a)],
                                                   cfg_.machine.period_s, cfg_.machine.servo_substeps, 0);
   }
-  steady_after_ = static_cast<std::int64_t>(taps_.integer.size()) +
-                  (cfg_.servo ? servo_lag_samples(cfg_.machine) : 0);
   cmd_.pos_blu = AxisBlu::Zero();
+}
+
+ContourMeter Pipeline::contour_meter() const {
+  // A block counts as steady, and a past block stops being a candidate, after the same delay.
+  return ContourMeter(cfg_.machine.blu_mm(), lag_samples_, lag_samples_);
 }
 
 bool Pipeline::settled() const {
@@ -58,6 +60,7 @@ bool Pipeline::settled() const {
 }
 
 PipelineStatus Pipeline::step(const OverrideInput& ovr, SampleRecord& out) {
+  started_ = nullptr;
   if (!program_done_) {
     if (interp_.step(ovr, cmd_) == InterpStatus::Finished) {
       program_done_ = true;
@@ -66,8 +69,7 @@ PipelineStatus Pipeline::step(const OverrideInput& ovr, SampleRecord& out) {
       last_cmd_blu_ = cmd_.pos_blu;
       if (cmd_.block_seq != seen_block_) {
         seen_block_ = cmd_.block_seq;
-        block_start_k_ = k_;
-        if (const Motion* m = interp_.current_motion()) window_.push(*m, k_);
+        started_ = interp_.current_motion();
       }
     }
   }
@@ -108,24 +110,9 @@ PipelineStatus Pipeline::step(const OverrideInput& ovr, SampleRecord& out) {
   out.ferr_blu = ref_blu_ - enc_blu_;
   out.feed_scale = cmd_.feed_scale;
   out.events = program_done_ ? 0u : cmd_.events;
-
-  // Contour error of the table (what a ballbar measures: lost motion and friction show here),
-  // not of the motor encoder a semi-closed loop reads.
-  const AxisVec enc_mm = enc_blu_.cast<double>().cwiseProduct(blu_mm_);
-  const AxisVec table_mm = table_blu_.cwiseProduct(blu_mm_);
-  out.contour_err_blu = window_.contour_error_mm(table_mm, k_) / contour_blu_mm_;
-
-  out.arc_ref_dev_blu = out.arc_enc_dev_blu = std::numeric_limits<double>::quiet_NaN();
-  const Motion* m = program_done_ ? nullptr : interp_.current_motion();
-  // Steady: the interpolator has been moving on this arc for longer than the filter and servo
-  // delays, and is not waiting at its end (exact stop), in a dwell or in a hold.
-  constexpr std::uint32_t kNotMoving = kEventSettle | kEventDwell | kEventHold;
-  if ((out.events & kNotMoving) != 0) last_pause_k_ = k_;
-  if (m != nullptr && m->kind == MotionKind::Arc && k_ - std::max(block_start_k_, last_pause_k_) >= steady_after_) {
-    const AxisVec ref_mm = ref_blu_.cast<double>().cwiseProduct(blu_mm_);
-    out.arc_ref_dev_blu = PathWindow::radial_deviation_mm(*m, ref_mm) / contour_blu_mm_;
-    out.arc_enc_dev_blu = PathWindow::radial_deviation_mm(*m, enc_mm) / contour_blu_mm_;
-  }
+  out.settling = program_done_;
+  out.table_blu = table_blu_;
+  if (!cfg_.defer_contour) meter_.measure(out, started_);
   ++k_;
   return PipelineStatus::Working;
 }

@@ -7,7 +7,7 @@
 #include "interp/canon.hpp"
 #include "interpolator/interpolator.hpp"
 #include "machine/machine.hpp"
-#include "pipeline/path_window.hpp"
+#include "pipeline/contour_meter.hpp"
 #include "pipeline/sample_record.hpp"
 #include "servo/servo_axis.hpp"
 
@@ -22,6 +22,10 @@ struct RunConfig {
   Machine machine;
   bool servo = true;                 ///< false: ideal axes, the encoder reads the Acc/Dec output
   double settle_timeout_s = 10.0;    ///< after the program ends, how long the axes may take to settle
+  /// false: step() measures the contour error itself. true: step() leaves contour_err_blu and
+  /// arc_*_dev_blu for a ContourMeter from contour_meter() fed every record with
+  /// started_motion(), e.g. on another thread (the same values, measured elsewhere).
+  bool defer_contour = false;
 };
 
 enum class PipelineStatus {
@@ -44,26 +48,29 @@ class Pipeline {
   const Machine& machine() const { return cfg_.machine; }
   /// Programmed end point of the last motion block (BLU, rounded once).
   const AxisBlu& program_end_blu() const { return last_cmd_blu_; }
+  /// The motion block that became current in the last step(), nullptr if none did. Valid until
+  /// the next step().
+  const Motion* started_motion() const { return started_; }
+  /// A new meter set up for this pipeline's machine, filter and servo lag: with defer_contour,
+  /// feed it every record of step() with started_motion() to complete the records.
+  ContourMeter contour_meter() const;
 
  private:
   bool settled() const;
 
   RunConfig cfg_;
-  AxisVec blu_mm_;
-  double contour_blu_mm_;  ///< the BLU contour error is expressed in (smallest axis BLU)
   Taps taps_;
   Interpolator interp_;
   FirAccDec accdec_;
   std::array<std::optional<ServoAxis>, kAxes> servo_;
-  PathWindow window_;
+  std::int64_t lag_samples_;  ///< Acc/Dec length + servo lag: how long a past block can be nearest
+  ContourMeter meter_;        ///< used unless defer_contour
   CommandSample cmd_{};
   AxisBlu ref_blu_, enc_blu_, last_cmd_blu_;
   AxisVec table_blu_ = AxisVec::Zero();  ///< table positions (BLU, continuous) at the sample instant
   std::int64_t k_ = 0;
   std::uint64_t seen_block_ = 0;
-  std::int64_t block_start_k_ = 0;
-  std::int64_t last_pause_k_ = -1;  ///< last sample the interpolator was not moving
-  std::int64_t steady_after_ = 0;  ///< samples after a block start before it counts as steady
+  const Motion* started_ = nullptr;
   bool program_done_ = false;
   std::int64_t done_k_ = 0;
   int quiet_samples_ = 0;

@@ -29,7 +29,7 @@ void SampleQueue::hand_over() {
   std::unique_lock<std::mutex> lock(mutex_);
   changed_.wait(lock, [&] { return !next.full || error_ != nullptr; });
   if (error_) std::rethrow_exception(error_);
-  next.count = 0;
+  next.count = next.motion_count = 0;
 }
 
 void SampleQueue::finish() {
@@ -53,7 +53,11 @@ void SampleQueue::consume_loop() {
       if (!b.full) return;  // stopped, nothing more to consume
     }
     try {
-      for (std::size_t j = 0; j < b.count; ++j) consume_(b.records[j]);
+      std::size_t m = 0;
+      for (std::size_t j = 0; j < b.count; ++j) {
+        const bool started = m < b.motion_count && b.motion_row[m] == j;
+        consume_(b.records[j], started ? &b.motions[m++] : nullptr);
+      }
     } catch (...) {
       std::lock_guard<std::mutex> lock(mutex_);
       error_ = std::current_exception();

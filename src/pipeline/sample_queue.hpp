@@ -2,11 +2,13 @@
 // summary and the trace take their share of the work on the other core.
 #pragma once
 
+#include "interp/canon.hpp"
 #include "pipeline/sample_record.hpp"
 
 #include <array>
 #include <condition_variable>
 #include <cstddef>
+#include <cstdint>
 #include <exception>
 #include <functional>
 #include <mutex>
@@ -16,14 +18,16 @@
 namespace gm {
 
 /// A bounded single-producer/single-consumer queue of SampleRecord batches with its consumer
-/// thread. The consumer sees every record pushed, in order, exactly once. Memory is fixed at
-/// construction (kBatches × kBatchSize records); push() blocks while every batch is full.
-/// An exception thrown by the consumer stops it and is rethrown by the next push() or finish().
+/// thread. The consumer sees every record pushed, in order, exactly once, with the motion block
+/// pushed with it (a copy; nullptr when none was), and may complete the record in place (the
+/// contour error: ContourMeter). Memory is fixed at construction (kBatches × kBatchSize records
+/// and motions); push() blocks while every batch is full. An exception thrown by the consumer
+/// stops it and is rethrown by the next push() or finish().
 class SampleQueue {
  public:
   static constexpr std::size_t kBatches = 3;
   static constexpr std::size_t kBatchSize = 4096;
-  using Consumer = std::function<void(const SampleRecord&)>;
+  using Consumer = std::function<void(SampleRecord&, const Motion*)>;
 
   /// Starts the consumer thread, which calls `consume` for each record.
   explicit SampleQueue(Consumer consume);
@@ -32,9 +36,14 @@ class SampleQueue {
   SampleQueue(const SampleQueue&) = delete;
   SampleQueue& operator=(const SampleQueue&) = delete;
 
-  /// Appends a record; hands the batch over when it is full. Allocates nothing.
-  void push(const SampleRecord& r) {
+  /// Appends a record and the motion block that started in it (copied; nullptr: none); hands
+  /// the batch over when it is full. Allocates nothing.
+  void push(const SampleRecord& r, const Motion* started = nullptr) {
     Batch& b = batches_[fill_];
+    if (started != nullptr) {
+      b.motions[b.motion_count] = *started;
+      b.motion_row[b.motion_count++] = static_cast<std::uint32_t>(b.count);
+    }
     b.records[b.count++] = r;
     if (b.count == kBatchSize) hand_over();
   }
@@ -45,7 +54,10 @@ class SampleQueue {
  private:
   struct Batch {
     std::vector<SampleRecord> records = std::vector<SampleRecord>(kBatchSize);
+    std::vector<Motion> motions = std::vector<Motion>(kBatchSize);               ///< in push order
+    std::vector<std::uint32_t> motion_row = std::vector<std::uint32_t>(kBatchSize);  ///< record of each motion
     std::size_t count = 0;
+    std::size_t motion_count = 0;
     bool full = false;  ///< handed over, not yet consumed
   };
   void hand_over();

@@ -17,7 +17,7 @@ TEST_CASE("sample queue delivers every record once and in order") {
                          std::int64_t{4097}, std::int64_t{3 * 4096}, std::int64_t{100003}}) {
     std::vector<std::int64_t> seen;
     seen.reserve(static_cast<std::size_t>(n));
-    SampleQueue q([&](const SampleRecord& r) { seen.push_back(r.k); });
+    SampleQueue q([&](SampleRecord& r, const gm::Motion*) { seen.push_back(r.k); });
     SampleRecord r;
     for (std::int64_t k = 0; k < n; ++k) {
       r.k = k;
@@ -31,8 +31,37 @@ TEST_CASE("sample queue delivers every record once and in order") {
   }
 }
 
+TEST_CASE("sample queue hands each motion to the consumer with the record it was pushed with") {
+  // Motions on every 7th record and on both sides of each batch boundary; line = k marks them.
+  auto has_motion = [](std::int64_t k) {
+    const auto in_batch = k % static_cast<std::int64_t>(SampleQueue::kBatchSize);
+    return k % 7 == 0 || in_batch == 0 || in_batch == static_cast<std::int64_t>(SampleQueue::kBatchSize) - 1;
+  };
+  const std::int64_t n = 5 * static_cast<std::int64_t>(SampleQueue::kBatchSize) + 11;
+  std::int64_t seen = 0, with_motion = 0, wrong = 0;
+  SampleQueue q([&](SampleRecord& r, const gm::Motion* m) {
+    ++seen;
+    if (m != nullptr) ++with_motion;
+    if ((m != nullptr) != has_motion(r.k) || (m != nullptr && m->line != r.k)) ++wrong;
+  });
+  SampleRecord r;
+  gm::Motion motion;
+  std::int64_t expected = 0;
+  for (std::int64_t k = 0; k < n; ++k) {
+    r.k = k;
+    motion.line = static_cast<int>(k);
+    const bool with = has_motion(k);
+    expected += with ? 1 : 0;
+    q.push(r, with ? &motion : nullptr);
+  }
+  q.finish();
+  CHECK(seen == n);
+  CHECK(with_motion == expected);
+  CHECK(wrong == 0);
+}
+
 TEST_CASE("sample queue rethrows the consumer's exception to the producer") {
-  SampleQueue q([](const SampleRecord& r) {
+  SampleQueue q([](SampleRecord& r, const gm::Motion*) {
     if (r.k == 5000) throw std::runtime_error("disk full at 5000");
   });
   SampleRecord r;
@@ -54,7 +83,7 @@ TEST_CASE("sample queue rethrows the consumer's exception to the producer") {
 TEST_CASE("sample queue destroyed mid-run joins its thread") {
   std::atomic<std::int64_t> consumed{0};
   {
-    SampleQueue q([&](const SampleRecord&) { ++consumed; });
+    SampleQueue q([&](SampleRecord&, const gm::Motion*) { ++consumed; });
     SampleRecord r;
     for (std::int64_t k = 0; k < 50000; ++k) q.push(r);
     // no finish(): the producer gave up (an error, SIGINT); the destructor must not hang

@@ -1,0 +1,38 @@
+// ContourMeter: per-sample contour error and steady-arc radial deviations from a SampleRecord.
+#include "pipeline/contour_meter.hpp"
+
+#include "interpolator/interpolator.hpp"
+
+#include <algorithm>
+#include <limits>
+
+namespace gm {
+
+ContourMeter::ContourMeter(const AxisVec& blu_mm, std::int64_t window_samples, std::int64_t steady_after)
+    : blu_mm_(blu_mm), contour_blu_mm_(blu_mm.minCoeff()), window_(window_samples), steady_after_(steady_after) {}
+
+void ContourMeter::measure(SampleRecord& r, const Motion* started) {
+  if (started != nullptr) {
+    window_.push(*started, r.k);
+    block_start_k_ = r.k;
+  }
+  // Contour error of the table (what a ballbar measures: lost motion and friction show here),
+  // not of the motor encoder a semi-closed loop reads.
+  const AxisVec table_mm = r.table_blu.cwiseProduct(blu_mm_);
+  r.contour_err_blu = window_.contour_error_mm(table_mm, r.k) / contour_blu_mm_;
+
+  r.arc_ref_dev_blu = r.arc_enc_dev_blu = std::numeric_limits<double>::quiet_NaN();
+  const Motion* m = r.settling ? nullptr : window_.newest();
+  // Steady: the interpolator has been moving on this arc for longer than the filter and servo
+  // delays, and is not waiting at its end (exact stop), in a dwell or in a hold.
+  constexpr std::uint32_t kNotMoving = kEventSettle | kEventDwell | kEventHold;
+  if ((r.events & kNotMoving) != 0) last_pause_k_ = r.k;
+  if (m != nullptr && m->kind == MotionKind::Arc && r.k - std::max(block_start_k_, last_pause_k_) >= steady_after_) {
+    const AxisVec ref_mm = r.ref_blu.cast<double>().cwiseProduct(blu_mm_);
+    const AxisVec enc_mm = r.enc_blu.cast<double>().cwiseProduct(blu_mm_);
+    r.arc_ref_dev_blu = PathWindow::radial_deviation_mm(*m, ref_mm) / contour_blu_mm_;
+    r.arc_enc_dev_blu = PathWindow::radial_deviation_mm(*m, enc_mm) / contour_blu_mm_;
+  }
+}
+
+}  // namespace gm

@@ -1,0 +1,40 @@
+// Contour error of each sample: the table position against the recent programmed path, in BLU.
+#pragma once
+
+#include "common/axis.hpp"
+#include "interp/canon.hpp"
+#include "pipeline/path_window.hpp"
+#include "pipeline/sample_record.hpp"
+
+#include <cstdint>
+
+namespace gm {
+
+/// Measures what the table did against the programmed path: SampleRecord::contour_err_blu and,
+/// on the steady part of an arc, arc_ref_dev_blu and arc_enc_dev_blu. It reads only the record
+/// and the motions handed to it, so it runs inside Pipeline::step or, fed the same records in
+/// the same order, on another thread (gmotion run does that): the results are the same.
+/// Nothing is allocated per sample.
+class ContourMeter {
+ public:
+  /// blu_mm: BLU per axis (the errors are expressed in the smallest); window_samples: how long
+  /// after its end a block stays a candidate for the nearest point (Acc/Dec length + servo lag);
+  /// steady_after: samples after a block start, or a pause, before an arc counts as steady.
+  ContourMeter(const AxisVec& blu_mm, std::int64_t window_samples, std::int64_t steady_after);
+
+  /// Fills r.contour_err_blu, r.arc_ref_dev_blu and r.arc_enc_dev_blu from r.k, r.table_blu,
+  /// r.ref_blu, r.enc_blu, r.events and r.settling. `started` is the motion block that became
+  /// current in this sample (Pipeline::started_motion()), nullptr if none did. Samples must
+  /// come in order, each once.
+  void measure(SampleRecord& r, const Motion* started);
+
+ private:
+  AxisVec blu_mm_;
+  double contour_blu_mm_;  ///< the BLU the errors are expressed in (smallest axis BLU)
+  PathWindow window_;
+  std::int64_t steady_after_;
+  std::int64_t block_start_k_ = 0;
+  std::int64_t last_pause_k_ = -1;  ///< last sample the interpolator was not moving
+};
+
+}  // namespace gm
