@@ -18,7 +18,7 @@ const std::string kPocket = kRepo + "/programs/pocket.nc";
 fs::path scratch() { return gmtest::scratch_dir("integrity"); }
 }  // namespace
 
-TEST_CASE("a trace to /dev/full fails with the reason; /dev/full stays a device") {
+TEST_CASE("a trace to /dev/full fails with the reason and /dev/full stays a device") {
   const auto r = gmtest::run_gmotion("run " + kPocket + " --trace /dev/full");
   CHECK(r.code == 1);
   CHECK_THAT(r.out, Catch::Contains("cannot write trace '/dev/full': No space left on device"));
