@@ -7,6 +7,10 @@ Layout (little-endian, no padding): 8-byte magic b"GMTRACE1", uint32 header leng
 text (the same '#' lines and column line as the CSV trace), then one record per row:
 int64 k, int32 line, then per axis int64 cmd, ref, enc, ferr, then float64 contour_err (BLU)
 and float64 override (percent).
+
+A trace written with `run --keep-partial` has a fixed-width `# status:` header line, copied like
+the others; when it says the trace is partial, an incomplete last record (a killed run) is left
+out with a note on stderr instead of being an error.
 """
 import struct
 import sys
@@ -22,6 +26,7 @@ def read_trace(path):
         columns = header.strip().splitlines()[-1].split(",")
         axes = (len(columns) - 4) // 4
         period = float(next(l for l in header.splitlines() if l.startswith("# period_s:")).split(":")[1])
+        partial = any(l.startswith("# status: partial") for l in header.splitlines())
         rec = struct.Struct("<qi" + "q" * (4 * axes) + "dd")
         yield header
         while True:
@@ -29,6 +34,9 @@ def read_trace(path):
             if not chunk:
                 return
             if len(chunk) != rec.size:
+                if partial:
+                    print(f"{path}: partial trace: its incomplete last record is left out", file=sys.stderr)
+                    return
                 raise SystemExit(f"{path}: truncated record at the end of the file")
             v = rec.unpack(chunk)
             yield (v[0] * period,) + v[1:]

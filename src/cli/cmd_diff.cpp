@@ -29,8 +29,20 @@ double resolution(const std::string& column) {
   return 0.0;
 }
 
+// Why a partial trace (`run --keep-partial`) stopped, from its status line.
+std::string why_partial(const TraceReader& t) {
+  const std::string s = t.status();
+  if (s.rfind("partial: ", 0) == 0) return s.substr(9);
+  return "its run never finished: killed, or still running";
+}
+
 int diff(const DiffFlags& f) {
   TraceReader a(f.a), b(f.b);
+  // A partial trace is compared as far as it goes; its missing rows count as a difference.
+  for (const TraceReader* t : {&a, &b})
+    if (t->partial())
+      fmt::print(stderr, "warning: {} = {} is a partial trace ({}); comparing the rows it has\n", t == &a ? "A" : "B",
+                 t->path(), why_partial(*t));
   // Traces of different set-ups are not comparable: say which header line differs.
   for (const char* key : {"machine", "profile", "period_s", "blu_mm", "servo", "decimate"}) {
     if (a.header_value(key) != b.header_value(key))
@@ -82,6 +94,9 @@ int diff(const DiffFlags& f) {
     }
     ++rows;
   }
+  for (const TraceReader* t : {&a, &b})
+    if (t->dropped_tail())
+      fmt::print(stderr, "warning: {} = {} ends in an incomplete row, not compared\n", t == &a ? "A" : "B", t->path());
 
   fmt::print("A = {}\nB = {}\n{} rows compared, tolerance {}\n", f.a, f.b, rows, f.tol);
   fmt::print("largest difference per column:");
@@ -106,8 +121,12 @@ void add_diff(CLI::App& app, Context& ctx) {
   sub->add_option("--tol", flags->tol, "Largest allowed difference per value (BLU for positions; default 0)")
       ->check(CLI::NonNegativeNumber);
   sub->add_option("--columns", flags->columns, "Only these columns (comma-separated)")->delimiter(',');
-  sub->footer("Exit 0 when every compared value is within the tolerance, 1 when one is not or the traces\n"
-              "are of different machines, profiles, periods, BLU or columns.");
+  sub->footer(
+      "Exit 0 when every compared value is within the tolerance, 1 when one is not or the traces\n"
+      "are of different machines, profiles, periods, BLU or columns. A partial trace (header line\n"
+      "'# status: partial...', from run --keep-partial) is compared as far as it goes, after a\n"
+      "warning on stderr naming it and why it stopped; rows the other trace has beyond it are a\n"
+      "difference.");
   sub->callback([flags, &ctx] { ctx.exit_code = diff(*flags); });
 }
 

@@ -14,6 +14,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <exception>
 #include <fstream>
 #include <memory>
 #include <optional>
@@ -39,6 +40,33 @@ struct RunFlags {
   std::string record_override;
   bool realtime = false;
   double max_time_s = 0.0;
+  bool keep_partial = false;
+};
+
+// A run's trace, held by run()'s caller so that --keep-partial can keep it when the run fails.
+struct RunTrace {
+  std::unique_ptr<TraceWriter> writer;
+  std::string unsettled;  ///< why run() returned 1 without an error (the axes did not settle)
+};
+
+// --keep-partial: when the run fails, hands every sample pushed so far to the consumer before the
+// queue is destroyed (which drops them), so the kept trace has all of them.
+class DrainOnFailure {
+ public:
+  explicit DrainOnFailure(std::optional<SampleQueue>* queue) : queue_(queue) {}
+  ~DrainOnFailure() {
+    if (queue_ == nullptr || !*queue_ || std::uncaught_exceptions() == exceptions_) return;
+    try {
+      (*queue_)->finish();
+    } catch (...) {  // the run's own error is the one reported
+    }
+  }
+  DrainOnFailure(const DrainOnFailure&) = delete;
+  DrainOnFailure& operator=(const DrainOnFailure&) = delete;
+
+ private:
+  std::optional<SampleQueue>* queue_;
+  int exceptions_ = std::uncaught_exceptions();
 };
 
 // Writes the overrides in effect as a schedule that --override-file replays sample-exactly:
@@ -65,7 +93,7 @@ class OverrideRecorder {
   double feed_ = -1.0, rapid_ = -1.0;
 };
 
-int run(const RunFlags& f) {
+int run(const RunFlags& f, RunTrace& out) {
   // Caught from the start, so an interrupt during the check of a long program is not lost
   // (a background job's SIGINT is otherwise ignored); the run stops at its first sample.
   std::signal(SIGINT, on_sigint);
@@ -94,7 +122,7 @@ int run(const RunFlags& f) {
   ProgramStream stream(program.rewind(), program.name(), opts);
   Pipeline pipeline(cfg, stream);
 
-  std::unique_ptr<TraceWriter> trace;
+  std::unique_ptr<TraceWriter>& trace = out.writer;
   if (!f.trace_path.empty()) {
     TraceMeta meta;
     meta.program = program.name();
@@ -107,6 +135,7 @@ int run(const RunFlags& f) {
     meta.blu_mm = cfg.machine.blu_mm();
     meta.servo = cfg.servo;
     meta.decimate = f.decimate;
+    meta.status_line = f.keep_partial;
     trace = std::make_unique<TraceWriter>(f.trace_path, f.trace_format == "bin" ? TraceFormat::Binary : TraceFormat::Csv, meta);
   }
 
@@ -125,6 +154,7 @@ int run(const RunFlags& f) {
   };
   std::optional<SampleQueue> queue;
   if (two_threads) queue.emplace(consume);
+  const DrainOnFailure drain(f.keep_partial ? &queue : nullptr);
   OverrideInput ovr;
   SampleRecord rec, last;
   const bool progress = isatty(STDERR_FILENO) != 0 && !f.realtime;
@@ -147,7 +177,8 @@ int run(const RunFlags& f) {
     if ((st = pipeline.step(ovr, rec)) != PipelineStatus::Working) break;
     line = rec.line;
     if (g_interrupted != 0)
-      throw InputError(fmt::format("interrupted at t = {:.3f} s (line {}); no trace was kept", rec.t_s, rec.line));
+      throw InputError(fmt::format("interrupted at t = {:.3f} s (line {}){}", rec.t_s, rec.line,
+                                   f.keep_partial ? "" : "; no trace was kept"));
     if (f.max_time_s > 0 && rec.t_s > f.max_time_s) {
       throw InputError(fmt::format("run stopped at --max-time {} s (line {}, feed override {} %)", f.max_time_s,
                                    rec.line, player.feed_percent()));
@@ -170,7 +201,10 @@ int run(const RunFlags& f) {
   if (queue) queue->finish();
   if (progress && std::chrono::steady_clock::now() > t0 + std::chrono::seconds(1)) fmt::print(stderr, "\n");
   summary.finish(last, pipeline.program_end_blu(), st == PipelineStatus::Finished);
-  if (trace) trace->finish();
+  const bool complete = st == PipelineStatus::Finished;
+  if (trace && (complete || !f.keep_partial)) trace->finish();  // else kept partial by the caller
+  if (!complete)
+    out.unsettled = fmt::format("the axes did not settle within {} s of the program end", cfg.settle_timeout_s);
   if (recorder) recorder->finish();
 
   std::FILE* text_out = f.trace_path == "-" ? stderr : stdout;
@@ -183,7 +217,27 @@ int run(const RunFlags& f) {
     js << summary.json();
     if (!js) throw InputError(fmt::format("cannot write summary '{}'", f.summary_json));
   }
-  return st == PipelineStatus::Finished ? 0 : static_cast<int>(ExitCode::InputError);
+  return complete ? 0 : static_cast<int>(ExitCode::InputError);
+}
+
+// run(); with --keep-partial a run that fails keeps the trace written so far as FILE.partial, its
+// status line saying why, and leaves main a note of where it is.
+int run_keeping_partial(const RunFlags& f, Context& ctx) {
+  RunTrace trace;
+  auto keep = [&](const std::string& reason) {
+    if (!f.keep_partial || !trace.writer || !trace.writer->open()) return;
+    const std::string kept = trace.writer->keep_partial(reason);
+    ctx.note = kept.empty() ? "no partial trace could be kept (its header was never written)"
+                            : fmt::format("partial trace kept at {}", kept);
+  };
+  try {
+    const int rc = run(f, trace);
+    if (rc != 0) keep(trace.unsettled);
+    return rc;
+  } catch (const std::exception& e) {
+    keep(e.what());
+    throw;
+  }
 }
 
 }  // namespace
@@ -193,7 +247,7 @@ void add_run(CLI::App& app, Context& ctx) {
   auto* sub = app.add_subcommand("run", "Run the whole pipeline on a program: trace and summary");
   sub->add_option("program", flags->program, "G-code program (.nc, .ngc), or - for stdin")->required();
   add_machine_flags(sub, flags->machine);
-  sub->add_option("--trace", flags->trace_path, "Write the per-sample encoder trace here (- = stdout)");
+  auto* trace = sub->add_option("--trace", flags->trace_path, "Write the per-sample encoder trace here (- = stdout)");
   sub->add_option("--trace-format", flags->trace_format, "csv or bin")->check(CLI::IsMember({"csv", "bin"}));
   sub->add_option("--decimate", flags->decimate, "Write every K-th sample")->check(CLI::PositiveNumber);
   sub->add_option("--summary-json", flags->summary_json, "Write the summary as JSON to this file");
@@ -207,7 +261,18 @@ void add_run(CLI::App& app, Context& ctx) {
   sub->add_option("--record-override", flags->record_override,
                   "Write the overrides in effect as a schedule that --override-file replays exactly");
   sub->add_option("--max-time", flags->max_time_s, "Stop the run (exit 1) when simulated time passes this, s");
-  sub->callback([flags, &ctx] { ctx.exit_code = run(*flags); });
+  sub->add_flag("--keep-partial", flags->keep_partial,
+                "When the run fails, keep the trace written so far as FILE.partial; a '# status:' header "
+                "line says whether the trace is complete or why it is partial")
+      ->needs(trace);
+  sub->callback([flags, &ctx] {
+    if (flags->keep_partial && TraceWriter::written_in_place(flags->trace_path))
+      throw CLI::ValidationError("--keep-partial", fmt::format("--trace {} is written in place (stdout, a device or a "
+                                                               "FIFO), so no partial trace can be kept apart from it; "
+                                                               "write the trace to a file",
+                                                               flags->trace_path));
+    ctx.exit_code = run_keeping_partial(*flags, ctx);
+  });
 }
 
 }  // namespace gm::cli

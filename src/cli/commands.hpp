@@ -3,11 +3,14 @@
 
 #include <CLI/CLI.hpp>
 
+#include <string>
+
 namespace gm::cli {
 
 /// Shared between main and the subcommands: the exit code the chosen subcommand produced.
 struct Context {
   int exit_code = 0;
+  std::string note;  ///< printed by main on stderr after the subcommand's output and error, if any
 };
 
 // Each adds its subcommand to `app`; the callback stores its exit code in `ctx`.

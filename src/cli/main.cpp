@@ -25,19 +25,25 @@ int main(int argc, char** argv) {
   gm::cli::add_design(app, ctx);
   gm::cli::add_analyze(app, ctx);
 
+  int code = 0;
   try {
     app.parse(argc, argv);
+    code = ctx.exit_code;
   } catch (const CLI::ParseError& e) {
     const int rc = app.exit(e);  // prints help/version (rc 0) or the usage error
     return rc == 0 ? 0 : static_cast<int>(ExitCode::UsageError);
   } catch (const gm::InputError& e) {
     std::fflush(stdout);
     fmt::print(stderr, "gmotion: error: {}\n", e.what());
-    return static_cast<int>(ExitCode::InputError);
+    code = static_cast<int>(ExitCode::InputError);
   } catch (const std::exception& e) {
     std::fflush(stdout);
     fmt::print(stderr, "gmotion: internal error: {}\n", e.what());
-    return static_cast<int>(ExitCode::InternalError);
+    code = static_cast<int>(ExitCode::InternalError);
   }
-  return ctx.exit_code;
+  if (!ctx.note.empty()) {
+    std::fflush(stdout);
+    fmt::print(stderr, "gmotion: {}\n", ctx.note);
+  }
+  return code;
 }

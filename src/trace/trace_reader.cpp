@@ -15,11 +15,16 @@
 namespace gm {
 namespace {
 
-bool read_line(std::FILE* f, std::string& out) {
+// Reads one line without its '\n'; `ended` tells whether the '\n' was there. False at the end.
+bool read_line(std::FILE* f, std::string& out, bool& ended) {
   out.clear();
+  ended = false;
   int c;
   while ((c = std::fgetc(f)) != EOF) {
-    if (c == '\n') return true;
+    if (c == '\n') {
+      ended = true;
+      return true;
+    }
     out += static_cast<char>(c);
   }
   return !out.empty();
@@ -60,7 +65,8 @@ TraceReader::TraceReader(const std::string& path) : path_(path) {
     std::rewind(f_);
     // CSV: '#' lines, then the column line.
     std::string l;
-    while (read_line(f_, l)) {
+    bool ended = false;
+    while (read_line(f_, l, ended)) {
       ++line_no_;
       header_text += l + "\n";
       if (l.empty() || l[0] != '#') break;
@@ -83,6 +89,11 @@ TraceReader::TraceReader(const std::string& path) : path_(path) {
   period_s_ = p.empty() ? 0.0 : std::strtod(p.c_str(), nullptr);
   if (binary_ && !(period_s_ > 0))
     throw InputError(fmt::format("{}: binary trace without a valid '# period_s:' header line", path));
+  partial_ = status().rfind("partial", 0) == 0;
+  // int64 k, int32 line, int64 per (column - 4), then two doubles (see trace_writer.cpp).
+  if (binary_ && columns_.size() < 4)
+    throw InputError(fmt::format("{}: binary trace with only {} columns", path, columns_.size()));
+  if (binary_) record_.resize(8 + 4 + 8 * (columns_.size() - 4) + 8 * 2);
 }
 
 TraceReader::~TraceReader() {
@@ -96,24 +107,35 @@ std::string TraceReader::header_value(const std::string& key) const {
   return "";
 }
 
+std::string TraceReader::status() const {
+  std::string s = header_value("status");
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  return s;
+}
+
 bool TraceReader::next(std::vector<double>& values) {
   values.resize(columns_.size());
   if (binary_) {
-    // int64 k, int32 line, int64 per (column - 4), then two doubles (see trace_writer.cpp).
+    const std::size_t got = std::fread(record_.data(), 1, record_.size(), f_);
+    if (got == 0) return false;
+    if (got < record_.size()) {
+      dropped_tail_ = partial_;  // a record cut by the end of the run
+      if (partial_) return false;
+      throw InputError(fmt::format("{}: record {} is truncated", path_, row_ + 1));
+    }
+    const char* r = record_.data();
     const std::size_t ints = columns_.size() - 4;
     std::int64_t k = 0;
     std::int32_t line = 0;
-    const std::size_t n = std::fread(&k, 8, 1, f_);
-    if (n == 0) return false;
-    bool ok = std::fread(&line, 4, 1, f_) == 1;
-    for (std::size_t i = 0; ok && i < ints; ++i) {
+    std::memcpy(&k, r, 8);
+    std::memcpy(&line, r + 8, 4);
+    for (std::size_t i = 0; i < ints; ++i) {
       std::int64_t v = 0;
-      ok = std::fread(&v, 8, 1, f_) == 1;
+      std::memcpy(&v, r + 12 + 8 * i, 8);
       values[2 + i] = static_cast<double>(v);
     }
     double tail[2] = {0, 0};
-    ok = ok && std::fread(tail, 8, 2, f_) == 2;
-    if (!ok) throw InputError(fmt::format("{}: record {} is truncated", path_, row_ + 1));
+    std::memcpy(tail, r + 12 + 8 * ints, 16);
     values[0] = static_cast<double>(k) * period_s_;
     values[1] = line;
     values[columns_.size() - 2] = tail[0];
@@ -121,7 +143,12 @@ bool TraceReader::next(std::vector<double>& values) {
     ++row_;
     return true;
   }
-  if (!read_line(f_, line_)) return false;
+  bool ended = false;
+  if (!read_line(f_, line_, ended)) return false;
+  if (!ended && partial_) {  // a row cut by the end of the run
+    dropped_tail_ = true;
+    return false;
+  }
   ++line_no_;
   ++row_;
   const char* p = line_.data();

@@ -18,7 +18,8 @@ class TraceReader {
   TraceReader& operator=(const TraceReader&) = delete;
 
   /// Reads the next row into `values` (one per column); false at the end. Throws on a malformed
-  /// row, naming the file and the row's line (CSV) or record number (binary).
+  /// row, naming the file and the row's line (CSV) or record number (binary). In a partial trace
+  /// an incomplete last row (no '\n', or a short record) ends the rows instead: see dropped_tail().
   bool next(std::vector<double>& values);
 
   const std::vector<std::string>& columns() const { return columns_; }
@@ -26,6 +27,14 @@ class TraceReader {
   const std::vector<std::string>& header() const { return header_; }
   /// The value of header line `key` ("machine", "profile", ...), or "" when absent.
   std::string header_value(const std::string& key) const;
+  /// The `# status:` line of a trace written with `run --keep-partial`, without its padding:
+  /// "complete", "partial, run in progress" (the run never got to say more: killed, or still
+  /// running) or "partial: REASON"; "" when the trace has no status line.
+  std::string status() const;
+  /// True when status() starts with "partial".
+  bool partial() const { return partial_; }
+  /// True when next() has met an incomplete last row in a partial trace and left it out.
+  bool dropped_tail() const { return dropped_tail_; }
   bool binary() const { return binary_; }
   const std::string& path() const { return path_; }
 
@@ -36,6 +45,9 @@ class TraceReader {
   std::vector<std::string> header_;
   std::vector<std::string> columns_;
   std::string line_;
+  std::vector<char> record_;  ///< one binary record
+  bool partial_ = false;
+  bool dropped_tail_ = false;
   std::int64_t row_ = 0;
   std::int64_t line_no_ = 0;
   double period_s_ = 0.0;

@@ -10,12 +10,14 @@
 #include <cstring>
 #include <iterator>
 #include <sys/stat.h>
+#include <unistd.h>
 
 namespace gm {
 namespace {
 
 constexpr std::size_t kFlushBytes = 1u << 20;
 constexpr char kBinaryMagic[8] = {'G', 'M', 'T', 'R', 'A', 'C', 'E', '1'};
+constexpr std::int64_t kBinaryRow = 8 + 4 + 4 * 8 * kAxes + 8 + 8;  ///< bytes of a binary row
 
 char lower(char c) { return static_cast<char>(c - 'A' + 'a'); }
 
@@ -32,6 +34,7 @@ std::string trace_header(const TraceMeta& m) {
   std::string h;
   auto out = std::back_inserter(h);
   fmt::format_to(out, "# gmotion {} trace v1\n", GMOTION_VERSION);
+  if (m.status_line) h += trace_status_line("partial, run in progress");
   fmt::format_to(out, "# program: {}\n", m.program);
   fmt::format_to(out, "# machine: {} ({})\n", m.machine_name, m.machine_source);
   fmt::format_to(out, "# profile: {} taps={} tau_s={}\n", m.profile, m.taps, m.tau_s);
@@ -50,10 +53,38 @@ std::string trace_header(const TraceMeta& m) {
   return h;
 }
 
+std::string trace_status_line(std::string_view text) {
+  constexpr std::string_view kPrefix = "# status: ";
+  constexpr std::string_view kCut = "...";
+  const std::size_t room = kTraceStatusWidth - kPrefix.size();
+  std::size_t n = text.size();
+  if (n > room) {
+    n = room - kCut.size();
+    while (n > 0 && (static_cast<unsigned char>(text[n]) & 0xC0) == 0x80) --n;  // not mid-character
+  }
+  std::string line(kPrefix);
+  for (std::size_t i = 0; i < n; ++i) line += text[i] == '\n' || text[i] == '\r' ? ' ' : text[i];
+  if (n < text.size()) line += kCut;
+  line.resize(kTraceStatusWidth, ' ');
+  line += '\n';
+  return line;
+}
+
+bool TraceWriter::written_in_place(const std::string& path) {
+  struct stat st {};
+  return path == "-" || (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode));
+}
+
 TraceWriter::TraceWriter(std::string path, TraceFormat format, const TraceMeta& meta)
-    : path_(std::move(path)), format_(format), decimate_(meta.decimate < 1 ? 1 : meta.decimate) {
+    : path_(std::move(path)),
+      format_(format),
+      decimate_(meta.decimate < 1 ? 1 : meta.decimate),
+      status_line_(meta.status_line) {
   struct stat st {};
   const bool special = path_ != "-" && ::stat(path_.c_str(), &st) == 0 && !S_ISREG(st.st_mode);
+  if (status_line_ && written_in_place(path_))
+    throw InputError(fmt::format("cannot keep a partial trace of '{}': it is written in place, not as a file",
+                                 path_ == "-" ? "<stdout>" : path_));
   if (path_ == "-") {
     to_stdout_ = true;
     file_ = stdout;
@@ -69,13 +100,18 @@ TraceWriter::TraceWriter(std::string path, TraceFormat format, const TraceMeta& 
     file_ = std::fopen(tmp_path_.c_str(), "wb");
     if (file_ == nullptr)
       throw InputError(fmt::format("cannot write trace '{}': {}", path_, std::strerror(errno)));
+    // Unbuffered: buf_ is the only buffer, so what fwrite() took is in the file and
+    // keep_partial() can cut the file back to its last whole row.
+    if (status_line_) std::setvbuf(file_, nullptr, _IONBF, 0);
   }
   const std::string header = trace_header(meta);
   if (format_ == TraceFormat::Binary) {
     buf_.append(kBinaryMagic, kBinaryMagic + 8);
     put_raw(buf_, static_cast<std::uint32_t>(header.size()));
   }
+  status_offset_ = static_cast<std::int64_t>(buf_.size() + header.find('\n') + 1);
   buf_.append(header.data(), header.data() + header.size());
+  header_bytes_ = static_cast<std::int64_t>(buf_.size());
   buf_.reserve(kFlushBytes + 4096);
 }
 
@@ -143,14 +179,81 @@ void TraceWriter::write_binary(const SampleRecord& s) {
 
 void TraceWriter::flush_buffer() {
   if (buf_.size() == 0) return;
-  if (std::fwrite(buf_.data(), 1, buf_.size(), file_) != buf_.size())
-    throw InputError(fmt::format("cannot write trace '{}': {}", to_stdout_ ? "<stdout>" : path_,
-                                 std::strerror(errno)));
+  const std::size_t n = std::fwrite(buf_.data(), 1, buf_.size(), file_);
+  if (n != buf_.size()) {
+    const int err = errno;
+    if (status_line_) count_whole_rows(n);
+    throw InputError(fmt::format("cannot write trace '{}': {}", to_stdout_ ? "<stdout>" : path_, std::strerror(err)));
+  }
+  written_ += static_cast<std::int64_t>(buf_.size());
   buf_.clear();
+}
+
+void TraceWriter::count_whole_rows(std::size_t n) {
+  // buf_ starts at file offset written_ and holds whole rows (after the header, the first time).
+  const std::int64_t end = written_ + static_cast<std::int64_t>(n);
+  std::int64_t good = 0;  // whole rows (and header) among the n bytes written
+  if (end >= header_bytes_) {
+    if (format_ == TraceFormat::Binary) {
+      good = header_bytes_ + (end - header_bytes_) / kBinaryRow * kBinaryRow - written_;
+    } else {
+      const std::size_t nl = std::string_view(buf_.data(), n).rfind('\n');
+      good = nl == std::string_view::npos ? 0 : static_cast<std::int64_t>(nl) + 1;
+      if (written_ + good < header_bytes_) good = 0;
+    }
+  }
+  written_ += good;
+  const std::size_t rest = buf_.size() - static_cast<std::size_t>(good);
+  std::memmove(buf_.data(), buf_.data() + good, rest);
+  buf_.resize(rest);
+}
+
+void TraceWriter::patch_status(std::string_view text) {
+  const std::string line = trace_status_line(text);
+  if (::pwrite(fileno(file_), line.data(), line.size(), status_offset_) != static_cast<ssize_t>(line.size()))
+    throw InputError(fmt::format("cannot write trace '{}': {}", path_, std::strerror(errno)));
+}
+
+std::string TraceWriter::keep_partial(std::string_view reason) noexcept {
+  if (file_ == nullptr || !status_line_) return "";
+  bool kept = false;
+  try {
+    // Rows after a failed write are dropped: write from the end of the last whole row.
+    if (::fseeko(file_, written_, SEEK_SET) == 0) flush_buffer();
+  } catch (...) {  // the rows not written are dropped
+  }
+  if (written_ >= header_bytes_ && ::ftruncate(fileno(file_), written_) == 0) {
+    kept = true;
+    try {
+      patch_status(fmt::format("partial: {}", reason));
+    } catch (...) {  // it still says "partial, run in progress"
+    }
+  }
+  std::fclose(file_);
+  file_ = nullptr;
+  if (!kept) {
+    std::remove(tmp_path_.c_str());
+    return "";
+  }
+  return tmp_path_;
 }
 
 void TraceWriter::finish() {
   flush_buffer();
+  if (status_line_) {
+    // Any failure before the rename leaves the file open, for keep_partial().
+    patch_status("complete");
+    if (std::rename(tmp_path_.c_str(), path_.c_str()) != 0)
+      throw InputError(fmt::format("cannot move trace into place at '{}': {}", path_, std::strerror(errno)));
+    const bool closed = std::fclose(file_) == 0;
+    const int err = errno;
+    file_ = nullptr;
+    if (!closed) {
+      std::remove(path_.c_str());
+      throw InputError(fmt::format("cannot write trace '{}': {}", path_, std::strerror(err)));
+    }
+    return;
+  }
   if (direct_) {
     const bool ok = std::fflush(file_) == 0;
     const int err = errno;

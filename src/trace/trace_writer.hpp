@@ -6,9 +6,11 @@
 
 #include <fmt/format.h>
 
+#include <cstdint>
 #include <cstdio>
 #include <limits>
 #include <string>
+#include <string_view>
 
 namespace gm {
 
@@ -26,15 +28,27 @@ struct TraceMeta {
   AxisVec blu_mm = AxisVec::Zero();
   bool servo = true;
   int decimate = 1;
+  /// --keep-partial: a `# status:` line of fixed width right after the first line, saying
+  /// "partial, run in progress" until finish() or keep_partial() overwrites it in place.
+  bool status_line = false;
 };
+
+/// Width in bytes of the `# status: ...` header line, without its '\n'.
+inline constexpr std::size_t kTraceStatusWidth = 120;
 
 /// The `#` header lines (shared by CSV and binary) and the column line, each ending in '\n'.
 std::string trace_header(const TraceMeta& meta);
 
+/// `# status: TEXT` cut or padded with spaces to exactly kTraceStatusWidth bytes, then '\n'.
+/// Line breaks in `text` become spaces; a cut text ends in "..." and keeps UTF-8 characters whole.
+std::string trace_status_line(std::string_view text);
+
 /// Writes a trace to `path` ("-" = stdout; an existing device or FIFO is written in place). A
-/// file is written as `path.partial` and renamed to `path` only by finish(), so an interrupted run never leaves a file that looks complete; a
-/// writer destroyed without finish() removes its partial file. Throws gm::InputError when the
-/// path cannot be opened or written (the message names it and the reason).
+/// file is written as `path.partial` and renamed to `path` only by finish(), so an interrupted
+/// run never leaves a file that looks complete; a writer destroyed without finish() or
+/// keep_partial() removes its partial file. Throws gm::InputError when the path cannot be opened
+/// or written (the message names it and the reason), and when meta.status_line is asked for a
+/// trace written in place (see written_in_place()).
 class TraceWriter {
  public:
   TraceWriter(std::string path, TraceFormat format, const TraceMeta& meta);
@@ -45,13 +59,29 @@ class TraceWriter {
   /// Appends sample `s` if it falls on the decimation grid (k % decimate == 0). No allocation
   /// once the buffer has grown to its working size.
   void write(const SampleRecord& s);
-  /// Flushes, closes and renames the file into place. Throws gm::InputError on a write error.
+  /// Flushes, closes and renames the file into place; with a status line, first overwrites it
+  /// with "complete". Throws gm::InputError on a write error; with a status line the file then
+  /// stays open, for keep_partial().
   void finish();
+  /// For a failed run, with meta.status_line and before finish() has succeeded: writes out the rows
+  /// written so far, overwrites the status line with "partial: REASON" and closes the file, which
+  /// stays at `path.partial` and ends after its last whole row. Returns that path, or "" when not
+  /// even the header could be written (nothing is left then). Without a status line it does
+  /// nothing and returns "". Never throws.
+  std::string keep_partial(std::string_view reason) noexcept;
+  /// True until finish() has succeeded or keep_partial() has closed the file.
+  bool open() const { return file_ != nullptr; }
 
   std::int64_t rows() const { return rows_; }
 
+  /// True when `path` would be written in place, so cannot be kept partial: "-" (stdout) or an
+  /// existing device or FIFO. False for a directory (the constructor refuses it on its own).
+  static bool written_in_place(const std::string& path);
+
  private:
   void flush_buffer();
+  void count_whole_rows(std::size_t n);  ///< after a short write of n bytes of buf_
+  void patch_status(std::string_view text);
   void write_csv(const SampleRecord& s);
   void write_binary(const SampleRecord& s);
 
@@ -61,6 +91,10 @@ class TraceWriter {
   std::FILE* file_ = nullptr;
   bool to_stdout_ = false;
   bool direct_ = false;  ///< an existing device or FIFO: written in place
+  bool status_line_ = false;        ///< the header has a `# status:` line (--keep-partial)
+  std::int64_t status_offset_ = 0;  ///< its byte offset in the file
+  std::int64_t header_bytes_ = 0;   ///< magic, length and header: the file before the first row
+  std::int64_t written_ = 0;        ///< bytes of whole rows (and header) written to the file
   fmt::memory_buffer buf_;
   std::int64_t rows_ = 0;
   static constexpr std::size_t kMaxCsvRow = 1200;  ///< 14 integers, 2 fixed-point, 1 %g, commas

@@ -1,5 +1,6 @@
 // Trace integrity from the command line: full disks, unwritable paths and SIGINT give a clear
 // message, a non-zero exit and never a file that looks complete.
+#include "support/long_program.hpp"
 #include "support/run_command.hpp"
 #include "support/scratch_dir.hpp"
 
@@ -18,7 +19,7 @@ const std::string kPocket = kRepo + "/programs/pocket.nc";
 fs::path scratch() { return gmtest::scratch_dir("integrity"); }
 }  // namespace
 
-TEST_CASE("a trace to /dev/full fails with the reason; /dev/full stays a device") {
+TEST_CASE("a trace to /dev/full fails with the reason and /dev/full stays a device") {
   const auto r = gmtest::run_gmotion("run " + kPocket + " --trace /dev/full");
   CHECK(r.code == 1);
   CHECK_THAT(r.out, Catch::Contains("cannot write trace '/dev/full': No space left on device"));
@@ -54,18 +55,15 @@ TEST_CASE("a full file system mid-run leaves no trace and no partial file") {
 }
 
 TEST_CASE("SIGINT stops the run with a message and removes the partial trace") {
-  // A long program (1 km of feed, 5 M samples) so the run is still going when SIGINT comes.
+  // A long program so the run is still going when SIGINT comes.
   const fs::path dir = scratch();
   const std::string prog = (dir / "long.nc").string(), trace = (dir / "t.csv").string();
-  {
-    std::ofstream p(prog);
-    p << "G21 G90 G64 F3000\n";
-    for (int i = 0; i < 10000; ++i) p << "G1 X" << (i % 2 ? 100 : 0) << " Y" << i * 0.01 << "\n";
-    p << "M2\n";
-  }
+  gmtest::write_long_program(prog);
   const auto r = gmtest::sh("(" + std::string(GMOTION_BIN) + " run " + prog + " --trace " + trace +
                             " 2>&1 & pid=$!; sleep 0.5; kill -INT $pid; wait $pid; echo \"exit=$?\")");
   CHECK_THAT(r.out, Catch::Contains("interrupted at t = "));
+  CHECK_THAT(r.out, Catch::Contains("; no trace was kept"));
+  CHECK_THAT(r.out, !Catch::Contains("partial trace kept"));
   CHECK_THAT(r.out, Catch::Contains("exit=1"));
   CHECK_FALSE(fs::exists(trace));
   CHECK_FALSE(fs::exists(trace + ".partial"));
