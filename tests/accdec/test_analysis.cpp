@@ -44,7 +44,7 @@ TEST_CASE("amplitude response of symmetric taps equals Eq. 13 (odd N) / correcte
   }
 }
 
-TEST_CASE("Table 1: Eq. 18 and Eq. 19 at tau 0.041 s, R 150 mm; paper rows >= 8000 mm/min are 10x") {
+TEST_CASE("Table 1: Eq. 18 and Eq. 19 at tau 0.041 s, R 150 mm, paper rows >= 8000 mm/min are 10x") {
   struct Row {
     double feed, exact_um, approx_um;
   };

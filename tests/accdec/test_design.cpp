@@ -14,7 +14,7 @@
 
 using gmtest::run_gmotion;
 
-TEST_CASE("section 6 example: Blackman N = 40 passes Step 4 at the first tau; Eq. 7 with its taps") {
+TEST_CASE("section 6 example: Blackman N = 40 passes Step 4 at the first tau, Eq. 7 with its taps") {
   const gm::DesignLimits lim;  // paper defaults
   const auto attempts = gm::design_procedure("blackman", 0.164, 0.004, lim);
   REQUIRE(attempts.size() == 1);
@@ -64,7 +64,7 @@ TEST_CASE("gmotion design --json prints the required keys for the section 6 defa
   CHECK(impossible.code == 1);
 }
 
-TEST_CASE("gmotion analyze: radius-error rows and response CSV; bad profiles exit 1 with a message") {
+TEST_CASE("gmotion analyze: radius-error rows and response CSV, bad profiles exit 1 with a message") {
   const auto r = run_gmotion("analyze radius-error --feeds 6000,30000 --json");
   CHECK(r.code == 0);
   CHECK(r.out.find("{\"feed_mm_min\":6000,\"sampled_um\":4.666") != std::string::npos);

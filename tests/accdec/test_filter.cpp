@@ -76,7 +76,7 @@ TEST_CASE("filter starts settled at the start position and reports length N+1") 
         FirStructure::Direct);
 }
 
-TEST_CASE("property: after draining, output == input exactly; |V_out| <= peak |V_in| + 1; "
+TEST_CASE("property: after draining, output == input exactly, |V_out| <= peak |V_in| + 1, "
           "rounding within 0.5 BLU of the exact convolution") {
   // GMOTION_SEED=<n> replays a failing run.
   const char* env = std::getenv("GMOTION_SEED");

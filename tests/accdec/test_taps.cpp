@@ -118,7 +118,7 @@ TEST_CASE("section 6 Blackman design: N = 40, cutoff 2/41, taps = fir1 with Blac
   CHECK(t.b_s == std::accumulate(t.integer.begin(), t.integer.end(), std::int64_t{0}));
 }
 
-TEST_CASE("the largest non-negative Blackman cutoff is 2/(N-2), not 2/(N+1); Hamming's is 2/N") {
+TEST_CASE("the largest non-negative Blackman cutoff is 2/(N-2), not 2/(N+1), Hamming's is 2/N") {
   for (int N : {10, 40, 41}) {
     INFO("N = " << N);
     const auto w = ref_window("blackman", N + 1);

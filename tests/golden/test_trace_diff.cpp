@@ -86,7 +86,7 @@ TEST_CASE("gmotion diff names the first divergence exactly and honours --tol") {
   CHECK(gmtest::run_gmotion("diff --columns nope " + a + " " + b).code == 1);
 }
 
-TEST_CASE("a CSV trace and its binary twin compare equal; different lengths do not") {
+TEST_CASE("a CSV trace and its binary twin compare equal, different lengths do not") {
   const std::string csv = write(dir() / "t.csv", 40), bin = write(dir() / "t.bin", 40, -1, 0, gm::TraceFormat::Binary);
   CHECK(gmtest::run_gmotion("diff " + csv + " " + bin).code == 0);
   const std::string shorter = write(dir() / "s.csv", 30);

@@ -111,7 +111,7 @@ TEST_CASE("syntax errors carry code, line and column") {
   }
 }
 
-TEST_CASE("a number written out beyond double range is out of range; a tiny one is zero") {
+TEST_CASE("a number written out beyond double range is out of range, a tiny one is zero") {
   Block b = parse("X1" + std::string(400, '0'));
   REQUIRE(b.errors.size() == 1);
   CHECK(b.errors[0].code == ErrorCode::NumberOutOfRange);

@@ -41,7 +41,7 @@ TEST_CASE("numbers: 1e400, NaN, inf and 10^5 digits are located errors") {
   CHECK(r.out.size() < 2000);  // the message abbreviates the number
 }
 
-TEST_CASE("a line of megabytes is refused with its location; binary garbage gives errors, no crash") {
+TEST_CASE("a line of megabytes is refused with its location, binary garbage gives errors, no crash") {
   auto r = on("G1 X1 F100 (" + std::string(3'000'000, 'a') + ")\nM2\n");
   CHECK(r.code == 1);
   CHECK_THAT(r.out, Catch::Contains("h.nc:1:1: error: line longer than 1048576 bytes"));
@@ -53,7 +53,7 @@ TEST_CASE("a line of megabytes is refused with its location; binary garbage give
   CHECK_THAT(r.out, Catch::Contains("errors"));
 }
 
-TEST_CASE("arcs: a million turns checks fast and --max-time ends its run; tiny and huge radii") {
+TEST_CASE("arcs: a million turns checks fast and --max-time ends its run, tiny and huge radii") {
   auto r = on("G0 X1\nG2 X1 Y0 I-1 J0 P1000000 F1000\nM2\n");
   CHECK(r.code == 0);
   CHECK_THAT(r.out, Catch::Contains("path 6283186.307 mm"));  // 1 mm + 10^6 · 2π mm

@@ -56,7 +56,7 @@ TEST_CASE("R equal to half the chord within 0.00127 mm is a semicircle (LinuxCNC
   CHECK(a.center_mm[1] == Approx(0).margin(1e-9));
 }
 
-TEST_CASE("full circle with IJK and P turns; helix on the normal axis") {
+TEST_CASE("full circle with IJK and P turns, helix on the normal axis") {
   const auto a = one_arc("G3 I5 Z-3 P2");
   CHECK(a.end_mm == gm::AxisVec(0, 0, -3));
   CHECK(a.center_mm == gm::AxisVec(5, 0, 0));  // normal component = start's

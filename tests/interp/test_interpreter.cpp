@@ -20,7 +20,7 @@ TEST_CASE("G0 and G1 end points and feed in mm, mm/min") {
   CHECK(m[1].feed_mm_min == 600.0);
 }
 
-TEST_CASE("G20 converts lengths and feed to mm once; G21 back") {
+TEST_CASE("G20 converts lengths and feed to mm once, G21 back") {
   const auto m = motions("G20 G1 X1 Y-0.5 F10\nG21 G1 X1\nM2\n");
   REQUIRE(m.size() == 2);
   CHECK(m[0].end_mm[0] == Approx(25.4));

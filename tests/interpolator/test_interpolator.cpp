@@ -133,7 +133,7 @@ TEST_CASE("full circles and multi-turn arcs take the whole circumference per tur
   }
 }
 
-TEST_CASE("a helix moves the normal axis in proportion to the angle; its length is sqrt((Rθ)² + h²)") {
+TEST_CASE("a helix moves the normal axis in proportion to the angle, its length is sqrt((Rθ)² + h²)") {
   // Two turns of R = 5 about (0,0) descending 4 mm, cw, 600 mm/min.
   const auto s = samples({arc(AxisVec(5, 0, 0), AxisVec(5, 0, -4), AxisVec::Zero(), false, 600, gm::Plane::XY, 2)});
   const double length = std::hypot(2 * 2 * M_PI * 5, 4.0);
@@ -162,7 +162,7 @@ TEST_CASE("arcs in XZ and YZ turn the LinuxCNC way") {
   CHECK(s.size() == static_cast<std::size_t>(std::ceil(7.5 * M_PI / 0.04)));
 }
 
-TEST_CASE("a dwell holds for exactly its time; exact stop holds settle_samples") {
+TEST_CASE("a dwell holds for exactly its time, exact stop holds settle_samples") {
   gm::Dwell d;
   d.seconds = 0.1;
   d.line = 2;
@@ -185,7 +185,7 @@ TEST_CASE("a dwell holds for exactly its time; exact stop holds settle_samples")
   CHECK(s[33].pos_blu == AxisBlu(1050, 0, 0));  // the next block starts on a fresh sample
 }
 
-TEST_CASE("an override step changes V[k] at the next sample; 0 % holds without losing position") {
+TEST_CASE("an override step changes V[k] at the next sample, 0 % holds without losing position") {
   auto s = samples({line(AxisVec::Zero(), AxisVec(20, 0, 0), 600)}, config(),
                    [](std::int64_t k) { return k < 10 ? 1.0 : k < 20 ? 2.0 : k < 30 ? 0.0 : 1.0; });
   CHECK(s[9].pos_blu[0] - s[8].pos_blu[0] == 40);
@@ -200,7 +200,7 @@ TEST_CASE("an override step changes V[k] at the next sample; 0 % holds without l
   CHECK(s.size() == 10 + 10 + 10 + 470);
 }
 
-TEST_CASE("rapids run at the rapid rate times the rapid override; G93 takes its inverse time") {
+TEST_CASE("rapids run at the rapid rate times the rapid override, G93 takes its inverse time") {
   Motion r = line(AxisVec::Zero(), AxisVec(10, 0, 0), 0);
   r.kind = MotionKind::Rapid;
   // 6000 mm/min = 100 mm/s: 0.4 mm a sample, 25 samples; at 50 % rapid override 50 samples.
@@ -220,7 +220,7 @@ TEST_CASE("rapids run at the rapid rate times the rapid override; G93 takes its 
   CHECK(samples({g}).size() == 125);
 }
 
-TEST_CASE("zero-length moves take no time; events pass through; OverrideDisable ignores the override") {
+TEST_CASE("zero-length moves take no time, events pass through, OverrideDisable ignores the override") {
   gm::Event off{1, gm::EventKind::OverrideDisable, {}};
   gm::Event pause{1, gm::EventKind::Pause, {}};
   auto s = samples({line(AxisVec::Zero(), AxisVec::Zero(), 600), off, pause, line(AxisVec::Zero(), AxisVec(1, 0, 0), 600)},

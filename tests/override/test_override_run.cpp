@@ -101,7 +101,7 @@ TEST_CASE("a hold stops the output within N+1 samples, keeps the position and re
   CHECK(s.size() == free_run.size() + 250);
 }
 
-TEST_CASE("M49 and M50 P0 disable the override; M48 and M50 P1 enable it again") {
+TEST_CASE("M49 and M50 P0 disable the override, M48 and M50 P1 enable it again") {
   // 0.5 override all along; line 3 runs at 100 % (disabled), line 5 at 50 % (enabled).
   const std::string program = "G21 G90 G64 F600\nM49\nG1 X10\nM48\nG1 X20\nM50 P0\nG1 X30\nM50 P1\nG1 X40\nM2\n";
   const auto s = run(program, "linear", [](std::int64_t) { return 0.5; });

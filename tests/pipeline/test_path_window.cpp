@@ -46,7 +46,7 @@ TEST_CASE("arcs give the signed radial deviation, negative inside") {
   CHECK(w.contour_error_mm(AxisVec(-4, 0, 0), 1) == Approx(std::hypot(4.0, 4.0)));
 }
 
-TEST_CASE("the nearest of the recent blocks wins; blocks older than the lag are dropped") {
+TEST_CASE("the nearest of the recent blocks wins, blocks older than the lag are dropped") {
   gm::PathWindow w(10);
   w.push(line(AxisVec(0, 0, 0), AxisVec(10, 0, 0)), 0);
   w.push(line(AxisVec(10, 0, 0), AxisVec(10, 10, 0)), 50);
