@@ -156,7 +156,7 @@ int run(const RunFlags& f, RunTrace& out) {
   if (two_threads) queue.emplace(consume);
   const DrainOnFailure drain(f.keep_partial ? &queue : nullptr);
   OverrideInput ovr;
-  SampleRecord rec, last;
+  SampleRecord rec;  // after the loop: the last sample (a step that is not Working leaves it)
   const bool progress = isatty(STDERR_FILENO) != 0 && !f.realtime;
   const auto t0 = std::chrono::steady_clock::now();
   auto next_progress = t0 + std::chrono::seconds(1);
@@ -192,7 +192,6 @@ int run(const RunFlags& f, RunTrace& out) {
                                              std::chrono::duration<double>(rec.t_s + cfg.machine.period_s)));
     if (queue) queue->push(rec, pipeline.started_motion());
     else consume(rec, nullptr);  // step() measured the contour itself
-    last = rec;
     if (progress && (rec.k & 0xFFFF) == 0 && std::chrono::steady_clock::now() > next_progress) {
       fmt::print(stderr, "\r{}: t = {:.1f} s, line {}   ", program.name(), rec.t_s, rec.line);
       next_progress += std::chrono::seconds(1);
@@ -200,7 +199,7 @@ int run(const RunFlags& f, RunTrace& out) {
   }
   if (queue) queue->finish();
   if (progress && std::chrono::steady_clock::now() > t0 + std::chrono::seconds(1)) fmt::print(stderr, "\n");
-  summary.finish(last, pipeline.program_end_blu(), st == PipelineStatus::Finished);
+  summary.finish(rec, pipeline.program_end_blu(), st == PipelineStatus::Finished);
   const bool complete = st == PipelineStatus::Finished;
   if (trace && (complete || !f.keep_partial)) trace->finish();  // else kept partial by the caller
   if (!complete)

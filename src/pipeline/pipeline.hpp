@@ -41,7 +41,8 @@ class Pipeline {
   /// machine (profile spec, τ not a multiple of T, ...).
   Pipeline(const RunConfig& cfg, CanonSource& source);
 
-  /// Advances one interpolation period T with override `ovr` and fills `out`.
+  /// Advances one interpolation period T with override `ovr` and fills `out`; when the status
+  /// is not Working no sample was produced and `out` is left as it was.
   PipelineStatus step(const OverrideInput& ovr, SampleRecord& out);
 
   const Taps& taps() const { return taps_; }

@@ -59,10 +59,10 @@ std::int64_t ServoAxis::step(std::int64_t ref_blu) {
   const double delta = static_cast<double>(ref_blu - prev_ref_);
   saturated_ = false;
   // j = 0 gives ref + 0.0 = ref exactly, so one substep needs no extrapolation arithmetic.
-  servo_sample(static_cast<double>(ref_blu), true, 0.0);
+  servo_sample(count0, static_cast<double>(ref_blu), true, 0.0);  // the plant has not moved since count0
   for (int j = 1; j < substeps_; ++j) {
     const double r = static_cast<double>(ref_blu) + delta * j / substeps_;
-    servo_sample(r, true, 0.0);
+    servo_sample(count_now(), r, true, 0.0);
   }
   prev_ref_ = ref_blu;
   // An unstable loop (plant, gains or period) sends the motor off without bound; stop before
@@ -76,11 +76,10 @@ std::int64_t ServoAxis::step(std::int64_t ref_blu) {
 
 void ServoAxis::step_velocity(double v_ref_blu_s) {
   saturated_ = false;
-  for (int j = 0; j < substeps_; ++j) servo_sample(0.0, false, v_ref_blu_s);
+  for (int j = 0; j < substeps_; ++j) servo_sample(count_now(), 0.0, false, v_ref_blu_s);
 }
 
-inline void ServoAxis::servo_sample(double pos_ref_blu, bool position_loop, double v_ref_blu_s) {
-  const std::int64_t count = count_now();
+inline void ServoAxis::servo_sample(std::int64_t count, double pos_ref_blu, bool position_loop, double v_ref_blu_s) {
   // Velocity feedback and reference in encoder counts per kv_period_s.
   const double y = static_cast<double>(count - prev_count_) * kv_over_h_;
   prev_count_ = count;

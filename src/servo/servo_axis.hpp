@@ -57,7 +57,9 @@ class ServoAxis {
 
  private:
   std::int64_t count_now() const;
-  void servo_sample(double pos_ref_blu, bool position_loop, double v_ref_blu_s);
+  /// One servo period; `count` is the encoder count now (count_now(), passed in when the caller
+  /// already has it).
+  void servo_sample(std::int64_t count, double pos_ref_blu, bool position_loop, double v_ref_blu_s);
   void plant_step(double u);
 
   DiscretePlant plant_;
