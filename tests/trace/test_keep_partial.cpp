@@ -8,6 +8,7 @@
 #include "support/read_file.hpp"
 #include "support/run_command.hpp"
 #include "support/scratch_dir.hpp"
+#include "support/small_tmpfs.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -284,8 +285,8 @@ TEST_CASE("run --keep-partial: axes that do not settle keep FILE.partial saying 
 
 TEST_CASE("run --keep-partial: a full file system keeps FILE.partial cut back to its last whole row") {
   const fs::path mnt = scratch() / "small";
-  fs::create_directories(mnt);
-  if (gmtest::sh("mount -t tmpfs -o size=64k tmpfs " + mnt.string() + " 2>/dev/null").code != 0) {
+  gmtest::SmallTmpfs fs_small(mnt);
+  if (!fs_small.mounted()) {
     WARN("cannot mount a small tmpfs here (not root?): case skipped");
     return;
   }
@@ -293,7 +294,7 @@ TEST_CASE("run --keep-partial: a full file system keeps FILE.partial cut back to
   const auto r = gmtest::run_gmotion("run " + kPocket + " --keep-partial --trace " + trace);
   const std::string kept = gmtest::slurp(trace + ".partial");
   const bool whole_exists = fs::exists(trace);
-  gmtest::sh("umount " + mnt.string());
+  fs_small.unmount();
   INFO(r.out);
   CHECK(r.code == 1);
   CHECK_THAT(r.out, Catch::Contains("No space left on device"));

@@ -3,6 +3,7 @@
 #include "support/long_program.hpp"
 #include "support/run_command.hpp"
 #include "support/scratch_dir.hpp"
+#include "support/small_tmpfs.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -38,15 +39,15 @@ TEST_CASE("an unwritable trace path is refused before the run") {
 
 TEST_CASE("a full file system mid-run leaves no trace and no partial file") {
   const fs::path mnt = scratch() / "small";
-  fs::create_directories(mnt);
-  if (gmtest::sh("mount -t tmpfs -o size=64k tmpfs " + mnt.string() + " 2>/dev/null").code != 0) {
+  gmtest::SmallTmpfs fs_small(mnt);
+  if (!fs_small.mounted()) {
     WARN("cannot mount a small tmpfs here (not root?): case skipped");
     return;
   }
   const std::string trace = (mnt / "t.csv").string();
   const auto r = gmtest::run_gmotion("run " + kPocket + " --trace " + trace);
   gmtest::sh("ls " + mnt.string() + " > " + (scratch() / "ls.txt").string());
-  gmtest::sh("umount " + mnt.string());
+  fs_small.unmount();
   CHECK(r.code == 1);
   CHECK_THAT(r.out, Catch::Contains("No space left on device"));
   std::ifstream ls(scratch() / "ls.txt");
