@@ -14,7 +14,8 @@ inline constexpr std::string_view kCloseParenRule = "')'";
 /// The catalogue code for an expectation failure on rule `which` where the input holds `at`
 /// ('\0' at the end of the line).
 inline ErrorCode classify_expectation(std::string_view which, char at) {
-  if (which == kCloseParenRule) return at == '(' ? ErrorCode::NestedComment : ErrorCode::UnclosedComment;
+  if (which == kCloseParenRule)
+    return at == '(' ? ErrorCode::NestedComment : ErrorCode::UnclosedComment;
   return ErrorCode::ExpectedNumber;
 }
 

@@ -17,4 +17,3 @@ using block_type = x3::rule<block_class, ast::Block>;
 BOOST_SPIRIT_DECLARE(block_type)
 
 }  // namespace gm::grammar::parser
-

@@ -24,9 +24,9 @@ inline x3::rule<close_paren_class> const close_paren{kCloseParenRule.data()};
 
 /// A real number: optional sign, digits with an optional point (leading or trailing), and an
 /// exponent that is only accepted so it can be reported (G-code has none).
-inline auto const number_def =
-    -x3::char_("+-") >> ((+digit >> -(x3::lit('.') >> *digit)) | (x3::lit('.') >> +digit)) >>
-    -(x3::char_("E") >> -x3::char_("+-") >> +digit);
+inline auto const number_def = -x3::char_("+-") >>
+                               ((+digit >> -(x3::lit('.') >> *digit)) | (x3::lit('.') >> +digit)) >>
+                               -(x3::char_("E") >> -x3::char_("+-") >> +digit);
 inline auto const close_paren_def = x3::lit(')');
 
 namespace actions {
@@ -61,7 +61,8 @@ inline auto const comment_text = [](auto& ctx) {
 
 inline auto const word = letter[actions::begin_word] > x3::raw[number][actions::end_word];
 inline auto const comment = x3::lit('(')[actions::begin_comment] >
-                            x3::raw[*(x3::char_ - x3::char_("()"))][actions::comment_text] > close_paren;
+                            x3::raw[*(x3::char_ - x3::char_("()"))][actions::comment_text] >
+                            close_paren;
 inline auto const line_comment = x3::lit(';') >> x3::omit[*x3::char_];
 
 inline block_type const block = "block";
@@ -70,4 +71,3 @@ inline auto const block_def = *(word | comment | line_comment);
 BOOST_SPIRIT_DEFINE(number, close_paren, block)
 
 }  // namespace gm::grammar::parser
-

@@ -6,10 +6,10 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
-#include <cmath>
 #include <string>
 #include <system_error>
 
@@ -17,7 +17,9 @@ namespace gm::grammar {
 
 namespace {
 
-bool starts_item(char c) { return (c >= 'A' && c <= 'Z') || c == '(' || c == ';'; }
+bool starts_item(char c) {
+  return (c >= 'A' && c <= 'Z') || c == '(' || c == ';';
+}
 
 std::string describe_char(char c) {
   const auto u = static_cast<unsigned char>(c);
@@ -47,12 +49,14 @@ bool fast_decimal(std::string_view s, double& value) {
   while (p != end && *p == '0') ++p;  // leading zeros are not significant
   std::uint64_t mantissa = 0;
   const char* const int_start = p;
-  for (; p != end && digit(*p); ++p) mantissa = mantissa * 10 + static_cast<std::uint64_t>(*p - '0');
+  for (; p != end && digit(*p); ++p)
+    mantissa = mantissa * 10 + static_cast<std::uint64_t>(*p - '0');
   const auto int_digits = p - int_start;
   std::ptrdiff_t decimals = 0;
   if (p != end && *p == '.') {
     const char* const frac_start = ++p;
-    for (; p != end && digit(*p); ++p) mantissa = mantissa * 10 + static_cast<std::uint64_t>(*p - '0');
+    for (; p != end && digit(*p); ++p)
+      mantissa = mantissa * 10 + static_cast<std::uint64_t>(*p - '0');
     decimals = p - frac_start;
   }
   // Anything left (a sign, an exponent, a second point), no digit at all, or more than 15
@@ -179,9 +183,13 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
   {
     std::size_t k = start;
     if (k < compact.size() && compact[k] == 'N')
-      for (++k; k < compact.size() && ((compact[k] >= '0' && compact[k] <= '9') || compact[k] == '.'); ++k) {}
+      for (++k;
+           k < compact.size() && ((compact[k] >= '0' && compact[k] <= '9') || compact[k] == '.');
+           ++k) {
+      }
     if (k < compact.size() && compact[k] == 'O') {
-      add_error(out, ErrorCode::OWordsUnsupported, static_cast<int>(k), "O-words are not supported");
+      add_error(out, ErrorCode::OWordsUnsupported, static_cast<int>(k),
+                "O-words are not supported");
       return;
     }
   }
@@ -201,9 +209,11 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
       if (c == '#')
         add_error(out, ErrorCode::ParametersUnsupported, off, "parameters ('#') are not supported");
       else if (c == '[')
-        add_error(out, ErrorCode::ExpressionsUnsupported, off, "expressions ('[...]') are not supported");
+        add_error(out, ErrorCode::ExpressionsUnsupported, off,
+                  "expressions ('[...]') are not supported");
       else if ((c >= '0' && c <= '9') || c == '.' || c == '+' || c == '-')
-        add_error(out, ErrorCode::NumberWithoutLetter, off, "number without a word letter in front");
+        add_error(out, ErrorCode::NumberWithoutLetter, off,
+                  "number without a word letter in front");
       else if (c == ')')
         add_error(out, ErrorCode::UnexpectedCharacter, off, "')' without a matching '('");
       else
@@ -219,9 +229,11 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
         if (w.letter == 'O')
           add_error(out, ErrorCode::OWordsUnsupported, w.id_first, "O-words are not supported");
         else if (at == '#')
-          add_error(out, ErrorCode::ParametersUnsupported, off, "parameters ('#') are not supported");
+          add_error(out, ErrorCode::ParametersUnsupported, off,
+                    "parameters ('#') are not supported");
         else if (at == '[')
-          add_error(out, ErrorCode::ExpressionsUnsupported, off, "expressions ('[...]') are not supported");
+          add_error(out, ErrorCode::ExpressionsUnsupported, off,
+                    "expressions ('[...]') are not supported");
         else
           add_error(out, ErrorCode::ExpectedNumber, off,
                     std::string("expected a number after '") + w.letter + "'" +
@@ -245,7 +257,8 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
   // 3. Convert the words.
   for (std::size_t i = 0; i < ast_.word_count; ++i) {
     const ast::Word& w = ast_.words[i];
-    const std::string_view num(begin + w.num_first, static_cast<std::size_t>(w.num_last - w.num_first));
+    const std::string_view num(begin + w.num_first,
+                               static_cast<std::size_t>(w.num_last - w.num_first));
     const SourceLoc loc{line, columns_[static_cast<std::size_t>(w.id_first)]};
     if (w.letter == 'O') {
       add_error(out, ErrorCode::OWordsUnsupported, w.id_first, "O-words are not supported");
@@ -266,8 +279,9 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
     }
     out.words.push_back(Word{w.letter, value, loc});
   }
-  std::stable_sort(out.errors.begin(), out.errors.end(),
-                   [](const SyntaxError& a, const SyntaxError& b) { return a.loc.column < b.loc.column; });
+  std::stable_sort(
+      out.errors.begin(), out.errors.end(),
+      [](const SyntaxError& a, const SyntaxError& b) { return a.loc.column < b.loc.column; });
 
   // 4. Messages: (MSG, text), case-insensitive, leading spaces allowed.
   for (std::size_t i = 0; i < ast_.comment_count; ++i) {

@@ -75,7 +75,8 @@ double quantisation_error(const Taps& taps, int points) {
   double worst = 0.0;
   for (int j = 0; j < points; ++j) {
     const double w = std::numbers::pi * j / std::max(1, points - 1);
-    worst = std::max(worst, std::abs(amplitude_response(ints, w) - amplitude_response(taps.real, w)));
+    worst =
+        std::max(worst, std::abs(amplitude_response(ints, w) - amplitude_response(taps.real, w)));
   }
   return worst;
 }

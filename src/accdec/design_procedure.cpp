@@ -43,7 +43,8 @@ std::vector<DesignAttempt> design_procedure(std::string_view profile_spec, doubl
   int n = tap_count(tau_s, period_s);
   for (int k = 0; k < std::max(1, max_attempts); ++k, ++n) {
     const double tau = k == 0 ? tau_s : n * period_s;
-    attempts.push_back(check_limits(design_taps(profile_spec, tau, period_s), tau, period_s, limits));
+    attempts.push_back(
+        check_limits(design_taps(profile_spec, tau, period_s), tau, period_s, limits));
     // A larger tau cannot help the velocity limit (V' = V), and fixed-length profiles cannot grow.
     if (attempts.back().ok() || fixed || !attempts.back().v_ok) break;
   }

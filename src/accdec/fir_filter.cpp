@@ -38,7 +38,8 @@ __attribute__((always_inline)) inline void add_product(Lanes& acc, double t, con
   acc += t * x;
 }
 // acc += t·(lo + hi): a mirrored pair of columns with equal taps.
-__attribute__((always_inline)) inline void add_pair_product(Lanes& acc, double t, const double* lo, const double* hi) {
+__attribute__((always_inline)) inline void add_pair_product(Lanes& acc, double t, const double* lo,
+                                                            const double* hi) {
   Lanes x, y;
   std::memcpy(&x, lo, sizeof x);
   std::memcpy(&y, hi, sizeof y);
@@ -51,8 +52,8 @@ __attribute__((always_inline)) inline void add_pair_product(Lanes& acc, double t
 // caller's condition), so the result does not depend on the order of the additions: two
 // accumulators, and the fold, give the same sums as one left-to-right loop. GCC/Clang vector
 // extensions, so the lane width follows the target the caller is compiled for.
-__attribute__((always_inline)) inline void dot4(const double* col, const double* tap, int n, bool folded,
-                                                double* out) {
+__attribute__((always_inline)) inline void dot4(const double* col, const double* tap, int n,
+                                                bool folded, double* out) {
   Lanes acc0 = {0.0, 0.0, 0.0, 0.0}, acc1 = acc0;
   if (folded) {
     const int pairs = n / 2;
@@ -75,8 +76,8 @@ __attribute__((always_inline)) inline void dot4(const double* col, const double*
   const Lanes acc = acc0 + acc1;
   std::memcpy(out, &acc, sizeof acc);
 }
-__attribute__((target("avx2"))) void dot4_avx2(const double* col, const double* tap, int n, bool folded,
-                                               double* out) {
+__attribute__((target("avx2"))) void dot4_avx2(const double* col, const double* tap, int n,
+                                               bool folded, double* out) {
   dot4(col, tap, n, folded, out);
 }
 void dot4_baseline(const double* col, const double* tap, int n, bool folded, double* out) {
@@ -101,27 +102,30 @@ FirAccDec::FirAccDec(const Taps& taps, const AxisBlu& start_pos_blu, FirStructur
   std::int64_t sum = 0;
   for (std::size_t i = 0; i < taps_.size(); ++i) {
     if (taps_[i] < 0)
-      throw InputError(fmt::format("profile '{}': integer tap b{} = {} is negative",
-                                   taps.profile, i, taps_[i]));
+      throw InputError(
+          fmt::format("profile '{}': integer tap b{} = {} is negative", taps.profile, i, taps_[i]));
     sum += taps_[i];
   }
-  if (sum <= 0) throw InputError(fmt::format("profile '{}': b_s = {} must be > 0", taps.profile, sum));
+  if (sum <= 0)
+    throw InputError(fmt::format("profile '{}': b_s = {} must be > 0", taps.profile, sum));
   b_s_ = sum;
   b_s_real_ = static_cast<double>(sum);
   length_ = static_cast<int>(taps_.size());
   equal_run_ = length_;  // the history is the start position repeated
 
-  const bool all_equal = std::all_of(taps_.begin(), taps_.end(),
-                                     [&](std::int64_t b) { return b == taps_.front(); });
+  const bool all_equal =
+      std::all_of(taps_.begin(), taps_.end(), [&](std::int64_t b) { return b == taps_.front(); });
   const bool symmetric = std::equal(taps_.begin(), taps_.end(), taps_.rbegin());
   if (structure == FirStructure::Auto)
-    structure = all_equal ? FirStructure::RunningSum
-              : symmetric ? FirStructure::Symmetric
-                          : FirStructure::Direct;
+    structure = all_equal   ? FirStructure::RunningSum
+                : symmetric ? FirStructure::Symmetric
+                            : FirStructure::Direct;
   if (structure == FirStructure::RunningSum && !all_equal)
-    throw InputError(fmt::format("profile '{}': the running-sum form needs equal taps", taps.profile));
+    throw InputError(
+        fmt::format("profile '{}': the running-sum form needs equal taps", taps.profile));
   if (structure == FirStructure::Symmetric && !symmetric)
-    throw InputError(fmt::format("profile '{}': the symmetric form needs b_i = b_(N-i)", taps.profile));
+    throw InputError(
+        fmt::format("profile '{}': the symmetric form needs b_i = b_(N-i)", taps.profile));
   structure_ = structure;
   hist_.assign(static_cast<std::size_t>(length_) * kAxes, 0);
   running_.fill(0);
@@ -142,7 +146,8 @@ FirAccDec::Acc FirAccDec::convolve(int axis) const {
   Acc acc = 0;
   if (structure_ == FirStructure::Symmetric) {
     const int half = n / 2;  // pairs (i, N-i) for i < half; middle tap when n is odd
-    for (int i = 0; i < half; ++i) acc += Acc{taps_[static_cast<std::size_t>(i)]} * (at(i) + at(n - 1 - i));
+    for (int i = 0; i < half; ++i)
+      acc += Acc{taps_[static_cast<std::size_t>(i)]} * (at(i) + at(n - 1 - i));
     if (n % 2 == 1) acc += Acc{taps_[static_cast<std::size_t>(half)]} * at(half);
   } else {
     for (int i = 0; i < n; ++i) acc += Acc{taps_[static_cast<std::size_t>(i)]} * at(i);
@@ -150,15 +155,16 @@ FirAccDec::Acc FirAccDec::convolve(int axis) const {
   return acc;
 }
 
-
 // AVX2 when the CPU has it (one 4-lane operation per tap pair), SSE2 otherwise; the sums are
 // exact integers either way, so the result does not depend on which one runs.
 void FirAccDec::convolve_fast(double (&sums)[4]) const {
   static_assert(kAxes <= 4, "the fast path packs the axes into 4 lanes");
   const double* col = window_.data() + 4 * (head_ + 1);  // the oldest sample of the window
   const bool folded = structure_ == FirStructure::Symmetric;
-  if (use_avx2_) dot4_avx2(col, taps_oldest_first_.data(), length_, folded, sums);
-  else dot4_baseline(col, taps_oldest_first_.data(), length_, folded, sums);
+  if (use_avx2_)
+    dot4_avx2(col, taps_oldest_first_.data(), length_, folded, sums);
+  else
+    dot4_baseline(col, taps_oldest_first_.data(), length_, folded, sums);
 }
 
 void FirAccDec::step(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu) {
@@ -195,11 +201,13 @@ void FirAccDec::step(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu) {
       q = round_half_away(sums[a] / b_s_real_);
     } else if (fast) {
       // |sum| <= b_s * fast_limit_ < 2^53: int64 arithmetic is exact.
-      const std::int64_t sum = running ? static_cast<std::int64_t>(running_[static_cast<std::size_t>(a)]) * taps_.front()
-                                       : static_cast<std::int64_t>(sums[a]);
+      const std::int64_t sum =
+          running ? static_cast<std::int64_t>(running_[static_cast<std::size_t>(a)]) * taps_.front()
+                  : static_cast<std::int64_t>(sums[a]);
       q = div_round_half_away<std::int64_t>(sum, b_s_);
     } else {
-      const Acc acc = running ? running_[static_cast<std::size_t>(a)] * Acc{taps_.front()} : convolve(a);
+      const Acc acc =
+          running ? running_[static_cast<std::size_t>(a)] * Acc{taps_.front()} : convolve(a);
       q = div_round_half_away(acc, Acc{b_s_});
     }
     out_pos_blu[a] = start_[a] + q;

@@ -14,10 +14,10 @@ namespace gm {
 
 /// How the convolution is evaluated; all give bit-identical outputs (exact integer sums).
 enum class FirStructure {
-  Auto,        ///< RunningSum if all taps are equal, else Symmetric if b_i = b_{N-i}, else Direct
-  Direct,      ///< Σ b_i·P[k-i] (Fig. 6a)
-  Symmetric,   ///< Σ b_i·(P[k-i] + P[k-N+i]) (+ middle tap), half the multiplies (Fig. 6b/6c)
-  RunningSum   ///< equal taps only: S[k] = S[k-1] + P[k] - P[k-N-1], output b·S[k]/b_s
+  Auto,       ///< RunningSum if all taps are equal, else Symmetric if b_i = b_{N-i}, else Direct
+  Direct,     ///< Σ b_i·P[k-i] (Fig. 6a)
+  Symmetric,  ///< Σ b_i·(P[k-i] + P[k-N+i]) (+ middle tap), half the multiplies (Fig. 6b/6c)
+  RunningSum  ///< equal taps only: S[k] = S[k-1] + P[k] - P[k-N-1], output b·S[k]/b_s
 };
 
 /// Per-axis FIR Acc/Dec on positions. By Eq. 12 the position dynamics equal the velocity
@@ -57,27 +57,28 @@ class FirAccDec {
   __extension__ using Acc = __int128;
 
   Acc convolve(int axis) const;  // Σ b_i·hist[k-i] for the current head (exact path)
-  void convolve_fast(double (&sums)[4]) const;  // the same sums (exact integers in double), fast path
+  void convolve_fast(
+      double (&sums)[4]) const;  // the same sums (exact integers in double), fast path
 
-  std::vector<std::int64_t> taps_;   // integer taps b_0..b_N
+  std::vector<std::int64_t> taps_;  // integer taps b_0..b_N
   std::int64_t b_s_ = 1;
-  double b_s_real_ = 1.0;            // b_s_ as a double (exact whenever a fast sum is non-zero)
+  double b_s_real_ = 1.0;  // b_s_ as a double (exact whenever a fast sum is non-zero)
   static constexpr double kQuotientExact = 2251799813685248.0;  // 2^51: see step()
   int length_ = 1;
   FirStructure structure_ = FirStructure::Direct;
   AxisBlu start_ = AxisBlu::Zero();
   AxisBlu last_in_ = AxisBlu::Zero();
-  int equal_run_ = 0;                // consecutive equal inputs, counting the implicit history
-  std::vector<std::int64_t> hist_;   // ring: hist_[slot*kAxes + axis] = in - start
-  int head_ = 0;                     // slot of the newest sample
-  std::array<Acc, kAxes> running_{}; // RunningSum: Σ of the last N+1 relative positions
+  int equal_run_ = 0;                 // consecutive equal inputs, counting the implicit history
+  std::vector<std::int64_t> hist_;    // ring: hist_[slot*kAxes + axis] = in - start
+  int head_ = 0;                      // slot of the newest sample
+  std::array<Acc, kAxes> running_{};  // RunningSum: Σ of the last N+1 relative positions
   // Fast path: the window as 4-lane columns (x, y, z, 0), each sample stored at slot and
   // slot + N+1, so the last N+1 samples are columns head_+1 .. head_+N+1, oldest first.
   Eigen::Matrix<double, 4, Eigen::Dynamic> window_;
   std::vector<double> taps_oldest_first_;  // b_N .. b_0
-  std::int64_t fast_limit_ = 0;      // (2^53 - 1) / b_s
-  int big_in_window_ = 0;            // samples in the window with |rel| > fast_limit_
-  bool use_avx2_ = false;            // the CPU runs the AVX2 version of the fast path
+  std::int64_t fast_limit_ = 0;            // (2^53 - 1) / b_s
+  int big_in_window_ = 0;                  // samples in the window with |rel| > fast_limit_
+  bool use_avx2_ = false;                  // the CPU runs the AVX2 version of the fast path
 };
 
 }  // namespace gm

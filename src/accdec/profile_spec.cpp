@@ -1,4 +1,5 @@
-// Parsing of an Acc/Dec profile spec string into a ProfileSpec (see profile_spec.hpp for the grammar).
+// Parsing of an Acc/Dec profile spec string into a ProfileSpec (see profile_spec.hpp for the
+// grammar).
 #include "accdec/profile_spec.hpp"
 
 #include "machine/machine.hpp"
@@ -107,7 +108,7 @@ ProfileSpec parse_profile_spec(std::string_view spec) {
     } else {
       no_arg();
       p.window = head == "blackman" ? WindowKind::Blackman
-               : head == "hann"     ? WindowKind::Hann
+                 : head == "hann"   ? WindowKind::Hann
                                     : WindowKind::Hamming;
     }
     if (has_cutoff) {
@@ -129,7 +130,8 @@ ProfileSpec parse_profile_spec(std::string_view spec) {
       const double b = parse_number(spec, part, fmt::format("tap b{}", i));
       if (b < 0)
         fail(spec, fmt::format("tap b{} = {} is negative; section 2 requires every b_i >= 0 "
-                               "(negative taps make the velocity oscillate, Fig. 4)", i, b));
+                               "(negative taps make the velocity oscillate, Fig. 4)",
+                               i, b));
       p.custom_taps.push_back(b);
       ++i;
     }

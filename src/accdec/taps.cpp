@@ -60,14 +60,15 @@ int tap_count(double tau_s, double period_s) {
   const double ratio = tau_s / period_s;
   const double n = std::round(ratio);
   if (ratio > kMaxAccDecTaps + 0.5)
-    throw InputError(fmt::format("Acc/Dec time constant tau = {} s is {:.6g} periods T = {} s; at most {} taps "
-                                 "(tau <= {:.6g} s)",
-                                 tau_s, ratio, period_s, kMaxAccDecTaps, kMaxAccDecTaps * period_s));
+    throw InputError(
+        fmt::format("Acc/Dec time constant tau = {} s is {:.6g} periods T = {} s; at most {} taps "
+                    "(tau <= {:.6g} s)",
+                    tau_s, ratio, period_s, kMaxAccDecTaps, kMaxAccDecTaps * period_s));
   if (n < 1 || std::abs(ratio - n) > 1e-6 * std::max(1.0, n))
-    throw InputError(fmt::format(
-        "Acc/Dec time constant tau = {} s is not a whole number of periods T = {} s "
-        "(tau/T = {:.6g}); Eq. 24 needs tau = (N+1)T with N+1 an integer >= 1", tau_s, period_s,
-        ratio));
+    throw InputError(
+        fmt::format("Acc/Dec time constant tau = {} s is not a whole number of periods T = {} s "
+                    "(tau/T = {:.6g}); Eq. 24 needs tau = (N+1)T with N+1 an integer >= 1",
+                    tau_s, period_s, ratio));
   return static_cast<int>(n);
 }
 
@@ -115,9 +116,10 @@ Taps design_taps(std::string_view profile_spec, double tau_s, double period_s) {
   t.cutoff = kNaN;
   t.max_nonneg_cutoff = kNaN;
   if (const int fixed = spec.fixed_length(); fixed > 0 && fixed != n)
-    throw InputError(fmt::format(
-        "profile '{}' has {} taps, so tau must be {} x T = {:.6g} s; got tau = {} s "
-        "(tau/T = {})", spec.text, fixed, fixed, fixed * period_s, tau_s, n));
+    throw InputError(
+        fmt::format("profile '{}' has {} taps, so tau must be {} x T = {:.6g} s; got tau = {} s "
+                    "(tau/T = {})",
+                    spec.text, fixed, fixed, fixed * period_s, tau_s, n));
 
   std::vector<double> raw;
   switch (spec.kind) {
@@ -127,23 +129,26 @@ Taps design_taps(std::string_view profile_spec, double tau_s, double period_s) {
     case ProfileKind::SCurve1:
     case ProfileKind::SCurve2:
       if (n < 2)
-        throw InputError(fmt::format("profile '{}' needs tau >= 2T (its last tap a'(1) is 0); "
-                                     "got tau = {} s, T = {} s", spec.text, tau_s, period_s));
+        throw InputError(
+            fmt::format("profile '{}' needs tau >= 2T (its last tap a'(1) is 0); "
+                        "got tau = {} s, T = {} s",
+                        spec.text, tau_s, period_s));
       raw = scurve_taps(n, spec.kind == ProfileKind::SCurve1 ? 1 : 2);
       break;
     case ProfileKind::Window: {
       const auto w = make_window(spec.window, n, spec.kaiser_beta);
       t.max_nonneg_cutoff = max_nonnegative_cutoff(spec.window, t.N);
       t.cutoff = spec.cutoff_rule == CutoffRule::Paper       ? std::min(1.0, 2.0 / n)
-               : spec.cutoff_rule == CutoffRule::MaxNonNeg ? t.max_nonneg_cutoff
-                                                           : spec.cutoff;
+                 : spec.cutoff_rule == CutoffRule::MaxNonNeg ? t.max_nonneg_cutoff
+                                                             : spec.cutoff;
       raw = fir1_lowpass(t.N, t.cutoff, w);
       double sum = 0;
       for (double v : raw) sum += v;
       if (!(sum > 0))
-        throw InputError(fmt::format("profile '{}' with N = {} has all-zero taps (the window "
-                                     "vanishes); use a larger tau (got tau = {} s, T = {} s)",
-                                     spec.text, t.N, tau_s, period_s));
+        throw InputError(
+            fmt::format("profile '{}' with N = {} has all-zero taps (the window "
+                        "vanishes); use a larger tau (got tau = {} s, T = {} s)",
+                        spec.text, t.N, tau_s, period_s));
       break;
     }
     case ProfileKind::Custom:
@@ -157,8 +162,8 @@ Taps design_taps(std::string_view profile_spec, double tau_s, double period_s) {
     if (raw[i] < 0)
       throw InputError(fmt::format(
           "profile '{}' (N = {}, cutoff {:.6g}) gives tap b{} = {:.6g} < 0; section 2 requires "
-          "every b_i >= 0 (largest non-negative cutoff here: {:.6g})", spec.text, t.N, t.cutoff, i,
-          raw[i], t.max_nonneg_cutoff));
+          "every b_i >= 0 (largest non-negative cutoff here: {:.6g})",
+          spec.text, t.N, t.cutoff, i, raw[i], t.max_nonneg_cutoff));
   t.real = normalised(raw);
   // The raw taps are proportional to `real`; integers there (linear, S-curves, cascades,
   // simple custom taps) are kept exactly.

@@ -11,14 +11,14 @@ namespace gm {
 /// A designed Acc/Dec filter D(z) = (1/b_s) Σ b_i z^-i, i = 0..N (Eq. 8). Designing is separate
 /// from applying (FirAccDec applies `integer`).
 struct Taps {
-  std::string profile;                 ///< the spec it came from
-  int N = 0;                           ///< filter order; N+1 taps; tau = (N+1)T (Eq. 24)
-  double cutoff = 0;                   ///< normalised to Nyquist for window designs, else NaN
-  std::vector<double> real;            ///< the designed taps, DC gain 1 (sum = 1)
-  std::vector<std::int64_t> integer;   ///< integer taps (Step 3), all >= 0, applied by FirAccDec
-  std::int64_t b_s = 0;                ///< position convergent factor: sum of integer taps (Eq. 5)
-  bool integer_exact = false;          ///< integer taps are exactly proportional to `real`
-  double max_nonneg_cutoff = 0;        ///< window designs: largest cutoff with all taps >= 0, else NaN
+  std::string profile;                ///< the spec it came from
+  int N = 0;                          ///< filter order; N+1 taps; tau = (N+1)T (Eq. 24)
+  double cutoff = 0;                  ///< normalised to Nyquist for window designs, else NaN
+  std::vector<double> real;           ///< the designed taps, DC gain 1 (sum = 1)
+  std::vector<std::int64_t> integer;  ///< integer taps (Step 3), all >= 0, applied by FirAccDec
+  std::int64_t b_s = 0;               ///< position convergent factor: sum of integer taps (Eq. 5)
+  bool integer_exact = false;         ///< integer taps are exactly proportional to `real`
+  double max_nonneg_cutoff = 0;  ///< window designs: largest cutoff with all taps >= 0, else NaN
 };
 
 /// Designs the taps of `profile_spec` (see profile_spec.hpp) for time constant `tau_s` and

@@ -1,4 +1,5 @@
-// Symmetric window functions of M points (as Matlab blackman/hann/hamming/kaiser) and the fir1 design.
+// Symmetric window functions of M points (as Matlab blackman/hann/hamming/kaiser) and the fir1
+// design.
 #pragma once
 
 #include "accdec/profile_spec.hpp"

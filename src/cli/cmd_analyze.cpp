@@ -18,14 +18,17 @@ namespace gm::cli {
 
 namespace {
 
-std::string jnum(double v) { return std::isfinite(v) ? fmt::format("{}", v) : "null"; }
+std::string jnum(double v) {
+  return std::isfinite(v) ? fmt::format("{}", v) : "null";
+}
 
 std::string jtaps(const Taps& t) {
   std::string s = fmt::format("\"profile\":\"{}\",\"N\":{},\"cutoff\":{},\"taps\":[", t.profile,
                               t.N, jnum(t.cutoff));
   for (std::size_t i = 0; i < t.real.size(); ++i) s += (i ? "," : "") + jnum(t.real[i]);
   s += "],\"taps_int\":[";
-  for (std::size_t i = 0; i < t.integer.size(); ++i) s += fmt::format("{}{}", i ? "," : "", t.integer[i]);
+  for (std::size_t i = 0; i < t.integer.size(); ++i)
+    s += fmt::format("{}{}", i ? "," : "", t.integer[i]);
   return s + fmt::format("],\"b_s\":{}", t.b_s);
 }
 
@@ -63,8 +66,9 @@ void run_radius(const RadiusOptions& o) {
                     1000.0 * radius_loss_linear_approx(o.radius_mm, v_mm_s, o.tau_s)});
   }
   if (o.json) {
-    std::string s = "{" + jtaps(t) + fmt::format(",\"tau\":{},\"period\":{},\"radius_mm\":{},\"rows\":[",
-                                                 jnum(o.tau_s), jnum(o.period_s), jnum(o.radius_mm));
+    std::string s = "{" + jtaps(t) +
+                    fmt::format(",\"tau\":{},\"period\":{},\"radius_mm\":{},\"rows\":[",
+                                jnum(o.tau_s), jnum(o.period_s), jnum(o.radius_mm));
     for (std::size_t i = 0; i < rows.size(); ++i) {
       s += fmt::format("{}{{\"feed_mm_min\":{},\"sampled_um\":{}", i ? "," : "", jnum(rows[i].feed),
                        jnum(rows[i].sampled));
@@ -76,16 +80,19 @@ void run_radius(const RadiusOptions& o) {
     fmt::print("{}]}}\n", s);
     return;
   }
-  fmt::print("Radius error of a circle through the Acc/Dec filter: profile {}, N = {}, tau = {} s, "
-             "T = {} s, R = {} mm\n", t.profile, t.N, o.tau_s, o.period_s, o.radius_mm);
+  fmt::print(
+      "Radius error of a circle through the Acc/Dec filter: profile {}, N = {}, tau = {} s, "
+      "T = {} s, R = {} mm\n",
+      t.profile, t.N, o.tau_s, o.period_s, o.radius_mm);
   fmt::print("sampled = R(1-|D(e^jwT)|), w = V/R (Eq. 9-16)");
-  if (linear) fmt::print("; continuous = Eq. 18 R-2R/(tau w) sin(tau w/2); approx = Eq. 19 (tau V)^2/(24R)");
+  if (linear)
+    fmt::print("; continuous = Eq. 18 R-2R/(tau w) sin(tau w/2); approx = Eq. 19 (tau V)^2/(24R)");
   fmt::print("\n\n{:>12}  {:>10}  {:>22}", "feed mm/min", "w rad/s", "sampled um");
   if (linear) fmt::print("  {:>22}  {:>22}", "continuous um (Eq.18)", "approx um (Eq.19)");
   fmt::print("\n");
   for (const Row& r : rows) {
-    fmt::print("{:>12.6g}  {:>10.6g}  {:>22.15g}", r.feed, units::mm_min_to_mm_s(r.feed) / o.radius_mm,
-               r.sampled);
+    fmt::print("{:>12.6g}  {:>10.6g}  {:>22.15g}", r.feed,
+               units::mm_min_to_mm_s(r.feed) / o.radius_mm, r.sampled);
     if (linear) fmt::print("  {:>22.15g}  {:>22.15g}", r.cont, r.approx);
     fmt::print("\n");
   }
@@ -102,8 +109,9 @@ void run_response(const ResponseOptions& o) {
     a_int = amplitude_response(applied, std::numbers::pi * f_norm);
   };
   if (o.json) {
-    std::string s = "{" + jtaps(t) + fmt::format(",\"tau\":{},\"period\":{},\"response\":[",
-                                                 jnum(o.tau_s), jnum(o.period_s));
+    std::string s =
+        "{" + jtaps(t) +
+        fmt::format(",\"tau\":{},\"period\":{},\"response\":[", jnum(o.tau_s), jnum(o.period_s));
     for (int j = 0; j < o.points; ++j) {
       double f, a, ai;
       sample(j, f, a, ai);
@@ -116,28 +124,33 @@ void run_response(const ResponseOptions& o) {
   fmt::print("# profile={} N={} tau={} period={} cutoff={} b_s={}\n", t.profile, t.N, o.tau_s,
              o.period_s, t.cutoff, t.b_s);
   std::string taps = "# taps=";
-  for (std::size_t i = 0; i < t.real.size(); ++i) taps += (i ? " " : "") + fmt::format("{:.10g}", t.real[i]);
+  for (std::size_t i = 0; i < t.real.size(); ++i)
+    taps += (i ? " " : "") + fmt::format("{:.10g}", t.real[i]);
   fmt::print("{}\n# taps_int=", taps);
   for (std::size_t i = 0; i < t.integer.size(); ++i) fmt::print("{}{}", i ? " " : "", t.integer[i]);
   fmt::print("\nf_norm,f_hz,omega_T,amplitude,amplitude_int\n");
   for (int j = 0; j < o.points; ++j) {
     double f, a, ai;
     sample(j, f, a, ai);
-    fmt::print("{:.8g},{:.8g},{:.8g},{:.12g},{:.12g}\n", f, f * nyquist_hz, std::numbers::pi * f, a, ai);
+    fmt::print("{:.8g},{:.8g},{:.8g},{:.12g},{:.12g}\n", f, f * nyquist_hz, std::numbers::pi * f, a,
+               ai);
   }
 }
 
 }  // namespace
 
 void add_analyze(CLI::App& app, Context& ctx) {
-  auto* sub = app.add_subcommand("analyze", "Analyse Acc/Dec taps: radius error, amplitude response");
+  auto* sub =
+      app.add_subcommand("analyze", "Analyse Acc/Dec taps: radius error, amplitude response");
   sub->require_subcommand(1);
 
   auto r = std::make_shared<RadiusOptions>();
   auto* rs = sub->add_subcommand(
-      "radius-error", "Radius loss of circular motion through the filter (paper Table 1, Fig. 13); "
-                      "defaults reproduce Table 1 with T = 1 ms (41 taps)");
-  rs->add_option("--profile", r->profile, "profile spec (see gmotion design --help)")->capture_default_str();
+      "radius-error",
+      "Radius loss of circular motion through the filter (paper Table 1, Fig. 13); "
+      "defaults reproduce Table 1 with T = 1 ms (41 taps)");
+  rs->add_option("--profile", r->profile, "profile spec (see gmotion design --help)")
+      ->capture_default_str();
   rs->add_option("--tau", r->tau_s, "Acc/Dec time constant, s")->capture_default_str();
   rs->add_option("--period", r->period_s, "sampling period T, s (tau/T must be an integer)")
       ->capture_default_str();
@@ -152,9 +165,11 @@ void add_analyze(CLI::App& app, Context& ctx) {
   });
 
   auto q = std::make_shared<ResponseOptions>();
-  auto* rp = sub->add_subcommand("response", "Taps and amplitude response |D(e^jwT)| on a grid "
-                                             "from 0 to Nyquist (CSV, or JSON), for plotting");
-  rp->add_option("--profile", q->profile, "profile spec (see gmotion design --help)")->capture_default_str();
+  auto* rp = sub->add_subcommand("response",
+                                 "Taps and amplitude response |D(e^jwT)| on a grid "
+                                 "from 0 to Nyquist (CSV, or JSON), for plotting");
+  rp->add_option("--profile", q->profile, "profile spec (see gmotion design --help)")
+      ->capture_default_str();
   rp->add_option("--tau", q->tau_s, "Acc/Dec time constant, s")->capture_default_str();
   rp->add_option("--period", q->period_s, "sampling period T, s")->capture_default_str();
   rp->add_option("--points", q->points, "number of grid frequencies")->capture_default_str();

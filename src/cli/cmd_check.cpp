@@ -14,7 +14,8 @@
 namespace gm::cli {
 
 void add_check(CLI::App& app, Context& ctx) {
-  auto* sub = app.add_subcommand("check", "Validate a G-code program: every error (file:line:col), or a summary");
+  auto* sub = app.add_subcommand(
+      "check", "Validate a G-code program: every error (file:line:col), or a summary");
   struct Opts {
     std::string program;
     std::string machine_file;
@@ -40,14 +41,16 @@ void add_check(CLI::App& app, Context& ctx) {
     ProgramInput program(opts->program);
     const CheckSummary s = check_program(program.rewind(), program.name(), io, std::cerr);
     if (s.errors > 0) {
-      fmt::print(stderr, "{}: {} error{}\n", opts->program == "-" ? "<stdin>" : opts->program, s.errors,
-                 s.errors == 1 ? "" : "s");
+      fmt::print(stderr, "{}: {} error{}\n", opts->program == "-" ? "<stdin>" : opts->program,
+                 s.errors, s.errors == 1 ? "" : "s");
       ctx.exit_code = static_cast<int>(ExitCode::InputError);
       return;
     }
-    fmt::print("{}: ok: {} blocks, {} moves, path {:.3f} mm, {:.3f} s at programmed feed (rapids at {:g} mm/min)\n",
-               opts->program == "-" ? "<stdin>" : opts->program, s.blocks, s.moves, s.path_length_mm,
-               s.time_at_feed_s, machine.rapid_mm_min);
+    fmt::print(
+        "{}: ok: {} blocks, {} moves, path {:.3f} mm, {:.3f} s at programmed feed (rapids at {:g} "
+        "mm/min)\n",
+        opts->program == "-" ? "<stdin>" : opts->program, s.blocks, s.moves, s.path_length_mm,
+        s.time_at_feed_s, machine.rapid_mm_min);
     ctx.exit_code = 0;
   });
 }

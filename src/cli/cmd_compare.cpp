@@ -31,19 +31,21 @@ std::optional<Motion> first_arc(ProgramInput& program, const InterpreterOptions&
   ProgramStream stream(program.rewind(), program.name(), opts);
   Canon c;
   while (stream.next(c))
-    if (const auto* m = std::get_if<Motion>(&c); m != nullptr && m->kind == MotionKind::Arc) return *m;
+    if (const auto* m = std::get_if<Motion>(&c); m != nullptr && m->kind == MotionKind::Arc)
+      return *m;
   return std::nullopt;
 }
 
 // Runs the program once through the pipeline and returns its summary.
-RunSummary run_once(const RunConfig& cfg, ProgramInput& program, const InterpreterOptions& opts, std::size_t* taps,
-                    std::vector<double>* real_taps) {
+RunSummary run_once(const RunConfig& cfg, ProgramInput& program, const InterpreterOptions& opts,
+                    std::size_t* taps, std::vector<double>* real_taps) {
   ProgramStream stream(program.rewind(), program.name(), opts);
   Pipeline pipeline(cfg, stream);
   RunSummary summary(cfg.machine);
   SampleRecord rec, last;
   PipelineStatus st;
-  while ((st = pipeline.step(OverrideInput{}, rec)) == PipelineStatus::Working) summary.add(rec), last = rec;
+  while ((st = pipeline.step(OverrideInput{}, rec)) == PipelineStatus::Working)
+    summary.add(rec), last = rec;
   summary.finish(last, pipeline.program_end_blu(), st == PipelineStatus::Finished);
   if (taps) *taps = pipeline.taps().integer.size();
   if (real_taps) *real_taps = pipeline.taps().real;
@@ -119,35 +121,50 @@ int compare(const CompareFlags& f) {
     for (std::size_t i = 0; i < rows.size(); ++i) {
       const Row& r = rows[i];
       j += fmt::format(
-          "{}{{\"profile\":\"{}\",\"taps\":{},\"analysis_blu\":{:.6g},\"accdec_blu\":{:.6g},\"total_blu\":{:.6g},"
-          "\"additive_blu\":{:.6g},\"predicted_total_blu\":{:.6g},\"cycle_time_s\":{:.6g},\"contour_err_max_blu\":{:.6g},\"settled\":{}}}",
-          i ? "," : "", r.profile, r.taps, r.analysis_blu, r.accdec_blu, r.total_blu, r.additive_blu,
-          r.predicted_total_blu, r.cycle_s, r.contour_max_blu, r.settled ? "true" : "false");
+          "{}{{\"profile\":\"{}\",\"taps\":{},\"analysis_blu\":{:.6g},\"accdec_blu\":{:.6g},"
+          "\"total_blu\":{:.6g},"
+          "\"additive_blu\":{:.6g},\"predicted_total_blu\":{:.6g},\"cycle_time_s\":{:.6g},"
+          "\"contour_err_max_blu\":{:.6g},\"settled\":{}}}",
+          i ? "," : "", r.profile, r.taps, r.analysis_blu, r.accdec_blu, r.total_blu,
+          r.additive_blu, r.predicted_total_blu, r.cycle_s, r.contour_max_blu,
+          r.settled ? "true" : "false");
     }
-    j += fmt::format("],\"radius_blu\":{:.6g},\"v_tan_blu_s\":{:.6g},\"servo_alone_blu\":{:.6g},\"servo_eq35_blu\":{:.6g}}}\n",
-                     r_blu, v_blu_s, servo_alone_blu, servo_eq35);
+    j += fmt::format(
+        "],\"radius_blu\":{:.6g},\"v_tan_blu_s\":{:.6g},\"servo_alone_blu\":{:.6g},\"servo_eq35_"
+        "blu\":{:.6g}}}\n",
+        r_blu, v_blu_s, servo_alone_blu, servo_eq35);
     fmt::print("{}", j);
     return 0;
   }
 
-  fmt::print("{} on {}: T = {} s, tau = {} s", program.name(), base.name, base.period_s, base.tau_s);
+  fmt::print("{} on {}: T = {} s, tau = {} s", program.name(), base.name, base.period_s,
+             base.tau_s);
   if (arc)
-    fmt::print(", circle R = {:.0f} BLU at V_tan = {:.0f} BLU/s (line {})\n", r_blu, v_blu_s, arc->line);
+    fmt::print(", circle R = {:.0f} BLU at V_tan = {:.0f} BLU/s (line {})\n", r_blu, v_blu_s,
+               arc->line);
   else
     fmt::print(", no arcs (radius columns are empty)\n");
   fmt::print("Steady-state radius loss on arcs, BLU (positive = radius decreased):\n");
   fmt::print("  {:<10} {:>5} {:>12} {:>12}", "profile", "taps", "analysis", "Acc/Dec");
-  if (!f.machine.no_servo) fmt::print(" {:>11} {:>14} {:>14}", "with servo", "Acc/Dec+servo", "analysis+Eq35");
+  if (!f.machine.no_servo)
+    fmt::print(" {:>11} {:>14} {:>14}", "with servo", "Acc/Dec+servo", "analysis+Eq35");
   fmt::print(" {:>10} {:>14}\n", "cycle s", "max contour");
   for (const Row& r : rows) {
-    fmt::print("  {:<10} {:>5} {:>12.2f} {:>12.2f}", r.profile, r.taps, r.analysis_blu, r.accdec_blu);
-    if (!f.machine.no_servo) fmt::print(" {:>11.2f} {:>14.2f} {:>14.2f}", r.total_blu, r.additive_blu, r.predicted_total_blu);
-    fmt::print(" {:>10.3f} {:>14.2f}{}\n", r.cycle_s, r.contour_max_blu, r.settled ? "" : "  (not settled)");
+    fmt::print("  {:<10} {:>5} {:>12.2f} {:>12.2f}", r.profile, r.taps, r.analysis_blu,
+               r.accdec_blu);
+    if (!f.machine.no_servo)
+      fmt::print(" {:>11.2f} {:>14.2f} {:>14.2f}", r.total_blu, r.additive_blu,
+                 r.predicted_total_blu);
+    fmt::print(" {:>10.3f} {:>14.2f}{}\n", r.cycle_s, r.contour_max_blu,
+               r.settled ? "" : "  (not settled)");
   }
   fmt::print(
-      "analysis = R(1-|D(e^jwT)|), w = V/R (Eq. 13/14); Acc/Dec = measured on the filter output (servo off);\n"
-      "with servo = measured on the encoder; Acc/Dec+servo = Eq. 34 with the servo's own loss measured\n"
-      "(Acc/Dec off): {:.2f} BLU; analysis+Eq35 = Eq. 34 with Eq. 35's V^2/(2 R Kp^2) = {:.2f} BLU (Kp = {} 1/s).\n",
+      "analysis = R(1-|D(e^jwT)|), w = V/R (Eq. 13/14); Acc/Dec = measured on the filter output "
+      "(servo off);\n"
+      "with servo = measured on the encoder; Acc/Dec+servo = Eq. 34 with the servo's own loss "
+      "measured\n"
+      "(Acc/Dec off): {:.2f} BLU; analysis+Eq35 = Eq. 34 with Eq. 35's V^2/(2 R Kp^2) = {:.2f} BLU "
+      "(Kp = {} 1/s).\n",
       servo_alone_blu, servo_eq35, kp);
   return 0;
 }
@@ -156,7 +173,8 @@ int compare(const CompareFlags& f) {
 
 void add_compare(CLI::App& app, Context& ctx) {
   auto flags = std::make_shared<CompareFlags>();
-  auto* sub = app.add_subcommand("compare", "Run a program through several Acc/Dec profiles and tabulate radius loss");
+  auto* sub = app.add_subcommand(
+      "compare", "Run a program through several Acc/Dec profiles and tabulate radius loss");
   sub->add_option("program", flags->program, "G-code program, or - for stdin")->required();
   add_machine_flags(sub, flags->machine);
   sub->add_option("--profiles", flags->profiles, "Comma-separated profiles")->delimiter(',');

@@ -28,15 +28,19 @@ struct DesignOptions {
 };
 
 // A JSON number (shortest round-trip form), or null when not finite.
-std::string jnum(double v) { return std::isfinite(v) ? fmt::format("{}", v) : "null"; }
+std::string jnum(double v) {
+  return std::isfinite(v) ? fmt::format("{}", v) : "null";
+}
 
 template <typename T>
 std::string jarray(const std::vector<T>& v) {
   std::string s = "[";
   for (std::size_t i = 0; i < v.size(); ++i) {
     if (i) s += ",";
-    if constexpr (std::is_floating_point_v<T>) s += jnum(v[i]);
-    else s += fmt::format("{}", v[i]);
+    if constexpr (std::is_floating_point_v<T>)
+      s += jnum(v[i]);
+    else
+      s += fmt::format("{}", v[i]);
   }
   return s + "]";
 }
@@ -50,7 +54,9 @@ std::string jstr(const std::string& s) {
   return out + "\"";
 }
 
-const char* pass(bool ok) { return ok ? "ok" : "FAIL"; }
+const char* pass(bool ok) {
+  return ok ? "ok" : "FAIL";
+}
 
 void print_json(const DesignOptions& o, const std::vector<DesignAttempt>& attempts) {
   const DesignAttempt& a = attempts.back();
@@ -63,11 +69,11 @@ void print_json(const DesignOptions& o, const std::vector<DesignAttempt>& attemp
   s += fmt::format("\"taps\":{},\"taps_int\":{},\"b_s\":{},\"integer_exact\":{},", jarray(t.real),
                    jarray(t.integer), t.b_s, t.integer_exact ? "true" : "false");
   s += fmt::format("\"quantisation_error\":{},", jnum(quantisation_error(t)));
-  s += fmt::format("\"v_step\":{},\"peak_velocity\":{},\"peak_accel\":{},\"peak_force\":{},"
-                   "\"peak_power\":{},\"profile_force\":{},\"profile_power\":{},",
-                   jnum(o.limits.v_step_m_s), jnum(a.peak_velocity_m_s), jnum(a.peak_accel_m_s2),
-                   jnum(a.peak_force_N), jnum(a.peak_power_W), jnum(a.profile_force_N),
-                   jnum(a.profile_power_W));
+  s += fmt::format(
+      "\"v_step\":{},\"peak_velocity\":{},\"peak_accel\":{},\"peak_force\":{},"
+      "\"peak_power\":{},\"profile_force\":{},\"profile_power\":{},",
+      jnum(o.limits.v_step_m_s), jnum(a.peak_velocity_m_s), jnum(a.peak_accel_m_s2),
+      jnum(a.peak_force_N), jnum(a.peak_power_W), jnum(a.profile_force_N), jnum(a.profile_power_W));
   s += fmt::format("\"limits\":{{\"vmax\":{},\"mass\":{},\"damping\":{},\"fmax\":{},\"pmax\":{}}},",
                    jnum(o.limits.v_max_m_s), jnum(o.limits.mass_kg), jnum(o.limits.damping_kg_s),
                    jnum(o.limits.f_max_N), jnum(o.limits.p_max_W));
@@ -76,11 +82,12 @@ void print_json(const DesignOptions& o, const std::vector<DesignAttempt>& attemp
                    a.ok() ? "true" : "false");
   for (std::size_t i = 0; i < attempts.size(); ++i) {
     const DesignAttempt& x = attempts[i];
-    s += fmt::format("{}{{\"tau\":{},\"N\":{},\"cutoff\":{},\"b_s\":{},\"peak_accel\":{},"
-                     "\"peak_force\":{},\"peak_power\":{},\"ok\":{}}}",
-                     i ? "," : "", jnum(x.tau_s), x.taps.N, jnum(x.taps.cutoff), x.taps.b_s,
-                     jnum(x.peak_accel_m_s2), jnum(x.peak_force_N), jnum(x.peak_power_W),
-                     x.ok() ? "true" : "false");
+    s += fmt::format(
+        "{}{{\"tau\":{},\"N\":{},\"cutoff\":{},\"b_s\":{},\"peak_accel\":{},"
+        "\"peak_force\":{},\"peak_power\":{},\"ok\":{}}}",
+        i ? "," : "", jnum(x.tau_s), x.taps.N, jnum(x.taps.cutoff), x.taps.b_s,
+        jnum(x.peak_accel_m_s2), jnum(x.peak_force_N), jnum(x.peak_power_W),
+        x.ok() ? "true" : "false");
   }
   s += "]}";
   fmt::print("{}\n", s);
@@ -90,9 +97,10 @@ void print_human(const DesignOptions& o, const std::vector<DesignAttempt>& attem
   const DesignLimits& L = o.limits;
   fmt::print("Acc/Dec design (Chen & Lee 1998, Fig. 9): profile {}, T = {} s, initial tau = {} s\n",
              attempts.front().taps.profile, o.period_s, o.tau_s);
-  fmt::print("velocity step V = {} m/s, m = {} kg, c = {} kg/s; limits V_max {} m/s, "
-             "F_max {} N, P_max {} W\n\n", L.v_step_m_s, L.mass_kg, L.damping_kg_s, L.v_max_m_s,
-             L.f_max_N, L.p_max_W);
+  fmt::print(
+      "velocity step V = {} m/s, m = {} kg, c = {} kg/s; limits V_max {} m/s, "
+      "F_max {} N, P_max {} W\n\n",
+      L.v_step_m_s, L.mass_kg, L.damping_kg_s, L.v_max_m_s, L.f_max_N, L.p_max_W);
   fmt::print("{:>7}  {:>9}  {:>5}  {:>9}  {:>12}  {:>11}  {:>10}  {:>9}  {}\n", "attempt",
              "tau [s]", "N", "cutoff", "b_s", "a [m/s^2]", "F [N]", "P [W]", "Step 4");
   for (std::size_t i = 0; i < attempts.size(); ++i) {
@@ -102,24 +110,29 @@ void print_human(const DesignOptions& o, const std::vector<DesignAttempt>& attem
     if (!a.f_ok) verdict += " F";
     if (!a.p_ok) verdict += " P";
     if (!a.ok() && i + 1 < attempts.size()) verdict += " -> tau += T";
-    const std::string cutoff = std::isfinite(a.taps.cutoff) ? fmt::format("{:.6g}", a.taps.cutoff) : "-";
-    fmt::print("{:>7}  {:>9.6g}  {:>5}  {:>9}  {:>12}  {:>11.6g}  {:>10.6g}  {:>9.6g}  {}\n",
-               i + 1, a.tau_s, a.taps.N, cutoff, a.taps.b_s, a.peak_accel_m_s2,
-               a.peak_force_N, a.peak_power_W, verdict);
+    const std::string cutoff =
+        std::isfinite(a.taps.cutoff) ? fmt::format("{:.6g}", a.taps.cutoff) : "-";
+    fmt::print("{:>7}  {:>9.6g}  {:>5}  {:>9}  {:>12}  {:>11.6g}  {:>10.6g}  {:>9.6g}  {}\n", i + 1,
+               a.tau_s, a.taps.N, cutoff, a.taps.b_s, a.peak_accel_m_s2, a.peak_force_N,
+               a.peak_power_W, verdict);
   }
   const DesignAttempt& a = attempts.back();
   const Taps& t = a.taps;
   fmt::print("\nStep 1 (Eq. 24): N = tau/T - 1 = {:.6g}/{} - 1 = {}\n", a.tau_s, o.period_s, t.N);
   if (std::isfinite(t.cutoff))
-    fmt::print("Step 2 (Eq. 25): cutoff = {:.6g} of Nyquist (2/(N+1) = {:.6g}); largest cutoff "
-               "keeping all taps >= 0: {:.6g}\n", t.cutoff, 2.0 / (t.N + 1), t.max_nonneg_cutoff);
+    fmt::print(
+        "Step 2 (Eq. 25): cutoff = {:.6g} of Nyquist (2/(N+1) = {:.6g}); largest cutoff "
+        "keeping all taps >= 0: {:.6g}\n",
+        t.cutoff, 2.0 / (t.N + 1), t.max_nonneg_cutoff);
   else
     fmt::print("Step 2: no cutoff (not a window design)\n");
-  fmt::print("Step 3 (Eq. 5): b_s = {} = sum of integer taps ({}); frequency-response "
-             "quantisation error max |dA| = {:.3g}\n", t.b_s,
-             t.integer_exact ? "exactly proportional to the design"
-                             : "real taps scaled so the largest is 65536, rounded",
-             quantisation_error(t));
+  fmt::print(
+      "Step 3 (Eq. 5): b_s = {} = sum of integer taps ({}); frequency-response "
+      "quantisation error max |dA| = {:.3g}\n",
+      t.b_s,
+      t.integer_exact ? "exactly proportional to the design"
+                      : "real taps scaled so the largest is 65536, rounded",
+      quantisation_error(t));
   fmt::print("\n{:>5}  {:>24}  {:>10}\n", "i", "b_i real (DC gain 1)", "b_i int");
   for (std::size_t i = 0; i < t.real.size(); ++i)
     fmt::print("{:>5}  {:>24.17g}  {:>10}\n", i, t.real[i], t.integer[i]);
@@ -142,17 +155,20 @@ void print_human(const DesignOptions& o, const std::vector<DesignAttempt>& attem
 void add_design(CLI::App& app, Context& ctx) {
   auto o = std::make_shared<DesignOptions>();
   auto* sub = app.add_subcommand(
-      "design", "Design an FIR Acc/Dec filter by the paper's Fig. 9 procedure (Steps 1-4); "
-                "defaults are the paper's section 6 example");
+      "design",
+      "Design an FIR Acc/Dec filter by the paper's Fig. 9 procedure (Steps 1-4); "
+      "defaults are the paper's section 6 example");
   sub->add_option("--period", o->period_s, "sampling period T, s")->capture_default_str();
-  auto* tau = sub->add_option("--tau", o->tau_s, "initial Acc/Dec time constant tau = (N+1)T, s "
-                                                  "(custom/cascade: defaults to taps x T)")
+  auto* tau = sub->add_option("--tau", o->tau_s,
+                              "initial Acc/Dec time constant tau = (N+1)T, s "
+                              "(custom/cascade: defaults to taps x T)")
                   ->capture_default_str();
   sub->add_option("--profile", o->profile,
                   "linear | scurve1 | scurve2 | blackman[@C] | hann[@C] | hamming[@C] | "
                   "kaiser:BETA[@C] | custom:b0,b1,... | cascade:L1,L2,...  (C = cutoff or max)")
       ->capture_default_str();
-  sub->add_option("--vmax", o->limits.v_max_m_s, "velocity limit V_max, m/s")->capture_default_str();
+  sub->add_option("--vmax", o->limits.v_max_m_s, "velocity limit V_max, m/s")
+      ->capture_default_str();
   sub->add_option("--mass", o->limits.mass_kg, "equivalent mass m, kg")->capture_default_str();
   sub->add_option("--damping", o->limits.damping_kg_s, "equivalent viscous damping c, kg/s")
       ->capture_default_str();
@@ -170,10 +186,12 @@ void add_design(CLI::App& app, Context& ctx) {
       if (const int fixed = parse_profile_spec(o->profile).fixed_length(); fixed > 0)
         o->tau_s = fixed * o->period_s;
     }
-    const auto attempts = design_procedure(o->profile, o->tau_s, o->period_s, o->limits,
-                                           o->max_attempts);
-    if (o->json) print_json(*o, attempts);
-    else print_human(*o, attempts);
+    const auto attempts =
+        design_procedure(o->profile, o->tau_s, o->period_s, o->limits, o->max_attempts);
+    if (o->json)
+      print_json(*o, attempts);
+    else
+      print_human(*o, attempts);
     if (!attempts.back().ok()) {
       std::fflush(stdout);
       fmt::print(stderr, "gmotion: error: the limits are not met by profile '{}' at tau = {} s{}\n",

@@ -41,13 +41,14 @@ int diff(const DiffFlags& f) {
   // A partial trace is compared as far as it goes; its missing rows count as a difference.
   for (const TraceReader* t : {&a, &b})
     if (t->partial())
-      fmt::print(stderr, "warning: {} = {} is a partial trace ({}); comparing the rows it has\n", t == &a ? "A" : "B",
-                 t->path(), why_partial(*t));
+      fmt::print(stderr, "warning: {} = {} is a partial trace ({}); comparing the rows it has\n",
+                 t == &a ? "A" : "B", t->path(), why_partial(*t));
   // Traces of different set-ups are not comparable: say which header line differs.
   for (const char* key : {"machine", "profile", "period_s", "blu_mm", "servo", "decimate"}) {
     if (a.header_value(key) != b.header_value(key))
-      throw InputError(fmt::format("traces are of different set-ups: '{}' is '{}' in {} but '{}' in {}", key,
-                                   a.header_value(key), f.a, b.header_value(key), f.b));
+      throw InputError(
+          fmt::format("traces are of different set-ups: '{}' is '{}' in {} but '{}' in {}", key,
+                      a.header_value(key), f.a, b.header_value(key), f.b));
   }
   if (a.columns() != b.columns())
     throw InputError(fmt::format("traces have different columns: {} has {}, {} has {}", f.a,
@@ -60,7 +61,8 @@ int diff(const DiffFlags& f) {
     for (const std::string& c : f.columns) {
       const auto it = std::find(cols.begin(), cols.end(), c);
       if (it == cols.end())
-        throw InputError(fmt::format("--columns: no column '{}' (columns: {})", c, fmt::join(cols, ",")));
+        throw InputError(
+            fmt::format("--columns: no column '{}' (columns: {})", c, fmt::join(cols, ",")));
       use.push_back(static_cast<std::size_t>(it - cols.begin()));
     }
   }
@@ -77,7 +79,8 @@ int diff(const DiffFlags& f) {
         std::vector<double> tmp;
         while (longer.next(tmp)) ++extra;
         if (first.empty())
-          first = fmt::format("{} ends after {} rows; {} has {} more", ha ? f.b : f.a, rows, ha ? f.a : f.b, extra);
+          first = fmt::format("{} ends after {} rows; {} has {} more", ha ? f.b : f.a, rows,
+                              ha ? f.a : f.b, extra);
         ++beyond;
       }
       break;
@@ -87,8 +90,8 @@ int diff(const DiffFlags& f) {
       max_diff[i] = std::max(max_diff[i], d);
       if (d > std::max(f.tol, resolution(cols[i])) + 1e-12) {
         if (first.empty())
-          first = fmt::format("row {} (t = {:.6f} s, line {}): column {}: {} in A, {} in B", rows + 1, va[0], va[1],
-                              cols[i], va[i], vb[i]);
+          first = fmt::format("row {} (t = {:.6f} s, line {}): column {}: {} in A, {} in B",
+                              rows + 1, va[0], va[1], cols[i], va[i], vb[i]);
         ++beyond;
       }
     }
@@ -96,7 +99,8 @@ int diff(const DiffFlags& f) {
   }
   for (const TraceReader* t : {&a, &b})
     if (t->dropped_tail())
-      fmt::print(stderr, "warning: {} = {} ends in an incomplete row, not compared\n", t == &a ? "A" : "B", t->path());
+      fmt::print(stderr, "warning: {} = {} ends in an incomplete row, not compared\n",
+                 t == &a ? "A" : "B", t->path());
 
   fmt::print("A = {}\nB = {}\n{} rows compared, tolerance {}\n", f.a, f.b, rows, f.tol);
   fmt::print("largest difference per column:");
@@ -107,7 +111,8 @@ int diff(const DiffFlags& f) {
     fmt::print("traces agree within the tolerance\n");
     return 0;
   }
-  fmt::print("first divergence: {}\n{} value{} beyond the tolerance\n", first, beyond, beyond == 1 ? "" : "s");
+  fmt::print("first divergence: {}\n{} value{} beyond the tolerance\n", first, beyond,
+             beyond == 1 ? "" : "s");
   return static_cast<int>(ExitCode::InputError);
 }
 
@@ -115,12 +120,15 @@ int diff(const DiffFlags& f) {
 
 void add_diff(CLI::App& app, Context& ctx) {
   auto flags = std::make_shared<DiffFlags>();
-  auto* sub = app.add_subcommand("diff", "Compare two traces (CSV or binary): first divergence, largest differences");
+  auto* sub = app.add_subcommand(
+      "diff", "Compare two traces (CSV or binary): first divergence, largest differences");
   sub->add_option("a", flags->a, "First trace")->required();
   sub->add_option("b", flags->b, "Second trace")->required();
-  sub->add_option("--tol", flags->tol, "Largest allowed difference per value (BLU for positions; default 0)")
+  sub->add_option("--tol", flags->tol,
+                  "Largest allowed difference per value (BLU for positions; default 0)")
       ->check(CLI::NonNegativeNumber);
-  sub->add_option("--columns", flags->columns, "Only these columns (comma-separated)")->delimiter(',');
+  sub->add_option("--columns", flags->columns, "Only these columns (comma-separated)")
+      ->delimiter(',');
   sub->footer(
       "Exit 0 when every compared value is within the tolerance, 1 when one is not or the traces\n"
       "are of different machines, profiles, periods, BLU or columns. A partial trace (header line\n"

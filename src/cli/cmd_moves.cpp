@@ -14,18 +14,24 @@ namespace gm::cli {
 
 namespace {
 
-const char* plane_name(Plane p) { return p == Plane::XY ? "XY" : p == Plane::XZ ? "XZ" : "YZ"; }
+const char* plane_name(Plane p) {
+  return p == Plane::XY ? "XY" : p == Plane::XZ ? "XZ" : "YZ";
+}
 
 // One JSON object per canonical move. Numbers are printed shortest-round-trip ({} in fmt).
 // Rapids print "feed":0 (the machine's rapid rate applies; it is not part of the program).
 void print_move(std::FILE* f, const Canon& c) {
   if (const auto* m = std::get_if<Motion>(&c)) {
-    const char* kind = m->kind == MotionKind::Rapid ? "rapid" : m->kind == MotionKind::Line ? "line" : "arc";
-    fmt::print(f, "{{\"line\":{},\"kind\":\"{}\",\"end\":[{},{},{}],\"feed\":{}", m->line, kind, m->end_mm[0] + 0.0,
-               m->end_mm[1] + 0.0, m->end_mm[2] + 0.0, m->kind == MotionKind::Rapid ? 0.0 : m->feed_mm_min);
+    const char* kind = m->kind == MotionKind::Rapid  ? "rapid"
+                       : m->kind == MotionKind::Line ? "line"
+                                                     : "arc";
+    fmt::print(f, "{{\"line\":{},\"kind\":\"{}\",\"end\":[{},{},{}],\"feed\":{}", m->line, kind,
+               m->end_mm[0] + 0.0, m->end_mm[1] + 0.0, m->end_mm[2] + 0.0,
+               m->kind == MotionKind::Rapid ? 0.0 : m->feed_mm_min);
     if (m->kind == MotionKind::Arc)
-      fmt::print(f, ",\"center\":[{},{},{}],\"dir\":\"{}\",\"turns\":{},\"plane\":\"{}\"", m->center_mm[0] + 0.0,
-                 m->center_mm[1] + 0.0, m->center_mm[2] + 0.0, m->ccw ? "ccw" : "cw", m->turns, plane_name(m->plane));
+      fmt::print(f, ",\"center\":[{},{},{}],\"dir\":\"{}\",\"turns\":{},\"plane\":\"{}\"",
+                 m->center_mm[0] + 0.0, m->center_mm[1] + 0.0, m->center_mm[2] + 0.0,
+                 m->ccw ? "ccw" : "cw", m->turns, plane_name(m->plane));
     fmt::print(f, "}}\n");
   } else if (const auto* d = std::get_if<Dwell>(&c)) {
     fmt::print(f, "{{\"line\":{},\"kind\":\"dwell\",\"seconds\":{}}}\n", d->line, d->seconds);
@@ -35,7 +41,8 @@ void print_move(std::FILE* f, const Canon& c) {
 }  // namespace
 
 void add_moves(CLI::App& app, Context& ctx) {
-  auto* sub = app.add_subcommand("moves", "Print the canonical moves as JSON Lines (mm, mm/min, machine coordinates)");
+  auto* sub = app.add_subcommand(
+      "moves", "Print the canonical moves as JSON Lines (mm, mm/min, machine coordinates)");
   struct Opts {
     std::string program;
     std::string machine_file;

@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include <unistd.h>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -19,13 +20,14 @@
 #include <memory>
 #include <optional>
 #include <thread>
-#include <unistd.h>
 
 namespace gm::cli {
 namespace {
 
 volatile std::sig_atomic_t g_interrupted = 0;
-extern "C" void on_sigint(int) { g_interrupted = 1; }
+extern "C" void on_sigint(int) {
+  g_interrupted = 1;
+}
 
 struct RunFlags {
   std::string program;
@@ -75,12 +77,14 @@ class OverrideRecorder {
  public:
   OverrideRecorder(const std::string& path, double period_s) : out_(path), period_s_(period_s) {
     if (!out_) throw InputError(fmt::format("cannot write override record '{}'", path));
-    out_ << "# gmotion override record: replay with --override-file (t_s,percent; t_s,rapid=percent)\n";
+    out_ << "# gmotion override record: replay with --override-file (t_s,percent; "
+            "t_s,rapid=percent)\n";
   }
   void sample(std::int64_t k, double feed_pct, double rapid_pct) {
     const double t = static_cast<double>(k) * period_s_;
     if (feed_pct != feed_) out_ << fmt::format("{:.17g},{:.17g}\n", t, feed_pct), feed_ = feed_pct;
-    if (rapid_pct != rapid_) out_ << fmt::format("{:.17g},rapid={:.17g}\n", t, rapid_pct), rapid_ = rapid_pct;
+    if (rapid_pct != rapid_)
+      out_ << fmt::format("{:.17g},rapid={:.17g}\n", t, rapid_pct), rapid_ = rapid_pct;
   }
   void finish() {
     out_.flush();
@@ -102,11 +106,14 @@ int run(const RunFlags& f, RunTrace& out) {
   cfg.machine = resolve_machine(f.machine);
   cfg.servo = !f.machine.no_servo;
   const double max_pct = cfg.machine.max_override * 100.0;
-  for (auto [flag, v] : {std::pair{"--override", f.override_pct}, std::pair{"--rapid-override", f.rapid_override_pct}})
+  for (auto [flag, v] : {std::pair{"--override", f.override_pct},
+                         std::pair{"--rapid-override", f.rapid_override_pct}})
     if (!(v >= 0.0) || v > max_pct + 1e-9)
-      throw InputError(fmt::format("{} {} is outside 0..{} % (the machine's maximum override)", flag, v, max_pct));
-  const OverrideSchedule schedule =
-      f.override_file.empty() ? OverrideSchedule{} : OverrideSchedule::load(f.override_file, max_pct);
+      throw InputError(fmt::format("{} {} is outside 0..{} % (the machine's maximum override)",
+                                   flag, v, max_pct));
+  const OverrideSchedule schedule = f.override_file.empty()
+                                        ? OverrideSchedule{}
+                                        : OverrideSchedule::load(f.override_file, max_pct);
 
   ProgramInput program(f.program);
   InterpreterOptions opts;
@@ -136,7 +143,8 @@ int run(const RunFlags& f, RunTrace& out) {
     meta.servo = cfg.servo;
     meta.decimate = f.decimate;
     meta.status_line = f.keep_partial;
-    trace = std::make_unique<TraceWriter>(f.trace_path, f.trace_format == "bin" ? TraceFormat::Binary : TraceFormat::Csv, meta);
+    trace = std::make_unique<TraceWriter>(
+        f.trace_path, f.trace_format == "bin" ? TraceFormat::Binary : TraceFormat::Csv, meta);
   }
 
   RunSummary summary(cfg.machine);
@@ -180,36 +188,42 @@ int run(const RunFlags& f, RunTrace& out) {
       throw InputError(fmt::format("interrupted at t = {:.3f} s (line {}){}", rec.t_s, rec.line,
                                    f.keep_partial ? "" : "; no trace was kept"));
     if (f.max_time_s > 0 && rec.t_s > f.max_time_s) {
-      throw InputError(fmt::format("run stopped at --max-time {} s (line {}, feed override {} %)", f.max_time_s,
-                                   rec.line, player.feed_percent()));
+      throw InputError(fmt::format("run stopped at --max-time {} s (line {}, feed override {} %)",
+                                   f.max_time_s, rec.line, player.feed_percent()));
     }
     if ((rec.events & kEventHold) != 0 && !live_open && !player.may_change())
-      throw InputError(fmt::format("feed held at 0 % override at line {} (t = {:.3f} s) and nothing in the "
-                                   "override schedule resumes it",
-                                   rec.line, rec.t_s));
+      throw InputError(
+          fmt::format("feed held at 0 % override at line {} (t = {:.3f} s) and nothing in the "
+                      "override schedule resumes it",
+                      rec.line, rec.t_s));
     if (f.realtime)
-      std::this_thread::sleep_until(t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                             std::chrono::duration<double>(rec.t_s + cfg.machine.period_s)));
-    if (queue) queue->push(rec, pipeline.started_motion());
-    else consume(rec, nullptr);  // step() measured the contour itself
+      std::this_thread::sleep_until(
+          t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                   std::chrono::duration<double>(rec.t_s + cfg.machine.period_s)));
+    if (queue)
+      queue->push(rec, pipeline.started_motion());
+    else
+      consume(rec, nullptr);  // step() measured the contour itself
     if (progress && (rec.k & 0xFFFF) == 0 && std::chrono::steady_clock::now() > next_progress) {
       fmt::print(stderr, "\r{}: t = {:.1f} s, line {}   ", program.name(), rec.t_s, rec.line);
       next_progress += std::chrono::seconds(1);
     }
   }
   if (queue) queue->finish();
-  if (progress && std::chrono::steady_clock::now() > t0 + std::chrono::seconds(1)) fmt::print(stderr, "\n");
+  if (progress && std::chrono::steady_clock::now() > t0 + std::chrono::seconds(1))
+    fmt::print(stderr, "\n");
   summary.finish(rec, pipeline.program_end_blu(), st == PipelineStatus::Finished);
   const bool complete = st == PipelineStatus::Finished;
   if (trace && (complete || !f.keep_partial)) trace->finish();  // else kept partial by the caller
   if (!complete)
-    out.unsettled = fmt::format("the axes did not settle within {} s of the program end", cfg.settle_timeout_s);
+    out.unsettled =
+        fmt::format("the axes did not settle within {} s of the program end", cfg.settle_timeout_s);
   if (recorder) recorder->finish();
 
   std::FILE* text_out = f.trace_path == "-" ? stderr : stdout;
   fmt::print(text_out, "{}: {} on {} ({}, tau {} s, T {} s, {} taps, servo {})\n", program.name(),
-             "gmotion run", cfg.machine.name, cfg.machine.profile, cfg.machine.tau_s, cfg.machine.period_s,
-             pipeline.taps().integer.size(), cfg.servo ? "on" : "off");
+             "gmotion run", cfg.machine.name, cfg.machine.profile, cfg.machine.tau_s,
+             cfg.machine.period_s, pipeline.taps().integer.size(), cfg.servo ? "on" : "off");
   fmt::print(text_out, "{}", summary.text());
   if (!f.summary_json.empty()) {
     std::ofstream js(f.summary_json);
@@ -244,32 +258,44 @@ int run_keeping_partial(const RunFlags& f, Context& ctx) {
 void add_run(CLI::App& app, Context& ctx) {
   auto flags = std::make_shared<RunFlags>();
   auto* sub = app.add_subcommand("run", "Run the whole pipeline on a program: trace and summary");
-  sub->add_option("program", flags->program, "G-code program (.nc, .ngc), or - for stdin")->required();
+  sub->add_option("program", flags->program, "G-code program (.nc, .ngc), or - for stdin")
+      ->required();
   add_machine_flags(sub, flags->machine);
-  auto* trace = sub->add_option("--trace", flags->trace_path, "Write the per-sample encoder trace here (- = stdout)");
-  sub->add_option("--trace-format", flags->trace_format, "csv or bin")->check(CLI::IsMember({"csv", "bin"}));
-  sub->add_option("--decimate", flags->decimate, "Write every K-th sample")->check(CLI::PositiveNumber);
+  auto* trace = sub->add_option("--trace", flags->trace_path,
+                                "Write the per-sample encoder trace here (- = stdout)");
+  sub->add_option("--trace-format", flags->trace_format, "csv or bin")
+      ->check(CLI::IsMember({"csv", "bin"}));
+  sub->add_option("--decimate", flags->decimate, "Write every K-th sample")
+      ->check(CLI::PositiveNumber);
   sub->add_option("--summary-json", flags->summary_json, "Write the summary as JSON to this file");
-  sub->add_option("--override", flags->override_pct, "Feed override at the start, percent (default 100)");
-  sub->add_option("--rapid-override", flags->rapid_override_pct, "Rapid override at the start, percent (default 100)");
-  sub->add_option("--override-file", flags->override_file,
-                  "Override schedule: lines t_s,percent | line:N,percent | t_s,rapid=percent; # comments");
-  sub->add_flag("--realtime", flags->realtime,
-                "Pace the run at wall-clock speed and read override changes from stdin, one a line: "
-                "75 | rapid 25 | + | - | hold");
-  sub->add_option("--record-override", flags->record_override,
-                  "Write the overrides in effect as a schedule that --override-file replays exactly");
-  sub->add_option("--max-time", flags->max_time_s, "Stop the run (exit 1) when simulated time passes this, s");
-  sub->add_flag("--keep-partial", flags->keep_partial,
-                "When the run fails, keep the trace written so far as FILE.partial; a '# status:' header "
-                "line says whether the trace is complete or why it is partial")
+  sub->add_option("--override", flags->override_pct,
+                  "Feed override at the start, percent (default 100)");
+  sub->add_option("--rapid-override", flags->rapid_override_pct,
+                  "Rapid override at the start, percent (default 100)");
+  sub->add_option(
+      "--override-file", flags->override_file,
+      "Override schedule: lines t_s,percent | line:N,percent | t_s,rapid=percent; # comments");
+  sub->add_flag(
+      "--realtime", flags->realtime,
+      "Pace the run at wall-clock speed and read override changes from stdin, one a line: "
+      "75 | rapid 25 | + | - | hold");
+  sub->add_option(
+      "--record-override", flags->record_override,
+      "Write the overrides in effect as a schedule that --override-file replays exactly");
+  sub->add_option("--max-time", flags->max_time_s,
+                  "Stop the run (exit 1) when simulated time passes this, s");
+  sub->add_flag(
+         "--keep-partial", flags->keep_partial,
+         "When the run fails, keep the trace written so far as FILE.partial; a '# status:' header "
+         "line says whether the trace is complete or why it is partial")
       ->needs(trace);
   sub->callback([flags, &ctx] {
     if (flags->keep_partial && TraceWriter::written_in_place(flags->trace_path))
-      throw CLI::ValidationError("--keep-partial", fmt::format("--trace {} is written in place (stdout, a device or a "
-                                                               "FIFO), so no partial trace can be kept apart from it; "
-                                                               "write the trace to a file",
-                                                               flags->trace_path));
+      throw CLI::ValidationError(
+          "--keep-partial", fmt::format("--trace {} is written in place (stdout, a device or a "
+                                        "FIFO), so no partial trace can be kept apart from it; "
+                                        "write the trace to a file",
+                                        flags->trace_path));
     ctx.exit_code = run_keeping_partial(*flags, ctx);
   });
 }

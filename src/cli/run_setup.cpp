@@ -6,19 +6,21 @@
 
 #include <fmt/format.h>
 
+#include <unistd.h>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
-#include <unistd.h>
 
 namespace gm::cli {
 
 void add_machine_flags(CLI::App* sub, MachineFlags& f) {
-  sub->add_option("--machine", f.machine_file, "Machine file (TOML); default: the built-in 3-axis machine");
-  sub->add_option("--profile", f.profile, "Acc/Dec profile: linear, scurve1, scurve2, blackman, hann, ...");
+  sub->add_option("--machine", f.machine_file,
+                  "Machine file (TOML); default: the built-in 3-axis machine");
+  sub->add_option("--profile", f.profile,
+                  "Acc/Dec profile: linear, scurve1, scurve2, blackman, hann, ...");
   sub->add_option("--tau", f.tau_s, "Acc/Dec time constant tau = (N+1)T, seconds");
   sub->add_option("--period", f.period_s, "Interpolation period T, seconds");
   sub->add_option("--blu", f.blu_mm, "Basic length unit of every axis, mm");
@@ -30,7 +32,8 @@ Machine resolve_machine(const MachineFlags& f) {
   Machine m = f.machine_file.empty() ? default_machine() : load_machine_file(f.machine_file);
   auto positive = [](const char* flag, double v) {
     if (!(v > 0.0) || !std::isfinite(v))
-      throw InputError(fmt::format("{} must be a positive number of seconds or mm (got {})", flag, v));
+      throw InputError(
+          fmt::format("{} must be a positive number of seconds or mm (got {})", flag, v));
   };
   if (f.profile) m.profile = *f.profile;
   if (f.tau_s) positive("--tau", *f.tau_s), m.tau_s = *f.tau_s;
@@ -65,7 +68,8 @@ ProgramInput::ProgramInput(const std::string& path) : name_(path == "-" ? "<stdi
   buffer_.resize(kBufferBytes);
   file_.rdbuf()->pubsetbuf(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
   file_.open(open_path, std::ios::binary);
-  if (!file_) throw InputError(fmt::format("cannot read program '{}': {}", path, std::strerror(errno)));
+  if (!file_)
+    throw InputError(fmt::format("cannot read program '{}': {}", path, std::strerror(errno)));
   if (!spool_path_.empty()) std::remove(spool_path_.c_str());  // the open stream keeps it alive
 }
 

@@ -9,7 +9,8 @@ std::string format_diagnostic(std::string_view file, const Diagnostic& d) {
   const char* kind = d.severity == Severity::Error     ? "error"
                      : d.severity == Severity::Warning ? "warning"
                                                        : "note";
-  std::string out = fmt::format("{}:{}:{}: {}: {}\n", file, d.loc.line, d.loc.column, kind, d.message);
+  std::string out =
+      fmt::format("{}:{}:{}: {}: {}\n", file, d.loc.line, d.loc.column, kind, d.message);
   if (!d.source_line.empty()) {
     std::string line = d.source_line;
     if (!line.empty() && line.back() == '\r') line.pop_back();

@@ -51,7 +51,8 @@ ArcResult compute_arc(const ArcInput& in) {
     if (too_small || abs_r == 0.0) {
       res.error = ErrorCode::ArcRadiusTooSmall;
       res.message = fmt::format(
-          "arc radius too small to reach the end point: |R| = {:.6g} {}, half the chord = {:.6g} {} "
+          "arc radius too small to reach the end point: |R| = {:.6g} {}, half the chord = {:.6g} "
+          "{} "
           "(short by {:.6g} {})",
           abs_r, unit, half, unit, half - abs_r, unit);
       return res;
@@ -60,7 +61,8 @@ ArcResult compute_arc(const ArcInput& in) {
     // Centre on the perpendicular bisector; left of the chord for a short CCW arc (LinuxCNC).
     const double chord_angle = std::atan2(in.end_b - in.start_b, in.end_a - in.start_a);
     const bool right = (!in.ccw && in.r > 0) || (in.ccw && in.r < 0);
-    const double theta = right ? chord_angle - std::numbers::pi / 2 : chord_angle + std::numbers::pi / 2;
+    const double theta =
+        right ? chord_angle - std::numbers::pi / 2 : chord_angle + std::numbers::pi / 2;
     const double offset = std::sqrt(std::max(0.0, abs_r * abs_r - half * half));
     res.center_a = mid_a + offset * std::cos(theta);
     res.center_b = mid_b + offset * std::sin(theta);
@@ -84,8 +86,8 @@ ArcResult compute_arc(const ArcInput& in) {
   const double r2 = std::hypot(res.center_a - in.end_a, res.center_b - in.end_b);
   if (r1 < radius_tol || r2 < radius_tol) {
     res.error = ErrorCode::ArcZeroRadius;
-    res.message = fmt::format("zero radius arc: r1 = {:.6g} {}, r2 = {:.6g} {} (minimum {:.6g} {})", r1, unit,
-                              r2, unit, radius_tol, unit);
+    res.message = fmt::format("zero radius arc: r1 = {:.6g} {}, r2 = {:.6g} {} (minimum {:.6g} {})",
+                              r1, unit, r2, unit, radius_tol, unit);
     return res;
   }
   const double abs_err = std::fabs(r1 - r2);
@@ -114,12 +116,16 @@ ArcResult compute_arc(const ArcInput& in) {
     switch (in.rule) {
       case ArcRule::LinuxCnc: {
         const double tol = inch ? kLcncSpiralTolInch : kLcncSpiralTolMm;
-        rule_text = fmt::format("linuxcnc: fails above {:.6g} {}, or above {:.6g} {} and 0.1 %", 100.0 * tol,
-                                unit, tol, unit);
+        rule_text = fmt::format("linuxcnc: fails above {:.6g} {}, or above {:.6g} {} and 0.1 %",
+                                100.0 * tol, unit, tol, unit);
         break;
       }
-      case ArcRule::Grbl: rule_text = "grbl: fails above 0.005 mm and (above 0.5 mm or 0.1 % of r1)"; break;
-      case ArcRule::G2core: rule_text = "g2core: fails above 1.0 mm, or above 0.005 mm and 0.1 % of r1"; break;
+      case ArcRule::Grbl:
+        rule_text = "grbl: fails above 0.005 mm and (above 0.5 mm or 0.1 % of r1)";
+        break;
+      case ArcRule::G2core:
+        rule_text = "g2core: fails above 1.0 mm, or above 0.005 mm and 0.1 % of r1";
+        break;
     }
     res.error = ErrorCode::ArcRadiusMismatch;
     res.message = fmt::format(

@@ -15,7 +15,7 @@ struct ArcInput {
   double start_a = 0, start_b = 0;
   double end_a = 0, end_b = 0;
   bool use_r = false;
-  double r = 0;              ///< R word (negative: the arc over 180 degrees)
+  double r = 0;                 ///< R word (negative: the arc over 180 degrees)
   double off_a = 0, off_b = 0;  ///< I/J/K offsets in the plane (or absolute centre under G90.1)
   bool offsets_absolute = false;
   bool ccw = false;

@@ -12,38 +12,39 @@ namespace gm {
 enum class ErrorCode : int {
   None = 0,
   // Syntax (grammar/) -------------------------------------------------------------------------
-  ExpectedNumber = 101,       ///< a letter not followed by a number
-  NumberOutOfRange = 102,     ///< the number does not fit a double (e.g. 1 followed by 400 zeros)
-  UnexpectedCharacter = 103,  ///< a character that starts no word, comment or delimiter
-  UnclosedComment = 104,      ///< `(` without `)` on the same line
-  NestedComment = 105,        ///< `(` inside a comment
-  ParametersUnsupported = 106,   ///< `#` parameters
+  ExpectedNumber = 101,         ///< a letter not followed by a number
+  NumberOutOfRange = 102,       ///< the number does not fit a double (e.g. 1 followed by 400 zeros)
+  UnexpectedCharacter = 103,    ///< a character that starts no word, comment or delimiter
+  UnclosedComment = 104,        ///< `(` without `)` on the same line
+  NestedComment = 105,          ///< `(` inside a comment
+  ParametersUnsupported = 106,  ///< `#` parameters
   ExpressionsUnsupported = 107,  ///< `[...]` expressions
   OWordsUnsupported = 108,       ///< O-words (subroutines, loops)
   ExponentUnsupported = 109,     ///< `1e3`: E is a word letter in G-code, not an exponent
   LineTooLong = 110,             ///< a line longer than the reader accepts
   NumberWithoutLetter = 111,     ///< a number with no letter in front
   // Block (interp/) ----------------------------------------------------------------------------
-  ModalGroupViolation = 201,  ///< two codes of one modal group in a block
-  DuplicateWord = 202,        ///< the same value word twice in a block
-  UnknownLetter = 203,        ///< a letter this interpreter does not know (A, B, C, D, E, ...)
-  UnknownGCode = 204,         ///< an unsupported or unknown G code
-  UnknownMCode = 205,         ///< an unsupported or unknown M code
+  ModalGroupViolation = 201,     ///< two codes of one modal group in a block
+  DuplicateWord = 202,           ///< the same value word twice in a block
+  UnknownLetter = 203,           ///< a letter this interpreter does not know (A, B, C, D, E, ...)
+  UnknownGCode = 204,            ///< an unsupported or unknown G code
+  UnknownMCode = 205,            ///< an unsupported or unknown M code
   AxisWordsWithoutMotion = 206,  ///< X/Y/Z with no motion mode in effect
-  ZeroFeed = 207,             ///< G1/G2/G3 with no or zero feed (G94)
-  NegativeFeed = 208,         ///< F < 0
-  DwellWithoutP = 209,        ///< G4 without P
-  NegativeDwell = 210,        ///< G4 P < 0
+  ZeroFeed = 207,                ///< G1/G2/G3 with no or zero feed (G94)
+  NegativeFeed = 208,            ///< F < 0
+  DwellWithoutP = 209,           ///< G4 without P
+  NegativeDwell = 210,           ///< G4 P < 0
   InverseTimeFeedMissing = 211,  ///< G93 motion block without F
-  BadCodeNumber = 212,        ///< G/M number with a fraction that names no code (G1.5)
-  ToolNumberOutOfRange = 213, ///< H (or T) names no entry of the tool table
-  G92WithoutAxes = 214,       ///< G92 with no axis word
-  BadPWord = 215,             ///< P on an arc that is not a positive integer, P on M50 not 0/1
-  UnusedWord = 216,           ///< a value word nothing in the block uses (I with G1, R with G0)
-  NegativeValue = 217,        ///< S, T or H negative
-  LineNumberNotFirst = 218,   ///< N after other words (LinuxCNC)
-  AxisUnavailable = 219,      ///< A/B/C/U/V/W on this 3-axis machine
-  ValueOutOfRange = 220,      ///< a position beyond ±1e12 mm, a feed beyond 1e12 mm/min, a tool beyond 1e6
+  BadCodeNumber = 212,           ///< G/M number with a fraction that names no code (G1.5)
+  ToolNumberOutOfRange = 213,    ///< H (or T) names no entry of the tool table
+  G92WithoutAxes = 214,          ///< G92 with no axis word
+  BadPWord = 215,                ///< P on an arc that is not a positive integer, P on M50 not 0/1
+  UnusedWord = 216,              ///< a value word nothing in the block uses (I with G1, R with G0)
+  NegativeValue = 217,           ///< S, T or H negative
+  LineNumberNotFirst = 218,      ///< N after other words (LinuxCNC)
+  AxisUnavailable = 219,         ///< A/B/C/U/V/W on this 3-axis machine
+  ValueOutOfRange =
+      220,  ///< a position beyond ±1e12 mm, a feed beyond 1e12 mm/min, a tool beyond 1e6
   // Arcs ---------------------------------------------------------------------------------------
   ArcRadiusTooSmall = 301,    ///< R form: |R| cannot reach the end point
   ArcRadiusMismatch = 302,    ///< IJK form: start and end radii differ beyond the rule's tolerance
@@ -53,7 +54,7 @@ enum class ErrorCode : int {
   ArcMissingCenter = 306,     ///< G2/G3 with neither R nor an in-plane offset
   ArcRSameEndPoint = 307,     ///< R form with end == start (a full circle needs I/J/K)
   // Program --------------------------------------------------------------------------------------
-  MissingProgramEnd = 401,    ///< no M2/M30 and no closing %
+  MissingProgramEnd = 401,  ///< no M2/M30 and no closing %
 };
 
 struct ErrorInfo {
@@ -63,46 +64,68 @@ struct ErrorInfo {
 };
 
 inline constexpr std::array kErrorTable{
-    ErrorInfo{ErrorCode::ExpectedNumber, "expected number", "A word letter must be followed by a real number"},
-    ErrorInfo{ErrorCode::NumberOutOfRange, "number out of range", "The number is too large for a double"},
-    ErrorInfo{ErrorCode::UnexpectedCharacter, "unexpected character", "This character starts no word, comment or delimiter"},
-    ErrorInfo{ErrorCode::UnclosedComment, "unclosed comment", "A ( comment must be closed by ) on the same line"},
+    ErrorInfo{ErrorCode::ExpectedNumber, "expected number",
+              "A word letter must be followed by a real number"},
+    ErrorInfo{ErrorCode::NumberOutOfRange, "number out of range",
+              "The number is too large for a double"},
+    ErrorInfo{ErrorCode::UnexpectedCharacter, "unexpected character",
+              "This character starts no word, comment or delimiter"},
+    ErrorInfo{ErrorCode::UnclosedComment, "unclosed comment",
+              "A ( comment must be closed by ) on the same line"},
     ErrorInfo{ErrorCode::NestedComment, "nested comment", "Comments may not contain ("},
-    ErrorInfo{ErrorCode::ParametersUnsupported, "parameters not supported", "# parameters are not supported"},
-    ErrorInfo{ErrorCode::ExpressionsUnsupported, "expressions not supported", "[...] expressions are not supported"},
-    ErrorInfo{ErrorCode::OWordsUnsupported, "O-words not supported", "O-word subroutines and loops are not supported"},
-    ErrorInfo{ErrorCode::ExponentUnsupported, "exponent not supported", "G-code numbers have no exponent; E is a word letter"},
+    ErrorInfo{ErrorCode::ParametersUnsupported, "parameters not supported",
+              "# parameters are not supported"},
+    ErrorInfo{ErrorCode::ExpressionsUnsupported, "expressions not supported",
+              "[...] expressions are not supported"},
+    ErrorInfo{ErrorCode::OWordsUnsupported, "O-words not supported",
+              "O-word subroutines and loops are not supported"},
+    ErrorInfo{ErrorCode::ExponentUnsupported, "exponent not supported",
+              "G-code numbers have no exponent; E is a word letter"},
     ErrorInfo{ErrorCode::LineTooLong, "line too long", "The line exceeds the maximum line length"},
-    ErrorInfo{ErrorCode::NumberWithoutLetter, "number without letter", "A number must follow a word letter"},
-    ErrorInfo{ErrorCode::ModalGroupViolation, "modal group violation", "Two codes of the same modal group in one block"},
-    ErrorInfo{ErrorCode::DuplicateWord, "duplicate word", "The same word appears twice in one block"},
+    ErrorInfo{ErrorCode::NumberWithoutLetter, "number without letter",
+              "A number must follow a word letter"},
+    ErrorInfo{ErrorCode::ModalGroupViolation, "modal group violation",
+              "Two codes of the same modal group in one block"},
+    ErrorInfo{ErrorCode::DuplicateWord, "duplicate word",
+              "The same word appears twice in one block"},
     ErrorInfo{ErrorCode::UnknownLetter, "unknown letter", "This word letter is not supported"},
     ErrorInfo{ErrorCode::UnknownGCode, "unknown G code", "This G code is not supported"},
     ErrorInfo{ErrorCode::UnknownMCode, "unknown M code", "This M code is not supported"},
-    ErrorInfo{ErrorCode::AxisWordsWithoutMotion, "axis words without motion", "Axis words need a motion mode (G0-G3) or G92"},
+    ErrorInfo{ErrorCode::AxisWordsWithoutMotion, "axis words without motion",
+              "Axis words need a motion mode (G0-G3) or G92"},
     ErrorInfo{ErrorCode::ZeroFeed, "zero feed", "G1/G2/G3 need a positive feed rate F"},
     ErrorInfo{ErrorCode::NegativeFeed, "negative feed", "F must not be negative"},
     ErrorInfo{ErrorCode::DwellWithoutP, "dwell without P", "G4 needs P (seconds)"},
     ErrorInfo{ErrorCode::NegativeDwell, "negative dwell", "G4 P must not be negative"},
-    ErrorInfo{ErrorCode::InverseTimeFeedMissing, "G93 feed missing", "In G93 every G1/G2/G3 block needs F"},
+    ErrorInfo{ErrorCode::InverseTimeFeedMissing, "G93 feed missing",
+              "In G93 every G1/G2/G3 block needs F"},
     ErrorInfo{ErrorCode::BadCodeNumber, "bad code number", "A G or M number names no code"},
-    ErrorInfo{ErrorCode::ToolNumberOutOfRange, "tool out of range", "The tool number has no entry in the tool table"},
+    ErrorInfo{ErrorCode::ToolNumberOutOfRange, "tool out of range",
+              "The tool number has no entry in the tool table"},
     ErrorInfo{ErrorCode::G92WithoutAxes, "G92 without axes", "G92 needs at least one axis word"},
     ErrorInfo{ErrorCode::BadPWord, "bad P word", "P has a value this code does not accept"},
     ErrorInfo{ErrorCode::UnusedWord, "unused word", "No code in the block uses this word"},
     ErrorInfo{ErrorCode::NegativeValue, "negative value", "This word must not be negative"},
-    ErrorInfo{ErrorCode::LineNumberNotFirst, "line number not first", "N must be the first word of a block"},
-    ErrorInfo{ErrorCode::AxisUnavailable, "axis not available", "This machine has the axes X, Y and Z only"},
+    ErrorInfo{ErrorCode::LineNumberNotFirst, "line number not first",
+              "N must be the first word of a block"},
+    ErrorInfo{ErrorCode::AxisUnavailable, "axis not available",
+              "This machine has the axes X, Y and Z only"},
     ErrorInfo{ErrorCode::ValueOutOfRange, "value out of range",
               "A position, feed or tool number beyond what the machine can represent"},
     ErrorInfo{ErrorCode::ArcRadiusTooSmall, "arc radius too small", "R cannot reach the end point"},
-    ErrorInfo{ErrorCode::ArcRadiusMismatch, "arc radius mismatch", "Start and end radii differ beyond tolerance"},
-    ErrorInfo{ErrorCode::ArcZeroRadius, "zero radius arc", "The arc centre is on its start or end point"},
-    ErrorInfo{ErrorCode::ArcOffsetWrongPlane, "offset not in plane", "An I/J/K word that is not in the active plane"},
+    ErrorInfo{ErrorCode::ArcRadiusMismatch, "arc radius mismatch",
+              "Start and end radii differ beyond tolerance"},
+    ErrorInfo{ErrorCode::ArcZeroRadius, "zero radius arc",
+              "The arc centre is on its start or end point"},
+    ErrorInfo{ErrorCode::ArcOffsetWrongPlane, "offset not in plane",
+              "An I/J/K word that is not in the active plane"},
     ErrorInfo{ErrorCode::ArcRWithIjk, "R with IJK", "R and I/J/K may not be mixed"},
-    ErrorInfo{ErrorCode::ArcMissingCenter, "arc without centre", "G2/G3 need R or an I/J/K offset in the plane"},
-    ErrorInfo{ErrorCode::ArcRSameEndPoint, "R arc to start point", "An R-form arc cannot end where it starts"},
-    ErrorInfo{ErrorCode::MissingProgramEnd, "missing program end", "The program must end with M2, M30 or a closing %"},
+    ErrorInfo{ErrorCode::ArcMissingCenter, "arc without centre",
+              "G2/G3 need R or an I/J/K offset in the plane"},
+    ErrorInfo{ErrorCode::ArcRSameEndPoint, "R arc to start point",
+              "An R-form arc cannot end where it starts"},
+    ErrorInfo{ErrorCode::MissingProgramEnd, "missing program end",
+              "The program must end with M2, M30 or a closing %"},
 };
 
 /// The catalogue entry of `code` (a static "unknown" entry for codes not in the table).

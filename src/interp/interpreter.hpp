@@ -25,19 +25,19 @@ struct InterpError {
 struct ModalState {
   int motion = -1;  ///< 0,1,2,3 = G0..G3; -1 none yet (LinuxCNC starts without one)
   Plane plane = Plane::XY;
-  bool inch = false;                ///< G20
-  bool incremental = false;         ///< G91
-  bool ijk_absolute = false;        ///< G90.1 (default G91.1)
-  bool inverse_time = false;        ///< G93
+  bool inch = false;          ///< G20
+  bool incremental = false;   ///< G91
+  bool ijk_absolute = false;  ///< G90.1 (default G91.1)
+  bool inverse_time = false;  ///< G93
   PathMode path_mode = PathMode::Continuous;
-  int coord_system = 0;             ///< 0..5 = G54..G59
-  double feed_mm_min = 0.0;         ///< G94 feed; 0 = none yet
+  int coord_system = 0;      ///< 0..5 = G54..G59
+  double feed_mm_min = 0.0;  ///< G94 feed; 0 = none yet
   AxisVec g92_mm = AxisVec::Zero();
-  double tool_length_mm = 0.0;      ///< G43 length, applied to Z
-  int tool_selected = 0;            ///< T
-  int tool_in_spindle = 0;          ///< after M6
+  double tool_length_mm = 0.0;            ///< G43 length, applied to Z
+  int tool_selected = 0;                  ///< T
+  int tool_in_spindle = 0;                ///< after M6
   AxisVec position_mm = AxisVec::Zero();  ///< machine coordinates
-  bool ended = false;               ///< M2/M30 or closing % seen
+  bool ended = false;                     ///< M2/M30 or closing % seen
 };
 
 /// Interprets blocks one at a time (grbl gcode.c STEP 1-4): copy the state, import the words,

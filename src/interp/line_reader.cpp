@@ -30,7 +30,8 @@ bool LineReader::next(std::string& line) {
   for (;;) {
     if (pos_ == end_ && !fill()) break;
     any = true;
-    const auto* nl = static_cast<const char*>(std::memchr(pos_, '\n', static_cast<std::size_t>(end_ - pos_)));
+    const auto* nl =
+        static_cast<const char*>(std::memchr(pos_, '\n', static_cast<std::size_t>(end_ - pos_)));
     if (nl != nullptr) {
       keep(line, pos_, nl);
       pos_ = nl + 1;

@@ -27,7 +27,7 @@ class LineReader {
   int number() const { return number_; }
 
  private:
-  bool fill();                                  // reads the next chunk; false at end of input
+  bool fill();  // reads the next chunk; false at end of input
   void keep(std::string& line, const char* first, const char* last);  // appends up to max_
 
   std::istream& in_;

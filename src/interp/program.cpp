@@ -76,15 +76,19 @@ class ProgramRunner {
     const int line = p.number;
     remember(text);
     if (p.truncated) {
-      diags.push_back(Diagnostic{Severity::Error, static_cast<int>(ErrorCode::LineTooLong), SourceLoc{line, 1},
-                                 fmt::format("line longer than {} bytes", grammar::kMaxLineLength), {}});
+      diags.push_back(Diagnostic{Severity::Error,
+                                 static_cast<int>(ErrorCode::LineTooLong),
+                                 SourceLoc{line, 1},
+                                 fmt::format("line longer than {} bytes", grammar::kMaxLineLength),
+                                 {}});
       return true;
     }
     const grammar::Block& block = p.block;
     if (block.block_delete && block_delete_) return true;
     if (block.has_errors()) {
       for (const auto& e : block.errors)
-        diags.push_back(Diagnostic{Severity::Error, static_cast<int>(e.code), e.loc, e.message, source_for(text)});
+        diags.push_back(Diagnostic{Severity::Error, static_cast<int>(e.code), e.loc, e.message,
+                                   source_for(text)});
       first_content_seen_ = true;
       return true;
     }
@@ -103,7 +107,8 @@ class ProgramRunner {
     if (!block.words.empty()) ++blocks_;
     InterpError err;
     if (!interp_.execute(block, out, err)) {
-      diags.push_back(Diagnostic{Severity::Error, static_cast<int>(err.code), err.loc, err.message, source_for(text)});
+      diags.push_back(Diagnostic{Severity::Error, static_cast<int>(err.code), err.loc, err.message,
+                                 source_for(text)});
       return true;
     }
     if (interp_.state().ended) {
@@ -119,11 +124,11 @@ class ProgramRunner {
     done_ = true;
     if (!interp_.state().ended) {
       const int last = last_line > 0 ? last_line : 1;
-      diags.push_back(Diagnostic{Severity::Error, static_cast<int>(ErrorCode::MissingProgramEnd),
-                                 SourceLoc{last, 1},
-                                 opened_percent_ ? "missing program end: no closing '%' (or M2/M30)"
-                                                 : "missing program end: the program must end with M2 or M30",
-                                 last_line_});
+      diags.push_back(Diagnostic{
+          Severity::Error, static_cast<int>(ErrorCode::MissingProgramEnd), SourceLoc{last, 1},
+          opened_percent_ ? "missing program end: no closing '%' (or M2/M30)"
+                          : "missing program end: the program must end with M2 or M30",
+          last_line_});
     }
   }
 
@@ -138,8 +143,10 @@ class ProgramRunner {
     return text.size() <= 512 ? text : std::string();
   }
   void remember(const std::string& text) {
-    if (text.size() <= 512) last_line_ = text;
-    else last_line_.clear();
+    if (text.size() <= 512)
+      last_line_ = text;
+    else
+      last_line_.clear();
   }
 
   std::string filename_;
@@ -212,9 +219,9 @@ class ParallelFront {
   struct Batch {
     std::vector<ParsedLine> lines = std::vector<ParsedLine>(kBatchLines);
     std::size_t count = 0;
-    bool eof = false;       ///< the input ends after these lines
-    int last_number = 0;    ///< with eof: the last line number read
-    bool full = false;      ///< written by the producer, not yet consumed
+    bool eof = false;     ///< the input ends after these lines
+    int last_number = 0;  ///< with eof: the last line number read
+    bool full = false;    ///< written by the producer, not yet consumed
   };
 
   explicit ParallelFront(std::istream& in) : front_(in), thread_([this] { produce(); }) {}
@@ -343,14 +350,18 @@ CheckSummary run_check(std::istream& in, std::string_view filename, const Interp
 
 }  // namespace
 
-CheckSummary check_program(std::istream& in, std::string_view filename, const InterpreterOptions& opts,
-                           std::ostream& diag_out, CheckThreads threads) {
-  return run_check(in, filename, opts, threads, [&](const Diagnostic& d) { diag_out << format_diagnostic(filename, d); });
+CheckSummary check_program(std::istream& in, std::string_view filename,
+                           const InterpreterOptions& opts, std::ostream& diag_out,
+                           CheckThreads threads) {
+  return run_check(in, filename, opts, threads,
+                   [&](const Diagnostic& d) { diag_out << format_diagnostic(filename, d); });
 }
 
-CheckSummary check_program_diagnostics(std::istream& in, std::string_view filename, const InterpreterOptions& opts,
+CheckSummary check_program_diagnostics(std::istream& in, std::string_view filename,
+                                       const InterpreterOptions& opts,
                                        std::vector<Diagnostic>& diagnostics, CheckThreads threads) {
-  return run_check(in, filename, opts, threads, [&](const Diagnostic& d) { diagnostics.push_back(d); });
+  return run_check(in, filename, opts, threads,
+                   [&](const Diagnostic& d) { diagnostics.push_back(d); });
 }
 
 ProgramStream::ProgramStream(std::istream& in, std::string filename, InterpreterOptions opts)

@@ -21,8 +21,8 @@ struct InterpreterOptions {
 };
 
 struct CheckSummary {
-  std::int64_t blocks = 0;  ///< lines with at least one word that were interpreted
-  std::int64_t moves = 0;   ///< canonical motions (zero-length lines/rapids are not emitted)
+  std::int64_t blocks = 0;    ///< lines with at least one word that were interpreted
+  std::int64_t moves = 0;     ///< canonical motions (zero-length lines/rapids are not emitted)
   double path_length_mm = 0;  ///< all motions, rapids included
   /// Feed moves at programmed F (G93: 60/F), rapids at Machine::rapid_mm_min, plus dwells.
   double time_at_feed_s = 0;
@@ -36,12 +36,14 @@ enum class CheckThreads { Auto, Single };
 /// Validates a whole program, writing each diagnostic (formatted, file:line:col + caret) to
 /// `diag_out`; returns the summary. Reads the stream once, line by line; with two or more
 /// cores, reading and parsing run on a second thread ahead of the interpreter (same result).
-CheckSummary check_program(std::istream& in, std::string_view filename, const InterpreterOptions& opts,
-                           std::ostream& diag_out, CheckThreads threads = CheckThreads::Auto);
+CheckSummary check_program(std::istream& in, std::string_view filename,
+                           const InterpreterOptions& opts, std::ostream& diag_out,
+                           CheckThreads threads = CheckThreads::Auto);
 
 /// As check_program, but hands back the diagnostics (with their ErrorCode in `code`) instead of
 /// printing them (tests, tools).
-CheckSummary check_program_diagnostics(std::istream& in, std::string_view filename, const InterpreterOptions& opts,
+CheckSummary check_program_diagnostics(std::istream& in, std::string_view filename,
+                                       const InterpreterOptions& opts,
                                        std::vector<Diagnostic>& diagnostics,
                                        CheckThreads threads = CheckThreads::Auto);
 

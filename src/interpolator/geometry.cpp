@@ -7,9 +7,15 @@ namespace gm {
 
 void plane_axes(Plane p, int& a, int& b, int& n) {
   switch (p) {
-    case Plane::XY: a = 0, b = 1, n = 2; return;
-    case Plane::XZ: a = 2, b = 0, n = 1; return;
-    case Plane::YZ: a = 1, b = 2, n = 0; return;
+    case Plane::XY:
+      a = 0, b = 1, n = 2;
+      return;
+    case Plane::XZ:
+      a = 2, b = 0, n = 1;
+      return;
+    case Plane::YZ:
+      a = 1, b = 2, n = 0;
+      return;
   }
   a = 0, b = 1, n = 2;
 }

@@ -16,9 +16,9 @@ struct BlockGeometry {
   // Arcs: in-plane axes a, b (angle measured from a toward b, counter-clockwise seen from +n).
   int a = 0, b = 1, n = 2;
   AxisVec center_mm = AxisVec::Zero();
-  double r0_mm = 0.0, r1_mm = 0.0;   ///< start and end radius (equal up to the arc tolerance)
-  double theta0_rad = 0.0;           ///< start angle
-  double sweep_rad = 0.0;            ///< signed: > 0 counter-clockwise; full turns included
+  double r0_mm = 0.0, r1_mm = 0.0;  ///< start and end radius (equal up to the arc tolerance)
+  double theta0_rad = 0.0;          ///< start angle
+  double sweep_rad = 0.0;           ///< signed: > 0 counter-clockwise; full turns included
 
   /// Builds the geometry of `m` (lines, rapids and arcs in any plane, multi-turn, helical).
   static BlockGeometry of(const Motion& m);

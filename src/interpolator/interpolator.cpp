@@ -16,7 +16,9 @@ AxisBlu Interpolator::to_blu(const AxisVec& p_mm) const {
   return q;
 }
 
-double Interpolator::path_length_mm(const Motion& m) { return BlockGeometry::of(m).length_mm; }
+double Interpolator::path_length_mm(const Motion& m) {
+  return BlockGeometry::of(m).length_mm;
+}
 
 AxisVec Interpolator::position_on(const Motion& m, double s_mm) {
   const BlockGeometry g = BlockGeometry::of(m);
@@ -58,11 +60,21 @@ bool Interpolator::pull_next() {
     const Event& e = std::get<Event>(scratch_);
     switch (e.kind) {
       case EventKind::Pause:
-      case EventKind::OptionalPause: pending_events_ |= kEventPause; break;
-      case EventKind::Message: pending_events_ |= kEventMessage; break;
-      case EventKind::OverrideEnable: override_enabled_ = true; break;
-      case EventKind::OverrideDisable: override_enabled_ = false; break;
-      case EventKind::End: ended_ = true; break;
+      case EventKind::OptionalPause:
+        pending_events_ |= kEventPause;
+        break;
+      case EventKind::Message:
+        pending_events_ |= kEventMessage;
+        break;
+      case EventKind::OverrideEnable:
+        override_enabled_ = true;
+        break;
+      case EventKind::OverrideDisable:
+        override_enabled_ = false;
+        break;
+      case EventKind::End:
+        ended_ = true;
+        break;
     }
   }
   return false;

@@ -11,10 +11,10 @@
 namespace gm {
 
 struct InterpolatorConfig {
-  double period_s = 0.004;                       ///< T
-  AxisVec blu_mm = AxisVec::Constant(0.001);     ///< one count per axis
-  double rapid_mm_min = 6000;                    ///< G0 path speed at 100 % rapid override
-  int settle_samples = 0;                        ///< zero-velocity samples after an exact-stop block
+  double period_s = 0.004;                    ///< T
+  AxisVec blu_mm = AxisVec::Constant(0.001);  ///< one count per axis
+  double rapid_mm_min = 6000;                 ///< G0 path speed at 100 % rapid override
+  int settle_samples = 0;                     ///< zero-velocity samples after an exact-stop block
   AxisVec start_mm = AxisVec::Zero();
 };
 
@@ -66,27 +66,27 @@ class Interpolator {
   static double path_length_mm(const Motion& m);
 
  private:
-  bool pull_next();                  ///< loads the next motion or dwell; false at the end
+  bool pull_next();  ///< loads the next motion or dwell; false at the end
   double block_speed_mm_s(const OverrideInput& ovr) const;
   AxisBlu to_blu(const AxisVec& p_mm) const;
 
   InterpolatorConfig cfg_;
   CanonSource& source_;
-  Canon scratch_;                    ///< reused for every pull (no per-block allocation)
+  Canon scratch_;  ///< reused for every pull (no per-block allocation)
 
   Motion block_{};
   BlockGeometry geom_{};
-  bool has_block_ = false;           ///< a motion block is loaded (possibly finished)
-  bool in_motion_ = false;           ///< the loaded block still has distance to go
-  double s_mm_ = 0.0;                ///< path length done in the current block
-  double dwell_left_s_ = 0.0;        ///< remaining dwell time
+  bool has_block_ = false;     ///< a motion block is loaded (possibly finished)
+  bool in_motion_ = false;     ///< the loaded block still has distance to go
+  double s_mm_ = 0.0;          ///< path length done in the current block
+  double dwell_left_s_ = 0.0;  ///< remaining dwell time
   int dwell_line_ = 0;
-  int settle_left_ = 0;              ///< exact-stop hold samples still to emit
+  int settle_left_ = 0;  ///< exact-stop hold samples still to emit
   bool override_enabled_ = true;
-  bool ended_ = false;               ///< End seen or the stream ran out
+  bool ended_ = false;  ///< End seen or the stream ran out
   bool finished_ = false;
   std::uint64_t block_seq_ = 0;
-  std::uint32_t pending_events_ = 0; ///< events met while pulling, reported with the next sample
+  std::uint32_t pending_events_ = 0;  ///< events met while pulling, reported with the next sample
   int line_ = 0;
   AxisVec pos_mm_;
 };

@@ -34,9 +34,9 @@ struct AxisConfig {
   /// The paper's first-order plant b/(s+a) is num = {b}, den = {1, a}.
   std::vector<double> plant_num{33.518};
   std::vector<double> plant_den{1.0, 14.45};
-  double kvp = 0.0422;  ///< velocity-loop proportional gain
-  double kvi = 0.0094;  ///< velocity-loop integral gain
-  double kp_1_s = 30.0; ///< position-loop gain, 1/s
+  double kvp = 0.0422;        ///< velocity-loop proportional gain
+  double kvi = 0.0094;        ///< velocity-loop integral gain
+  double kp_1_s = 30.0;       ///< position-loop gain, 1/s
   double backlash_blu = 0.0;  ///< lost motion (off by default)
   double coulomb_N = 0.0;     ///< Coulomb friction (off by default)
 
@@ -68,10 +68,10 @@ struct Machine {
   double tau_s = 0.164;               ///< Acc/Dec time constant (N+1)T
   ArcRule arc_rule = ArcRule::LinuxCnc;
   std::array<AxisConfig, kAxes> axes{};
-  std::vector<double> tool_lengths_mm;            ///< index = tool number (T0 = index 0)
-  std::array<AxisVec, 6> work_offsets_mm{
-      AxisVec::Zero(), AxisVec::Zero(), AxisVec::Zero(),
-      AxisVec::Zero(), AxisVec::Zero(), AxisVec::Zero()};  ///< G54..G59
+  std::vector<double> tool_lengths_mm;  ///< index = tool number (T0 = index 0)
+  std::array<AxisVec, 6> work_offsets_mm{AxisVec::Zero(), AxisVec::Zero(),
+                                         AxisVec::Zero(), AxisVec::Zero(),
+                                         AxisVec::Zero(), AxisVec::Zero()};  ///< G54..G59
 
   /// Per-axis BLU as a vector, mm.
   AxisVec blu_mm() const {

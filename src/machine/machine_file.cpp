@@ -15,7 +15,9 @@
 namespace gm {
 namespace {
 
-std::string fmt_double(double v) { return fmt::format("{}", v); }  // shortest round-trip
+std::string fmt_double(double v) {
+  return fmt::format("{}", v);
+}  // shortest round-trip
 
 // A TOML basic string: quotes, backslashes and control characters escaped (the reader gives
 // back the same text; found by fuzz_machine: a name with backslashes did not round-trip).
@@ -37,16 +39,26 @@ std::string toml_string(std::string_view text) {
 
 const char* type_name(const toml::node& n) {
   switch (n.type()) {
-    case toml::node_type::string: return "a string";
-    case toml::node_type::integer: return "an integer";
-    case toml::node_type::floating_point: return "a float";
-    case toml::node_type::boolean: return "a boolean";
-    case toml::node_type::array: return "an array";
-    case toml::node_type::table: return "a table";
-    case toml::node_type::date: return "a date";
-    case toml::node_type::time: return "a time";
-    case toml::node_type::date_time: return "a date-time";
-    default: return "nothing";
+    case toml::node_type::string:
+      return "a string";
+    case toml::node_type::integer:
+      return "an integer";
+    case toml::node_type::floating_point:
+      return "a float";
+    case toml::node_type::boolean:
+      return "a boolean";
+    case toml::node_type::array:
+      return "an array";
+    case toml::node_type::table:
+      return "a table";
+    case toml::node_type::date:
+      return "a date";
+    case toml::node_type::time:
+      return "a time";
+    case toml::node_type::date_time:
+      return "a date-time";
+    default:
+      return "nothing";
   }
 }
 
@@ -75,9 +87,12 @@ class Reader {
     const toml::node* n = get(k, required);
     if (n == nullptr) return false;
     double v = 0.0;
-    if (auto i = n->as_integer()) v = static_cast<double>(i->get());
-    else if (auto f = n->as_floating_point()) v = f->get();
-    else fail_at(n->source(), full(k), fmt::format("must be a number (got {})", type_name(*n)));
+    if (auto i = n->as_integer())
+      v = static_cast<double>(i->get());
+    else if (auto f = n->as_floating_point())
+      v = f->get();
+    else
+      fail_at(n->source(), full(k), fmt::format("must be a number (got {})", type_name(*n)));
     if (!std::isfinite(v)) fail_at(n->source(), full(k), fmt::format("must be finite (got {})", v));
     if (std::string c = check(v); !c.empty())
       fail_at(n->source(), full(k), fmt::format("{} (got {})", c, fmt_double(v)));
@@ -88,7 +103,8 @@ class Reader {
     const toml::node* n = get(k, required);
     if (n == nullptr) return false;
     auto i = n->as_integer();
-    if (!i) fail_at(n->source(), full(k), fmt::format("must be an integer (got {})", type_name(*n)));
+    if (!i)
+      fail_at(n->source(), full(k), fmt::format("must be an integer (got {})", type_name(*n)));
     const long long v = i->get();
     if (v < lo || v > hi)
       fail_at(n->source(), full(k), fmt::format("must be in {}..{} (got {})", lo, hi, v));
@@ -109,19 +125,27 @@ class Reader {
     const toml::node* n = get(k, required);
     if (n == nullptr) return false;
     auto a = n->as_array();
-    if (!a) fail_at(n->source(), full(k), fmt::format("must be an array of numbers (got {})", type_name(*n)));
+    if (!a)
+      fail_at(n->source(), full(k),
+              fmt::format("must be an array of numbers (got {})", type_name(*n)));
     if (a->size() < min_n || a->size() > max_n)
       fail_at(n->source(), full(k),
-              min_n == max_n ? fmt::format("must have {} elements (got {})", min_n, a->size())
-                             : fmt::format("must have {}..{} elements (got {})", min_n, max_n, a->size()));
+              min_n == max_n
+                  ? fmt::format("must have {} elements (got {})", min_n, a->size())
+                  : fmt::format("must have {}..{} elements (got {})", min_n, max_n, a->size()));
     std::vector<double> v;
     for (std::size_t i = 0; i < a->size(); ++i) {
       const toml::node& e = *a->get(i);
       double d = 0.0;
-      if (auto in = e.as_integer()) d = static_cast<double>(in->get());
-      else if (auto f = e.as_floating_point()) d = f->get();
-      else fail_at(e.source(), fmt::format("{}[{}]", full(k), i), fmt::format("must be a number (got {})", type_name(e)));
-      if (!std::isfinite(d)) fail_at(e.source(), fmt::format("{}[{}]", full(k), i), "must be finite");
+      if (auto in = e.as_integer())
+        d = static_cast<double>(in->get());
+      else if (auto f = e.as_floating_point())
+        d = f->get();
+      else
+        fail_at(e.source(), fmt::format("{}[{}]", full(k), i),
+                fmt::format("must be a number (got {})", type_name(e)));
+      if (!std::isfinite(d))
+        fail_at(e.source(), fmt::format("{}[{}]", full(k), i), "must be finite");
       v.push_back(d);
     }
     out = std::move(v);
@@ -157,8 +181,9 @@ class Reader {
 std::string tau_problem(double tau_s, double period_s) {
   if (!(tau_s >= period_s)) return "must be >= period_s (at least one tap)";
   if (tau_s / period_s > kMaxAccDecTaps + 0.5)
-    return fmt::format("must be <= {} x period_s = {} s (tau/T = {:.6g} taps; at most {})", kMaxAccDecTaps,
-                       fmt_double(kMaxAccDecTaps * period_s), tau_s / period_s, kMaxAccDecTaps);
+    return fmt::format("must be <= {} x period_s = {} s (tau/T = {:.6g} taps; at most {})",
+                       kMaxAccDecTaps, fmt_double(kMaxAccDecTaps * period_s), tau_s / period_s,
+                       kMaxAccDecTaps);
   return "";
 }
 
@@ -183,7 +208,8 @@ void read_axis(Reader& r, AxisConfig& a, double machine_blu_mm) {
   r.number("kvp", a.kvp, true, non_negative);
   r.number("kvi", a.kvi, true, non_negative);
   // Five position-loop time constants (5/kp) are the servo lag a run counts in samples.
-  r.number("kp_1_s", a.kp_1_s, true, [](double v) { return v >= kMinKp ? "" : "must be >= 0.001 1/s"; });
+  r.number("kp_1_s", a.kp_1_s, true,
+           [](double v) { return v >= kMinKp ? "" : "must be >= 0.001 1/s"; });
   r.number("backlash_blu", a.backlash_blu, false, non_negative);
   r.number("coulomb_N", a.coulomb_N, false, non_negative);
   r.number("plant_blu_s_per_unit", a.plant_blu_s_per_unit, false, positive);
@@ -191,10 +217,13 @@ void read_axis(Reader& r, AxisConfig& a, double machine_blu_mm) {
   r.number("drive_N_per_unit", a.drive_N_per_unit, false, non_negative);
   std::string form;
   if (r.string("kv_form", form, false)) {
-    if (form == "ip") a.kv_form = VelocityLoopForm::Ip;
-    else if (form == "pi") a.kv_form = VelocityLoopForm::Pi;
-    else r.fail_at(r.tbl().get("kv_form")->source(), r.full("kv_form"),
-                   fmt::format("must be \"ip\" or \"pi\" (got \"{}\")", form));
+    if (form == "ip")
+      a.kv_form = VelocityLoopForm::Ip;
+    else if (form == "pi")
+      a.kv_form = VelocityLoopForm::Pi;
+    else
+      r.fail_at(r.tbl().get("kv_form")->source(), r.full("kv_form"),
+                fmt::format("must be \"ip\" or \"pi\" (got \"{}\")", form));
   }
   // The plant must discretise; the drive mapping must be derivable.
   const toml::node* den = r.tbl().get("plant_den");
@@ -233,25 +262,32 @@ Machine parse_machine_toml(std::string_view text, std::string_view source_name) 
   try {
     root = toml::parse(text, src);
   } catch (const toml::parse_error& e) {
-    throw InputError(fmt::format("{}:{}: TOML syntax error: {}", src, e.source().begin.line, e.description()));
+    throw InputError(
+        fmt::format("{}:{}: TOML syntax error: {}", src, e.source().begin.line, e.description()));
   }
   Machine m = default_machine();
   m.source = src;
   Reader r(root, "", src);
   r.string("name", m.name, true);
-  r.number("period_s", m.period_s, true, [](double v) { return v >= kMinPeriod && v <= 1.0 ? "" : "must be in 1e-06..1 s"; });
+  r.number("period_s", m.period_s, true,
+           [](double v) { return v >= kMinPeriod && v <= 1.0 ? "" : "must be in 1e-06..1 s"; });
   r.integer("servo_substeps", m.servo_substeps, false, 1, 1000);
   r.number("rapid_mm_min", m.rapid_mm_min, false, positive);
   double pct = m.max_override * 100.0;
-  r.number("max_override_percent", pct, false, [](double v) { return v >= 100.0 && v <= 1000.0 ? "" : "must be in 100..1000"; });
+  r.number("max_override_percent", pct, false,
+           [](double v) { return v >= 100.0 && v <= 1000.0 ? "" : "must be in 100..1000"; });
   m.max_override = pct / 100.0;
   std::string rule;
   if (r.string("arc_rule", rule, false)) {
-    if (rule == "linuxcnc") m.arc_rule = ArcRule::LinuxCnc;
-    else if (rule == "grbl") m.arc_rule = ArcRule::Grbl;
-    else if (rule == "g2core") m.arc_rule = ArcRule::G2core;
-    else r.fail_at(root.get("arc_rule")->source(), "arc_rule",
-                   fmt::format("must be \"linuxcnc\", \"grbl\" or \"g2core\" (got \"{}\")", rule));
+    if (rule == "linuxcnc")
+      m.arc_rule = ArcRule::LinuxCnc;
+    else if (rule == "grbl")
+      m.arc_rule = ArcRule::Grbl;
+    else if (rule == "g2core")
+      m.arc_rule = ArcRule::G2core;
+    else
+      r.fail_at(root.get("arc_rule")->source(), "arc_rule",
+                fmt::format("must be \"linuxcnc\", \"grbl\" or \"g2core\" (got \"{}\")", rule));
   }
   double blu_mm = 0.001;
   r.number("blu_mm", blu_mm, false, positive);
@@ -311,26 +347,35 @@ std::string machine_to_toml(const Machine& m) {
       s += (i ? ", " : "") + fmt_double(v[i]);
     return s + "]";
   };
-  const char* rule = m.arc_rule == ArcRule::Grbl ? "grbl" : m.arc_rule == ArcRule::G2core ? "g2core" : "linuxcnc";
+  const char* rule = m.arc_rule == ArcRule::Grbl     ? "grbl"
+                     : m.arc_rule == ArcRule::G2core ? "g2core"
+                                                     : "linuxcnc";
   std::string s;
   s += fmt::format("name = {}\nperiod_s = {}\nservo_substeps = {}\nrapid_mm_min = {}\n",
-                   toml_string(m.name), fmt_double(m.period_s), m.servo_substeps, fmt_double(m.rapid_mm_min));
+                   toml_string(m.name), fmt_double(m.period_s), m.servo_substeps,
+                   fmt_double(m.rapid_mm_min));
   s += fmt::format("max_override_percent = {}\narc_rule = \"{}\"\nblu_mm = {}\n",
                    fmt_double(m.max_override * 100.0), rule, fmt_double(m.axes[0].blu_mm));
   s += "tools = " + list(m.tool_lengths_mm) + "\n\n";
-  s += fmt::format("[accdec]\nprofile = {}\ntau_s = {}\n", toml_string(m.profile), fmt_double(m.tau_s));
+  s += fmt::format("[accdec]\nprofile = {}\ntau_s = {}\n", toml_string(m.profile),
+                   fmt_double(m.tau_s));
   for (int i = 0; i < kAxes; ++i) {
     const AxisConfig& a = m.axes[static_cast<std::size_t>(i)];
-    s += fmt::format("\n[axes.{}]\n", static_cast<char>(kAxisLetters[static_cast<std::size_t>(i)] - 'A' + 'a'));
-    s += fmt::format("blu_mm = {}\nv_max_mm_s = {}\nf_max_N = {}\np_max_W = {}\n", fmt_double(a.blu_mm),
-                     fmt_double(a.v_max_mm_s), fmt_double(a.f_max_N), fmt_double(a.p_max_W));
+    s += fmt::format("\n[axes.{}]\n",
+                     static_cast<char>(kAxisLetters[static_cast<std::size_t>(i)] - 'A' + 'a'));
+    s += fmt::format("blu_mm = {}\nv_max_mm_s = {}\nf_max_N = {}\np_max_W = {}\n",
+                     fmt_double(a.blu_mm), fmt_double(a.v_max_mm_s), fmt_double(a.f_max_N),
+                     fmt_double(a.p_max_W));
     s += fmt::format("mass_kg = {}\ndamping_kg_s = {}\nplant_num = {}\nplant_den = {}\n",
-                     fmt_double(a.mass_kg), fmt_double(a.damping_kg_s), list(a.plant_num), list(a.plant_den));
-    s += fmt::format("kvp = {}\nkvi = {}\nkp_1_s = {}\nbacklash_blu = {}\ncoulomb_N = {}\n", fmt_double(a.kvp),
-                     fmt_double(a.kvi), fmt_double(a.kp_1_s), fmt_double(a.backlash_blu), fmt_double(a.coulomb_N));
-    s += fmt::format("plant_blu_s_per_unit = {}\nkv_period_s = {}\nkv_form = \"{}\"\ndrive_N_per_unit = {}\n",
-                     fmt_double(a.plant_blu_s_per_unit), fmt_double(a.kv_period_s),
-                     a.kv_form == VelocityLoopForm::Ip ? "ip" : "pi", fmt_double(a.drive_N_per_unit));
+                     fmt_double(a.mass_kg), fmt_double(a.damping_kg_s), list(a.plant_num),
+                     list(a.plant_den));
+    s += fmt::format("kvp = {}\nkvi = {}\nkp_1_s = {}\nbacklash_blu = {}\ncoulomb_N = {}\n",
+                     fmt_double(a.kvp), fmt_double(a.kvi), fmt_double(a.kp_1_s),
+                     fmt_double(a.backlash_blu), fmt_double(a.coulomb_N));
+    s += fmt::format(
+        "plant_blu_s_per_unit = {}\nkv_period_s = {}\nkv_form = \"{}\"\ndrive_N_per_unit = {}\n",
+        fmt_double(a.plant_blu_s_per_unit), fmt_double(a.kv_period_s),
+        a.kv_form == VelocityLoopForm::Ip ? "ip" : "pi", fmt_double(a.drive_N_per_unit));
   }
   s += "\n[work_offsets]\n";
   for (int g = 0; g < 6; ++g)

@@ -3,11 +3,11 @@
 
 #include <fmt/format.h>
 
+#include <poll.h>
+#include <unistd.h>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <poll.h>
-#include <unistd.h>
 
 namespace gm {
 
@@ -51,7 +51,8 @@ void LiveOverride::apply(const std::string& raw, double& feed, double& rapid) co
   double pct = 0;
   auto [p, ec] = std::from_chars(v.data(), v.data() + v.size(), pct);
   if (ec != std::errc() || p != v.data() + v.size() || !std::isfinite(pct)) {
-    fmt::print(stderr, "override: '{}' is not a command (a percentage, rapid N, +, -, hold)\n", raw);
+    fmt::print(stderr, "override: '{}' is not a command (a percentage, rapid N, +, -, hold)\n",
+               raw);
     return;
   }
   if (pct < 0 || pct > max_percent_) {

@@ -1,4 +1,5 @@
-// Live override input for --realtime runs: typed lines on a terminal or stdin, read without blocking.
+// Live override input for --realtime runs: typed lines on a terminal or stdin, read without
+// blocking.
 #pragma once
 
 #include <string>

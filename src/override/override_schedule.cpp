@@ -16,7 +16,8 @@ namespace {
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
+    s.remove_suffix(1);
   return s;
 }
 
@@ -31,7 +32,8 @@ bool parse_number(std::string_view s, double& out) {
 
 }  // namespace
 
-OverrideSchedule OverrideSchedule::parse(std::string_view text, std::string_view source, double max_percent) {
+OverrideSchedule OverrideSchedule::parse(std::string_view text, std::string_view source,
+                                         double max_percent) {
   OverrideSchedule sched;
   int line_no = 0;
   double last_t = -1.0;
@@ -40,7 +42,8 @@ OverrideSchedule OverrideSchedule::parse(std::string_view text, std::string_view
     std::string_view line = text.substr(0, nl);
     text = nl == std::string_view::npos ? std::string_view{} : text.substr(nl + 1);
     ++line_no;
-    if (const std::size_t hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
+    if (const std::size_t hash = line.find('#'); hash != std::string_view::npos)
+      line = line.substr(0, hash);
     line = trim(line);
     if (line.empty()) continue;
     auto fail = [&](const std::string& msg) {
@@ -56,7 +59,8 @@ OverrideSchedule OverrideSchedule::parse(std::string_view text, std::string_view
     if (when.substr(0, 5) == "line:") {
       double n = 0;
       if (!parse_number(when.substr(5), n) || n < 1 || n != std::floor(n) || n > 1e9)
-        throw fail(fmt::format("'{}' is not a source line number (line:N, N >= 1)", when.substr(5)));
+        throw fail(
+            fmt::format("'{}' is not a source line number (line:N, N >= 1)", when.substr(5)));
       c.trigger = OverrideChange::Trigger::Line;
       c.line = static_cast<int>(n);
     } else {
@@ -73,7 +77,8 @@ OverrideSchedule OverrideSchedule::parse(std::string_view text, std::string_view
     }
     if (!parse_number(value, c.percent)) throw fail(fmt::format("'{}' is not a percentage", value));
     if (c.percent < 0 || c.percent > max_percent)
-      throw fail(fmt::format("override {} % is outside 0..{} % (the machine's maximum)", c.percent, max_percent));
+      throw fail(fmt::format("override {} % is outside 0..{} % (the machine's maximum)", c.percent,
+                             max_percent));
     sched.changes_.push_back(c);
   }
   return sched;
@@ -87,7 +92,8 @@ OverrideSchedule OverrideSchedule::load(const std::string& path, double max_perc
   return parse(ss.str(), path, max_percent);
 }
 
-OverridePlayer::OverridePlayer(const OverrideSchedule& s, double period_s, double feed_percent, double rapid_percent)
+OverridePlayer::OverridePlayer(const OverrideSchedule& s, double period_s, double feed_percent,
+                               double rapid_percent)
     : period_s_(period_s), feed_percent_(feed_percent), rapid_percent_(rapid_percent) {
   for (const OverrideChange& c : s.changes())
     (c.trigger == OverrideChange::Trigger::Time ? time_changes_ : line_changes_).push_back(c);

@@ -14,9 +14,9 @@ struct OverrideChange {
   enum class Trigger { Time, Line } trigger = Trigger::Time;
   double t_s = 0.0;
   int line = 0;
-  bool rapid = false;    ///< false: feed override (G1/G2/G3); true: rapid override (G0)
+  bool rapid = false;  ///< false: feed override (G1/G2/G3); true: rapid override (G0)
   double percent = 100.0;
-  int source_line = 0;   ///< line of the schedule file, for messages
+  int source_line = 0;  ///< line of the schedule file, for messages
 };
 
 /// A parsed schedule. File syntax, one change per line, `#` starts a comment:
@@ -31,7 +31,8 @@ class OverrideSchedule {
  public:
   /// Parses `text`; errors throw gm::InputError "FILE:LINE: message" naming the bad value.
   /// `max_percent` is the machine's maximum override.
-  static OverrideSchedule parse(std::string_view text, std::string_view source_name, double max_percent);
+  static OverrideSchedule parse(std::string_view text, std::string_view source_name,
+                                double max_percent);
   /// Reads and parses a file (throws gm::InputError when it cannot be read).
   static OverrideSchedule load(const std::string& path, double max_percent);
 
@@ -55,8 +56,11 @@ class OverridePlayer {
   double feed_percent() const { return feed_percent_; }
   double rapid_percent() const { return rapid_percent_; }
   /// Sets the values in effect (a live change); the schedule's later entries still apply.
-  void set(double feed_percent, double rapid_percent) { feed_percent_ = feed_percent, rapid_percent_ = rapid_percent; }
-  /// True while a time entry is still to come or any line entry exists (something may resume a hold).
+  void set(double feed_percent, double rapid_percent) {
+    feed_percent_ = feed_percent, rapid_percent_ = rapid_percent;
+  }
+  /// True while a time entry is still to come or any line entry exists (something may resume a
+  /// hold).
   bool may_change() const { return next_time_ < time_changes_.size() || !line_changes_.empty(); }
   double rapid_scale() const { return rapid_percent_ / 100.0; }
 

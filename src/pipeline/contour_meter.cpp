@@ -8,8 +8,12 @@
 
 namespace gm {
 
-ContourMeter::ContourMeter(const AxisVec& blu_mm, std::int64_t window_samples, std::int64_t steady_after)
-    : blu_mm_(blu_mm), contour_blu_mm_(blu_mm.minCoeff()), window_(window_samples), steady_after_(steady_after) {}
+ContourMeter::ContourMeter(const AxisVec& blu_mm, std::int64_t window_samples,
+                           std::int64_t steady_after)
+    : blu_mm_(blu_mm),
+      contour_blu_mm_(blu_mm.minCoeff()),
+      window_(window_samples),
+      steady_after_(steady_after) {}
 
 void ContourMeter::measure(SampleRecord& r, const Motion* started) {
   if (started != nullptr) {
@@ -27,7 +31,8 @@ void ContourMeter::measure(SampleRecord& r, const Motion* started) {
   // delays, and is not waiting at its end (exact stop), in a dwell or in a hold.
   constexpr std::uint32_t kNotMoving = kEventSettle | kEventDwell | kEventHold;
   if ((r.events & kNotMoving) != 0) last_pause_k_ = r.k;
-  if (m != nullptr && m->kind == MotionKind::Arc && r.k - std::max(block_start_k_, last_pause_k_) >= steady_after_) {
+  if (m != nullptr && m->kind == MotionKind::Arc &&
+      r.k - std::max(block_start_k_, last_pause_k_) >= steady_after_) {
     const AxisVec ref_mm = r.ref_blu.cast<double>().cwiseProduct(blu_mm_);
     const AxisVec enc_mm = r.enc_blu.cast<double>().cwiseProduct(blu_mm_);
     r.arc_ref_dev_blu = PathWindow::radial_deviation_mm(*m, ref_mm) / contour_blu_mm_;

@@ -16,17 +16,22 @@ struct PlaneAxes {
 };
 PlaneAxes plane_axes(Plane p) {
   switch (p) {
-    case Plane::XY: return {0, 1, 2};
-    case Plane::XZ: return {2, 0, 1};  // G18: Z, X in-plane (LinuxCNC first/second axis)
-    case Plane::YZ: return {1, 2, 0};
+    case Plane::XY:
+      return {0, 1, 2};
+    case Plane::XZ:
+      return {2, 0, 1};  // G18: Z, X in-plane (LinuxCNC first/second axis)
+    case Plane::YZ:
+      return {1, 2, 0};
   }
   return {0, 1, 2};
 }
 
 // Angle swept by arc `m` from its start, radians, > 0 (full turns included).
 double arc_sweep_rad(const Motion& m, const PlaneAxes& ax) {
-  const double a0 = std::atan2(m.start_mm[ax.b] - m.center_mm[ax.b], m.start_mm[ax.a] - m.center_mm[ax.a]);
-  const double a1 = std::atan2(m.end_mm[ax.b] - m.center_mm[ax.b], m.end_mm[ax.a] - m.center_mm[ax.a]);
+  const double a0 =
+      std::atan2(m.start_mm[ax.b] - m.center_mm[ax.b], m.start_mm[ax.a] - m.center_mm[ax.a]);
+  const double a1 =
+      std::atan2(m.end_mm[ax.b] - m.center_mm[ax.b], m.end_mm[ax.a] - m.center_mm[ax.a]);
   double d = m.ccw ? a1 - a0 : a0 - a1;
   while (d <= 1e-12) d += 2 * M_PI;
   return d + 2 * M_PI * (m.turns - 1);
@@ -59,7 +64,8 @@ void PathWindow::push(const Motion& m, std::int64_t k) {
     e.turn_sign = m.ccw ? 1.0 : -1.0;
     e.u0_a = m.start_mm[ax.a] - m.center_mm[ax.a], e.u0_b = m.start_mm[ax.b] - m.center_mm[ax.b];
     e.u1_a = m.end_mm[ax.a] - m.center_mm[ax.a], e.u1_b = m.end_mm[ax.b] - m.center_mm[ax.b];
-    e.radius_mm = std::hypot(m.start_mm[ax.a] - m.center_mm[ax.a], m.start_mm[ax.b] - m.center_mm[ax.b]);
+    e.radius_mm =
+        std::hypot(m.start_mm[ax.a] - m.center_mm[ax.a], m.start_mm[ax.b] - m.center_mm[ax.b]);
     e.planar = m.start_mm[ax.n] == m.end_mm[ax.n];
     // Planar arc: every point the distance is measured to (the circle's nearest point inside the
     // sweep, or an end point) lies within the larger of the start and end radii of the centre.
@@ -75,12 +81,14 @@ void PathWindow::push(const Motion& m, std::int64_t k) {
 
 double PathWindow::radial_deviation_mm(const Motion& m, const AxisVec& p_mm) {
   const PlaneAxes ax = plane_axes(m.plane);
-  const double r = std::hypot(m.start_mm[ax.a] - m.center_mm[ax.a], m.start_mm[ax.b] - m.center_mm[ax.b]);
+  const double r =
+      std::hypot(m.start_mm[ax.a] - m.center_mm[ax.a], m.start_mm[ax.b] - m.center_mm[ax.b]);
   const double d = std::hypot(p_mm[ax.a] - m.center_mm[ax.a], p_mm[ax.b] - m.center_mm[ax.b]);
   return d - r;
 }
 
-void PathWindow::distance_to(const Entry& e, const AxisVec& p_mm, double& dist, double& signed_dist) {
+void PathWindow::distance_to(const Entry& e, const AxisVec& p_mm, double& dist,
+                             double& signed_dist) {
   const Motion& m = e.motion;
   if (m.kind != MotionKind::Arc) {
     dist = signed_dist = segment_distance_mm(m.start_mm, m.end_mm, p_mm);
@@ -95,7 +103,8 @@ void PathWindow::distance_to(const Entry& e, const AxisVec& p_mm, double& dist, 
     // sector (both turns negative).
     const double to_p = e.turn_sign * (e.u0_a * dcb - e.u0_b * dca);
     const double p_to_end = e.turn_sign * (dca * e.u1_b - dcb * e.u1_a);
-    const bool inside = e.over_half_turn ? !(to_p < 0.0 && p_to_end < 0.0) : (to_p >= 0.0 && p_to_end >= 0.0);
+    const bool inside =
+        e.over_half_turn ? !(to_p < 0.0 && p_to_end < 0.0) : (to_p >= 0.0 && p_to_end >= 0.0);
     if (!inside) {
       // Beyond the arc's ends: the nearest point of this block is an end point.
       dist = signed_dist = std::min((p_mm - m.start_mm).norm(), (p_mm - m.end_mm).norm());
@@ -117,7 +126,8 @@ double PathWindow::contour_error_mm(const AxisVec& p_mm, std::int64_t k) {
   };
   // Blocks that ended longer than the lag ago are past: the window is ages [0, limit).
   int limit = 1;
-  while (limit < count_ && !(at(limit).last_sample != kOngoing && k - at(limit).last_sample > lag_samples_))
+  while (limit < count_ &&
+         !(at(limit).last_sample != kOngoing && k - at(limit).last_sample > lag_samples_))
     ++limit;
 
   double best = std::numeric_limits<double>::infinity();

@@ -35,7 +35,9 @@ class PathWindow {
   double contour_error_mm(const AxisVec& p_mm, std::int64_t k);
 
   /// The block pushed last (the current one), nullptr before the first.
-  const Motion* newest() const { return count_ > 0 ? &ring_[static_cast<std::size_t>(head_)].motion : nullptr; }
+  const Motion* newest() const {
+    return count_ > 0 ? &ring_[static_cast<std::size_t>(head_)].motion : nullptr;
+  }
 
   /// Signed radial deviation of `p_mm` from arc `m` (mm); `m` must be an arc.
   static double radial_deviation_mm(const Motion& m, const AxisVec& p_mm);
@@ -63,7 +65,7 @@ class PathWindow {
 
   std::array<Entry, kCapacity> ring_{};
   int count_ = 0;
-  int head_ = 0;  ///< index of the newest entry
+  int head_ = 0;      ///< index of the newest entry
   int hint_age_ = 0;  ///< age (0 = newest) of the entry that was nearest last time
   std::int64_t lag_samples_;
 };

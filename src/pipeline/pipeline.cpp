@@ -35,7 +35,8 @@ Pipeline::Pipeline(const RunConfig& cfg, CanonSource& source)
       taps_(design_taps(cfg.machine.profile, cfg.machine.tau_s, cfg.machine.period_s)),
       interp_(interpolator_config(cfg.machine, static_cast<int>(taps_.integer.size())), source),
       accdec_(taps_, AxisBlu::Zero()),
-      lag_samples_(static_cast<std::int64_t>(taps_.integer.size()) + (cfg.servo ? servo_lag_samples(cfg.machine) : 0)),
+      lag_samples_(static_cast<std::int64_t>(taps_.integer.size()) +
+                   (cfg.servo ? servo_lag_samples(cfg.machine) : 0)),
       meter_(contour_meter()),
       ref_blu_(AxisBlu::Zero()),
       enc_blu_(AxisBlu::Zero()),
@@ -43,7 +44,8 @@ Pipeline::Pipeline(const RunConfig& cfg, CanonSource& source)
   if (cfg_.servo) {
     for (int a = 0; a < kAxes; ++a)
       servo_[static_cast<std::size_t>(a)].emplace(cfg_.machine.axes[static_cast<std::size_t>(a)],
-                                                  cfg_.machine.period_s, cfg_.machine.servo_substeps, 0);
+                                                  cfg_.machine.period_s,
+                                                  cfg_.machine.servo_substeps, 0);
   }
   cmd_.pos_blu = AxisBlu::Zero();
 }
@@ -88,8 +90,9 @@ PipelineStatus Pipeline::step(const OverrideInput& ovr, SampleRecord& out) {
       try {
         enc_blu_[a] = s.step(ref_blu_[a]);
       } catch (const InputError& e) {
-        throw InputError(fmt::format("axis {} at t = {:.3f} s (line {}): {}", kAxisLetters[static_cast<std::size_t>(a)],
-                                     static_cast<double>(k_) * cfg_.machine.period_s, cmd_.line, e.what()));
+        throw InputError(fmt::format(
+            "axis {} at t = {:.3f} s (line {}): {}", kAxisLetters[static_cast<std::size_t>(a)],
+            static_cast<double>(k_) * cfg_.machine.period_s, cmd_.line, e.what()));
       }
       // The motor hunts inside one count at standstill (quantised feedback), so settling is
       // judged on the encoder alone: within ±1 count of the reference.

@@ -20,8 +20,8 @@ namespace gm {
 /// What a run needs besides the program: the machine (flags already applied) and the switches.
 struct RunConfig {
   Machine machine;
-  bool servo = true;                 ///< false: ideal axes, the encoder reads the Acc/Dec output
-  double settle_timeout_s = 10.0;    ///< after the program ends, how long the axes may take to settle
+  bool servo = true;               ///< false: ideal axes, the encoder reads the Acc/Dec output
+  double settle_timeout_s = 10.0;  ///< after the program ends, how long the axes may take to settle
   /// false: step() measures the contour error itself. true: step() leaves contour_err_blu and
   /// arc_*_dev_blu for a ContourMeter from contour_meter() fed every record with
   /// started_motion(), e.g. on another thread (the same values, measured elsewhere).
@@ -68,7 +68,8 @@ class Pipeline {
   ContourMeter meter_;        ///< used unless defer_contour
   CommandSample cmd_{};
   AxisBlu ref_blu_, enc_blu_, last_cmd_blu_;
-  AxisVec table_blu_ = AxisVec::Zero();  ///< table positions (BLU, continuous) at the sample instant
+  AxisVec table_blu_ =
+      AxisVec::Zero();  ///< table positions (BLU, continuous) at the sample instant
   std::int64_t k_ = 0;
   std::uint64_t seen_block_ = 0;
   const Motion* started_ = nullptr;

@@ -5,7 +5,8 @@
 
 namespace gm {
 
-SampleQueue::SampleQueue(Consumer consume) : consume_(std::move(consume)), thread_([this] { consume_loop(); }) {}
+SampleQueue::SampleQueue(Consumer consume)
+    : consume_(std::move(consume)), thread_([this] { consume_loop(); }) {}
 
 SampleQueue::~SampleQueue() {
   {

@@ -54,8 +54,9 @@ class SampleQueue {
  private:
   struct Batch {
     std::vector<SampleRecord> records = std::vector<SampleRecord>(kBatchSize);
-    std::vector<Motion> motions = std::vector<Motion>(kBatchSize);               ///< in push order
-    std::vector<std::uint32_t> motion_row = std::vector<std::uint32_t>(kBatchSize);  ///< record of each motion
+    std::vector<Motion> motions = std::vector<Motion>(kBatchSize);  ///< in push order
+    std::vector<std::uint32_t> motion_row =
+        std::vector<std::uint32_t>(kBatchSize);  ///< record of each motion
     std::size_t count = 0;
     std::size_t motion_count = 0;
     bool full = false;  ///< handed over, not yet consumed
@@ -68,9 +69,9 @@ class SampleQueue {
   std::size_t fill_ = 0;  ///< the batch the producer fills
   std::mutex mutex_;
   std::condition_variable changed_;
-  bool stop_ = false;     ///< no more batches will come
+  bool stop_ = false;  ///< no more batches will come
   std::exception_ptr error_;
-  std::thread thread_;    ///< last: starts once everything above is constructed
+  std::thread thread_;  ///< last: starts once everything above is constructed
 };
 
 }  // namespace gm

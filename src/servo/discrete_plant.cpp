@@ -35,11 +35,10 @@ DiscretePlant::DiscretePlant(const std::vector<double>& num_in, const std::vecto
   const double d0 = den.front();
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(n + 1, n + 1);  // augmented with position
   for (int i = 0; i + 1 < n; ++i) a(i, i + 1) = 1.0;
-  for (int j = 0; j < n; ++j)
-    a(n - 1, j) = -den[static_cast<std::size_t>(n - j)] / d0;  // -a_{n-j}
+  for (int j = 0; j < n; ++j) a(n - 1, j) = -den[static_cast<std::size_t>(n - j)] / d0;  // -a_{n-j}
   c_ = State::Zero(n);
   const int m = static_cast<int>(num.size());  // num degree m-1 < n
-  for (int k = 0; k < m; ++k)  // coefficient of s^k is num[m-1-k]; multiplies x_{k}
+  for (int k = 0; k < m; ++k)                  // coefficient of s^k is num[m-1-k]; multiplies x_{k}
     c_[k] = num[static_cast<std::size_t>(m - 1 - k)] / d0 * scale_blu_s_per_unit;
   for (int j = 0; j < n; ++j) a(n, j) = c_[j];  // p' = v (BLU/s)
 

@@ -1,4 +1,5 @@
-// Exact zero-order-hold discretisation of a velocity plant num(s)/den(s) plus its position integral.
+// Exact zero-order-hold discretisation of a velocity plant num(s)/den(s) plus its position
+// integral.
 #pragma once
 
 #include <Eigen/Core>
@@ -32,9 +33,15 @@ class DiscretePlant {
   /// same, term by term, as the general loop's.
   void step(double u) {
     switch (n_) {
-      case 1: step_sized<2>(u); return;
-      case 2: step_sized<3>(u); return;
-      default: step_general(u); return;
+      case 1:
+        step_sized<2>(u);
+        return;
+      case 2:
+        step_sized<3>(u);
+        return;
+      default:
+        step_general(u);
+        return;
     }
   }
   /// Motor velocity, BLU/s (C x, scaled).

@@ -11,8 +11,7 @@
 
 namespace gm {
 
-ServoAxis::ServoAxis(const AxisConfig& axis, double period_s, int substeps,
-                     std::int64_t start_blu)
+ServoAxis::ServoAxis(const AxisConfig& axis, double period_s, int substeps, std::int64_t start_blu)
     : plant_(axis.plant_num, axis.plant_den, axis.plant_blu_s_per_unit,
              substeps >= 1 && period_s > 0.0 ? period_s / substeps : 1.0),
       form_(axis.kv_form),
@@ -25,8 +24,10 @@ ServoAxis::ServoAxis(const AxisConfig& axis, double period_s, int substeps,
       start_blu_(start_blu),
       prev_count_(start_blu),
       prev_ref_(start_blu) {
-  if (!(period_s > 0.0)) throw InputError(fmt::format("servo: period must be > 0 (got {})", period_s));
-  if (substeps < 1) throw InputError(fmt::format("servo: substeps must be >= 1 (got {})", substeps));
+  if (!(period_s > 0.0))
+    throw InputError(fmt::format("servo: period must be > 0 (got {})", period_s));
+  if (substeps < 1)
+    throw InputError(fmt::format("servo: substeps must be >= 1 (got {})", substeps));
   if (!(kv_period_s_ > 0.0))
     throw InputError(fmt::format("servo: kv_period_s must be > 0 (got {})", kv_period_s_));
   if (!(kvp_ >= 0.0) || !(kvi_ >= 0.0) || !(kp_ > 0.0))
@@ -59,7 +60,8 @@ std::int64_t ServoAxis::step(std::int64_t ref_blu) {
   const double delta = static_cast<double>(ref_blu - prev_ref_);
   saturated_ = false;
   // j = 0 gives ref + 0.0 = ref exactly, so one substep needs no extrapolation arithmetic.
-  servo_sample(count0, static_cast<double>(ref_blu), true, 0.0);  // the plant has not moved since count0
+  servo_sample(count0, static_cast<double>(ref_blu), true,
+               0.0);  // the plant has not moved since count0
   for (int j = 1; j < substeps_; ++j) {
     const double r = static_cast<double>(ref_blu) + delta * j / substeps_;
     servo_sample(count_now(), r, true, 0.0);
@@ -68,9 +70,10 @@ std::int64_t ServoAxis::step(std::int64_t ref_blu) {
   // An unstable loop (plant, gains or period) sends the motor off without bound; stop before
   // the counts leave the range where they are exact and ref - count cannot overflow.
   if (!(std::fabs(plant_.position_blu()) < kMaxPositionBlu))
-    throw InputError(fmt::format("servo diverged: the motor is at {:.3g} BLU after following a reference of {} BLU; "
-                                 "the loop is unstable with this plant, these gains and this period",
-                                 plant_.position_blu(), ref_blu));
+    throw InputError(fmt::format(
+        "servo diverged: the motor is at {:.3g} BLU after following a reference of {} BLU; "
+        "the loop is unstable with this plant, these gains and this period",
+        plant_.position_blu(), ref_blu));
   return count0;
 }
 
@@ -79,7 +82,8 @@ void ServoAxis::step_velocity(double v_ref_blu_s) {
   for (int j = 0; j < substeps_; ++j) servo_sample(count_now(), 0.0, false, v_ref_blu_s);
 }
 
-inline void ServoAxis::servo_sample(std::int64_t count, double pos_ref_blu, bool position_loop, double v_ref_blu_s) {
+inline void ServoAxis::servo_sample(std::int64_t count, double pos_ref_blu, bool position_loop,
+                                    double v_ref_blu_s) {
   // Velocity feedback and reference in encoder counts per kv_period_s.
   const double y = static_cast<double>(count - prev_count_) * kv_over_h_;
   prev_count_ = count;
@@ -102,8 +106,10 @@ inline void ServoAxis::servo_sample(std::int64_t count, double pos_ref_blu, bool
   plant_step(u);
   // Lost motion: the table stays put until the motor has crossed the dead band.
   const double p = plant_.position_blu();
-  if (p - table_rel_ > half_backlash_) table_rel_ = p - half_backlash_;
-  else if (p - table_rel_ < -half_backlash_) table_rel_ = p + half_backlash_;
+  if (p - table_rel_ > half_backlash_)
+    table_rel_ = p - half_backlash_;
+  else if (p - table_rel_ < -half_backlash_)
+    table_rel_ = p + half_backlash_;
 }
 
 inline void ServoAxis::plant_step(double u) {

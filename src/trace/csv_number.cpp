@@ -15,7 +15,8 @@ char* put_int(char* p, std::int64_t v) {
 }
 
 char* put_fixed(char* p, double x, int decimals) {
-  static constexpr std::uint64_t kPow10[] = {1, 10, 100, 1000, 10000, 100000, 1000000, 10000000, 100000000, 1000000000};
+  static constexpr std::uint64_t kPow10[] = {1,      10,      100,      1000,      10000,
+                                             100000, 1000000, 10000000, 100000000, 1000000000};
   if (decimals >= 1 && decimals <= 9 && std::isfinite(x)) {
     const std::uint64_t scale = kPow10[decimals];
     const double a = std::fabs(x);

@@ -80,21 +80,28 @@ void RunSummary::finish(const SampleRecord& last, const AxisBlu& program_end_blu
 std::string RunSummary::text() const {
   std::string t;
   auto out = std::back_inserter(t);
-  fmt::format_to(out, "samples {}  cycle time {:.3f} s  (motion ends {:.3f} s){}{}\n", samples, cycle_time_s,
-                 program_time_s, hold_time_s > 0 ? fmt::format(", {:.3f} s in feed hold", hold_time_s) : "",
+  fmt::format_to(out, "samples {}  cycle time {:.3f} s  (motion ends {:.3f} s){}{}\n", samples,
+                 cycle_time_s, program_time_s,
+                 hold_time_s > 0 ? fmt::format(", {:.3f} s in feed hold", hold_time_s) : "",
                  settled ? "" : "  NOT SETTLED");
-  fmt::format_to(out, "contour error  max {:.2f} BLU (line {})  rms {:.2f} BLU\n", contour_err_blu.value,
-                 contour_err_blu.line, contour_rms_blu);
+  fmt::format_to(out, "contour error  max {:.2f} BLU (line {})  rms {:.2f} BLU\n",
+                 contour_err_blu.value, contour_err_blu.line, contour_rms_blu);
   if (arc_samples > 0)
-    fmt::format_to(out, "arcs, steady radial deviation  Acc/Dec output {:+.2f} BLU  encoder {:+.2f} BLU\n",
-                   arc_ref_radial_dev_blu, arc_enc_radial_dev_blu);
-  fmt::format_to(out, "axis  ferr max BLU (line)   v max mm/s (line)   a max mm/s2 (line)   j max mm/s3 (line)   final ref/enc err BLU\n");
+    fmt::format_to(
+        out, "arcs, steady radial deviation  Acc/Dec output {:+.2f} BLU  encoder {:+.2f} BLU\n",
+        arc_ref_radial_dev_blu, arc_enc_radial_dev_blu);
+  fmt::format_to(out,
+                 "axis  ferr max BLU (line)   v max mm/s (line)   a max mm/s2 (line)   j max mm/s3 "
+                 "(line)   final ref/enc err BLU\n");
   for (int a = 0; a < kAxes; ++a) {
     const AxisSummary& s = axes[static_cast<std::size_t>(a)];
-    fmt::format_to(out, "{:<4}  {:>8.0f} ({:>5})   {:>9.3f} ({:>5})   {:>10.1f} ({:>5})   {:>10.0f} ({:>5})   {:+d} / {:+d}\n",
-                   kAxisLetters[static_cast<std::size_t>(a)], s.following_err_blu.value, s.following_err_blu.line,
-                   s.velocity_mm_s.value, s.velocity_mm_s.line, s.accel_mm_s2.value, s.accel_mm_s2.line,
-                   s.jerk_mm_s3.value, s.jerk_mm_s3.line, s.final_ref_err_blu, s.final_enc_err_blu);
+    fmt::format_to(out,
+                   "{:<4}  {:>8.0f} ({:>5})   {:>9.3f} ({:>5})   {:>10.1f} ({:>5})   {:>10.0f} "
+                   "({:>5})   {:+d} / {:+d}\n",
+                   kAxisLetters[static_cast<std::size_t>(a)], s.following_err_blu.value,
+                   s.following_err_blu.line, s.velocity_mm_s.value, s.velocity_mm_s.line,
+                   s.accel_mm_s2.value, s.accel_mm_s2.line, s.jerk_mm_s3.value, s.jerk_mm_s3.line,
+                   s.final_ref_err_blu, s.final_enc_err_blu);
   }
   bool any = false;
   for (int a = 0; a < kAxes; ++a) {
@@ -105,8 +112,8 @@ std::string RunSummary::text() const {
       if (c->violations == 0) continue;
       any = true;
       fmt::format_to(out, "LIMIT {} {}: {} samples over {:.6g}, worst {:.6g} at line {}\n",
-                     kAxisLetters[static_cast<std::size_t>(a)], name, c->violations, c->limit, c->worst.value,
-                     c->worst.line);
+                     kAxisLetters[static_cast<std::size_t>(a)], name, c->violations, c->limit,
+                     c->worst.value, c->worst.line);
     }
   }
   if (!any) t += "limits: velocity, force and power within the machine's limits on every axis\n";
@@ -118,9 +125,12 @@ std::string num(double v) {
   if (!std::isfinite(v)) return "null";
   return fmt::format("{:.9g}", v);
 }
-std::string peak(const Peak& p) { return fmt::format("{{\"value\":{},\"line\":{}}}", num(p.value), p.line); }
+std::string peak(const Peak& p) {
+  return fmt::format("{{\"value\":{},\"line\":{}}}", num(p.value), p.line);
+}
 std::string limit(const LimitCheck& c) {
-  return fmt::format("{{\"limit\":{},\"violations\":{},\"worst\":{}}}", num(c.limit), c.violations, peak(c.worst));
+  return fmt::format("{{\"limit\":{},\"violations\":{},\"worst\":{}}}", num(c.limit), c.violations,
+                     peak(c.worst));
 }
 }  // namespace
 
@@ -128,22 +138,24 @@ std::string RunSummary::json() const {
   std::string j;
   auto out = std::back_inserter(j);
   fmt::format_to(out,
-                 "{{\"samples\":{},\"cycle_time_s\":{},\"program_time_s\":{},\"hold_time_s\":{},\"settled\":{},"
+                 "{{\"samples\":{},\"cycle_time_s\":{},\"program_time_s\":{},\"hold_time_s\":{},"
+                 "\"settled\":{},"
                  "\"contour_err_max_blu\":{},\"contour_err_rms_blu\":{},"
                  "\"arc_ref_radial_dev_blu\":{},\"arc_enc_radial_dev_blu\":{},\"axes\":{{",
-                 samples, num(cycle_time_s), num(program_time_s), num(hold_time_s), settled ? "true" : "false",
-                 peak(contour_err_blu), num(contour_rms_blu), num(arc_ref_radial_dev_blu),
-                 num(arc_enc_radial_dev_blu));
+                 samples, num(cycle_time_s), num(program_time_s), num(hold_time_s),
+                 settled ? "true" : "false", peak(contour_err_blu), num(contour_rms_blu),
+                 num(arc_ref_radial_dev_blu), num(arc_enc_radial_dev_blu));
   for (int a = 0; a < kAxes; ++a) {
     const AxisSummary& s = axes[static_cast<std::size_t>(a)];
-    fmt::format_to(out,
-                   "{}\"{}\":{{\"following_err_max_blu\":{},\"velocity_max_mm_s\":{},\"accel_max_mm_s2\":{},"
-                   "\"jerk_max_mm_s3\":{},\"limits\":{{\"velocity\":{},\"force\":{},\"power\":{}}},"
-                   "\"final_ref_err_blu\":{},\"final_enc_err_blu\":{}}}",
-                   a == 0 ? "" : ",", static_cast<char>(kAxisLetters[static_cast<std::size_t>(a)] - 'A' + 'a'),
-                   peak(s.following_err_blu), peak(s.velocity_mm_s), peak(s.accel_mm_s2), peak(s.jerk_mm_s3),
-                   limit(s.v_limit), limit(s.f_limit), limit(s.p_limit), s.final_ref_err_blu,
-                   s.final_enc_err_blu);
+    fmt::format_to(
+        out,
+        "{}\"{}\":{{\"following_err_max_blu\":{},\"velocity_max_mm_s\":{},\"accel_max_mm_s2\":{},"
+        "\"jerk_max_mm_s3\":{},\"limits\":{{\"velocity\":{},\"force\":{},\"power\":{}}},"
+        "\"final_ref_err_blu\":{},\"final_enc_err_blu\":{}}}",
+        a == 0 ? "" : ",", static_cast<char>(kAxisLetters[static_cast<std::size_t>(a)] - 'A' + 'a'),
+        peak(s.following_err_blu), peak(s.velocity_mm_s), peak(s.accel_mm_s2), peak(s.jerk_mm_s3),
+        limit(s.v_limit), limit(s.f_limit), limit(s.p_limit), s.final_ref_err_blu,
+        s.final_enc_err_blu);
   }
   j += "}}\n";
   return j;

@@ -28,13 +28,13 @@ struct LimitCheck {
 };
 
 struct AxisSummary {
-  Peak following_err_blu;          ///< max |ref − enc|
-  Peak velocity_mm_s;              ///< of the Acc/Dec output (the commanded motion)
+  Peak following_err_blu;  ///< max |ref − enc|
+  Peak velocity_mm_s;      ///< of the Acc/Dec output (the commanded motion)
   Peak accel_mm_s2;
   Peak jerk_mm_s3;
   LimitCheck v_limit, f_limit, p_limit;  ///< V'[k] ≤ V_max, F = m·a + c·V ≤ F_max, P = F·V ≤ P_max
-  std::int64_t final_ref_err_blu = 0;    ///< Acc/Dec output − programmed end
-  std::int64_t final_enc_err_blu = 0;    ///< encoder − programmed end
+  std::int64_t final_ref_err_blu = 0;  ///< Acc/Dec output − programmed end
+  std::int64_t final_enc_err_blu = 0;  ///< encoder − programmed end
 };
 
 /// Accumulates statistics over the samples of a run (constant memory).
@@ -53,12 +53,12 @@ class RunSummary {
   std::string json() const;
 
   std::int64_t samples = 0;
-  double cycle_time_s = 0.0;     ///< until the axes settled
-  double program_time_s = 0.0;   ///< until the interpolator finished
-  Peak contour_err_blu;          ///< max |contour error| of the actual position
+  double cycle_time_s = 0.0;    ///< until the axes settled
+  double program_time_s = 0.0;  ///< until the interpolator finished
+  Peak contour_err_blu;         ///< max |contour error| of the actual position
   double contour_rms_blu = 0.0;
   bool settled = false;
-  double hold_time_s = 0.0;      ///< time spent in feed hold (0 % override)
+  double hold_time_s = 0.0;  ///< time spent in feed hold (0 % override)
   std::array<AxisSummary, kAxes> axes{};
   /// Mean signed radial deviation over the steady part of arc blocks (BLU; NaN if no arcs).
   double arc_ref_radial_dev_blu = 0.0;

@@ -49,7 +49,8 @@ std::vector<std::string> split(const std::string& s, char sep) {
 
 TraceReader::TraceReader(const std::string& path) : path_(path) {
   f_ = std::fopen(path.c_str(), "rb");
-  if (f_ == nullptr) throw InputError(fmt::format("cannot read trace '{}': {}", path, std::strerror(errno)));
+  if (f_ == nullptr)
+    throw InputError(fmt::format("cannot read trace '{}': {}", path, std::strerror(errno)));
   char magic[8] = {};
   const std::size_t got = std::fread(magic, 1, 8, f_);
   std::string header_text;
@@ -83,12 +84,15 @@ TraceReader::TraceReader(const std::string& path) : path_(path) {
       break;
     }
   }
-  if (columns_.size() < 2 || columns_[0] != "t_s" || header_.empty() || header_[0].rfind("gmotion ", 0) != 0)
-    throw InputError(fmt::format("{}: not a gmotion trace (no '# gmotion' header and t_s column line)", path));
+  if (columns_.size() < 2 || columns_[0] != "t_s" || header_.empty() ||
+      header_[0].rfind("gmotion ", 0) != 0)
+    throw InputError(
+        fmt::format("{}: not a gmotion trace (no '# gmotion' header and t_s column line)", path));
   const std::string p = header_value("period_s");
   period_s_ = p.empty() ? 0.0 : std::strtod(p.c_str(), nullptr);
   if (binary_ && !(period_s_ > 0))
-    throw InputError(fmt::format("{}: binary trace without a valid '# period_s:' header line", path));
+    throw InputError(
+        fmt::format("{}: binary trace without a valid '# period_s:' header line", path));
   partial_ = status().rfind("partial", 0) == 0;
   // int64 k, int32 line, int64 per (column - 4), then two doubles (see trace_writer.cpp).
   if (binary_ && columns_.size() < 4)
@@ -157,7 +161,8 @@ bool TraceReader::next(std::vector<double>& values) {
   for (std::size_t i = 0; i < columns_.size(); ++i) {
     auto [q, ec] = std::from_chars(p, end, values[i]);
     if (ec != std::errc() || (i + 1 < columns_.size() ? (q == end || *q != ',') : q != end))
-      throw InputError(fmt::format("{}:{}: malformed row (column {} '{}')", path_, line_no_, i + 1, columns_[i]));
+      throw InputError(fmt::format("{}:{}: malformed row (column {} '{}')", path_, line_no_, i + 1,
+                                   columns_[i]));
     p = q + 1;
   }
   return true;

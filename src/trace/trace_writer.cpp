@@ -5,12 +5,12 @@
 
 #include "common/status.hpp"
 
+#include <sys/stat.h>
+#include <unistd.h>
 #include <cerrno>
 #include <cstdint>
 #include <cstring>
 #include <iterator>
-#include <sys/stat.h>
-#include <unistd.h>
 
 namespace gm {
 namespace {
@@ -19,7 +19,9 @@ constexpr std::size_t kFlushBytes = 1u << 20;
 constexpr char kBinaryMagic[8] = {'G', 'M', 'T', 'R', 'A', 'C', 'E', '1'};
 constexpr std::int64_t kBinaryRow = 8 + 4 + 4 * 8 * kAxes + 8 + 8;  ///< bytes of a binary row
 
-char lower(char c) { return static_cast<char>(c - 'A' + 'a'); }
+char lower(char c) {
+  return static_cast<char>(c - 'A' + 'a');
+}
 
 template <typename T>
 void put_raw(fmt::memory_buffer& buf, T v) {
@@ -42,13 +44,15 @@ std::string trace_header(const TraceMeta& m) {
   fmt::format_to(out, "# blu_mm: {}\n", fmt::join(m.blu_mm.data(), m.blu_mm.data() + kAxes, ","));
   fmt::format_to(out, "# servo: {}\n", m.servo ? "on" : "off (encoder reads the Acc/Dec output)");
   fmt::format_to(out, "# decimate: {}\n", m.decimate);
-  fmt::format_to(out,
-                 "# units: t_s s; line source line; *_cmd interpolator BLU; *_ref Acc/Dec output BLU; "
-                 "*_enc encoder counts; *_ferr following error ref-enc BLU; contour_err BLU (signed "
-                 "radial on arcs, + outside); override percent\n");
+  fmt::format_to(
+      out,
+      "# units: t_s s; line source line; *_cmd interpolator BLU; *_ref Acc/Dec output BLU; "
+      "*_enc encoder counts; *_ferr following error ref-enc BLU; contour_err BLU (signed "
+      "radial on arcs, + outside); override percent\n");
   h += "t_s,line";
   for (char a : kAxisLetters)
-    for (const char* col : {"_cmd", "_ref", "_enc", "_ferr"}) fmt::format_to(out, ",{}{}", lower(a), col);
+    for (const char* col : {"_cmd", "_ref", "_enc", "_ferr"})
+      fmt::format_to(out, ",{}{}", lower(a), col);
   h += ",contour_err,override\n";
   return h;
 }
@@ -72,7 +76,8 @@ std::string trace_status_line(std::string_view text) {
 
 bool TraceWriter::written_in_place(const std::string& path) {
   struct stat st {};
-  return path == "-" || (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode));
+  return path == "-" ||
+         (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode));
 }
 
 TraceWriter::TraceWriter(std::string path, TraceFormat format, const TraceMeta& meta)
@@ -83,14 +88,16 @@ TraceWriter::TraceWriter(std::string path, TraceFormat format, const TraceMeta& 
   struct stat st {};
   const bool special = path_ != "-" && ::stat(path_.c_str(), &st) == 0 && !S_ISREG(st.st_mode);
   if (status_line_ && written_in_place(path_))
-    throw InputError(fmt::format("cannot keep a partial trace of '{}': it is written in place, not as a file",
-                                 path_ == "-" ? "<stdout>" : path_));
+    throw InputError(
+        fmt::format("cannot keep a partial trace of '{}': it is written in place, not as a file",
+                    path_ == "-" ? "<stdout>" : path_));
   if (path_ == "-") {
     to_stdout_ = true;
     file_ = stdout;
   } else if (special) {
     // A device or FIFO (/dev/null, /dev/full, a pipe): written in place, never renamed over.
-    if (S_ISDIR(st.st_mode)) throw InputError(fmt::format("cannot write trace '{}': it is a directory", path_));
+    if (S_ISDIR(st.st_mode))
+      throw InputError(fmt::format("cannot write trace '{}': it is a directory", path_));
     file_ = std::fopen(path_.c_str(), "wb");
     if (file_ == nullptr)
       throw InputError(fmt::format("cannot write trace '{}': {}", path_, std::strerror(errno)));
@@ -118,7 +125,8 @@ TraceWriter::TraceWriter(std::string path, TraceFormat format, const TraceMeta& 
 TraceWriter::~TraceWriter() {
   if (file_ != nullptr && !to_stdout_) {
     std::fclose(file_);
-    if (!direct_) std::remove(tmp_path_.c_str());  // incomplete: leave nothing that looks like a trace
+    if (!direct_)
+      std::remove(tmp_path_.c_str());  // incomplete: leave nothing that looks like a trace
   }
 }
 
@@ -183,7 +191,8 @@ void TraceWriter::flush_buffer() {
   if (n != buf_.size()) {
     const int err = errno;
     if (status_line_) count_whole_rows(n);
-    throw InputError(fmt::format("cannot write trace '{}': {}", to_stdout_ ? "<stdout>" : path_, std::strerror(err)));
+    throw InputError(fmt::format("cannot write trace '{}': {}", to_stdout_ ? "<stdout>" : path_,
+                                 std::strerror(err)));
   }
   written_ += static_cast<std::int64_t>(buf_.size());
   buf_.clear();
@@ -210,7 +219,8 @@ void TraceWriter::count_whole_rows(std::size_t n) {
 
 void TraceWriter::patch_status(std::string_view text) {
   const std::string line = trace_status_line(text);
-  if (::pwrite(fileno(file_), line.data(), line.size(), status_offset_) != static_cast<ssize_t>(line.size()))
+  if (::pwrite(fileno(file_), line.data(), line.size(), status_offset_) !=
+      static_cast<ssize_t>(line.size()))
     throw InputError(fmt::format("cannot write trace '{}': {}", path_, std::strerror(errno)));
 }
 
@@ -244,7 +254,8 @@ void TraceWriter::finish() {
     // Any failure before the rename leaves the file open, for keep_partial().
     patch_status("complete");
     if (std::rename(tmp_path_.c_str(), path_.c_str()) != 0)
-      throw InputError(fmt::format("cannot move trace into place at '{}': {}", path_, std::strerror(errno)));
+      throw InputError(
+          fmt::format("cannot move trace into place at '{}': {}", path_, std::strerror(errno)));
     const bool closed = std::fclose(file_) == 0;
     const int err = errno;
     file_ = nullptr;
@@ -259,11 +270,13 @@ void TraceWriter::finish() {
     const int err = errno;
     const bool closed = std::fclose(file_) == 0;
     file_ = nullptr;
-    if (!ok || !closed) throw InputError(fmt::format("cannot write trace '{}': {}", path_, std::strerror(err)));
+    if (!ok || !closed)
+      throw InputError(fmt::format("cannot write trace '{}': {}", path_, std::strerror(err)));
     return;
   }
   if (to_stdout_) {
-    if (std::fflush(stdout) != 0) throw InputError(fmt::format("cannot write trace to stdout: {}", std::strerror(errno)));
+    if (std::fflush(stdout) != 0)
+      throw InputError(fmt::format("cannot write trace to stdout: {}", std::strerror(errno)));
     file_ = nullptr;
     return;
   }
@@ -278,7 +291,8 @@ void TraceWriter::finish() {
   if (std::rename(tmp_path_.c_str(), path_.c_str()) != 0) {
     const int e = errno;
     std::remove(tmp_path_.c_str());
-    throw InputError(fmt::format("cannot move trace into place at '{}': {}", path_, std::strerror(e)));
+    throw InputError(
+        fmt::format("cannot move trace into place at '{}': {}", path_, std::strerror(e)));
   }
 }
 

@@ -90,7 +90,7 @@ class TraceWriter {
   int decimate_;
   std::FILE* file_ = nullptr;
   bool to_stdout_ = false;
-  bool direct_ = false;  ///< an existing device or FIFO: written in place
+  bool direct_ = false;             ///< an existing device or FIFO: written in place
   bool status_line_ = false;        ///< the header has a `# status:` line (--keep-partial)
   std::int64_t status_offset_ = 0;  ///< its byte offset in the file
   std::int64_t header_bytes_ = 0;   ///< magic, length and header: the file before the first row

@@ -14,7 +14,8 @@
 
 using gmtest::run_gmotion;
 
-TEST_CASE("section 6 example: Blackman N = 40 passes Step 4 at the first tau, Eq. 7 with its taps") {
+TEST_CASE(
+    "section 6 example: Blackman N = 40 passes Step 4 at the first tau, Eq. 7 with its taps") {
   const gm::DesignLimits lim;  // paper defaults
   const auto attempts = gm::design_procedure("blackman", 0.164, 0.004, lim);
   REQUIRE(attempts.size() == 1);
@@ -22,7 +23,8 @@ TEST_CASE("section 6 example: Blackman N = 40 passes Step 4 at the first tau, Eq
   CHECK(a.ok());
   CHECK(a.taps.N == 40);
   // Eq. 7 from the applied integer taps, computed here.
-  const double bmax = static_cast<double>(*std::max_element(a.taps.integer.begin(), a.taps.integer.end()));
+  const double bmax =
+      static_cast<double>(*std::max_element(a.taps.integer.begin(), a.taps.integer.end()));
   const double acc = 0.1 * bmax / (0.004 * static_cast<double>(a.taps.b_s));
   CHECK(a.peak_accel_m_s2 == Approx(acc).epsilon(1e-14));
   CHECK(a.peak_force_N == Approx(500 * acc + 500 * 0.1).epsilon(1e-14));
@@ -32,7 +34,8 @@ TEST_CASE("section 6 example: Blackman N = 40 passes Step 4 at the first tau, Eq
   CHECK(a.profile_force_N <= a.peak_force_N);
 }
 
-TEST_CASE("Fig. 9 loop: linear, F_max 1050 N -> tau grows by T until 12500/n + 50 <= 1050 (n = 13)") {
+TEST_CASE(
+    "Fig. 9 loop: linear, F_max 1050 N -> tau grows by T until 12500/n + 50 <= 1050 (n = 13)") {
   gm::DesignLimits lim;
   lim.f_max_N = 1050;  // F = m·V/(nT) + cV = 500·0.1/(0.004 n) + 50 = 12500/n + 50
   const auto attempts = gm::design_procedure("linear", 0.02, 0.004, lim);
@@ -52,8 +55,8 @@ TEST_CASE("gmotion design --json prints the required keys for the section 6 defa
   const auto r = run_gmotion("design --json");
   CHECK(r.code == 0);
   for (const char* key : {"\"N\":40", "\"cutoff\":0.04878048780487", "\"taps\":[", "\"taps_int\":[",
-                          "\"b_s\":", "\"peak_accel\":1.73", "\"peak_force\":916.1", "\"peak_power\":91.6",
-                          "\"tau\":0.164", "\"ok\":true"}) {
+                          "\"b_s\":", "\"peak_accel\":1.73", "\"peak_force\":916.1",
+                          "\"peak_power\":91.6", "\"tau\":0.164", "\"ok\":true"}) {
     INFO(key);
     CHECK(r.out.find(key) != std::string::npos);
   }
@@ -64,17 +67,20 @@ TEST_CASE("gmotion design --json prints the required keys for the section 6 defa
   CHECK(impossible.code == 1);
 }
 
-TEST_CASE("gmotion analyze: radius-error rows and response CSV, bad profiles exit 1 with a message") {
+TEST_CASE(
+    "gmotion analyze: radius-error rows and response CSV, bad profiles exit 1 with a message") {
   const auto r = run_gmotion("analyze radius-error --feeds 6000,30000 --json");
   CHECK(r.code == 0);
   CHECK(r.out.find("{\"feed_mm_min\":6000,\"sampled_um\":4.666") != std::string::npos);
   CHECK(r.out.find("\"continuous_um\":4.66940083721") != std::string::npos);
   CHECK(r.out.find("\"approx_um\":116.7361111") != std::string::npos);
-  const auto nl = run_gmotion("analyze radius-error --profile blackman --tau 0.164 --period 0.004 "
-                              "--radius 4 --feeds 900 --json");
+  const auto nl = run_gmotion(
+      "analyze radius-error --profile blackman --tau 0.164 --period 0.004 "
+      "--radius 4 --feeds 900 --json");
   CHECK(nl.code == 0);
   CHECK(nl.out.find("continuous_um") == std::string::npos);
-  const auto csv = run_gmotion("analyze response --profile linear --tau 0.02 --period 0.004 --points 3");
+  const auto csv =
+      run_gmotion("analyze response --profile linear --tau 0.02 --period 0.004 --points 3");
   CHECK(csv.code == 0);
   // f_norm 0.5 -> ωT = π/2: |sin(5π/4)/(5 sin(π/4))| = 0.2
   CHECK(csv.out.find("\n0.5,62.5,1.5707963,0.2") != std::string::npos);

@@ -8,8 +8,8 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
-#include <cstdlib>
 #include <cstdint>
+#include <cstdlib>
 #include <iostream>
 #include <random>
 #include <string>
@@ -22,7 +22,9 @@ using gm::FirStructure;
 
 namespace {
 
-AxisBlu blu(std::int64_t x, std::int64_t y, std::int64_t z) { return AxisBlu(x, y, z); }
+AxisBlu blu(std::int64_t x, std::int64_t y, std::int64_t z) {
+  return AxisBlu(x, y, z);
+}
 
 std::vector<std::int64_t> run_x(const gm::Taps& t, const std::vector<std::int64_t>& xs,
                                 FirStructure s = FirStructure::Auto) {
@@ -43,10 +45,10 @@ struct Profile {
 };
 
 const std::vector<Profile> kProfiles{
-    {"linear", 0},   {"scurve1", 0},  {"scurve2", 0},     {"blackman", 0},
-    {"blackman@max", 0}, {"hann", 0}, {"hamming", 0},     {"kaiser:6", 0},
-    {"custom:0.5,1,2,1,0.5", 5},      {"custom:0,3,0,1", 4}, {"cascade:7,5,3", 13},
-    {"cascade:1", 1}};
+    {"linear", 0},         {"scurve1", 0},        {"scurve2", 0},
+    {"blackman", 0},       {"blackman@max", 0},   {"hann", 0},
+    {"hamming", 0},        {"kaiser:6", 0},       {"custom:0.5,1,2,1,0.5", 5},
+    {"custom:0,3,0,1", 4}, {"cascade:7,5,3", 13}, {"cascade:1", 1}};
 
 }  // namespace
 
@@ -76,8 +78,9 @@ TEST_CASE("filter starts settled at the start position and reports length N+1") 
         FirStructure::Direct);
 }
 
-TEST_CASE("property: after draining, output == input exactly, |V_out| <= peak |V_in| + 1, "
-          "rounding within 0.5 BLU of the exact convolution") {
+TEST_CASE(
+    "property: after draining, output == input exactly, |V_out| <= peak |V_in| + 1, "
+    "rounding within 0.5 BLU of the exact convolution") {
   // GMOTION_SEED=<n> replays a failing run.
   const char* env = std::getenv("GMOTION_SEED");
   const std::uint64_t seed = env ? std::strtoull(env, nullptr, 10) : std::random_device{}();
@@ -86,14 +89,18 @@ TEST_CASE("property: after draining, output == input exactly, |V_out| <= peak |V
   for (const Profile& p : kProfiles) {
     for (int trial = 0; trial < 12; ++trial) {
       const double T = 0.004;
-      const int n = p.fixed_len > 0 ? p.fixed_len : std::uniform_int_distribution<int>(3, 60)(rng);  // blackman/hann need >= 3
+      const int n = p.fixed_len > 0 ? p.fixed_len
+                                    : std::uniform_int_distribution<int>(
+                                          3, 60)(rng);  // blackman/hann need >= 3
       const auto taps = gm::design_taps(p.spec, n * T, T);
       const bool huge = trial % 4 == 3;  // magnitudes near 2^50 exercise the 128-bit sums
-      const std::int64_t vmax = huge ? (std::int64_t{1} << 40) : std::uniform_int_distribution<std::int64_t>(1, 5000)(rng);
+      const std::int64_t vmax = huge ? (std::int64_t{1} << 40)
+                                     : std::uniform_int_distribution<std::int64_t>(1, 5000)(rng);
       AxisBlu start;
       for (int a = 0; a < gm::kAxes; ++a)
-        start[a] = std::uniform_int_distribution<std::int64_t>(huge ? -(std::int64_t{1} << 50) : -1000000,
-                                                               huge ? (std::int64_t{1} << 50) : 1000000)(rng);
+        start[a] = std::uniform_int_distribution<std::int64_t>(
+            huge ? -(std::int64_t{1} << 50) : -1000000,
+            huge ? (std::int64_t{1} << 50) : 1000000)(rng);
       const int len = std::uniform_int_distribution<int>(1, 400)(rng);
       CAPTURE(seed, p.spec, n, trial, vmax, len);
       FirAccDec f(taps, start);
@@ -113,8 +120,10 @@ TEST_CASE("property: after draining, output == input exactly, |V_out| <= peak |V
           // Reference: exact convolution in long double, within 0.5 BLU (+ tiny slack).
           long double acc = 0;
           for (std::size_t i = 0; i < taps.integer.size(); ++i) {
-            const std::int64_t xi = i < in_hist.size() ? in_hist[in_hist.size() - 1 - i][a] : start[a];
-            acc += static_cast<long double>(taps.integer[i]) * static_cast<long double>(xi - start[a]);
+            const std::int64_t xi =
+                i < in_hist.size() ? in_hist[in_hist.size() - 1 - i][a] : start[a];
+            acc +=
+                static_cast<long double>(taps.integer[i]) * static_cast<long double>(xi - start[a]);
           }
           const long double ref = acc / static_cast<long double>(taps.b_s);
           const long double tol = huge ? 1.0L : 0.5L + 1e-9L;
@@ -125,9 +134,12 @@ TEST_CASE("property: after draining, output == input exactly, |V_out| <= peak |V
       for (int k = 0; k < len; ++k) {
         const int mode = std::uniform_int_distribution<int>(0, 9)(rng);
         for (int a = 0; a < gm::kAxes; ++a) {
-          if (mode == 0) vel[a] = std::uniform_int_distribution<std::int64_t>(-vmax, vmax)(rng);  // step
-          else if (mode == 1) vel[a] = 0;                                                        // hold
-          else if (mode == 2) vel[a] += std::uniform_int_distribution<std::int64_t>(-3, 3)(rng);  // drift
+          if (mode == 0)
+            vel[a] = std::uniform_int_distribution<std::int64_t>(-vmax, vmax)(rng);  // step
+          else if (mode == 1)
+            vel[a] = 0;  // hold
+          else if (mode == 2)
+            vel[a] += std::uniform_int_distribution<std::int64_t>(-3, 3)(rng);  // drift
           vel[a] = std::clamp(vel[a], -vmax, vmax);
         }
         pos += vel;
@@ -151,18 +163,21 @@ TEST_CASE("direct, symmetric and running-sum structures give identical outputs")
   const auto even = gm::design_taps("custom:1,5,5,1", 0.016, 0.004);
   std::vector<std::int64_t> xs;
   std::int64_t x = 0;
-  for (int k = 0; k < 500; ++k) xs.push_back(x += std::uniform_int_distribution<std::int64_t>(-900, 900)(rng));
+  for (int k = 0; k < 500; ++k)
+    xs.push_back(x += std::uniform_int_distribution<std::int64_t>(-900, 900)(rng));
   const auto ref = run_x(lin, xs, FirStructure::Direct);
   CHECK(run_x(lin, xs, FirStructure::Symmetric) == ref);
   CHECK(run_x(lin, xs, FirStructure::RunningSum) == ref);
   for (const auto* t : {&bk, &odd, &even})
     CHECK(run_x(*t, xs, FirStructure::Symmetric) == run_x(*t, xs, FirStructure::Direct));
   CHECK_THROWS_AS(FirAccDec(bk, AxisBlu::Zero(), FirStructure::RunningSum), gm::InputError);
-  CHECK_THROWS_AS(FirAccDec(gm::design_taps("scurve2", 0.02, 0.004), AxisBlu::Zero(),
-                            FirStructure::Symmetric), gm::InputError);
+  CHECK_THROWS_AS(
+      FirAccDec(gm::design_taps("scurve2", 0.02, 0.004), AxisBlu::Zero(), FirStructure::Symmetric),
+      gm::InputError);
 }
 
-TEST_CASE("a sampled circle through the integer filter loses R(1-|D|) of radius (Eq. 9-12, Fig. 13)") {
+TEST_CASE(
+    "a sampled circle through the integer filter loses R(1-|D|) of radius (Eq. 9-12, Fig. 13)") {
   // R 4000 BLU, V 15000 BLU/s, T 4 ms: ωT = 0.015 rad per sample; start at (R, 0) with the history
   // there, so the first N+1 outputs are the transient ("notch") and then the radius is steady.
   const double R = 4000, V = 15000, T = 0.004, wT = V / R * T;
@@ -203,9 +218,9 @@ TEST_CASE("fast (double) and exact (__int128) evaluations agree across the exact
   // Odd and even symmetric lengths (folded pairs, with and without a middle tap), asymmetric
   // taps (scurve2, custom:3,1: no fold), and b_s = 2 and 4, whose quotients are often exact halves.
   const std::pair<const char*, double> cases[] = {
-      {"blackman", 0.164}, {"scurve1", 0.164}, {"linear", 0.164}, {"custom:1,5,9,5,1", 0.02},
-      {"scurve2", 0.164},  {"custom:1,5,5,1", 0.016}, {"custom:3,1", 0.008}, {"custom:1,1", 0.008},
-      {"custom:1,2,1", 0.012}};
+      {"blackman", 0.164},        {"scurve1", 0.164},    {"linear", 0.164},
+      {"custom:1,5,9,5,1", 0.02}, {"scurve2", 0.164},    {"custom:1,5,5,1", 0.016},
+      {"custom:3,1", 0.008},      {"custom:1,1", 0.008}, {"custom:1,2,1", 0.012}};
   for (const auto& [spec, tau_s] : cases) {
     INFO(spec);
     const auto taps = gm::design_taps(spec, tau_s, 0.004);
@@ -223,13 +238,21 @@ TEST_CASE("fast (double) and exact (__int128) evaluations agree across the exact
     // from double to int64 arithmetic; phase 7 keeps every x just inside the limit, so the
     // fast path runs with sums just below 2^53, where a double quotient would round wrongly.
     for (int k = 0; k < 4000; ++k) {
-      const int phase = k / 500;  // 0: small, 1: near the limit, 2: far, 3: near, 4: small, 5: at ±lim
-      if (phase == 0 || phase == 4) x = std::uniform_int_distribution<std::int64_t>(-5000, 5000)(rng);
-      else if (phase == 1 || phase == 3) x = lim + std::uniform_int_distribution<std::int64_t>(-50, 50)(rng);
-      else if (phase == 2) x = std::uniform_int_distribution<std::int64_t>(-16 * lim, 16 * lim)(rng) | 1;
-      else if (phase == 5) x = (k % 2 == 0 ? lim : -lim) - (k % 3);
-      else if (phase == 6) x = (k % 4 < 2 ? 1 : -1) * (lim / 4 + std::uniform_int_distribution<std::int64_t>(-3, 3)(rng));
-      else x = lim - std::uniform_int_distribution<std::int64_t>(0, 60)(rng);
+      const int phase =
+          k / 500;  // 0: small, 1: near the limit, 2: far, 3: near, 4: small, 5: at ±lim
+      if (phase == 0 || phase == 4)
+        x = std::uniform_int_distribution<std::int64_t>(-5000, 5000)(rng);
+      else if (phase == 1 || phase == 3)
+        x = lim + std::uniform_int_distribution<std::int64_t>(-50, 50)(rng);
+      else if (phase == 2)
+        x = std::uniform_int_distribution<std::int64_t>(-16 * lim, 16 * lim)(rng) | 1;
+      else if (phase == 5)
+        x = (k % 2 == 0 ? lim : -lim) - (k % 3);
+      else if (phase == 6)
+        x = (k % 4 < 2 ? 1 : -1) *
+            (lim / 4 + std::uniform_int_distribution<std::int64_t>(-3, 3)(rng));
+      else
+        x = lim - std::uniform_int_distribution<std::int64_t>(0, 60)(rng);
       hist.push_back(x);
       f.step(blu(x, -x, x / 3), o);
       __extension__ using I128 = __int128;

@@ -16,12 +16,15 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-double sinc(double x) { return x == 0 ? 1.0 : std::sin(kPi * x) / (kPi * x); }
+double sinc(double x) {
+  return x == 0 ? 1.0 : std::sin(kPi * x) / (kPi * x);
+}
 
 // Matlab fir1(N, wc, win) low-pass computed independently: wc·sinc(wc(n - N/2))·win[n], sum 1.
 std::vector<double> ref_fir1(int N, double wc, const std::vector<double>& win) {
   std::vector<double> h;
-  for (int n = 0; n <= N; ++n) h.push_back(wc * sinc(wc * (n - N / 2.0)) * win[static_cast<std::size_t>(n)]);
+  for (int n = 0; n <= N; ++n)
+    h.push_back(wc * sinc(wc * (n - N / 2.0)) * win[static_cast<std::size_t>(n)]);
   const double s = std::accumulate(h.begin(), h.end(), 0.0);
   for (double& v : h) v /= s;
   return h;
@@ -31,12 +34,14 @@ std::vector<double> ref_window(const std::string& kind, int M, double beta = 0) 
   std::vector<double> w;
   for (int n = 0; n < M; ++n) {
     const double x = static_cast<double>(n) / (M - 1);
-    if (kind == "blackman") w.push_back(0.42 - 0.5 * std::cos(2 * kPi * x) + 0.08 * std::cos(4 * kPi * x));
+    if (kind == "blackman")
+      w.push_back(0.42 - 0.5 * std::cos(2 * kPi * x) + 0.08 * std::cos(4 * kPi * x));
     if (kind == "hann") w.push_back(0.5 * (1 - std::cos(2 * kPi * x)));
     if (kind == "hamming") w.push_back(0.54 - 0.46 * std::cos(2 * kPi * x));
     if (kind == "kaiser") {
       const double r = 2 * x - 1;
-      w.push_back(std::cyl_bessel_i(0.0, beta * std::sqrt(1 - r * r)) / std::cyl_bessel_i(0.0, beta));
+      w.push_back(std::cyl_bessel_i(0.0, beta * std::sqrt(1 - r * r)) /
+                  std::cyl_bessel_i(0.0, beta));
     }
   }
   return w;
@@ -81,9 +86,11 @@ TEST_CASE("S-curve taps follow Eq. 22a/22b and Eq. 23 (n = 41)") {
     const Taps t = design_taps(degree == 1 ? "scurve1" : "scurve2", 0.164, 0.004);
     REQUIRE(t.real.size() == static_cast<std::size_t>(n));
     for (int i = 0; i < n; ++i) {
-      CHECK(t.real[static_cast<std::size_t>(i)] == Approx(a[static_cast<std::size_t>(i)] / s).margin(1e-15));
+      CHECK(t.real[static_cast<std::size_t>(i)] ==
+            Approx(a[static_cast<std::size_t>(i)] / s).margin(1e-15));
       // Integer taps exactly proportional (a' ∝ k(n-k) or k²(n-k)², integers).
-      CHECK(static_cast<double>(t.integer[static_cast<std::size_t>(i)]) / static_cast<double>(t.b_s) ==
+      CHECK(static_cast<double>(t.integer[static_cast<std::size_t>(i)]) /
+                static_cast<double>(t.b_s) ==
             Approx(a[static_cast<std::size_t>(i)] / s).margin(1e-15));
     }
     CHECK(t.real.back() == 0.0);  // a'(1) = 0: Eq. 23 keeps a zero last tap
@@ -96,7 +103,8 @@ TEST_CASE("S-curve taps follow Eq. 22a/22b and Eq. 23 (n = 41)") {
   CHECK(small.b_s == 10);
 }
 
-TEST_CASE("section 6 Blackman design: N = 40, cutoff 2/41, taps = fir1 with Blackman window, all >= 0") {
+TEST_CASE(
+    "section 6 Blackman design: N = 40, cutoff 2/41, taps = fir1 with Blackman window, all >= 0") {
   const Taps t = design_taps("blackman", 0.164, 0.004);
   CHECK(t.N == 40);
   CHECK(t.cutoff == Approx(2.0 / 41).epsilon(1e-15));
@@ -135,7 +143,8 @@ TEST_CASE("the largest non-negative Blackman cutoff is 2/(N-2), not 2/(N+1), Ham
     const Taps at_max = design_taps("blackman@max", tau, 0.004);
     CHECK(at_max.cutoff == Approx(wmax).epsilon(1e-15));
     for (double b : at_max.real) CHECK(b >= 0.0);
-    CHECK_THROWS_AS(design_taps("blackman@" + std::to_string(wmax * 1.01), tau, 0.004), gm::InputError);
+    CHECK_THROWS_AS(design_taps("blackman@" + std::to_string(wmax * 1.01), tau, 0.004),
+                    gm::InputError);
   }
   const auto wh = ref_window("hamming", 41);
   const auto h = ref_fir1(40, 2.0 / 40 * (1 + 1e-4), wh);
@@ -187,8 +196,10 @@ TEST_CASE("bad specs and taus are rejected with messages naming the value") {
   CHECK(tau.find("0.041") != std::string::npos);
   CHECK(tau.find("0.004") != std::string::npos);
   CHECK(tau.find("10.25") != std::string::npos);
-  CHECK(message([] { design_taps("trapezoid", 0.164, 0.004); }).find("trapezoid") != std::string::npos);
-  CHECK(message([] { design_taps("custom:1,2,1", 0.164, 0.004); }).find("3 taps") != std::string::npos);
+  CHECK(message([] { design_taps("trapezoid", 0.164, 0.004); }).find("trapezoid") !=
+        std::string::npos);
+  CHECK(message([] { design_taps("custom:1,2,1", 0.164, 0.004); }).find("3 taps") !=
+        std::string::npos);
   CHECK(message([] { design_taps("kaiser:x", 0.164, 0.004); }).find("'x'") != std::string::npos);
   CHECK(message([] { design_taps("cascade:2,0", 0.004, 0.004); }).find("L2") != std::string::npos);
   CHECK_THROWS_AS(design_taps("linear", 0.0, 0.004), gm::InputError);
@@ -196,7 +207,8 @@ TEST_CASE("bad specs and taus are rejected with messages naming the value") {
   CHECK_THROWS_AS(design_taps("blackman@1.5", 0.164, 0.004), gm::InputError);
   CHECK_NOTHROW(design_taps("linear", 0.004, 0.004));
   // Blackman and Hann windows of 2 points are all zero.
-  CHECK(message([] { design_taps("blackman", 0.008, 0.004); }).find("all-zero") != std::string::npos);
+  CHECK(message([] { design_taps("blackman", 0.008, 0.004); }).find("all-zero") !=
+        std::string::npos);
   CHECK_NOTHROW(design_taps("blackman", 0.012, 0.004));
 }
 

@@ -27,10 +27,22 @@ std::string program_text(int blocks) {
   double x = 0, y = 0;
   for (int i = 0; i < blocks; ++i) {
     switch (i % 4) {
-      case 0: x += 1.5; t += fmt::format("G1 X{:.3f} Y{:.3f}\n", x, y); break;
-      case 1: t += fmt::format("G2 X{:.3f} Y{:.3f} I0.5 J0\n", x + 1.0, y); x += 1.0; break;
-      case 2: y += 1.0; t += fmt::format("G1 X{:.3f} Y{:.3f} F1500\n", x, y); break;
-      default: t += fmt::format("G3 X{:.3f} Y{:.3f} R0.5\n", x - 1.0, y); x -= 1.0; break;
+      case 0:
+        x += 1.5;
+        t += fmt::format("G1 X{:.3f} Y{:.3f}\n", x, y);
+        break;
+      case 1:
+        t += fmt::format("G2 X{:.3f} Y{:.3f} I0.5 J0\n", x + 1.0, y);
+        x += 1.0;
+        break;
+      case 2:
+        y += 1.0;
+        t += fmt::format("G1 X{:.3f} Y{:.3f} F1500\n", x, y);
+        break;
+      default:
+        t += fmt::format("G3 X{:.3f} Y{:.3f} R0.5\n", x - 1.0, y);
+        x -= 1.0;
+        break;
     }
   }
   return t + "M2\n";

@@ -21,11 +21,11 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
-#include <cstring>
 #include <cstdlib>
+#include <cstring>
 #include <exception>
-#include <stdexcept>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -42,7 +42,8 @@ struct Histogram {
   long double sum_ns = 0;
 
   void add(std::int64_t ns) {
-    ++bins[std::min<std::size_t>(static_cast<std::size_t>(std::max<std::int64_t>(ns, 0) / kBinNs), kBins - 1)];
+    ++bins[std::min<std::size_t>(static_cast<std::size_t>(std::max<std::int64_t>(ns, 0) / kBinNs),
+                                 kBins - 1)];
     ++count;
     max_ns = std::max(max_ns, ns);
     sum_ns += static_cast<long double>(ns);
@@ -59,7 +60,8 @@ struct Histogram {
     std::uint64_t seen = 0;
     for (std::size_t i = 0; i < kBins; ++i) {
       seen += bins[i];
-      if (seen > target) return static_cast<double>((static_cast<std::int64_t>(i) + 1) * kBinNs) / 1000.0;
+      if (seen > target)
+        return static_cast<double>((static_cast<std::int64_t>(i) + 1) * kBinNs) / 1000.0;
     }
     return static_cast<double>(max_ns) / 1000.0;
   }
@@ -94,10 +96,12 @@ double timed_run(const Options& o, const gm::RunConfig& cfg, std::vector<std::ui
     if (o.with_summary && st == gm::PipelineStatus::Working) summary.add(rec);
     const auto t1 = Clock::now();
     if (st != gm::PipelineStatus::Working) break;
-    const auto ns = static_cast<std::uint32_t>(
-        std::min<std::int64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count(), UINT32_MAX));
-    if (first) step_ns.push_back(ns);  // outside the timed span; later runs write in place
-    else if (k < step_ns.size()) step_ns[k] = std::min(step_ns[k], ns);
+    const auto ns = static_cast<std::uint32_t>(std::min<std::int64_t>(
+        std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count(), UINT32_MAX));
+    if (first)
+      step_ns.push_back(ns);  // outside the timed span; later runs write in place
+    else if (k < step_ns.size())
+      step_ns[k] = std::min(step_ns[k], ns);
   }
   return std::chrono::duration<double>(Clock::now() - wall0).count();
 }
@@ -109,27 +113,40 @@ Histogram histogram(const std::vector<std::uint32_t>& ns) {
 }
 
 void print_percentiles(const char* what, const Histogram& h) {
-  fmt::print("{}, us: mean {:.3f}  p50 {:.2f}  p99 {:.2f}  p99.9 {:.2f}  p99.99 {:.2f}  max {:.1f}  (over 5 us: {})\n", what,
-             static_cast<double>(h.sum_ns / static_cast<long double>(std::max<std::uint64_t>(h.count, 1))) / 1000.0,
-             h.quantile_us(0.5), h.quantile_us(0.99), h.quantile_us(0.999), h.quantile_us(0.9999),
-             static_cast<double>(h.max_ns) / 1000.0, h.over(5000));
+  fmt::print(
+      "{}, us: mean {:.3f}  p50 {:.2f}  p99 {:.2f}  p99.9 {:.2f}  p99.99 {:.2f}  max {:.1f}  (over "
+      "5 us: {})\n",
+      what,
+      static_cast<double>(h.sum_ns /
+                          static_cast<long double>(std::max<std::uint64_t>(h.count, 1))) /
+          1000.0,
+      h.quantile_us(0.5), h.quantile_us(0.99), h.quantile_us(0.999), h.quantile_us(0.9999),
+      static_cast<double>(h.max_ns) / 1000.0, h.over(5000));
 }
 
 int run(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--no-servo") == 0) o.servo = false;
-    else if (std::strcmp(argv[i], "--summary") == 0) o.with_summary = true;
-    else if (std::strcmp(argv[i], "--repeat") == 0 && i + 1 < argc) o.repeat = std::max(1, std::atoi(argv[++i]));
-    else if (o.program.empty()) o.program = argv[i];
-    else o.machine_path = argv[i];
+    if (std::strcmp(argv[i], "--no-servo") == 0)
+      o.servo = false;
+    else if (std::strcmp(argv[i], "--summary") == 0)
+      o.with_summary = true;
+    else if (std::strcmp(argv[i], "--repeat") == 0 && i + 1 < argc)
+      o.repeat = std::max(1, std::atoi(argv[++i]));
+    else if (o.program.empty())
+      o.program = argv[i];
+    else
+      o.machine_path = argv[i];
   }
   if (o.program.empty()) {
-    fmt::print(stderr, "usage: gmotion_latency PROGRAM [MACHINE.toml] [--no-servo] [--summary] [--repeat R]\n");
+    fmt::print(
+        stderr,
+        "usage: gmotion_latency PROGRAM [MACHINE.toml] [--no-servo] [--summary] [--repeat R]\n");
     return 2;
   }
   gm::RunConfig cfg;
-  cfg.machine = o.machine_path.empty() ? gm::default_machine() : gm::load_machine_file(o.machine_path);
+  cfg.machine =
+      o.machine_path.empty() ? gm::default_machine() : gm::load_machine_file(o.machine_path);
   cfg.servo = o.servo;
 
   std::vector<std::uint32_t> step_ns;
@@ -141,21 +158,26 @@ int run(int argc, char** argv) {
   // The machine's own interruptions: spin as long as one run took, reading the clock, and count
   // the gaps over 5 us (timer ticks, other processes, the hypervisor).
   std::uint64_t gaps = 0;
-  const auto spin_end = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(wall_s));
+  const auto spin_end = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                           std::chrono::duration<double>(wall_s));
   for (auto prev = Clock::now(); prev < spin_end;) {
     const auto now = Clock::now();
     if (now - prev > std::chrono::microseconds(5)) ++gaps;
     prev = now;
   }
 
-  fmt::print("program {}: {} samples, {:.3f} s a run ({:.2f} M samples/s; {}, servo {}{})\n", o.program, first.count,
-             wall_s, static_cast<double>(first.count) / wall_s / 1e6, cfg.machine.profile, o.servo ? "on" : "off",
+  fmt::print("program {}: {} samples, {:.3f} s a run ({:.2f} M samples/s; {}, servo {}{})\n",
+             o.program, first.count, wall_s, static_cast<double>(first.count) / wall_s / 1e6,
+             cfg.machine.profile, o.servo ? "on" : "off",
              o.with_summary ? ", with run summary" : "");
   print_percentiles("step, one run", first);
   if (o.repeat > 1)
     print_percentiles(fmt::format("step, fastest of {} runs per sample", o.repeat).c_str(), best);
-  fmt::print("machine: {} gaps over 5 us while only reading the clock for {:.3f} s ({:.0f}/s; the run: {:.0f}/s)\n", gaps,
-             wall_s, static_cast<double>(gaps) / wall_s, static_cast<double>(first.over(5000)) / wall_s);
+  fmt::print(
+      "machine: {} gaps over 5 us while only reading the clock for {:.3f} s ({:.0f}/s; the run: "
+      "{:.0f}/s)\n",
+      gaps, wall_s, static_cast<double>(gaps) / wall_s,
+      static_cast<double>(first.over(5000)) / wall_s);
   return 0;
 }
 

@@ -59,9 +59,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string written = gm::machine_to_toml(m);
   try {
     const gm::Machine again = gm::parse_machine_toml(written, "fuzz.toml");
-    if (gm::machine_to_toml(again) != written) broken("machine_to_toml does not round-trip", written);
+    if (gm::machine_to_toml(again) != written)
+      broken("machine_to_toml does not round-trip", written);
   } catch (const gm::InputError& e) {
-    broken("machine_to_toml wrote a file the reader rejects", std::string(e.what()) + "\n" + written);
+    broken("machine_to_toml wrote a file the reader rejects",
+           std::string(e.what()) + "\n" + written);
   }
   // What a run builds from the machine: the taps, then the pipeline (interpolator, Acc/Dec,
   // servo axes, contour window). A tap design the reader let through may still be refused

@@ -33,7 +33,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   for (const gm::OverrideChange& c : schedule.changes()) {
     if (!(c.percent >= 0.0 && c.percent <= kMaxPercent)) broken("a percentage outside 0..max");
     if (c.trigger == gm::OverrideChange::Trigger::Time) {
-      if (!std::isfinite(c.t_s) || c.t_s < last_t) broken("a time entry goes back or is not finite");
+      if (!std::isfinite(c.t_s) || c.t_s < last_t)
+        broken("a time entry goes back or is not finite");
       last_t = c.t_s;
     } else if (c.line < 1) {
       broken("a line entry before line 1");

@@ -7,8 +7,8 @@
 #include "interp/program.hpp"
 
 #include <cmath>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
 #include <string>
 #include <variant>
@@ -38,7 +38,8 @@ void check_and_stream(const std::string& text, bool block_delete) {
         if (!m->start_mm.allFinite() || !m->end_mm.allFinite() || !m->center_mm.allFinite() ||
             !std::isfinite(m->feed_mm_min) || !std::isfinite(m->inverse_time_s) ||
             !std::isfinite(gm::motion_length_mm(*m))) {
-          std::fprintf(stderr, "fuzz_program: line %d: a motion with a non-finite value\n", m->line);
+          std::fprintf(stderr, "fuzz_program: line %d: a motion with a non-finite value\n",
+                       m->line);
           std::abort();
         }
       } else if (const auto* d = std::get_if<gm::Dwell>(&canon); d && !std::isfinite(d->seconds)) {
@@ -54,7 +55,8 @@ void check_and_stream(const std::string& text, bool block_delete) {
     return;
   }
   if (sum.errors > 0) {
-    std::fputs("fuzz_program: the stream ran to its end through a program check_program refused\n", stderr);
+    std::fputs("fuzz_program: the stream ran to its end through a program check_program refused\n",
+               stderr);
     std::abort();
   }
   if (moves != sum.moves) {

@@ -21,7 +21,8 @@ std::vector<fs::path> inputs_of(const fs::path& arg, bool& ok) {
   std::error_code ec;
   if (fs::is_directory(arg, ec)) {
     for (const auto& e : fs::directory_iterator(arg, ec))
-      if (e.is_regular_file() && e.path().filename().string().front() != '.') files.push_back(e.path());
+      if (e.is_regular_file() && e.path().filename().string().front() != '.')
+        files.push_back(e.path());
     std::sort(files.begin(), files.end());
   } else if (fs::is_regular_file(arg, ec)) {
     files.push_back(arg);
@@ -36,7 +37,8 @@ std::vector<fs::path> inputs_of(const fs::path& arg, bool& ok) {
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: %s FILE|FOLDER...  (feeds each file to the fuzz target once)\n", argv[0]);
+    std::fprintf(stderr, "usage: %s FILE|FOLDER...  (feeds each file to the fuzz target once)\n",
+                 argv[0]);
     return 2;
   }
   bool ok = true;
@@ -44,7 +46,8 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     for (const fs::path& p : inputs_of(argv[i], ok)) {
       std::ifstream in(p, std::ios::binary);
-      const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      const std::string bytes((std::istreambuf_iterator<char>(in)),
+                              std::istreambuf_iterator<char>());
       if (!in.good() && !in.eof()) {
         std::fprintf(stderr, "replay: %s: cannot read\n", p.string().c_str());
         ok = false;

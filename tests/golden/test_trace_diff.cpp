@@ -7,9 +7,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <unistd.h>
 #include <filesystem>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 namespace fs = std::filesystem;
@@ -30,7 +30,8 @@ gm::TraceMeta meta(const std::string& profile = "linear") {
 }
 
 // A trace of `rows` samples; sample `bump_at` gets y_enc + `bump` (when bump_at >= 0).
-std::string write(const fs::path& p, int rows, int bump_at = -1, int bump = 0, gm::TraceFormat format = gm::TraceFormat::Csv,
+std::string write(const fs::path& p, int rows, int bump_at = -1, int bump = 0,
+                  gm::TraceFormat format = gm::TraceFormat::Csv,
                   const std::string& profile = "linear") {
   gm::TraceWriter w(p.string(), format, meta(profile));
   for (int k = 0; k < rows; ++k) {
@@ -49,12 +50,15 @@ std::string write(const fs::path& p, int rows, int bump_at = -1, int bump = 0, g
   return p.string();
 }
 
-fs::path dir() { return gmtest::scratch_dir("diff-test"); }
+fs::path dir() {
+  return gmtest::scratch_dir("diff-test");
+}
 
 }  // namespace
 
 TEST_CASE("the reader returns the rows the writer wrote, from CSV and binary alike") {
-  const std::string csv = write(dir() / "r.csv", 5), bin = write(dir() / "r.bin", 5, -1, 0, gm::TraceFormat::Binary);
+  const std::string csv = write(dir() / "r.csv", 5),
+                    bin = write(dir() / "r.bin", 5, -1, 0, gm::TraceFormat::Binary);
   for (const std::string& path : {csv, bin}) {
     INFO(path);
     gm::TraceReader r(path);
@@ -64,10 +68,10 @@ TEST_CASE("the reader returns the rows the writer wrote, from CSV and binary ali
     int n = 0;
     while (r.next(v)) {
       CHECK(v[1] == 3);
-      CHECK(v[2] == 10 * n);                 // x_cmd
-      CHECK(v[8] == -3 * n);                 // y_enc
-      CHECK(v[14] == Approx(0.125 * n));     // contour_err
-      CHECK(v[15] == 100);                   // override %
+      CHECK(v[2] == 10 * n);              // x_cmd
+      CHECK(v[8] == -3 * n);              // y_enc
+      CHECK(v[14] == Approx(0.125 * n));  // contour_err
+      CHECK(v[15] == 100);                // override %
       ++n;
     }
     CHECK(n == 5);
@@ -78,7 +82,10 @@ TEST_CASE("gmotion diff names the first divergence exactly and honours --tol") {
   const std::string a = write(dir() / "a.csv", 50), b = write(dir() / "b.csv", 50, 23, 2);
   auto r = gmtest::run_gmotion("diff " + a + " " + b);
   CHECK(r.code == 1);
-  CHECK_THAT(r.out, Catch::Contains("first divergence: row 24 (t = 0.092000 s, line 5): column y_enc: -69 in A, -67 in B"));
+  CHECK_THAT(
+      r.out,
+      Catch::Contains(
+          "first divergence: row 24 (t = 0.092000 s, line 5): column y_enc: -69 in A, -67 in B"));
   CHECK_THAT(r.out, Catch::Contains("y_enc=2 y_ferr=2"));
   CHECK(gmtest::run_gmotion("diff --tol 2 " + a + " " + b).code == 0);
   CHECK(gmtest::run_gmotion("diff --tol 1 " + a + " " + b).code == 1);
@@ -87,7 +94,8 @@ TEST_CASE("gmotion diff names the first divergence exactly and honours --tol") {
 }
 
 TEST_CASE("a CSV trace and its binary twin compare equal, different lengths do not") {
-  const std::string csv = write(dir() / "t.csv", 40), bin = write(dir() / "t.bin", 40, -1, 0, gm::TraceFormat::Binary);
+  const std::string csv = write(dir() / "t.csv", 40),
+                    bin = write(dir() / "t.bin", 40, -1, 0, gm::TraceFormat::Binary);
   CHECK(gmtest::run_gmotion("diff " + csv + " " + bin).code == 0);
   const std::string shorter = write(dir() / "s.csv", 30);
   const auto r = gmtest::run_gmotion("diff " + csv + " " + shorter);
@@ -96,10 +104,13 @@ TEST_CASE("a CSV trace and its binary twin compare equal, different lengths do n
 }
 
 TEST_CASE("gmotion diff refuses traces of different set-ups, naming the header line") {
-  const std::string a = write(dir() / "p1.csv", 5), b = write(dir() / "p2.csv", 5, -1, 0, gm::TraceFormat::Csv, "blackman");
+  const std::string a = write(dir() / "p1.csv", 5),
+                    b = write(dir() / "p2.csv", 5, -1, 0, gm::TraceFormat::Csv, "blackman");
   const auto r = gmtest::run_gmotion("diff " + a + " " + b);
   CHECK(r.code == 1);
-  CHECK_THAT(r.out, Catch::Contains("traces are of different set-ups: 'profile' is 'linear taps=41 tau_s=0.164'"));
+  CHECK_THAT(r.out,
+             Catch::Contains(
+                 "traces are of different set-ups: 'profile' is 'linear taps=41 tau_s=0.164'"));
   const auto n = gmtest::run_gmotion("diff " + a + " /etc/hostname");
   CHECK(n.code == 1);
   CHECK_THAT(n.out, Catch::Contains("not a gmotion trace"));

@@ -150,7 +150,9 @@ TEST_CASE("random bytes never crash, hang or produce unlocated errors") {
   for (int i = 0; i < 2000; ++i) {
     std::string s(static_cast<std::size_t>(rng() % 200), '\0');
     for (auto& ch : s) ch = static_cast<char>(rng() % 256);
-    if (i % 2) for (auto& ch : s) if (ch == '\n') ch = ' ';
+    if (i % 2)
+      for (auto& ch : s)
+        if (ch == '\n') ch = ' ';
     CAPTURE(i);
     REQUIRE_NOTHROW(p.parse(s, i + 1, b));
     for (const auto& e : b.errors) {
@@ -183,7 +185,8 @@ TEST_CASE("number conversion equals std::from_chars (fast decimal path and gener
     for (int d = 0; d < int_digits; ++d) num += static_cast<char>('0' + rng() % 10);
     if (frac_digits > 0 || num.empty()) {
       num += '.';
-      for (int d = 0; d < std::max(frac_digits, num.size() == 1 ? 1 : 0); ++d) num += static_cast<char>('0' + rng() % 10);
+      for (int d = 0; d < std::max(frac_digits, num.size() == 1 ? 1 : 0); ++d)
+        num += static_cast<char>('0' + rng() % 10);
     }
     const bool negative = rng() % 2 == 0;
     const Block b = parse(std::string("X") + (negative ? "-" : "") + num);

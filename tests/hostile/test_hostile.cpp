@@ -5,22 +5,26 @@
 
 #include <catch2/catch.hpp>
 
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 
 namespace {
 
-fs::path scratch() { return gmtest::scratch_dir("hostile"); }
+fs::path scratch() {
+  return gmtest::scratch_dir("hostile");
+}
 
 // Writes `text` to a scratch program and runs `gmotion ARGS FILE EXTRA` under a 60 s timeout.
-gmtest::CommandResult on(const std::string& text, const std::string& args = "check", const std::string& extra = "") {
+gmtest::CommandResult on(const std::string& text, const std::string& args = "check",
+                         const std::string& extra = "") {
   const std::string path = (scratch() / "h.nc").string();
   std::ofstream(path, std::ios::binary) << text;
-  return gmtest::sh("timeout 60 " + std::string(GMOTION_BIN) + " " + args + " " + path + " " + extra + " 2>&1");
+  return gmtest::sh("timeout 60 " + std::string(GMOTION_BIN) + " " + args + " " + path + " " +
+                    extra + " 2>&1");
 }
 
 }  // namespace
@@ -41,13 +45,15 @@ TEST_CASE("numbers: 1e400, NaN, inf and 10^5 digits are located errors") {
   CHECK(r.out.size() < 2000);  // the message abbreviates the number
 }
 
-TEST_CASE("a line of megabytes is refused with its location, binary garbage gives errors, no crash") {
+TEST_CASE(
+    "a line of megabytes is refused with its location, binary garbage gives errors, no crash") {
   auto r = on("G1 X1 F100 (" + std::string(3'000'000, 'a') + ")\nM2\n");
   CHECK(r.code == 1);
   CHECK_THAT(r.out, Catch::Contains("h.nc:1:1: error: line longer than 1048576 bytes"));
   std::string garbage;
   std::uint32_t x = 12345;
-  for (int i = 0; i < 200000; ++i) garbage += static_cast<char>((x = x * 1664525u + 1013904223u) >> 24);
+  for (int i = 0; i < 200000; ++i)
+    garbage += static_cast<char>((x = x * 1664525u + 1013904223u) >> 24);
   r = on(garbage);
   CHECK(r.code == 1);
   CHECK_THAT(r.out, Catch::Contains("errors"));
@@ -127,14 +133,17 @@ TEST_CASE("machine files with zero or negative BLU, T or tau are refused by key 
 }
 
 TEST_CASE("Acc/Dec flags asking for millions of taps or endless cascades are refused at once") {
-  const std::string prog = fs::path(GMOTION_TESTS_DIR).parent_path().string() + "/programs/square.nc";
-  const auto huge = gmtest::sh("timeout 20 " + std::string(GMOTION_BIN) + " run " + prog + " --tau 1000 --period 0.0001 2>&1");
+  const std::string prog =
+      fs::path(GMOTION_TESTS_DIR).parent_path().string() + "/programs/square.nc";
+  const auto huge = gmtest::sh("timeout 20 " + std::string(GMOTION_BIN) + " run " + prog +
+                               " --tau 1000 --period 0.0001 2>&1");
   CHECK(huge.code == 1);
   CHECK_THAT(huge.out, Catch::Contains("tau = 1000 s is 1e+07 periods"));
   CHECK_THAT(huge.out, Catch::Contains("at most 100000 taps"));
   // 17 stages (one too many), and one stage longer than the tap limit.
-  const auto stages = gmtest::sh("timeout 20 " + std::string(GMOTION_BIN) + " run " + prog +
-                                 " --profile cascade:2,2,2,2,2,2,2,2,2,2,2,2,2,2,2,2,2 --tau 0.072 2>&1");
+  const auto stages =
+      gmtest::sh("timeout 20 " + std::string(GMOTION_BIN) + " run " + prog +
+                 " --profile cascade:2,2,2,2,2,2,2,2,2,2,2,2,2,2,2,2,2 --tau 0.072 2>&1");
   CHECK(stages.code == 1);
   CHECK_THAT(stages.out, Catch::Contains("more than 16 cascade stages"));
   const auto longest = gmtest::sh("timeout 20 " + std::string(GMOTION_BIN) + " run " + prog +

@@ -12,7 +12,8 @@
 namespace gmtest {
 
 /// All canon of `program` (throws gm::InputError on the first error).
-inline std::vector<gm::Canon> run(const std::string& program, const gm::Machine& m = gm::Machine{}) {
+inline std::vector<gm::Canon> run(const std::string& program,
+                                  const gm::Machine& m = gm::Machine{}) {
   std::istringstream in(program);
   gm::ProgramStream s(in, "test.ngc", gm::InterpreterOptions{&m, false});
   std::vector<gm::Canon> out;
@@ -22,7 +23,8 @@ inline std::vector<gm::Canon> run(const std::string& program, const gm::Machine&
 }
 
 /// The motions only.
-inline std::vector<gm::Motion> motions(const std::string& program, const gm::Machine& m = gm::Machine{}) {
+inline std::vector<gm::Motion> motions(const std::string& program,
+                                       const gm::Machine& m = gm::Machine{}) {
   std::vector<gm::Motion> out;
   for (const auto& c : run(program, m))
     if (const auto* mo = std::get_if<gm::Motion>(&c)) out.push_back(*mo);
@@ -30,7 +32,8 @@ inline std::vector<gm::Motion> motions(const std::string& program, const gm::Mac
 }
 
 /// The diagnostics of checking `program`.
-inline std::vector<gm::Diagnostic> diagnose(const std::string& program, const gm::Machine& m = gm::Machine{},
+inline std::vector<gm::Diagnostic> diagnose(const std::string& program,
+                                            const gm::Machine& m = gm::Machine{},
                                             bool block_delete = false) {
   std::istringstream in(program);
   std::vector<gm::Diagnostic> d;
@@ -38,6 +41,8 @@ inline std::vector<gm::Diagnostic> diagnose(const std::string& program, const gm
   return d;
 }
 
-inline int code(gm::ErrorCode c) { return static_cast<int>(c); }
+inline int code(gm::ErrorCode c) {
+  return static_cast<int>(c);
+}
 
 }  // namespace gmtest

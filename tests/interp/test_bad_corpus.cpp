@@ -26,7 +26,8 @@ TEST_CASE("bad-input corpus: each file fails with its stated code at its stated 
     f.seekg(0);
     std::vector<gm::Diagnostic> d;
     gm::Machine machine;
-    const auto sum = gm::check_program_diagnostics(f, entry.path().string(), gm::InterpreterOptions{&machine, false}, d);
+    const auto sum = gm::check_program_diagnostics(f, entry.path().string(),
+                                                   gm::InterpreterOptions{&machine, false}, d);
     REQUIRE(sum.errors >= 1);
     REQUIRE(!d.empty());
     CHECK(d[0].loc.line == std::stoi(m[1]));

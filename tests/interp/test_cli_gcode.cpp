@@ -10,16 +10,20 @@
 
 namespace {
 using gmtest::sh;
-std::string bin() { return GMOTION_BIN; }
+std::string bin() {
+  return GMOTION_BIN;
+}
 }  // namespace
 
 TEST_CASE("gmotion moves prints one JSON object per canonical move (mm, mm/min)") {
-  const auto r = sh("printf 'G20 G0 X1\\nG21\\nG1 X10 F600\\nG2 X20 I5\\nG4 P0.5\\nM2\\n' | " + bin() + " moves -");
+  const auto r = sh("printf 'G20 G0 X1\\nG21\\nG1 X10 F600\\nG2 X20 I5\\nG4 P0.5\\nM2\\n' | " +
+                    bin() + " moves -");
   CHECK(r.code == 0);
   CHECK(r.out ==
         "{\"line\":1,\"kind\":\"rapid\",\"end\":[25.4,0,0],\"feed\":0}\n"
         "{\"line\":3,\"kind\":\"line\",\"end\":[10,0,0],\"feed\":600}\n"
-        "{\"line\":4,\"kind\":\"arc\",\"end\":[20,0,0],\"feed\":600,\"center\":[15,0,0],\"dir\":\"cw\",\"turns\":1,"
+        "{\"line\":4,\"kind\":\"arc\",\"end\":[20,0,0],\"feed\":600,\"center\":[15,0,0],\"dir\":"
+        "\"cw\",\"turns\":1,"
         "\"plane\":\"XY\"}\n"
         "{\"line\":5,\"kind\":\"dwell\",\"seconds\":0.5}\n");
 }

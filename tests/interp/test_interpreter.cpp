@@ -45,12 +45,12 @@ TEST_CASE("work offsets G54-G59, G92, G92.1 and tool length G43/G49") {
   mach.work_offsets_mm[1] = gm::AxisVec(100, 200, 300);  // G55
   mach.tool_lengths_mm = {0.0, 12.5};
   const auto m = motions(
-      "G55 G0 X1 Y2 Z3\n"        // 101 202 303
-      "G54 X1\n"                  // 1 202 303 (only X programmed)
-      "G92 X10\n"                 // current X (1) becomes 10: g92 = -9
-      "G0 X20\n"                  // machine 11
-      "G92.1\nG0 X0\n"            // machine 0
-      "G43 H1 G0 Z0\n"            // machine Z 12.5
+      "G55 G0 X1 Y2 Z3\n"  // 101 202 303
+      "G54 X1\n"           // 1 202 303 (only X programmed)
+      "G92 X10\n"          // current X (1) becomes 10: g92 = -9
+      "G0 X20\n"           // machine 11
+      "G92.1\nG0 X0\n"     // machine 0
+      "G43 H1 G0 Z0\n"     // machine Z 12.5
       "G49 G0 Z0\nM2\n",
       mach);
   REQUIRE(m.size() == 6);
@@ -91,7 +91,9 @@ TEST_CASE("G93 inverse time: the move takes 60/F s and F is required on every bl
 }
 
 TEST_CASE("dwell, path modes, events") {
-  const auto c = run("(MSG, start)\nG4 P1.5\nG61 G1 X1 F100\nG61.1 X2\nG64 P0.1 Q0.1 X3\nG9 X4\nM0\nM1\nM48\nM49\nM50 P0\nM50\nM3 S1000 T1 M6 M8\nM30\n");
+  const auto c =
+      run("(MSG, start)\nG4 P1.5\nG61 G1 X1 F100\nG61.1 X2\nG64 P0.1 Q0.1 X3\nG9 "
+          "X4\nM0\nM1\nM48\nM49\nM50 P0\nM50\nM3 S1000 T1 M6 M8\nM30\n");
   using gm::EventKind;
   auto ev = [&](std::size_t i) { return std::get<gm::Event>(c.at(i)); };
   CHECK(ev(0).kind == EventKind::Message);

@@ -2,8 +2,8 @@
 // the same diagnostics in the same order and the same summary, across batch boundaries.
 #include "gcode_helpers.hpp"
 
-#include <catch2/catch.hpp>
 #include <fmt/format.h>
+#include <catch2/catch.hpp>
 
 #include <cstdint>
 #include <filesystem>
@@ -24,7 +24,8 @@ CheckResult check(const std::string& text, gm::CheckThreads threads) {
   std::istringstream in(text);
   gm::Machine m;
   CheckResult r;
-  r.sum = gm::check_program_diagnostics(in, "p.nc", gm::InterpreterOptions{&m, false}, r.diags, threads);
+  r.sum = gm::check_program_diagnostics(in, "p.nc", gm::InterpreterOptions{&m, false}, r.diags,
+                                        threads);
   return r;
 }
 
@@ -78,16 +79,32 @@ TEST_CASE("parallel check equals serial check across batch boundaries (seeded)")
     double x = 0;
     for (int i = 0; i < lines; ++i) {
       switch (rng() % 10) {
-        case 0: p += "G1 X#1\n"; break;                        // parameters: unsupported
-        case 1: p += fmt::format("G2 X{} Y0 R0.1\n", x + 5); x += 5; break;  // R too small
-        case 2: p += "(a comment only)\n"; break;
-        case 3: p += fmt::format("G3 X{} Y0 I-2 J0\n", x); break;  // full circle
-        case 4: p += std::string(static_cast<std::size_t>(rng() % 3000), ' ') + "G0 Z1\n"; break;
-        default: x += 1.25; p += fmt::format("G1 X{} Y{}\n", x, (i % 7) * 0.5); break;
+        case 0:
+          p += "G1 X#1\n";
+          break;  // parameters: unsupported
+        case 1:
+          p += fmt::format("G2 X{} Y0 R0.1\n", x + 5);
+          x += 5;
+          break;  // R too small
+        case 2:
+          p += "(a comment only)\n";
+          break;
+        case 3:
+          p += fmt::format("G3 X{} Y0 I-2 J0\n", x);
+          break;  // full circle
+        case 4:
+          p += std::string(static_cast<std::size_t>(rng() % 3000), ' ') + "G0 Z1\n";
+          break;
+        default:
+          x += 1.25;
+          p += fmt::format("G1 X{} Y{}\n", x, (i % 7) * 0.5);
+          break;
       }
     }
-    if (round % 3 == 0) p += "M2\nG1 X(junk after the end\n";
-    else if (round == 5) p += "%\n";
+    if (round % 3 == 0)
+      p += "M2\nG1 X(junk after the end\n";
+    else if (round == 5)
+      p += "%\n";
     // round 1, 2, 4: no end at all (a missing-end diagnostic on the last line)
     INFO("round " << round << ", " << lines << " lines");
     require_same(p);

@@ -42,7 +42,8 @@ Motion line(AxisVec a, AxisVec b, double f_mm_min, int line_no = 1) {
   return m;
 }
 
-Motion arc(AxisVec a, AxisVec b, AxisVec c, bool ccw, double f, gm::Plane plane = gm::Plane::XY, int turns = 1) {
+Motion arc(AxisVec a, AxisVec b, AxisVec c, bool ccw, double f, gm::Plane plane = gm::Plane::XY,
+           int turns = 1) {
   Motion m;
   m.kind = MotionKind::Arc;
   m.start_mm = a;
@@ -65,7 +66,8 @@ gm::InterpolatorConfig config(double blu = 0.001, int settle = 0) {
 }
 
 // All samples of a canon list at a constant override (or a per-sample one).
-std::vector<gm::CommandSample> samples(std::vector<Canon> canon, gm::InterpolatorConfig cfg = config(),
+std::vector<gm::CommandSample> samples(std::vector<Canon> canon,
+                                       gm::InterpolatorConfig cfg = config(),
                                        double (*scale)(std::int64_t) = nullptr) {
   VectorSource src(std::move(canon));
   gm::Interpolator ip(cfg, src);
@@ -87,7 +89,8 @@ TEST_CASE("a line at F600 moves 40 BLU per 4 ms sample and ends exactly") {
   // 10 mm at 10 mm/s, T = 4 ms: 0.04 mm = 40 BLU a sample, 250 samples.
   const auto s = samples({line(AxisVec::Zero(), AxisVec(10, 0, 0), 600)});
   REQUIRE(s.size() == 250);
-  for (std::size_t k = 0; k < s.size(); ++k) CHECK(s[k].pos_blu == AxisBlu(40 * (static_cast<long>(k) + 1), 0, 0));
+  for (std::size_t k = 0; k < s.size(); ++k)
+    CHECK(s[k].pos_blu == AxisBlu(40 * (static_cast<long>(k) + 1), 0, 0));
   // 10.01 mm: ceil(10.01 / 0.04) = 251 samples, the last one short.
   const auto t = samples({line(AxisVec::Zero(), AxisVec(10.01, 0, 0), 600)});
   REQUIRE(t.size() == 251);
@@ -97,11 +100,13 @@ TEST_CASE("a line at F600 moves 40 BLU per 4 ms sample and ends exactly") {
 
 TEST_CASE("time carries across blocks: two collinear blocks sample like one") {
   const auto one = samples({line(AxisVec::Zero(), AxisVec(7.3, 0, 0), 750)});
-  const auto two = samples({line(AxisVec::Zero(), AxisVec(2.01, 0, 0), 750), line(AxisVec(2.01, 0, 0), AxisVec(7.3, 0, 0), 750)});
+  const auto two = samples({line(AxisVec::Zero(), AxisVec(2.01, 0, 0), 750),
+                            line(AxisVec(2.01, 0, 0), AxisVec(7.3, 0, 0), 750)});
   REQUIRE(one.size() == two.size());
   for (std::size_t k = 0; k < one.size(); ++k) CHECK(one[k].pos_blu == two[k].pos_blu);
   // The second block started in the sample where the first ended: its block_seq is 2 there.
-  const std::size_t k_end = static_cast<std::size_t>(std::ceil(2.01 / (12.5 * 0.004))) - 1;  // 12.5 mm/s
+  const std::size_t k_end =
+      static_cast<std::size_t>(std::ceil(2.01 / (12.5 * 0.004))) - 1;  // 12.5 mm/s
   CHECK(two[k_end].block_seq == 2);
   CHECK(two[k_end - 1].block_seq == 1);
 }
@@ -111,7 +116,8 @@ TEST_CASE("a quarter arc stays on the circle and ends exactly") {
   const auto s = samples({arc(AxisVec(10, 0, 0), AxisVec(0, 10, 0), AxisVec::Zero(), true, 600)});
   CHECK(s.size() == static_cast<std::size_t>(std::ceil(5 * M_PI / 0.04)));
   for (const auto& x : s) {
-    const double r = std::hypot(static_cast<double>(x.pos_blu[0]), static_cast<double>(x.pos_blu[1]));
+    const double r =
+        std::hypot(static_cast<double>(x.pos_blu[0]), static_cast<double>(x.pos_blu[1]));
     CHECK(std::abs(r - 10000.0) <= 0.5 * std::sqrt(2.0));
     CHECK(x.pos_blu[0] >= 0);
     CHECK(x.pos_blu[1] >= 0);
@@ -126,16 +132,19 @@ TEST_CASE("full circles and multi-turn arcs take the whole circumference per tur
   const double turn_s = 2 * M_PI * 4 / 15;
   for (int turns : {1, 3}) {
     INFO("turns " << turns);
-    const auto s = samples({arc(AxisVec(4, 0, 0), AxisVec(4, 0, 0), AxisVec::Zero(), false, 900, gm::Plane::XY, turns)});
+    const auto s = samples({arc(AxisVec(4, 0, 0), AxisVec(4, 0, 0), AxisVec::Zero(), false, 900,
+                                gm::Plane::XY, turns)});
     CHECK(std::abs(static_cast<double>(s.size()) * 0.004 - turns * turn_s) <= 0.004);
     CHECK(s.back().pos_blu == AxisBlu(4000, 0, 0));
     CHECK(s[0].pos_blu[1] < 0);  // G2 (clockwise) from +X goes toward −Y
   }
 }
 
-TEST_CASE("a helix moves the normal axis in proportion to the angle, its length is sqrt((Rθ)² + h²)") {
+TEST_CASE(
+    "a helix moves the normal axis in proportion to the angle, its length is sqrt((Rθ)² + h²)") {
   // Two turns of R = 5 about (0,0) descending 4 mm, cw, 600 mm/min.
-  const auto s = samples({arc(AxisVec(5, 0, 0), AxisVec(5, 0, -4), AxisVec::Zero(), false, 600, gm::Plane::XY, 2)});
+  const auto s = samples(
+      {arc(AxisVec(5, 0, 0), AxisVec(5, 0, -4), AxisVec::Zero(), false, 600, gm::Plane::XY, 2)});
   const double length = std::hypot(2 * 2 * M_PI * 5, 4.0);
   CHECK(s.size() == static_cast<std::size_t>(std::ceil(length / 0.04)));
   for (std::size_t k = 0; k < s.size(); ++k) {
@@ -148,7 +157,8 @@ TEST_CASE("a helix moves the normal axis in proportion to the angle, its length 
 TEST_CASE("arcs in XZ and YZ turn the LinuxCNC way") {
   // G18: in-plane axes (Z, X), ccw seen from +Y goes from +Z toward +X (rs274 ARC_FEED first
   // axis Z, second X; rotation > 0 is G3). From (0,0,5) about the origin, ccw: X grows first.
-  auto s = samples({arc(AxisVec(0, 0, 5), AxisVec(5, 0, 0), AxisVec::Zero(), true, 600, gm::Plane::XZ)});
+  auto s =
+      samples({arc(AxisVec(0, 0, 5), AxisVec(5, 0, 0), AxisVec::Zero(), true, 600, gm::Plane::XZ)});
   CHECK(s[0].pos_blu[0] > 0);
   CHECK(s.back().pos_blu == AxisBlu(5000, 0, 0));
   CHECK(s.size() == static_cast<std::size_t>(std::ceil(2.5 * M_PI / 0.04)));  // a quarter turn
@@ -157,7 +167,8 @@ TEST_CASE("arcs in XZ and YZ turn the LinuxCNC way") {
   CHECK(s[0].pos_blu[2] > 0);
   CHECK(s.size() == static_cast<std::size_t>(std::ceil(2.5 * M_PI / 0.04)));
   // The same end point clockwise is three quarters of a turn.
-  s = samples({arc(AxisVec(0, 5, 0), AxisVec(0, 0, 5), AxisVec::Zero(), false, 600, gm::Plane::YZ)});
+  s = samples(
+      {arc(AxisVec(0, 5, 0), AxisVec(0, 0, 5), AxisVec::Zero(), false, 600, gm::Plane::YZ)});
   CHECK(s[0].pos_blu[2] < 0);
   CHECK(s.size() == static_cast<std::size_t>(std::ceil(7.5 * M_PI / 0.04)));
 }
@@ -167,7 +178,8 @@ TEST_CASE("a dwell holds for exactly its time, exact stop holds settle_samples")
   d.seconds = 0.1;
   d.line = 2;
   // 1 mm at 600 mm/min = 25 samples, then 0.1 s = 25 samples of dwell, then 25 more.
-  auto s = samples({line(AxisVec::Zero(), AxisVec(1, 0, 0), 600), d, line(AxisVec(1, 0, 0), AxisVec(2, 0, 0), 600, 3)});
+  auto s = samples({line(AxisVec::Zero(), AxisVec(1, 0, 0), 600), d,
+                    line(AxisVec(1, 0, 0), AxisVec(2, 0, 0), 600, 3)});
   REQUIRE(s.size() == 75);
   for (std::size_t k = 25; k < 50; ++k) {
     CHECK(s[k].pos_blu == AxisBlu(1000, 0, 0));
@@ -186,8 +198,9 @@ TEST_CASE("a dwell holds for exactly its time, exact stop holds settle_samples")
 }
 
 TEST_CASE("an override step changes V[k] at the next sample, 0 % holds without losing position") {
-  auto s = samples({line(AxisVec::Zero(), AxisVec(20, 0, 0), 600)}, config(),
-                   [](std::int64_t k) { return k < 10 ? 1.0 : k < 20 ? 2.0 : k < 30 ? 0.0 : 1.0; });
+  auto s = samples({line(AxisVec::Zero(), AxisVec(20, 0, 0), 600)}, config(), [](std::int64_t k) {
+    return k < 10 ? 1.0 : k < 20 ? 2.0 : k < 30 ? 0.0 : 1.0;
+  });
   CHECK(s[9].pos_blu[0] - s[8].pos_blu[0] == 40);
   CHECK(s[10].pos_blu[0] - s[9].pos_blu[0] == 80);  // doubled exactly at the next sample
   for (std::size_t k = 20; k < 30; ++k) {
@@ -220,16 +233,19 @@ TEST_CASE("rapids run at the rapid rate times the rapid override, G93 takes its 
   CHECK(samples({g}).size() == 125);
 }
 
-TEST_CASE("zero-length moves take no time, events pass through, OverrideDisable ignores the override") {
+TEST_CASE(
+    "zero-length moves take no time, events pass through, OverrideDisable ignores the override") {
   gm::Event off{1, gm::EventKind::OverrideDisable, {}};
   gm::Event pause{1, gm::EventKind::Pause, {}};
-  auto s = samples({line(AxisVec::Zero(), AxisVec::Zero(), 600), off, pause, line(AxisVec::Zero(), AxisVec(1, 0, 0), 600)},
+  auto s = samples({line(AxisVec::Zero(), AxisVec::Zero(), 600), off, pause,
+                    line(AxisVec::Zero(), AxisVec(1, 0, 0), 600)},
                    config(), [](std::int64_t) { return 0.5; });
   REQUIRE(s.size() == 25);  // 100 % although 50 % is asked: disabled
   CHECK((s[0].events & gm::kEventPause) != 0);
   CHECK(s[0].feed_scale == 1.0);
   gm::Event end{1, gm::EventKind::End, {}};
-  s = samples({line(AxisVec::Zero(), AxisVec(1, 0, 0), 600), end, line(AxisVec(1, 0, 0), AxisVec(2, 0, 0), 600)});
+  s = samples({line(AxisVec::Zero(), AxisVec(1, 0, 0), 600), end,
+               line(AxisVec(1, 0, 0), AxisVec(2, 0, 0), 600)});
   CHECK(s.size() == 25);  // nothing after M2 runs
 }
 
@@ -241,7 +257,8 @@ TEST_CASE("property: random chains end every block exactly and never outrun the 
     INFO("seed " << seed << " (GMOTION_SEED=" << seed << " replays it)");
     std::mt19937_64 rng(seed);
     auto u = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
-    const double blu_mm = std::array<double, 3>{0.001, 0.0005, 0.01}[static_cast<std::size_t>(u(0, 3))];
+    const double blu_mm =
+        std::array<double, 3>{0.001, 0.0005, 0.01}[static_cast<std::size_t>(u(0, 3))];
     std::vector<Canon> canon;
     std::vector<AxisVec> ends;
     AxisVec p = AxisVec::Zero();

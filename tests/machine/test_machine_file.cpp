@@ -12,7 +12,8 @@ using gm::Machine;
 
 namespace {
 
-const std::filesystem::path kMachines = std::filesystem::path(GMOTION_TESTS_DIR) / ".." / "programs" / "machines";
+const std::filesystem::path kMachines =
+    std::filesystem::path(GMOTION_TESTS_DIR) / ".." / "programs" / "machines";
 
 void require_equal(const Machine& a, const Machine& b) {
   CHECK(a.name == b.name);
@@ -147,7 +148,8 @@ TEST_CASE("machine_to_toml round-trips the default and a modified machine", "[ma
   m.axes[2].drive_N_per_unit = 123.0;
   require_equal(gm::parse_machine_toml(gm::machine_to_toml(m), "rt.toml"), m);
   // Names with TOML's special characters (found by fuzz_machine: backslashes did not survive).
-  for (const char* name : {"de\\\\fault", "say \"hi\"", "tab\there", "bell\x07", "caf\xC3\xA9 \xE2\x86\x92"}) {
+  for (const char* name :
+       {"de\\\\fault", "say \"hi\"", "tab\there", "bell\x07", "caf\xC3\xA9 \xE2\x86\x92"}) {
     m.name = name;
     INFO(name);
     require_equal(gm::parse_machine_toml(gm::machine_to_toml(m), "rt.toml"), m);
@@ -166,8 +168,8 @@ TEST_CASE("minimal file: optional keys take the documented defaults", "[machine]
   CHECK(m.axes[0].kv_form == gm::VelocityLoopForm::Ip);
   // The machine-level blu_mm is the axes' default; an axis may override it.
   const Machine b = gm::parse_machine_toml(
-      replace(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\nblu_mm = 0.0005\n"), "[axes.z]\n",
-              "[axes.z]\nblu_mm = 0.01\n"),
+      replace(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\nblu_mm = 0.0005\n"),
+              "[axes.z]\n", "[axes.z]\nblu_mm = 0.01\n"),
       "t.toml");
   CHECK(b.axes[0].blu_mm == 0.0005);
   CHECK(b.axes[2].blu_mm == 0.01);
@@ -179,23 +181,29 @@ TEST_CASE("out-of-range value: exact message with key, file and line", "[machine
         "t.toml:4: key 'axes.x.blu_mm': must be > 0 (got -1)");
   CHECK(error_of(replace(kMinimal, "period_s = 0.004", "period_s = 0")) ==
         "t.toml:2: key 'period_s': must be in 1e-06..1 s (got 0)");
-  CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\nservo_substeps = 0\n")) ==
-        "t.toml:3: key 'servo_substeps': must be in 1..1000 (got 0)");
-  CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\n[accdec]\ntau_s = 0\n")) ==
+  CHECK(
+      error_of(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\nservo_substeps = 0\n")) ==
+      "t.toml:3: key 'servo_substeps': must be in 1..1000 (got 0)");
+  CHECK(error_of(
+            replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\n[accdec]\ntau_s = 0\n")) ==
         "t.toml:4: key 'accdec.tau_s': must be >= period_s (at least one tap) (got 0)");
   CHECK(error_of(replace(kMinimal, "kp_1_s = 30\n[axes.y]", "kp_1_s = -30\n[axes.y]")) ==
         "t.toml:8: key 'axes.x.kp_1_s': must be >= 0.001 1/s (got -30)");
   CHECK(error_of(replace(kMinimal, "[axes.y]\n", "[axes.y]\ncoulomb_N = -5\n")) ==
         "t.toml:10: key 'axes.y.coulomb_N': must be >= 0 (got -5)");
-  CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\narc_rule = \"fanuc\"\n")) ==
+  CHECK(error_of(
+            replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\narc_rule = \"fanuc\"\n")) ==
         "t.toml:3: key 'arc_rule': must be \"linuxcnc\", \"grbl\" or \"g2core\" (got \"fanuc\")");
   CHECK(error_of(replace(kMinimal, "[axes.z]\n", "[axes.z]\nkv_form = \"pid\"\n")) ==
         "t.toml:16: key 'axes.z.kv_form': must be \"ip\" or \"pi\" (got \"pid\")");
   CHECK(error_of(replace(kMinimal, "plant_den = [1, 13.823]", "plant_den = [0, 13.823]")) ==
-        "t.toml:11: key 'axes.y.plant_den': the leading denominator coefficient must be finite and non-zero");
+        "t.toml:11: key 'axes.y.plant_den': the leading denominator coefficient must be finite and "
+        "non-zero");
   CHECK(error_of(replace(kMinimal, "plant_num = [32.07]", "plant_num = [1, 32.07]")) ==
-        "t.toml:11: key 'axes.y.plant_den': must be strictly proper (numerator degree < denominator degree)");
-  CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\nmax_override_percent = 50\n")) ==
+        "t.toml:11: key 'axes.y.plant_den': must be strictly proper (numerator degree < "
+        "denominator degree)");
+  CHECK(error_of(replace(kMinimal, "period_s = 0.004\n",
+                         "period_s = 0.004\nmax_override_percent = 50\n")) ==
         "t.toml:3: key 'max_override_percent': must be in 100..1000 (got 50)");
   CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\nblu_mm = nan\n")) ==
         "t.toml:3: key 'blu_mm': must be finite (got nan)");
@@ -204,28 +212,33 @@ TEST_CASE("out-of-range value: exact message with key, file and line", "[machine
 TEST_CASE("values a run cannot use are refused by the reader (found by fuzzing)", "[machine]") {
   // tau_s left at its default 0.164 s must still be at least one period.
   CHECK(error_of(replace(kMinimal, "period_s = 0.004", "period_s = 0.202")) ==
-        "t.toml:2: key 'period_s': does not suit accdec.tau_s = 0.164 s (the default): tau_s must be >= "
+        "t.toml:2: key 'period_s': does not suit accdec.tau_s = 0.164 s (the default): tau_s must "
+        "be >= "
         "period_s (at least one tap) (got 0.202)");
   // A huge tau/T would design and filter with billions of taps.
-  CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\n[accdec]\ntau_s = 4e6\n")) ==
-        "t.toml:4: key 'accdec.tau_s': must be <= 100000 x period_s = 400 s (tau/T = 1e+09 taps; at most "
+  CHECK(error_of(
+            replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\n[accdec]\ntau_s = 4e6\n")) ==
+        "t.toml:4: key 'accdec.tau_s': must be <= 100000 x period_s = 400 s (tau/T = 1e+09 taps; "
+        "at most "
         "100000) (got 4000000)");
-  CHECK(error_of(replace(kMinimal, "period_s = 0.004", "period_s = 1e-6")).find(
-            "key 'period_s': does not suit accdec.tau_s = 0.164 s (the default): tau_s must be <= 100000") !=
-        std::string::npos);
+  CHECK(error_of(replace(kMinimal, "period_s = 0.004", "period_s = 1e-6"))
+            .find("key 'period_s': does not suit accdec.tau_s = 0.164 s (the default): tau_s must "
+                  "be <= 100000") != std::string::npos);
   // The servo lag 5/(kp T) is counted in samples: kp and T have floors.
   CHECK(error_of(replace(kMinimal, "kp_1_s = 30\n[axes.y]", "kp_1_s = 1e-300\n[axes.y]")) ==
         "t.toml:8: key 'axes.x.kp_1_s': must be >= 0.001 1/s (got 1e-300)");
   CHECK(error_of(replace(kMinimal, "period_s = 0.004", "period_s = 1e-300")) ==
         "t.toml:2: key 'period_s': must be in 1e-06..1 s (got 1e-300)");
-  CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\n[accdec]\ntau_s = 400\n")) ==
-        "<no error>");
+  CHECK(error_of(replace(kMinimal, "period_s = 0.004\n",
+                         "period_s = 0.004\n[accdec]\ntau_s = 400\n")) == "<no error>");
 }
 
 TEST_CASE("missing required key: names the key, the file and the table's line", "[machine]") {
-  CHECK(error_of(replace(kMinimal, "kvi = 0.0094\nkp_1_s = 30\n[axes.y]", "kp_1_s = 30\n[axes.y]")) ==
-        "t.toml:3: key 'axes.x.kvi': required key is missing");
-  CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "")) == "t.toml:1: key 'period_s': required key is missing");
+  CHECK(
+      error_of(replace(kMinimal, "kvi = 0.0094\nkp_1_s = 30\n[axes.y]", "kp_1_s = 30\n[axes.y]")) ==
+      "t.toml:3: key 'axes.x.kvi': required key is missing");
+  CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "")) ==
+        "t.toml:1: key 'period_s': required key is missing");
   const std::string no_z = kMinimal.substr(0, kMinimal.find("[axes.z]"));
   CHECK(error_of(no_z) == "t.toml:3: key 'axes.z': required key is missing");
 }
@@ -233,13 +246,18 @@ TEST_CASE("missing required key: names the key, the file and the table's line", 
 TEST_CASE("mistyped value: names the key, the file and the line", "[machine]") {
   CHECK(error_of(replace(kMinimal, "kvp = 0.0442", "kvp = \"0.0442\"")) ==
         "t.toml:12: key 'axes.y.kvp': must be a number (got a string)");
-  CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\nservo_substeps = 2.5\n")) ==
+  CHECK(error_of(
+            replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\nservo_substeps = 2.5\n")) ==
         "t.toml:3: key 'servo_substeps': must be an integer (got a float)");
-  CHECK(error_of(replace(kMinimal, "plant_num = [33.518]\nplant_den = [1, 14.45]\nkvp = 0.0422\nkvi = 0.0094\nkp_1_s = 30\n[axes.y]",
-                         "plant_num = [33.518, \"a\"]\nplant_den = [1, 14.45]\nkvp = 0.0422\nkvi = 0.0094\nkp_1_s = 30\n[axes.y]")) ==
+  CHECK(error_of(replace(kMinimal,
+                         "plant_num = [33.518]\nplant_den = [1, 14.45]\nkvp = 0.0422\nkvi = "
+                         "0.0094\nkp_1_s = 30\n[axes.y]",
+                         "plant_num = [33.518, \"a\"]\nplant_den = [1, 14.45]\nkvp = 0.0422\nkvi = "
+                         "0.0094\nkp_1_s = 30\n[axes.y]")) ==
         "t.toml:4: key 'axes.x.plant_num[1]': must be a number (got a string)");
   CHECK(error_of(kMinimal + "tools = 5\n") == "t.toml:21: key 'axes.z.tools': unknown key");
-  CHECK(error_of("tools = 5\n" + kMinimal) == "t.toml:1: key 'tools': must be an array of numbers (got an integer)");
+  CHECK(error_of("tools = 5\n" + kMinimal) ==
+        "t.toml:1: key 'tools': must be an array of numbers (got an integer)");
   CHECK(error_of("work_offsets = { g54 = [1, 2] }\n" + kMinimal) ==
         "t.toml:1: key 'work_offsets.g54': must have 3 elements (got 2)");
 }
@@ -250,11 +268,13 @@ TEST_CASE("unknown key (a typo): names the key, the file and the line", "[machin
   CHECK(error_of("perod_s = 0.004\n" + kMinimal) == "t.toml:1: key 'perod_s': unknown key");
   CHECK(error_of(kMinimal + "[axes.w]\nkvp = 1\n") == "t.toml:21: key 'axes.w': unknown key");
   CHECK(error_of(kMinimal + "[accdec]\ntau = 0.1\n") == "t.toml:22: key 'accdec.tau': unknown key");
-  CHECK(error_of(kMinimal + "[work_offsets]\ng60 = [0, 0, 0]\n") == "t.toml:22: key 'work_offsets.g60': unknown key");
+  CHECK(error_of(kMinimal + "[work_offsets]\ng60 = [0, 0, 0]\n") ==
+        "t.toml:22: key 'work_offsets.g60': unknown key");
 }
 
 TEST_CASE("TOML syntax error and unreadable file", "[machine]") {
   const std::string e = error_of(replace(kMinimal, "kvp = 0.0442", "kvp = = 0.0442"));
   CHECK(e.rfind("t.toml:12: TOML syntax error:", 0) == 0);
-  CHECK_THROWS_WITH(gm::load_machine_file("/nonexistent/m.toml"), Catch::Contains("/nonexistent/m.toml"));
+  CHECK_THROWS_WITH(gm::load_machine_file("/nonexistent/m.toml"),
+                    Catch::Contains("/nonexistent/m.toml"));
 }

@@ -36,7 +36,8 @@ TEST_CASE("bad schedule lines are errors with file:line, never silent clamps") {
     }
     return std::string("no error");
   };
-  CHECK_THAT(msg("0,50\n1,250\n"), Catch::StartsWith("s.csv:2: override 250 % is outside 0..200 %"));
+  CHECK_THAT(msg("0,50\n1,250\n"),
+             Catch::StartsWith("s.csv:2: override 250 % is outside 0..200 %"));
   CHECK_THAT(msg("0,-5\n"), Catch::StartsWith("s.csv:1: override -5 % is outside"));
   CHECK_THAT(msg("abc,50\n"), Catch::StartsWith("s.csv:1: 'abc' is not a time"));
   CHECK_THAT(msg("1,fifty\n"), Catch::StartsWith("s.csv:1: 'fifty' is not a percentage"));
@@ -53,7 +54,8 @@ TEST_CASE("a time change applies from the first sample at or after its time") {
   CHECK(p.feed_scale() == 1.0);
   p.advance(3, 1);  // t = 0.012 >= 0.010
   CHECK(p.feed_scale() == 0.5);
-  CHECK(p.rapid_scale() == 0.1);  // 3 * 0.004 is 0.012 up to rounding: recorded times replay exactly
+  CHECK(p.rapid_scale() ==
+        0.1);  // 3 * 0.004 is 0.012 up to rounding: recorded times replay exactly
 }
 
 TEST_CASE("a line change applies when that line starts") {

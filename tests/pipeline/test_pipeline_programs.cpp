@@ -124,7 +124,8 @@ TEST_CASE("the paper's circle test: Acc/Dec radius loss matches the analysis, Eq
     double sum = 0;
     int count = 0;
     while (p.step(gm::OverrideInput{}, rec) == gm::PipelineStatus::Working)
-      if (!std::isnan(rec.arc_ref_dev_blu)) sum += ref ? rec.arc_ref_dev_blu : rec.arc_enc_dev_blu, ++count;
+      if (!std::isnan(rec.arc_ref_dev_blu))
+        sum += ref ? rec.arc_ref_dev_blu : rec.arc_enc_dev_blu, ++count;
     REQUIRE(count > 800);
     return -sum / count;  // radius loss, BLU
   };

@@ -35,7 +35,8 @@ TEST_CASE("sample queue hands each motion to the consumer with the record it was
   // Motions on every 7th record and on both sides of each batch boundary; line = k marks them.
   auto has_motion = [](std::int64_t k) {
     const auto in_batch = k % static_cast<std::int64_t>(SampleQueue::kBatchSize);
-    return k % 7 == 0 || in_batch == 0 || in_batch == static_cast<std::int64_t>(SampleQueue::kBatchSize) - 1;
+    return k % 7 == 0 || in_batch == 0 ||
+           in_batch == static_cast<std::int64_t>(SampleQueue::kBatchSize) - 1;
   };
   const std::int64_t n = 5 * static_cast<std::int64_t>(SampleQueue::kBatchSize) + 11;
   std::int64_t seen = 0, with_motion = 0, wrong = 0;
@@ -75,7 +76,8 @@ TEST_CASE("sample queue rethrows the consumer's exception to the producer") {
   } catch (const std::runtime_error& e) {
     thrown = true;
     CHECK(std::string(e.what()) == "disk full at 5000");
-    CHECK(r.k < 5000 + 3 * static_cast<std::int64_t>(SampleQueue::kBatchSize) + 1);  // stopped soon after
+    CHECK(r.k <
+          5000 + 3 * static_cast<std::int64_t>(SampleQueue::kBatchSize) + 1);  // stopped soon after
   }
   CHECK(thrown);
 }

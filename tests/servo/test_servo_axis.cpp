@@ -99,7 +99,8 @@ Continuous ip_continuous(const AxisConfig& ax) {
   return {std::sqrt(c0), c1 / (2.0 * std::sqrt(c0))};
 }
 
-// |T(jw)| of the continuous position loop: T = Kp Hv / (s + Kp Hv), Hv = wn^2/(s^2 + 2 z wn s + wn^2).
+// |T(jw)| of the continuous position loop: T = Kp Hv / (s + Kp Hv), Hv = wn^2/(s^2 + 2 z wn s +
+// wn^2).
 double position_loop_gain(const AxisConfig& ax, double w) {
   const Continuous c = ip_continuous(ax);
   const std::complex<double> s(0.0, w);
@@ -109,20 +110,22 @@ double position_loop_gain(const AxisConfig& ax, double w) {
 
 // |H(e^{jwT})| of the sampled loop without quantisation, from the loop equations written as a
 // linear state recursion by hand (first-order plant, substeps = 1, Ip form). State
-// q = [x, p, I, p_prev], input ref; per sample: y = p - p_prev (counts per T), r_v = Kp T (ref - p),
-// I+ = I + r_v - y, u = Kvi I+ - Kvp y, x+ = e x + g u, p+ = p + f x + h u.
+// q = [x, p, I, p_prev], input ref; per sample: y = p - p_prev (counts per T), r_v = Kp T (ref -
+// p), I+ = I + r_v - y, u = Kvi I+ - Kvp y, x+ = e x + g u, p+ = p + f x + h u.
 double sampled_loop_gain(const AxisConfig& ax, double w) {
-  const double a = ax.plant_den[1], bs = ax.plant_num[0] * ax.plant_blu_s_per_unit, e = std::exp(-a * kT);
+  const double a = ax.plant_den[1], bs = ax.plant_num[0] * ax.plant_blu_s_per_unit,
+               e = std::exp(-a * kT);
   const double g = (1.0 - e) / a, f = bs * (1.0 - e) / a, h = bs / a * (kT - (1.0 - e) / a);
   const double kpt = ax.kp_1_s * kT;
   // u = Kvi (I + kpt (ref - p) - (p - p_prev)) - Kvp (p - p_prev)
   //   = Kvi I - (Kvi kpt + Kvi + Kvp) p + (Kvi + Kvp) p_prev + Kvi kpt ref
-  const double ui = ax.kvi, up = -(ax.kvi * kpt + ax.kvi + ax.kvp), upp = ax.kvi + ax.kvp, ur = ax.kvi * kpt;
+  const double ui = ax.kvi, up = -(ax.kvi * kpt + ax.kvi + ax.kvp), upp = ax.kvi + ax.kvp,
+               ur = ax.kvi * kpt;
   Eigen::Matrix4d A;
   Eigen::Vector4d B;
-  A << e, g * up, g * ui, g * upp,           //
-      f, 1.0 + h * up, h * ui, h * upp,      //
-      0.0, -kpt - 1.0, 1.0, 1.0,             //
+  A << e, g * up, g * ui, g * upp,       //
+      f, 1.0 + h * up, h * ui, h * upp,  //
+      0.0, -kpt - 1.0, 1.0, 1.0,         //
       0.0, 1.0, 0.0, 0.0;
   B << g * ur, h * ur, kpt, 0.0;
   const std::complex<double> z = std::polar(1.0, w * kT);
@@ -136,7 +139,8 @@ struct CircleResult {
 };
 // Eq. 35 experiment: x = R cos wt, y = R sin wt sampled at T fed directly to the servos.
 CircleResult circle(const AxisConfig& ax, const AxisConfig& ay, double r_blu, double v_blu_s,
-                    std::vector<double>* radial_dev = nullptr, std::vector<double>* angle = nullptr) {
+                    std::vector<double>* radial_dev = nullptr,
+                    std::vector<double>* angle = nullptr) {
   const double w = v_blu_s / r_blu;
   const auto start_x = static_cast<std::int64_t>(std::llround(r_blu));
   ServoAxis sx(ax, kT, 1, start_x), sy(ay, kT, 1, 0);
@@ -171,7 +175,8 @@ TEST_CASE("hand check: continuous IP velocity loop of the paper is critically da
     INFO("axis " << c << " wn = " << k.wn << " zeta = " << k.zeta);
     CHECK(k.zeta == Approx(1.0).margin(0.002));
     CHECK(k.wn == Approx(103.5).margin(0.5));
-    // Critically damped 10-90 % rise time 3.3579 / wn (x: 1-(1+x)e^{-x} = 0.1 at 0.5318, 0.9 at 3.8897).
+    // Critically damped 10-90 % rise time 3.3579 / wn (x: 1-(1+x)e^{-x} = 0.1 at 0.5318, 0.9
+    // at 3.8897).
     CHECK(3.3579 / k.wn == Approx(0.0324).margin(0.0004));
   }
 }
@@ -181,13 +186,16 @@ TEST_CASE("velocity step response: rise time 33 ms, no overshoot (paper x and y)
     const AxisConfig ax = paper_axis(c);
     const StepResponse r = velocity_step(ax, 50000.0);
     const Continuous k = ip_continuous(ax);
-    INFO("axis " << c << ": rise " << r.rise_s * 1e3 << " ms, overshoot " << r.overshoot * 100 << " %, final "
-                 << r.final_blu_s << " BLU/s, continuous critically damped rise " << 3.3579 / k.wn * 1e3 << " ms");
-    std::printf("velocity step %c: rise %.2f ms, overshoot %.4f %%, final %.1f BLU/s (continuous %.2f ms)\n", c,
-                r.rise_s * 1e3, r.overshoot * 100, r.final_blu_s, 3.3579 / k.wn * 1e3);
+    INFO("axis " << c << ": rise " << r.rise_s * 1e3 << " ms, overshoot " << r.overshoot * 100
+                 << " %, final " << r.final_blu_s << " BLU/s, continuous critically damped rise "
+                 << 3.3579 / k.wn * 1e3 << " ms");
+    std::printf(
+        "velocity step %c: rise %.2f ms, overshoot %.4f %%, final %.1f BLU/s (continuous %.2f "
+        "ms)\n",
+        c, r.rise_s * 1e3, r.overshoot * 100, r.final_blu_s, 3.3579 / k.wn * 1e3);
     CHECK_FALSE(r.saturated);
     CHECK(r.final_blu_s == Approx(50000.0).epsilon(1e-3));
-    CHECK(r.rise_s == Approx(0.033).margin(0.001));       // spec 33 ms, tolerance +-1 ms
+    CHECK(r.rise_s == Approx(0.033).margin(0.001));           // spec 33 ms, tolerance +-1 ms
     CHECK(r.rise_s == Approx(3.3579 / k.wn).margin(0.0015));  // discrete vs continuous hand model
     // No overshoot beyond the velocity feedback's quantum: one encoder count per sample
     // (250 BLU/s, 0.5 % of the step); the unquantised loop has none (ζ = 1, no zero).
@@ -220,9 +228,11 @@ TEST_CASE("steady ramp: following error is V/Kp (type-1 position loop)", "[servo
         }
       }
       const double expected = v / 30.0;  // V / Kp
-      INFO("substeps " << substeps << " V " << v << ": mean " << sum / n << " min " << lo << " max " << hi);
-      std::printf("ramp V=%.0f substeps=%d: following error mean %.3f (V/Kp %.3f) min %.0f max %.0f\n", v,
-                  substeps, sum / n, expected, lo, hi);
+      INFO("substeps " << substeps << " V " << v << ": mean " << sum / n << " min " << lo << " max "
+                       << hi);
+      std::printf(
+          "ramp V=%.0f substeps=%d: following error mean %.3f (V/Kp %.3f) min %.0f max %.0f\n", v,
+          substeps, sum / n, expected, lo, hi);
       CHECK(sum / n == Approx(expected).margin(0.5));
       CHECK(lo >= expected - 2.0);
       CHECK(hi <= expected + 2.0);
@@ -241,10 +251,13 @@ TEST_CASE("Eq. 35: circle R = 4000 BLU at 15000 BLU/s, servo radius loss", "[ser
   // c1 = 2 zeta / wn the velocity loop's lag: the lag *enlarges* the radius.
   const Continuous kx = ip_continuous(ax);
   const double expansion = v * v / r * (1.0 / (2.0 * 900.0) - 2.0 * kx.zeta / kx.wn / 30.0);
-  std::printf("circle R=4000 V=15000: mean radius loss %.2f BLU (min %.2f max %.2f; encoder %.2f); "
-              "Eq.35 %.2f; continuous model with velocity loop %.2f (expansion %.2f); sampled loop %.2f\n",
-              c.mean_loss_blu, c.min_loss_blu, c.max_loss_blu, c.mean_loss_enc_blu, eq35, model, expansion, sampled);
-  INFO("measured " << c.mean_loss_blu << " Eq.35 " << eq35 << " continuous " << model << " sampled " << sampled);
+  std::printf(
+      "circle R=4000 V=15000: mean radius loss %.2f BLU (min %.2f max %.2f; encoder %.2f); "
+      "Eq.35 %.2f; continuous model with velocity loop %.2f (expansion %.2f); sampled loop %.2f\n",
+      c.mean_loss_blu, c.min_loss_blu, c.max_loss_blu, c.mean_loss_enc_blu, eq35, model, expansion,
+      sampled);
+  INFO("measured " << c.mean_loss_blu << " Eq.35 " << eq35 << " continuous " << model << " sampled "
+                   << sampled);
   CHECK(eq35 == Approx(31.25));
   CHECK(model == Approx(expansion).margin(0.3));
   CHECK(c.mean_loss_blu == Approx(sampled).margin(0.5));  // quantisation only
@@ -266,11 +279,13 @@ TEST_CASE("settles to +-1 count at a constant reference", "[servo]") {
       s.step(ref);
       amp = std::max(amp, std::abs(s.motor_blu() - static_cast<double>(ref)));
     }
-    std::printf("at rest start=%lld: motor within %.3f BLU of the reference\n", static_cast<long long>(start), amp);
+    std::printf("at rest start=%lld: motor within %.3f BLU of the reference\n",
+                static_cast<long long>(start), amp);
     CHECK(amp < 1.5);
   }
   ServoAxis idle(paper_axis('x'), kT, 2, 77);
-  for (int k = 0; k < 100; ++k) REQUIRE(idle.step(77) == 77);  // at rest on the reference: no motion
+  for (int k = 0; k < 100; ++k)
+    REQUIRE(idle.step(77) == 77);  // at rest on the reference: no motion
   CHECK(idle.drive_command() == 0.0);
 }
 
@@ -289,7 +304,8 @@ TEST_CASE("drive command saturates at F_max mapped to drive units", "[servo]") {
   CHECK(ServoAxis(explicit_map, kT, 1, 0).drive_limit() == Approx(10.0));
 }
 
-TEST_CASE("lost motion: the table trails the motor by half the backlash in steady motion", "[servo]") {
+TEST_CASE("lost motion: the table trails the motor by half the backlash in steady motion",
+          "[servo]") {
   AxisConfig ax = paper_axis('x');
   ax.backlash_blu = 20.0;
   ServoAxis s(ax, kT, 1, 0);
@@ -328,7 +344,9 @@ TEST_CASE("Coulomb friction makes quadrant protrusions on the circle", "[servo]"
   const double m0 = median(dev0), m1 = median(dev1);
   for (double at : {0.0, M_PI / 2, M_PI, -M_PI / 2}) {
     const double p0 = peak_near(dev0, ang0, at) - m0, p1 = peak_near(dev1, ang1, at) - m1;
-    std::printf("quadrant at %.2f rad: protrusion %.2f BLU with friction+backlash, %.2f BLU ideal\n", at, p1, p0);
+    std::printf(
+        "quadrant at %.2f rad: protrusion %.2f BLU with friction+backlash, %.2f BLU ideal\n", at,
+        p1, p0);
     INFO("at " << at << " ideal " << p0 << " with friction " << p1);
     CHECK(p1 > p0 + 3.0);
   }

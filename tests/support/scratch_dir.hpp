@@ -1,10 +1,10 @@
 // Test helper: a per-process scratch directory under the system temp directory, removed at exit.
 #pragma once
 
+#include <unistd.h>
 #include <filesystem>
 #include <string>
 #include <system_error>
-#include <unistd.h>
 #include <vector>
 
 namespace gmtest {
@@ -22,8 +22,8 @@ inline std::filesystem::path scratch_dir(const std::string& name) {
     }
   };
   static RemoveAtExit made;
-  std::filesystem::path d =
-      std::filesystem::temp_directory_path() / ("gmotion-" + name + "-" + std::to_string(::getpid()));
+  std::filesystem::path d = std::filesystem::temp_directory_path() /
+                            ("gmotion-" + name + "-" + std::to_string(::getpid()));
   if (std::filesystem::create_directories(d)) made.dirs.push_back(d);
   return d;
 }

@@ -1,5 +1,6 @@
 // run --keep-partial from the command line: a failed run keeps FILE.partial whose header says why,
-// with whole rows only; a completed run's trace differs from one without the flag only by its status.
+// with whole rows only; a completed run's trace differs from one without the flag only by its
+// status.
 #include "common/axis.hpp"
 #include "trace/trace_reader.hpp"
 #include "trace/trace_writer.hpp"
@@ -72,7 +73,8 @@ std::vector<std::string> whole_csv_rows(const std::string& rows) {
   std::size_t at = 0;
   for (std::size_t end; (end = rows.find('\n', at)) != std::string::npos; at = end + 1) {
     out.push_back(rows.substr(at, end - at));
-    REQUIRE(static_cast<std::size_t>(std::count(out.back().begin(), out.back().end(), ',')) == kCsvColumns - 1);
+    REQUIRE(static_cast<std::size_t>(std::count(out.back().begin(), out.back().end(), ',')) ==
+            kCsvColumns - 1);
   }
   CHECK(at == rows.size());
   return out;
@@ -89,9 +91,12 @@ std::string status_of(const Trace& t) {
   return v;
 }
 
-// Runs gmotion `args` in the background, sends `sig` once `watch` has data, waits; output with "exit=N".
-gmtest::CommandResult run_and_signal(const std::string& args, const std::string& watch, const char* sig) {
-  return gmtest::sh("(" + std::string(GMOTION_BIN) + " " + args + " 2>&1 & pid=$!; i=0; while [ ! -s " + watch +
+// Runs gmotion `args` in the background, sends `sig` once `watch` has data, waits; output with
+// "exit=N".
+gmtest::CommandResult run_and_signal(const std::string& args, const std::string& watch,
+                                     const char* sig) {
+  return gmtest::sh("(" + std::string(GMOTION_BIN) + " " + args +
+                    " 2>&1 & pid=$!; i=0; while [ ! -s " + watch +
                     " ] && [ $i -lt 600 ]; do sleep 0.05; i=$((i+1)); done; kill -" + sig +
                     " $pid; wait $pid; echo \"exit=$?\")");
 }
@@ -104,15 +109,19 @@ double number_after(const std::string& text, const std::string& key) {
 
 }  // namespace
 
-TEST_CASE("run --keep-partial: SIGINT keeps FILE.partial saying 'partial: interrupted ...', whole rows, no FILE") {
+TEST_CASE(
+    "run --keep-partial: SIGINT keeps FILE.partial saying 'partial: interrupted ...', whole rows, "
+    "no FILE") {
   const fs::path dir = scratch();
   const std::string prog = (dir / "long.nc").string();
   gmtest::write_long_program(prog);
   for (const bool bin : {false, true}) {
     DYNAMIC_SECTION((bin ? "binary" : "CSV")) {
-      const std::string trace = (dir / (bin ? "int.bin" : "int.csv")).string(), kept = trace + ".partial";
+      const std::string trace = (dir / (bin ? "int.bin" : "int.csv")).string(),
+                        kept = trace + ".partial";
       const auto r = run_and_signal(
-          "run " + prog + " --keep-partial --trace " + trace + (bin ? " --trace-format bin" : ""), kept, "INT");
+          "run " + prog + " --keep-partial --trace " + trace + (bin ? " --trace-format bin" : ""),
+          kept, "INT");
       INFO(r.out);
       CHECK_THAT(r.out, Catch::Contains("exit=1"));
       CHECK_THAT(r.out, Catch::Contains("gmotion: error: interrupted at t = "));
@@ -153,15 +162,19 @@ TEST_CASE("run --keep-partial: SIGINT keeps FILE.partial saying 'partial: interr
   }
 }
 
-TEST_CASE("run --keep-partial: --max-time keeps FILE.partial with that reason and the complete run's first rows") {
+TEST_CASE(
+    "run --keep-partial: --max-time keeps FILE.partial with that reason and the complete run's "
+    "first rows") {
   const fs::path dir = scratch();
   for (const bool bin : {false, true}) {
     DYNAMIC_SECTION((bin ? "binary" : "CSV")) {
       const std::string fmt_flag = bin ? " --trace-format bin" : "";
       const std::string full = (dir / (bin ? "full.bin" : "full.csv")).string();
-      const std::string trace = (dir / (bin ? "max.bin" : "max.csv")).string(), kept = trace + ".partial";
+      const std::string trace = (dir / (bin ? "max.bin" : "max.csv")).string(),
+                        kept = trace + ".partial";
       REQUIRE(gmtest::run_gmotion("run " + kPocket + " --trace " + full + fmt_flag).code == 0);
-      const auto r = gmtest::run_gmotion("run " + kPocket + " --max-time 5 --keep-partial --trace " + trace + fmt_flag);
+      const auto r = gmtest::run_gmotion(
+          "run " + kPocket + " --max-time 5 --keep-partial --trace " + trace + fmt_flag);
       INFO(r.out);
       CHECK(r.code == 1);
       CHECK_THAT(r.out, Catch::Contains("gmotion: error: run stopped at --max-time 5 s (line "));
@@ -187,7 +200,8 @@ TEST_CASE("run --keep-partial: --max-time keeps FILE.partial with that reason an
         CHECK(f.rows.compare(0, t.rows.size(), t.rows) == 0);
       } else {
         const auto rows = whole_csv_rows(t.rows), full_rows = whole_csv_rows(f.rows);
-        while (expect < full_rows.size() && std::strtod(full_rows[expect].c_str(), nullptr) <= 5.0) ++expect;
+        while (expect < full_rows.size() && std::strtod(full_rows[expect].c_str(), nullptr) <= 5.0)
+          ++expect;
         CHECK(rows.size() == expect);
         CHECK(f.rows.compare(0, t.rows.size(), t.rows) == 0);
       }
@@ -197,7 +211,9 @@ TEST_CASE("run --keep-partial: --max-time keeps FILE.partial with that reason an
   }
 }
 
-TEST_CASE("run --keep-partial: a completed run gives FILE with 'status: complete', else as without the flag") {
+TEST_CASE(
+    "run --keep-partial: a completed run gives FILE with 'status: complete', else as without the "
+    "flag") {
   const fs::path dir = scratch();
   for (const bool bin : {false, true}) {
     DYNAMIC_SECTION((bin ? "binary" : "CSV")) {
@@ -205,7 +221,8 @@ TEST_CASE("run --keep-partial: a completed run gives FILE with 'status: complete
       const std::string plain = (dir / (bin ? "plain.bin" : "plain.csv")).string();
       const std::string trace = (dir / (bin ? "done.bin" : "done.csv")).string();
       const auto a = gmtest::run_gmotion("run " + kPocket + " --trace " + plain + fmt_flag);
-      const auto b = gmtest::run_gmotion("run " + kPocket + " --keep-partial --trace " + trace + fmt_flag);
+      const auto b =
+          gmtest::run_gmotion("run " + kPocket + " --keep-partial --trace " + trace + fmt_flag);
       REQUIRE(a.code == 0);
       CHECK(b.code == 0);
       CHECK(b.out == a.out);  // same summary, no note
@@ -242,7 +259,8 @@ TEST_CASE("run --keep-partial: servo divergence keeps FILE.partial saying why") 
   REQUIRE(at != std::string::npos);
   toml.replace(at, 20, "plant_num = [3.3e306]");
   std::ofstream(machine) << toml;
-  const auto r = gmtest::run_gmotion("run " + kPocket + " --machine " + machine + " --keep-partial --trace " + trace);
+  const auto r = gmtest::run_gmotion("run " + kPocket + " --machine " + machine +
+                                     " --keep-partial --trace " + trace);
   INFO(r.out);
   CHECK(r.code == 1);
   CHECK_THAT(r.out, Catch::Contains("servo diverged"));
@@ -258,7 +276,9 @@ TEST_CASE("run --keep-partial: servo divergence keeps FILE.partial saying why") 
   whole_csv_rows(t.rows);
 }
 
-TEST_CASE("run --keep-partial: axes that do not settle keep FILE.partial saying so, rows as without the flag") {
+TEST_CASE(
+    "run --keep-partial: axes that do not settle keep FILE.partial saying so, rows as without the "
+    "flag") {
   // Coulomb friction of 3000 N on x: the encoder hunts around the target past the settle timeout.
   const fs::path dir = scratch();
   const std::string machine = (dir / "sticky.toml").string(), trace = (dir / "uns.csv").string();
@@ -275,15 +295,18 @@ TEST_CASE("run --keep-partial: axes that do not settle keep FILE.partial saying 
   REQUIRE(a.code == 1);
   REQUIRE_THAT(a.out, Catch::Contains("NOT SETTLED"));
   CHECK(r.code == 1);
-  CHECK(r.out == a.out + "gmotion: partial trace kept at " + trace + ".partial\n");  // the summary, then the note
+  CHECK(r.out == a.out + "gmotion: partial trace kept at " + trace +
+                     ".partial\n");  // the summary, then the note
   CHECK_FALSE(fs::exists(trace));
-  const Trace t = split(gmtest::slurp(trace + ".partial"), false), p = split(gmtest::slurp(plain), false);
+  const Trace t = split(gmtest::slurp(trace + ".partial"), false),
+              p = split(gmtest::slurp(plain), false);
   CHECK(status_of(t) == "partial: the axes did not settle within 10 s of the program end");
   CHECK(t.rows == p.rows);
   CHECK(whole_csv_rows(t.rows).size() > 3000);
 }
 
-TEST_CASE("run --keep-partial: a full file system keeps FILE.partial cut back to its last whole row") {
+TEST_CASE(
+    "run --keep-partial: a full file system keeps FILE.partial cut back to its last whole row") {
   const fs::path mnt = scratch() / "small";
   gmtest::SmallTmpfs fs_small(mnt);
   if (!fs_small.mounted()) {
@@ -302,7 +325,8 @@ TEST_CASE("run --keep-partial: a full file system keeps FILE.partial cut back to
   REQUIRE_FALSE(kept.empty());
   CHECK_THAT(r.out, Catch::EndsWith("gmotion: partial trace kept at " + trace + ".partial\n"));
   const Trace t = split(kept, false);
-  CHECK_THAT(status_of(t), Catch::StartsWith("partial: cannot write trace '" + trace + "': No space left on device"));
+  CHECK_THAT(status_of(t), Catch::StartsWith("partial: cannot write trace '" + trace +
+                                             "': No space left on device"));
   CHECK(whole_csv_rows(t.rows).size() > 100);
 }
 
@@ -324,17 +348,19 @@ TEST_CASE("gmotion diff warns which trace is partial and why, and compares the r
   const std::string full = (dir / "d-full.csv").string(), trace = (dir / "d-max.csv").string();
   const std::string kept = trace + ".partial";
   REQUIRE(gmtest::run_gmotion("run " + kPocket + " --trace " + full).code == 0);
-  REQUIRE(gmtest::run_gmotion("run " + kPocket + " --max-time 5 --keep-partial --trace " + trace).code == 1);
+  REQUIRE(gmtest::run_gmotion("run " + kPocket + " --max-time 5 --keep-partial --trace " + trace)
+              .code == 1);
   const std::size_t rows = whole_csv_rows(split(gmtest::slurp(kept), false).rows).size();
   const auto r = gmtest::run_gmotion("diff " + full + " " + kept);
   INFO(r.out);
   CHECK(r.code == 1);
-  CHECK_THAT(r.out,
-             Catch::Contains("warning: B = " + kept + " is a partial trace (run stopped at --max-time 5 s (line "));
+  CHECK_THAT(r.out, Catch::Contains("warning: B = " + kept +
+                                    " is a partial trace (run stopped at --max-time 5 s (line "));
   CHECK_THAT(r.out, Catch::Contains("comparing the rows it has"));
   CHECK_THAT(r.out, !Catch::Contains("warning: A ="));
   CHECK_THAT(r.out, Catch::Contains(std::to_string(rows) + " rows compared"));
-  CHECK_THAT(r.out, Catch::Contains("first divergence: " + kept + " ends after " + std::to_string(rows) + " rows"));
+  CHECK_THAT(r.out, Catch::Contains("first divergence: " + kept + " ends after " +
+                                    std::to_string(rows) + " rows"));
   // A partial trace against itself: both warned about, the rows agree.
   const auto same = gmtest::run_gmotion("diff " + kept + " " + kept);
   CHECK(same.code == 0);
@@ -343,7 +369,9 @@ TEST_CASE("gmotion diff warns which trace is partial and why, and compares the r
   CHECK_THAT(same.out, Catch::Contains("traces agree within the tolerance"));
 }
 
-TEST_CASE("run --keep-partial: a SIGKILLed run leaves FILE.partial whose header says 'partial, run in progress'") {
+TEST_CASE(
+    "run --keep-partial: a SIGKILLed run leaves FILE.partial whose header says 'partial, run in "
+    "progress'") {
   const fs::path dir = scratch();
   const std::string prog = (dir / "long-kill.nc").string(), trace = (dir / "kill.csv").string();
   const std::string kept = trace + ".partial";
@@ -355,7 +383,8 @@ TEST_CASE("run --keep-partial: a SIGKILLed run leaves FILE.partial whose header 
   REQUIRE(fs::exists(kept));
   CHECK(status_of(split(gmtest::slurp(kept), false)) == "partial, run in progress");
   const auto d = gmtest::run_gmotion("diff " + kept + " " + kept);
-  CHECK_THAT(d.out, Catch::Contains("warning: A = " + kept +
-                                    " is a partial trace (its run never finished: killed, or still running)"));
+  CHECK_THAT(d.out, Catch::Contains(
+                        "warning: A = " + kept +
+                        " is a partial trace (its run never finished: killed, or still running)"));
   CHECK(d.code == 0);
 }

@@ -7,17 +7,19 @@
 
 #include <catch2/catch.hpp>
 
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 
 namespace {
 const std::string kRepo = fs::path(GMOTION_TESTS_DIR).parent_path().string();
 const std::string kPocket = kRepo + "/programs/pocket.nc";
-fs::path scratch() { return gmtest::scratch_dir("integrity"); }
+fs::path scratch() {
+  return gmtest::scratch_dir("integrity");
+}
 }  // namespace
 
 TEST_CASE("a trace to /dev/full fails with the reason and /dev/full stays a device") {
@@ -31,7 +33,8 @@ TEST_CASE("a trace to /dev/full fails with the reason and /dev/full stays a devi
 TEST_CASE("an unwritable trace path is refused before the run") {
   const auto r = gmtest::run_gmotion("run " + kPocket + " --trace /nonexistent-dir/t.csv");
   CHECK(r.code == 1);
-  CHECK_THAT(r.out, Catch::Contains("cannot write trace '/nonexistent-dir/t.csv': No such file or directory"));
+  CHECK_THAT(r.out, Catch::Contains(
+                        "cannot write trace '/nonexistent-dir/t.csv': No such file or directory"));
   const auto d = gmtest::run_gmotion("run " + kPocket + " --trace " + scratch().string());
   CHECK(d.code == 1);
   CHECK_THAT(d.out, Catch::Contains("it is a directory"));
@@ -60,8 +63,9 @@ TEST_CASE("SIGINT stops the run with a message and removes the partial trace") {
   const fs::path dir = scratch();
   const std::string prog = (dir / "long.nc").string(), trace = (dir / "t.csv").string();
   gmtest::write_long_program(prog);
-  const auto r = gmtest::sh("(" + std::string(GMOTION_BIN) + " run " + prog + " --trace " + trace +
-                            " 2>&1 & pid=$!; sleep 0.5; kill -INT $pid; wait $pid; echo \"exit=$?\")");
+  const auto r =
+      gmtest::sh("(" + std::string(GMOTION_BIN) + " run " + prog + " --trace " + trace +
+                 " 2>&1 & pid=$!; sleep 0.5; kill -INT $pid; wait $pid; echo \"exit=$?\")");
   CHECK_THAT(r.out, Catch::Contains("interrupted at t = "));
   CHECK_THAT(r.out, Catch::Contains("; no trace was kept"));
   CHECK_THAT(r.out, !Catch::Contains("partial trace kept"));

@@ -8,6 +8,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <unistd.h>
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
@@ -16,7 +17,6 @@
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 namespace fs = std::filesystem;
@@ -48,7 +48,9 @@ gm::SampleRecord sample(std::int64_t k) {
   return s;
 }
 using gmtest::slurp;
-fs::path temp_dir() { return gmtest::scratch_dir("trace-test"); }
+fs::path temp_dir() {
+  return gmtest::scratch_dir("trace-test");
+}
 }  // namespace
 
 TEST_CASE("CSV trace: header then one row per sample, renamed into place by finish()") {
@@ -63,15 +65,20 @@ TEST_CASE("CSV trace: header then one row per sample, renamed into place by fini
   }
   const std::string text = slurp(p);
   CHECK(text.rfind("# gmotion ", 0) == 0);
-  CHECK(text.find("\nt_s,line,x_cmd,x_ref,x_enc,x_ferr,y_cmd,y_ref,y_enc,y_ferr,z_cmd,z_ref,z_enc,z_ferr,"
-                  "contour_err,override\n") != std::string::npos);
-  CHECK(text.find("\n0.004000,7,10,9,8,1,-20,-19,-18,-1,3,3,3,0,-1.250,150\n") != std::string::npos);
+  CHECK(text.find(
+            "\nt_s,line,x_cmd,x_ref,x_enc,x_ferr,y_cmd,y_ref,y_enc,y_ferr,z_cmd,z_ref,z_enc,z_ferr,"
+            "contour_err,override\n") != std::string::npos);
+  CHECK(text.find("\n0.004000,7,10,9,8,1,-20,-19,-18,-1,3,3,3,0,-1.250,150\n") !=
+        std::string::npos);
   CHECK_FALSE(fs::exists(p.string() + ".partial"));
 }
 
 TEST_CASE("a writer destroyed without finish() leaves no file behind") {
   const fs::path p = temp_dir() / "abandoned.csv";
-  { gm::TraceWriter w(p.string(), gm::TraceFormat::Csv, meta()); w.write(sample(0)); }
+  {
+    gm::TraceWriter w(p.string(), gm::TraceFormat::Csv, meta());
+    w.write(sample(0));
+  }
   CHECK_FALSE(fs::exists(p));
   CHECK_FALSE(fs::exists(p.string() + ".partial"));
 }
@@ -110,10 +117,12 @@ TEST_CASE("binary trace: magic, header length, fixed little-endian records") {
 }
 
 TEST_CASE("an unwritable trace path is a clear input error") {
-  CHECK_THROWS_AS(gm::TraceWriter("/nonexistent-dir/x.csv", gm::TraceFormat::Csv, meta()), gm::InputError);
+  CHECK_THROWS_AS(gm::TraceWriter("/nonexistent-dir/x.csv", gm::TraceFormat::Csv, meta()),
+                  gm::InputError);
 }
 
-TEST_CASE("the status line: fixed width, padded, one line, cut with '...' between UTF-8 characters") {
+TEST_CASE(
+    "the status line: fixed width, padded, one line, cut with '...' between UTF-8 characters") {
   const std::string done = gm::trace_status_line("complete");
   CHECK(done.size() == gm::kTraceStatusWidth + 1);
   CHECK(done.rfind("# status: complete   ", 0) == 0);
@@ -136,7 +145,9 @@ TEST_CASE("the status line: fixed width, padded, one line, cut with '...' betwee
   CHECK(gm::trace_status_line(exact) == "# status: " + exact + "\n");
 }
 
-TEST_CASE("with a status line the trace says 'partial, run in progress' until finish() writes 'complete' in place") {
+TEST_CASE(
+    "with a status line the trace says 'partial, run in progress' until finish() writes 'complete' "
+    "in place") {
   for (const auto format : {gm::TraceFormat::Csv, gm::TraceFormat::Binary}) {
     const bool bin = format == gm::TraceFormat::Binary;
     DYNAMIC_SECTION((bin ? "binary" : "CSV")) {
@@ -145,16 +156,19 @@ TEST_CASE("with a status line the trace says 'partial, run in progress' until fi
       m.status_line = true;
       const std::string header = gm::trace_header(m);
       const std::size_t first = header.find('\n') + 1;
-      CHECK(header.substr(first, gm::kTraceStatusWidth + 1) == gm::trace_status_line("partial, run in progress"));
+      CHECK(header.substr(first, gm::kTraceStatusWidth + 1) ==
+            gm::trace_status_line("partial, run in progress"));
       auto plain = meta();
-      CHECK(header.substr(0, first) + header.substr(first + gm::kTraceStatusWidth + 1) == gm::trace_header(plain));
+      CHECK(header.substr(0, first) + header.substr(first + gm::kTraceStatusWidth + 1) ==
+            gm::trace_header(plain));
 
       gm::TraceWriter w(p.string(), format, m);
       for (int k = 0; k < 30000; ++k) w.write(sample(k));  // more than 1 MiB: flushed at least once
       const std::string before = slurp(p.string() + ".partial");
       const std::size_t at = (bin ? 12 : 0) + first;
       REQUIRE(before.size() > at + gm::kTraceStatusWidth);
-      CHECK(before.substr(at, gm::kTraceStatusWidth + 1) == gm::trace_status_line("partial, run in progress"));
+      CHECK(before.substr(at, gm::kTraceStatusWidth + 1) ==
+            gm::trace_status_line("partial, run in progress"));
       w.finish();
       CHECK_FALSE(w.open());
       CHECK_FALSE(fs::exists(p.string() + ".partial"));
@@ -168,14 +182,16 @@ TEST_CASE("with a status line the trace says 'partial, run in progress' until fi
         CHECK(after.size() == 12 + hlen + 30000 * rec);
       } else {
         CHECK(after.compare(0, at, header, 0, at) == 0);
-        CHECK(after.compare(at + gm::kTraceStatusWidth + 1, header.size() - at - gm::kTraceStatusWidth - 1, header,
+        CHECK(after.compare(at + gm::kTraceStatusWidth + 1,
+                            header.size() - at - gm::kTraceStatusWidth - 1, header,
                             at + gm::kTraceStatusWidth + 1) == 0);
       }
     }
   }
 }
 
-TEST_CASE("keep_partial() leaves path.partial with the reason in its header and whole rows, never path") {
+TEST_CASE(
+    "keep_partial() leaves path.partial with the reason in its header and whole rows, never path") {
   for (const auto format : {gm::TraceFormat::Csv, gm::TraceFormat::Binary}) {
     const bool bin = format == gm::TraceFormat::Binary;
     DYNAMIC_SECTION((bin ? "binary" : "CSV")) {
@@ -216,7 +232,9 @@ TEST_CASE("keep_partial() leaves path.partial with the reason in its header and 
   }
 }
 
-TEST_CASE("a status line is refused for a trace written in place, and written_in_place() says which are") {
+TEST_CASE(
+    "a status line is refused for a trace written in place, and written_in_place() says which "
+    "are") {
   auto m = meta();
   m.status_line = true;
   CHECK_THROWS_AS(gm::TraceWriter("-", gm::TraceFormat::Csv, m), gm::InputError);
@@ -224,7 +242,8 @@ TEST_CASE("a status line is refused for a trace written in place, and written_in
   CHECK(gm::TraceWriter::written_in_place("-"));
   CHECK(gm::TraceWriter::written_in_place("/dev/null"));
   CHECK_FALSE(gm::TraceWriter::written_in_place((temp_dir() / "new.csv").string()));
-  CHECK_FALSE(gm::TraceWriter::written_in_place(temp_dir().string()));  // a directory: its own error
+  CHECK_FALSE(
+      gm::TraceWriter::written_in_place(temp_dir().string()));  // a directory: its own error
   // Without a status line nothing is kept: the writer goes on, and its destructor removes the file.
   const fs::path p = temp_dir() / "plain.csv";
   {
@@ -237,7 +256,9 @@ TEST_CASE("a status line is refused for a trace written in place, and written_in
   CHECK_FALSE(fs::exists(p));
 }
 
-TEST_CASE("the reader: status(), partial(), and an incomplete last row is left out of partial traces only") {
+TEST_CASE(
+    "the reader: status(), partial(), and an incomplete last row is left out of partial traces "
+    "only") {
   for (const auto format : {gm::TraceFormat::Csv, gm::TraceFormat::Binary}) {
     const bool bin = format == gm::TraceFormat::Binary;
     DYNAMIC_SECTION((bin ? "binary" : "CSV")) {
@@ -250,7 +271,8 @@ TEST_CASE("the reader: status(), partial(), and an incomplete last row is left o
       // What a killed run may leave: the status line of a run in progress and half a row.
       std::string text = slurp(kept);
       const std::size_t at = (bin ? 12 : 0) + gm::trace_header(m).find('\n') + 1;
-      text.replace(at, gm::kTraceStatusWidth + 1, gm::trace_status_line("partial, run in progress"));
+      text.replace(at, gm::kTraceStatusWidth + 1,
+                   gm::trace_status_line("partial, run in progress"));
       text.resize(text.size() - 5);
       const fs::path cut = temp_dir() / (bin ? "cut-killed.bin" : "cut-killed.csv");
       std::ofstream(cut, std::ios::binary) << text;
