@@ -1,7 +1,7 @@
 // Friendly names for the X3 rules an expectation can fail on, and the error they mean.
 #pragma once
 
-#include "interp/error_codes.hpp"
+#include "common/error_codes.hpp"
 
 #include <string_view>
 

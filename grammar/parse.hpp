@@ -2,8 +2,8 @@
 #pragma once
 
 #include "common/diagnostic.hpp"
+#include "common/error_codes.hpp"
 #include "grammar/ast.hpp"
-#include "interp/error_codes.hpp"
 
 #include <string>
 #include <string_view>

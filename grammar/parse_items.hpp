@@ -1,8 +1,8 @@
 // The X3-free entry point into the instantiated grammar (defined in gcode.cpp).
 #pragma once
 
+#include "common/error_codes.hpp"
 #include "grammar/ast.hpp"
-#include "interp/error_codes.hpp"
 
 namespace gm::grammar {
 

@@ -14,7 +14,7 @@ struct SourceLoc {
 
 enum class Severity { Error, Warning, Note };
 
-/// One message about an input file. `code` is a catalogue entry (see interp/error_codes.hpp)
+/// One message about an input file. `code` is a catalogue entry (see common/error_codes.hpp)
 /// for G-code diagnostics, or 0 for others.
 struct Diagnostic {
   Severity severity = Severity::Error;

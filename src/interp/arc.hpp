@@ -1,7 +1,7 @@
 // Arc geometry from the block's words: centre by IJK or R, and the per-controller tolerance rules.
 #pragma once
 
-#include "interp/error_codes.hpp"
+#include "common/error_codes.hpp"
 #include "machine/machine.hpp"
 
 #include <string>

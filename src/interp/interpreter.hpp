@@ -3,9 +3,9 @@
 
 #include "common/axis.hpp"
 #include "common/diagnostic.hpp"
+#include "common/error_codes.hpp"
 #include "grammar/parse.hpp"
 #include "interp/canon.hpp"
-#include "interp/error_codes.hpp"
 #include "machine/machine.hpp"
 
 #include <string>

@@ -1,8 +1,8 @@
 // Test helpers: run a G-code string through the interpreter and collect canon or diagnostics.
 #pragma once
 
+#include "common/error_codes.hpp"
 #include "common/status.hpp"
-#include "interp/error_codes.hpp"
 #include "interp/program.hpp"
 
 #include <sstream>

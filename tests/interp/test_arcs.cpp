@@ -1,7 +1,7 @@
 // Arcs worked by hand: centres, directions, turns, planes, helices, R sign, and the three
 // controllers' end-radius tolerance rules at numbers chosen on either side of each limit.
+#include "common/error_codes.hpp"
 #include "gcode_helpers.hpp"
-#include "interp/error_codes.hpp"
 #include "interp/interpreter.hpp"
 
 #include <catch2/catch.hpp>

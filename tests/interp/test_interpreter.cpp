@@ -1,6 +1,6 @@
 // Interpreter rules: units, distance modes, offsets, feed modes, events, and one test per error.
+#include "common/error_codes.hpp"
 #include "gcode_helpers.hpp"
-#include "interp/error_codes.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -1,4 +1,5 @@
-// The one G-code error catalogue: a code per rule, with short and long text (like grbl report.h).
+// The one G-code error catalogue (grammar and interpreter alike): a code per rule, with short and
+// long text (like grbl report.h).
 #pragma once
 
 #include <array>
