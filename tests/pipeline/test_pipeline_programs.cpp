@@ -141,7 +141,8 @@ TEST_CASE("the paper's circle test: Acc/Dec radius loss matches the analysis, Eq
     CHECK(steady_mean(profile, true, false) == Approx(accdec + servo_alone).margin(1.0));
   }
   // Eq. 35 assumes an ideal velocity loop (31.25 BLU); the paper's loop lags enough to make the
-  // position loop underdamped, and the radius grows slightly instead (docs/paper.md, "The circle test").
+  // position loop underdamped, and the radius grows slightly instead (docs/paper.md, "The circle
+  // test").
   CHECK(servo_alone < 0.0);
   CHECK(servo_alone > -5.0);
 }
