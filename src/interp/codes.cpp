@@ -76,11 +76,15 @@ constexpr std::array kCodes{
 };
 // clang-format on
 
-constexpr std::array<const char*, kGroupCount> kGroupTitles{
-    "non-modal",   "motion",       "plane",       "distance",  "arc distance", "feed mode",
-    "units",       "cutter compensation",         "tool length", "canned cycle return",
-    "work offset", "path control", "exact stop",  "stop",      "tool change",  "spindle",
-    "coolant",     "override"};
+constexpr std::array<const char*, kGroupCount> kGroupTitles{"non-modal",    "motion",
+                                                            "plane",        "distance",
+                                                            "arc distance", "feed mode",
+                                                            "units",        "cutter compensation",
+                                                            "tool length",  "canned cycle return",
+                                                            "work offset",  "path control",
+                                                            "exact stop",   "stop",
+                                                            "tool change",  "spindle",
+                                                            "coolant",      "override"};
 
 // Lookup by number (G and M numbers x 10 below 2000) and by value word, built at compile time.
 constexpr int kMaxNumber10 = 2000;
@@ -105,7 +109,9 @@ constexpr CodeIndex kIndex = make_index();
 
 }  // namespace
 
-std::span<const Code> code_table() { return kCodes; }
+std::span<const Code> code_table() {
+  return kCodes;
+}
 
 const Code* find_code(char letter, int number10) {
   if (number10 < 0 || number10 >= kMaxNumber10) return nullptr;

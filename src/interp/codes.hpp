@@ -66,11 +66,11 @@ struct Code;
 using StepFn = bool (*)(BlockCtx&, const Code&);
 
 struct Code {
-  char letter;          ///< 'G' or 'M'
-  int number10;         ///< code number x 10 (G92.1 = 921, M30 = 300)
-  Group group;          ///< modal group
-  Step step;            ///< when it executes within the block
-  StepFn run;           ///< what it does
+  char letter;                  ///< 'G' or 'M'
+  int number10;                 ///< code number x 10 (G92.1 = 921, M30 = 300)
+  Group group;                  ///< modal group
+  Step step;                    ///< when it executes within the block
+  StepFn run;                   ///< what it does
   std::string_view words = {};  ///< the value words it uses (besides the ones every block may have)
   bool uses_axes = false;       ///< a group 0 code that takes the axis words (G92)
 };
@@ -81,7 +81,9 @@ std::span<const Code> code_table();
 const Code* find_code(char letter, int number10);
 /// "G92.1", "M30".
 std::string code_name(char letter, int number10);
-inline std::string code_name(const Code& c) { return code_name(c.letter, c.number10); }
+inline std::string code_name(const Code& c) {
+  return code_name(c.letter, c.number10);
+}
 /// "motion (G0 G1 G2 G3)": the group's title and its codes from the table.
 std::string group_name(Group g);
 /// True if some code uses value word `letter`.

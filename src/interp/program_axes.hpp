@@ -28,7 +28,8 @@ constexpr int program_axis_index(char letter) {
 inline constexpr std::array<int, kAxes> kMachineAxisIndex = [] {
   std::array<int, kAxes> idx{};
   for (int i = 0; i < kAxes; ++i)
-    idx[static_cast<std::size_t>(i)] = program_axis_index(kAxisLetters[static_cast<std::size_t>(i)]);
+    idx[static_cast<std::size_t>(i)] =
+        program_axis_index(kAxisLetters[static_cast<std::size_t>(i)]);
   return idx;
 }();
 

@@ -8,8 +8,8 @@
 #include <fmt/format.h>
 
 #include <array>
-#include <memory>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 namespace gm {
@@ -17,7 +17,7 @@ namespace gm {
 /// The words of one block, by letter and by modal group (grbl's parser_block_t).
 struct BlockWords {
   std::array<const grammar::Word*, 26> value{};  ///< value words by letter
-  std::array<const Code*, kGroupCount> code{};     ///< the block's code in each group
+  std::array<const Code*, kGroupCount> code{};   ///< the block's code in each group
   std::array<const grammar::Word*, kGroupCount> code_word{};
   std::array<const Code*, kGroupCount> codes{};  ///< the block's codes in the order written
   std::size_t code_count = 0;
@@ -44,10 +44,10 @@ struct BlockCtx {
   ModalState& s;            ///< the copy; committed only if every step succeeds
   std::vector<Canon>& out;  ///< canonical commands of this block are appended
   InterpError& err;
-  const SystemTables& committed;          ///< the tables as before this block
+  const SystemTables& committed;         ///< the tables as before this block
   std::unique_ptr<SystemTables> staged;  ///< this block's changes to them, if any
-  int motion_to_be = -1;    ///< the motion code x 10 this block executes, -1 none
-  double inverse_f = 0.0;   ///< G93: this block's F (1/min)
+  int motion_to_be = -1;                 ///< the motion code x 10 this block executes, -1 none
+  double inverse_f = 0.0;                ///< G93: this block's F (1/min)
 
   /// Sets the error; returns false so a step can `return ctx.fail(...)`.
   bool fail(ErrorCode code, SourceLoc loc, std::string msg) {
@@ -70,8 +70,7 @@ struct BlockCtx {
   }
   /// Sum of the offsets from program to machine coordinates under the block's state, mm.
   Pos9 offset() const {
-    return tables().g5x_mm[static_cast<std::size_t>(s.coord_system)] + s.g92_mm +
-           s.tool_offset_mm;
+    return tables().g5x_mm[static_cast<std::size_t>(s.coord_system)] + s.g92_mm + s.tool_offset_mm;
   }
 };
 
@@ -80,7 +79,9 @@ inline constexpr double kMaxPositionMm = 1e12;
 inline constexpr double kMaxFeedMmMin = 1e12;
 inline constexpr double kMaxToolNumber = 1e6;
 
-inline bool within(double v, double limit) { return std::fabs(v) <= limit; }  // false for NaN
+inline bool within(double v, double limit) {
+  return std::fabs(v) <= limit;
+}  // false for NaN
 inline bool near_integer(double v, double& rounded) {
   rounded = std::round(v);
   return std::fabs(v - rounded) < 1e-6;

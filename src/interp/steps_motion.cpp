@@ -122,8 +122,8 @@ bool axis_target(BlockCtx& ctx, const Pos9& from_mm, Pos9& target_mm) {
     if (!within(target_mm[i], kMaxPositionMm))
       return ctx.fail(
           ErrorCode::ValueOutOfRange, aw->loc,
-          fmt::format("{} would move to {:g} mm (offsets included), outside -{:g}..{:g} mm",
-                      letter, target_mm[i], kMaxPositionMm, kMaxPositionMm));
+          fmt::format("{} would move to {:g} mm (offsets included), outside -{:g}..{:g} mm", letter,
+                      target_mm[i], kMaxPositionMm, kMaxPositionMm));
   }
   return true;
 }
