@@ -13,40 +13,28 @@
                 [--tau 0.164] [--period 0.004] -o fig12.png
       taps and amplitude response of the profiles (the paper's Fig. 11/12).
 
-Binary traces: convert first with tools/gmtrace.py.
+Traces may be CSV or binary (read by tools/gmtrace.py, with the schema of
+src/trace/trace_columns.def).
 """
 import argparse
 import json
 import math
+import os
 import subprocess
 import sys
 
-import matplotlib
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import gmtrace  # noqa: E402  (the trace schema and reader)
+import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
 def read_trace(path):
-    """Returns (header dict, columns dict of lists of floats)."""
-    header, cols, names = {}, None, None
-    with open(path) as f:
-        for line in f:
-            line = line.rstrip("\n")
-            if line.startswith("# "):
-                if ": " in line:
-                    k, v = line[2:].split(": ", 1)
-                    header[k] = v
-                continue
-            if names is None:
-                names = line.split(",")
-                cols = {n: [] for n in names}
-                continue
-            for n, v in zip(names, line.split(",")):
-                cols[n].append(float(v))
-    if names is None or "t_s" not in cols:
-        sys.exit(f"{path}: not a gmotion CSV trace")
-    return header, cols
+    """Returns (header dict, columns dict of lists of floats); CSV or binary (tools/gmtrace.py)."""
+    return gmtrace.read_columns(path)
 
 
 def blu_mm(header):
