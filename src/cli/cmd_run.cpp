@@ -6,6 +6,8 @@
 #include "override/override_schedule.hpp"
 #include "pipeline/pipeline.hpp"
 #include "pipeline/sample_queue.hpp"
+#include "planner/tolerance_check.hpp"
+#include "planner/tolerance_planner.hpp"
 #include "trace/run_summary.hpp"
 #include "trace/trace_writer.hpp"
 
@@ -43,6 +45,8 @@ struct RunFlags {
   bool realtime = false;
   double max_time_s = 0.0;
   bool keep_partial = false;
+  std::optional<double> tolerance_mm;  ///< --tolerance: the machine's path_tolerance_mm
+  bool check_tolerance = false;        ///< --check-tolerance: exit 1 if a sample exceeds it
 };
 
 // A run's trace, held by run()'s caller so that --keep-partial can keep it when the run fails.
@@ -105,6 +109,11 @@ int run(const RunFlags& f, RunTrace& out) {
   RunConfig cfg;
   cfg.machine = resolve_machine(f.machine);
   cfg.servo = !f.machine.no_servo;
+  if (f.tolerance_mm) {
+    if (!(*f.tolerance_mm >= 0.0) || *f.tolerance_mm > 1000.0)
+      throw InputError(fmt::format("--tolerance {} is outside 0..1000 mm", *f.tolerance_mm));
+    cfg.machine.path_tolerance_mm = *f.tolerance_mm;
+  }
   const double max_pct = cfg.machine.max_override * 100.0;
   for (auto [flag, v] : {std::pair{"--override", f.override_pct},
                          std::pair{"--rapid-override", f.rapid_override_pct}})
@@ -127,7 +136,17 @@ int run(const RunFlags& f, RunTrace& out) {
   const bool two_threads = !f.realtime && std::thread::hardware_concurrency() >= 2;
   cfg.defer_contour = two_threads;
   ProgramStream stream(program.rewind(), program.name(), opts);
-  Pipeline pipeline(cfg, stream);
+  // Issue 21: the tolerance planner sits between the interpreter and the interpolator; blocks
+  // without a tolerance pass it unchanged.
+  const FilterMoments moments(
+      design_taps(cfg.machine.profile, cfg.machine.tau_s, cfg.machine.period_s),
+      cfg.machine.period_s);
+  PlannerConfig pcfg;
+  pcfg.max_override = cfg.machine.max_override;
+  pcfg.rapid_mm_min = cfg.machine.rapid_mm_min;
+  pcfg.rounding_mm = cfg.machine.blu_mm().norm();
+  TolerancePlanner planner(moments, pcfg, stream);
+  Pipeline pipeline(cfg, planner);
 
   std::unique_ptr<TraceWriter>& trace = out.writer;
   if (!f.trace_path.empty()) {
@@ -155,8 +174,10 @@ int run(const RunFlags& f, RunTrace& out) {
   if (!f.record_override.empty()) recorder.emplace(f.record_override, cfg.machine.period_s);
   std::optional<ContourMeter> meter;
   if (cfg.defer_contour) meter.emplace(pipeline.contour_meter());
+  ToleranceCheck tolerance_check(cfg.machine.blu_mm().minCoeff());
   auto consume = [&](SampleRecord& r, const Motion* started) {
     if (meter) meter->measure(r, started);
+    tolerance_check.add(r, started);
     summary.add(r);
     if (trace) trace->write(r);
   };
@@ -203,7 +224,7 @@ int run(const RunFlags& f, RunTrace& out) {
     if (queue)
       queue->push(rec, pipeline.started_motion());
     else
-      consume(rec, nullptr);  // step() measured the contour itself
+      consume(rec, pipeline.started_motion());  // step() measured the contour itself
     if (progress && (rec.k & 0xFFFF) == 0 && std::chrono::steady_clock::now() > next_progress) {
       fmt::print(stderr, "\r{}: t = {:.1f} s, line {}   ", program.name(), rec.t_s, rec.line);
       next_progress += std::chrono::seconds(1);
@@ -225,10 +246,16 @@ int run(const RunFlags& f, RunTrace& out) {
              "gmotion run", cfg.machine.name, cfg.machine.profile, cfg.machine.tau_s,
              cfg.machine.period_s, pipeline.taps().integer.size(), cfg.servo ? "on" : "off");
   fmt::print(text_out, "{}", summary.text());
+  fmt::print(text_out, "{}", tolerance_check.text());
   if (!f.summary_json.empty()) {
     std::ofstream js(f.summary_json);
     js << summary.json();
     if (!js) throw InputError(fmt::format("cannot write summary '{}'", f.summary_json));
+  }
+  if (f.check_tolerance && tolerance_check.exceeded()) {
+    fmt::print(stderr, "gmotion run: --check-tolerance: {} samples exceed the tolerance in force\n",
+               tolerance_check.cutting().over + tolerance_check.rapids().over);
+    return static_cast<int>(ExitCode::InputError);
   }
   return complete ? 0 : static_cast<int>(ExitCode::InputError);
 }
@@ -289,6 +316,11 @@ void add_run(CLI::App& app, Context& ctx) {
          "When the run fails, keep the trace written so far as FILE.partial; a '# status:' header "
          "line says whether the trace is complete or why it is partial")
       ->needs(trace);
+  sub->add_option("--tolerance", flags->tolerance_mm,
+                  "Contour tolerance under G64 without P, mm (the machine's path_tolerance_mm; "
+                  "0 = unbounded)");
+  sub->add_flag("--check-tolerance", flags->check_tolerance,
+                "Exit 1 when any sample's contour error exceeds the tolerance in force");
   sub->callback([flags, &ctx] {
     if (flags->keep_partial && TraceWriter::written_in_place(flags->trace_path))
       throw CLI::ValidationError(

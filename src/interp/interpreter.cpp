@@ -433,6 +433,15 @@ bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, 
     s.path_mode = g == 610   ? PathMode::ExactPath
                   : g == 611 ? PathMode::ExactStop
                              : PathMode::Continuous;
+    if (g == 640) {  // G64 P<path tolerance> Q<naive CAM tolerance>, in program units (issue 21)
+      const double u = s.inch ? units::kMmPerInch : 1.0;
+      for (char c : {'P', 'Q'})
+        if (w.has(c) && !(w[c]->value >= 0.0))
+          return rollback() || fail(err, ErrorCode::ValueOutOfRange, w[c]->loc,
+                                    fmt::format("G64 {} must not be negative", c));
+      s.path_tolerance_mm = w.has('P') ? w['P']->value * u : -1.0;
+      s.naive_cam_tolerance_mm = w.has('Q') ? w['Q']->value * u : 0.0;
+    }
   }
   if (w.has_g(kGDistance)) s.incremental = w.gv(kGDistance) == 910;
   if (w.has_g(kGIjkDistance)) s.ijk_absolute = w.gv(kGIjkDistance) == 901;
@@ -504,6 +513,11 @@ bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, 
     mo.end_mm = target;
     mo.plane = s.plane;
     mo.path_mode = w.has_g(kGExactStop) ? PathMode::ExactStop : s.path_mode;
+    if (mo.path_mode == PathMode::Continuous) {
+      mo.path_tolerance_mm =
+          s.path_tolerance_mm >= 0.0 ? s.path_tolerance_mm : machine_.path_tolerance_mm;
+      mo.naive_cam_tolerance_mm = s.naive_cam_tolerance_mm;
+    }
     mo.kind = motion_to_be == 0   ? MotionKind::Rapid
               : motion_to_be == 1 ? MotionKind::Line
                                   : MotionKind::Arc;

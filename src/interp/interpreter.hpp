@@ -30,8 +30,10 @@ struct ModalState {
   bool ijk_absolute = false;  ///< G90.1 (default G91.1)
   bool inverse_time = false;  ///< G93
   PathMode path_mode = PathMode::Continuous;
-  int coord_system = 0;      ///< 0..5 = G54..G59
-  double feed_mm_min = 0.0;  ///< G94 feed; 0 = none yet
+  double path_tolerance_mm = -1.0;      ///< G64 P in mm; < 0: G64 without P (the machine's)
+  double naive_cam_tolerance_mm = 0.0;  ///< G64 Q in mm
+  int coord_system = 0;                 ///< 0..5 = G54..G59
+  double feed_mm_min = 0.0;             ///< G94 feed; 0 = none yet
   AxisVec g92_mm = AxisVec::Zero();
   double tool_length_mm = 0.0;            ///< G43 length, applied to Z
   int tool_selected = 0;                  ///< T
