@@ -12,8 +12,7 @@ namespace gm {
 FilterMoments::FilterMoments(const Taps& taps, double period_s) : period_s_(period_s) {
   if (taps.integer.empty() || taps.b_s <= 0) throw InputError("filter moments need taps");
   h_.reserve(taps.integer.size());
-  for (auto b : taps.integer)
-    h_.push_back(static_cast<double>(b) / static_cast<double>(taps.b_s));
+  for (auto b : taps.integer) h_.push_back(static_cast<double>(b) / static_cast<double>(taps.b_s));
   for (std::size_t i = 0; i < h_.size(); ++i) centre_ += static_cast<double>(i) * h_[i];
   for (std::size_t i = 0; i < h_.size(); ++i) {
     const double d = (static_cast<double>(i) - centre_) * period_s_;

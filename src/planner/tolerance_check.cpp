@@ -31,7 +31,8 @@ void ToleranceCheck::add(const SampleRecord& r, const Motion* started) {
 std::string ToleranceCheck::text() const {
   if (!judged()) return "";
   std::string s;
-  for (const auto& [name, w] : {std::pair{"cutting (G1/G2/G3)", &cut_}, std::pair{"rapids (G0)", &rapid_}}) {
+  for (const auto& [name, w] :
+       {std::pair{"cutting (G1/G2/G3)", &cut_}, std::pair{"rapids (G0)", &rapid_}}) {
     if (w->samples == 0) {
       s += fmt::format("  tolerance {}: no sample under a tolerance\n", name);
       continue;

@@ -1,4 +1,5 @@
-// Verifies a run against the tolerance in force: worst contour error per line, cuts and rapids apart.
+// Verifies a run against the tolerance in force: worst contour error per line, cuts and rapids
+// apart.
 #pragma once
 
 #include "common/axis.hpp"

@@ -269,7 +269,8 @@ void TolerancePlanner::emit_front() {
     double cap = kInf;
     for (const Element& e : elems_) {
       if (!e.decided || !(e.cap < kInf)) continue;
-      const bool covers = is_arc ? (e.z0 < c && e.z1 > a) : (e.z0 <= 0.5 * (a + c) && 0.5 * (a + c) <= e.z1);
+      const bool covers =
+          is_arc ? (e.z0 < c && e.z1 > a) : (e.z0 <= 0.5 * (a + c) && 0.5 * (a + c) <= e.z1);
       if (covers) cap = std::min(cap, e.cap);
     }
     if (!pieces.empty() && pieces.back().cap == cap)

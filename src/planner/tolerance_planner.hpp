@@ -77,18 +77,18 @@ class TolerancePlanner : public CanonSource {
     double t0 = 0, t1 = 0;  ///< extent in fastest travel time
     double s0 = 0, s1 = 0;  ///< extent in path length
     double tol_mm = 0;
-    double turn = 0;     ///< corner: |u_after − u_before| = 2 sin(φ/2)
-    double kappa = 0;    ///< arc: curvature bound, 1/mm
-    double pause0 = 0;   ///< corner: pause already there (dwells)
-    double vmax = 0;     ///< fastest adjacent speed
-    double v100 = 0;     ///< adjacent speed at 100 %
+    double turn = 0;    ///< corner: |u_after − u_before| = 2 sin(φ/2)
+    double kappa = 0;   ///< arc: curvature bound, 1/mm
+    double pause0 = 0;  ///< corner: pause already there (dwells)
+    double vmax = 0;    ///< fastest adjacent speed
+    double v100 = 0;    ///< adjacent speed at 100 %
     bool decided = false;
-    double cap = 0;      ///< mm/s; infinity = none
-    double pause = 0;    ///< corner: total pause at the vertex
+    double cap = 0;         ///< mm/s; infinity = none
+    double pause = 0;       ///< corner: total pause at the vertex
     double z0 = 0, z1 = 0;  ///< zone in path length where the cap applies
   };
 
-  void pull();                  ///< one item from upstream into the window
+  void pull();  ///< one item from upstream into the window
   bool lookahead_enough() const;
   void decide(Element& e);
   double zone_back(double s_from, double time_s, double cap) const;

@@ -142,8 +142,8 @@ TEST_CASE("arc: steady radius loss of the real FIR equals Eq. 13/14 and stays be
         in[1] = std::llround(R * std::sin(wT * k));
         fir.step(in, out);
         if (k > 2 * n)
-          worst = std::max(worst, R - std::hypot(static_cast<double>(out[0]) + R,
-                                                 static_cast<double>(out[1])));
+          worst = std::max(
+              worst, R - std::hypot(static_cast<double>(out[0]) + R, static_cast<double>(out[1])));
       }
       CAPTURE(prof, wT);
       const double v = R * wT / 0.004;  // BLU per second

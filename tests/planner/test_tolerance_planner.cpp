@@ -8,8 +8,8 @@
 #include "planner/tolerance_check.hpp"
 #include "planner/tolerance_planner.hpp"
 
-#include <catch2/catch.hpp>
 #include <fmt/format.h>
+#include <catch2/catch.hpp>
 
 #include <cmath>
 #include <random>
@@ -111,8 +111,8 @@ TEST_CASE("without a tolerance the planner hands on the interpreter's canon unch
 TEST_CASE("G64 P reaches the canon in mm, G64 alone takes the machine's tolerance") {
   gm::Machine m;
   m.path_tolerance_mm = 0.02;
-  const auto c = canon_of("G20 G64 P0.001\nG1 X1 F10\nG21 G64\nG1 X30\nG64 P0\nG1 X40\nM2\n", m,
-                          false);
+  const auto c =
+      canon_of("G20 G64 P0.001\nG1 X1 F10\nG21 G64\nG1 X30\nG64 P0\nG1 X40\nM2\n", m, false);
   std::vector<double> tol;
   for (const auto& x : c)
     if (const auto* mo = std::get_if<gm::Motion>(&x)) tol.push_back(mo->path_tolerance_mm);
@@ -190,8 +190,8 @@ TEST_CASE("property: random programs hold G64 P on every sample under random ove
         x = r6(cx + rr * std::cos(a1)), y = r6(cy + rr * std::sin(a1));
         std::string zw;
         if (U(rng) < 0.3) z = r6(z + (U(rng) - 0.5) * 4), zw = fmt::format(" Z{}", g(z));
-        text += fmt::format("G{} X{} Y{}{} I{} J{} F{}\n", U(rng) < 0.5 ? 2 : 3, g(x), g(y), zw, g(i_off),
-                            g(j_off), feed);
+        text += fmt::format("G{} X{} Y{}{} I{} J{} F{}\n", U(rng) < 0.5 ? 2 : 3, g(x), g(y), zw,
+                            g(i_off), g(j_off), feed);
         ++arcs;
       }
     }
@@ -225,17 +225,18 @@ TEST_CASE("property: random programs hold G64 P on every sample under random ove
     capped += o.stats.capped_pieces;
   }
   // What the run covered (printed with -s; figures in docs/tolerance.md).
-  INFO(fmt::format("{} programs: {} lines, {} arcs, {} rapids; {} cutting + {} rapid samples "
-                   "judged; worst error {:.0f} % of the tolerance; {} corners paused, {} pieces "
-                   "capped",
-                   kPrograms, lines, arcs, rapids, samples, rapid_samples, 100 * worst_ratio,
-                   paused, capped));
+  INFO(fmt::format(
+      "{} programs: {} lines, {} arcs, {} rapids; {} cutting + {} rapid samples "
+      "judged; worst error {:.0f} % of the tolerance; {} corners paused, {} pieces "
+      "capped",
+      kPrograms, lines, arcs, rapids, samples, rapid_samples, 100 * worst_ratio, paused, capped));
   CHECK(worst_ratio <= 1.0);
   CHECK(samples > 100000);
   CHECK(rapid_samples > 1000);
   CHECK(paused > 0);
   CHECK(capped > 0);
-  WARN(fmt::format("{} programs, {} cutting + {} rapid samples, worst {:.1f} % of tolerance, "
-                   "{} paused corners, {} capped pieces",
-                   kPrograms, samples, rapid_samples, 100 * worst_ratio, paused, capped));
+  WARN(
+      fmt::format("{} programs, {} cutting + {} rapid samples, worst {:.1f} % of tolerance, "
+                  "{} paused corners, {} capped pieces",
+                  kPrograms, samples, rapid_samples, 100 * worst_ratio, paused, capped));
 }
