@@ -9,44 +9,32 @@
       plot (the paper's Fig. 13: the same circle through several profiles).
   plot_trace.py motion TRACE.csv -o motion.png
       per-axis velocity, acceleration and jerk of the Acc/Dec output against time.
-  plot_trace.py response --gmotion build/bin/gmotion [--profiles linear,scurve1,scurve2,blackman]
+  plot_trace.py response --gmotion build/bin/gmotion [--profiles P1,P2,...]
                 [--tau 0.164] [--period 0.004] -o fig12.png
       taps and amplitude response of the profiles (the paper's Fig. 11/12).
 
-Binary traces: convert first with tools/gmtrace.py.
+Traces may be CSV or binary (read by tools/gmtrace.py, with the schema of
+src/trace/trace_columns.def).
 """
 import argparse
 import json
 import math
+import os
 import subprocess
 import sys
 
-import matplotlib
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import gmtrace  # noqa: E402  (the trace schema and reader)
+import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
 def read_trace(path):
-    """Returns (header dict, columns dict of lists of floats)."""
-    header, cols, names = {}, None, None
-    with open(path) as f:
-        for line in f:
-            line = line.rstrip("\n")
-            if line.startswith("# "):
-                if ": " in line:
-                    k, v = line[2:].split(": ", 1)
-                    header[k] = v
-                continue
-            if names is None:
-                names = line.split(",")
-                cols = {n: [] for n in names}
-                continue
-            for n, v in zip(names, line.split(",")):
-                cols[n].append(float(v))
-    if names is None or "t_s" not in cols:
-        sys.exit(f"{path}: not a gmotion CSV trace")
-    return header, cols
+    """Returns (header dict, columns dict of lists of floats); CSV or binary (tools/gmtrace.py)."""
+    return gmtrace.read_columns(path)
 
 
 def blu_mm(header):
@@ -145,9 +133,17 @@ def plot_motion(args):
     fig.savefig(args.output, dpi=args.dpi)
 
 
+def paper_profiles(gmotion):
+    """The paper's profiles, from gmotion's profile registry (`design --list-profiles`)."""
+    out = subprocess.run([gmotion, "design", "--list-profiles"], check=True, capture_output=True,
+                         text=True).stdout
+    return [line.split("\t")[0] for line in out.splitlines() if line.split("\t")[2] == "paper"]
+
+
 def plot_response(args):
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.5))
-    for p in args.profiles.split(","):
+    profiles = args.profiles.split(",") if args.profiles else paper_profiles(args.gmotion)
+    for p in profiles:
         out = subprocess.run([args.gmotion, "analyze", "response", "--profile", p, "--tau", str(args.tau),
                               "--period", str(args.period), "--points", "400", "--json"],
                              check=True, capture_output=True, text=True).stdout
@@ -182,7 +178,7 @@ def main():
     m.add_argument("trace")
     s = sub.add_parser("response")
     s.add_argument("--gmotion", default="build/bin/gmotion")
-    s.add_argument("--profiles", default="linear,scurve1,scurve2,blackman")
+    s.add_argument("--profiles", default="", help="comma-separated; default: the paper's four (from gmotion)")
     s.add_argument("--tau", type=float, default=0.164)
     s.add_argument("--period", type=float, default=0.004)
     for q in (p, r, m, s):

@@ -1,5 +1,4 @@
-// Parsing of an Acc/Dec profile spec string ("blackman", "kaiser:6@max", "custom:0.5,1,2,1,0.5",
-// ...).
+// A parsed Acc/Dec profile spec ("blackman", "kaiser:6@max", "custom:0.5,1,2,1,0.5", ...).
 #pragma once
 
 #include <string>
@@ -8,49 +7,39 @@
 
 namespace gm {
 
-/// The profile families of the paper (sections 2, 4, 5) plus a few window and cascade variants.
-enum class ProfileKind {
-  Linear,   ///< b_i = 1 (moving average, Eq. 15)
-  SCurve1,  ///< s(t) = 3t^2 - 2t^3 mapped by Eq. 20/22a/23
-  SCurve2,  ///< s(t) = 10t^3 - 15t^4 + 6t^5 mapped by Eq. 21/22b/23
-  Window,   ///< windowed ideal low-pass (Matlab fir1), section 5 step 2
-  Custom,   ///< user taps b_0..b_N (e.g. the paper's Fig. 5d: 0.5,1,2,1,0.5)
-  Cascade   ///< convolution of moving averages of lengths L1, L2, ...
-};
-
-/// Window used by ProfileKind::Window (symmetric, N+1 points, as Matlab
-/// blackman/hann/hamming/kaiser).
-enum class WindowKind { Blackman, Hann, Hamming, Kaiser };
+struct ProfileRow;  // accdec/profiles.hpp: one row of the profile registry
 
 /// How the cutoff of a window design is chosen.
 enum class CutoffRule {
   Paper,      ///< Eq. 25: w = 2/(N+1) (the default)
-  MaxNonNeg,  ///< "@max": the largest cutoff that keeps every tap >= 0 (closed form, see taps.cpp)
+  MaxNonNeg,  ///< "@max": the largest cutoff that keeps every tap >= 0 (closed form, window.cpp)
   Explicit    ///< "@0.05": the given value, normalised to Nyquist, in (0, 1]
 };
 
-/// Most moving averages a cascade profile may chain (each at most kMaxAccDecTaps long).
-inline constexpr int kMaxCascadeStages = 16;
-
-/// A parsed profile spec; only the members of its kind are meaningful.
+/// A parsed profile spec: its registry row and the parameters written after the name.
 struct ProfileSpec {
-  std::string text;  ///< the spec as given
-  ProfileKind kind = ProfileKind::Linear;
-  WindowKind window = WindowKind::Blackman;
-  double kaiser_beta = 0.0;
+  std::string text;                 ///< the spec as given
+  const ProfileRow* row = nullptr;  ///< never null after parse_profile_spec
+  std::vector<double> args;         ///< the ':' argument: kaiser's beta, custom taps, lengths
   CutoffRule cutoff_rule = CutoffRule::Paper;
-  double cutoff = 0.0;               ///< for CutoffRule::Explicit
-  std::vector<double> custom_taps;   ///< for Custom (raw, not normalised)
-  std::vector<int> cascade_lengths;  ///< for Cascade (each >= 1)
+  double cutoff = 0.0;  ///< for CutoffRule::Explicit
 
-  /// Number of taps fixed by the spec itself (Custom, Cascade), else 0 (taps follow tau/T).
+  /// Number of taps fixed by the spec itself (custom, cascade), else 0 (taps follow tau/T).
   int fixed_length() const;
+  /// The registry name ("blackman", "custom", ...).
+  std::string_view name() const;
 };
 
-/// Parses `spec`:
-///   linear | scurve1 | scurve2 | blackman[@C] | hann[@C] | hamming[@C] | kaiser:BETA[@C]
-///   | custom:b0,b1,... | cascade:L1,L2,...        where C = a cutoff in (0,1] or "max".
+/// Parses `spec` as NAME[:ARG][@C] against the profile registry (accdec/profiles.cpp), where
+/// C = a cutoff in (0,1] or "max" for the profiles that take one.
 /// Throws gm::InputError naming the bad part and listing the accepted forms.
 ProfileSpec parse_profile_spec(std::string_view spec);
+
+/// Helpers for the registry rows' argument parsers.
+[[noreturn]] void profile_spec_error(std::string_view spec, const std::string& why);
+/// A whole string as a finite double, or profile_spec_error naming `what`.
+double parse_profile_number(std::string_view spec, std::string_view s, std::string_view what);
+/// "a,b,c" split at the commas (empty parts kept, so they can be rejected).
+std::vector<std::string_view> split_profile_list(std::string_view s);
 
 }  // namespace gm

@@ -1,8 +1,9 @@
-// Tap design: linear, S-curves (Eq. 20-23), fir1 window designs (Eq. 24-25), custom, cascades.
+// Tap design (Eq. 24, Step 3): tau/T taps from the profile's registry row, normalised and made
+// integer.
 #include "accdec/taps.hpp"
 
 #include "accdec/profile_spec.hpp"
-#include "accdec/window.hpp"
+#include "accdec/profiles.hpp"
 #include "common/status.hpp"
 #include "machine/machine.hpp"
 
@@ -18,30 +19,6 @@ namespace gm {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-// Eq. 22a/23: b_{k-1} ∝ a'[k] = 6(k/n) - 6(k/n)^2 = 6k(n-k)/n^2, k = 1..n -> raw k(n-k).
-// Eq. 22b/23: b_{k-1} ∝ a'[k] = 30(k/n)^2 - 60(k/n)^3 + 30(k/n)^4 = 30k^2(n-k)^2/n^4 -> k^2(n-k)^2.
-// The raw taps are exact integers (as doubles), so Step 3 keeps the shape exactly for small n.
-// Note Eq. 23 samples a'(t) at t = k/n, k = 1..n: the last tap a'(1) is 0, the first is not.
-std::vector<double> scurve_taps(int n, int degree) {
-  std::vector<double> b(static_cast<std::size_t>(n));
-  for (int k = 1; k <= n; ++k) {
-    const double p = static_cast<double>(k) * static_cast<double>(n - k);
-    b[static_cast<std::size_t>(k - 1)] = degree == 1 ? p : p * p;
-  }
-  return b;
-}
-
-std::vector<double> cascade_taps(const std::vector<int>& lengths) {
-  std::vector<double> b{1.0};
-  for (int len : lengths) {
-    std::vector<double> c(b.size() + static_cast<std::size_t>(len) - 1, 0.0);
-    for (std::size_t i = 0; i < b.size(); ++i)
-      for (int j = 0; j < len; ++j) c[i + static_cast<std::size_t>(j)] += b[i];
-    b = std::move(c);
-  }
-  return b;
-}
 
 std::vector<double> normalised(std::vector<double> b) {
   double sum = 0;
@@ -121,43 +98,7 @@ Taps design_taps(std::string_view profile_spec, double tau_s, double period_s) {
                     "(tau/T = {})",
                     spec.text, fixed, fixed, fixed * period_s, tau_s, n));
 
-  std::vector<double> raw;
-  switch (spec.kind) {
-    case ProfileKind::Linear:
-      raw.assign(static_cast<std::size_t>(n), 1.0);
-      break;
-    case ProfileKind::SCurve1:
-    case ProfileKind::SCurve2:
-      if (n < 2)
-        throw InputError(
-            fmt::format("profile '{}' needs tau >= 2T (its last tap a'(1) is 0); "
-                        "got tau = {} s, T = {} s",
-                        spec.text, tau_s, period_s));
-      raw = scurve_taps(n, spec.kind == ProfileKind::SCurve1 ? 1 : 2);
-      break;
-    case ProfileKind::Window: {
-      const auto w = make_window(spec.window, n, spec.kaiser_beta);
-      t.max_nonneg_cutoff = max_nonnegative_cutoff(spec.window, t.N);
-      t.cutoff = spec.cutoff_rule == CutoffRule::Paper       ? std::min(1.0, 2.0 / n)
-                 : spec.cutoff_rule == CutoffRule::MaxNonNeg ? t.max_nonneg_cutoff
-                                                             : spec.cutoff;
-      raw = fir1_lowpass(t.N, t.cutoff, w);
-      double sum = 0;
-      for (double v : raw) sum += v;
-      if (!(sum > 0))
-        throw InputError(
-            fmt::format("profile '{}' with N = {} has all-zero taps (the window "
-                        "vanishes); use a larger tau (got tau = {} s, T = {} s)",
-                        spec.text, t.N, tau_s, period_s));
-      break;
-    }
-    case ProfileKind::Custom:
-      raw = spec.custom_taps;
-      break;
-    case ProfileKind::Cascade:
-      raw = cascade_taps(spec.cascade_lengths);
-      break;
-  }
+  const std::vector<double> raw = spec.row->design(spec, TapRequest{n, tau_s, period_s}, t);
   for (std::size_t i = 0; i < raw.size(); ++i)
     if (raw[i] < 0)
       throw InputError(fmt::format(

@@ -2,11 +2,13 @@
 // design.
 #pragma once
 
-#include "accdec/profile_spec.hpp"
-
 #include <vector>
 
 namespace gm {
+
+/// Window functions of the window designs (symmetric, N+1 points, as Matlab
+/// blackman/hann/hamming/kaiser).
+enum class WindowKind { Blackman, Hann, Hamming, Kaiser };
 
 /// The symmetric window w[0..M-1] (M >= 1; M == 1 gives {1}):
 ///  blackman 0.42 - 0.5cos(2πn/(M-1)) + 0.08cos(4πn/(M-1)), hann 0.5 - 0.5cos(2πn/(M-1)),

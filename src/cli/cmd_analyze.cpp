@@ -53,7 +53,7 @@ struct ResponseOptions {
 void run_radius(const RadiusOptions& o) {
   if (!(o.radius_mm > 0)) throw InputError(fmt::format("--radius {} mm must be > 0", o.radius_mm));
   const Taps t = design_taps(o.profile, o.tau_s, o.period_s);
-  const bool linear = parse_profile_spec(o.profile).kind == ProfileKind::Linear;
+  const bool linear = parse_profile_spec(o.profile).name() == "linear";
   struct Row {
     double feed, sampled, cont, approx;
   };

@@ -1,6 +1,7 @@
 // gmotion compare: one program through several Acc/Dec profiles, measured against the analysis
 // (the paper's circle test: Fig. 13, Eq. 34/35).
 #include "accdec/analysis.hpp"
+#include "accdec/profiles.hpp"
 #include "cli/commands.hpp"
 #include "cli/run_setup.hpp"
 #include "common/status.hpp"
@@ -8,6 +9,7 @@
 #include "trace/run_summary.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <cmath>
 #include <limits>
@@ -22,7 +24,7 @@ namespace {
 struct CompareFlags {
   std::string program;
   MachineFlags machine;
-  std::vector<std::string> profiles{"linear", "scurve1", "scurve2", "blackman"};
+  std::vector<std::string> profiles = paper_profiles();
   bool json = false;
 };
 
@@ -177,7 +179,10 @@ void add_compare(CLI::App& app, Context& ctx) {
       "compare", "Run a program through several Acc/Dec profiles and tabulate radius loss");
   sub->add_option("program", flags->program, "G-code program, or - for stdin")->required();
   add_machine_flags(sub, flags->machine);
-  sub->add_option("--profiles", flags->profiles, "Comma-separated profiles")->delimiter(',');
+  sub->add_option("--profiles", flags->profiles,
+                  "Comma-separated profiles; default: the paper's (" +
+                      fmt::format("{}", fmt::join(paper_profiles(), ",")) + ")")
+      ->delimiter(',');
   sub->add_flag("--json", flags->json, "Print the table as JSON");
   sub->callback([flags, &ctx] { ctx.exit_code = compare(*flags); });
 }

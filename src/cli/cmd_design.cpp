@@ -2,6 +2,7 @@
 #include "accdec/analysis.hpp"
 #include "accdec/design_procedure.hpp"
 #include "accdec/profile_spec.hpp"
+#include "accdec/profiles.hpp"
 #include "accdec/taps.hpp"
 #include "cli/commands.hpp"
 
@@ -25,6 +26,7 @@ struct DesignOptions {
   DesignLimits limits;
   int max_attempts = 2000;
   bool json = false;
+  bool list_profiles = false;
 };
 
 // A JSON number (shortest round-trip form), or null when not finite.
@@ -163,9 +165,7 @@ void add_design(CLI::App& app, Context& ctx) {
                               "initial Acc/Dec time constant tau = (N+1)T, s "
                               "(custom/cascade: defaults to taps x T)")
                   ->capture_default_str();
-  sub->add_option("--profile", o->profile,
-                  "linear | scurve1 | scurve2 | blackman[@C] | hann[@C] | hamming[@C] | "
-                  "kaiser:BETA[@C] | custom:b0,b1,... | cascade:L1,L2,...  (C = cutoff or max)")
+  sub->add_option("--profile", o->profile, profile_forms(" | ") + "  (C = cutoff or max)")
       ->capture_default_str();
   sub->add_option("--vmax", o->limits.v_max_m_s, "velocity limit V_max, m/s")
       ->capture_default_str();
@@ -180,7 +180,15 @@ void add_design(CLI::App& app, Context& ctx) {
   sub->add_option("--max-attempts", o->max_attempts, "give up after this many tau values")
       ->capture_default_str();
   sub->add_flag("--json", o->json, "print one JSON object instead of the table");
+  sub->add_flag("--list-profiles", o->list_profiles,
+                "print the profile registry (form, paper's set or not, taps) and exit");
   sub->callback([o, tau, &ctx] {
+    if (o->list_profiles) {
+      for (const ProfileRow& r : profile_rows())
+        fmt::print("{}\t{}\t{}\t{}\n", r.name, r.form, r.paper ? "paper" : "-", r.help);
+      ctx.exit_code = 0;
+      return;
+    }
     if (tau->count() == 0) {
       // Fixed-length profiles define tau themselves.
       if (const int fixed = parse_profile_spec(o->profile).fixed_length(); fixed > 0)

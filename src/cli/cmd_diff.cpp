@@ -2,6 +2,7 @@
 #include "cli/commands.hpp"
 #include "common/status.hpp"
 #include "trace/trace_reader.hpp"
+#include "trace/trace_schema.hpp"
 
 #include <fmt/format.h>
 
@@ -21,12 +22,11 @@ struct DiffFlags {
   std::vector<std::string> columns;
 };
 
-// The printing resolution of a column in the CSV format: differences below it are not real.
+// The printing resolution of a column in the CSV format (the schema's): differences below it
+// are not real.
 double resolution(const std::string& column) {
-  if (column == "t_s") return 1e-6;
-  if (column == "contour_err") return 1e-3;
-  if (column == "override") return 1e-4;
-  return 0.0;
+  const TraceColumn* c = find_trace_column(column);
+  return c != nullptr ? c->csv_resolution : 0.0;
 }
 
 // Why a partial trace (`run --keep-partial`) stopped, from its status line.

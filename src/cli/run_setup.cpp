@@ -1,6 +1,7 @@
 // Shared set-up of the pipeline commands: machine resolution and program input.
 #include "cli/run_setup.hpp"
 
+#include "accdec/profiles.hpp"
 #include "common/status.hpp"
 #include "machine/machine_file.hpp"
 
@@ -20,7 +21,7 @@ void add_machine_flags(CLI::App* sub, MachineFlags& f) {
   sub->add_option("--machine", f.machine_file,
                   "Machine file (TOML); default: the built-in 3-axis machine");
   sub->add_option("--profile", f.profile,
-                  "Acc/Dec profile: linear, scurve1, scurve2, blackman, hann, ...");
+                  "Acc/Dec profile: " + profile_forms(" | ") + " (C = cutoff or max)");
   sub->add_option("--tau", f.tau_s, "Acc/Dec time constant tau = (N+1)T, seconds");
   sub->add_option("--period", f.period_s, "Interpolation period T, seconds");
   sub->add_option("--blu", f.blu_mm, "Basic length unit of every axis, mm");

@@ -40,7 +40,7 @@ struct AxisConfig {
   double backlash_blu = 0.0;  ///< lost motion (off by default)
   double coulomb_N = 0.0;     ///< Coulomb friction (off by default)
 
-  // --- Unit mapping of the servo model (see src/servo/servo_axis.hpp and the README). ---
+  // --- Unit mapping of the servo model (see src/servo/servo_axis.hpp and docs/servo.md). ---
   /// Motor velocity in BLU/s per unit of plant output (the plant's velocity unit is not given by
   /// the paper). With kv_period_s = 4 ms the velocity feedback gain is 34000*0.004 = 136 counts
   /// per sample per plant unit: the loop gain at which the paper's x and y gains are critically

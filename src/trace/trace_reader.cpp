@@ -3,6 +3,7 @@
 
 #include "common/axis.hpp"
 #include "common/status.hpp"
+#include "trace/trace_schema.hpp"
 
 #include <fmt/format.h>
 
@@ -94,10 +95,16 @@ TraceReader::TraceReader(const std::string& path) : path_(path) {
     throw InputError(
         fmt::format("{}: binary trace without a valid '# period_s:' header line", path));
   partial_ = status().rfind("partial", 0) == 0;
-  // int64 k, int32 line, int64 per (column - 4), then two doubles (see trace_writer.cpp).
-  if (binary_ && columns_.size() < 4)
-    throw InputError(fmt::format("{}: binary trace with only {} columns", path, columns_.size()));
-  if (binary_) record_.resize(8 + 4 + 8 * (columns_.size() - 4) + 8 * 2);
+  // Each column's field as the schema defines it (trace_columns.def).
+  std::size_t bytes = 0;
+  for (const std::string& c : columns_) {
+    const TraceColumn* col = find_trace_column(c);
+    if (binary_ && col == nullptr)
+      throw InputError(fmt::format("{}: binary trace with an unknown column '{}'", path, c));
+    kinds_.push_back(col != nullptr ? col->kind : TraceKind::Fixed3);
+    bytes += trace_binary_bytes(kinds_.back());
+  }
+  if (binary_) record_.resize(bytes);
 }
 
 TraceReader::~TraceReader() {
@@ -128,22 +135,33 @@ bool TraceReader::next(std::vector<double>& values) {
       throw InputError(fmt::format("{}: record {} is truncated", path_, row_ + 1));
     }
     const char* r = record_.data();
-    const std::size_t ints = columns_.size() - 4;
-    std::int64_t k = 0;
-    std::int32_t line = 0;
-    std::memcpy(&k, r, 8);
-    std::memcpy(&line, r + 8, 4);
-    for (std::size_t i = 0; i < ints; ++i) {
-      std::int64_t v = 0;
-      std::memcpy(&v, r + 12 + 8 * i, 8);
-      values[2 + i] = static_cast<double>(v);
+    for (std::size_t i = 0; i < columns_.size(); ++i) {
+      switch (kinds_[i]) {
+        case TraceKind::Time: {
+          std::int64_t k = 0;
+          std::memcpy(&k, r, 8);
+          values[i] = static_cast<double>(k) * period_s_;
+          break;
+        }
+        case TraceKind::Line: {
+          std::int32_t v = 0;
+          std::memcpy(&v, r, 4);
+          values[i] = v;
+          break;
+        }
+        case TraceKind::Count: {
+          std::int64_t v = 0;
+          std::memcpy(&v, r, 8);
+          values[i] = static_cast<double>(v);
+          break;
+        }
+        case TraceKind::Fixed3:
+        case TraceKind::Percent:
+          std::memcpy(&values[i], r, 8);
+          break;
+      }
+      r += trace_binary_bytes(kinds_[i]);
     }
-    double tail[2] = {0, 0};
-    std::memcpy(tail, r + 12 + 8 * ints, 16);
-    values[0] = static_cast<double>(k) * period_s_;
-    values[1] = line;
-    values[columns_.size() - 2] = tail[0];
-    values[columns_.size() - 1] = tail[1];
     ++row_;
     return true;
   }

@@ -1,6 +1,8 @@
 // Reads a gmotion trace (CSV or binary, detected by its magic) one row at a time.
 #pragma once
 
+#include "trace/trace_schema.hpp"
+
 #include <cstdint>
 #include <cstdio>
 #include <string>
@@ -45,7 +47,8 @@ class TraceReader {
   std::vector<std::string> header_;
   std::vector<std::string> columns_;
   std::string line_;
-  std::vector<char> record_;  ///< one binary record
+  std::vector<char> record_;      ///< one binary record
+  std::vector<TraceKind> kinds_;  ///< per column, from the schema
   bool partial_ = false;
   bool dropped_tail_ = false;
   std::int64_t row_ = 0;

@@ -2,6 +2,8 @@
 #include "trace/trace_writer.hpp"
 
 #include "trace/csv_number.hpp"
+#include "trace/trace_row.hpp"
+#include "trace/trace_schema.hpp"
 
 #include "common/status.hpp"
 
@@ -17,11 +19,16 @@ namespace {
 
 constexpr std::size_t kFlushBytes = 1u << 20;
 constexpr char kBinaryMagic[8] = {'G', 'M', 'T', 'R', 'A', 'C', 'E', '1'};
-constexpr std::int64_t kBinaryRow = 8 + 4 + 4 * 8 * kAxes + 8 + 8;  ///< bytes of a binary row
 
-char lower(char c) {
-  return static_cast<char>(c - 'A' + 'a');
+// Bytes of a binary row (the schema's fields, the axis columns once per axis).
+constexpr std::int64_t binary_row_bytes() {
+  std::int64_t n = 0;
+  for (const TraceColumn& c : kTraceColumns)
+    n += static_cast<std::int64_t>(trace_binary_bytes(c.kind)) *
+         (c.section == TraceSection::Axis ? kAxes : 1);
+  return n;
 }
+constexpr std::int64_t kBinaryRow = binary_row_bytes();
 
 template <typename T>
 void put_raw(fmt::memory_buffer& buf, T v) {
@@ -44,16 +51,9 @@ std::string trace_header(const TraceMeta& m) {
   fmt::format_to(out, "# blu_mm: {}\n", fmt::join(m.blu_mm.data(), m.blu_mm.data() + kAxes, ","));
   fmt::format_to(out, "# servo: {}\n", m.servo ? "on" : "off (encoder reads the Acc/Dec output)");
   fmt::format_to(out, "# decimate: {}\n", m.decimate);
-  fmt::format_to(
-      out,
-      "# units: t_s s; line source line; *_cmd interpolator BLU; *_ref Acc/Dec output BLU; "
-      "*_enc encoder counts; *_ferr following error ref-enc BLU; contour_err BLU (signed "
-      "radial on arcs, + outside); override percent\n");
-  h += "t_s,line";
-  for (char a : kAxisLetters)
-    for (const char* col : {"_cmd", "_ref", "_enc", "_ferr"})
-      fmt::format_to(out, ",{}{}", lower(a), col);
-  h += ",contour_err,override\n";
+  fmt::format_to(out, "# units: {}\n", trace_units_text());
+  fmt::format_to(out, "{}\n",
+                 fmt::join(trace_column_names(std::string_view(kAxisLetters.data(), kAxes)), ","));
   return h;
 }
 
@@ -141,48 +141,49 @@ void TraceWriter::write(const SampleRecord& s) {
 }
 
 void TraceWriter::write_csv(const SampleRecord& s) {
-  // Same text as fmt "{:.6f},{}" + ",{},{},{},{}" per axis + ",{:.3f},{:.6g}\n", written by
-  // hand into the buffer (put_int/put_fixed are exact; see csv_number.hpp).
+  // The schema's columns (trace_columns.def), each followed by ','; the last ',' becomes '\n'.
+  // Same text as fmt "{:.6f}" (time), "{}" (line, count), "{:.3f}" (fixed3), "{:.6g}" (percent),
+  // written by hand into the buffer (put_int/put_fixed are exact; see csv_number.hpp).
   const std::size_t at = buf_.size();
   buf_.resize(at + kMaxCsvRow);
   char* p = buf_.data() + at;
-  p = put_fixed(p, s.t_s, 6);
-  *p++ = ',';
-  p = put_int(p, s.line);
-  for (int a = 0; a < kAxes; ++a) {
-    for (std::int64_t v : {s.cmd_blu[a], s.ref_blu[a], s.enc_blu[a], s.ferr_blu[a]}) {
-      *p++ = ',';
-      p = put_int(p, v);
+  visit_trace_row(s, [&](auto kind, auto value) {
+    if constexpr (kind() == TraceKind::Time) {
+      p = put_fixed(p, value, 6);
+    } else if constexpr (kind() == TraceKind::Line || kind() == TraceKind::Count) {
+      p = put_int(p, value);
+    } else if constexpr (kind() == TraceKind::Fixed3) {
+      p = put_fixed(p, value, 3);
+    } else {
+      static_assert(kind() == TraceKind::Percent);
+      const double pct = value;
+      if (!(pct == last_pct_ && std::signbit(pct) == std::signbit(last_pct_))) {  // changes rarely
+        last_pct_ = pct;
+        last_pct_text_.clear();
+        fmt::format_to(std::back_inserter(last_pct_text_), "{:.6g}", pct);
+      }
+      std::memcpy(p, last_pct_text_.data(), last_pct_text_.size());
+      p += last_pct_text_.size();
     }
-  }
-  *p++ = ',';
-  p = put_fixed(p, s.contour_err_blu, 3);
-  *p++ = ',';
-  const double pct = s.feed_scale * 100.0;
-  if (!(pct == last_pct_ && std::signbit(pct) == std::signbit(last_pct_))) {  // changes rarely
-    last_pct_ = pct;
-    last_pct_text_.clear();
-    fmt::format_to(std::back_inserter(last_pct_text_), "{:.6g}", pct);
-  }
-  std::memcpy(p, last_pct_text_.data(), last_pct_text_.size());
-  p += last_pct_text_.size();
-  *p++ = '\n';
+    *p++ = ',';
+  });
+  p[-1] = '\n';
   buf_.resize(static_cast<std::size_t>(p - buf_.data()));
 }
 
-// Binary row: int64 k, int32 line, then per axis int64 cmd, ref, enc, ferr, then double
-// contour_err (BLU) and double override (percent); little-endian, no padding.
+// Binary row: the schema's fields in row order, little-endian, no padding (trace_columns.def:
+// time as the int64 sample index k, line int32, count int64, fixed3 and percent float64).
 void TraceWriter::write_binary(const SampleRecord& s) {
-  put_raw(buf_, static_cast<std::int64_t>(s.k));
-  put_raw(buf_, static_cast<std::int32_t>(s.line));
-  for (int a = 0; a < kAxes; ++a) {
-    put_raw(buf_, static_cast<std::int64_t>(s.cmd_blu[a]));
-    put_raw(buf_, static_cast<std::int64_t>(s.ref_blu[a]));
-    put_raw(buf_, static_cast<std::int64_t>(s.enc_blu[a]));
-    put_raw(buf_, static_cast<std::int64_t>(s.ferr_blu[a]));
-  }
-  put_raw(buf_, s.contour_err_blu);
-  put_raw(buf_, s.feed_scale * 100.0);
+  visit_trace_row(s, [&](auto kind, auto value) {
+    if constexpr (kind() == TraceKind::Time)
+      put_raw(buf_, static_cast<std::int64_t>(s.k));
+    else if constexpr (kind() == TraceKind::Line)
+      put_raw(buf_, static_cast<std::int32_t>(value));
+    else if constexpr (kind() == TraceKind::Count)
+      put_raw(buf_, static_cast<std::int64_t>(value));
+    else
+      put_raw(buf_, static_cast<double>(value));
+  });
 }
 
 void TraceWriter::flush_buffer() {

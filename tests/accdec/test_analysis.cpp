@@ -111,7 +111,7 @@ TEST_CASE(
   CHECK(bk < s2);
   CHECK(s2 < s1);
   CHECK(s1 < lin);
-  CHECK(bk == Approx(13.85).margin(0.01));  // measured value, documented in the README section
+  CHECK(bk == Approx(13.85).margin(0.01));  // measured value, documented in docs/paper.md
 }
 
 TEST_CASE("Eq. 7 peak acceleration and the integer quantisation error") {

@@ -2,6 +2,7 @@
 // velocity bound, rounding against a long-double reference, and equality of the structures.
 #include "accdec/analysis.hpp"
 #include "accdec/fir_filter.hpp"
+#include "accdec/profiles.hpp"
 #include "accdec/taps.hpp"
 #include "common/status.hpp"
 
@@ -181,7 +182,7 @@ TEST_CASE(
   // R 4000 BLU, V 15000 BLU/s, T 4 ms: ωT = 0.015 rad per sample; start at (R, 0) with the history
   // there, so the first N+1 outputs are the transient ("notch") and then the radius is steady.
   const double R = 4000, V = 15000, T = 0.004, wT = V / R * T;
-  for (const char* spec : {"linear", "scurve1", "scurve2", "blackman"}) {
+  for (const std::string& spec : gm::paper_profiles()) {
     INFO(spec);
     const auto taps = gm::design_taps(spec, 0.164, T);
     // Expected steady radius from |D| of the applied integer taps, computed here.

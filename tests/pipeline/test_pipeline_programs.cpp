@@ -1,6 +1,7 @@
 // End to end through the library: every bundled program ends exactly; lost motion shows as
 // quadrant protrusions in the contour error (paper Fig. 17).
 #include "accdec/analysis.hpp"
+#include "accdec/profiles.hpp"
 #include "accdec/taps.hpp"
 #include "interp/program.hpp"
 #include "machine/machine_file.hpp"
@@ -131,7 +132,7 @@ TEST_CASE("the paper's circle test: Acc/Dec radius loss matches the analysis, Eq
   };
   CHECK(steady_mean("linear", false, true) == Approx(linear_closed).margin(1.0));
   const double servo_alone = steady_mean("custom:1", true, false);
-  for (const char* profile : {"linear", "scurve1", "scurve2", "blackman"}) {
+  for (const std::string& profile : gm::paper_profiles()) {
     INFO(profile);
     const gm::Taps taps = gm::design_taps(profile, 0.164, T);
     const double analysis = gm::radius_loss_sampled(taps.real, r, v, T);
@@ -141,7 +142,8 @@ TEST_CASE("the paper's circle test: Acc/Dec radius loss matches the analysis, Eq
     CHECK(steady_mean(profile, true, false) == Approx(accdec + servo_alone).margin(1.0));
   }
   // Eq. 35 assumes an ideal velocity loop (31.25 BLU); the paper's loop lags enough to make the
-  // position loop underdamped, and the radius grows slightly instead (README, "The circle test").
+  // position loop underdamped, and the radius grows slightly instead (docs/paper.md, "The circle
+  // test").
   CHECK(servo_alone < 0.0);
   CHECK(servo_alone > -5.0);
 }

@@ -1,0 +1,42 @@
+// One trace row's values in schema order (from trace_columns.def), for the writers.
+#pragma once
+
+#include "common/axis.hpp"
+#include "pipeline/sample_record.hpp"
+#include "trace/trace_schema.hpp"
+
+#include <type_traits>
+
+namespace gm {
+
+/// Calls f(kind, value) for every column of sample `s` in row order: the head columns, the axis
+/// columns for each axis, the tail columns. `kind` is a std::integral_constant<TraceKind, ...>,
+/// so a writer picks the format at compile time and the row costs no per-column branch.
+template <typename F>
+inline void visit_trace_row(const SampleRecord& s, F&& f) {
+#define GM_TRACE_COLUMN(section, name, kind, value, unit, res) GM_TRACE_VISIT_##section(kind, value)
+#define GM_TRACE_CALL(kind, value) f(std::integral_constant<TraceKind, trace_def::kind>{}, value);
+#define GM_TRACE_VISIT_head(kind, value) GM_TRACE_CALL(kind, value)
+#define GM_TRACE_VISIT_axis(kind, value)
+#define GM_TRACE_VISIT_tail(kind, value)
+#include "trace/trace_columns.def"
+#undef GM_TRACE_VISIT_head
+#undef GM_TRACE_VISIT_axis
+#define GM_TRACE_VISIT_head(kind, value)
+#define GM_TRACE_VISIT_axis(kind, value) GM_TRACE_CALL(kind, value)
+  for (int a = 0; a < kAxes; ++a) {
+#include "trace/trace_columns.def"
+  }
+#undef GM_TRACE_VISIT_axis
+#undef GM_TRACE_VISIT_tail
+#define GM_TRACE_VISIT_axis(kind, value)
+#define GM_TRACE_VISIT_tail(kind, value) GM_TRACE_CALL(kind, value)
+#include "trace/trace_columns.def"
+#undef GM_TRACE_VISIT_head
+#undef GM_TRACE_VISIT_axis
+#undef GM_TRACE_VISIT_tail
+#undef GM_TRACE_CALL
+#undef GM_TRACE_COLUMN
+}
+
+}  // namespace gm

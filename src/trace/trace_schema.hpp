@@ -1,0 +1,63 @@
+// The trace schema: columns, units and formats, from trace_columns.def (the one definition).
+#pragma once
+
+#include "common/axis.hpp"
+
+#include <array>
+#include <cstddef>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace gm {
+
+/// How a column's value is written (see trace_columns.def).
+enum class TraceKind { Time, Line, Count, Fixed3, Percent };
+/// Where a column sits in a row: before the axes, once per axis, after the axes.
+enum class TraceSection { Head, Axis, Tail };
+
+struct TraceColumn {
+  TraceSection section;
+  std::string_view name;  ///< for axis columns, the part after "x_"
+  TraceKind kind;
+  std::string_view unit;
+  double csv_resolution;
+};
+
+/// The spellings trace_columns.def uses for sections and kinds.
+namespace trace_def {
+inline constexpr TraceSection head = TraceSection::Head, axis = TraceSection::Axis,
+                              tail = TraceSection::Tail;
+inline constexpr TraceKind time = TraceKind::Time, line = TraceKind::Line, count = TraceKind::Count,
+                           fixed3 = TraceKind::Fixed3, percent = TraceKind::Percent;
+}  // namespace trace_def
+
+/// Every column of the schema, in row order (axis columns once, for the axis block).
+inline constexpr std::array kTraceColumns{
+#define GM_TRACE_COLUMN(section, name, kind, value, unit, res) \
+  TraceColumn{trace_def::section, #name, trace_def::kind, unit, res},
+#include "trace/trace_columns.def"
+#undef GM_TRACE_COLUMN
+};
+
+/// trace_columns.def lists the head columns, then the axis columns, then the tail columns.
+constexpr bool trace_sections_in_order() {
+  for (std::size_t i = 1; i < kTraceColumns.size(); ++i)
+    if (kTraceColumns[i].section < kTraceColumns[i - 1].section) return false;
+  return true;
+}
+static_assert(trace_sections_in_order(), "trace_columns.def: head, then axis, then tail columns");
+
+/// Bytes of a column's binary field.
+constexpr std::size_t trace_binary_bytes(TraceKind k) {
+  return k == TraceKind::Line ? 4 : 8;
+}
+
+/// The column names of a trace of these axes ("t_s", "line", "x_cmd", ...), in row order.
+std::vector<std::string> trace_column_names(std::string_view axis_letters);
+/// The `# units:` header text after "# units: ".
+std::string trace_units_text();
+/// The schema column of a trace column name ("x_cmd" -> the axis column "cmd"), or nullptr.
+const TraceColumn* find_trace_column(std::string_view column_name);
+
+}  // namespace gm
