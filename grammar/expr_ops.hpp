@@ -47,11 +47,10 @@ enum class Op : std::uint8_t {
 
 /// The name of an operator or function as written (for messages).
 constexpr const char* op_name(Op op) {
-  constexpr const char* kNames[] = {"number", "#",    "#<>", "EXISTS", "-",    "ABS", "ACOS", "ASIN",
-                                    "COS",    "EXP",  "FIX", "FUP",    "ROUND", "LN", "SIN",  "SQRT",
-                                    "TAN",    "ATAN", "**",  "*",      "/",    "MOD", "+",    "-",
-                                    "EQ",     "NE",   "GT",  "GE",     "LT",   "LE",  "AND",  "OR",
-                                    "XOR"};
+  constexpr const char* kNames[] = {
+      "number", "#",     "#<>", "EXISTS", "-",    "ABS", "ACOS", "ASIN", "COS", "EXP", "FIX",
+      "FUP",    "ROUND", "LN",  "SIN",    "SQRT", "TAN", "ATAN", "**",   "*",   "/",   "MOD",
+      "+",      "-",     "EQ",  "NE",     "GT",   "GE",  "LT",   "LE",   "AND", "OR",  "XOR"};
   return kNames[static_cast<int>(op)];
 }
 

@@ -33,9 +33,9 @@ bool parameter_number(double v, SourceLoc loc, int& n, InterpError& err) {
     return fail(err, ErrorCode::ParameterOutOfRange, loc,
                 fmt::format("parameter number {} is not an integer", show(v)));
   if (r < ParameterStore::kFirst || r > ParameterStore::kLast)
-    return fail(err, ErrorCode::ParameterOutOfRange, loc,
-                fmt::format("parameter number #{} out of range (1-{})", show(r),
-                            ParameterStore::kLast));
+    return fail(
+        err, ErrorCode::ParameterOutOfRange, loc,
+        fmt::format("parameter number #{} out of range (1-{})", show(r), ParameterStore::kLast));
   n = static_cast<int>(r);
   return true;
 }
@@ -134,9 +134,9 @@ bool Evaluator::evaluate(const grammar::Block& block, grammar::OpRange r,
         break;
       case Op::Pow:
         if (a < 0.0 && std::floor(b) != b)
-          return fail(err, ErrorCode::DomainError, o.loc,
-                      fmt::format("{} ** {}: a negative number to a non-integer power", show(a),
-                                  show(b)));
+          return fail(
+              err, ErrorCode::DomainError, o.loc,
+              fmt::format("{} ** {}: a negative number to a non-integer power", show(a), show(b)));
         result = std::pow(a, b);
         break;
       case Op::Mul:
@@ -189,12 +189,13 @@ bool Evaluator::evaluate(const grammar::Block& block, grammar::OpRange r,
         return fail(err, ErrorCode::BadExpression, o.loc, "malformed expression");
     }
     if (!std::isfinite(result))
-      return fail(err, ErrorCode::NotANumber, o.loc,
-                  fmt::format("{} resulted in {}", name,
-                              std::isnan(result) ? "not a number" : "infinity"));
+      return fail(
+          err, ErrorCode::NotANumber, o.loc,
+          fmt::format("{} resulted in {}", name, std::isnan(result) ? "not a number" : "infinity"));
     stack_.back() = result;
   }
-  if (stack_.size() != 1) return fail(err, ErrorCode::BadExpression, err.loc, "malformed expression");
+  if (stack_.size() != 1)
+    return fail(err, ErrorCode::BadExpression, err.loc, "malformed expression");
   out = stack_.back();
   return true;
 }
@@ -217,8 +218,8 @@ void substitute_parameters(std::string_view text, const ParameterStore& params, 
         ++j;
       }
       if (n <= ParameterStore::kLast)
-        out += fmt::format("{:.6f}", n >= ParameterStore::kFirst ? params.get(static_cast<int>(n))
-                                                                  : 0.0);
+        out += fmt::format("{:.6f}",
+                           n >= ParameterStore::kFirst ? params.get(static_cast<int>(n)) : 0.0);
       else
         out += "######";
       i = j;

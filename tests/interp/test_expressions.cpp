@@ -37,8 +37,8 @@ TEST_CASE("operators follow LinuxCNC's precedence, each level left to right (rs2
   CHECK(debug_value("[-2**2]") == "4.000000");     // unary minus binds tightest
   CHECK(debug_value("[2*3**2]") == "18.000000");
   CHECK(debug_value("[1+2*3 EQ 7]") == "1.000000");
-  CHECK(debug_value("[2 GT 1 + 1]") == "0.000000");     // + before GT
-  CHECK(debug_value("[1 OR 1 AND 0]") == "0.000000");   // AND OR XOR share one level
+  CHECK(debug_value("[2 GT 1 + 1]") == "0.000000");    // + before GT
+  CHECK(debug_value("[1 OR 1 AND 0]") == "0.000000");  // AND OR XOR share one level
   CHECK(debug_value("[0 AND 1 OR 1]") == "1.000000");
   CHECK(debug_value("[7 MOD -3]") == "1.000000");
   CHECK(debug_value("[-7 MOD 3]") == "2.000000");
@@ -83,7 +83,8 @@ TEST_CASE("named parameters, EXISTS and predefined ones (rs274)") {
   REQUIRE(mv.size() == 1);
   CHECK(mv[0].end_mm[0] == 10.0);
   CHECK(mv[0].end_mm[2] == -1.5);
-  auto m = messages("#<a>=1\n(DEBUG,[#<a>] #<b>)\n#2=EXISTS[#<a>] #3=EXISTS[#<b>]\n(DEBUG,#2 #3)\nM2\n");
+  auto m =
+      messages("#<a>=1\n(DEBUG,[#<a>] #<b>)\n#2=EXISTS[#<a>] #3=EXISTS[#<b>]\n(DEBUG,#2 #3)\nM2\n");
   REQUIRE(m.size() == 2);
   CHECK(m[0] == "[1.000000] ######");
   CHECK(m[1] == "1.000000 0.000000");
