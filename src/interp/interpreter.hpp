@@ -6,8 +6,10 @@
 #include "common/error_codes.hpp"
 #include "grammar/parse.hpp"
 #include "interp/canon.hpp"
+#include "interp/program_axes.hpp"
 #include "machine/machine.hpp"
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -20,24 +22,40 @@ struct InterpError {
   std::string message;
 };
 
+/// The values a block rarely changes (LinuxCNC's system parameters #5161..#5389: stored G28/G30
+/// positions, coordinate systems). Kept here until the parameter store holds them; a block that
+/// changes them works on a copy (BlockCtx::tables_w) that is committed with the block.
+struct SystemTables {
+  std::array<Pos9, 9> g5x_mm{};  ///< work offsets of G54..G59, G59.1..G59.3 (machine units, mm)
+  Pos9 g28_mm = Pos9::Zero();    ///< G28.1 position, machine coordinates
+  Pos9 g30_mm = Pos9::Zero();    ///< G30.1 position, machine coordinates
+
+  SystemTables() {
+    for (auto& o : g5x_mm) o.setZero();
+  }
+};
+
 /// The modal state (grbl's parser_state_t): everything that persists from block to block.
-/// Positions are machine coordinates in mm; offsets in mm.
+/// Positions are machine coordinates in mm on the nine program axes; offsets in mm.
 struct ModalState {
-  int motion = -1;  ///< 0,1,2,3 = G0..G3; -1 none yet (LinuxCNC starts without one)
+  int motion = -1;  ///< motion code x 10 in effect (G0 = 0, G1 = 10, ...); -1 none yet
   Plane plane = Plane::XY;
   bool inch = false;          ///< G20
   bool incremental = false;   ///< G91
   bool ijk_absolute = false;  ///< G90.1 (default G91.1)
   bool inverse_time = false;  ///< G93
   PathMode path_mode = PathMode::Continuous;
-  int coord_system = 0;      ///< 0..5 = G54..G59
-  double feed_mm_min = 0.0;  ///< G94 feed; 0 = none yet
-  AxisVec g92_mm = AxisVec::Zero();
-  double tool_length_mm = 0.0;            ///< G43 length, applied to Z
-  int tool_selected = 0;                  ///< T
-  int tool_in_spindle = 0;                ///< after M6
-  AxisVec position_mm = AxisVec::Zero();  ///< machine coordinates
-  bool ended = false;                     ///< M2/M30 or closing % seen
+  double feed_mm_min = 0.0;            ///< G94 feed; 0 = none yet
+  int tool_selected = 0;               ///< T
+  int tool_in_spindle = 0;             ///< after M6
+  Pos9 position_mm = Pos9::Zero();     ///< machine coordinates
+  int coord_system = 0;                ///< 0..8 = G54..G59, G59.1..G59.3
+  Pos9 g92_mm = Pos9::Zero();          ///< G92/G52 axis offsets
+  Pos9 tool_offset_mm = Pos9::Zero();  ///< G43 tool length offset
+  bool ended = false;                  ///< M2/M30 or closing % seen
+
+  /// mm per program length unit (25.4 under G20).
+  double mm_per_unit() const;
 };
 
 /// Interprets blocks one at a time (grbl gcode.c STEP 1-4): copy the state, import the words,
@@ -53,12 +71,14 @@ class Interpreter {
   bool execute(const grammar::Block& block, std::vector<Canon>& out, InterpError& err);
 
   const ModalState& state() const { return state_; }
+  const SystemTables& tables() const { return tables_; }
   /// Sum of all offsets from program to machine coordinates under the current state, mm.
   AxisVec total_offset_mm() const;
 
  private:
   const Machine& machine_;
   ModalState state_;
+  SystemTables tables_;
 };
 
 /// Length of a motion's path, mm (helical length for arcs, including extra turns).

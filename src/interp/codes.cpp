@@ -1,0 +1,152 @@
+// The code table: one row per G or M code (group, step, function, words); adding a code is a row.
+#include "interp/codes.hpp"
+
+#include "interp/steps.hpp"
+
+#include <fmt/format.h>
+
+#include <array>
+
+namespace gm {
+
+namespace {
+
+using G = Group;
+using S = Step;
+
+// clang-format off
+constexpr std::array kCodes{
+    // Non-modal (group 0)
+    Code{'G',   40, G::NonModal,    S::Dwell,       run_dwell,        "P"},
+    Code{'G',  920, G::NonModal,    S::NonModal,    run_g92,          "",  true},
+    Code{'G',  921, G::NonModal,    S::NonModal,    run_g92_1},
+    // Motion (group 1)
+    Code{'G',    0, G::Motion,      S::Motion,      run_straight},
+    Code{'G',   10, G::Motion,      S::Motion,      run_straight},
+    Code{'G',   20, G::Motion,      S::Motion,      run_arc,          "IJKRP"},
+    Code{'G',   30, G::Motion,      S::Motion,      run_arc,          "IJKRP"},
+    // Plane (group 2)
+    Code{'G',  170, G::Plane,       S::Plane,       run_plane},
+    Code{'G',  180, G::Plane,       S::Plane,       run_plane},
+    Code{'G',  190, G::Plane,       S::Plane,       run_plane},
+    // Distance (groups 3, 4)
+    Code{'G',  900, G::Distance,    S::Distance,    run_distance},
+    Code{'G',  910, G::Distance,    S::Distance,    run_distance},
+    Code{'G',  901, G::ArcDistance, S::Distance,    run_arc_distance},
+    Code{'G',  911, G::ArcDistance, S::Distance,    run_arc_distance},
+    // Feed mode (group 5)
+    Code{'G',  930, G::FeedMode,    S::FeedMode,    run_feed_mode},
+    Code{'G',  940, G::FeedMode,    S::FeedMode,    run_feed_mode},
+    // Units (group 6)
+    Code{'G',  200, G::Units,       S::Units,       run_units},
+    Code{'G',  210, G::Units,       S::Units,       run_units},
+    // Cutter compensation (group 7)
+    Code{'G',  400, G::CutterComp,  S::CutterComp,  run_nothing},
+    // Tool length (group 8)
+    Code{'G',  430, G::ToolLength,  S::ToolLength,  run_tool_length,  "H"},
+    Code{'G',  490, G::ToolLength,  S::ToolLength,  run_tool_length},
+    // Coordinate system (group 12)
+    Code{'G',  540, G::CoordSystem, S::CoordSystem, run_coord_system},
+    Code{'G',  550, G::CoordSystem, S::CoordSystem, run_coord_system},
+    Code{'G',  560, G::CoordSystem, S::CoordSystem, run_coord_system},
+    Code{'G',  570, G::CoordSystem, S::CoordSystem, run_coord_system},
+    Code{'G',  580, G::CoordSystem, S::CoordSystem, run_coord_system},
+    Code{'G',  590, G::CoordSystem, S::CoordSystem, run_coord_system},
+    // Path control (group 13)
+    Code{'G',  610, G::PathControl, S::PathControl, run_path_control},
+    Code{'G',  611, G::PathControl, S::PathControl, run_path_control},
+    Code{'G',  640, G::PathControl, S::PathControl, run_path_control, "PQ"},
+    // Exact stop for one block
+    Code{'G',   90, G::ExactStop,   S::Motion,      run_nothing},
+    // M codes
+    Code{'M',    0, G::MStop,       S::Stop,        run_stop},
+    Code{'M',   10, G::MStop,       S::Stop,        run_stop},
+    Code{'M',   20, G::MStop,       S::Stop,        run_stop},
+    Code{'M',  300, G::MStop,       S::Stop,        run_stop},
+    Code{'M',   60, G::MToolChange, S::ToolChange,  run_tool_change},
+    Code{'M',   30, G::MSpindle,    S::Spindle,     run_nothing},
+    Code{'M',   40, G::MSpindle,    S::Spindle,     run_nothing},
+    Code{'M',   50, G::MSpindle,    S::Spindle,     run_nothing},
+    Code{'M',   70, G::MCoolant,    S::Coolant,     run_nothing},
+    Code{'M',   80, G::MCoolant,    S::Coolant,     run_nothing},
+    Code{'M',   90, G::MCoolant,    S::Coolant,     run_nothing},
+    Code{'M',  480, G::MOverride,   S::Override,    run_override},
+    Code{'M',  490, G::MOverride,   S::Override,    run_override},
+    Code{'M',  500, G::MOverride,   S::Override,    run_override,     "P"},
+};
+// clang-format on
+
+constexpr std::array<const char*, kGroupCount> kGroupTitles{"non-modal",    "motion",
+                                                            "plane",        "distance",
+                                                            "arc distance", "feed mode",
+                                                            "units",        "cutter compensation",
+                                                            "tool length",  "canned cycle return",
+                                                            "work offset",  "path control",
+                                                            "exact stop",   "stop",
+                                                            "tool change",  "spindle",
+                                                            "coolant",      "override"};
+
+// Lookup by number (G and M numbers x 10 below 2000) and by value word, built at compile time.
+constexpr int kMaxNumber10 = 2000;
+struct CodeIndex {
+  std::array<std::int16_t, kMaxNumber10> g{};
+  std::array<std::int16_t, kMaxNumber10> m{};
+  std::array<bool, 26> word{};
+};
+constexpr CodeIndex make_index() {
+  CodeIndex ix;
+  for (auto& v : ix.g) v = -1;
+  for (auto& v : ix.m) v = -1;
+  for (std::size_t i = 0; i < kCodes.size(); ++i) {
+    const Code& c = kCodes[i];
+    auto& slot = c.letter == 'G' ? ix.g : ix.m;
+    slot[static_cast<std::size_t>(c.number10)] = static_cast<std::int16_t>(i);
+    for (const char w : c.words) ix.word[static_cast<std::size_t>(w - 'A')] = true;
+  }
+  return ix;
+}
+constexpr CodeIndex kIndex = make_index();
+
+}  // namespace
+
+std::span<const Code> code_table() {
+  return kCodes;
+}
+
+const Code* find_code(char letter, int number10) {
+  if (number10 < 0 || number10 >= kMaxNumber10) return nullptr;
+  const auto i = (letter == 'G' ? kIndex.g : kIndex.m)[static_cast<std::size_t>(number10)];
+  return i < 0 ? nullptr : &kCodes[static_cast<std::size_t>(i)];
+}
+
+std::string code_name(char letter, int number10) {
+  return number10 % 10 == 0 ? fmt::format("{}{}", letter, number10 / 10)
+                            : fmt::format("{}{}.{}", letter, number10 / 10, number10 % 10);
+}
+
+std::string group_name(Group g) {
+  std::string s = fmt::format("{} (", kGroupTitles[static_cast<std::size_t>(g)]);
+  bool first = true;
+  for (const Code& c : kCodes) {
+    if (c.group != g) continue;
+    s += (first ? "" : " ") + code_name(c);
+    first = false;
+  }
+  return s + ")";
+}
+
+bool code_word(char letter) {
+  return letter >= 'A' && letter <= 'Z' && kIndex.word[static_cast<std::size_t>(letter - 'A')];
+}
+
+std::string codes_using(char letter) {
+  std::vector<std::string> names;
+  for (const Code& c : kCodes)
+    if (c.words.find(letter) != std::string_view::npos) names.push_back(code_name(c));
+  std::string s;
+  for (std::size_t i = 0; i < names.size(); ++i)
+    s += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+  return s;
+}
+
+}  // namespace gm

@@ -1,0 +1,124 @@
+// What a step of a block sees (the block's words and a copy of the state), and the step functions
+// the code table names. Internal to the interpreter.
+#pragma once
+
+#include "interp/codes.hpp"
+#include "interp/interpreter.hpp"
+
+#include <fmt/format.h>
+
+#include <array>
+#include <cmath>
+#include <memory>
+#include <vector>
+
+namespace gm {
+
+/// The words of one block, by letter and by modal group (grbl's parser_block_t).
+struct BlockWords {
+  std::array<const grammar::Word*, 26> value{};  ///< value words by letter
+  std::array<const Code*, kGroupCount> code{};   ///< the block's code in each group
+  std::array<const grammar::Word*, kGroupCount> code_word{};
+  std::array<const Code*, kGroupCount> codes{};  ///< the block's codes in the order written
+  std::size_t code_count = 0;
+  const grammar::Word* first_axis = nullptr;
+
+  const grammar::Word* operator[](char c) const { return value[static_cast<std::size_t>(c - 'A')]; }
+  bool has(char c) const { return (*this)[c] != nullptr; }
+  double get(char c, double fallback = 0.0) const { return has(c) ? (*this)[c]->value : fallback; }
+  const Code* in(Group g) const { return code[static_cast<std::size_t>(g)]; }
+  const grammar::Word* word_of(Group g) const { return code_word[static_cast<std::size_t>(g)]; }
+  /// True if the block has code `letter` number10.
+  bool has_code(char letter, int number10) const {
+    for (std::size_t i = 0; i < code_count; ++i)
+      if (codes[i]->letter == letter && codes[i]->number10 == number10) return true;
+    return false;
+  }
+};
+
+/// One block being executed: the machine, the block, its words and the state copy it changes.
+struct BlockCtx {
+  const Machine& machine;
+  const grammar::Block& block;
+  const BlockWords& w;
+  ModalState& s;            ///< the copy; committed only if every step succeeds
+  std::vector<Canon>& out;  ///< canonical commands of this block are appended
+  InterpError& err;
+  const SystemTables& committed;         ///< the tables as before this block
+  std::unique_ptr<SystemTables> staged;  ///< this block's changes to them, if any
+  int motion_to_be = -1;                 ///< the motion code x 10 this block executes, -1 none
+  double inverse_f = 0.0;                ///< G93: this block's F (1/min)
+
+  /// Sets the error; returns false so a step can `return ctx.fail(...)`.
+  bool fail(ErrorCode code, SourceLoc loc, std::string msg) {
+    err.code = code;
+    err.loc = loc;
+    err.message = std::move(msg);
+    return false;
+  }
+  /// Where the code of group `g` was written (the block start if it is not in the block).
+  SourceLoc loc_of(Group g) const {
+    const auto* wd = w.word_of(g);
+    return wd ? wd->loc : SourceLoc{block.line, 1};
+  }
+  double scale() const { return s.mm_per_unit(); }
+  /// The tables as this block sees them, and for writing (copied on first write).
+  const SystemTables& tables() const { return staged ? *staged : committed; }
+  SystemTables& tables_w() {
+    if (!staged) staged = std::make_unique<SystemTables>(committed);
+    return *staged;
+  }
+  /// Sum of the offsets from program to machine coordinates under the block's state, mm.
+  Pos9 offset() const {
+    return tables().g5x_mm[static_cast<std::size_t>(s.coord_system)] + s.g92_mm + s.tool_offset_mm;
+  }
+};
+
+// Limits beyond which a run's integer positions (BLU) and counts would overflow.
+inline constexpr double kMaxPositionMm = 1e12;
+inline constexpr double kMaxFeedMmMin = 1e12;
+inline constexpr double kMaxToolNumber = 1e6;
+
+inline bool within(double v, double limit) {
+  return std::fabs(v) <= limit;
+}  // false for NaN
+inline bool near_integer(double v, double& rounded) {
+  rounded = std::round(v);
+  return std::fabs(v - rounded) < 1e-6;
+}
+
+// Steps of the value words (no code of their own) ----------------------------------------------
+bool step_comment(BlockCtx&);
+bool step_feed(BlockCtx&);
+bool step_tool_select(BlockCtx&);
+
+// Steps named by the code table -----------------------------------------------------------------
+bool run_nothing(BlockCtx&, const Code&);  ///< accepted and recorded nowhere (M3, G40, ...)
+bool run_feed_mode(BlockCtx&, const Code&);
+bool run_tool_change(BlockCtx&, const Code&);
+bool run_override(BlockCtx&, const Code&);
+bool run_dwell(BlockCtx&, const Code&);
+bool run_plane(BlockCtx&, const Code&);
+bool run_units(BlockCtx&, const Code&);
+bool run_tool_length(BlockCtx&, const Code&);
+bool run_coord_system(BlockCtx&, const Code&);
+bool run_path_control(BlockCtx&, const Code&);
+bool run_distance(BlockCtx&, const Code&);
+bool run_arc_distance(BlockCtx&, const Code&);
+bool run_g92(BlockCtx&, const Code&);
+bool run_g92_1(BlockCtx&, const Code&);
+bool run_straight(BlockCtx&, const Code&);  ///< G0 G1
+bool run_arc(BlockCtx&, const Code&);       ///< G2 G3
+bool run_stop(BlockCtx&, const Code&);
+
+// Shared by the motion steps ---------------------------------------------------------------------
+/// The machine-coordinate end point of the block's axis words from `from_mm` (G90/G91, offsets);
+/// false with the error set if it is out of range.
+bool axis_target(BlockCtx& ctx, const Pos9& from_mm, Pos9& target_mm);
+/// Emits a straight move (rapid or feed) from the current position to `target_mm` and moves
+/// there; zero-length moves are not emitted.
+bool emit_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target_mm, SourceLoc loc);
+/// The feed checks of a feed motion (G93 F present and > 0, G94 feed > 0).
+bool check_feed(BlockCtx& ctx, int code10, SourceLoc loc);
+
+}  // namespace gm

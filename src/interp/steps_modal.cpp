@@ -1,0 +1,170 @@
+// The steps that set modal state or emit events: comments, feed, tools, plane, units, distance,
+// path control, offsets (G92), overrides, dwell and stops.
+#include "common/units.hpp"
+#include "interp/steps.hpp"
+
+namespace gm {
+
+bool run_nothing(BlockCtx&, const Code&) {
+  return true;
+}
+
+bool step_comment(BlockCtx& ctx) {
+  for (std::size_t i = 0; i < ctx.block.message_count; ++i)
+    ctx.out.emplace_back(Event{ctx.block.line, EventKind::Message, ctx.block.messages[i].text});
+  return true;
+}
+
+bool run_feed_mode(BlockCtx& ctx, const Code& c) {
+  const bool to_inverse = c.number10 == 930;
+  if (!to_inverse && ctx.s.inverse_time) ctx.s.feed_mm_min = 0.0;  // LinuxCNC: SET_FEED_RATE(0)
+  ctx.s.inverse_time = to_inverse;
+  return true;
+}
+
+bool step_feed(BlockCtx& ctx) {
+  if (!ctx.w.has('F')) return true;
+  const auto* fw = ctx.w['F'];
+  const double f = fw->value;
+  if (f < 0) return ctx.fail(ErrorCode::NegativeFeed, fw->loc, fmt::format("F{:g} is negative", f));
+  if (ctx.s.inverse_time)
+    ctx.inverse_f = f;
+  else
+    ctx.s.feed_mm_min = f * ctx.scale();  // units before this block's G20/G21
+  if (!within(ctx.s.feed_mm_min, kMaxFeedMmMin))
+    return ctx.fail(ErrorCode::ValueOutOfRange, fw->loc,
+                    fmt::format("F{:g} is {:g} mm/min, beyond {:g} mm/min", f, ctx.s.feed_mm_min,
+                                kMaxFeedMmMin));
+  return true;
+}
+
+bool step_tool_select(BlockCtx& ctx) {
+  if (!ctx.w.has('T')) return true;
+  const auto* tw = ctx.w['T'];
+  double t = 0;
+  if (!near_integer(tw->value, t))
+    return ctx.fail(ErrorCode::BadCodeNumber, tw->loc,
+                    fmt::format("T{:g} is not an integer", tw->value));
+  if (t > kMaxToolNumber)
+    return ctx.fail(ErrorCode::ValueOutOfRange, tw->loc,
+                    fmt::format("T{:g}: tool numbers go up to {:g}", t, kMaxToolNumber));
+  ctx.s.tool_selected = static_cast<int>(t);
+  return true;
+}
+
+bool run_tool_change(BlockCtx& ctx, const Code&) {
+  ctx.s.tool_in_spindle = ctx.s.tool_selected;
+  return true;
+}
+
+bool run_override(BlockCtx& ctx, const Code& c) {
+  EventKind k = c.number10 == 490 ? EventKind::OverrideDisable : EventKind::OverrideEnable;
+  if (c.number10 == 500 && ctx.w.has('P')) {
+    const double p = ctx.w['P']->value;
+    if (p == 0.0)
+      k = EventKind::OverrideDisable;
+    else if (p != 1.0)
+      return ctx.fail(ErrorCode::BadPWord, ctx.w['P']->loc,
+                      fmt::format("M50 P{:g}: P must be 0 or 1", p));
+  }
+  ctx.out.emplace_back(Event{ctx.block.line, k, {}});
+  return true;
+}
+
+bool run_dwell(BlockCtx& ctx, const Code&) {
+  if (!ctx.w.has('P'))
+    return ctx.fail(ErrorCode::DwellWithoutP, ctx.loc_of(Group::NonModal),
+                    "G4 without P (dwell seconds)");
+  const double p = ctx.w['P']->value;
+  if (p < 0)
+    return ctx.fail(ErrorCode::NegativeDwell, ctx.w['P']->loc,
+                    fmt::format("G4 P{:g}: negative dwell", p));
+  ctx.out.emplace_back(Dwell{ctx.block.line, p});
+  return true;
+}
+
+bool run_plane(BlockCtx& ctx, const Code& c) {
+  ctx.s.plane = c.number10 == 170 ? Plane::XY : c.number10 == 180 ? Plane::XZ : Plane::YZ;
+  return true;
+}
+
+bool run_units(BlockCtx& ctx, const Code& c) {
+  ctx.s.inch = c.number10 == 200;
+  return true;
+}
+
+bool run_tool_length(BlockCtx& ctx, const Code& c) {
+  ModalState& sys = ctx.s;
+  if (c.number10 == 490) {
+    sys.tool_offset_mm.setZero();
+    return true;
+  }
+  double tool = ctx.s.tool_in_spindle;  // H may be any size: compared as a double, never cast
+  if (ctx.w.has('H') && !near_integer(ctx.w['H']->value, tool))
+    return ctx.fail(ErrorCode::BadCodeNumber, ctx.w['H']->loc,
+                    fmt::format("H{:g} is not an integer", ctx.w['H']->value));
+  const auto n = ctx.machine.tool_lengths_mm.size();
+  sys.tool_offset_mm.setZero();
+  if (tool < static_cast<double>(n))
+    sys.tool_offset_mm[2] = ctx.machine.tool_lengths_mm[static_cast<std::size_t>(tool)];
+  else if (tool != 0)
+    return ctx.fail(
+        ErrorCode::ToolNumberOutOfRange,
+        ctx.w.has('H') ? ctx.w['H']->loc : ctx.loc_of(Group::ToolLength),
+        fmt::format("tool {:g} has no length: the machine's tool table has {} entries", tool, n));
+  return true;
+}
+
+bool run_coord_system(BlockCtx& ctx, const Code& c) {
+  ctx.s.coord_system = (c.number10 - 540) / 10;
+  return true;
+}
+
+bool run_path_control(BlockCtx& ctx, const Code& c) {
+  // LinuxCNC: G61 = exact path, G61.1 = exact stop, G64 = continuous (P/Q ignored here).
+  ctx.s.path_mode = c.number10 == 610   ? PathMode::ExactPath
+                    : c.number10 == 611 ? PathMode::ExactStop
+                                        : PathMode::Continuous;
+  return true;
+}
+
+bool run_distance(BlockCtx& ctx, const Code& c) {
+  ctx.s.incremental = c.number10 == 910;
+  return true;
+}
+
+bool run_arc_distance(BlockCtx& ctx, const Code& c) {
+  ctx.s.ijk_absolute = c.number10 == 901;
+  return true;
+}
+
+bool run_g92(BlockCtx& ctx, const Code&) {
+  if (!ctx.w.first_axis)
+    return ctx.fail(ErrorCode::G92WithoutAxes, ctx.loc_of(Group::NonModal),
+                    "G92 without axis words");
+  ModalState& sys = ctx.s;
+  for (int i = 0; i < kProgramAxes; ++i) {
+    const auto* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]];
+    if (!aw) continue;
+    // The current point gets coordinate value: machine = program + work + g92 + tool.
+    sys.g92_mm[i] = 0.0;
+    sys.g92_mm[i] = ctx.s.position_mm[i] - ctx.offset()[i] - aw->value * ctx.scale();
+  }
+  return true;
+}
+
+bool run_g92_1(BlockCtx& ctx, const Code&) {
+  ctx.s.g92_mm.setZero();
+  return true;
+}
+
+bool run_stop(BlockCtx& ctx, const Code& c) {
+  const EventKind k = c.number10 == 0    ? EventKind::Pause
+                      : c.number10 == 10 ? EventKind::OptionalPause
+                                         : EventKind::End;
+  ctx.out.emplace_back(Event{ctx.block.line, k, {}});
+  if (k == EventKind::End) ctx.s.ended = true;
+  return true;
+}
+
+}  // namespace gm

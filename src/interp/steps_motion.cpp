@@ -1,0 +1,227 @@
+// The motion steps: G0/G1 straight moves and G2/G3 arcs and helices, in machine coordinates.
+#include "common/units.hpp"
+#include "interp/arc.hpp"
+#include "interp/steps.hpp"
+
+#include <algorithm>
+#include <numbers>
+
+namespace gm {
+
+namespace {
+
+// Plane axes in LinuxCNC order: (a, b, normal).
+struct PlaneAxes {
+  int a, b, n;
+};
+PlaneAxes plane_axes(Plane p) {
+  switch (p) {
+    case Plane::XY:
+      return {0, 1, 2};
+    case Plane::XZ:
+      return {2, 0, 1};
+    case Plane::YZ:
+      return {1, 2, 0};
+  }
+  return {0, 1, 2};
+}
+
+const char* plane_text(Plane p) {
+  return p == Plane::XY ? "XY plane (G17)" : p == Plane::XZ ? "XZ plane (G18)" : "YZ plane (G19)";
+}
+
+// Where a motion error is reported: the motion code, else the first axis word, else the block.
+SourceLoc motion_loc(const BlockCtx& ctx) {
+  if (const auto* mw = ctx.w.word_of(Group::Motion)) return mw->loc;
+  if (ctx.w.first_axis) return ctx.w.first_axis->loc;
+  return SourceLoc{ctx.block.line, 1};
+}
+
+PathMode block_path_mode(const BlockCtx& ctx) {
+  return ctx.w.in(Group::ExactStop) ? PathMode::ExactStop : ctx.s.path_mode;
+}
+
+// Feed of a feed move (G94 modal feed, or G93: LinuxCNC interp_inverse.cc,
+// rate = MAX(0.1, length x F) in program units/min).
+bool set_feed(BlockCtx& ctx, Motion& mo) {
+  if (!ctx.s.inverse_time) {
+    mo.feed_mm_min = ctx.s.feed_mm_min;
+    return true;
+  }
+  const double length_mm = motion_length_mm(mo);
+  mo.feed_mm_min = std::max(0.1 * ctx.scale(), length_mm * ctx.inverse_f);
+  mo.inverse_time_s = units::kSecondsPerMinute * length_mm / mo.feed_mm_min;
+  if (!within(mo.feed_mm_min, kMaxFeedMmMin))
+    return ctx.fail(ErrorCode::ValueOutOfRange, ctx.w['F']->loc,
+                    fmt::format("G93 F{:g} over {:g} mm is {:g} mm/min, beyond {:g} mm/min",
+                                ctx.inverse_f, length_mm, mo.feed_mm_min, kMaxFeedMmMin));
+  return true;
+}
+
+}  // namespace
+
+double arc_sweep_rad(const Motion& m) {
+  const PlaneAxes ax = plane_axes(m.plane);
+  const double t1 =
+      std::atan2(m.start_mm[ax.b] - m.center_mm[ax.b], m.start_mm[ax.a] - m.center_mm[ax.a]);
+  double t2 = std::atan2(m.end_mm[ax.b] - m.center_mm[ax.b], m.end_mm[ax.a] - m.center_mm[ax.a]);
+  constexpr double two_pi = 2.0 * std::numbers::pi;
+  const int extra = m.turns > 0 ? m.turns - 1 : 0;
+  // LinuxCNC find_turn (interp_find.cc).
+  if (m.ccw) {
+    if (t2 <= t1) t2 += two_pi;
+    return t2 - t1 + extra * two_pi;
+  }
+  if (t2 >= t1) t2 -= two_pi;
+  return t2 - t1 - extra * two_pi;
+}
+
+double motion_length_mm(const Motion& m) {
+  if (m.kind != MotionKind::Arc) return (m.end_mm - m.start_mm).norm();
+  const PlaneAxes ax = plane_axes(m.plane);
+  const double r1 =
+      std::hypot(m.start_mm[ax.a] - m.center_mm[ax.a], m.start_mm[ax.b] - m.center_mm[ax.b]);
+  const double r2 =
+      std::hypot(m.end_mm[ax.a] - m.center_mm[ax.a], m.end_mm[ax.b] - m.center_mm[ax.b]);
+  const double h = m.end_mm[ax.n] - m.start_mm[ax.n];
+  return std::hypot(0.5 * (r1 + r2) * std::fabs(arc_sweep_rad(m)), h);
+}
+
+bool check_feed(BlockCtx& ctx, int code10, SourceLoc loc) {
+  auto name = [code10] { return code_name('G', code10); };
+  if (ctx.s.inverse_time) {
+    if (!ctx.w.has('F'))
+      return ctx.fail(ErrorCode::InverseTimeFeedMissing, loc,
+                      fmt::format("{} in inverse time mode (G93) without F on the block", name()));
+    if (ctx.inverse_f <= 0.0)
+      return ctx.fail(ErrorCode::ZeroFeed, ctx.w['F']->loc,
+                      fmt::format("{} with F0 in inverse time mode", name()));
+  } else if (ctx.s.feed_mm_min <= 0.0) {
+    return ctx.fail(ErrorCode::ZeroFeed, loc,
+                    fmt::format("{} with zero feed rate (no F yet, or F0)", name()));
+  }
+  return true;
+}
+
+bool axis_target(BlockCtx& ctx, const Pos9& from_mm, Pos9& target_mm) {
+  const double scale = ctx.scale();
+  target_mm = from_mm;
+  Pos9 off;
+  bool have_off = false;
+  for (int i = 0; i < kProgramAxes; ++i) {
+    const char letter = kProgramAxisLetters[static_cast<std::size_t>(i)];
+    const auto* aw = ctx.w[letter];
+    if (!aw) continue;
+    if (ctx.s.incremental) {
+      target_mm[i] = from_mm[i] + aw->value * scale;
+    } else {
+      if (!have_off) off = ctx.offset();
+      have_off = true;
+      target_mm[i] = aw->value * scale + off[i];
+    }
+    if (!within(target_mm[i], kMaxPositionMm))
+      return ctx.fail(
+          ErrorCode::ValueOutOfRange, aw->loc,
+          fmt::format("{} would move to {:g} mm (offsets included), outside -{:g}..{:g} mm", letter,
+                      target_mm[i], kMaxPositionMm, kMaxPositionMm));
+  }
+  return true;
+}
+
+bool emit_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target_mm, SourceLoc) {
+  Motion mo;
+  mo.line = ctx.block.line;
+  mo.kind = kind;
+  mo.start_mm = to_machine(ctx.s.position_mm);
+  mo.end_mm = to_machine(target_mm);
+  mo.plane = ctx.s.plane;
+  mo.path_mode = block_path_mode(ctx);
+  if (mo.end_mm != mo.start_mm) {
+    if (kind != MotionKind::Rapid && !set_feed(ctx, mo)) return false;
+    ctx.out.emplace_back(mo);
+  }
+  ctx.s.position_mm = target_mm;
+  return true;
+}
+
+bool run_straight(BlockCtx& ctx, const Code& c) {
+  const SourceLoc loc = motion_loc(ctx);
+  if (c.number10 != 0 && !check_feed(ctx, c.number10, loc)) return false;
+  Pos9 target;
+  if (!axis_target(ctx, ctx.s.position_mm, target)) return false;
+  return emit_straight(ctx, c.number10 == 0 ? MotionKind::Rapid : MotionKind::Line, target, loc);
+}
+
+bool run_arc(BlockCtx& ctx, const Code& c) {
+  const SourceLoc mloc = motion_loc(ctx);
+  if (!check_feed(ctx, c.number10, mloc)) return false;
+  ModalState& s = ctx.s;
+  const BlockWords& w = ctx.w;
+  Pos9 target;
+  if (!axis_target(ctx, s.position_mm, target)) return false;
+  const Pos9 off = ctx.offset();
+  const double scale = ctx.scale();
+
+  const PlaneAxes ax = plane_axes(s.plane);
+  const char la = "IJK"[ax.a], lb = "IJK"[ax.b], ln = "IJK"[ax.n];
+  if (w.has(ln))
+    return ctx.fail(ErrorCode::ArcOffsetWrongPlane, w[ln]->loc,
+                    fmt::format("{} word given for an arc in the {}", ln, plane_text(s.plane)));
+  if (w.has('R') && (w.has(la) || w.has(lb)))
+    return ctx.fail(ErrorCode::ArcRWithIjk, w['R']->loc, "R given together with I/J/K for an arc");
+  if (!w.has('R') && !w.has(la) && !w.has(lb))
+    return ctx.fail(ErrorCode::ArcMissingCenter, mloc,
+                    fmt::format("arc without R and without {} or {} (centre unknown)", la, lb));
+  int turns = 1;
+  if (w.has('P')) {
+    double p = 0;
+    if (!near_integer(w['P']->value, p) || p < 1 || p > 1e6)
+      return ctx.fail(
+          ErrorCode::BadPWord, w['P']->loc,
+          fmt::format("arc P{:g}: P must be an integer of 1 or more (turns)", w['P']->value));
+    turns = static_cast<int>(p);
+  }
+  ArcInput in;
+  in.start_a = (s.position_mm[ax.a] - off[ax.a]) / scale;
+  in.start_b = (s.position_mm[ax.b] - off[ax.b]) / scale;
+  in.end_a = (target[ax.a] - off[ax.a]) / scale;
+  in.end_b = (target[ax.b] - off[ax.b]) / scale;
+  in.use_r = w.has('R');
+  in.r = w.get('R');
+  in.off_a = w.get(la);
+  in.off_b = w.get(lb);
+  in.offsets_absolute = s.ijk_absolute;
+  in.ccw = c.number10 == 30;
+  in.mm_per_unit = scale;
+  in.rule = ctx.machine.arc_rule;
+  ArcResult ar = compute_arc(in);
+  const SourceLoc aloc = in.use_r ? w['R']->loc : w.has(la) ? w[la]->loc : w[lb]->loc;
+  if (ar.error != ErrorCode::None) return ctx.fail(ar.error, aloc, std::move(ar.message));
+
+  Pos9 center = s.position_mm;
+  center[ax.a] = s.position_mm[ax.a] + ar.rel_a * scale;
+  center[ax.b] = s.position_mm[ax.b] + ar.rel_b * scale;
+  for (const int i : {ax.a, ax.b}) {
+    if (within(center[i], kMaxPositionMm)) continue;
+    return ctx.fail(ErrorCode::ValueOutOfRange, aloc,
+                    fmt::format("arc centre {} = {:g} mm, outside -{:g}..{:g} mm",
+                                kProgramAxisLetters[static_cast<std::size_t>(i)], center[i],
+                                kMaxPositionMm, kMaxPositionMm));
+  }
+  Motion mo;
+  mo.line = ctx.block.line;
+  mo.kind = MotionKind::Arc;
+  mo.start_mm = to_machine(s.position_mm);
+  mo.end_mm = to_machine(target);
+  mo.center_mm = to_machine(center);
+  mo.plane = s.plane;
+  mo.path_mode = block_path_mode(ctx);
+  mo.ccw = in.ccw;
+  mo.turns = turns;
+  if (!set_feed(ctx, mo)) return false;
+  ctx.out.emplace_back(mo);
+  s.position_mm = target;
+  return true;
+}
+
+}  // namespace gm
