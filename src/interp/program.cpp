@@ -80,7 +80,7 @@ class StateParameters : public ParameterProvider {
         return true;
       }
       if (name == kAbsAxes[i]) {
-        v = i < kAxes ? s.position_mm[i] / units : 0.0;
+        v = s.position_mm[i] / units;
         return true;
       }
     }
@@ -92,7 +92,7 @@ class StateParameters : public ParameterProvider {
         {"_vmajor", 2.9},
         {"_vminor", 0.0},
         {"_line", static_cast<double>(line_)},
-        {"_motion_mode", s.motion < 0 ? 800.0 : s.motion * 10.0},
+        {"_motion_mode", s.motion < 0 ? 800.0 : static_cast<double>(s.motion)},
         {"_plane", s.plane == Plane::XY   ? 170.0
                    : s.plane == Plane::XZ ? 180.0
                                           : 190.0},
@@ -104,8 +104,9 @@ class StateParameters : public ParameterProvider {
         {"_inverse_time", s.inverse_time ? 1.0 : 0.0},
         {"_units_per_minute", s.inverse_time ? 0.0 : 1.0},
         {"_units_per_rev", 0.0},
-        {"_coord_system", 540.0 + 10.0 * s.coord_system},
-        {"_tool_offset", s.tool_length_mm != 0.0 ? 1.0 : 0.0},
+        {"_coord_system",
+         s.coord_system < 6 ? 540.0 + 10.0 * s.coord_system : 590.0 + (s.coord_system - 5)},
+        {"_tool_offset", s.tool_offset_mm.isZero() ? 0.0 : 1.0},
         {"_ijk_absolute_mode", s.ijk_absolute ? 1.0 : 0.0},
         {"_feed", s.feed_mm_min / units},
         {"_rpm", 0.0},
@@ -140,10 +141,11 @@ class StateParameters : public ParameterProvider {
  private:
   // Current position in the program's coordinate system and units (axis `i` in X..W order).
   double program_position(int i) const {
-    if (i >= kAxes) return 0.0;
     const ModalState& s = interp_.state();
-    const AxisVec p = s.position_mm - interp_.total_offset_mm();
-    return p[i] / (s.inch ? 25.4 : 1.0);
+    const SystemTables& t = interp_.tables();
+    const Pos9 offset =
+        t.g5x_mm[static_cast<std::size_t>(s.coord_system)] + s.g92_mm + s.tool_offset_mm;
+    return (s.position_mm[i] - offset[i]) / (s.inch ? 25.4 : 1.0);
   }
   const Interpreter& interp_;
   int line_ = 0;
