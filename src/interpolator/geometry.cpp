@@ -91,19 +91,21 @@ AxisVec MotionGeometry::at_fraction(double u) const {
   return p;
 }
 
-AxisVec MotionGeometry::tangent_at(double s_mm) const {
-  if (!(length_mm > 0.0)) return AxisVec::Zero();
-  if (kind != MotionKind::Arc) return (end_mm - start_mm) / length_mm;
-  const double u = std::clamp(s_mm / length_mm, 0.0, 1.0);
-  const double theta = theta0_rad + u * sweep_rad;
-  const double r = r0_mm + u * (r1_mm - r0_mm);
-  // d/du of the position: the turn, the radius blend and the lead.
-  AxisVec d = AxisVec::Zero();
-  d[ax.a] = -r * std::sin(theta) * sweep_rad + (r1_mm - r0_mm) * std::cos(theta);
-  d[ax.b] = r * std::cos(theta) * sweep_rad + (r1_mm - r0_mm) * std::sin(theta);
-  d[ax.n] = end_mm[ax.n] - start_mm[ax.n];
+AxisVec MotionGeometry::tangent_at_fraction(double u) const {
+  AxisVec d = end_mm - start_mm;
+  if (kind == MotionKind::Arc) {
+    // d/du of the position: the turn, the radius blend and the lead.
+    u = std::clamp(u, 0.0, 1.0);
+    const double th = theta0_rad + u * sweep_rad;
+    const double r = r0_mm + u * (r1_mm - r0_mm);
+    const double dr = r1_mm - r0_mm;
+    d = AxisVec::Zero();
+    d[ax.a] = dr * std::cos(th) - r * sweep_rad * std::sin(th);
+    d[ax.b] = dr * std::sin(th) + r * sweep_rad * std::cos(th);
+    d[ax.n] = end_mm[ax.n] - start_mm[ax.n];
+  }
   const double norm = d.norm();
-  return norm > 0.0 ? AxisVec(d / norm) : AxisVec::Zero();
+  return norm > 0.0 ? AxisVec(d / norm) : AxisVec(AxisVec::Zero());
 }
 
 double MotionGeometry::radial_deviation_mm(const AxisVec& p_mm) const {

@@ -52,7 +52,11 @@ struct MotionGeometry {
     return at_fraction(length_mm > 0.0 ? s_mm / length_mm : 1.0);
   }
   /// Unit tangent (direction of motion) at `s_mm` along the path; zero for a zero-length move.
-  AxisVec tangent_at(double s_mm) const;
+  AxisVec tangent_at(double s_mm) const {
+    return tangent_at_fraction(length_mm > 0.0 ? s_mm / length_mm : 0.0);
+  }
+  /// Unit tangent at path fraction `u` in [0, 1].
+  AxisVec tangent_at_fraction(double u) const;
 
   /// Distance from `p_mm` to the motion. Lines: to the segment. Arcs: when p lies in the swept
   /// sector (or the arc is a full turn or more), the radial deviation |p−c|−r0 in the plane
