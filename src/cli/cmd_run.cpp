@@ -38,6 +38,8 @@ struct RunFlags {
   bool realtime = false;
   double max_time_s = 0.0;
   bool keep_partial = false;
+  std::optional<double> tolerance_mm;  ///< --tolerance: the machine's path_tolerance_mm
+  bool check_tolerance = false;        ///< --check-tolerance: exit 1 if a sample exceeds it
 };
 
 int run(const RunFlags& f, std::unique_ptr<Run>& run_out) {
@@ -48,6 +50,11 @@ int run(const RunFlags& f, std::unique_ptr<Run>& run_out) {
   RunOptions o;
   o.config.machine = resolve_machine(f.machine);
   o.config.servo = !f.machine.no_servo;
+  if (f.tolerance_mm) {
+    if (!(*f.tolerance_mm >= 0.0) || *f.tolerance_mm > 1000.0)
+      throw InputError(fmt::format("--tolerance {} is outside 0..1000 mm", *f.tolerance_mm));
+    o.config.machine.path_tolerance_mm = *f.tolerance_mm;
+  }
   const double max_pct = o.config.machine.max_override * 100.0;
   for (auto [flag, v] : {std::pair{"--override", f.override_pct},
                          std::pair{"--rapid-override", f.rapid_override_pct}})
@@ -91,10 +98,16 @@ int run(const RunFlags& f, std::unique_ptr<Run>& run_out) {
              "gmotion run", cfg.machine.name, cfg.machine.profile, cfg.machine.tau_s,
              cfg.machine.period_s, run.pipeline().taps().integer.size(), cfg.servo ? "on" : "off");
   fmt::print(text_out, "{}", run.summary().text());
+  fmt::print(text_out, "{}", run.tolerance().text());
   if (!f.summary_json.empty()) {
     std::ofstream js(f.summary_json);
     js << run.summary().json();
     if (!js) throw InputError(fmt::format("cannot write summary '{}'", f.summary_json));
+  }
+  if (f.check_tolerance && run.tolerance().exceeded()) {
+    fmt::print(stderr, "gmotion run: --check-tolerance: {} samples exceed the tolerance in force\n",
+               run.tolerance().cutting().over + run.tolerance().rapids().over);
+    return static_cast<int>(ExitCode::InputError);
   }
   return st == RunStatus::Finished ? 0 : static_cast<int>(ExitCode::InputError);
 }
@@ -156,6 +169,11 @@ void add_run(CLI::App& app, Context& ctx) {
          "When the run fails, keep the trace written so far as FILE.partial; a '# status:' header "
          "line says whether the trace is complete or why it is partial")
       ->needs(trace);
+  sub->add_option("--tolerance", flags->tolerance_mm,
+                  "Contour tolerance under G64 without P, mm (the machine's path_tolerance_mm; "
+                  "0 = unbounded)");
+  sub->add_flag("--check-tolerance", flags->check_tolerance,
+                "Exit 1 when any sample's contour error exceeds the tolerance in force");
   sub->callback([flags, &ctx] {
     if (flags->keep_partial && TraceWriter::written_in_place(flags->trace_path))
       throw CLI::ValidationError(

@@ -32,12 +32,24 @@ RunOptions with_thread_choice(RunOptions o) {
   return o;
 }
 
+// The tolerance planner over `source` for the machine's filter and overrides (issue 21).
+std::unique_ptr<TolerancePlanner> make_planner(const Machine& m, CanonSource& source) {
+  PlannerConfig c;
+  c.max_override = m.max_override;
+  c.rapid_mm_min = m.rapid_mm_min;
+  c.rounding_mm = m.blu_mm().norm();
+  const FilterMoments moments(design_taps(m.profile, m.tau_s, m.period_s), m.period_s);
+  return std::make_unique<TolerancePlanner>(moments, c, source);
+}
+
 }  // namespace
 
 Run::Run(RunOptions options, CanonSource& source)
     : options_(with_thread_choice(std::move(options))),
-      pipeline_(options_.config, source),
+      planner_(make_planner(options_.config.machine, source)),
+      pipeline_(options_.config, *planner_),
       summary_(options_.config.machine),
+      tolerance_(options_.config.machine.blu_mm().minCoeff()),
       player_(options_.schedule, options_.config.machine.period_s, options_.feed_override_pct,
               options_.rapid_override_pct) {
   init();
@@ -47,8 +59,10 @@ Run::Run(RunOptions options, std::istream& program, InterpreterOptions opts)
     : options_(with_thread_choice(std::move(options))),
       stream_(std::make_unique<ProgramStream>(program, options_.program_name,
                                               with_machine(opts, options_.config.machine))),
-      pipeline_(options_.config, *stream_),
+      planner_(make_planner(options_.config.machine, *stream_)),
+      pipeline_(options_.config, *planner_),
       summary_(options_.config.machine),
+      tolerance_(options_.config.machine.blu_mm().minCoeff()),
       player_(options_.schedule, options_.config.machine.period_s, options_.feed_override_pct,
               options_.rapid_override_pct) {
   init();
@@ -91,6 +105,7 @@ Run::~Run() = default;
 
 void Run::consume(SampleRecord& r, const Motion* started) {
   if (meter_) meter_->measure(r, started);
+  tolerance_.add(r, started);
   summary_.add(r);
   if (trace_) trace_->write(r);
 }
@@ -133,7 +148,7 @@ RunStatus Run::step() {
   if (queue_)
     queue_->push(rec_, pipeline_.started_motion());
   else
-    consume(rec_, nullptr);  // step() measured the contour itself
+    consume(rec_, pipeline_.started_motion());  // step() measured the contour itself
   if (o.progress && !realtime(o) && (rec_.k & 0xFFFF) == 0 &&
       std::chrono::steady_clock::now() > next_progress_) {
     o.progress(rec_);

@@ -6,6 +6,8 @@
 #include "interp/program.hpp"
 #include "override/override_schedule.hpp"
 #include "pipeline/pipeline.hpp"
+#include "planner/tolerance_check.hpp"
+#include "planner/tolerance_planner.hpp"
 #include "trace/run_summary.hpp"
 #include "trace/trace_writer.hpp"
 
@@ -86,6 +88,10 @@ class Run {
   const SampleRecord& last() const { return rec_; }
   /// Complete once step() has returned Finished or Unsettled.
   const RunSummary& summary() const { return summary_; }
+  /// The contour error against the tolerance in force (issue 21), complete with summary().
+  const ToleranceCheck& tolerance() const { return tolerance_; }
+  /// What the tolerance planner (between the program and the pipeline) did.
+  const PlannerStats& planner_stats() const { return planner_->stats(); }
   const Pipeline& pipeline() const { return pipeline_; }
   const RunConfig& config() const { return options_.config; }
   const RunOptions& options() const { return options_; }
@@ -107,8 +113,12 @@ class Run {
 
   RunOptions options_;
   std::unique_ptr<ProgramStream> stream_;  ///< when the run interprets the program itself
+  /// Issue 21: caps speeds and pauses at corners for blocks with a tolerance; hands every other
+  /// block on unchanged.
+  std::unique_ptr<TolerancePlanner> planner_;
   Pipeline pipeline_;
   RunSummary summary_;
+  ToleranceCheck tolerance_;
   OverridePlayer player_;
   std::unique_ptr<LiveOverride> live_;
   std::unique_ptr<OverrideRecorder> recorder_;
