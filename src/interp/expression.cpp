@@ -12,7 +12,29 @@ namespace {
 
 using grammar::Op;
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+// LinuxCNC converts angles in long double: sin((x * pi) / 180) is evaluated as long double (its
+// result rounded to double), and acos(x) * 180 / pi likewise; matching that keeps every printed
+// digit equal to rs274's (TAN[90] is -3.99e19 there, not 1.6e16).
+constexpr long double kPiL = std::numbers::pi_v<long double>;
+double deg_sin(double x) {
+  return static_cast<double>(std::sin((static_cast<long double>(x) * kPiL) / 180.0L));
+}
+double deg_cos(double x) {
+  return static_cast<double>(std::cos((static_cast<long double>(x) * kPiL) / 180.0L));
+}
+double deg_tan(double x) {
+  return static_cast<double>(std::tan((static_cast<long double>(x) * kPiL) / 180.0L));
+}
+double to_degrees(double rad) {
+  return static_cast<double>((static_cast<long double>(rad) * 180.0L) / kPiL);
+}
+// LinuxCNC rounds by truncating x +- 0.5 to an int (so 0.49999999999999994 rounds to 1); beyond
+// the int range the conversion gives INT_MIN on x86-64, which is mirrored.
+double linuxcnc_round(double x) {
+  const double y = x + (x < 0.0 ? -0.5 : 0.5);
+  if (!(y > -2147483649.0 && y < 2147483648.0)) return -2147483648.0;
+  return std::trunc(y);
+}
 
 bool fail(InterpError& err, ErrorCode code, SourceLoc loc, std::string msg) {
   err.code = code;
@@ -23,6 +45,13 @@ bool fail(InterpError& err, ErrorCode code, SourceLoc loc, std::string msg) {
 
 std::string show(double v) {
   return fmt::format("{}", v);
+}
+
+// True if a setting `#<name>=` comes before op `i` on the line (ops are in the order written).
+bool declared_before(const grammar::Block& block, std::string_view name, std::uint32_t i) {
+  for (const grammar::Assignment& a : block.assignments)
+    if (a.named && a.value.first <= i && block.name_of(a.name, a.name_size) == name) return true;
+  return false;
 }
 
 }  // namespace
@@ -45,14 +74,16 @@ bool Evaluator::evaluate(const grammar::Block& block, grammar::OpRange r,
   stack_.clear();
   for (std::uint32_t i = r.first; i < r.last; ++i) {
     const grammar::ExprOp& o = block.ops[i];
-    double result = 0.0;
+    double result = 0.0;  // also the value of a named parameter declared earlier on the line
     switch (o.op) {
       case Op::Number:
         stack_.push_back(o.value);
         continue;
       case Op::Named: {
         const std::string_view name = block.name_of(o.name, o.name_size);
-        if (!params.get_named(name, result))
+        // LinuxCNC creates a named parameter (value 0) when it reads `#<name>=` on the line:
+        // reads written after that see 0 until the line's settings apply.
+        if (!params.get_named(name, result) && !declared_before(block, name, i))
           return fail(err, ErrorCode::UndefinedParameter, o.loc,
                       fmt::format("named parameter #<{}> is not defined", name));
         stack_.push_back(result);
@@ -94,16 +125,16 @@ bool Evaluator::evaluate(const grammar::Block& block, grammar::OpRange r,
         if (b < -1.0 || b > 1.0)
           return fail(err, ErrorCode::DomainError, o.loc,
                       fmt::format("{}[{}]: argument outside -1..1", name, show(b)));
-        result = (o.op == Op::Acos ? std::acos(b) : std::asin(b)) / kDeg;
+        result = to_degrees(o.op == Op::Acos ? std::acos(b) : std::asin(b));
         break;
       case Op::Cos:
-        result = std::cos(b * kDeg);
+        result = deg_cos(b);
         break;
       case Op::Sin:
-        result = std::sin(b * kDeg);
+        result = deg_sin(b);
         break;
       case Op::Tan:
-        result = std::tan(b * kDeg);
+        result = deg_tan(b);
         break;
       case Op::Exp:
         result = std::exp(b);
@@ -115,7 +146,7 @@ bool Evaluator::evaluate(const grammar::Block& block, grammar::OpRange r,
         result = std::ceil(b);
         break;
       case Op::Round:
-        result = std::round(b);  // halves away from zero, as LinuxCNC
+        result = linuxcnc_round(b);
         break;
       case Op::Ln:
         if (b <= 0.0)
@@ -130,7 +161,7 @@ bool Evaluator::evaluate(const grammar::Block& block, grammar::OpRange r,
         result = std::sqrt(b);
         break;
       case Op::Atan2:
-        result = std::atan2(a, b) / kDeg;
+        result = to_degrees(std::atan2(a, b));
         break;
       case Op::Pow:
         if (a < 0.0 && std::floor(b) != b)

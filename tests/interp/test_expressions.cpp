@@ -78,6 +78,19 @@ TEST_CASE("settings on a line take effect after the whole line is read (rs274)")
   CHECK(m[0] == "5.000000");
 }
 
+TEST_CASE("a named parameter exists from its setting on: later reads on the line see 0 (rs274)") {
+  auto m = messages("#<x>=1 #<y>=[#<x>+1]\n(DEBUG,#<x> #<y>)\nM2\n");
+  REQUIRE(m.size() == 1);
+  CHECK(m[0] == "1.000000 1.000000");
+  m = messages("#<x>=[#<x>+1]\n(DEBUG,#<x>)\nM2\n");
+  REQUIRE(m.size() == 1);
+  CHECK(m[0] == "1.000000");
+  // A read before the setting is an error, as in rs274.
+  const auto d = diagnose("G0 X#<w> #<w>=1\nM2\n");
+  REQUIRE(!d.empty());
+  CHECK(d[0].code == code(gm::ErrorCode::UndefinedParameter));
+}
+
 TEST_CASE("named parameters, EXISTS and predefined ones (rs274)") {
   auto mv = motions("#<width>=20 #<_depth>=-1.5\nG1 X[#<width>/2] Z#<_DEPTH> F100\nM2\n");
   REQUIRE(mv.size() == 1);
