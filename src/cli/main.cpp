@@ -7,7 +7,9 @@
 #include <cstdio>
 #include <exception>
 
-int main(int argc, char** argv) {
+namespace {
+
+int run_main(int argc, char** argv) {
   using gm::ExitCode;
   CLI::App app{
       "gmotion — a G-code executing motion interpreter: parser, sample-data interpolator,\n"
@@ -46,4 +48,16 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "gmotion: {}\n", ctx.note);
   }
   return code;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Nothing escapes main (clang-tidy bugprone-exception-escape): an error while reporting an
+  // error (stderr closed or full: fmt::print throws) or while setting up still exits 3.
+  try {
+    return run_main(argc, argv);
+  } catch (...) {
+    return static_cast<int>(gm::ExitCode::InternalError);
+  }
 }
