@@ -224,6 +224,8 @@ int run(const RunFlags& f, RunTrace& out) {
   fmt::print(text_out, "{}: {} on {} ({}, tau {} s, T {} s, {} taps, servo {})\n", program.name(),
              "gmotion run", cfg.machine.name, cfg.machine.profile, cfg.machine.tau_s,
              cfg.machine.period_s, pipeline.taps().integer.size(), cfg.servo ? "on" : "off");
+  fmt::print(text_out, "tool table {} ({} tools)\n", cfg.machine.tool_table.source,
+             cfg.machine.tool_table.tools.size());
   fmt::print(text_out, "{}", summary.text());
   if (!f.summary_json.empty()) {
     std::ofstream js(f.summary_json);

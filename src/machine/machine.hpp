@@ -2,6 +2,7 @@
 #pragma once
 
 #include "common/axis.hpp"
+#include "machine/tool_table.hpp"
 
 #include <array>
 #include <string>
@@ -68,7 +69,8 @@ struct Machine {
   double tau_s = 0.164;               ///< Acc/Dec time constant (N+1)T
   ArcRule arc_rule = ArcRule::LinuxCnc;
   std::array<AxisConfig, kAxes> axes{};
-  std::vector<double> tool_lengths_mm;  ///< index = tool number (T0 = index 0)
+  std::vector<double> tool_lengths_mm;  ///< index = tool number (T0 = index 0); overrides table Z
+  ToolTable tool_table = default_tool_table();  ///< key `tool_table` or --tool-table FILE
   std::array<AxisVec, 6> work_offsets_mm{AxisVec::Zero(), AxisVec::Zero(),
                                          AxisVec::Zero(), AxisVec::Zero(),
                                          AxisVec::Zero(), AxisVec::Zero()};  ///< G54..G59
