@@ -12,6 +12,7 @@ BOOST_SPIRIT_INSTANTIATE(block_type, iterator_type, context_type)
 }  // namespace parser
 
 bool parse_items(const char*& first, const char* last, ast::Block& out, ItemFailure& fail) {
+  parser::current_block = &out;
   try {
     x3::parse(first, last, parser::block, out);
     return true;

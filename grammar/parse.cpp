@@ -131,6 +131,11 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
   out.percent = false;
   out.words.clear();
   out.message_count = 0;
+  out.directive_count = 0;
+  out.ops.clear();
+  out.word_exprs.clear();
+  out.assignments.clear();
+  out.names.clear();
   out.errors.clear();
   if (!text.empty() && text.back() == '\r') text.remove_suffix(1);
 
@@ -206,11 +211,9 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
       if (pos == end) break;
       const char c = *pos;
       const int off = static_cast<int>(pos - begin);
-      if (c == '#')
-        add_error(out, ErrorCode::ParametersUnsupported, off, "parameters ('#') are not supported");
-      else if (c == '[')
-        add_error(out, ErrorCode::ExpressionsUnsupported, off,
-                  "expressions ('[...]') are not supported");
+      if (c == '[')
+        add_error(out, ErrorCode::NumberWithoutLetter, off,
+                  "expression without a word letter in front");
       else if ((c >= '0' && c <= '9') || c == '.' || c == '+' || c == '-')
         add_error(out, ErrorCode::NumberWithoutLetter, off,
                   "number without a word letter in front");
@@ -222,26 +225,76 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
       pos = skip_unsupported(pos, end);
     } else {
       const int off = static_cast<int>(fail.where - begin);
-      if (fail.code == ErrorCode::ExpectedNumber) {
-        const ast::Word& w = ast_.words[ast_.word_count - 1];
-        --ast_.word_count;  // drop the incomplete word
-        const char at = fail.where == end ? '\0' : *fail.where;
-        if (w.letter == 'O')
-          add_error(out, ErrorCode::OWordsUnsupported, w.id_first, "O-words are not supported");
-        else if (at == '#')
-          add_error(out, ErrorCode::ParametersUnsupported, off,
-                    "parameters ('#') are not supported");
-        else if (at == '[')
-          add_error(out, ErrorCode::ExpressionsUnsupported, off,
-                    "expressions ('[...]') are not supported");
-        else
-          add_error(out, ErrorCode::ExpectedNumber, off,
-                    std::string("expected a number after '") + w.letter + "'" +
-                        (fail.where == end ? "" : ", found " + describe_char(*fail.where)));
-        pos = skip_unsupported(fail.where, end);
+      const char at = fail.where == end ? '\0' : *fail.where;
+      const std::string found = fail.where == end ? "" : ", found " + describe_char(at);
+      const ast::Open open = ast_.open;
+      if (open == ast::Open::Word || open == ast::Open::Assign) {
+        // Drop the unfinished item and whatever of its expression was emitted.
+        char letter = '#';
+        int item_pos = 0;
+        if (open == ast::Open::Word) {
+          letter = ast_.words[ast_.word_count - 1].letter;
+          item_pos = ast_.words[ast_.word_count - 1].id_first;
+          --ast_.word_count;
+        } else {
+          item_pos = ast_.assigns.back().pos;
+          ast_.assigns.pop_back();
+        }
+        ast_.ops.resize(ast_.open_ops);
+        ast_.open = ast::Open::None;
+        // Resume after the brackets the item opened, so their contents make no further errors.
+        int depth = 0;
+        for (const char* q = begin + item_pos; q < fail.where; ++q)
+          depth += (*q == '[') - (*q == ']');
+        switch (fail.code) {
+          case ErrorCode::ExpectedNumber:
+            if (letter == 'O') {
+              add_error(out, ErrorCode::OWordsUnsupported, item_pos, "O-words are not supported");
+            } else if (at >= 'A' && at <= 'Z') {
+              // Letters then '[' name a function: say which name is unknown.
+              const char* q = fail.where;
+              while (q != end && *q >= 'A' && *q <= 'Z') ++q;
+              if (q != end && *q == '[')
+                add_error(out, ErrorCode::UnknownOperator, off,
+                          "unknown function '" + std::string(fail.where, q) + "'");
+              else
+                add_error(out, ErrorCode::ExpectedNumber, off,
+                          std::string("expected a number after '") + letter + "'" + found);
+            } else
+              add_error(out, ErrorCode::ExpectedNumber, off,
+                        std::string("expected a number after '") + letter + "'" + found);
+            break;
+          case ErrorCode::UnclosedBracket:
+            add_error(out, ErrorCode::UnclosedBracket, off,
+                      "expected ']' to close the expression" + found);
+            break;
+          case ErrorCode::UnknownOperator: {
+            const char* q = fail.where;
+            while (q != end && *q >= 'A' && *q <= 'Z') ++q;
+            add_error(out, ErrorCode::UnknownOperator, off,
+                      "unknown function or operator '" + std::string(fail.where, q) + "'");
+            break;
+          }
+          case ErrorCode::BadParameterName:
+            add_error(out, ErrorCode::BadParameterName, off,
+                      at == '\0' || at != '>' ? "named parameter not closed: expected '>'"
+                                              : "empty parameter name");
+            break;
+          case ErrorCode::ExpectedEquals:
+            add_error(out, ErrorCode::ExpectedEquals, off,
+                      "expected '=' in the parameter setting" + found);
+            break;
+          default:
+            add_error(out, ErrorCode::BadExpression, off,
+                      "expected a number, #parameter, [expression] or function" + found);
+            break;
+        }
+        pos = fail.where;
+        for (; pos != end && depth > 0; ++pos) depth -= (*pos == ']') - (*pos == '[');
       } else {
         const int open_paren = ast_.comments[ast_.comment_count - 1].id_first;
         --ast_.comment_count;
+        ast_.open = ast::Open::None;
         if (fail.code == ErrorCode::NestedComment)
           add_error(out, ErrorCode::NestedComment, off, "nested comment: '(' inside a comment");
         else
@@ -254,16 +307,60 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
     while (pos != end && !starts_item(*pos)) ++pos;
   }
 
-  // 3. Convert the words.
+  // 3. Convert the expressions (one ExprOp per ast op, same indices), then the words.
+  const auto loc_at = [&](int offset) {
+    return SourceLoc{line, columns_[static_cast<std::size_t>(offset)]};
+  };
+  const auto add_name = [&](int first, int last, std::uint32_t& name, std::uint32_t& size) {
+    name = static_cast<std::uint32_t>(out.names.size());
+    size = static_cast<std::uint32_t>(last - first);
+    for (int k = first; k < last; ++k) {
+      char ch = begin[k];
+      if (ch >= 'A' && ch <= 'Z') ch = static_cast<char>(ch - 'A' + 'a');
+      out.names.push_back(ch);
+    }
+  };
+  for (const ast::ExprOp& a : ast_.ops) {
+    ExprOp& op = out.ops.emplace_back();
+    op.op = a.op;
+    // A parameter is located at its '#': two characters before a name, one before a number.
+    op.loc = loc_at(a.op == Op::Named ? a.first - 2 : a.op == Op::Param ? a.first - 1 : a.first);
+    if (a.op == Op::Number) {
+      const std::string_view num(begin + a.first, static_cast<std::size_t>(a.last - a.first));
+      bool has_exponent = false;
+      if (!to_double(num, op.value, has_exponent))
+        add_error(out, ErrorCode::NumberOutOfRange, a.first,
+                  "number out of range: " + show_number(num));
+    } else if (a.op == Op::Named || a.op == Op::Exists) {
+      add_name(a.first, a.last, op.name, op.name_size);
+    }
+  }
+  for (const ast::Assign& a : ast_.assigns) {
+    Assignment& s = out.assignments.emplace_back();
+    s.loc = loc_at(a.pos);
+    s.named = a.name_first >= 0;
+    if (s.named) add_name(a.name_first, a.name_last, s.name, s.name_size);
+    s.index = OpRange{static_cast<std::uint32_t>(a.index_first),
+                      static_cast<std::uint32_t>(a.index_last)};
+    s.value = OpRange{static_cast<std::uint32_t>(a.value_first),
+                      static_cast<std::uint32_t>(a.value_last)};
+  }
   for (std::size_t i = 0; i < ast_.word_count; ++i) {
     const ast::Word& w = ast_.words[i];
-    const std::string_view num(begin + w.num_first,
-                               static_cast<std::size_t>(w.num_last - w.num_first));
     const SourceLoc loc{line, columns_[static_cast<std::size_t>(w.id_first)]};
     if (w.letter == 'O') {
       add_error(out, ErrorCode::OWordsUnsupported, w.id_first, "O-words are not supported");
       continue;
     }
+    if (w.expr_last > w.expr_first) {
+      out.word_exprs.push_back(WordExpr{static_cast<std::uint32_t>(out.words.size()),
+                                        OpRange{static_cast<std::uint32_t>(w.expr_first),
+                                                static_cast<std::uint32_t>(w.expr_last)}});
+      out.words.push_back(Word{w.letter, 0.0, loc});
+      continue;
+    }
+    const std::string_view num(begin + w.num_first,
+                               static_cast<std::size_t>(w.num_last - w.num_first));
     double value = 0.0;
     bool has_exponent = false;
     if (!to_double(num, value, has_exponent)) {
@@ -283,20 +380,39 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
       out.errors.begin(), out.errors.end(),
       [](const SyntaxError& a, const SyntaxError& b) { return a.loc.column < b.loc.column; });
 
-  // 4. Messages: (MSG, text), case-insensitive, leading spaces allowed.
-  for (std::size_t i = 0; i < ast_.comment_count; ++i) {
-    const ast::Comment& c = ast_.comments[i];
+  // 4. The active comment: LinuxCNC acts on the last comment of a line only. MSG, DEBUG, PRINT,
+  // ABORT, LOG, LOGOPEN, LOGAPPEND (each with a comma) and LOGCLOSE, in either case.
+  if (ast_.comment_count > 0) {
+    const ast::Comment& c = ast_.comments[ast_.comment_count - 1];
     std::string_view t(begin + c.text_first, static_cast<std::size_t>(c.text_last - c.text_first));
     while (!t.empty() && (t.front() == ' ' || t.front() == '\t')) t.remove_prefix(1);
-    if (t.size() < 4) continue;
+    struct Keyword {
+      std::string_view word;
+      CommentKind kind;
+      bool display;
+    };
+    static constexpr Keyword kKeywords[] = {
+        {"MSG,", CommentKind::Msg, true},           {"DEBUG,", CommentKind::Debug, true},
+        {"PRINT,", CommentKind::Print, true},       {"ABORT,", CommentKind::Abort, false},
+        {"LOGOPEN,", CommentKind::LogOpen, false},  {"LOGAPPEND,", CommentKind::LogAppend, false},
+        {"LOGCLOSE", CommentKind::LogClose, false}, {"LOG,", CommentKind::Log, false}};
     auto up = [](char ch) { return (ch >= 'a' && ch <= 'z') ? static_cast<char>(ch - 32) : ch; };
-    if (up(t[0]) != 'M' || up(t[1]) != 'S' || up(t[2]) != 'G' || t[3] != ',') continue;
-    t.remove_prefix(4);
-    while (!t.empty() && (t.front() == ' ' || t.front() == '\t')) t.remove_prefix(1);
-    if (out.message_count == out.messages.size()) out.messages.emplace_back();
-    Message& m = out.messages[out.message_count++];
-    m.text.assign(t);
-    m.loc = SourceLoc{line, columns_[static_cast<std::size_t>(c.id_first)]};
+    for (const Keyword& k : kKeywords) {
+      if (t.size() < k.word.size()) continue;
+      bool match = true;
+      for (std::size_t j = 0; j < k.word.size() && match; ++j) match = up(t[j]) == k.word[j];
+      if (!match) continue;
+      t.remove_prefix(k.word.size());
+      while (!t.empty() && (t.front() == ' ' || t.front() == '\t')) t.remove_prefix(1);
+      std::vector<Message>& list = k.display ? out.messages : out.directives;
+      std::size_t& count = k.display ? out.message_count : out.directive_count;
+      if (count == list.size()) list.emplace_back();
+      Message& m = list[count++];
+      m.text.assign(t);
+      m.loc = SourceLoc{line, columns_[static_cast<std::size_t>(c.id_first)]};
+      m.kind = k.kind;
+      break;
+    }
   }
 }
 

@@ -4,6 +4,9 @@
 #include "common/diagnostic.hpp"
 #include "common/error_codes.hpp"
 #include "grammar/ast.hpp"
+#include "grammar/expr_ops.hpp"
+
+#include <cstdint>
 
 #include <string>
 #include <string_view>
@@ -25,10 +28,55 @@ struct SyntaxError {
   std::string message;
 };
 
-/// A (MSG, text) comment: `text` is what follows the comma, without leading spaces.
+/// What an active comment asks for. LinuxCNC acts on the last comment of a line only.
+enum class CommentKind : std::uint8_t {
+  Msg,        ///< (MSG, text): shown as it is
+  Debug,      ///< (DEBUG, text): shown with #n and #<name> replaced by their values
+  Print,      ///< (PRINT, text): as DEBUG (LinuxCNC prints it on stderr)
+  Abort,      ///< (ABORT, text): ends the program with an error (text substituted)
+  Log,        ///< (LOG, text): written to the log file if one is open
+  LogOpen,    ///< (LOGOPEN, file)
+  LogAppend,  ///< (LOGAPPEND, file)
+  LogClose,   ///< (LOGCLOSE)
+};
+
+/// An active comment: `text` is what follows the comma, without leading spaces.
 struct Message {
   std::string text;
   SourceLoc loc;
+  CommentKind kind = CommentKind::Msg;
+};
+
+/// One step of an expression (reverse Polish): literal value, or a name in Block::names.
+struct ExprOp {
+  Op op = Op::Number;
+  double value = 0.0;           ///< Number
+  std::uint32_t name = 0;       ///< Named/Exists: offset of the (lower-case) name in Block::names
+  std::uint32_t name_size = 0;  ///< and its length
+  SourceLoc loc;                ///< where the operand or operator is written
+};
+
+/// A half-open range of Block::ops.
+struct OpRange {
+  std::uint32_t first = 0;
+  std::uint32_t last = 0;
+  bool empty() const { return first == last; }
+};
+
+/// A word whose value is an expression: Block::words[word].value is filled in by evaluating
+/// `ops` (the interpreter only ever sees numbers).
+struct WordExpr {
+  std::uint32_t word = 0;
+  OpRange ops;
+};
+
+/// A parameter setting `#n=value` (index computes n) or `#<name>=value`.
+struct Assignment {
+  SourceLoc loc;  ///< the '#'
+  bool named = false;
+  std::uint32_t name = 0, name_size = 0;  ///< named: the name in Block::names
+  OpRange index;                          ///< numbered: computes n
+  OpRange value;
 };
 
 /// One parsed line. The containers are reused from line to line (counts say what is valid),
@@ -38,11 +86,27 @@ struct Block {
   bool block_delete = false;  ///< the line starts with '/'
   bool percent = false;       ///< the line is a '%' program delimiter
   std::vector<Word> words;
+  /// Comments to show (MSG, DEBUG, PRINT): at most one, LinuxCNC acts on the last comment.
   std::vector<Message> messages;
   std::size_t message_count = 0;
+  /// The line's last comment when it is ABORT or a LOG comment (directive_count 0 or 1).
+  std::vector<Message> directives;
+  std::size_t directive_count = 0;
+  std::vector<ExprOp> ops;              ///< every expression of the line
+  std::vector<WordExpr> word_exprs;     ///< words whose value is an expression
+  std::vector<Assignment> assignments;  ///< parameter settings, in the order written
+  std::string names;                    ///< parameter names, lower case, back to back
   std::vector<SyntaxError> errors;
 
   bool has_errors() const { return !errors.empty(); }
+  /// True when something must be evaluated before the interpreter sees the words.
+  bool needs_evaluation() const {
+    return !word_exprs.empty() || !assignments.empty() ||
+           (message_count > 0 && messages[0].kind != CommentKind::Msg) || directive_count > 0;
+  }
+  std::string_view name_of(std::uint32_t first, std::uint32_t size) const {
+    return std::string_view(names).substr(first, size);
+  }
 };
 
 /// Lines longer than this are refused with LineTooLong (the reader stops storing them).

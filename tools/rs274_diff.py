@@ -68,12 +68,16 @@ class Move:
     turns: int | None = None
     plane: str | None = None       # XY | XZ | YZ
     seconds: float | None = None   # dwell
+    text: str | None = None        # message: MSG/DEBUG text (MESSAGE call) or PRINT output
     tol_mm: float = 0.0            # extra tolerance: print rounding of this value on rs274's side
     feed_tol: float = 0.0          # the same for the feed, mm/min
     note: str = ""
 
     def as_dict(self) -> dict:
         d = {"line": self.line, "kind": self.kind}
+        if self.kind == "message":
+            d["text"] = self.text
+            return d
         if self.kind == "dwell":
             d["seconds"] = self.seconds
             return d
@@ -137,6 +141,9 @@ def parse_rs274_output(text: str) -> list[Move]:
     for raw in text.splitlines():
         m = _CALL.match(raw)
         if not m:
+            # (PRINT,...) writes its text straight to stdout, between the canonical calls.
+            if raw.strip():
+                moves.append(Move(kind="message", text=raw))
             continue
         nword, name, args = m.group(2), m.group(3), m.group(4)
         line = int(nword) if nword else None
@@ -196,6 +203,11 @@ def parse_rs274_output(text: str) -> list[Move]:
                               tol_mm=RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol + tool_tol))
         elif name == "DWELL":
             moves.append(Move(kind="dwell", line=line, seconds=_floats(args)[0]))
+        elif name == "MESSAGE":
+            arg = args.strip()
+            if arg.startswith('"') and arg.endswith('"'):
+                arg = arg[1:-1]
+            moves.append(Move(kind="message", line=line, text=arg))
     return moves
 
 
@@ -268,10 +280,14 @@ def run_rs274(rs274: str, program_text: str, timeout: float = 120.0,
             Path(tbl).write_text(tool_table_inches(tool_table_mm))
             cmd += ["-t", tbl]
         cmd += ["-g", path]
-        env = dict(os.environ, HOME=tmp)
-        for _attempt in range(3):  # a death by signal is retried
-            p = subprocess.run(cmd, cwd=tmp, stdin=subprocess.DEVNULL, env=env,
-                               capture_output=True, text=True, timeout=timeout)
+        # Every run gets its own empty HOME: rs274 keeps its tool table in $HOME/.tool.mmap and
+        # runs sharing one truncate it under each other. A death by signal is retried.
+        home = os.path.join(tmp, "home")
+        os.mkdir(home)
+        env = dict(os.environ, HOME=home)
+        for _attempt in range(3):
+            p = subprocess.run(cmd, cwd=tmp, stdin=subprocess.DEVNULL,
+                               capture_output=True, text=True, timeout=timeout, env=env)
             if p.returncode >= 0:
                 break
     err = "\n".join(l for l in p.stderr.splitlines() if l.strip() != "executing")
@@ -294,15 +310,17 @@ def parse_gmotion_output(text: str) -> list[Move]:
             raise ValueError(f"gmotion moves output line {n} is not JSON ({e}): {raw!r}")
         moves.append(Move(kind=d.get("kind"), line=d.get("line"), end=d.get("end"),
                           feed=d.get("feed"), center=d.get("center"), dir=d.get("dir"),
-                          turns=d.get("turns"), plane=d.get("plane"), seconds=d.get("seconds")))
+                          turns=d.get("turns"), plane=d.get("plane"), seconds=d.get("seconds"),
+                          text=d.get("text")))
     return moves
 
 
 def run_gmotion(gmotion: str, path: str, timeout: float = 120.0,
+                extra: list | None = None,
                 tool_table_path: str | None = None) -> tuple[bool, list, str]:
-    cmd = [gmotion, "moves", path] + (["--tool-table", tool_table_path] if tool_table_path else [])
-    p = subprocess.run(cmd, stdin=subprocess.DEVNULL, capture_output=True, text=True,
-                       timeout=timeout)
+    tools = ["--tool-table", tool_table_path] if tool_table_path else []
+    p = subprocess.run([gmotion, "moves", path, "--messages"] + tools + (extra or []),
+                       stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=timeout)
     if p.returncode != 0:
         return False, [], (p.stderr.strip() or f"gmotion exit status {p.returncode}")
     try:
@@ -333,12 +351,33 @@ def _vec_diff(a, b, extra):
     return None
 
 
+_NUM = re.compile(r"-?\d+\.\d+|-?\d+")
+
+
+def compare_text(ref: str, got: str) -> str | None:
+    """Message texts: equal apart from leading/trailing spaces (rs274 keeps the space after the
+    comma) and numbers that differ by less than their %f print rounding."""
+    a, b = (ref or "").strip(), (got or "").strip()
+    if a == b:
+        return None
+    na, nb = _NUM.findall(a), _NUM.findall(b)
+    if _NUM.sub("#", a) != _NUM.sub("#", b) or len(na) != len(nb):
+        return f"text {a!r} vs {b!r}"
+    for x, y in zip(na, nb):
+        fx, fy = float(x), float(y)
+        if abs(fx - fy) > 1.5e-6 + 1e-12 * max(abs(fx), abs(fy)):
+            return f"text {a!r} vs {b!r} ({x} vs {y})"
+    return None
+
+
 def compare_move(ref: Move, got: Move, tol: Tol) -> str | None:
     """None if `got` (gmotion) matches `ref` (rs274), else a one-line reason."""
     if ref.kind != got.kind:
         return f"kind {ref.kind} vs {got.kind}"
     if ref.line is not None and got.line is not None and ref.line != got.line:
         return f"line {ref.line} vs {got.line}"
+    if ref.kind == "message":
+        return compare_text(ref.text, got.text)
     if ref.kind == "dwell":
         if got.seconds is None or abs(ref.seconds - got.seconds) > tol.seconds + RS274_PRINT_HALF_ULP:
             return f"dwell seconds {ref.seconds} vs {got.seconds}"
@@ -379,14 +418,17 @@ def compare_moves(ref: list[Move], got: list[Move], tol: Tol):
 
 def drop_zero_length(moves: list[Move], eps_mm: float) -> tuple[list[Move], int]:
     """Remove rapids/lines that end where the previous move ended (start: origin)."""
-    out, dropped, prev = [], 0, [0.0, 0.0, 0.0]
+    out, dropped, prev, prev_tol = [], 0, [0.0, 0.0, 0.0], 0.0
     for m in moves:
+        # rs274's ends are rounded to 4 decimals in program units: a move that only undoes that
+        # rounding (inch mode, then mm) is zero-length too.
+        eps = max(eps_mm, 2 * max(m.tol_mm, prev_tol))
         if m.kind in ("rapid", "line") and m.end is not None and all(
-                abs(a - b) <= eps_mm for a, b in zip(m.end, prev)):
+                abs(a - b) <= eps for a, b in zip(m.end, prev)):
             dropped += 1
             continue
         if m.end is not None:
-            prev = m.end
+            prev, prev_tol = m.end, m.tol_mm
         out.append(m)
     return out, dropped
 
@@ -425,10 +467,16 @@ def diff_program(args, text: str, path: str, label: str, *, must_accept: bool) -
         print(f"FAIL {label}: gmotion moves failed on a program rs274 accepts:\n  {err[:2000]}")
         return "fail"
     ref = rs.moves
+    if args.messages:
+        args.messages_compared += sum(1 for m in ref if m.kind == "message")
+    else:
+        ref = [m for m in ref if m.kind != "message"]
+        got = [m for m in got if m.kind != "message"]
     if not args.keep_zero_length:
         # rs274 prints zero-length G0/G1 blocks; a motion pipeline may drop them
         ref, n_ref = drop_zero_length(ref, 1e-12)
-        got, n_got = drop_zero_length(got, 1e-12)
+        # gmotion prints ends exactly: a move below rs274's print resolution is dropped too
+        got, n_got = drop_zero_length(got, 2 * RS274_PRINT_HALF_ULP)
         args.zero_dropped += n_ref
     mm = compare_moves(ref, got, args.tol)
     if mm:
@@ -505,6 +553,21 @@ def collect_programs(roots: list[str]) -> list[Path]:
 def main_compare(args) -> int:
     counts = {"ok": 0, "skip": 0, "fail": 0}
     skipped = []
+    if args.random_expr:
+        import gen_random_expr as genx
+        with tempfile.TemporaryDirectory(prefix="rs274diff-gx-") as tmp:
+            for k in range(args.random_expr):
+                seed = args.seed_base + k
+                text = genx.generate(seed, args.blocks)
+                path = os.path.join(tmp, f"expr{seed}.nc")
+                Path(path).write_text(text)
+                res = diff_program(args, text, path, f"expression seed {seed}", must_accept=True)
+                counts[res] += 1
+                if res == "fail":
+                    print(f"  reproduce: tools/gen_random_expr.py --seed {seed} --blocks {args.blocks}")
+                    print("  ---- program ----\n" + text + "  -----------------")
+                    if counts["fail"] >= args.max_failures:
+                        break
     if args.random:
         import gen_random_program as gen
         feats = gen.parse_features(args.features)
@@ -526,7 +589,7 @@ def main_compare(args) -> int:
                     if counts["fail"] >= args.max_failures:
                         break
     files = collect_programs(args.programs + args.files)
-    if not files and not args.random:
+    if not files and not (args.random or args.random_expr):
         print(f"rs274_diff: no *.nc programs under {args.programs}; skipping")
         return SKIP
     for f in files:
@@ -537,6 +600,7 @@ def main_compare(args) -> int:
             skipped.append(str(f))
     print(f"rs274_diff: {counts['ok']} equal, {counts['fail']} mismatched, "
           f"{counts['skip']} skipped (rejected by rs274); {args.moves_compared} moves compared"
+          + (f" (of them {args.messages_compared} messages)" if args.messages else "")
           + ("" if args.keep_zero_length else
              f" ({args.zero_dropped} zero-length G0/G1 moves of rs274 left out)"))
     for s in skipped:
@@ -661,6 +725,17 @@ def self_test(args) -> int:
           Move("arc", 4, [1, 0, 0], 5, [0, 0, 0], "cw", 1, "XY"), Move("rapid", 5, [1, 0, 0])]
     kept, n = drop_zero_length(zl, 1e-12)
     check("drop_zero_length", n == 3 and [m.line for m in kept] == [2, 4], f"{n} {[m.line for m in kept]}")
+    # messages: MESSAGE calls and PRINT lines are read, texts compared to print resolution
+    msgs = parse_rs274_output('    7 N12    MESSAGE(" v=1.500000 #<a>")\nhello 2.000000\n')
+    check("parse MESSAGE and PRINT output",
+          [(m.kind, m.line, m.text) for m in msgs]
+          == [("message", 12, " v=1.500000 #<a>"), ("message", None, "hello 2.000000")],
+          repr(msgs))
+    check("text equal apart from spaces", compare_text(" v=1.500000", "v=1.500000") is None)
+    check("text within print rounding", compare_text("v=1.500000", "v=1.500001") is None)
+    check("text notices a value", compare_text("v=1.500000", "v=1.500010") is not None)
+    check("text notices a word", compare_text("v=1.500000", "w=1.500000") is not None)
+    check("text notices a missing value", compare_text("v=1.5 2", "v=1.5") is not None)
     # 3. renumbering
     check("number_lines", number_lines("G0 X1\n\nN50 G1 X2\n/G1 X3\n%\n")
           == "N1 G0 X1\n\nN3 G1 X2\n/N4 G1 X3\n%\n", repr(number_lines("G0 X1\n\nN50 G1 X2\n/G1 X3\n%\n")))
@@ -705,6 +780,11 @@ def main(argv=None) -> int:
     ap.add_argument("--rs274", default="rs274", help="LinuxCNC standalone interpreter (default: rs274)")
     ap.add_argument("--programs", nargs="*", default=[], help="directories searched for *.nc/*.ngc")
     ap.add_argument("--random", type=int, default=0, help="number of generated programs")
+    ap.add_argument("--random-expr", type=int, default=0,
+                    help="number of generated expression/parameter programs "
+                         "(tools/gen_random_expr.py; implies --messages)")
+    ap.add_argument("--messages", action="store_true",
+                    help="also compare MSG/DEBUG/PRINT messages (gmotion moves --messages)")
     ap.add_argument("--seed-base", type=int, default=1)
     ap.add_argument("--blocks", type=int, default=40, help="blocks per generated program")
     ap.add_argument("--features", default=None, help="generator features, e.g. +g93,-syntax")
@@ -727,8 +807,11 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     args.tol = Tol(args.tol_mm, args.tol_feed_rel)
     args.moves_compared = 0
+    args.messages_compared = 0
     args.zero_dropped = 0
     setup_tool_table(args)
+    if args.random_expr:
+        args.messages = True
 
     have_rs274 = bool(shutil.which(args.rs274)) or os.access(args.rs274, os.X_OK)
     if args.self_test:
@@ -749,7 +832,7 @@ def main(argv=None) -> int:
         ap.error("--gmotion is required to compare")
     if args.errors:
         return main_errors(args)
-    if not (args.files or args.programs or args.random):
+    if not (args.files or args.programs or args.random or args.random_expr):
         ap.error("nothing to compare: give FILEs, --programs DIR or --random N")
     return main_compare(args)
 

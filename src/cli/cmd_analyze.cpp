@@ -5,6 +5,7 @@
 #include "cli/commands.hpp"
 #include "common/status.hpp"
 #include "common/units.hpp"
+#include "planner/filter_moments.hpp"
 
 #include <fmt/format.h>
 
@@ -137,6 +138,68 @@ void run_response(const ResponseOptions& o) {
   }
 }
 
+struct CornerOptions {
+  std::string profile = "blackman";
+  double tau_s = 0.164;
+  double period_s = 0.004;
+  std::vector<double> angles_deg{10, 30, 45, 60, 90, 120, 150, 170};
+  std::vector<double> feeds_mm_min{500, 1000, 2000, 4000, 6000, 10000};
+  double tolerance_mm = 0.01;
+};
+
+// Issue 21: the corner error of the Acc/Dec output (FilterMoments) against angle and feed, and
+// the largest feed for a tolerance, slowed (no pause) and paused.
+void run_corner(const CornerOptions& o) {
+  if (!(o.tolerance_mm > 0))
+    throw InputError(fmt::format("--tolerance {} mm must be > 0", o.tolerance_mm));
+  for (double a : o.angles_deg)
+    if (!(a > 0 && a <= 180)) throw InputError(fmt::format("--angles: {} must be in (0, 180]", a));
+  for (double f : o.feeds_mm_min)
+    if (!(f > 0)) throw InputError(fmt::format("--feeds: feed {} mm/min must be > 0", f));
+  const Taps t = design_taps(o.profile, o.tau_s, o.period_s);
+  const FilterMoments fm(t, o.period_s);
+  const double d0 = fm.corner_moment_s(0.0);
+  fmt::print("# corner error of the Acc/Dec output: profile={} tau={} s T={} s taps={}\n",
+             t.profile, o.tau_s, o.period_s, t.integer.size());
+  fmt::print(
+      "# centre m = {:.6g} samples, D = T*sum h_i*max(m-i,0) = {:.6g} ms, sigma = {:.6g} ms\n",
+      fm.centre(), 1e3 * d0, 1e3 * std::sqrt(fm.variance_s2()));
+  fmt::print(
+      "# a corner turning by phi at feed F: F*D*sin(phi) from the path, "
+      "2*F*D*sin(phi/2) from the vertex; a pause P at the vertex replaces D by D(P)\n");
+  fmt::print("\n# error from the path, mm, no pause\nangle_deg");
+  for (double f : o.feeds_mm_min) fmt::print(",F{:g}", f);
+  fmt::print("\n");
+  for (double a : o.angles_deg) {
+    const double phi = a * std::numbers::pi / 180.0;
+    fmt::print("{:g}", a);
+    for (double f : o.feeds_mm_min)
+      fmt::print(",{:.6f}", fm.corner_error_mm(units::mm_min_to_mm_s(f), phi, 0.0));
+    fmt::print("\n");
+  }
+  fmt::print(
+      "\n# tolerance {} mm: largest feed without a pause (slowed), mm/min; and the "
+      "shortest pause at each feed (paused), ms\nangle_deg,slowed_feed_mm_min",
+      o.tolerance_mm);
+  for (double f : o.feeds_mm_min) fmt::print(",pause_ms_F{:g}", f);
+  fmt::print("\n");
+  for (double a : o.angles_deg) {
+    const double phi = a * std::numbers::pi / 180.0;
+    const double v = fm.largest_corner_speed_mm_s(o.tolerance_mm, phi, 0.0);
+    fmt::print("{:g},{}", a, std::isfinite(v) ? fmt::format("{:.1f}", 60.0 * v) : "inf");
+    for (double f : o.feeds_mm_min)
+      fmt::print(",{:.3f}",
+                 1e3 * fm.shortest_pause_s(o.tolerance_mm, phi, units::mm_min_to_mm_s(f)));
+    fmt::print("\n");
+  }
+  fmt::print(
+      "\n# pause P, ms -> D(P), ms (0 from P = N*T = {:g} ms: the filter drains)\n"
+      "pause_ms,D_ms\n",
+      1e3 * fm.order() * o.period_s);
+  for (int k = 0; k <= fm.order(); k += std::max(1, fm.order() / 10))
+    fmt::print("{:g},{:.6g}\n", 1e3 * k * o.period_s, 1e3 * fm.corner_moment_s(k * o.period_s));
+}
+
 }  // namespace
 
 void add_analyze(CLI::App& app, Context& ctx) {
@@ -176,6 +239,27 @@ void add_analyze(CLI::App& app, Context& ctx) {
   rp->add_flag("--json", q->json, "print one JSON object instead of CSV");
   rp->callback([q, &ctx] {
     run_response(*q);
+    ctx.exit_code = 0;
+  });
+
+  auto c = std::make_shared<CornerOptions>();
+  auto* rc = sub->add_subcommand(
+      "corner",
+      "Corner error of the filter output against angle and feed; largest feed for a tolerance, "
+      "slowed and paused (issue 21)");
+  rc->add_option("--profile", c->profile, "profile spec (see gmotion design --help)")
+      ->capture_default_str();
+  rc->add_option("--tau", c->tau_s, "Acc/Dec time constant, s")->capture_default_str();
+  rc->add_option("--period", c->period_s, "sampling period T, s")->capture_default_str();
+  rc->add_option("--angles", c->angles_deg, "turn angles, degrees, comma separated")
+      ->delimiter(',')
+      ->capture_default_str();
+  rc->add_option("--feeds", c->feeds_mm_min, "feeds, mm/min, comma separated")
+      ->delimiter(',')
+      ->capture_default_str();
+  rc->add_option("--tolerance", c->tolerance_mm, "contour tolerance, mm")->capture_default_str();
+  rc->callback([c, &ctx] {
+    run_corner(*c);
     ctx.exit_code = 0;
   });
 }

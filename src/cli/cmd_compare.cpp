@@ -5,7 +5,7 @@
 #include "cli/commands.hpp"
 #include "cli/run_setup.hpp"
 #include "common/status.hpp"
-#include "pipeline/pipeline.hpp"
+#include "pipeline/run.hpp"
 #include "trace/run_summary.hpp"
 
 #include <fmt/format.h>
@@ -41,17 +41,16 @@ std::optional<Motion> first_arc(ProgramInput& program, const InterpreterOptions&
 // Runs the program once through the pipeline and returns its summary.
 RunSummary run_once(const RunConfig& cfg, ProgramInput& program, const InterpreterOptions& opts,
                     std::size_t* taps, std::vector<double>* real_taps) {
-  ProgramStream stream(program.rewind(), program.name(), opts);
-  Pipeline pipeline(cfg, stream);
-  RunSummary summary(cfg.machine);
-  SampleRecord rec, last;
-  PipelineStatus st;
-  while ((st = pipeline.step(OverrideInput{}, rec)) == PipelineStatus::Working)
-    summary.add(rec), last = rec;
-  summary.finish(last, pipeline.program_end_blu(), st == PipelineStatus::Finished);
-  if (taps) *taps = pipeline.taps().integer.size();
-  if (real_taps) *real_taps = pipeline.taps().real;
-  return summary;
+  RunOptions o;
+  o.config = cfg;
+  o.program_name = program.name();
+  o.consumer_thread = false;
+  Run run(std::move(o), program.rewind(), opts);
+  while (run.step() == RunStatus::Working) {
+  }
+  if (taps) *taps = run.pipeline().taps().integer.size();
+  if (real_taps) *real_taps = run.pipeline().taps().real;
+  return run.summary();
 }
 
 struct Row {

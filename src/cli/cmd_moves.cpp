@@ -9,6 +9,8 @@
 
 #include <cstdio>
 #include <memory>
+#include <string>
+#include <string_view>
 
 namespace gm::cli {
 
@@ -38,6 +40,30 @@ void print_move(std::FILE* f, const Canon& c) {
   }
 }
 
+// A JSON string literal of `text` (quotes, backslashes and control characters escaped).
+std::string json_string(std::string_view text) {
+  std::string out = "\"";
+  for (const char ch : text) {
+    const auto u = static_cast<unsigned char>(ch);
+    if (ch == '"' || ch == '\\') {
+      out += '\\';
+      out += ch;
+    } else if (u < 0x20) {
+      out += fmt::format("\\u{:04x}", u);
+    } else {
+      out += ch;
+    }
+  }
+  return out + '"';
+}
+
+// --messages: (MSG,...), (DEBUG,...) and (PRINT,...) texts as records of kind "message".
+void print_message(std::FILE* f, const Canon& c) {
+  if (const auto* e = std::get_if<Event>(&c); e && e->kind == EventKind::Message)
+    fmt::print(f, "{{\"line\":{},\"kind\":\"message\",\"text\":{}}}\n", e->line,
+               json_string(e->text));
+}
+
 }  // namespace
 
 void add_moves(CLI::App& app, Context& ctx) {
@@ -48,6 +74,7 @@ void add_moves(CLI::App& app, Context& ctx) {
     std::string machine_file;
     std::string tool_table;
     bool block_delete = false;
+    bool messages = false;
   };
   auto opts = std::make_shared<Opts>();
   sub->add_option("PROGRAM", opts->program, "G-code file ('-' reads stdin)")->required();
@@ -55,6 +82,8 @@ void add_moves(CLI::App& app, Context& ctx) {
   sub->add_option("--tool-table", opts->tool_table,
                   "LinuxCNC tool table (T1 P1 Z50 D6 ;comment), mm; default: the machine's");
   sub->add_flag("--block-delete", opts->block_delete, "skip lines that start with '/'");
+  sub->add_flag("--messages", opts->messages,
+                "also print MSG/DEBUG/PRINT comments as records of kind \"message\"");
   sub->callback([opts, &ctx] {
     Machine machine;
     if (!opts->machine_file.empty()) machine = load_machine_file(opts->machine_file);
@@ -72,7 +101,10 @@ void add_moves(CLI::App& app, Context& ctx) {
     std::istream* in = &program.rewind();
     ProgramStream stream(*in, name, io);
     Canon c;
-    while (stream.next(c)) print_move(stdout, c);
+    while (stream.next(c)) {
+      print_move(stdout, c);
+      if (opts->messages) print_message(stdout, c);
+    }
     std::fflush(stdout);
     ctx.exit_code = 0;
   });

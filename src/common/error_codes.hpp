@@ -24,6 +24,12 @@ enum class ErrorCode : int {
   ExponentUnsupported = 109,     ///< `1e3`: E is a word letter in G-code, not an exponent
   LineTooLong = 110,             ///< a line longer than the reader accepts
   NumberWithoutLetter = 111,     ///< a number with no letter in front
+  BadExpression = 112,           ///< an operand missing in an expression (`[1+]`, `X[]`)
+  UnclosedBracket = 113,         ///< `[` without its `]`
+  UnknownOperator = 114,         ///< a name in an expression that is no function or operator
+  BadParameterName = 115,        ///< `#<` without `>`, or an empty name
+  ExpectedEquals = 116,          ///< `#1` at the start of an item without `=value`
+  CommentAbort = 117,            ///< (ABORT, ...) ends the program with an error
   // Block (interp/) ----------------------------------------------------------------------------
   ModalGroupViolation = 201,     ///< two codes of one modal group in a block
   DuplicateWord = 202,           ///< the same value word twice in a block
@@ -46,6 +52,13 @@ enum class ErrorCode : int {
   AxisUnavailable = 219,         ///< A/B/C/U/V/W on this 3-axis machine
   ValueOutOfRange =
       220,  ///< a position beyond ±1e12 mm, a feed beyond 1e12 mm/min, a tool beyond 1e6
+  // Expressions and parameters (interp/expression, interp/parameters) --------------------------
+  DivisionByZero = 230,       ///< `/` by zero
+  DomainError = 231,          ///< SQRT/LN/ACOS/ASIN/** outside their domain
+  NotANumber = 232,           ///< a result that is infinite or not a number
+  ParameterOutOfRange = 233,  ///< #n with n outside 1..5601, or not an integer
+  ParameterReadOnly = 234,    ///< setting #5400-#5413, #5420-#5428 or a predefined #<_name>
+  UndefinedParameter = 235,   ///< reading a named parameter that was never set
   // Machine-side codes (offsets, tools, cycles) ------------------------------------------------
   G53Misused = 260,      ///< G53 with a motion other than G0/G1, or in G91 (LinuxCNC)
   BadLWord = 261,        ///< G10 without L or with an L it does not know; cycle L not >= 1
@@ -91,6 +104,15 @@ inline constexpr std::array kErrorTable{
     ErrorInfo{ErrorCode::LineTooLong, "line too long", "The line exceeds the maximum line length"},
     ErrorInfo{ErrorCode::NumberWithoutLetter, "number without letter",
               "A number must follow a word letter"},
+    ErrorInfo{ErrorCode::BadExpression, "bad expression",
+              "An operator or bracket is missing its operand"},
+    ErrorInfo{ErrorCode::UnclosedBracket, "unclosed bracket", "A [ must be closed by ]"},
+    ErrorInfo{ErrorCode::UnknownOperator, "unknown operator",
+              "A name in an expression that is no function or operator"},
+    ErrorInfo{ErrorCode::BadParameterName, "bad parameter name",
+              "A named parameter is #<name> with a non-empty name"},
+    ErrorInfo{ErrorCode::ExpectedEquals, "expected '='", "A parameter setting is #n=value"},
+    ErrorInfo{ErrorCode::CommentAbort, "abort", "(ABORT, ...) ends the program with an error"},
     ErrorInfo{ErrorCode::ModalGroupViolation, "modal group violation",
               "Two codes of the same modal group in one block"},
     ErrorInfo{ErrorCode::DuplicateWord, "duplicate word",
@@ -119,6 +141,16 @@ inline constexpr std::array kErrorTable{
               "This machine has the axes X, Y and Z only"},
     ErrorInfo{ErrorCode::ValueOutOfRange, "value out of range",
               "A position, feed or tool number beyond what the machine can represent"},
+    ErrorInfo{ErrorCode::DivisionByZero, "division by zero", "An expression divides by zero"},
+    ErrorInfo{ErrorCode::DomainError, "domain error",
+              "A function or ** argument outside its domain"},
+    ErrorInfo{ErrorCode::NotANumber, "not a number",
+              "An expression resulted in infinity or not a number"},
+    ErrorInfo{ErrorCode::ParameterOutOfRange, "parameter out of range",
+              "Parameter numbers are integers 1 to 5601"},
+    ErrorInfo{ErrorCode::ParameterReadOnly, "parameter read-only", "This parameter cannot be set"},
+    ErrorInfo{ErrorCode::UndefinedParameter, "undefined parameter",
+              "A named parameter was read before it was set"},
     ErrorInfo{ErrorCode::G53Misused, "G53 misused",
               "G53 needs G0 or G1 and absolute distance mode (G90)"},
     ErrorInfo{ErrorCode::BadLWord, "bad L word", "L has a value this code does not accept"},

@@ -37,6 +37,14 @@ struct Motion {
   Plane plane = Plane::XY;
   // Block end -------------------------------------------------------------------------------
   PathMode path_mode = PathMode::Continuous;  ///< G9 in the block forces ExactStop
+  /// Contour tolerance in force (G64 P, or the machine's path_tolerance_mm under G64 without P),
+  /// mm; 0 = unbounded (the filter blends freely). Only meaningful when path_mode is Continuous.
+  double path_tolerance_mm = 0.0;
+  double naive_cam_tolerance_mm = 0.0;  ///< G64 Q, mm; 0 = none (carried, not yet applied)
+  // Set by the tolerance planner (src/planner/) ----------------------------------------------
+  /// Largest path speed the interpolator may use in this block, mm/s, whatever the override;
+  /// 0 = no cap.
+  double speed_cap_mm_s = 0.0;
 };
 
 /// G4: zero velocity for `seconds`.

@@ -48,15 +48,17 @@ struct ModalState {
   bool ijk_absolute = false;  ///< G90.1 (default G91.1)
   bool inverse_time = false;  ///< G93
   PathMode path_mode = PathMode::Continuous;
-  double feed_mm_min = 0.0;            ///< G94 feed; 0 = none yet
-  int tool_selected = 0;               ///< T
-  int tool_in_spindle = 0;             ///< after M6
-  int spindle_slot_tool = 0;           ///< the tool whose data M6 loaded (G43 without H uses it)
-  Pos9 position_mm = Pos9::Zero();     ///< machine coordinates
-  int coord_system = 0;                ///< 0..8 = G54..G59, G59.1..G59.3
-  Pos9 g92_mm = Pos9::Zero();          ///< G92/G52 axis offsets
-  Pos9 tool_offset_mm = Pos9::Zero();  ///< G43 tool length offset
-  bool ended = false;                  ///< M2/M30 or closing % seen
+  double path_tolerance_mm = -1.0;      ///< G64 P in mm; < 0: G64 without P (the machine's)
+  double naive_cam_tolerance_mm = 0.0;  ///< G64 Q in mm
+  double feed_mm_min = 0.0;             ///< G94 feed; 0 = none yet
+  int tool_selected = 0;                ///< T
+  int tool_in_spindle = 0;              ///< after M6 or M61
+  int spindle_slot_tool = 0;            ///< the tool whose data M6 loaded (G43 without H uses it)
+  Pos9 position_mm = Pos9::Zero();      ///< machine coordinates
+  int coord_system = 0;                 ///< 0..8 = G54..G59, G59.1..G59.3
+  Pos9 g92_mm = Pos9::Zero();           ///< G92/G52 axis offsets
+  Pos9 tool_offset_mm = Pos9::Zero();   ///< G43 tool length offset
+  bool ended = false;                   ///< M2/M30 or closing % seen
 
   /// mm per program length unit (25.4 under G20).
   double mm_per_unit() const;

@@ -5,8 +5,10 @@
 #include "common/diagnostic.hpp"
 #include "common/status.hpp"
 #include "grammar/parse.hpp"
+#include "interp/expression.hpp"
 #include "interp/interpreter.hpp"
 #include "interp/line_reader.hpp"
+#include "interp/parameters.hpp"
 
 #include <fmt/format.h>
 
@@ -58,6 +60,97 @@ class LineParser {
   grammar::BlockParser parser_;
 };
 
+/// The predefined read-only parameters (#<_x>, #<_metric>, ..., #5420-#5428), read from the
+/// interpreter's state when a program asks for them.
+class StateParameters : public ParameterProvider {
+ public:
+  explicit StateParameters(const Interpreter& interp) : interp_(interp) {}
+  void set_line(int line) { line_ = line; }
+
+  bool predefined(std::string_view name, double& v) const override {
+    const ModalState& s = interp_.state();
+    const double units = s.inch ? 25.4 : 1.0;
+    static constexpr std::string_view kAxisNames[] = {"_x", "_y", "_z", "_a", "_b",
+                                                      "_c", "_u", "_v", "_w"};
+    static constexpr std::string_view kAbsAxes[] = {
+        "_abs_x", "_abs_y", "_abs_z", "_abs_a", "_abs_b", "_abs_c", "_abs_u", "_abs_v", "_abs_w"};
+    for (int i = 0; i < 9; ++i) {
+      if (name == kAxisNames[i]) {
+        v = program_position(i);
+        return true;
+      }
+      if (name == kAbsAxes[i]) {
+        v = s.position_mm[i] / units;
+        return true;
+      }
+    }
+    struct Entry {
+      std::string_view name;
+      double value;
+    };
+    const Entry table[] = {
+        {"_vmajor", 2.9},
+        {"_vminor", 0.0},
+        {"_line", static_cast<double>(line_)},
+        {"_motion_mode", s.motion < 0 ? 800.0 : static_cast<double>(s.motion)},
+        {"_plane", s.plane == Plane::XY   ? 170.0
+                   : s.plane == Plane::XZ ? 180.0
+                                          : 190.0},
+        {"_ccomp", 400.0},
+        {"_metric", s.inch ? 0.0 : 1.0},
+        {"_imperial", s.inch ? 1.0 : 0.0},
+        {"_absolute", s.incremental ? 0.0 : 1.0},
+        {"_incremental", s.incremental ? 1.0 : 0.0},
+        {"_inverse_time", s.inverse_time ? 1.0 : 0.0},
+        {"_units_per_minute", s.inverse_time ? 0.0 : 1.0},
+        {"_units_per_rev", 0.0},
+        {"_coord_system",
+         s.coord_system < 6 ? 540.0 + 10.0 * s.coord_system : 590.0 + (s.coord_system - 5)},
+        {"_tool_offset", s.tool_offset_mm.isZero() ? 0.0 : 1.0},
+        {"_ijk_absolute_mode", s.ijk_absolute ? 1.0 : 0.0},
+        {"_feed", s.feed_mm_min / units},
+        {"_rpm", 0.0},
+        {"_current_tool", static_cast<double>(s.tool_in_spindle)},
+        {"_selected_tool", static_cast<double>(s.tool_selected)},
+        {"_task", 0.0},
+        {"_call_level", 0.0},
+        {"_remap_level", 0.0},
+        {"_value", 0.0},
+        {"_value_returned", 0.0},
+    };
+    for (const Entry& e : table)
+      if (e.name == name) {
+        v = e.value;
+        return true;
+      }
+    return false;
+  }
+
+  bool live(int n, double& v) const override {
+    if (n >= 5420 && n <= 5428) {
+      v = program_position(n - 5420);
+      return true;
+    }
+    if (n == 5400) {
+      v = interp_.state().tool_in_spindle;
+      return true;
+    }
+    return false;
+  }
+
+ private:
+  // Current position in the program's coordinate system and units (axis `i` in X..W order).
+  double program_position(int i) const {
+    const ModalState& s = interp_.state();
+    const SystemTables& t = interp_.tables();
+    const Pos9 offset =
+        t.g5x_mm[static_cast<std::size_t>(s.coord_system)] + s.g92_mm + s.tool_offset_mm;
+    return (s.position_mm[i] - offset[i]) / (s.inch ? 25.4 : 1.0);
+  }
+  const Interpreter& interp_;
+  int line_ = 0;
+};
+
 /// The back half: program-level rules (% delimiters, block delete, missing end) and the
 /// interpreter, one parsed line at a time; shared by check_program and ProgramStream.
 class ProgramRunner {
@@ -66,11 +159,16 @@ class ProgramRunner {
       : filename_(std::move(filename)),
         machine_(opts.machine ? *opts.machine : default_machine_),
         block_delete_(opts.block_delete),
-        interp_(machine_) {}
+        interp_(machine_),
+        state_params_(interp_) {
+    params_.set_provider(&state_params_);
+  }
+  ProgramRunner(const ProgramRunner&) = delete;
+  ProgramRunner& operator=(const ProgramRunner&) = delete;
 
   /// Processes one parsed line. Appends canon to `out` and diagnostics to `diags`.
   /// Returns false when the program is over (end code or closing %).
-  bool process(const ParsedLine& p, std::vector<Canon>& out, std::vector<Diagnostic>& diags) {
+  bool process(ParsedLine& p, std::vector<Canon>& out, std::vector<Diagnostic>& diags) {
     if (done_) return false;
     const std::string& text = p.text;
     const int line = p.number;
@@ -83,7 +181,7 @@ class ProgramRunner {
                                  {}});
       return true;
     }
-    const grammar::Block& block = p.block;
+    grammar::Block& block = p.block;
     if (block.block_delete && block_delete_) return true;
     if (block.has_errors()) {
       for (const auto& e : block.errors)
@@ -102,10 +200,21 @@ class ProgramRunner {
         return false;
       }
     }
-    if (block.words.empty() && block.message_count == 0) return true;
+    if (block.words.empty() && block.message_count == 0 && !block.needs_evaluation()) return true;
     first_content_seen_ = true;
     if (!block.words.empty()) ++blocks_;
     InterpError err;
+    if (block.needs_evaluation()) {
+      state_params_.set_line(line);
+      if (!evaluator_.run(block, params_, err)) {
+        diags.push_back(Diagnostic{Severity::Error, static_cast<int>(err.code), err.loc,
+                                   err.message, source_for(text)});
+        return true;
+      }
+      for (std::size_t i = 0; i < block.directive_count; ++i)
+        if (!directive(block.directives[i], text, diags)) return false;
+      if (block.words.empty() && block.message_count == 0) return true;
+    }
     if (!interp_.execute(block, out, err)) {
       diags.push_back(Diagnostic{Severity::Error, static_cast<int>(err.code), err.loc, err.message,
                                  source_for(text)});
@@ -134,6 +243,7 @@ class ProgramRunner {
 
   bool done() const { return done_; }
   const std::string& filename() const { return filename_; }
+  const ParameterStore& parameters() const { return params_; }
   const Machine& machine() const { return machine_; }
   std::int64_t blocks() const { return blocks_; }
 
@@ -141,6 +251,28 @@ class ProgramRunner {
   static std::string source_for(const std::string& text) {
     // Very long lines are not echoed under the message (the location is still exact).
     return text.size() <= 512 ? text : std::string();
+  }
+  // ABORT ends the program with a located error; LOG comments write nothing (no log directory
+  // is configured), LOGOPEN/LOGAPPEND say so once. False when the program is over.
+  bool directive(const grammar::Message& m, const std::string& text,
+                 std::vector<Diagnostic>& diags) {
+    using grammar::CommentKind;
+    if (m.kind == CommentKind::Abort) {
+      diags.push_back(Diagnostic{Severity::Error, static_cast<int>(ErrorCode::CommentAbort), m.loc,
+                                 fmt::format("program aborted: {}", m.text), source_for(text)});
+      done_ = true;
+      aborted_ = true;
+      return false;
+    }
+    if ((m.kind == CommentKind::LogOpen || m.kind == CommentKind::LogAppend) && !log_warned_) {
+      log_warned_ = true;
+      diags.push_back(Diagnostic{Severity::Warning, 0, m.loc,
+                                 fmt::format("log file '{}' not written: no log directory is "
+                                             "allowed (LOG comments are ignored)",
+                                             m.text),
+                                 source_for(text)});
+    }
+    return true;
   }
   void remember(const std::string& text) {
     if (text.size() <= 512)
@@ -154,7 +286,12 @@ class ProgramRunner {
   const Machine& machine_;
   bool block_delete_;
   Interpreter interp_;
+  StateParameters state_params_;
+  ParameterStore params_;
+  LineEvaluator evaluator_;
   std::string last_line_;
+  bool aborted_ = false;
+  bool log_warned_ = false;
   bool done_ = false;
   bool opened_percent_ = false;
   bool first_content_seen_ = false;
@@ -314,7 +451,7 @@ CheckSummary run_check(std::istream& in, std::string_view filename, const Interp
   auto emit = [&](const Machine& machine) {
     for (const auto& d : diags) {
       sink(d);
-      ++sum.errors;
+      if (d.severity == Severity::Error) ++sum.errors;
     }
     account(out, machine, sum);
     out.clear();
@@ -375,9 +512,12 @@ bool ProgramStream::next(Canon& out) {
     head_ = 0;
     diags_.clear();
     const bool more = runner_->step(queue_, diags_);
-    if (!diags_.empty()) {
+    bool error = false;
+    for (const auto& d : diags_) error = error || d.severity == Severity::Error;
+    if (error) {
       std::string msg;
-      for (const auto& d : diags_) msg += format_diagnostic(runner_->back().filename(), d);
+      for (const auto& d : diags_)
+        if (d.severity == Severity::Error) msg += format_diagnostic(runner_->back().filename(), d);
       if (!msg.empty() && msg.back() == '\n') msg.pop_back();
       throw InputError(msg);
     }

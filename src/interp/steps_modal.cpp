@@ -79,6 +79,15 @@ bool run_path_control(BlockCtx& ctx, const Code& c) {
   ctx.s.path_mode = c.number10 == 610   ? PathMode::ExactPath
                     : c.number10 == 611 ? PathMode::ExactStop
                                         : PathMode::Continuous;
+  if (c.number10 == 640) {  // G64 P<path tolerance> Q<naive CAM tolerance>, program units (#21)
+    for (char l : {'P', 'Q'})
+      if (ctx.w.has(l) && !(ctx.w[l]->value >= 0.0))
+        return ctx.fail(ErrorCode::ValueOutOfRange, ctx.w[l]->loc,
+                        fmt::format("G64 {} must not be negative", l));
+    const double u = ctx.s.mm_per_unit();
+    ctx.s.path_tolerance_mm = ctx.w.has('P') ? ctx.w['P']->value * u : -1.0;
+    ctx.s.naive_cam_tolerance_mm = ctx.w.has('Q') ? ctx.w['Q']->value * u : 0.0;
+  }
   return true;
 }
 

@@ -41,6 +41,15 @@ PathMode block_path_mode(const BlockCtx& ctx) {
   return ctx.w.in(Group::ExactStop) ? PathMode::ExactStop : ctx.s.path_mode;
 }
 
+// Path mode and, under G64, the contour tolerance in force (G64 P, else the machine's; #21).
+void set_path_mode(const BlockCtx& ctx, Motion& mo) {
+  mo.path_mode = block_path_mode(ctx);
+  if (mo.path_mode != PathMode::Continuous) return;
+  mo.path_tolerance_mm =
+      ctx.s.path_tolerance_mm >= 0.0 ? ctx.s.path_tolerance_mm : ctx.machine.path_tolerance_mm;
+  mo.naive_cam_tolerance_mm = ctx.s.naive_cam_tolerance_mm;
+}
+
 // Feed of a feed move (G94 modal feed, or G93: LinuxCNC interp_inverse.cc,
 // rate = MAX(0.1, length x F) in program units/min).
 bool set_feed(BlockCtx& ctx, Motion& mo) {
@@ -153,7 +162,7 @@ bool emit_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target_mm, Source
   mo.start_mm = to_machine(ctx.s.position_mm);
   mo.end_mm = to_machine(target_mm);
   mo.plane = ctx.s.plane;
-  mo.path_mode = block_path_mode(ctx);
+  set_path_mode(ctx, mo);
   if (mo.end_mm != mo.start_mm) {
     if (kind != MotionKind::Rapid && !set_feed(ctx, mo)) return false;
     ctx.out.emplace_back(mo);
@@ -240,7 +249,7 @@ bool run_arc(BlockCtx& ctx, const Code& c) {
   mo.end_mm = to_machine(target);
   mo.center_mm = to_machine(center);
   mo.plane = s.plane;
-  mo.path_mode = block_path_mode(ctx);
+  set_path_mode(ctx, mo);
   mo.ccw = in.ccw;
   mo.turns = turns;
   if (!set_feed(ctx, mo)) return false;

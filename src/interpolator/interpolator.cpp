@@ -3,6 +3,7 @@
 
 #include "common/rounding.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace gm {
@@ -27,10 +28,16 @@ AxisVec Interpolator::position_on(const Motion& m, double s_mm) {
 
 double Interpolator::block_speed_mm_s(const OverrideInput& ovr) const {
   const double feed_scale = override_enabled_ ? ovr.feed_scale : 1.0;
+  double v = 0.0;
   if (block_.kind == MotionKind::Rapid)
-    return cfg_.rapid_mm_min / 60.0 * (override_enabled_ ? ovr.rapid_scale : 1.0);
-  if (block_.inverse_time_s > 0.0) return geom_.length_mm / block_.inverse_time_s * feed_scale;
-  return block_.feed_mm_min / 60.0 * feed_scale;
+    v = cfg_.rapid_mm_min / 60.0 * (override_enabled_ ? ovr.rapid_scale : 1.0);
+  else if (block_.inverse_time_s > 0.0)
+    v = geom_.length_mm / block_.inverse_time_s * feed_scale;
+  else
+    v = block_.feed_mm_min / 60.0 * feed_scale;
+  // The tolerance planner's cap (src/planner/): the override acts before the Acc/Dec filter,
+  // so no override may take the block faster than the speed its contour error was planned for.
+  return block_.speed_cap_mm_s > 0.0 ? std::min(v, block_.speed_cap_mm_s) : v;
 }
 
 bool Interpolator::pull_next() {

@@ -68,6 +68,9 @@ struct Machine {
   std::string profile = "blackman";   ///< Acc/Dec profile spec (see accdec/profile.hpp)
   double tau_s = 0.164;               ///< Acc/Dec time constant (N+1)T
   ArcRule arc_rule = ArcRule::LinuxCnc;
+  /// Contour tolerance under G64 without P, mm (machine key path_tolerance_mm, CLI --tolerance);
+  /// 0 = unbounded, the filter blends corners freely (issue 21).
+  double path_tolerance_mm = 0.0;
   std::array<AxisConfig, kAxes> axes{};
   std::vector<double> tool_lengths_mm;  ///< index = tool number (T0 = index 0); overrides table Z
   ToolTable tool_table = default_tool_table();  ///< key `tool_table` or --tool-table FILE

@@ -279,6 +279,8 @@ Machine parse_machine_toml(std::string_view text, std::string_view source_name) 
   r.number("max_override_percent", pct, false,
            [](double v) { return v >= 100.0 && v <= 1000.0 ? "" : "must be in 100..1000"; });
   m.max_override = pct / 100.0;
+  r.number("path_tolerance_mm", m.path_tolerance_mm, false,
+           [](double v) { return v >= 0.0 && v <= 1000.0 ? "" : "must be in 0..1000"; });
   std::string rule;
   if (r.string("arc_rule", rule, false)) {
     if (rule == "linuxcnc")
@@ -364,6 +366,8 @@ std::string machine_to_toml(const Machine& m) {
                    fmt_double(m.rapid_mm_min));
   s += fmt::format("max_override_percent = {}\narc_rule = \"{}\"\nblu_mm = {}\n",
                    fmt_double(m.max_override * 100.0), rule, fmt_double(m.axes[0].blu_mm));
+  if (m.path_tolerance_mm > 0.0)
+    s += fmt::format("path_tolerance_mm = {}\n", fmt_double(m.path_tolerance_mm));
   s += "tools = " + list(m.tool_lengths_mm) + "\n\n";
   s += fmt::format("[accdec]\nprofile = {}\ntau_s = {}\n", toml_string(m.profile),
                    fmt_double(m.tau_s));

@@ -1,3 +1,3 @@
-; expect 2:5 106
-G0 X#1
+; expect 2:5 235
+G0 X#<depth>
 M2

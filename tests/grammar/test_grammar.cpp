@@ -90,9 +90,14 @@ TEST_CASE("syntax errors carry code, line and column") {
       {"XNaN", ErrorCode::ExpectedNumber, 2},
       {"G1 (a (b) c)", ErrorCode::NestedComment, 7},
       {"G1 (open", ErrorCode::UnclosedComment, 4},
-      {"G1 X#1", ErrorCode::ParametersUnsupported, 5},
-      {"#1=2", ErrorCode::ParametersUnsupported, 1},
-      {"G1 X[1+2]", ErrorCode::ExpressionsUnsupported, 5},
+      {"G1 X[1+2", ErrorCode::UnclosedBracket, 9},
+      {"G1 X[1+]", ErrorCode::BadExpression, 8},
+      {"G1 X[1 FOO 2]", ErrorCode::UnknownOperator, 8},
+      {"G1 X[FIX 2]", ErrorCode::BadExpression, 10},
+      {"G1 XFOO[2]", ErrorCode::UnknownOperator, 5},
+      {"#1", ErrorCode::ExpectedEquals, 3},
+      {"#<ab=2", ErrorCode::BadParameterName, 7},
+      {"[1]", ErrorCode::NumberWithoutLetter, 1},
       {"o100 sub", ErrorCode::OWordsUnsupported, 1},
       {"N10 O<x> call", ErrorCode::OWordsUnsupported, 5},
       {"X1e400", ErrorCode::NumberOutOfRange, 2},
@@ -127,16 +132,16 @@ TEST_CASE("a number written out beyond double range is out of range, a tiny one 
 }
 
 TEST_CASE("every error of a line is reported, in column order") {
-  const Block b = parse("G1 X Y2 Z# F[1] (x (y)");
+  const Block b = parse("G1 X Y2 Z# F[1+] (x (y)");
   REQUIRE(b.errors.size() == 4);
   CHECK(b.errors[0].code == ErrorCode::ExpectedNumber);
-  CHECK(b.errors[0].loc.column == 6);  // where the number should start
-  CHECK(b.errors[1].code == ErrorCode::ParametersUnsupported);
-  CHECK(b.errors[1].loc.column == 10);
-  CHECK(b.errors[2].code == ErrorCode::ExpressionsUnsupported);
-  CHECK(b.errors[2].loc.column == 13);
+  CHECK(b.errors[0].loc.column == 6);                   // where the number should start
+  CHECK(b.errors[1].code == ErrorCode::BadExpression);  // '#' without a number
+  CHECK(b.errors[1].loc.column == 12);
+  CHECK(b.errors[2].code == ErrorCode::BadExpression);  // '+' without its operand
+  CHECK(b.errors[2].loc.column == 16);
   CHECK(b.errors[3].code == ErrorCode::NestedComment);
-  CHECK(b.errors[3].loc.column == 20);
+  CHECK(b.errors[3].loc.column == 21);
   // The good words survive (for the caller to ignore: a line with errors never runs).
   CHECK(b.words.size() == 2);
 }

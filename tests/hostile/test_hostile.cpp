@@ -96,10 +96,10 @@ TEST_CASE("files: empty, a directory, a missing file") {
 }
 
 TEST_CASE("unsupported syntax and axes are named at their location") {
-  auto r = on("#1=5\nG1 X[#1+1] F100\nG1 A10\nM2\n");
+  auto r = on("#1=5\nG1 X[#1/0] F100\nG1 A10\nG1 Y#<_nope>\nM2\n");
   CHECK(r.code == 1);
-  CHECK_THAT(r.out, Catch::Contains("h.nc:1:1: error: parameters ('#') are not supported"));
-  CHECK_THAT(r.out, Catch::Contains("h.nc:2:5: error: expressions ('[...]') are not supported"));
+  CHECK_THAT(r.out, Catch::Contains("h.nc:2:8: error: division by zero: 5 / 0"));
+  CHECK_THAT(r.out, Catch::Contains("h.nc:4:5: error: named parameter #<_nope> is not defined"));
   CHECK_THAT(r.out, Catch::Contains("h.nc:3:4: error: axis A is not available"));
 }
 

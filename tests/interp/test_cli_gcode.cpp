@@ -29,7 +29,7 @@ TEST_CASE("gmotion moves prints one JSON object per canonical move (mm, mm/min)"
 }
 
 TEST_CASE("gmotion moves prints nothing and exits 1 when any line is bad") {
-  const auto r = sh("printf 'G1 X1 F100\\nG1 X#2\\nM2\\n' | " + bin() + " moves - 2>/dev/null");
+  const auto r = sh("printf 'G1 X1 F100\\nG1 X[1/0]\\nM2\\n' | " + bin() + " moves - 2>/dev/null");
   CHECK(r.code == 1);
   CHECK(r.out.empty());
 }

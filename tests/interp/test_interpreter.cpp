@@ -202,7 +202,7 @@ TEST_CASE("one test per block error: code and line:col") {
 }
 
 TEST_CASE("every bad line of a program is reported and nothing runs") {
-  const std::string p = "G1 X1\nG1 F100 X1 X2\nG0 Y#1\nG0 X3\n";
+  const std::string p = "G1 X1\nG1 F100 X1 X2\nG0 Y#<_undefined>\nG0 X3\n";
   const auto d = diagnose(p);
   REQUIRE(d.size() == 4);
   CHECK(d[0].loc.line == 1);

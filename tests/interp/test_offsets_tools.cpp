@@ -48,7 +48,9 @@ TEST_CASE("G92 family and G52 share the axis offsets, G92.2 suspends and G92.3 r
   CHECK(m[5].end_mm[0] == Approx(5));
 }
 
-TEST_CASE("G28 goes through the intermediate point to the G28.1 position, G53 moves in machine coordinates") {
+TEST_CASE(
+    "G28 goes through the intermediate point to the G28.1 position, G53 moves in machine "
+    "coordinates") {
   gm::Machine mach;
   const auto m = motions(
       "G21 G90 G10 L2 P1 X10 Y10 Z10\n"

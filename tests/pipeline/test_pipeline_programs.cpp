@@ -6,6 +6,7 @@
 #include "interp/program.hpp"
 #include "machine/machine_file.hpp"
 #include "pipeline/pipeline.hpp"
+#include "pipeline/run.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -21,7 +22,7 @@ namespace fs = std::filesystem;
 namespace {
 
 struct RunResult {
-  gm::PipelineStatus status;
+  gm::RunStatus status;
   gm::SampleRecord last;
   gm::AxisBlu program_end;
   std::vector<double> contour;  // per sample
@@ -31,20 +32,18 @@ struct RunResult {
 RunResult run(const fs::path& program, const gm::Machine& m, bool servo) {
   std::ifstream in(program);
   REQUIRE(in);
-  gm::InterpreterOptions opts;
-  opts.machine = &m;
-  gm::ProgramStream stream(in, program.string(), opts);
-  gm::RunConfig cfg;
-  cfg.machine = m;
-  cfg.servo = servo;
-  gm::Pipeline p(cfg, stream);
+  gm::RunOptions o;
+  o.config.machine = m;
+  o.config.servo = servo;
+  o.program_name = program.string();
+  o.consumer_thread = false;  // last() has the contour error of each sample
+  gm::Run run(std::move(o), in, gm::InterpreterOptions{});
   RunResult r;
-  gm::SampleRecord rec;
-  while ((r.status = p.step(gm::OverrideInput{}, rec)) == gm::PipelineStatus::Working) {
-    r.last = rec;
-    r.contour.push_back(rec.contour_err_blu);
+  while ((r.status = run.step()) == gm::RunStatus::Working) {
+    r.last = run.last();
+    r.contour.push_back(run.last().contour_err_blu);
   }
-  r.program_end = p.program_end_blu();
+  r.program_end = run.pipeline().program_end_blu();
   return r;
 }
 
@@ -76,7 +75,7 @@ TEST_CASE("every bundled program ends exactly on its end point, Acc/Dec output a
     for (bool servo : {false, true}) {
       INFO("servo " << servo);
       const RunResult r = run(entry.path(), m, servo);
-      CHECK(r.status == gm::PipelineStatus::Finished);
+      CHECK(r.status == gm::RunStatus::Finished);
       CHECK(r.program_end == end_blu);
       CHECK(r.last.ref_blu == end_blu);  // the Acc/Dec output converges exactly (Eq. 5)
       for (int a = 0; a < gm::kAxes; ++a) CHECK(std::llabs(r.last.enc_blu[a] - end_blu[a]) <= 1);

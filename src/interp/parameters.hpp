@@ -1,0 +1,99 @@
+// The parameter store: numbered parameters #1-#5601 with LinuxCNC's table, named local and global
+// parameters, predefined read-only ones supplied by the interpreter, and the `.var` file.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
+
+namespace gm {
+
+/// What the interpreter supplies: the predefined read-only parameters that reflect its state.
+class ParameterProvider {
+ public:
+  virtual ~ParameterProvider() = default;
+  /// The value of predefined named parameter `name` (lower case, leading '_', e.g. "_x");
+  /// false if `name` is not predefined.
+  virtual bool predefined(std::string_view name, double& value) const = 0;
+  /// The value of a live numbered parameter (#5400-#5413 tool data, #5420-#5428 position);
+  /// false to use the stored value.
+  virtual bool live(int number, double& value) const = 0;
+};
+
+/// Numbered parameters (LinuxCNC 2.9's table; see docs/gcode-language.md):
+///   #1-#30 subroutine arguments (local to a call), #31-#5000 user, #5061-#5070 probe,
+///   #5161-#5169 G28 and #5181-#5189 G30 positions, #5210-#5219 G92, #5220 coordinate system,
+///   #5221-#5390 G54-G59.3 (persistent), #5399 M66, #5400-#5413 tool (read-only),
+///   #5420-#5428 current position (read-only), #5599-#5601 flags.
+/// Named parameters: `#<name>` is local to the current call frame, `#<_name>` is global.
+/// Names are stored in lower case (the grammar lower-cases them).
+class ParameterStore {
+ public:
+  static constexpr int kFirst = 1;
+  static constexpr int kLast = 5601;
+  static constexpr int kArgs = 30;  ///< #1-#30: subroutine arguments
+
+  ParameterStore();
+
+  static bool valid(int n) { return n >= kFirst && n <= kLast; }
+  /// #5400-#5413 and #5420-#5428: a program cannot set them.
+  static bool read_only(int n) { return (n >= 5400 && n <= 5413) || (n >= 5420 && n <= 5428); }
+  /// Saved in the parameter file: G28, G30, G92, the coordinate system and G54-G59.3.
+  static bool persistent(int n) {
+    return (n >= 5161 && n <= 5169) || (n >= 5181 && n <= 5189) || (n >= 5210 && n <= 5390);
+  }
+
+  /// The value of #n (`n` must be valid): live values come from the provider.
+  double get(int n) const;
+  /// Sets #n from a program (`n` valid and not read-only: checked by the caller).
+  void set(int n, double v) { numbered_[static_cast<std::size_t>(n)] = v; }
+  /// Sets #n from the interpreter (read-only ones included).
+  void set_system(int n, double v) { numbered_[static_cast<std::size_t>(n)] = v; }
+
+  /// Reads named parameter `name`: a predefined one, a global (`_name`) or a local of the
+  /// current frame. False if it was never set.
+  bool get_named(std::string_view name, double& value) const;
+  /// True if `name` is predefined (read-only).
+  bool predefined(std::string_view name) const;
+  /// Sets a named parameter (global if it starts with '_', else local to the current frame).
+  /// False if it is predefined (read-only).
+  bool set_named(std::string_view name, double value);
+
+  /// The interpreter's live values (may be null: then predefined names are unset).
+  void set_provider(const ParameterProvider* p) { provider_ = p; }
+
+  /// Call frames (O-word subroutines): a new frame has no named locals and saves #1-#30.
+  void push_frame();
+  void pop_frame();
+  std::size_t depth() const { return frames_.size() - 1; }
+
+  /// Reads a LinuxCNC `.var` file (lines `number value`; other lines ignored). False with
+  /// `error` set if it cannot be read or a line is malformed. The numbers read are remembered
+  /// and written back by save_var_file together with the persistent ones.
+  bool load_var_file(const std::string& path, std::string& error);
+  /// Writes the persistent parameters and those loaded, sorted, `number<TAB>value`.
+  bool save_var_file(const std::string& path, std::string& error) const;
+
+ private:
+  struct Hash {
+    using is_transparent = void;
+    std::size_t operator()(std::string_view s) const { return std::hash<std::string_view>{}(s); }
+  };
+  using NameMap = std::unordered_map<std::string, double, Hash, std::equal_to<>>;
+  struct Frame {
+    NameMap locals;
+    std::array<double, kArgs> saved_args{};
+  };
+
+  std::vector<double> numbered_;
+  std::vector<bool> from_file_;
+  NameMap globals_;
+  std::vector<Frame> frames_;
+  const ParameterProvider* provider_ = nullptr;
+};
+
+}  // namespace gm

@@ -1,0 +1,186 @@
+// The run loop: overrides in, one pipeline step, stop rules, outputs out; one sample per step().
+#include "pipeline/run.hpp"
+
+#include "common/status.hpp"
+#include "override/live_override.hpp"
+#include "override/override_recorder.hpp"
+#include "pipeline/sample_queue.hpp"
+
+#include <fmt/format.h>
+
+#include <exception>
+#include <thread>
+
+namespace gm {
+
+namespace {
+
+// The interpreter options with the run's machine (which outlives the stream).
+InterpreterOptions with_machine(InterpreterOptions opts, const Machine& m) {
+  opts.machine = &m;
+  return opts;
+}
+
+bool realtime(const RunOptions& o) {
+  return o.live_fd >= 0;
+}
+
+// The consumer thread is worth it only with a second core, and never paces a real-time run.
+RunOptions with_thread_choice(RunOptions o) {
+  o.consumer_thread = o.consumer_thread && !realtime(o) && std::thread::hardware_concurrency() >= 2;
+  o.config.defer_contour = o.consumer_thread;
+  return o;
+}
+
+// The tolerance planner over `source` for the machine's filter and overrides (issue 21).
+std::unique_ptr<TolerancePlanner> make_planner(const Machine& m, CanonSource& source) {
+  PlannerConfig c;
+  c.max_override = m.max_override;
+  c.rapid_mm_min = m.rapid_mm_min;
+  c.rounding_mm = m.blu_mm().norm();
+  const FilterMoments moments(design_taps(m.profile, m.tau_s, m.period_s), m.period_s);
+  return std::make_unique<TolerancePlanner>(moments, c, source);
+}
+
+}  // namespace
+
+Run::Run(RunOptions options, CanonSource& source)
+    : options_(with_thread_choice(std::move(options))),
+      planner_(make_planner(options_.config.machine, source)),
+      pipeline_(options_.config, *planner_),
+      summary_(options_.config.machine),
+      tolerance_(options_.config.machine.blu_mm().minCoeff()),
+      player_(options_.schedule, options_.config.machine.period_s, options_.feed_override_pct,
+              options_.rapid_override_pct) {
+  init();
+}
+
+Run::Run(RunOptions options, std::istream& program, InterpreterOptions opts)
+    : options_(with_thread_choice(std::move(options))),
+      stream_(std::make_unique<ProgramStream>(program, options_.program_name,
+                                              with_machine(opts, options_.config.machine))),
+      planner_(make_planner(options_.config.machine, *stream_)),
+      pipeline_(options_.config, *planner_),
+      summary_(options_.config.machine),
+      tolerance_(options_.config.machine.blu_mm().minCoeff()),
+      player_(options_.schedule, options_.config.machine.period_s, options_.feed_override_pct,
+              options_.rapid_override_pct) {
+  init();
+}
+
+void Run::init() {
+  const RunOptions& o = options_;
+  if (!o.trace_path.empty()) {
+    TraceMeta meta;
+    meta.program = o.program_name;
+    meta.machine_name = o.config.machine.name;
+    meta.machine_source = o.config.machine.source;
+    meta.profile = o.config.machine.profile;
+    meta.taps = static_cast<int>(pipeline_.taps().integer.size());
+    meta.tau_s = o.config.machine.tau_s;
+    meta.period_s = o.config.machine.period_s;
+    meta.blu_mm = o.config.machine.blu_mm();
+    meta.servo = o.config.servo;
+    meta.decimate = o.decimate;
+    meta.status_line = o.keep_partial;
+    trace_ = std::make_unique<TraceWriter>(o.trace_path, o.trace_format, meta);
+  }
+  if (realtime(o)) {
+    live_ = std::make_unique<LiveOverride>(o.live_fd, o.config.machine.max_override * 100.0);
+    live_open_ = true;
+  }
+  if (!o.record_override_path.empty())
+    recorder_ =
+        std::make_unique<OverrideRecorder>(o.record_override_path, o.config.machine.period_s);
+  if (o.consumer_thread) {
+    meter_.emplace(pipeline_.contour_meter());
+    queue_ = std::make_unique<SampleQueue>(
+        [this](SampleRecord& r, const Motion* started) { consume(r, started); });
+  }
+  t0_ = std::chrono::steady_clock::now();
+  next_progress_ = t0_ + std::chrono::seconds(1);
+}
+
+Run::~Run() = default;
+
+void Run::consume(SampleRecord& r, const Motion* started) {
+  if (meter_) meter_->measure(r, started);
+  tolerance_.add(r, started);
+  summary_.add(r);
+  if (trace_) trace_->write(r);
+}
+
+RunStatus Run::step() {
+  const RunOptions& o = options_;
+  player_.advance(k_, line_);
+  if (live_open_) {
+    double feed = player_.feed_percent(), rapid = player_.rapid_percent();
+    live_open_ = live_->poll(feed, rapid);
+    player_.set(feed, rapid);
+  }
+  ovr_.feed_scale = player_.feed_scale();
+  ovr_.rapid_scale = player_.rapid_scale();
+  if (recorder_) recorder_->sample(k_, player_.feed_percent(), player_.rapid_percent());
+  const PipelineStatus st = pipeline_.step(ovr_, rec_);
+  if (st != PipelineStatus::Working) {
+    const RunStatus rs =
+        st == PipelineStatus::Finished ? RunStatus::Finished : RunStatus::Unsettled;
+    finish(rs);
+    return rs;
+  }
+  ++k_;
+  line_ = rec_.line;
+  if (o.interrupted != nullptr && *o.interrupted != 0)
+    throw InputError(fmt::format("interrupted at t = {:.3f} s (line {}){}", rec_.t_s, rec_.line,
+                                 o.keep_partial ? "" : "; no trace was kept"));
+  if (o.max_time_s > 0 && rec_.t_s > o.max_time_s)
+    throw InputError(fmt::format("run stopped at --max-time {} s (line {}, feed override {} %)",
+                                 o.max_time_s, rec_.line, player_.feed_percent()));
+  if ((rec_.events & kEventHold) != 0 && !live_open_ && !player_.may_change())
+    throw InputError(
+        fmt::format("feed held at 0 % override at line {} (t = {:.3f} s) and nothing in the "
+                    "override schedule resumes it",
+                    rec_.line, rec_.t_s));
+  if (realtime(o))
+    std::this_thread::sleep_until(
+        t0_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                  std::chrono::duration<double>(rec_.t_s + o.config.machine.period_s)));
+  if (queue_)
+    queue_->push(rec_, pipeline_.started_motion());
+  else
+    consume(rec_, pipeline_.started_motion());  // step() measured the contour itself
+  if (o.progress && !realtime(o) && (rec_.k & 0xFFFF) == 0 &&
+      std::chrono::steady_clock::now() > next_progress_) {
+    o.progress(rec_);
+    progress_shown_ = true;
+    next_progress_ += std::chrono::seconds(1);
+  }
+  return RunStatus::Working;
+}
+
+void Run::finish(RunStatus status) {
+  if (queue_) queue_->finish();
+  const bool complete = status == RunStatus::Finished;
+  summary_.finish(rec_, pipeline_.program_end_blu(), complete);
+  // An unsettled run's trace is kept partial by the caller when asked for, else completed.
+  if (trace_ && (complete || !options_.keep_partial)) trace_->finish();
+  if (recorder_) recorder_->finish();
+}
+
+std::string Run::unsettled_reason() const {
+  return fmt::format("the axes did not settle within {} s of the program end",
+                     options_.config.settle_timeout_s);
+}
+
+std::optional<std::string> Run::keep_partial(std::string_view reason) noexcept {
+  if (!options_.keep_partial || !trace_ || !trace_->open()) return std::nullopt;
+  if (queue_) {
+    try {
+      queue_->finish();  // every sample pushed so far reaches the trace
+    } catch (...) {      // the run's own error is the one reported
+    }
+  }
+  return trace_->keep_partial(reason);
+}
+
+}  // namespace gm

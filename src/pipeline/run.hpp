@@ -1,0 +1,137 @@
+// A run: the pipeline with its overrides, outputs (trace, summary, override record, progress)
+// and stop rules, advanced one sample per step() (as ruckig's update()).
+#pragma once
+
+#include "interp/canon.hpp"
+#include "interp/program.hpp"
+#include "override/override_schedule.hpp"
+#include "pipeline/pipeline.hpp"
+#include "planner/tolerance_check.hpp"
+#include "planner/tolerance_planner.hpp"
+#include "trace/run_summary.hpp"
+#include "trace/trace_writer.hpp"
+
+#include <chrono>
+#include <csignal>
+#include <functional>
+#include <istream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace gm {
+
+class LiveOverride;
+class OverrideRecorder;
+class SampleQueue;
+
+/// Everything a run is asked to do besides the program.
+struct RunOptions {
+  RunConfig config;          ///< machine (flags applied), servo, settle timeout
+  std::string program_name;  ///< for the trace header and messages
+
+  // Overrides.
+  double feed_override_pct = 100.0;   ///< at the start
+  double rapid_override_pct = 100.0;  ///< at the start
+  OverrideSchedule schedule;          ///< changes by time or source line
+  int live_fd = -1;  ///< >= 0: real time: pace at wall-clock speed, read changes from this fd
+
+  // Outputs.
+  std::string trace_path;  ///< "" = no trace; "-" = stdout
+  TraceFormat trace_format = TraceFormat::Csv;
+  int decimate = 1;
+  bool keep_partial = false;  ///< the trace has a status line; keep_partial() keeps a failed one
+  std::string record_override_path;  ///< "" = none
+  /// Called about once a second of wall time with the last sample (never in real time).
+  std::function<void(const SampleRecord&)> progress;
+
+  // Stop rules (each throws gm::InputError from step()).
+  double max_time_s = 0.0;                                  ///< simulated time; 0 = no limit
+  const volatile std::sig_atomic_t* interrupted = nullptr;  ///< stop when it becomes non-zero
+
+  /// Measure the contour, summarise and trace on a second thread when the machine has two
+  /// cores (never in real time). The outputs are byte-identical either way.
+  bool consumer_thread = true;
+};
+
+enum class RunStatus {
+  Working,   ///< a sample was produced: last() holds it
+  Finished,  ///< the program ended and the axes settled; the outputs are complete
+  Unsettled  ///< the program ended but the axes did not settle (unsettled_reason()); outputs done
+};
+
+/// Owns the pipeline, the override player, the outputs and the stop rules:
+///
+///     Run run(options, program, interpreter_options);
+///     while (run.step() == RunStatus::Working) {}
+///     print(run.summary());
+///
+/// Nothing is allocated per sample. A failed step (stop rule, servo divergence, a write error)
+/// throws gm::InputError; with options.keep_partial call keep_partial(reason) then.
+class Run {
+ public:
+  /// Pulls the canonical moves from `source`. Throws gm::InputError on a bad set-up (machine,
+  /// override values, trace path, override record path).
+  Run(RunOptions options, CanonSource& source);
+  /// Interprets `program` itself (opts.machine is set to the run's machine).
+  Run(RunOptions options, std::istream& program, InterpreterOptions opts);
+  ~Run();
+  Run(const Run&) = delete;
+  Run& operator=(const Run&) = delete;
+
+  /// Advances one interpolation period T.
+  RunStatus step();
+
+  /// The last sample produced. With the consumer thread its contour fields are filled on the
+  /// consumer's copy, not here (set consumer_thread = false to read them per step).
+  const SampleRecord& last() const { return rec_; }
+  /// Complete once step() has returned Finished or Unsettled.
+  const RunSummary& summary() const { return summary_; }
+  /// The contour error against the tolerance in force (issue 21), complete with summary().
+  const ToleranceCheck& tolerance() const { return tolerance_; }
+  /// What the tolerance planner (between the program and the pipeline) did.
+  const PlannerStats& planner_stats() const { return planner_->stats(); }
+  const Pipeline& pipeline() const { return pipeline_; }
+  const RunConfig& config() const { return options_.config; }
+  const RunOptions& options() const { return options_; }
+  /// Why the run ended Unsettled.
+  std::string unsettled_reason() const;
+  /// True when options.progress was called at least once.
+  bool progress_shown() const { return progress_shown_; }
+
+  /// After a failure, with options.keep_partial: hands the samples produced so far to the
+  /// outputs, then keeps the trace as FILE.partial with its status line saying `reason`.
+  /// Returns that path; "" when not even the header could be kept; nullopt when there is no
+  /// trace to keep (none asked for, no keep_partial, or already complete). Never throws.
+  std::optional<std::string> keep_partial(std::string_view reason) noexcept;
+
+ private:
+  void init();
+  void consume(SampleRecord& r, const Motion* started);
+  void finish(RunStatus status);
+
+  RunOptions options_;
+  std::unique_ptr<ProgramStream> stream_;  ///< when the run interprets the program itself
+  /// Issue 21: caps speeds and pauses at corners for blocks with a tolerance; hands every other
+  /// block on unchanged.
+  std::unique_ptr<TolerancePlanner> planner_;
+  Pipeline pipeline_;
+  RunSummary summary_;
+  ToleranceCheck tolerance_;
+  OverridePlayer player_;
+  std::unique_ptr<LiveOverride> live_;
+  std::unique_ptr<OverrideRecorder> recorder_;
+  std::unique_ptr<TraceWriter> trace_;
+  std::optional<ContourMeter> meter_;   ///< with the consumer thread
+  std::unique_ptr<SampleQueue> queue_;  ///< last: its thread uses the members above
+  OverrideInput ovr_;
+  SampleRecord rec_;
+  std::int64_t k_ = 0;
+  int line_ = 0;
+  bool live_open_ = false;
+  bool progress_shown_ = false;
+  std::chrono::steady_clock::time_point t0_, next_progress_;
+};
+
+}  // namespace gm

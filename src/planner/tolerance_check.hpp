@@ -1,0 +1,47 @@
+// Verifies a run against the tolerance in force: worst contour error per line, cuts and rapids
+// apart.
+#pragma once
+
+#include "common/axis.hpp"
+#include "interp/canon.hpp"
+#include "pipeline/sample_record.hpp"
+
+#include <cstdint>
+#include <string>
+
+namespace gm {
+
+/// Fed every record of a run (with the motion that became current in it, as ContourMeter is),
+/// compares |contour_err| with the path tolerance of the block the sample is in — cutting
+/// moves (G1/G2/G3) and rapids (G0) apart. Blocks with no tolerance (0) are not judged.
+class ToleranceCheck {
+ public:
+  /// `contour_blu_mm`: the length of one contour_err_blu unit (the smallest axis BLU), mm.
+  explicit ToleranceCheck(double contour_blu_mm) : blu_mm_(contour_blu_mm) {}
+
+  void add(const SampleRecord& r, const Motion* started);
+
+  struct Worst {
+    std::int64_t samples = 0;  ///< samples judged (a tolerance was in force)
+    std::int64_t over = 0;     ///< samples whose error exceeded it
+    double err_mm = 0.0;       ///< largest |contour error| / tolerance: the error…
+    double tol_mm = 0.0;       ///< …and the tolerance at that sample
+    double ratio = 0.0;
+    int line = 0;
+    double t_s = 0.0;
+  };
+  const Worst& cutting() const { return cut_; }
+  const Worst& rapids() const { return rapid_; }
+  bool judged() const { return cut_.samples + rapid_.samples > 0; }
+  bool exceeded() const { return cut_.over + rapid_.over > 0; }
+  /// Two lines for the run summary ("" when nothing was judged).
+  std::string text() const;
+
+ private:
+  double blu_mm_;
+  double tol_mm_ = 0.0;
+  bool rapid_block_ = false;
+  Worst cut_, rapid_;
+};
+
+}  // namespace gm

@@ -1,0 +1,117 @@
+// The tolerance planner: a look-ahead CanonSource that caps speeds and pauses at corners so the
+// Acc/Dec output stays within each block's G64 P tolerance on every sample (issue 21).
+#pragma once
+
+#include "common/axis.hpp"
+#include "interp/canon.hpp"
+#include "interpolator/geometry.hpp"
+#include "planner/filter_moments.hpp"
+
+#include <cstdint>
+#include <deque>
+#include <vector>
+
+namespace gm {
+
+struct PlannerConfig {
+  double max_override = 2.0;   ///< largest feed and rapid override (speeds are planned at it)
+  double rapid_mm_min = 6000;  ///< G0 path speed at 100 %
+  /// Kept out of every tolerance for the BLU rounding of the interpolator and of the filter
+  /// output (each at most half a BLU per axis): ‖BLU‖₂, mm.
+  double rounding_mm = 0.0;
+  std::size_t capacity = 4096;  ///< most motion blocks held for look-ahead (memory bound)
+};
+
+/// What the planner did, for the summary.
+struct PlannerStats {
+  std::int64_t corners = 0;         ///< corners with a tolerance planned
+  std::int64_t paused_corners = 0;  ///< of which the interpolator pauses at
+  double pause_total_s = 0.0;       ///< pauses added in all
+  std::int64_t capped_pieces = 0;   ///< motion pieces emitted with a speed cap
+  std::int64_t forced_stops = 0;    ///< look-ahead full: a full stop was planned
+};
+
+/// Reads canon from `upstream` and hands on the same program with, for every block whose
+/// path_tolerance_mm is > 0, a speed cap (Motion::speed_cap_mm_s, honoured by the interpolator
+/// whatever the override) on the pieces near corners and arcs, and a short pause (Dwell) at
+/// corners where pausing costs less time than slowing. Blocks with tolerance 0 and everything
+/// else pass unchanged, so a program without a tolerance is the same canon, byte for byte.
+///
+/// The guarantee (docs/tolerance.md): the filter output is Σ h_i x(s_i); with s̄ = Σ h_i s_i
+/// on the path, its distance from the path is at most
+///   Σ_corners |Δu_c|·(moment of the samples past the corner, away from s̄)  +  κ_max·V²·σ²/2,
+/// the corner moment at most V_c·D(P_c) when the speed is at most V_c for (τ − P_c) of time
+/// either side of a corner where the interpolator pauses P_c, the curvature term at most
+/// κ·V_a²·σ²/2 when the speed is at most V_a within τ of an arc. Elements (corners and arcs)
+/// that can share one filter window are less than τ apart in the fastest execution (every
+/// override at its maximum, no pause); each gets budget (tol − rounding) / n, n the number of
+/// elements within τ of it, so whatever shares a window adds up to at most the tolerance.
+/// Overrides and holds only slow the path, and every bound above only shrinks.
+///
+/// One pass over the program; at most `capacity` blocks and the elements within 2τ of travel
+/// are held. If `capacity` blocks fit in 2τ of travel, a full stop is planned at the window end.
+class TolerancePlanner : public CanonSource {
+ public:
+  TolerancePlanner(const FilterMoments& filter, const PlannerConfig& cfg, CanonSource& upstream);
+  bool next(Canon& out) override;
+  const PlannerStats& stats() const { return stats_; }
+
+ private:
+  struct Block {
+    Motion m;
+    BlockGeometry g;
+    std::uint64_t seq = 0;
+    double s0 = 0, s1 = 0;  ///< cumulative path length, mm
+    double t0 = 0, t1 = 0;  ///< cumulative fastest travel time, s (pauses included)
+    double vmax = 0;        ///< at the largest override, mm/s
+    double v100 = 0;        ///< at 100 %, mm/s
+    AxisVec u0 = AxisVec::Zero(), u1 = AxisVec::Zero();  ///< unit tangents at start and end
+    std::vector<Canon> after;  ///< what follows until the next block (events, dwells, ...)
+    double dwell_after_s = 0;  ///< dwells in `after`
+    bool stop_after = false;   ///< the filter drains after it (exact stop, forced stop)
+    bool forced_stop = false;  ///< the planner adds the stop (window full)
+  };
+  struct Element {
+    bool arc = false;
+    std::uint64_t seq = 0;  ///< corner: the block before it; arc: the arc
+    double t0 = 0, t1 = 0;  ///< extent in fastest travel time
+    double s0 = 0, s1 = 0;  ///< extent in path length
+    double tol_mm = 0;
+    double turn = 0;    ///< corner: |u_after − u_before| = 2 sin(φ/2)
+    double kappa = 0;   ///< arc: curvature bound, 1/mm
+    double pause0 = 0;  ///< corner: pause already there (dwells)
+    double vmax = 0;    ///< fastest adjacent speed
+    double v100 = 0;    ///< adjacent speed at 100 %
+    bool decided = false;
+    double cap = 0;         ///< mm/s; infinity = none
+    double pause = 0;       ///< corner: total pause at the vertex
+    double z0 = 0, z1 = 0;  ///< zone in path length where the cap applies
+    /// Once decided: when it can contribute, in fastest time plus the pauses planned before
+    /// and at it (corner: from leaving the vertex to τ after reaching it; arc: from its start
+    /// to τ after its end).
+    double a0 = 0, a1 = 0;
+  };
+
+  void pull();  ///< one item from upstream into the window
+  bool lookahead_enough() const;
+  void decide(Element& e);
+  double zone_back(double s_from, double time_s, double cap) const;
+  double zone_fwd(double s_from, double time_s, double cap) const;
+  void emit_front();
+
+  FilterMoments filter_;
+  PlannerConfig cfg_;
+  CanonSource& upstream_;
+  std::vector<double> grid_d_;  ///< D(k·T/2), k = 0..2N
+  std::deque<Block> window_;
+  std::deque<Element> elems_;
+  std::deque<Canon> ready_;
+  Canon scratch_;
+  bool ended_ = false;
+  std::uint64_t seq_ = 0;
+  double s_end_ = 0, t_end_ = 0;  ///< where the last block in the window ends
+  PlannerStats stats_;
+  double added_pause_s_ = 0.0;  ///< pauses planned so far (they delay everything after them)
+};
+
+}  // namespace gm

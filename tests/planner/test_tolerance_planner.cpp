@@ -1,0 +1,264 @@
+// The tolerance planner: unchanged canon without a tolerance, the tolerance held on every sample
+// of random programs under random overrides, cycle times between G61 and unbounded.
+#include "accdec/taps.hpp"
+#include "interp/program.hpp"
+#include "machine/machine.hpp"
+#include "pipeline/pipeline.hpp"
+#include "planner/filter_moments.hpp"
+#include "planner/tolerance_check.hpp"
+#include "planner/tolerance_planner.hpp"
+#include "support/run_command.hpp"
+
+#include <fmt/format.h>
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+gm::PlannerConfig planner_config(const gm::Machine& m) {
+  gm::PlannerConfig c;
+  c.max_override = m.max_override;
+  c.rapid_mm_min = m.rapid_mm_min;
+  c.rounding_mm = m.blu_mm().norm();
+  return c;
+}
+
+struct Outcome {
+  gm::ToleranceCheck check{0.001};
+  double cycle_s = 0;
+  bool finished = false;
+  bool end_exact = false;
+  gm::PlannerStats stats;
+};
+
+// Runs `text` with the servo off through planner and pipeline; `ovr(k)` gives the feed and
+// rapid override of sample k.
+template <class Ovr>
+Outcome run_program(const std::string& text, const gm::Machine& m, Ovr ovr) {
+  std::istringstream in(text);
+  gm::InterpreterOptions opts;
+  opts.machine = &m;
+  gm::ProgramStream stream(in, "random.nc", opts);
+  const gm::FilterMoments fm(gm::design_taps(m.profile, m.tau_s, m.period_s), m.period_s);
+  gm::TolerancePlanner planner(fm, planner_config(m), stream);
+  gm::RunConfig cfg;
+  cfg.machine = m;
+  cfg.servo = false;
+  gm::Pipeline p(cfg, planner);
+  Outcome o;
+  o.check = gm::ToleranceCheck(m.blu_mm().minCoeff());
+  gm::SampleRecord rec;
+  gm::PipelineStatus st;
+  std::int64_t k = 0;
+  while ((st = p.step(ovr(k++), rec)) == gm::PipelineStatus::Working)
+    o.check.add(rec, p.started_motion());
+  o.finished = st == gm::PipelineStatus::Finished;
+  o.cycle_s = rec.t_s + m.period_s;
+  o.end_exact = rec.ref_blu == p.program_end_blu() && rec.cmd_blu == p.program_end_blu();
+  o.stats = planner.stats();
+  return o;
+}
+
+gm::OverrideInput full(std::int64_t) {
+  return {};
+}
+
+std::vector<gm::Canon> canon_of(const std::string& text, const gm::Machine& m, bool planned) {
+  std::istringstream in(text);
+  gm::InterpreterOptions opts;
+  opts.machine = &m;
+  gm::ProgramStream stream(in, "p.nc", opts);
+  const gm::FilterMoments fm(gm::design_taps(m.profile, m.tau_s, m.period_s), m.period_s);
+  gm::TolerancePlanner planner(fm, planner_config(m), stream);
+  gm::CanonSource& src = planned ? static_cast<gm::CanonSource&>(planner) : stream;
+  std::vector<gm::Canon> out;
+  gm::Canon c;
+  while (src.next(c)) out.push_back(c);
+  return out;
+}
+
+constexpr const char* kSquare = "G21 G90 G17 {}\nG1 X20 Y0 F6000\nY20\nX0\nY0\nM2\n";
+
+}  // namespace
+
+TEST_CASE("without a tolerance the planner hands on the interpreter's canon unchanged") {
+  const gm::Machine m;
+  const std::string text =
+      "G21 G90 G64\nG0 X1 Y2 Z3\nG1 X20 F1200\nG4 P0.5\nG2 X30 Y12 I5 J5\nG3 X20 Y2 R8 Z1\n"
+      "G93 G1 X0 Y0 F60\nG94 M0\nG61 G1 X5 F300\nG0 Z10\nM2\n";
+  const auto plain = canon_of(text, m, false);
+  const auto planned = canon_of(text, m, true);
+  REQUIRE(plain.size() == planned.size());
+  for (std::size_t i = 0; i < plain.size(); ++i) {
+    CAPTURE(i);
+    REQUIRE(plain[i].index() == planned[i].index());
+    if (const auto* a = std::get_if<gm::Motion>(&plain[i])) {
+      const auto& b = std::get<gm::Motion>(planned[i]);
+      CHECK(a->line == b.line);
+      CHECK(a->end_mm == b.end_mm);
+      CHECK(a->start_mm == b.start_mm);
+      CHECK(a->feed_mm_min == b.feed_mm_min);
+      CHECK(b.speed_cap_mm_s == 0.0);
+      CHECK(b.path_tolerance_mm == 0.0);
+    }
+  }
+}
+
+TEST_CASE("G64 P reaches the canon in mm, G64 alone takes the machine's tolerance") {
+  gm::Machine m;
+  m.path_tolerance_mm = 0.02;
+  const auto c =
+      canon_of("G20 G64 P0.001\nG1 X1 F10\nG21 G64\nG1 X30\nG64 P0\nG1 X40\nM2\n", m, false);
+  std::vector<double> tol;
+  for (const auto& x : c)
+    if (const auto* mo = std::get_if<gm::Motion>(&x)) tol.push_back(mo->path_tolerance_mm);
+  REQUIRE(tol.size() == 3);
+  CHECK(tol[0] == Approx(0.0254).epsilon(1e-12));
+  CHECK(tol[1] == 0.02);
+  CHECK(tol[2] == 0.0);
+}
+
+TEST_CASE("square at F6000: G64 P0.1 before P0.01 before G61, tolerance held, ends exact") {
+  const gm::Machine m;
+  const Outcome g61 = run_program(fmt::format(fmt::runtime(kSquare), "G61"), m, full);
+  const Outcome p001 = run_program(fmt::format(fmt::runtime(kSquare), "G64 P0.01"), m, full);
+  const Outcome p01 = run_program(fmt::format(fmt::runtime(kSquare), "G64 P0.1"), m, full);
+  const Outcome free = run_program(fmt::format(fmt::runtime(kSquare), "G64"), m, full);
+  for (const Outcome* o : {&g61, &p001, &p01, &free}) {
+    CHECK(o->finished);
+    CHECK(o->end_exact);
+  }
+  CHECK_FALSE(p001.check.exceeded());
+  CHECK_FALSE(p01.check.exceeded());
+  CHECK(p001.check.cutting().samples > 0);
+  CHECK(p001.stats.corners == 3);
+  // Measured (docs/tolerance.md): G61 1.456 s, P0.01 1.260 s, P0.1 1.156 s, unbounded 0.960 s.
+  CHECK(p001.cycle_s < g61.cycle_s - 0.1);
+  CHECK(p01.cycle_s < p001.cycle_s - 0.05);
+  CHECK(free.cycle_s < p01.cycle_s);
+  // Without a tolerance the corners are cut by the closed form F·D·sin φ = 0.894 mm.
+  CHECK(free.check.cutting().samples == 0);
+}
+
+TEST_CASE("property: random programs hold G64 P on every sample under random overrides") {
+  std::mt19937_64 rng(20261123);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  auto pick = [&](int n) { return std::min(n - 1, static_cast<int>(U(rng) * n)); };
+  auto r6 = [](double v) { return std::round(v * 1e6) / 1e6; };
+  auto g = [](double v) { return fmt::format("{:.6f}", v); };
+  const char* profiles[] = {"blackman", "linear", "hann", "scurve1"};
+  const double taus[] = {0.164, 0.1, 0.08, 0.12};
+  const double tols[] = {0.003, 0.005, 0.01, 0.02, 0.05, 0.1, 0.3};
+  constexpr int kPrograms = 1000;
+  int arcs = 0, rapids = 0, lines = 0;
+  std::int64_t samples = 0, rapid_samples = 0, paused = 0, capped = 0;
+  double worst_ratio = 0;
+  for (int prog = 0; prog < kPrograms; ++prog) {
+    gm::Machine m;
+    const int pi = pick(4);
+    m.profile = profiles[pi];
+    m.tau_s = taus[pi];
+    std::string text = fmt::format("G21 G90 G17 G64 P{}\n", tols[pick(7)]);
+    double x = 0, y = 0, z = 0;
+    const int moves = 3 + pick(6);
+    for (int i = 0; i < moves; ++i) {
+      if (U(rng) < 0.15) text += fmt::format("G64 P{}\n", tols[pick(7)]);
+      const double feed = std::round(200.0 + U(rng) * 8800.0);
+      const double r = U(rng);
+      if (r < 0.15) {  // rapid
+        x = r6(-20 + 40 * U(rng)), y = r6(-20 + 40 * U(rng));
+        text += fmt::format("G0 X{} Y{}\n", g(x), g(y));
+        ++rapids;
+      } else if (r < 0.55) {  // line, short or long
+        const double len = U(rng) < 0.5 ? 1.3 + 2 * U(rng) : 3 + 25 * U(rng);
+        const double a = 2 * 3.141592653589793 * U(rng);
+        x = r6(x + len * std::cos(a)), y = r6(y + len * std::sin(a));
+        text += fmt::format("G1 X{} Y{} F{}\n", g(x), g(y), feed);
+        ++lines;
+      } else {  // arc or helix, the end on the circle (to the printed digits)
+        const double R = U(rng) < 0.5 ? 0.3 + 2 * U(rng) : 2 + 15 * U(rng);
+        const double a0 = 2 * 3.141592653589793 * U(rng);
+        const double i_off = r6(-R * std::cos(a0)), j_off = r6(-R * std::sin(a0));
+        const double cx = x + i_off, cy = y + j_off, rr = std::hypot(i_off, j_off);
+        double sweep = (U(rng) - 0.5) * 6.0;  // at least 1.3 mm of arc
+        if (std::abs(sweep) * R < 1.3) sweep = (sweep < 0 ? -1.3 : 1.3) / R;
+        const double a1 = a0 + sweep;
+        x = r6(cx + rr * std::cos(a1)), y = r6(cy + rr * std::sin(a1));
+        std::string zw;
+        if (U(rng) < 0.3) z = r6(z + (U(rng) - 0.5) * 4), zw = fmt::format(" Z{}", g(z));
+        text += fmt::format("G{} X{} Y{}{} I{} J{} F{}\n", U(rng) < 0.5 ? 2 : 3, g(x), g(y), zw,
+                            g(i_off), g(j_off), feed);
+        ++arcs;
+      }
+    }
+    text += "M2\n";
+    // Overrides: piecewise constant, 0..200 %, with short holds; rapids alike.
+    std::vector<std::pair<double, double>> sched;
+    for (int seg = 0; seg < 400; ++seg) {
+      const double f = U(rng) < 0.08 ? 0.0 : 0.05 + U(rng) * (m.max_override - 0.05);
+      const double fr = U(rng) < 0.3 ? m.max_override : 0.05 + U(rng) * (m.max_override - 0.05);
+      const int len = f == 0.0 ? 1 + pick(20) : 5 + pick(150);
+      for (int k = 0; k < len; ++k) sched.emplace_back(f, fr);
+    }
+    auto ovr = [&](std::int64_t k) {
+      gm::OverrideInput o;
+      if (k < static_cast<std::int64_t>(sched.size())) {
+        o.feed_scale = sched[static_cast<std::size_t>(k)].first;
+        o.rapid_scale = sched[static_cast<std::size_t>(k)].second;
+      }
+      return o;
+    };
+    const Outcome o = run_program(text, m, ovr);
+    CAPTURE(prog, m.profile, text);
+    REQUIRE(o.finished);
+    CHECK(o.end_exact);
+    CHECK(o.check.cutting().over == 0);
+    CHECK(o.check.rapids().over == 0);
+    samples += o.check.cutting().samples;
+    rapid_samples += o.check.rapids().samples;
+    worst_ratio = std::max({worst_ratio, o.check.cutting().ratio, o.check.rapids().ratio});
+    paused += o.stats.paused_corners;
+    capped += o.stats.capped_pieces;
+  }
+  // What the run covered (printed with -s; figures in docs/tolerance.md).
+  INFO(fmt::format(
+      "{} programs: {} lines, {} arcs, {} rapids; {} cutting + {} rapid samples "
+      "judged; worst error {:.0f} % of the tolerance; {} corners paused, {} pieces "
+      "capped",
+      kPrograms, lines, arcs, rapids, samples, rapid_samples, 100 * worst_ratio, paused, capped));
+  CHECK(worst_ratio <= 1.0);
+  CHECK(samples > 100000);
+  CHECK(rapid_samples > 1000);
+  CHECK(paused > 0);
+  CHECK(capped > 0);
+  WARN(
+      fmt::format("{} programs, {} cutting + {} rapid samples, worst {:.1f} % of tolerance, "
+                  "{} paused corners, {} capped pieces",
+                  kPrograms, samples, rapid_samples, 100 * worst_ratio, paused, capped));
+}
+
+TEST_CASE("gmotion run --check-tolerance exits 1 when a sample exceeds the tolerance") {
+  const std::string prog = std::string(GMOTION_TESTS_DIR) + "/../programs/corners.nc";
+  // Servo off: the planned Acc/Dec output holds P0.02 (exit 0, both kinds judged).
+  const auto ok = gmtest::run_gmotion("run " + prog + " --no-servo --check-tolerance");
+  CHECK(ok.code == 0);
+  CHECK(ok.out.find("tolerance cutting (G1/G2/G3): worst contour error") != std::string::npos);
+  CHECK(ok.out.find("0 of ") != std::string::npos);
+  // Servo on: the tolerance is planned for the Acc/Dec output, not yet for the servo's lag
+  // (--tolerance-on encoder is not implemented), so the table leaves it: exit 1.
+  const auto bad = gmtest::run_gmotion("run " + prog + " --check-tolerance");
+  CHECK(bad.code == 1);
+  CHECK(bad.out.find("samples exceed the tolerance in force") != std::string::npos);
+  // --tolerance applies to G64 without P; without it the square is unjudged and exits 0.
+  const std::string sq = std::string(GMOTION_TESTS_DIR) + "/../programs/square.nc";
+  CHECK(gmtest::run_gmotion("run " + sq + " --no-servo --check-tolerance").code == 0);
+  const auto t =
+      gmtest::run_gmotion("run " + sq + " --no-servo --tolerance 0.01 --check-tolerance");
+  CHECK(t.code == 0);
+  CHECK(t.out.find("against 0.0100 mm") != std::string::npos);
+}
