@@ -12,21 +12,6 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kMinTurn = 1e-9;
 constexpr bool kAmortize = false;  // |Δu| below this is a straight continuation
 
-AxisVec tangent_at(const BlockGeometry& g, double u) {
-  AxisVec d = g.end_mm - g.start_mm;
-  if (g.kind == MotionKind::Arc) {
-    const double th = g.theta0_rad + u * g.sweep_rad;
-    const double r = g.r0_mm + u * (g.r1_mm - g.r0_mm);
-    const double dr = g.r1_mm - g.r0_mm;
-    d = AxisVec::Zero();
-    d[g.a] = dr * std::cos(th) - r * g.sweep_rad * std::sin(th);
-    d[g.b] = dr * std::sin(th) + r * g.sweep_rad * std::cos(th);
-    d[g.n] = g.end_mm[g.n] - g.start_mm[g.n];
-  }
-  const double n = d.norm();
-  return n > 0.0 ? AxisVec(d / n) : AxisVec(AxisVec::Zero());
-}
-
 double min_positive(double a, double b) {
   if (a > 0.0 && b > 0.0) return std::min(a, b);
   return a > 0.0 ? a : b;
@@ -75,8 +60,8 @@ void TolerancePlanner::pull() {
     b.v100 = m->feed_mm_min / 60.0;
   b.v100 = std::max(b.v100, 1e-9);
   b.vmax = b.v100 * cfg_.max_override;
-  b.u0 = tangent_at(g, 0.0);
-  b.u1 = tangent_at(g, 1.0);
+  b.u0 = g.tangent_at_fraction(0.0);
+  b.u1 = g.tangent_at_fraction(1.0);
   b.s0 = s_end_;
   b.s1 = s_end_ + L;
   double gap_s = 0.0;
