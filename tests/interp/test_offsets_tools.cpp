@@ -156,12 +156,12 @@ TEST_CASE("G81 and G83 expand as LinuxCNC: across, down to R, pecks, retract") {
   // G83 at the R plane under G98: across at the initial level 10, down to R, pecks -1, -4
   CHECK(m[5].end_mm == AxisVec(4, 2, 10));
   CHECK(m[6].end_mm == AxisVec(4, 2, 2));
-  CHECK(m[7].end_mm[3] == Approx(-1));      // feed
-  CHECK(m[8].end_mm[3] == Approx(2));       // out to R
-  CHECK(m[9].end_mm[3] == Approx(-0.746));  // back down to 0.254 mm above the last depth
-  CHECK(m[10].end_mm[3] == Approx(-4));     // feed
-  CHECK(m[11].end_mm[3] == Approx(2));
-  CHECK(m[12].end_mm[3] == Approx(-3.746));
-  CHECK(m[13].end_mm[3] == Approx(-5));  // to the bottom
-  CHECK(m[14].end_mm[3] == Approx(10));  // G98: the initial level
+  CHECK(m[7].end_mm[2] == Approx(-1));      // feed
+  CHECK(m[8].end_mm[2] == Approx(2));       // out to R
+  CHECK(m[9].end_mm[2] == Approx(-0.746));  // back down to 0.254 mm above the last depth
+  CHECK(m[10].end_mm[2] == Approx(-4));     // feed
+  CHECK(m[11].end_mm[2] == Approx(2));
+  CHECK(m[12].end_mm[2] == Approx(-3.746));
+  CHECK(m[13].end_mm[2] == Approx(-5));  // to the bottom
+  CHECK(m[14].end_mm[2] == Approx(10));  // G98: the initial level
 }
