@@ -19,18 +19,22 @@ void add_check(CLI::App& app, Context& ctx) {
   struct Opts {
     std::string program;
     std::string machine_file;
+    std::string tool_table;
     bool block_delete = false;
     std::string arc_rule;
   };
   auto opts = std::make_shared<Opts>();
   sub->add_option("PROGRAM", opts->program, "G-code file ('-' reads stdin)")->required();
   sub->add_option("--machine", opts->machine_file, "machine description file (TOML)");
+  sub->add_option("--tool-table", opts->tool_table,
+                  "LinuxCNC tool table (T1 P1 Z50 D6 ;comment), mm; default: the machine's");
   sub->add_flag("--block-delete", opts->block_delete, "skip lines that start with '/'");
   sub->add_option("--arc-rule", opts->arc_rule, "arc end-radius tolerance rule")
       ->check(CLI::IsMember({"linuxcnc", "grbl", "g2core"}));
   sub->callback([opts, &ctx] {
     Machine machine;
     if (!opts->machine_file.empty()) machine = load_machine_file(opts->machine_file);
+    if (!opts->tool_table.empty()) machine.tool_table = load_tool_table(opts->tool_table);
     if (!opts->arc_rule.empty()) {
       static const std::map<std::string, ArcRule> rules{
           {"linuxcnc", ArcRule::LinuxCnc}, {"grbl", ArcRule::Grbl}, {"g2core", ArcRule::G2core}};
@@ -48,9 +52,9 @@ void add_check(CLI::App& app, Context& ctx) {
     }
     fmt::print(
         "{}: ok: {} blocks, {} moves, path {:.3f} mm, {:.3f} s at programmed feed (rapids at {:g} "
-        "mm/min)\n",
+        "mm/min); tool table {}\n",
         opts->program == "-" ? "<stdin>" : opts->program, s.blocks, s.moves, s.path_length_mm,
-        s.time_at_feed_s, machine.rapid_mm_min);
+        s.time_at_feed_s, machine.rapid_mm_min, machine.tool_table.source);
     ctx.exit_code = 0;
   });
 }

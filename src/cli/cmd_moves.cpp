@@ -72,18 +72,22 @@ void add_moves(CLI::App& app, Context& ctx) {
   struct Opts {
     std::string program;
     std::string machine_file;
+    std::string tool_table;
     bool block_delete = false;
     bool messages = false;
   };
   auto opts = std::make_shared<Opts>();
   sub->add_option("PROGRAM", opts->program, "G-code file ('-' reads stdin)")->required();
   sub->add_option("--machine", opts->machine_file, "machine description file (TOML)");
+  sub->add_option("--tool-table", opts->tool_table,
+                  "LinuxCNC tool table (T1 P1 Z50 D6 ;comment), mm; default: the machine's");
   sub->add_flag("--block-delete", opts->block_delete, "skip lines that start with '/'");
   sub->add_flag("--messages", opts->messages,
                 "also print MSG/DEBUG/PRINT comments as records of kind \"message\"");
   sub->callback([opts, &ctx] {
     Machine machine;
     if (!opts->machine_file.empty()) machine = load_machine_file(opts->machine_file);
+    if (!opts->tool_table.empty()) machine.tool_table = load_tool_table(opts->tool_table);
     const InterpreterOptions io{&machine, opts->block_delete};
     const std::string name = opts->program == "-" ? "<stdin>" : opts->program;
 

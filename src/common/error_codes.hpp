@@ -59,6 +59,12 @@ enum class ErrorCode : int {
   ParameterOutOfRange = 233,  ///< #n with n outside 1..5601, or not an integer
   ParameterReadOnly = 234,    ///< setting #5400-#5413, #5420-#5428 or a predefined #<_name>
   UndefinedParameter = 235,   ///< reading a named parameter that was never set
+  // Machine-side codes (offsets, tools, cycles) ------------------------------------------------
+  G53Misused = 260,      ///< G53 with a motion other than G0/G1, or in G91 (LinuxCNC)
+  BadLWord = 261,        ///< G10 without L or with an L it does not know; cycle L not >= 1
+  MissingWord = 262,     ///< a code without a word it needs (G10 P, M61 Q, G43.2 H, cycle R/Z)
+  BadCoordSystem = 263,  ///< G10 L2/L20 P outside 0..9
+  CycleMisused = 264,    ///< a canned cycle with cutter compensation, or no plane axis word
   // Arcs ---------------------------------------------------------------------------------------
   ArcRadiusTooSmall = 301,    ///< R form: |R| cannot reach the end point
   ArcRadiusMismatch = 302,    ///< IJK form: start and end radii differ beyond the rule's tolerance
@@ -145,6 +151,14 @@ inline constexpr std::array kErrorTable{
     ErrorInfo{ErrorCode::ParameterReadOnly, "parameter read-only", "This parameter cannot be set"},
     ErrorInfo{ErrorCode::UndefinedParameter, "undefined parameter",
               "A named parameter was read before it was set"},
+    ErrorInfo{ErrorCode::G53Misused, "G53 misused",
+              "G53 needs G0 or G1 and absolute distance mode (G90)"},
+    ErrorInfo{ErrorCode::BadLWord, "bad L word", "L has a value this code does not accept"},
+    ErrorInfo{ErrorCode::MissingWord, "missing word", "A code lacks a word it needs"},
+    ErrorInfo{ErrorCode::BadCoordSystem, "bad coordinate system",
+              "G10 L2/L20 P names coordinate systems 0 (current) to 9"},
+    ErrorInfo{ErrorCode::CycleMisused, "canned cycle misused",
+              "A canned cycle lacks what it needs or meets what it cannot use"},
     ErrorInfo{ErrorCode::ArcRadiusTooSmall, "arc radius too small", "R cannot reach the end point"},
     ErrorInfo{ErrorCode::ArcRadiusMismatch, "arc radius mismatch",
               "Start and end radii differ beyond tolerance"},
