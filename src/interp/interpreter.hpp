@@ -7,6 +7,7 @@
 #include "grammar/parse.hpp"
 #include "interp/canon.hpp"
 #include "interp/program_axes.hpp"
+#include "interpolator/geometry.hpp"  // motion_length_mm, arc_sweep_rad, plane_axes
 #include "machine/machine.hpp"
 
 #include <array>
@@ -82,10 +83,5 @@ class Interpreter {
   ModalState state_;
   SystemTables tables_;
 };
-
-/// Length of a motion's path, mm (helical length for arcs, including extra turns).
-double motion_length_mm(const Motion& m);
-/// Signed sweep angle of an arc in radians (positive CCW), turns included.
-double arc_sweep_rad(const Motion& m);
 
 }  // namespace gm

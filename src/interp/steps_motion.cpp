@@ -10,22 +10,6 @@ namespace gm {
 
 namespace {
 
-// Plane axes in LinuxCNC order: (a, b, normal).
-struct PlaneAxes {
-  int a, b, n;
-};
-PlaneAxes plane_axes(Plane p) {
-  switch (p) {
-    case Plane::XY:
-      return {0, 1, 2};
-    case Plane::XZ:
-      return {2, 0, 1};
-    case Plane::YZ:
-      return {1, 2, 0};
-  }
-  return {0, 1, 2};
-}
-
 const char* plane_text(Plane p) {
   return p == Plane::XY ? "XY plane (G17)" : p == Plane::XZ ? "XZ plane (G18)" : "YZ plane (G19)";
 }
@@ -68,33 +52,6 @@ bool set_feed(BlockCtx& ctx, Motion& mo) {
 }
 
 }  // namespace
-
-double arc_sweep_rad(const Motion& m) {
-  const PlaneAxes ax = plane_axes(m.plane);
-  const double t1 =
-      std::atan2(m.start_mm[ax.b] - m.center_mm[ax.b], m.start_mm[ax.a] - m.center_mm[ax.a]);
-  double t2 = std::atan2(m.end_mm[ax.b] - m.center_mm[ax.b], m.end_mm[ax.a] - m.center_mm[ax.a]);
-  constexpr double two_pi = 2.0 * std::numbers::pi;
-  const int extra = m.turns > 0 ? m.turns - 1 : 0;
-  // LinuxCNC find_turn (interp_find.cc).
-  if (m.ccw) {
-    if (t2 <= t1) t2 += two_pi;
-    return t2 - t1 + extra * two_pi;
-  }
-  if (t2 >= t1) t2 -= two_pi;
-  return t2 - t1 - extra * two_pi;
-}
-
-double motion_length_mm(const Motion& m) {
-  if (m.kind != MotionKind::Arc) return (m.end_mm - m.start_mm).norm();
-  const PlaneAxes ax = plane_axes(m.plane);
-  const double r1 =
-      std::hypot(m.start_mm[ax.a] - m.center_mm[ax.a], m.start_mm[ax.b] - m.center_mm[ax.b]);
-  const double r2 =
-      std::hypot(m.end_mm[ax.a] - m.center_mm[ax.a], m.end_mm[ax.b] - m.center_mm[ax.b]);
-  const double h = m.end_mm[ax.n] - m.start_mm[ax.n];
-  return std::hypot(0.5 * (r1 + r2) * std::fabs(arc_sweep_rad(m)), h);
-}
 
 bool check_feed(BlockCtx& ctx, int code10, SourceLoc loc) {
   auto name = [code10] { return code_name('G', code10); };

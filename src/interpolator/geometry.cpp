@@ -1,74 +1,146 @@
-// Line, arc and helix geometry: lengths and positions evaluated from the angle (no drift).
+// Line, arc and helix geometry: sweeps by LinuxCNC's rule, positions from the angle (no drift).
 #include "interpolator/geometry.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace gm {
 
-void plane_axes(Plane p, int& a, int& b, int& n) {
-  switch (p) {
-    case Plane::XY:
-      a = 0, b = 1, n = 2;
-      return;
-    case Plane::XZ:
-      a = 2, b = 0, n = 1;
-      return;
-    case Plane::YZ:
-      a = 1, b = 2, n = 0;
-      return;
-  }
-  a = 0, b = 1, n = 2;
+namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+double segment_distance_mm(const AxisVec& a, const AxisVec& b, const AxisVec& p) {
+  const AxisVec d = b - a;
+  const double len2 = d.squaredNorm();
+  double t = len2 > 0 ? (p - a).dot(d) / len2 : 0.0;
+  t = std::clamp(t, 0.0, 1.0);
+  return (a + t * d - p).norm();
 }
 
-BlockGeometry BlockGeometry::of(const Motion& m) {
-  BlockGeometry g;
+}  // namespace
+
+PlaneAxes plane_axes(Plane p) {
+  switch (p) {
+    case Plane::XY:
+      return {0, 1, 2};
+    case Plane::XZ:
+      return {2, 0, 1};  // G18: Z, X in-plane (LinuxCNC first/second axis)
+    case Plane::YZ:
+      return {1, 2, 0};
+  }
+  return {0, 1, 2};
+}
+
+double arc_sweep_rad(const Motion& m) {
+  const PlaneAxes ax = plane_axes(m.plane);
+  const double t1 =
+      std::atan2(m.start_mm[ax.b] - m.center_mm[ax.b], m.start_mm[ax.a] - m.center_mm[ax.a]);
+  double t2 = std::atan2(m.end_mm[ax.b] - m.center_mm[ax.b], m.end_mm[ax.a] - m.center_mm[ax.a]);
+  const int extra = m.turns > 0 ? m.turns - 1 : 0;
+  if (m.ccw) {
+    if (t2 <= t1) t2 += kTwoPi;
+    return t2 - t1 + extra * kTwoPi;
+  }
+  if (t2 >= t1) t2 -= kTwoPi;
+  return t2 - t1 - extra * kTwoPi;
+}
+
+double motion_length_mm(const Motion& m) {
+  if (m.kind != MotionKind::Arc) return (m.end_mm - m.start_mm).norm();
+  const PlaneAxes ax = plane_axes(m.plane);
+  const double r1 =
+      std::hypot(m.start_mm[ax.a] - m.center_mm[ax.a], m.start_mm[ax.b] - m.center_mm[ax.b]);
+  const double r2 =
+      std::hypot(m.end_mm[ax.a] - m.center_mm[ax.a], m.end_mm[ax.b] - m.center_mm[ax.b]);
+  const double h = m.end_mm[ax.n] - m.start_mm[ax.n];
+  return std::hypot(0.5 * (r1 + r2) * std::fabs(arc_sweep_rad(m)), h);
+}
+
+MotionGeometry MotionGeometry::of(const Motion& m) {
+  MotionGeometry g;
   g.kind = m.kind;
   g.start_mm = m.start_mm;
   g.end_mm = m.end_mm;
-  if (m.kind != MotionKind::Arc) {
-    g.length_mm = (m.end_mm - m.start_mm).norm();
-    return g;
-  }
-  plane_axes(m.plane, g.a, g.b, g.n);
+  g.length_mm = motion_length_mm(m);
+  if (m.kind != MotionKind::Arc) return g;
+  g.ax = plane_axes(m.plane);
   g.center_mm = m.center_mm;
-  const double sa = m.start_mm[g.a] - m.center_mm[g.a], sb = m.start_mm[g.b] - m.center_mm[g.b];
-  const double ea = m.end_mm[g.a] - m.center_mm[g.a], eb = m.end_mm[g.b] - m.center_mm[g.b];
-  g.r0_mm = std::hypot(sa, sb);
-  g.r1_mm = std::hypot(ea, eb);
-  g.theta0_rad = std::atan2(sb, sa);
-  const double theta1 = std::atan2(eb, ea);
-  constexpr double kTwoPi = 2.0 * M_PI;
-  // The angle from start to end in the direction of motion, in (0, 2π]; start == end in the
-  // plane is a full circle.
-  double d = m.ccw ? theta1 - g.theta0_rad : g.theta0_rad - theta1;
-  const bool closed = std::hypot(ea - sa, eb - sb) <= 1e-12 * std::max(1.0, g.r0_mm);
-  if (closed) {
-    d = kTwoPi;
-  } else {
-    while (d <= 0.0) d += kTwoPi;
-    while (d > kTwoPi) d -= kTwoPi;
-  }
-  d += kTwoPi * static_cast<double>(std::max(m.turns, 1) - 1);
-  g.sweep_rad = m.ccw ? d : -d;
-  const double planar = 0.5 * (g.r0_mm + g.r1_mm) * d;
-  const double height = m.end_mm[g.n] - m.start_mm[g.n];
-  g.length_mm = std::hypot(planar, height);
+  const int a = g.ax.a, b = g.ax.b;
+  g.s_a = m.start_mm[a] - m.center_mm[a], g.s_b = m.start_mm[b] - m.center_mm[b];
+  g.e_a = m.end_mm[a] - m.center_mm[a], g.e_b = m.end_mm[b] - m.center_mm[b];
+  g.r0_mm = std::hypot(g.s_a, g.s_b);
+  g.r1_mm = std::hypot(g.e_a, g.e_b);
+  g.theta0_rad = std::atan2(g.s_b, g.s_a);
+  g.sweep_rad = arc_sweep_rad(m);
+  g.planar = m.start_mm[g.ax.n] == m.end_mm[g.ax.n];
   return g;
 }
 
-AxisVec BlockGeometry::at_fraction(double u) const {
+AxisVec MotionGeometry::at_fraction(double u) const {
   if (u >= 1.0) return end_mm;
   if (u <= 0.0) return start_mm;
   if (kind != MotionKind::Arc) return start_mm + u * (end_mm - start_mm);
-  // Radius blends linearly from start to end radius (a spiral within the arc tolerance, as
-  // LinuxCNC does), so the last sample lands on the programmed end point.
   const double theta = theta0_rad + u * sweep_rad;
   const double r = r0_mm + u * (r1_mm - r0_mm);
   AxisVec p = start_mm;  // axes outside the plane and normal stay (none with three axes)
-  p[a] = center_mm[a] + r * std::cos(theta);
-  p[b] = center_mm[b] + r * std::sin(theta);
-  p[n] = start_mm[n] + u * (end_mm[n] - start_mm[n]);
+  p[ax.a] = center_mm[ax.a] + r * std::cos(theta);
+  p[ax.b] = center_mm[ax.b] + r * std::sin(theta);
+  p[ax.n] = start_mm[ax.n] + u * (end_mm[ax.n] - start_mm[ax.n]);
   return p;
+}
+
+AxisVec MotionGeometry::tangent_at_fraction(double u) const {
+  AxisVec d = end_mm - start_mm;
+  if (kind == MotionKind::Arc) {
+    // d/du of the position: the turn, the radius blend and the lead.
+    u = std::clamp(u, 0.0, 1.0);
+    const double th = theta0_rad + u * sweep_rad;
+    const double r = r0_mm + u * (r1_mm - r0_mm);
+    const double dr = r1_mm - r0_mm;
+    d = AxisVec::Zero();
+    d[ax.a] = dr * std::cos(th) - r * sweep_rad * std::sin(th);
+    d[ax.b] = dr * std::sin(th) + r * sweep_rad * std::cos(th);
+    d[ax.n] = end_mm[ax.n] - start_mm[ax.n];
+  }
+  const double norm = d.norm();
+  return norm > 0.0 ? AxisVec(d / norm) : AxisVec(AxisVec::Zero());
+}
+
+double MotionGeometry::radial_deviation_mm(const AxisVec& p_mm) const {
+  return std::hypot(p_mm[ax.a] - center_mm[ax.a], p_mm[ax.b] - center_mm[ax.b]) - r0_mm;
+}
+
+void MotionGeometry::distance(const AxisVec& p_mm, double& dist_mm, double& signed_mm) const {
+  if (kind != MotionKind::Arc) {
+    dist_mm = signed_mm = segment_distance_mm(start_mm, end_mm, p_mm);
+    return;
+  }
+  const double dca = p_mm[ax.a] - center_mm[ax.a];
+  const double dcb = p_mm[ax.b] - center_mm[ax.b];
+  const double turn = std::fabs(sweep_rad);
+  if (turn < kTwoPi) {
+    // Is p inside the swept sector? Turning from the start ray towards p, and from p towards
+    // the end ray, in the direction of motion (cross products, no angles): for a sweep up to π
+    // both turns are positive; for more, p is outside only if it lies in the complementary
+    // sector (both turns negative).
+    const double sign = sweep_rad > 0.0 ? 1.0 : -1.0;
+    const double to_p = sign * (s_a * dcb - s_b * dca);
+    const double p_to_end = sign * (dca * e_b - dcb * e_a);
+    const bool inside = turn > std::numbers::pi ? !(to_p < 0.0 && p_to_end < 0.0)
+                                                : (to_p >= 0.0 && p_to_end >= 0.0);
+    if (!inside) {
+      // Beyond the arc's ends: the nearest point of this motion is an end point.
+      dist_mm = signed_mm = std::min((p_mm - start_mm).norm(), (p_mm - end_mm).norm());
+      return;
+    }
+  }
+  const double radial = std::hypot(dca, dcb) - r0_mm;
+  // Axial deviation from the helix is bounded by the lead; for planar arcs it is exact.
+  const double axial = planar ? p_mm[ax.n] - start_mm[ax.n] : 0.0;
+  dist_mm = std::hypot(radial, axial);
+  signed_mm = axial == 0.0 ? radial : std::copysign(dist_mm, radial);
 }
 
 }  // namespace gm

@@ -1,4 +1,6 @@
-// Exact block geometry for the interpolator: path length and position at a path fraction.
+// One motion geometry: length, point and tangent at a distance along it, sweep, and the distance
+// from a point, for lines, rapids, arcs and helices; used by the interpreter, the interpolator
+// and the contour meter.
 #pragma once
 
 #include "common/axis.hpp"
@@ -6,29 +8,67 @@
 
 namespace gm {
 
-/// A motion block prepared for sampling: lines by start and direction, arcs (and helices) by
-/// centre, radii, start angle and sweep in their plane. Plain data, built once per block.
-struct BlockGeometry {
+/// The in-plane axes (a, b) and the normal axis n of a plane, as LinuxCNC orders them:
+/// XY → (X, Y; Z), XZ → (Z, X; Y), YZ → (Y, Z; X). Angles run from a toward b.
+struct PlaneAxes {
+  int a = 0, b = 1, n = 2;
+};
+PlaneAxes plane_axes(Plane p);
+
+/// Signed sweep of arc `m`, radians (> 0 counter-clockwise seen from +n), full turns included.
+/// LinuxCNC's rule (interp_find.cc find_turn): the end angle is moved by one turn when it is not
+/// beyond the start angle in the direction of motion, so an end equal to the start is a full
+/// circle; each turn past the first adds 2π.
+double arc_sweep_rad(const Motion& m);
+
+/// Length of a motion's path, mm: the segment for lines and rapids; for arcs the helix over the
+/// mean of the start and end radii, extra turns included.
+double motion_length_mm(const Motion& m);
+
+/// A motion prepared for evaluation: plain data, built once per block.
+struct MotionGeometry {
   MotionKind kind = MotionKind::Line;
   AxisVec start_mm = AxisVec::Zero();
   AxisVec end_mm = AxisVec::Zero();
   double length_mm = 0.0;
-  // Arcs: in-plane axes a, b (angle measured from a toward b, counter-clockwise seen from +n).
-  int a = 0, b = 1, n = 2;
+  // Arcs only.
+  PlaneAxes ax;
   AxisVec center_mm = AxisVec::Zero();
   double r0_mm = 0.0, r1_mm = 0.0;  ///< start and end radius (equal up to the arc tolerance)
   double theta0_rad = 0.0;          ///< start angle
-  double sweep_rad = 0.0;           ///< signed: > 0 counter-clockwise; full turns included
+  double sweep_rad = 0.0;           ///< arc_sweep_rad()
+  double s_a = 0, s_b = 0;          ///< start − centre in the plane
+  double e_a = 0, e_b = 0;          ///< end − centre in the plane
+  bool planar = true;               ///< no lead along the normal axis
 
-  /// Builds the geometry of `m` (lines, rapids and arcs in any plane, multi-turn, helical).
-  static BlockGeometry of(const Motion& m);
+  /// The geometry of `m` (lines, rapids and arcs in any plane, multi-turn, helical).
+  static MotionGeometry of(const Motion& m);
 
-  /// Position at path fraction `u` in [0, 1]; u = 1 returns end_mm exactly.
+  /// Position at path fraction `u` in [0, 1]; u = 1 returns end_mm exactly. On arcs the radius
+  /// blends linearly from r0 to r1 (a spiral within the arc tolerance, as LinuxCNC does).
   AxisVec at_fraction(double u) const;
+  /// Position at `s_mm` along the path (clamped to [0, length]).
+  AxisVec point_at(double s_mm) const {
+    return at_fraction(length_mm > 0.0 ? s_mm / length_mm : 1.0);
+  }
+  /// Unit tangent (direction of motion) at `s_mm` along the path; zero for a zero-length move.
+  AxisVec tangent_at(double s_mm) const {
+    return tangent_at_fraction(length_mm > 0.0 ? s_mm / length_mm : 0.0);
+  }
+  /// Unit tangent at path fraction `u` in [0, 1].
+  AxisVec tangent_at_fraction(double u) const;
+
+  /// Distance from `p_mm` to the motion. Lines: to the segment. Arcs: when p lies in the swept
+  /// sector (or the arc is a full turn or more), the radial deviation |p−c|−r0 in the plane
+  /// combined with the axial offset from a planar arc (a helix counts the radial part only);
+  /// otherwise the distance to the nearer end point. `signed_mm` carries the sign of the radial
+  /// deviation (negative = inside) on arcs; on lines it equals `dist_mm`.
+  void distance(const AxisVec& p_mm, double& dist_mm, double& signed_mm) const;
+  /// Signed radial deviation |p−c|−r0 of `p_mm` in the arc's plane (mm); arcs only.
+  double radial_deviation_mm(const AxisVec& p_mm) const;
 };
 
-/// The in-plane axes (a, b) and normal axis n of a plane, as LinuxCNC orders them:
-/// XY → (X, Y; Z), XZ → (Z, X; Y), YZ → (Y, Z; X).
-void plane_axes(Plane p, int& a, int& b, int& n);
+/// The interpolator's name for it.
+using BlockGeometry = MotionGeometry;
 
 }  // namespace gm

@@ -26,7 +26,7 @@ void ContourMeter::measure(SampleRecord& r, const Motion* started) {
   r.contour_err_blu = window_.contour_error_mm(table_mm, r.k) / contour_blu_mm_;
 
   r.arc_ref_dev_blu = r.arc_enc_dev_blu = std::numeric_limits<double>::quiet_NaN();
-  const Motion* m = r.settling ? nullptr : window_.newest();
+  const MotionGeometry* m = r.settling ? nullptr : window_.newest();
   // Steady: the interpolator has been moving on this arc for longer than the filter and servo
   // delays, and is not waiting at its end (exact stop), in a dwell or in a hold.
   constexpr std::uint32_t kNotMoving = kEventSettle | kEventDwell | kEventHold;
@@ -35,8 +35,8 @@ void ContourMeter::measure(SampleRecord& r, const Motion* started) {
       r.k - std::max(block_start_k_, last_pause_k_) >= steady_after_) {
     const AxisVec ref_mm = r.ref_blu.cast<double>().cwiseProduct(blu_mm_);
     const AxisVec enc_mm = r.enc_blu.cast<double>().cwiseProduct(blu_mm_);
-    r.arc_ref_dev_blu = PathWindow::radial_deviation_mm(*m, ref_mm) / contour_blu_mm_;
-    r.arc_enc_dev_blu = PathWindow::radial_deviation_mm(*m, enc_mm) / contour_blu_mm_;
+    r.arc_ref_dev_blu = m->radial_deviation_mm(ref_mm) / contour_blu_mm_;
+    r.arc_enc_dev_blu = m->radial_deviation_mm(enc_mm) / contour_blu_mm_;
   }
 }
 

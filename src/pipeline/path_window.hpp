@@ -3,6 +3,7 @@
 
 #include "common/axis.hpp"
 #include "interp/canon.hpp"
+#include "interpolator/geometry.hpp"
 
 #include <array>
 #include <cstdint>
@@ -13,7 +14,7 @@ namespace gm {
 /// actual position — which lags the command by the Acc/Dec and servo delays — to the nearest
 /// point of the programmed path can be measured.
 ///
-/// Per block, push() precomputes what the search needs (arc angles and radius, a bounding
+/// Per block, push() precomputes what the search needs (its MotionGeometry and a bounding
 /// sphere), so a sample costs one bounding-sphere test per block in the window and the exact
 /// distance only for the blocks that can still be the nearest. The search starts at the block
 /// that was nearest for the previous sample; the result is the same as a plain scan from the
@@ -34,34 +35,25 @@ class PathWindow {
   /// Not const: remembers where the nearest block was, to start the next search there.
   double contour_error_mm(const AxisVec& p_mm, std::int64_t k);
 
-  /// The block pushed last (the current one), nullptr before the first.
-  const Motion* newest() const {
-    return count_ > 0 ? &ring_[static_cast<std::size_t>(head_)].motion : nullptr;
+  /// The geometry of the block pushed last (the current one), nullptr before the first.
+  const MotionGeometry* newest() const {
+    return count_ > 0 ? &ring_[static_cast<std::size_t>(head_)].geometry : nullptr;
   }
 
   /// Signed radial deviation of `p_mm` from arc `m` (mm); `m` must be an arc.
-  static double radial_deviation_mm(const Motion& m, const AxisVec& p_mm);
+  static double radial_deviation_mm(const Motion& m, const AxisVec& p_mm) {
+    return MotionGeometry::of(m).radial_deviation_mm(p_mm);
+  }
 
  private:
   struct Entry {
-    Motion motion;
+    MotionGeometry geometry;
     std::int64_t first_sample = 0;
-    std::int64_t last_sample = 0;  ///< the sample the next block started at (or ongoing)
-    // Precomputed at push() -------------------------------------------------------------
-    int ax_a = 0, ax_b = 1, ax_n = 2;  ///< arcs: in-plane axes and the normal axis
-    bool partial_arc = false;          ///< arcs: sweep < 2π (points past the ends exist)
-    bool planar = true;                ///< arcs: no helical lead
-    double radius_mm = 0.0;            ///< arcs: |start − centre| in the plane
-    bool over_half_turn = false;       ///< arcs: sweep > π
-    double turn_sign = 1.0;            ///< arcs: +1 counter-clockwise (G3), −1 clockwise (G2)
-    double u0_a = 0, u0_b = 0;         ///< arcs: start − centre, in the plane
-    double u1_a = 0, u1_b = 0;         ///< arcs: end − centre, in the plane
+    std::int64_t last_sample = 0;           ///< the sample the next block started at (or ongoing)
     AxisVec sphere_c_mm = AxisVec::Zero();  ///< a sphere holding every point the distance is to
     double sphere_r_mm = -1.0;              ///< < 0: no bound (helix: the distance is radial only)
     double margin_mm = 0.0;                 ///< slack for rounding in the bound test
   };
-  /// Distance and signed distance of `p_mm` to entry `e` (the exact computation).
-  static void distance_to(const Entry& e, const AxisVec& p_mm, double& dist, double& signed_dist);
 
   std::array<Entry, kCapacity> ring_{};
   int count_ = 0;

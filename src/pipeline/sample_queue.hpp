@@ -2,16 +2,13 @@
 // summary and the trace take their share of the work on the other core.
 #pragma once
 
+#include "common/batch_ring.hpp"
 #include "interp/canon.hpp"
 #include "pipeline/sample_record.hpp"
 
-#include <array>
-#include <condition_variable>
 #include <cstddef>
 #include <cstdint>
-#include <exception>
 #include <functional>
-#include <mutex>
 #include <thread>
 #include <vector>
 
@@ -39,7 +36,7 @@ class SampleQueue {
   /// Appends a record and the motion block that started in it (copied; nullptr: none); hands
   /// the batch over when it is full. Allocates nothing.
   void push(const SampleRecord& r, const Motion* started = nullptr) {
-    Batch& b = batches_[fill_];
+    Batch& b = *fill_;
     if (started != nullptr) {
       b.motions[b.motion_count] = *started;
       b.motion_row[b.motion_count++] = static_cast<std::uint32_t>(b.count);
@@ -59,18 +56,13 @@ class SampleQueue {
         std::vector<std::uint32_t>(kBatchSize);  ///< record of each motion
     std::size_t count = 0;
     std::size_t motion_count = 0;
-    bool full = false;  ///< handed over, not yet consumed
   };
   void hand_over();
   void consume_loop();
 
   Consumer consume_;
-  std::array<Batch, kBatches> batches_;
-  std::size_t fill_ = 0;  ///< the batch the producer fills
-  std::mutex mutex_;
-  std::condition_variable changed_;
-  bool stop_ = false;  ///< no more batches will come
-  std::exception_ptr error_;
+  BatchRing<Batch, kBatches> ring_;
+  Batch* fill_;         ///< the batch the producer fills
   std::thread thread_;  ///< last: starts once everything above is constructed
 };
 

@@ -11,21 +11,6 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kMinTurn = 1e-9;  // |Δu| below this is a straight continuation
 
-AxisVec tangent_at(const BlockGeometry& g, double u) {
-  AxisVec d = g.end_mm - g.start_mm;
-  if (g.kind == MotionKind::Arc) {
-    const double th = g.theta0_rad + u * g.sweep_rad;
-    const double r = g.r0_mm + u * (g.r1_mm - g.r0_mm);
-    const double dr = g.r1_mm - g.r0_mm;
-    d = AxisVec::Zero();
-    d[g.a] = dr * std::cos(th) - r * g.sweep_rad * std::sin(th);
-    d[g.b] = dr * std::sin(th) + r * g.sweep_rad * std::cos(th);
-    d[g.n] = g.end_mm[g.n] - g.start_mm[g.n];
-  }
-  const double n = d.norm();
-  return n > 0.0 ? AxisVec(d / n) : AxisVec(AxisVec::Zero());
-}
-
 double min_positive(double a, double b) {
   if (a > 0.0 && b > 0.0) return std::min(a, b);
   return a > 0.0 ? a : b;
@@ -74,8 +59,8 @@ void TolerancePlanner::pull() {
     b.v100 = m->feed_mm_min / 60.0;
   b.v100 = std::max(b.v100, 1e-9);
   b.vmax = b.v100 * cfg_.max_override;
-  b.u0 = tangent_at(g, 0.0);
-  b.u1 = tangent_at(g, 1.0);
+  b.u0 = g.tangent_at_fraction(0.0);
+  b.u1 = g.tangent_at_fraction(1.0);
   b.s0 = s_end_;
   b.s1 = s_end_ + L;
   double gap_s = 0.0;
@@ -178,26 +163,45 @@ double TolerancePlanner::zone_fwd(double s_from, double time_s, double cap) cons
 
 void TolerancePlanner::decide(Element& e) {
   const double tau = filter_.tau_s();
-  int n = 0;
+  // The tolerance: the smallest among the elements that can share a window with e and the
+  // blocks the interpolator is in while the filter still holds e (each judged by its own).
   double tol = e.tol_mm;
   for (const Element& f : elems_) {
     const double gap = f.t0 > e.t1 ? f.t0 - e.t1 : (e.t0 > f.t1 ? e.t0 - f.t1 : 0.0);
-    if (gap < tau) {
-      ++n;
-      tol = std::min(tol, f.tol_mm);
-    }
+    if (gap < tau) tol = std::min(tol, f.tol_mm);
   }
-  n = std::max(n, 1);
-  // The error shows in the samples of the blocks the interpolator is in while the filter still
-  // holds the element: every block from it until τ after it is judged by its own tolerance.
   for (const Block& b : window_)
     if (b.t1 >= e.t0 && b.t0 < e.t1 + tau && b.m.path_tolerance_mm > 0.0)
       tol = std::min(tol, b.m.path_tolerance_mm);
   const double margin = std::min(cfg_.rounding_mm, 0.5 * tol);
-  const double budget = (tol - margin) / n;
+  const double share = tol - margin;
+
+  // n: e and the elements whose contributions can overlap e's in time. Times are fastest
+  // travel plus the pauses planned before (decided elements keep theirs); an element after e
+  // is further delayed by the pause `added` planned at e; its own pause is taken as 0.
+  const double off = added_pause_s_;
+  auto count = [&](double e0, double e1, double added) {
+    int n = 1;
+    for (const Element& f : elems_) {
+      if (&f == &e) continue;
+      double f0, f1;
+      if (f.decided) {
+        f0 = f.a0, f1 = f.a1;
+      } else {
+        f0 = (f.arc ? f.t0 : f.t1) + off + added;  // corner: once it leaves the vertex
+        f1 = (f.arc ? f.t1 : f.t0) + tau + off + added;
+      }
+      if (e0 < f1 + 1e-9 && f0 < e1 + 1e-9) ++n;
+    }
+    return n;
+  };
+
   e.decided = true;
   e.cap = kInf;
   if (e.arc) {
+    e.a0 = e.t0 + off;
+    e.a1 = e.t1 + tau + off;
+    const double budget = share / count(e.a0, e.a1, 0.0);
     const double v = std::sqrt(2.0 * budget / (e.kappa * filter_.variance_s2()));
     if (v < e.vmax) e.cap = v;
     e.z0 = zone_back(e.s0, tau, e.cap);
@@ -205,11 +209,15 @@ void TolerancePlanner::decide(Element& e) {
     return;
   }
   // Corner: the pause P (at least what the program already dwells) and cap V with
-  // |Δu|·V·D(P) <= budget that cost the least time: the pause added plus the slowing in the
-  // zones, (τ − P) of time either side at V instead of the 100 % speed.
+  // |Δu|·V·D(P) <= share / n(P) that cost the least time: the pause added plus the slowing in
+  // the zones, (τ − P) of time either side at V instead of the 100 % speed.
   double best_cost = kInf, best_p = e.pause0, best_v = 0.0;
   auto consider = [&](double p, double d) {
-    double v = d > 0.0 ? budget / (e.turn * d) : kInf;
+    double v = kInf;
+    if (d > 0.0) {
+      const int n = count(e.t0 + off + p, e.t0 + off + tau, p - e.pause0);
+      v = share / n / (e.turn * d);
+    }
     v = std::min(v, e.vmax);
     const double slow = std::max(0.0, 1.0 - v / e.v100);
     const double cost = (p - e.pause0) + 2.0 * std::max(0.0, tau - p) * slow;
@@ -225,6 +233,9 @@ void TolerancePlanner::decide(Element& e) {
     if (p > e.pause0) consider(p, grid_d_[k]);
   }
   e.pause = best_p;
+  e.a0 = e.t0 + off + best_p;
+  e.a1 = e.t0 + off + tau;
+  added_pause_s_ += best_p - e.pause0;
   if (best_v < e.vmax) e.cap = best_v;
   const double zt = std::max(0.0, tau - best_p);
   e.z0 = zone_back(e.s0, zt, e.cap);

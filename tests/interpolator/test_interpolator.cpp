@@ -272,8 +272,8 @@ TEST_CASE("property: random chains end every block exactly and never outrun the 
         p = q;
       } else {
         const auto plane = static_cast<gm::Plane>(static_cast<int>(u(0, 3)));
-        int a = 0, bb = 1, n = 2;
-        gm::plane_axes(plane, a, bb, n);
+        const gm::PlaneAxes pa = gm::plane_axes(plane);
+        const int a = pa.a, bb = pa.b, n = pa.n;
         AxisVec c = p;
         c[a] += u(-5, 5);
         c[bb] += u(-5, 5);

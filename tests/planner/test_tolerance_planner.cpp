@@ -7,6 +7,7 @@
 #include "planner/filter_moments.hpp"
 #include "planner/tolerance_check.hpp"
 #include "planner/tolerance_planner.hpp"
+#include "support/run_command.hpp"
 
 #include <fmt/format.h>
 #include <catch2/catch.hpp>
@@ -136,7 +137,7 @@ TEST_CASE("square at F6000: G64 P0.1 before P0.01 before G61, tolerance held, en
   CHECK_FALSE(p01.check.exceeded());
   CHECK(p001.check.cutting().samples > 0);
   CHECK(p001.stats.corners == 3);
-  // Measured (docs/tolerance.md): G61 1.456 s, P0.01 1.288 s, P0.1 1.196 s, unbounded 0.960 s.
+  // Measured (docs/tolerance.md): G61 1.456 s, P0.01 1.260 s, P0.1 1.156 s, unbounded 0.960 s.
   CHECK(p001.cycle_s < g61.cycle_s - 0.1);
   CHECK(p01.cycle_s < p001.cycle_s - 0.05);
   CHECK(free.cycle_s < p01.cycle_s);
@@ -239,4 +240,25 @@ TEST_CASE("property: random programs hold G64 P on every sample under random ove
       fmt::format("{} programs, {} cutting + {} rapid samples, worst {:.1f} % of tolerance, "
                   "{} paused corners, {} capped pieces",
                   kPrograms, samples, rapid_samples, 100 * worst_ratio, paused, capped));
+}
+
+TEST_CASE("gmotion run --check-tolerance exits 1 when a sample exceeds the tolerance") {
+  const std::string prog = std::string(GMOTION_TESTS_DIR) + "/../programs/corners.nc";
+  // Servo off: the planned Acc/Dec output holds P0.02 (exit 0, both kinds judged).
+  const auto ok = gmtest::run_gmotion("run " + prog + " --no-servo --check-tolerance");
+  CHECK(ok.code == 0);
+  CHECK(ok.out.find("tolerance cutting (G1/G2/G3): worst contour error") != std::string::npos);
+  CHECK(ok.out.find("0 of ") != std::string::npos);
+  // Servo on: the tolerance is planned for the Acc/Dec output, not yet for the servo's lag
+  // (--tolerance-on encoder is not implemented), so the table leaves it: exit 1.
+  const auto bad = gmtest::run_gmotion("run " + prog + " --check-tolerance");
+  CHECK(bad.code == 1);
+  CHECK(bad.out.find("samples exceed the tolerance in force") != std::string::npos);
+  // --tolerance applies to G64 without P; without it the square is unjudged and exits 0.
+  const std::string sq = std::string(GMOTION_TESTS_DIR) + "/../programs/square.nc";
+  CHECK(gmtest::run_gmotion("run " + sq + " --no-servo --check-tolerance").code == 0);
+  const auto t =
+      gmtest::run_gmotion("run " + sq + " --no-servo --tolerance 0.01 --check-tolerance");
+  CHECK(t.code == 0);
+  CHECK(t.out.find("against 0.0100 mm") != std::string::npos);
 }
