@@ -29,8 +29,7 @@ void seek_to(FlowJump& jump, std::uint64_t offset, int line) {
 
 }  // namespace
 
-bool OwordFlow::evaluate_arg(const grammar::Block& b, std::size_t i, double& v,
-                             InterpError& err) {
+bool OwordFlow::evaluate_arg(const grammar::Block& b, std::size_t i, double& v, InterpError& err) {
   const grammar::OWord& o = b.oword;
   if (i >= o.args.size())
     return fail(err, ErrorCode::BadOWord, o.loc,
@@ -70,9 +69,9 @@ bool OwordFlow::handle(const grammar::Block& b, const LinePos& pos, FlowJump& ju
 bool OwordFlow::enter_sub(const std::string& label, const LinePos& body, SourceLoc loc,
                           FlowJump& jump, bool seek, InterpError& err) {
   if (calls_ >= kMaxCallDepth)
-    return fail(err, ErrorCode::CallTooDeep, loc,
-                fmt::format("too many nested subroutine calls (LinuxCNC allows {})",
-                            kMaxCallDepth));
+    return fail(
+        err, ErrorCode::CallTooDeep, loc,
+        fmt::format("too many nested subroutine calls (LinuxCNC allows {})", kMaxCallDepth));
   if (!count_iteration(loc, err)) return false;
   stack_.push_back(Open{Frame::Call, label, pending_return_});
   params_.push_frame();
@@ -92,14 +91,13 @@ bool OwordFlow::leave_sub(const grammar::Block& b, FlowJump& jump, InterpError& 
       break;
     }
   if (at < 0)
-    return fail(err, ErrorCode::ControlMismatch, o.loc,
-                fmt::format("{} {} outside a called subroutine", label_of(o),
-                            grammar::okind_name(o.kind)));
+    return fail(
+        err, ErrorCode::ControlMismatch, o.loc,
+        fmt::format("{} {} outside a called subroutine", label_of(o), grammar::okind_name(o.kind)));
   const Open call = stack_[static_cast<std::size_t>(at)];
   if (call.label != o.label)
     return fail(err, ErrorCode::ControlMismatch, o.loc,
-                fmt::format("{} {} inside subroutine {} ", label_of(o),
-                            grammar::okind_name(o.kind),
+                fmt::format("{} {} inside subroutine {} ", label_of(o), grammar::okind_name(o.kind),
                             o.named ? "o<" + call.label + ">" : "o" + call.label));
   double value = 0.0;
   const bool has_value = !o.args.empty();

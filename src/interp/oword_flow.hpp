@@ -57,18 +57,18 @@ class OwordFlow {
   struct Open {
     Frame kind;
     std::string label;
-    LinePos pos;            ///< the opening line (call: the call line)
-    double remaining = 0;   ///< repeat: iterations left
+    LinePos pos;           ///< the opening line (call: the call line)
+    double remaining = 0;  ///< repeat: iterations left
     bool branch_taken = false;
   };
   enum class Skip : std::uint8_t {
     None,
-    SubBody,     ///< passing over a definition: to its endsub
-    FindSub,     ///< searching forward for a called sub
-    IfBranch,    ///< condition false: to the next elseif/else/endif
-    IfDone,      ///< a branch ran: to endif
-    LoopEnd,     ///< break/false: past the loop's end line
-    ToLoopEnd,   ///< continue in do/repeat: to the loop's end line, then run it
+    SubBody,    ///< passing over a definition: to its endsub
+    FindSub,    ///< searching forward for a called sub
+    IfBranch,   ///< condition false: to the next elseif/else/endif
+    IfDone,     ///< a branch ran: to endif
+    LoopEnd,    ///< break/false: past the loop's end line
+    ToLoopEnd,  ///< continue in do/repeat: to the loop's end line, then run it
   };
   struct SkipState {
     Skip mode = Skip::None;

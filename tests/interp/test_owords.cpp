@@ -37,8 +37,7 @@ TEST_CASE("while, repeat and do loops run their bodies the documented number of 
         std::vector<double>{1, 2, 3});
   CHECK(xs("o2 repeat [0]\nG0 X9\no2 endrepeat\nG0 X1\nM2\n") == std::vector<double>{1});
   // do ... while runs once even when the condition is false at once
-  CHECK(xs("#1=5\no3 do\nG0 X#1\n#1=[#1+1]\no3 while [#1 LT 3]\nM2\n") ==
-        std::vector<double>{5});
+  CHECK(xs("#1=5\no3 do\nG0 X#1\n#1=[#1+1]\no3 while [#1 LT 3]\nM2\n") == std::vector<double>{5});
   // break and continue in a while loop
   CHECK(xs("#1=0\no4 while [#1 LT 10]\n#1=[#1+1]\no5 if [#1 EQ 2]\no4 continue\no5 endif\n"
            "o6 if [#1 EQ 4]\no4 break\no6 endif\nG0 X#1\no4 endwhile\nG0 X0\nM2\n") ==
