@@ -30,6 +30,8 @@ MM_PER_INCH = 25.4
 #   dwell      G4 dwells
 #   g92        G92 axis offsets (set the current position) and G92.1 (clear)
 #   g93        inverse-time feed blocks (G93 ... G94)                      [opt-in]
+#   offsets    G10 L2 work offsets, G54..G59.3, tool changes from the default table (T M6, then
+#              G43/G43 H/G43.1/G49 on the next line), G53 moves, G28.1/G28 [opt-in]
 #   unit_feed  F in the same block as G20/G21, and feed carried across a
 #              unit change without a new F (LinuxCNC: F is executed before G20/G21, and the
 #              canon keeps the physical rate)                              [opt-in]
@@ -44,7 +46,12 @@ DEFAULT_FEATURES = {
     "g92": True,
     "g93": False,
     "unit_feed": False,
+    "offsets": False,
 }
+
+# gmotion's built-in default tool table (tools/rs274_diff.py gives it to both sides): Z, mm.
+DEFAULT_TOOL_Z_MM = {1: 50.0, 2: 60.0, 3: 45.0, 4: 70.0}
+COORD_CODES = ["54", "55", "56", "57", "58", "59", "59.1", "59.2", "59.3"]
 
 # In-plane axis indices (first, second) and the normal axis index, per plane code.
 PLANES = {17: (0, 1, 2), 18: (2, 0, 1), 19: (1, 2, 0)}
@@ -90,6 +97,13 @@ class _Gen:
         self.g92 = [0.0, 0.0, 0.0]  # G92 offset, program units: machine = pos + g92
         self.feed_set = False  # an F is in effect in the current unit system
         self.lines: list[str] = []
+        # offsets feature: offsets in mm (so unit switches need no conversion)
+        self.g5x_mm = [[0.0, 0.0, 0.0] for _ in range(9)]
+        self.cs = 0
+        self.tool_mm = [0.0, 0.0, 0.0]
+        self.spindle_tool = 0
+        self.g28_mm = [0.0, 0.0, 0.0]
+        self.tool_inch = self.inch  # units in force when the tool offset was set
 
     # ---- formatting -------------------------------------------------------------------------
     def unit(self) -> float:
@@ -285,6 +299,104 @@ class _Gen:
             # keep the feed unambiguous unless the edge case is wanted
             self.feed_set = self.f["unit_feed"] and self.feed_set
 
+    # ---- offsets and tools (feature "offsets") ---------------------------------------------------
+    def _offset_mm(self) -> list[float]:
+        """Work offset + tool offset (mm); G92 is tracked apart in program units."""
+        return [g + t for g, t in zip(self.g5x_mm[self.cs], self.tool_mm)]
+
+    def _machine_mm(self) -> list[float]:
+        u = MM_PER_INCH if self.inch else 1.0
+        return [(p + g) * u + o for p, g, o in zip(self.pos, self.g92, self._offset_mm())]
+
+    def _shift(self, old_off_mm: list[float]) -> None:
+        """The offsets changed: the machine position stays, the program position moves."""
+        u = MM_PER_INCH if self.inch else 1.0
+        for a, (o, n) in enumerate(zip(old_off_mm, self._offset_mm())):
+            if o != n:
+                self.pos[a] -= (n - o) / u
+                self.exact[a] = False
+
+    def offsets_op(self) -> None:
+        rng = self.rng
+        u = MM_PER_INCH if self.inch else 1.0
+        old = self._offset_mm()
+        r = rng.random()
+        if r < 0.25:
+            p = rng.randint(0, 9)
+            axes = [a for a in range(3) if rng.random() < 0.6] or [rng.randrange(3)]
+            words = [self.gcode("10"), "L2", f"P{p}"]
+            idx = self.cs if p == 0 else p - 1
+            for a in axes:
+                v = self.rounded(rng.uniform(-60, 60) / u)
+                words.append(self.word(AXIS_LETTERS[a], v))
+                self.g5x_mm[idx][a] = v * u
+            self.emit(words)
+        elif r < 0.5:
+            self.cs = rng.randrange(9)
+            self.emit([self.gcode(COORD_CODES[self.cs])])
+        # rs274's standalone canon hands the interpreter a tool offset in the units it was set in
+        # (real LinuxCNC converts it): G53 and G28 after a unit change would differ, so not then.
+        tool_ok = not any(self.tool_mm) or self.tool_inch == self.inch
+        if r < 0.5:
+            pass
+        elif r < 0.75 and not self.incremental:
+            # a full absolute move first: rs274's standalone canon resyncs the position after M6
+            # from the last move's program coordinates
+            self.straight_all_axes()
+            t = rng.randint(0, 4)
+            self.emit([f"T{t}", "M6"])
+            if t != 0:  # rs274: T0 M6 keeps the spindle's tool data for G43 without H
+                self.spindle_tool = t
+            k = rng.random()
+            if k < 0.4:
+                self.emit([self.gcode("43")])
+                self.tool_mm = [0.0, 0.0, DEFAULT_TOOL_Z_MM.get(self.spindle_tool, 0.0)]
+            elif k < 0.7:
+                h = rng.randint(0, 4)
+                self.emit([self.gcode("43"), f"H{h}"])
+                # rs274: H0 is the spindle's tool data
+                self.tool_mm = [0.0, 0.0, DEFAULT_TOOL_Z_MM.get(h or self.spindle_tool, 0.0)]
+            elif k < 0.85:
+                z = self.rounded(rng.uniform(-20, 20) / u)
+                self.emit([self.gcode("43.1"), self.word("Z", z)])
+                self.tool_mm[2] = z * u
+            else:
+                self.emit([self.gcode("49")])
+                self.tool_mm = [0.0, 0.0, 0.0]
+            self.tool_inch = self.inch
+            self._shift(old)
+            old = self._offset_mm()
+            self.straight_all_axes()  # and after it (the resync lags the tool offset)
+        elif r < 0.88 and not self.incremental and tool_ok:
+            axes = [a for a in range(3) if rng.random() < 0.6] or [rng.randrange(3)]
+            words = [self.gcode("53"), self.gcode("0")]
+            m = self._machine_mm()
+            for a in axes:
+                v = self.rounded(rng.uniform(-80, 80) / u)
+                words.append(self.word(AXIS_LETTERS[a], v))
+                m[a] = v * u
+            self.emit(words)
+            for a in axes:
+                self.pos[a] = (m[a] - self._offset_mm()[a]) / u - self.g92[a]
+                self.exact[a] = False
+        elif r < 0.94:
+            self.emit([self.gcode("28.1")])
+            self.g28_mm = self._machine_mm()
+        elif not self.incremental and tool_ok:
+            # G28 with the intermediate point on some axes, then those axes go home
+            axes = [a for a in range(3) if rng.random() < 0.5] or [rng.randrange(3)]
+            p = self.random_point()
+            words = [self.gcode("28")] + self.target(p, axes)
+            self.emit(words)
+            for a in axes:
+                self.pos[a] = (self.g28_mm[a] - self._offset_mm()[a]) / u - self.g92[a]
+                self.exact[a] = False
+        self._shift(old)
+
+    def straight_all_axes(self) -> None:
+        p = self.random_point()
+        self.emit([self.gcode("0")] + self.target(p, [0, 1, 2]))
+
     # ---- program ---------------------------------------------------------------------------------
     def program(self, blocks: int) -> str:
         rng = self.rng
@@ -293,6 +405,9 @@ class _Gen:
         self.lines.append(f"{self.gcode('20' if self.inch else '21')} {self.gcode('17')} "
                           f"{self.gcode('90')} {self.gcode('94')}")
         for _ in range(blocks):
+            if self.f["offsets"] and rng.random() < 0.15:
+                self.offsets_op()
+                continue
             r = rng.random()
             if r < 0.15:
                 self.straight(rapid=True)
@@ -312,6 +427,8 @@ class _Gen:
                 self.dwell()
             elif r < 0.955 and self.f["g92"]:
                 self.g92_offset()
+            elif r < 0.965 and self.f["offsets"]:
+                self.offsets_op()
             elif r < 0.97 and self.f["g93"]:
                 self.inverse_time = not self.inverse_time
                 self.emit([self.gcode("93" if self.inverse_time else "94")])

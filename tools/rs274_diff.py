@@ -114,6 +114,13 @@ def _floats(args: str) -> list:
     return out
 
 
+def _tool_offsets_mm(text: str, factor: float) -> tuple[list, float]:
+    """USE_TOOL_LENGTH_OFFSET(x y z, a b c, u v w) in program units -> (XYZ mm, print tolerance)."""
+    v = _floats(text)
+    xyz = [v[0] * factor, v[1] * factor, v[2] * factor]
+    return xyz, (RS274_PRINT_HALF_ULP * factor if any(xyz) else 0.0)
+
+
 def parse_rs274_output(text: str) -> list[Move]:
     """Canonical calls printed by `rs274 -g` -> moves in mm / mm/min (see module docstring)."""
     factor = 1.0             # mm per program unit
@@ -125,9 +132,11 @@ def parse_rs274_output(text: str) -> list[Move]:
     g5x = [0.0, 0.0, 0.0]    # mm
     g92 = [0.0, 0.0, 0.0]    # mm
     g5x_tol = g92_tol = 0.0  # print rounding of the offsets, mm
+    tool = [0.0, 0.0, 0.0]   # tool length offsets, mm (USE_TOOL_LENGTH_OFFSET)
+    tool_tol = 0.0
 
     def mach(v, i):
-        return None if v is None else v * factor + g5x[i] + g92[i]
+        return None if v is None else v * factor + g5x[i] + g92[i] + tool[i]
 
     for raw in text.splitlines():
         m = _CALL.match(raw)
@@ -151,6 +160,8 @@ def parse_rs274_output(text: str) -> list[Move]:
             v = _floats(args)
             g92 = [v[0] * factor, v[1] * factor, v[2] * factor]
             g92_tol = RS274_PRINT_HALF_ULP * factor if any(v[0:3]) else 0.0
+        elif name == "USE_TOOL_LENGTH_OFFSET":
+            tool, tool_tol = _tool_offsets_mm(args, factor)
         elif name == "SET_XY_ROTATION":
             if _floats(args)[0] != 0.0:
                 raise ValueError(f"XY rotation is not modelled by rs274_diff: {raw}")
@@ -164,7 +175,7 @@ def parse_rs274_output(text: str) -> list[Move]:
             v = _floats(args)
             mv = Move(kind="rapid" if name == "STRAIGHT_TRAVERSE" else "line", line=line,
                       end=[mach(v[i], i) for i in range(3)],
-                      tol_mm=RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol)
+                      tol_mm=RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol + tool_tol)
             if mv.kind == "line":
                 mv.feed = feed_mm_min
                 mv.feed_tol = feed_tol
@@ -189,7 +200,7 @@ def parse_rs274_output(text: str) -> list[Move]:
                               center=[mach(cen[i], i) for i in range(3)],
                               dir="cw" if rot < 0 else "ccw", turns=abs(rot), plane=plane,
                               feed=feed_mm_min, note=feed_units_note, feed_tol=feed_tol,
-                              tol_mm=RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol))
+                              tol_mm=RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol + tool_tol))
         elif name == "DWELL":
             moves.append(Move(kind="dwell", line=line, seconds=_floats(args)[0]))
         elif name == "MESSAGE":
@@ -225,22 +236,57 @@ class Rs274Result:
     error: str = ""
 
 
-def run_rs274(rs274: str, program_text: str, timeout: float = 120.0) -> Rs274Result:
-    """Run `rs274 -g` on the text (renumbered) in a scratch directory; parse its moves."""
+# The tool table of gmotion's built-in default machine (src/machine/tool_table.cpp), mm.
+DEFAULT_TOOL_TABLE_MM = """\
+T1 P1 Z50 D6 ;6 mm flat end mill
+T2 P2 Z60 D3 ;3 mm drill
+T3 P3 Z45 D10 ;10 mm flat end mill
+T4 P4 Z70 D5 ;5 mm spot drill
+"""
+
+_TBL_WORD = re.compile(r"([A-Za-z])\s*([-+]?[0-9]*\.?[0-9]+)")
+
+
+def tool_table_inches(text_mm: str) -> str:
+    """A tool table in mm (gmotion) -> the same table in inches: rs274 reads -t tables in its
+    machine units, inches (checked: T1 Z10.5 gives USE_TOOL_LENGTH_OFFSET 266.7 under G21)."""
+    out = []
+    for line in text_mm.splitlines():
+        body, sep, comment = line.partition(";")
+
+        def conv(m):
+            letter, val = m.group(1).upper(), float(m.group(2))
+            if letter in "XYZABCUVWD" and letter not in "ABC":
+                return f"{letter}{val / MM_PER_INCH:.10f}"
+            return m.group(0)
+        out.append(_TBL_WORD.sub(conv, body) + sep + comment)
+    return "\n".join(out) + "\n"
+
+
+def run_rs274(rs274: str, program_text: str, timeout: float = 120.0,
+              tool_table_mm: str | None = None) -> Rs274Result:
+    """Run `rs274 -g` on the text (renumbered) in a scratch directory that is also its HOME (it
+    keeps its tool table in $HOME/.tool.mmap; runs sharing one corrupt each other); with
+    `tool_table_mm`, that table (mm) is given with -t (in inches). Parse its moves."""
     with tempfile.TemporaryDirectory(prefix="rs274diff-") as tmp:
         path = os.path.join(tmp, "prog.ngc")
         with open(path, "w") as fh:
             fh.write(number_lines(program_text))
             if not program_text.endswith("\n"):
                 fh.write("\n")
-        # A death by signal (SIGBUS was seen when runs shared a HOME) is retried.
+        cmd = [rs274]
+        if tool_table_mm is not None:
+            tbl = os.path.join(tmp, "tools.tbl")
+            Path(tbl).write_text(tool_table_inches(tool_table_mm))
+            cmd += ["-t", tbl]
+        cmd += ["-g", path]
         # Every run gets its own empty HOME: rs274 keeps its tool table in $HOME/.tool.mmap and
-        # runs sharing one truncate it under each other.
+        # runs sharing one truncate it under each other. A death by signal is retried.
         home = os.path.join(tmp, "home")
         os.mkdir(home)
         env = dict(os.environ, HOME=home)
         for _attempt in range(3):
-            p = subprocess.run([rs274, "-g", path], cwd=tmp, stdin=subprocess.DEVNULL,
+            p = subprocess.run(cmd, cwd=tmp, stdin=subprocess.DEVNULL,
                                capture_output=True, text=True, timeout=timeout, env=env)
             if p.returncode >= 0:
                 break
@@ -270,8 +316,10 @@ def parse_gmotion_output(text: str) -> list[Move]:
 
 
 def run_gmotion(gmotion: str, path: str, timeout: float = 120.0,
-                extra: list | None = None) -> tuple[bool, list, str]:
-    p = subprocess.run([gmotion, "moves", path, "--messages"] + (extra or []),
+                extra: list | None = None,
+                tool_table_path: str | None = None) -> tuple[bool, list, str]:
+    tools = ["--tool-table", tool_table_path] if tool_table_path else []
+    p = subprocess.run([gmotion, "moves", path, "--messages"] + tools + (extra or []),
                        stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=timeout)
     if p.returncode != 0:
         return False, [], (p.stderr.strip() or f"gmotion exit status {p.returncode}")
@@ -405,16 +453,16 @@ def describe_mismatch(ref, got, idx, why, program_text, label) -> str:
 
 def diff_program(args, text: str, path: str, label: str, *, must_accept: bool) -> str:
     """'ok' | 'skip' | 'fail'; prints the first mismatch."""
-    rs = run_rs274(args.rs274, text)
+    rs = run_rs274(args.rs274, text, tool_table_mm=args.tool_table_text)
     if not rs.ok:
         if must_accept:
             print(f"FAIL {label}: rs274 rejected it (generator bug):\n  {rs.error}")
             return "fail"
-        ok, _, _ = run_gmotion(args.gmotion, path)
+        ok, _, _ = run_gmotion(args.gmotion, path, tool_table_path=args.tool_table_path)
         print(f"SKIP {label}: rs274 rejects it: {rs.error.splitlines()[0] if rs.error else ''}"
               + ("\n  NOTE: gmotion accepts it" if ok else " (gmotion rejects it too)"))
         return "skip"
-    ok, got, err = run_gmotion(args.gmotion, path)
+    ok, got, err = run_gmotion(args.gmotion, path, tool_table_path=args.tool_table_path)
     if not ok:
         print(f"FAIL {label}: gmotion moves failed on a program rs274 accepts:\n  {err[:2000]}")
         return "fail"
@@ -438,6 +486,57 @@ def diff_program(args, text: str, path: str, label: str, *, must_accept: bool) -
         print(f"ok   {label}: {len(ref)} moves")
     args.moves_compared += len(ref)
     return "ok"
+
+
+_ERR_LINE = re.compile(r"^\s*/?\s*N(\d+)\b")
+_GM_ERR = re.compile(r":(\d+):(\d+): error: (.*)$")
+
+
+def rs274_error_line(error_text: str) -> int | None:
+    """rs274 prints the message, then the offending block (renumbered: N<file line> first)."""
+    for line in reversed(error_text.splitlines()):
+        m = _ERR_LINE.match(line)
+        if m:
+            return int(m.group(1))
+    return None
+
+
+def gmotion_first_error(gmotion: str, path: str, tool_table_path: str | None) -> tuple[int | None, str]:
+    cmd = [gmotion, "check", path] + (["--tool-table", tool_table_path] if tool_table_path else [])
+    p = subprocess.run(cmd, stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=120)
+    if p.returncode == 0:
+        return None, "accepted"
+    for line in p.stderr.splitlines():
+        m = _GM_ERR.search(line)
+        if m:
+            return int(m.group(1)), m.group(3)
+    return None, p.stderr.strip()[:300]
+
+
+def main_errors(args) -> int:
+    """Every program under --errors must be rejected by rs274 and by gmotion, on the same line."""
+    ok = bad = 0
+    for f in collect_programs(args.errors):
+        text = f.read_text(errors="replace")
+        rs = run_rs274(args.rs274, text, tool_table_mm=args.tool_table_text)
+        gl, gmsg = gmotion_first_error(args.gmotion, str(f), args.tool_table_path)
+        if rs.ok:
+            print(f"FAIL {f}: rs274 accepts it (the program is not an error case)")
+            bad += 1
+            continue
+        rl = rs274_error_line(rs.error)
+        first = rs.error.splitlines()[0] if rs.error else ""
+        if gl is None or gl != rl:
+            print(f"FAIL {f}: rs274 line {rl} ({first}) vs gmotion line {gl} ({gmsg})")
+            bad += 1
+        else:
+            ok += 1
+            if args.verbose:
+                print(f"ok   {f}: line {rl}: rs274 '{first}' / gmotion '{gmsg}'")
+    print(f"rs274_diff errors: {ok} rejected on the same line by both, {bad} not")
+    if ok + bad == 0:
+        return 1
+    return 1 if bad else 0
 
 
 def collect_programs(roots: list[str]) -> list[Path]:
@@ -495,7 +594,7 @@ def main_compare(args) -> int:
         return SKIP
     for f in files:
         text = f.read_text(errors="replace")
-        res = diff_program(args, text, str(f), str(f), must_accept=False)
+        res = diff_program(args, text, str(f), str(f), must_accept=args.must_accept)
         counts[res] += 1
         if res == "skip":
             skipped.append(str(f))
@@ -659,6 +758,21 @@ def self_test(args) -> int:
 
 # ---------------------------------------------------------------------------------------------
 
+def setup_tool_table(args) -> None:
+    """Both sides get the same table: --tool-table FILE (mm), else gmotion's built-in default,
+    written to a scratch file for gmotion (rs274 gets it in inches per run)."""
+    if args.tool_table:
+        args.tool_table_text = Path(args.tool_table).read_text()
+        args.tool_table_path = args.tool_table
+        return
+    args.tool_table_text = DEFAULT_TOOL_TABLE_MM
+    fd, args.tool_table_path = tempfile.mkstemp(prefix="gmotion-tools-", suffix=".tbl")
+    with os.fdopen(fd, "w") as fh:
+        fh.write(DEFAULT_TOOL_TABLE_MM)
+    import atexit
+    atexit.register(os.unlink, args.tool_table_path)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description="rs274 vs gmotion moves differential test")
     ap.add_argument("files", nargs="*", help="programs to compare")
@@ -683,12 +797,19 @@ def main(argv=None) -> int:
     ap.add_argument("--allow-empty", action="store_true", help="exit 0 if nothing was compared")
     ap.add_argument("--self-test", action="store_true")
     ap.add_argument("--rs274-moves", metavar="FILE", help="print rs274's moves of FILE as JSON lines")
+    ap.add_argument("--must-accept", action="store_true",
+                    help="a program rs274 rejects is a failure, not a skip")
+    ap.add_argument("--errors", nargs="*", default=[],
+                    help="directories/files of programs both must reject on the same line")
+    ap.add_argument("--tool-table", metavar="FILE",
+                    help="tool table in mm for both sides (default: gmotion's built-in table)")
     ap.add_argument("-v", "--verbose", action="store_true")
     args = ap.parse_args(argv)
     args.tol = Tol(args.tol_mm, args.tol_feed_rel)
     args.moves_compared = 0
     args.messages_compared = 0
     args.zero_dropped = 0
+    setup_tool_table(args)
     if args.random_expr:
         args.messages = True
 
@@ -699,7 +820,8 @@ def main(argv=None) -> int:
         print(f"rs274_diff: {args.rs274} not installed; skipping (install linuxcnc-uspace)")
         return SKIP
     if args.rs274_moves:
-        rs = run_rs274(args.rs274, Path(args.rs274_moves).read_text())
+        rs = run_rs274(args.rs274, Path(args.rs274_moves).read_text(),
+                       tool_table_mm=args.tool_table_text)
         if not rs.ok:
             print(rs.error, file=sys.stderr)
             return 1
@@ -708,6 +830,8 @@ def main(argv=None) -> int:
         return 0
     if not args.gmotion:
         ap.error("--gmotion is required to compare")
+    if args.errors:
+        return main_errors(args)
     if not (args.files or args.programs or args.random or args.random_expr):
         ap.error("nothing to compare: give FILEs, --programs DIR or --random N")
     return main_compare(args)

@@ -19,6 +19,7 @@ void add_check(CLI::App& app, Context& ctx) {
   struct Opts {
     std::string program;
     std::string machine_file;
+    std::string tool_table;
     bool block_delete = false;
     std::string arc_rule;
 
@@ -27,6 +28,8 @@ void add_check(CLI::App& app, Context& ctx) {
   auto opts = std::make_shared<Opts>();
   sub->add_option("PROGRAM", opts->program, "G-code file ('-' reads stdin)")->required();
   sub->add_option("--machine", opts->machine_file, "machine description file (TOML)");
+  sub->add_option("--tool-table", opts->tool_table,
+                  "LinuxCNC tool table (T1 P1 Z50 D6 ;comment), mm; default: the machine's");
   sub->add_flag("--block-delete", opts->block_delete, "skip lines that start with '/'");
   sub->add_option("--max-iterations", opts->max_iterations,
                   "loop iterations and subroutine calls before the program is stopped")
@@ -36,6 +39,7 @@ void add_check(CLI::App& app, Context& ctx) {
   sub->callback([opts, &ctx] {
     Machine machine;
     if (!opts->machine_file.empty()) machine = load_machine_file(opts->machine_file);
+    if (!opts->tool_table.empty()) machine.tool_table = load_tool_table(opts->tool_table);
     if (!opts->arc_rule.empty()) {
       static const std::map<std::string, ArcRule> rules{
           {"linuxcnc", ArcRule::LinuxCnc}, {"grbl", ArcRule::Grbl}, {"g2core", ArcRule::G2core}};
@@ -53,9 +57,9 @@ void add_check(CLI::App& app, Context& ctx) {
     }
     fmt::print(
         "{}: ok: {} blocks, {} moves, path {:.3f} mm, {:.3f} s at programmed feed (rapids at {:g} "
-        "mm/min)\n",
+        "mm/min); tool table {}\n",
         opts->program == "-" ? "<stdin>" : opts->program, s.blocks, s.moves, s.path_length_mm,
-        s.time_at_feed_s, machine.rapid_mm_min);
+        s.time_at_feed_s, machine.rapid_mm_min, machine.tool_table.source);
     ctx.exit_code = 0;
   });
 }

@@ -72,6 +72,7 @@ void add_moves(CLI::App& app, Context& ctx) {
   struct Opts {
     std::string program;
     std::string machine_file;
+    std::string tool_table;
     bool block_delete = false;
     bool messages = false;
 
@@ -80,6 +81,8 @@ void add_moves(CLI::App& app, Context& ctx) {
   auto opts = std::make_shared<Opts>();
   sub->add_option("PROGRAM", opts->program, "G-code file ('-' reads stdin)")->required();
   sub->add_option("--machine", opts->machine_file, "machine description file (TOML)");
+  sub->add_option("--tool-table", opts->tool_table,
+                  "LinuxCNC tool table (T1 P1 Z50 D6 ;comment), mm; default: the machine's");
   sub->add_flag("--block-delete", opts->block_delete, "skip lines that start with '/'");
   sub->add_option("--max-iterations", opts->max_iterations,
                   "loop iterations and subroutine calls before the program is stopped")
@@ -89,6 +92,7 @@ void add_moves(CLI::App& app, Context& ctx) {
   sub->callback([opts, &ctx] {
     Machine machine;
     if (!opts->machine_file.empty()) machine = load_machine_file(opts->machine_file);
+    if (!opts->tool_table.empty()) machine.tool_table = load_tool_table(opts->tool_table);
     const InterpreterOptions io{&machine, opts->block_delete, opts->max_iterations};
     const std::string name = opts->program == "-" ? "<stdin>" : opts->program;
 

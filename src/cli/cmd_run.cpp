@@ -97,6 +97,8 @@ int run(const RunFlags& f, std::unique_ptr<Run>& run_out) {
   fmt::print(text_out, "{}: {} on {} ({}, tau {} s, T {} s, {} taps, servo {})\n", program.name(),
              "gmotion run", cfg.machine.name, cfg.machine.profile, cfg.machine.tau_s,
              cfg.machine.period_s, run.pipeline().taps().integer.size(), cfg.servo ? "on" : "off");
+  fmt::print(text_out, "tool table {} ({} tools)\n", cfg.machine.tool_table.source,
+             cfg.machine.tool_table.tools.size());
   fmt::print(text_out, "{}", run.summary().text());
   fmt::print(text_out, "{}", run.tolerance().text());
   if (!f.summary_json.empty()) {

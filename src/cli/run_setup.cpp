@@ -27,6 +27,8 @@ void add_machine_flags(CLI::App* sub, MachineFlags& f) {
   sub->add_option("--blu", f.blu_mm, "Basic length unit of every axis, mm");
   sub->add_flag("--no-servo", f.no_servo, "Ideal axes: the encoder reads the Acc/Dec output");
   sub->add_flag("--block-delete", f.block_delete, "Skip blocks that start with '/'");
+  sub->add_option("--tool-table", f.tool_table,
+                  "LinuxCNC tool table (T1 P1 Z50 D6 ;comment), mm; default: the machine's");
 }
 
 Machine resolve_machine(const MachineFlags& f) {
@@ -36,6 +38,7 @@ Machine resolve_machine(const MachineFlags& f) {
       throw InputError(
           fmt::format("{} must be a positive number of seconds or mm (got {})", flag, v));
   };
+  if (!f.tool_table.empty()) m.tool_table = load_tool_table(f.tool_table);
   if (f.profile) m.profile = *f.profile;
   if (f.tau_s) positive("--tau", *f.tau_s), m.tau_s = *f.tau_s;
   if (f.period_s) positive("--period", *f.period_s), m.period_s = *f.period_s;

@@ -23,9 +23,11 @@ struct MachineFlags {
   std::optional<double> blu_mm;        ///< --blu MM (every axis)
   bool no_servo = false;               ///< --no-servo: ideal axes
   bool block_delete = false;           ///< --block-delete: honour '/'
+  std::string tool_table;              ///< --tool-table FILE (else the machine's table)
 };
 
-/// Adds --machine, --profile, --tau, --period, --blu, --no-servo, --block-delete to `sub`.
+/// Adds --machine, --profile, --tau, --period, --blu, --no-servo, --block-delete, --tool-table
+/// to `sub`.
 void add_machine_flags(CLI::App* sub, MachineFlags& flags);
 
 /// The machine file (or the built-in machine) with the flags applied. Throws gm::InputError.

@@ -67,6 +67,12 @@ enum class ErrorCode : int {
   TooManyIterations = 243,    ///< loops ran past --max-iterations
   NotSeekable = 244,          ///< control flow needs to re-read an input that cannot seek
   UnterminatedControl = 245,  ///< the program ends inside a sub, if or loop
+  // Machine-side codes (offsets, tools, cycles) ------------------------------------------------
+  G53Misused = 260,      ///< G53 with a motion other than G0/G1, or in G91 (LinuxCNC)
+  BadLWord = 261,        ///< G10 without L or with an L it does not know; cycle L not >= 1
+  MissingWord = 262,     ///< a code without a word it needs (G10 P, M61 Q, G43.2 H, cycle R/Z)
+  BadCoordSystem = 263,  ///< G10 L2/L20 P outside 0..9
+  CycleMisused = 264,    ///< a canned cycle with cutter compensation, or no plane axis word
   // Arcs ---------------------------------------------------------------------------------------
   ArcRadiusTooSmall = 301,    ///< R form: |R| cannot reach the end point
   ArcRadiusMismatch = 302,    ///< IJK form: start and end radii differ beyond the rule's tolerance
@@ -166,6 +172,14 @@ inline constexpr std::array kErrorTable{
               "Loops and calls re-read the program: it must be a file"},
     ErrorInfo{ErrorCode::UnterminatedControl, "unterminated block",
               "The program ends inside a subroutine, if or loop"},
+    ErrorInfo{ErrorCode::G53Misused, "G53 misused",
+              "G53 needs G0 or G1 and absolute distance mode (G90)"},
+    ErrorInfo{ErrorCode::BadLWord, "bad L word", "L has a value this code does not accept"},
+    ErrorInfo{ErrorCode::MissingWord, "missing word", "A code lacks a word it needs"},
+    ErrorInfo{ErrorCode::BadCoordSystem, "bad coordinate system",
+              "G10 L2/L20 P names coordinate systems 0 (current) to 9"},
+    ErrorInfo{ErrorCode::CycleMisused, "canned cycle misused",
+              "A canned cycle lacks what it needs or meets what it cannot use"},
     ErrorInfo{ErrorCode::ArcRadiusTooSmall, "arc radius too small", "R cannot reach the end point"},
     ErrorInfo{ErrorCode::ArcRadiusMismatch, "arc radius mismatch",
               "Start and end radii differ beyond tolerance"},

@@ -18,13 +18,23 @@ using S = Step;
 constexpr std::array kCodes{
     // Non-modal (group 0)
     Code{'G',   40, G::NonModal,    S::Dwell,       run_dwell,        "P"},
+    Code{'G',  100, G::NonModal,    S::NonModal,    run_g10,          "LPR", true},
+    Code{'G',  280, G::NonModal,    S::NonModal,    run_home,         "",  true},
+    Code{'G',  281, G::NonModal,    S::NonModal,    run_home_set},
+    Code{'G',  300, G::NonModal,    S::NonModal,    run_home,         "",  true},
+    Code{'G',  301, G::NonModal,    S::NonModal,    run_home_set},
+    Code{'G',  520, G::NonModal,    S::NonModal,    run_g52,          "",  true},
+    Code{'G',  530, G::NonModal,    S::Motion,      run_nothing},  // modifies G0/G1 (motion step)
     Code{'G',  920, G::NonModal,    S::NonModal,    run_g92,          "",  true},
-    Code{'G',  921, G::NonModal,    S::NonModal,    run_g92_1},
+    Code{'G',  921, G::NonModal,    S::NonModal,    run_g92_x},
+    Code{'G',  922, G::NonModal,    S::NonModal,    run_g92_x},
+    Code{'G',  923, G::NonModal,    S::NonModal,    run_g92_x},
     // Motion (group 1)
     Code{'G',    0, G::Motion,      S::Motion,      run_straight},
     Code{'G',   10, G::Motion,      S::Motion,      run_straight},
     Code{'G',   20, G::Motion,      S::Motion,      run_arc,          "IJKRP"},
     Code{'G',   30, G::Motion,      S::Motion,      run_arc,          "IJKRP"},
+    Code{'G',  800, G::Motion,      S::Motion,      run_nothing},
     // Plane (group 2)
     Code{'G',  170, G::Plane,       S::Plane,       run_plane},
     Code{'G',  180, G::Plane,       S::Plane,       run_plane},
@@ -44,6 +54,8 @@ constexpr std::array kCodes{
     Code{'G',  400, G::CutterComp,  S::CutterComp,  run_nothing},
     // Tool length (group 8)
     Code{'G',  430, G::ToolLength,  S::ToolLength,  run_tool_length,  "H"},
+    Code{'G',  431, G::ToolLength,  S::ToolLength,  run_tool_length,  "",  true},
+    Code{'G',  432, G::ToolLength,  S::ToolLength,  run_tool_length,  "H"},
     Code{'G',  490, G::ToolLength,  S::ToolLength,  run_tool_length},
     // Coordinate system (group 12)
     Code{'G',  540, G::CoordSystem, S::CoordSystem, run_coord_system},
@@ -52,6 +64,9 @@ constexpr std::array kCodes{
     Code{'G',  570, G::CoordSystem, S::CoordSystem, run_coord_system},
     Code{'G',  580, G::CoordSystem, S::CoordSystem, run_coord_system},
     Code{'G',  590, G::CoordSystem, S::CoordSystem, run_coord_system},
+    Code{'G',  591, G::CoordSystem, S::CoordSystem, run_coord_system},
+    Code{'G',  592, G::CoordSystem, S::CoordSystem, run_coord_system},
+    Code{'G',  593, G::CoordSystem, S::CoordSystem, run_coord_system},
     // Path control (group 13)
     Code{'G',  610, G::PathControl, S::PathControl, run_path_control},
     Code{'G',  611, G::PathControl, S::PathControl, run_path_control},
@@ -64,6 +79,7 @@ constexpr std::array kCodes{
     Code{'M',   20, G::MStop,       S::Stop,        run_stop},
     Code{'M',  300, G::MStop,       S::Stop,        run_stop},
     Code{'M',   60, G::MToolChange, S::ToolChange,  run_tool_change},
+    Code{'M',  610, G::MToolChange, S::ToolChange,  run_m61,          "Q"},
     Code{'M',   30, G::MSpindle,    S::Spindle,     run_nothing},
     Code{'M',   40, G::MSpindle,    S::Spindle,     run_nothing},
     Code{'M',   50, G::MSpindle,    S::Spindle,     run_nothing},

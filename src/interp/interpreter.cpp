@@ -88,14 +88,21 @@ bool import_words(const grammar::Block& block, BlockWords& w, InterpError& err) 
 bool check_block(BlockCtx& ctx) {
   const BlockWords& w = ctx.w;
   const Code* motion = w.in(Group::Motion);
-  const Code* axis_user = w.in(Group::NonModal);
-  if (axis_user && !axis_user->uses_axes) axis_user = nullptr;
+  const Code* axis_user = nullptr;
+  for (std::size_t i = 0; i < w.code_count; ++i)
+    if (w.codes[i]->uses_axes) axis_user = w.codes[i];
   const bool has_axes = w.first_axis != nullptr;
 
   if (motion)
     ctx.motion_to_be = motion->number10;
   else if (has_axes && !axis_user)
     ctx.motion_to_be = ctx.s.motion;
+  if (ctx.motion_to_be == 800) {  // G80 (cycles off) is the absence of a motion mode
+    if (has_axes && motion)
+      return ctx.fail(ErrorCode::AxisWordsWithoutMotion, w.first_axis->loc,
+                      fmt::format("axis word {} with G80, which uses none", w.first_axis->letter));
+    ctx.motion_to_be = -1;
+  }
 
   if (has_axes && axis_user && motion)
     return ctx.fail(ErrorCode::ModalGroupViolation, w.word_of(Group::Motion)->loc,
@@ -167,6 +174,15 @@ double ModalState::mm_per_unit() const {
 Interpreter::Interpreter(const Machine& machine) : machine_(machine) {
   for (std::size_t i = 0; i < machine.work_offsets_mm.size(); ++i)
     tables_.g5x_mm[i] = from_machine(machine.work_offsets_mm[i]);
+  tables_.tools = machine.tool_table;
+  // The machine file's `tools = [...]` lengths: tool i gets Z offset tools[i] (i >= 1).
+  for (std::size_t i = 1; i < machine.tool_lengths_mm.size(); ++i) {
+    ToolEntry e;
+    if (const ToolEntry* old = tables_.tools.find(static_cast<int>(i))) e = *old;
+    e.number = e.pocket = static_cast<int>(i);
+    e.offset_mm[2] = machine.tool_lengths_mm[i];
+    tables_.tools.set(e);
+  }
 }
 
 AxisVec Interpreter::total_offset_mm() const {

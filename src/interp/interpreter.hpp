@@ -9,6 +9,7 @@
 #include "interp/program_axes.hpp"
 #include "interpolator/geometry.hpp"  // motion_length_mm, arc_sweep_rad, plane_axes
 #include "machine/machine.hpp"
+#include "machine/tool_table.hpp"
 
 #include <array>
 #include <string>
@@ -27,9 +28,11 @@ struct InterpError {
 /// positions, coordinate systems). Kept here until the parameter store holds them; a block that
 /// changes them works on a copy (BlockCtx::tables_w) that is committed with the block.
 struct SystemTables {
-  std::array<Pos9, 9> g5x_mm{};  ///< work offsets of G54..G59, G59.1..G59.3 (machine units, mm)
-  Pos9 g28_mm = Pos9::Zero();    ///< G28.1 position, machine coordinates
-  Pos9 g30_mm = Pos9::Zero();    ///< G30.1 position, machine coordinates
+  std::array<Pos9, 9> g5x_mm{};      ///< work offsets of G54..G59, G59.1..G59.3 (machine units, mm)
+  Pos9 g28_mm = Pos9::Zero();        ///< G28.1 position, machine coordinates
+  Pos9 g30_mm = Pos9::Zero();        ///< G30.1 position, machine coordinates
+  Pos9 g92_saved_mm = Pos9::Zero();  ///< G92 offsets as stored: G92.2 keeps, G92.3 restores
+  ToolTable tools;                   ///< the tool table (G10 L1/L10/L11 change it)
 
   SystemTables() {
     for (auto& o : g5x_mm) o.setZero();
@@ -50,7 +53,8 @@ struct ModalState {
   double naive_cam_tolerance_mm = 0.0;  ///< G64 Q in mm
   double feed_mm_min = 0.0;             ///< G94 feed; 0 = none yet
   int tool_selected = 0;                ///< T
-  int tool_in_spindle = 0;              ///< after M6
+  int tool_in_spindle = 0;              ///< after M6 or M61
+  int spindle_slot_tool = 0;            ///< the tool whose data M6 loaded (G43 without H uses it)
   Pos9 position_mm = Pos9::Zero();      ///< machine coordinates
   int coord_system = 0;                 ///< 0..8 = G54..G59, G59.1..G59.3
   Pos9 g92_mm = Pos9::Zero();           ///< G92/G52 axis offsets

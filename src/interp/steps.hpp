@@ -106,7 +106,13 @@ bool run_path_control(BlockCtx&, const Code&);
 bool run_distance(BlockCtx&, const Code&);
 bool run_arc_distance(BlockCtx&, const Code&);
 bool run_g92(BlockCtx&, const Code&);
-bool run_g92_1(BlockCtx&, const Code&);
+bool run_g92_x(BlockCtx&, const Code&);  ///< G92.1 G92.2 G92.3
+bool run_g52(BlockCtx&, const Code&);
+bool run_g10(BlockCtx&, const Code&);       ///< L1 L10 L11 (tools), L2 L20 (coordinate systems)
+bool run_home(BlockCtx&, const Code&);      ///< G28 G30
+bool run_home_set(BlockCtx&, const Code&);  ///< G28.1 G30.1
+bool run_m61(BlockCtx&, const Code&);
+bool run_g10_tool(BlockCtx&, int l);        ///< G10 L1/L10/L11 (from run_g10)
 bool run_straight(BlockCtx&, const Code&);  ///< G0 G1
 bool run_arc(BlockCtx&, const Code&);       ///< G2 G3
 bool run_stop(BlockCtx&, const Code&);
@@ -115,6 +121,8 @@ bool run_stop(BlockCtx&, const Code&);
 /// The machine-coordinate end point of the block's axis words from `from_mm` (G90/G91, offsets);
 /// false with the error set if it is out of range.
 bool axis_target(BlockCtx& ctx, const Pos9& from_mm, Pos9& target_mm);
+/// The end point of a G53 block: the axis words are machine coordinates (mm after units).
+bool machine_target(BlockCtx& ctx, Pos9& target_mm);
 /// Emits a straight move (rapid or feed) from the current position to `target_mm` and moves
 /// there; zero-length moves are not emitted.
 bool emit_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target_mm, SourceLoc loc);

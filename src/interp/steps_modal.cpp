@@ -1,5 +1,5 @@
-// The steps that set modal state or emit events: comments, feed, tools, plane, units, distance,
-// path control, offsets (G92), overrides, dwell and stops.
+// The steps that set modal state or emit events: comments, feed, plane, units, distance, path
+// control, overrides, dwell and stops.
 #include "common/units.hpp"
 #include "interp/steps.hpp"
 
@@ -35,25 +35,6 @@ bool step_feed(BlockCtx& ctx) {
     return ctx.fail(ErrorCode::ValueOutOfRange, fw->loc,
                     fmt::format("F{:g} is {:g} mm/min, beyond {:g} mm/min", f, ctx.s.feed_mm_min,
                                 kMaxFeedMmMin));
-  return true;
-}
-
-bool step_tool_select(BlockCtx& ctx) {
-  if (!ctx.w.has('T')) return true;
-  const auto* tw = ctx.w['T'];
-  double t = 0;
-  if (!near_integer(tw->value, t))
-    return ctx.fail(ErrorCode::BadCodeNumber, tw->loc,
-                    fmt::format("T{:g} is not an integer", tw->value));
-  if (t > kMaxToolNumber)
-    return ctx.fail(ErrorCode::ValueOutOfRange, tw->loc,
-                    fmt::format("T{:g}: tool numbers go up to {:g}", t, kMaxToolNumber));
-  ctx.s.tool_selected = static_cast<int>(t);
-  return true;
-}
-
-bool run_tool_change(BlockCtx& ctx, const Code&) {
-  ctx.s.tool_in_spindle = ctx.s.tool_selected;
   return true;
 }
 
@@ -93,33 +74,6 @@ bool run_units(BlockCtx& ctx, const Code& c) {
   return true;
 }
 
-bool run_tool_length(BlockCtx& ctx, const Code& c) {
-  ModalState& sys = ctx.s;
-  if (c.number10 == 490) {
-    sys.tool_offset_mm.setZero();
-    return true;
-  }
-  double tool = ctx.s.tool_in_spindle;  // H may be any size: compared as a double, never cast
-  if (ctx.w.has('H') && !near_integer(ctx.w['H']->value, tool))
-    return ctx.fail(ErrorCode::BadCodeNumber, ctx.w['H']->loc,
-                    fmt::format("H{:g} is not an integer", ctx.w['H']->value));
-  const auto n = ctx.machine.tool_lengths_mm.size();
-  sys.tool_offset_mm.setZero();
-  if (tool < static_cast<double>(n))
-    sys.tool_offset_mm[2] = ctx.machine.tool_lengths_mm[static_cast<std::size_t>(tool)];
-  else if (tool != 0)
-    return ctx.fail(
-        ErrorCode::ToolNumberOutOfRange,
-        ctx.w.has('H') ? ctx.w['H']->loc : ctx.loc_of(Group::ToolLength),
-        fmt::format("tool {:g} has no length: the machine's tool table has {} entries", tool, n));
-  return true;
-}
-
-bool run_coord_system(BlockCtx& ctx, const Code& c) {
-  ctx.s.coord_system = (c.number10 - 540) / 10;
-  return true;
-}
-
 bool run_path_control(BlockCtx& ctx, const Code& c) {
   // LinuxCNC: G61 = exact path, G61.1 = exact stop, G64 = continuous (P/Q ignored here).
   ctx.s.path_mode = c.number10 == 610   ? PathMode::ExactPath
@@ -144,26 +98,6 @@ bool run_distance(BlockCtx& ctx, const Code& c) {
 
 bool run_arc_distance(BlockCtx& ctx, const Code& c) {
   ctx.s.ijk_absolute = c.number10 == 901;
-  return true;
-}
-
-bool run_g92(BlockCtx& ctx, const Code&) {
-  if (!ctx.w.first_axis)
-    return ctx.fail(ErrorCode::G92WithoutAxes, ctx.loc_of(Group::NonModal),
-                    "G92 without axis words");
-  ModalState& sys = ctx.s;
-  for (int i = 0; i < kProgramAxes; ++i) {
-    const auto* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]];
-    if (!aw) continue;
-    // The current point gets coordinate value: machine = program + work + g92 + tool.
-    sys.g92_mm[i] = 0.0;
-    sys.g92_mm[i] = ctx.s.position_mm[i] - ctx.offset()[i] - aw->value * ctx.scale();
-  }
-  return true;
-}
-
-bool run_g92_1(BlockCtx& ctx, const Code&) {
-  ctx.s.g92_mm.setZero();
   return true;
 }
 

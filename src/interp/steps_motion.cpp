@@ -94,6 +94,24 @@ bool axis_target(BlockCtx& ctx, const Pos9& from_mm, Pos9& target_mm) {
   return true;
 }
 
+bool machine_target(BlockCtx& ctx, Pos9& target_mm) {
+  if (ctx.s.incremental)
+    return ctx.fail(ErrorCode::G53Misused, ctx.loc_of(Group::NonModal),
+                    "G53 in incremental distance mode (G91): machine coordinates are absolute");
+  target_mm = ctx.s.position_mm;
+  for (int i = 0; i < kProgramAxes; ++i) {
+    const char letter = kProgramAxisLetters[static_cast<std::size_t>(i)];
+    const auto* aw = ctx.w[letter];
+    if (!aw) continue;
+    target_mm[i] = aw->value * ctx.scale();
+    if (!within(target_mm[i], kMaxPositionMm))
+      return ctx.fail(ErrorCode::ValueOutOfRange, aw->loc,
+                      fmt::format("{} would move to {:g} mm, outside -{:g}..{:g} mm", letter,
+                                  target_mm[i], kMaxPositionMm, kMaxPositionMm));
+  }
+  return true;
+}
+
 bool emit_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target_mm, SourceLoc) {
   Motion mo;
   mo.line = ctx.block.line;
@@ -114,12 +132,19 @@ bool run_straight(BlockCtx& ctx, const Code& c) {
   const SourceLoc loc = motion_loc(ctx);
   if (c.number10 != 0 && !check_feed(ctx, c.number10, loc)) return false;
   Pos9 target;
-  if (!axis_target(ctx, ctx.s.position_mm, target)) return false;
+  if (ctx.w.has_code('G', 530)) {
+    if (!machine_target(ctx, target)) return false;
+  } else if (!axis_target(ctx, ctx.s.position_mm, target)) {
+    return false;
+  }
   return emit_straight(ctx, c.number10 == 0 ? MotionKind::Rapid : MotionKind::Line, target, loc);
 }
 
 bool run_arc(BlockCtx& ctx, const Code& c) {
   const SourceLoc mloc = motion_loc(ctx);
+  if (ctx.w.has_code('G', 530))
+    return ctx.fail(ErrorCode::G53Misused, ctx.loc_of(Group::NonModal),
+                    fmt::format("G53 with {}: G53 moves need G0 or G1", code_name(c)));
   if (!check_feed(ctx, c.number10, mloc)) return false;
   ModalState& s = ctx.s;
   const BlockWords& w = ctx.w;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "common/axis.hpp"
+#include "machine/tool_table.hpp"
 
 #include <array>
 #include <string>
@@ -71,7 +72,8 @@ struct Machine {
   /// 0 = unbounded, the filter blends corners freely (issue 21).
   double path_tolerance_mm = 0.0;
   std::array<AxisConfig, kAxes> axes{};
-  std::vector<double> tool_lengths_mm;  ///< index = tool number (T0 = index 0)
+  std::vector<double> tool_lengths_mm;  ///< index = tool number (T0 = index 0); overrides table Z
+  ToolTable tool_table = default_tool_table();  ///< key `tool_table` or --tool-table FILE
   std::array<AxisVec, 6> work_offsets_mm{AxisVec::Zero(), AxisVec::Zero(),
                                          AxisVec::Zero(), AxisVec::Zero(),
                                          AxisVec::Zero(), AxisVec::Zero()};  ///< G54..G59

@@ -5,7 +5,9 @@
 #include "servo/discrete_plant.hpp"
 
 #include <fmt/format.h>
+
 #include <toml++/toml.h>
+#include <filesystem>
 
 #include <cmath>
 #include <fstream>
@@ -320,6 +322,12 @@ Machine parse_machine_toml(std::string_view text, std::string_view source_name) 
   }
   axr.reject_unknown();
   r.numbers("tools", m.tool_lengths_mm, false, 0, 100000);
+  if (std::string tt; r.string("tool_table", tt, false)) {
+    // Relative to the machine file's directory.
+    const std::filesystem::path p(tt);
+    m.tool_table = load_tool_table(
+        p.is_absolute() ? tt : (std::filesystem::path(src).parent_path() / p).string());
+  }
   if (const toml::table* wo = r.table("work_offsets", false)) {
     Reader wr(*wo, "work_offsets.", src);
     for (int g = 0; g < 6; ++g) {

@@ -1,0 +1,107 @@
+// The offset and reference-point steps: G54..G59.3, G10 L2/L20, G92/G92.1/G92.2/G92.3, G52,
+// G28/G28.1/G30/G30.1, as LinuxCNC 2.9 runs them. Positions are machine coordinates (mm).
+#include "interp/steps.hpp"
+
+namespace gm {
+
+bool run_coord_system(BlockCtx& ctx, const Code& c) {
+  // G54..G59 = 0..5, G59.1..G59.3 = 6..8.
+  ctx.s.coord_system = c.number10 <= 590 ? (c.number10 - 540) / 10 : 5 + (c.number10 - 590);
+  return true;
+}
+
+bool run_g10(BlockCtx& ctx, const Code&) {
+  const SourceLoc loc = ctx.loc_of(Group::NonModal);
+  if (!ctx.w.has('L')) return ctx.fail(ErrorCode::MissingWord, loc, "G10 without L");
+  const auto* lw = ctx.w['L'];
+  double l = 0;
+  if (!near_integer(lw->value, l) || (l != 1 && l != 2 && l != 10 && l != 11 && l != 20))
+    return ctx.fail(ErrorCode::BadLWord, lw->loc,
+                    fmt::format("G10 L{:g}: L must be 1, 2, 10, 11 or 20", lw->value));
+  if (!ctx.w.has('P'))
+    return ctx.fail(ErrorCode::MissingWord, loc, fmt::format("G10 L{:g} without P", l));
+  if (l == 1 || l == 10 || l == 11) return run_g10_tool(ctx, static_cast<int>(l));
+
+  const auto* pw = ctx.w['P'];
+  double p = 0;
+  if (!near_integer(pw->value, p) || p < 0 || p > 9)
+    return ctx.fail(ErrorCode::BadCoordSystem, pw->loc,
+                    fmt::format("G10 L{:g} P{:g}: P must be 0 (current) to 9", l, pw->value));
+  if (const auto* rw = ctx.w['R']; rw && rw->value != 0.0)
+    return ctx.fail(ErrorCode::UnknownGCode, rw->loc,
+                    "G10 R (XY rotation of a coordinate system) is not supported yet");
+  const std::size_t cs =
+      p == 0 ? static_cast<std::size_t>(ctx.s.coord_system) : static_cast<std::size_t>(p) - 1;
+  Pos9& g5x = ctx.tables_w().g5x_mm[cs];
+  for (int i = 0; i < kProgramAxes; ++i) {
+    const auto* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]];
+    if (!aw) continue;
+    const double v = aw->value * ctx.scale();  // absolute whatever G90/G91
+    if (l == 2)
+      g5x[i] = v;
+    else  // L20: the current point gets coordinate v in that system
+      g5x[i] = ctx.s.position_mm[i] - ctx.s.g92_mm[i] - ctx.s.tool_offset_mm[i] - v;
+  }
+  return true;
+}
+
+bool run_g92(BlockCtx& ctx, const Code&) {
+  if (!ctx.w.first_axis)
+    return ctx.fail(ErrorCode::G92WithoutAxes, ctx.loc_of(Group::NonModal),
+                    "G92 without axis words");
+  Pos9& g92 = ctx.s.g92_mm;
+  for (int i = 0; i < kProgramAxes; ++i) {
+    const auto* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]];
+    if (!aw) continue;
+    // The current point gets coordinate value: machine = program + work + g92 + tool.
+    g92[i] = 0.0;
+    g92[i] = ctx.s.position_mm[i] - ctx.offset()[i] - aw->value * ctx.scale();
+  }
+  ctx.tables_w().g92_saved_mm = g92;
+  return true;
+}
+
+bool run_g52(BlockCtx& ctx, const Code&) {
+  Pos9& g92 = ctx.s.g92_mm;  // LinuxCNC keeps the G52 local offset in the G92 offsets
+  for (int i = 0; i < kProgramAxes; ++i)
+    if (const auto* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]])
+      g92[i] = aw->value * ctx.scale();
+  ctx.tables_w().g92_saved_mm = g92;
+  return true;
+}
+
+bool run_g92_x(BlockCtx& ctx, const Code& c) {
+  switch (c.number10) {
+    case 921:  // reset, parameters too
+      ctx.s.g92_mm.setZero();
+      ctx.tables_w().g92_saved_mm.setZero();
+      break;
+    case 922:  // reset, parameters kept
+      ctx.s.g92_mm.setZero();
+      break;
+    default:  // 923: apply the parameters
+      ctx.s.g92_mm = ctx.tables().g92_saved_mm;
+      break;
+  }
+  return true;
+}
+
+bool run_home_set(BlockCtx& ctx, const Code& c) {
+  (c.number10 == 281 ? ctx.tables_w().g28_mm : ctx.tables_w().g30_mm) = ctx.s.position_mm;
+  return true;
+}
+
+bool run_home(BlockCtx& ctx, const Code& c) {
+  const SourceLoc loc = ctx.loc_of(Group::NonModal);
+  Pos9 via;  // the intermediate point (the axis words, G90/G91 and offsets as for G0)
+  if (!axis_target(ctx, ctx.s.position_mm, via)) return false;
+  if (!emit_straight(ctx, MotionKind::Rapid, via, loc)) return false;
+  const Pos9& home = c.number10 == 280 ? ctx.tables().g28_mm : ctx.tables().g30_mm;
+  Pos9 target = ctx.s.position_mm;
+  const bool all = ctx.w.first_axis == nullptr;
+  for (int i = 0; i < kProgramAxes; ++i)
+    if (all || ctx.w.has(kProgramAxisLetters[static_cast<std::size_t>(i)])) target[i] = home[i];
+  return emit_straight(ctx, MotionKind::Rapid, target, loc);
+}
+
+}  // namespace gm

@@ -1,0 +1,141 @@
+// Work offsets, G92 family, G52, G53, G28/G30 and the tool table: hand-worked machine positions.
+#include "common/error_codes.hpp"
+#include "gcode_helpers.hpp"
+#include "machine/tool_table.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <sstream>
+
+using namespace gmtest;
+using gm::AxisVec;
+using gm::ErrorCode;
+
+TEST_CASE("G10 L2 / L20 and G54..G59.3: machine = program + work offset") {
+  const auto m = motions(
+      "G21 G90\n"
+      "G10 L2 P8 X100 Y-50 Z5\n"  // G59.2
+      "G59.2 G0 X1 Y1 Z1\n"       // 101 -49 6
+      "G10 L20 P0 X0 Y0\n"        // here becomes 0,0: offset = (101, -49)
+      "G0 X10 Y0\n"               // 111 -49 6
+      "G54 G0 X10\n"              // 10 -49 6
+      "M2\n");
+  REQUIRE(m.size() == 3);
+  CHECK(m[0].end_mm == AxisVec(101, -49, 6));
+  CHECK(m[1].end_mm == AxisVec(111, -49, 6));
+  CHECK(m[2].end_mm == AxisVec(10, -49, 6));
+}
+
+TEST_CASE("G92 family and G52 share the axis offsets, G92.2 suspends and G92.3 restores") {
+  const auto m = motions(
+      "G21 G90 G0 X10\n"
+      "G92 X0\n"  // offset -10... no: machine 10 gets program 0 -> g92 = +10
+      "G0 X5\n"   // 15
+      "G92.2\n"   // suspended
+      "G0 X5\n"   // 5
+      "G92.3\n"   // restored
+      "G0 X5\n"   // 15
+      "G52 X2\n"  // local offset 2 (replaces)
+      "G0 X5\n"   // 7
+      "G92.1\n"   // cleared
+      "G0 X5\n"   // 5 (zero-length from 7? no: 7 -> 5)
+      "M2\n");
+  REQUIRE(m.size() == 6);
+  CHECK(m[1].end_mm[0] == Approx(15));
+  CHECK(m[2].end_mm[0] == Approx(5));
+  CHECK(m[3].end_mm[0] == Approx(15));
+  CHECK(m[4].end_mm[0] == Approx(7));
+  CHECK(m[5].end_mm[0] == Approx(5));
+}
+
+TEST_CASE(
+    "G28 goes through the intermediate point to the G28.1 position, G53 moves in machine "
+    "coordinates") {
+  gm::Machine mach;
+  const auto m = motions(
+      "G21 G90 G10 L2 P1 X10 Y10 Z10\n"
+      "G0 X1 Y2 Z3\n"  // machine 11 12 13
+      "G28.1\n"        // home = 11 12 13
+      "G0 X0 Y0 Z0\n"  // 10 10 10
+      "G28 Z5\n"       // via Z 15, then Z 13
+      "G53 G0 X-1\n"   // machine X -1
+      "G91 G28 X0\n"   // via here, then X 11
+      "M2\n",
+      mach);
+  REQUIRE(m.size() == 6);
+  CHECK(m[0].end_mm == AxisVec(11, 12, 13));
+  CHECK(m[1].end_mm == AxisVec(10, 10, 10));
+  CHECK(m[2].end_mm == AxisVec(10, 10, 15));
+  CHECK(m[3].end_mm == AxisVec(10, 10, 13));
+  CHECK(m[4].end_mm == AxisVec(-1, 10, 13));
+  CHECK(m[5].end_mm == AxisVec(11, 10, 13));  // the via point (here) is a zero-length move
+}
+
+TEST_CASE("tool table: T M6, G43 H, G43.1, G43.2, G49, G10 L1/L10 (default table T1 Z50)") {
+  const auto m = motions(
+      "G21 G90\n"
+      "T1 M6\nG43\nG0 Z0\n"              // 50
+      "G43 H2\nG0 Z0\n"                  // 60
+      "G43.2 H4\nG0 Z0\n"                // 130
+      "G43.1 Z-1\nG0 Z0\n"               // -1
+      "G49\nG0 Z1\n"                     // 1
+      "G10 L1 P3 Z7.5\nG43 H3\nG0 Z0\n"  // 7.5
+      "G10 L10 P4 Z0\nG43 H4\nG0 Z0\n"   // here (7.5) becomes Z0: offset 7.5
+      "G53 G0 Z0\n"                      // machine 0 whatever the tool
+      "M2\n");
+  REQUIRE(m.size() == 7);
+  CHECK(m[0].end_mm[2] == Approx(50));
+  CHECK(m[1].end_mm[2] == Approx(60));
+  CHECK(m[2].end_mm[2] == Approx(130));
+  CHECK(m[3].end_mm[2] == Approx(-1));
+  CHECK(m[4].end_mm[2] == Approx(1));
+  CHECK(m[5].end_mm[2] == Approx(7.5));
+  CHECK(m[6].end_mm[2] == Approx(0));
+}
+
+TEST_CASE("machine-side errors are located on the word at fault") {
+  struct Case {
+    const char* program;
+    ErrorCode code;
+    int line, column;
+  };
+  const Case cases[] = {
+      {"G21\nT9\nM2\n", ErrorCode::ToolNumberOutOfRange, 2, 1},
+      {"G21\nG43 H9\nM2\n", ErrorCode::ToolNumberOutOfRange, 2, 5},
+      {"G21\nM61\nM2\n", ErrorCode::MissingWord, 2, 1},
+      {"G21\nG91 G53 G0 X1\nM2\n", ErrorCode::G53Misused, 2, 5},
+      {"G21\nG53 G2 X1 R1 F1\nM2\n", ErrorCode::G53Misused, 2, 1},
+      {"G21\nG10 L3 P1\nM2\n", ErrorCode::BadLWord, 2, 5},
+      {"G21\nG10 L2 P10 X1\nM2\n", ErrorCode::BadCoordSystem, 2, 8},
+      {"G21\nG80 X1\nM2\n", ErrorCode::AxisWordsWithoutMotion, 2, 5},
+  };
+  for (const auto& c : cases) {
+    INFO(c.program);
+    const auto d = diagnose(c.program);
+    REQUIRE(!d.empty());
+    CHECK(d[0].code == static_cast<int>(c.code));
+    CHECK(d[0].loc.line == c.line);
+    CHECK(d[0].loc.column == c.column);
+  }
+}
+
+TEST_CASE("tool table file: LinuxCNC format, comments, errors with the line") {
+  std::istringstream in(
+      "; a comment line\n"
+      "T1 P1 Z+12.5 D6.0 ;end mill\n"
+      "\n"
+      "t2 p5 x1 z-3 d3 i10 j20 q2\n");
+  const gm::ToolTable t = gm::read_tool_table(in, "t.tbl");
+  REQUIRE(t.tools.size() == 2);
+  CHECK(t.find(1)->offset_mm[2] == 12.5);
+  CHECK(t.find(1)->diameter_mm == 6.0);
+  CHECK(t.find(1)->comment == "end mill");
+  CHECK(t.find(2)->pocket == 5);
+  CHECK(t.find(2)->offset_mm[0] == 1.0);
+  CHECK(t.find(2)->orientation == 2);
+  CHECK(t.find(3) == nullptr);
+  std::istringstream dup("T1 Z1\nT1 Z2\n");
+  CHECK_THROWS_WITH(gm::read_tool_table(dup, "d.tbl"), "d.tbl:2: tool table: tool 1 appears twice");
+  std::istringstream bad("T1 K5\n");
+  CHECK_THROWS_WITH(gm::read_tool_table(bad, "b.tbl"), "b.tbl:1: tool table: unknown word 'K'");
+}
