@@ -159,7 +159,13 @@ std::size_t plan_block(const BlockCtx& ctx, std::array<Action, kGroupCount + 4>&
 
 // The motion step: the block's motion code becomes the mode; the mode moves if this block moves.
 bool run_motion(BlockCtx& ctx) {
-  if (const Code* m = ctx.w.in(Group::Motion)) ctx.s.motion = m->number10;
+  if (const Code* m = ctx.w.in(Group::Motion)) {
+    ctx.s.motion = m->number10;
+    if (m->run != run_cycle) {  // a run of cycle blocks ends: the next one starts afresh
+      ctx.s.cycle_mode = -1;
+      ctx.s.cycle_il_set = false;
+    }
+  }
   if (ctx.motion_to_be < 0) return true;
   const Code* m = find_code('G', ctx.motion_to_be);
   return m->run(ctx, *m);

@@ -59,7 +59,14 @@ struct ModalState {
   int coord_system = 0;                 ///< 0..8 = G54..G59, G59.1..G59.3
   Pos9 g92_mm = Pos9::Zero();           ///< G92/G52 axis offsets
   Pos9 tool_offset_mm = Pos9::Zero();   ///< G43 tool length offset
-  bool ended = false;                   ///< M2/M30 or closing % seen
+  int spindle_dir = 0;                  ///< M3 = 1, M4 = -1, M5 = 0
+  // Canned cycles (program units, as LinuxCNC keeps them) --------------------------------------
+  bool retract_to_r = true;   ///< G99 (LinuxCNC's initial retract mode); G98 = false
+  int cycle_mode = -1;        ///< the cycle code x 10 of the previous cycle block, -1 none
+  bool cycle_il_set = false;  ///< the initial level of this run of cycle blocks is known
+  double cycle_il = 0.0;      ///< initial level (cycle axis, program units)
+  double cycle_r = 0.0, cycle_bottom = 0.0, cycle_p = 0.0, cycle_q = 0.0;  ///< sticky R Z P Q
+  bool ended = false;  ///< M2/M30 or closing % seen
 
   /// mm per program length unit (25.4 under G20).
   double mm_per_unit() const;

@@ -112,9 +112,12 @@ bool run_g10(BlockCtx&, const Code&);       ///< L1 L10 L11 (tools), L2 L20 (coo
 bool run_home(BlockCtx&, const Code&);      ///< G28 G30
 bool run_home_set(BlockCtx&, const Code&);  ///< G28.1 G30.1
 bool run_m61(BlockCtx&, const Code&);
-bool run_g10_tool(BlockCtx&, int l);        ///< G10 L1/L10/L11 (from run_g10)
-bool run_straight(BlockCtx&, const Code&);  ///< G0 G1
-bool run_arc(BlockCtx&, const Code&);       ///< G2 G3
+bool run_spindle(BlockCtx&, const Code&);       ///< M3 M4 M5
+bool run_retract_mode(BlockCtx&, const Code&);  ///< G98 G99
+bool run_cycle(BlockCtx&, const Code&);         ///< G73 G74 G81..G86 G89
+bool run_g10_tool(BlockCtx&, int l);            ///< G10 L1/L10/L11 (from run_g10)
+bool run_straight(BlockCtx&, const Code&);      ///< G0 G1
+bool run_arc(BlockCtx&, const Code&);           ///< G2 G3
 bool run_stop(BlockCtx&, const Code&);
 
 // Shared by the motion steps ---------------------------------------------------------------------

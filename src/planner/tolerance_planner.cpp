@@ -9,7 +9,8 @@ namespace gm {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kMinTurn = 1e-9;  // |Δu| below this is a straight continuation
+constexpr double kMinTurn = 1e-9;
+constexpr bool kAmortize = false;  // |Δu| below this is a straight continuation
 
 double min_positive(double a, double b) {
   if (a > 0.0 && b > 0.0) return std::min(a, b);
@@ -85,7 +86,7 @@ void TolerancePlanner::pull() {
       e.pause0 = prev->dwell_after_s;
       e.vmax = std::max(prev->vmax, b.vmax);
       e.v100 = std::max(prev->v100, b.v100);
-      elems_.push_back(e);
+      push_element(e);
     }
   }
   if (m->kind == MotionKind::Arc && m->path_tolerance_mm > 0.0) {
@@ -101,7 +102,7 @@ void TolerancePlanner::pull() {
     e.kappa = r > 0.0 ? 1.0 / r : kInf;
     e.vmax = b.vmax;
     e.v100 = b.v100;
-    elems_.push_back(e);
+    push_element(e);
   }
   if (m->path_mode != PathMode::Continuous) b.stop_after = true;
   window_.push_back(std::move(b));
@@ -161,6 +162,32 @@ double TolerancePlanner::zone_fwd(double s_from, double time_s, double cap) cons
   return s;
 }
 
+void TolerancePlanner::push_element(Element e) {
+  e.weight = e.arc ? 1.0 : e.turn;
+  e.cum = weight_total_;
+  weight_total_ += e.weight;
+  elems_.push_back(e);
+}
+
+double TolerancePlanner::zone_count(double z0, double z1) const {
+  auto first = std::lower_bound(elems_.begin(), elems_.end(), z0 - 1e-9,
+                                [](const Element& f, double z) { return f.s1 <= z; });
+  auto last = std::lower_bound(first, elems_.end(), z1 + 1e-9,
+                               [](const Element& f, double z) { return f.s0 < z; });
+  return static_cast<double>(last - first);
+}
+
+double TolerancePlanner::zone_weight(double z0, double z1) const {
+  // Every element that reaches into [z0, z1]: elements are in path order, so a range.
+  auto first = std::lower_bound(elems_.begin(), elems_.end(), z0 - 1e-9,
+                                [](const Element& f, double z) { return f.s1 <= z; });
+  auto last = std::lower_bound(first, elems_.end(), z1 + 1e-9,
+                               [](const Element& f, double z) { return f.s0 < z; });
+  if (first == last) return 0.0;
+  const double end = last == elems_.end() ? weight_total_ : last->cum;
+  return end - first->cum;
+}
+
 void TolerancePlanner::decide(Element& e) {
   const double tau = filter_.tau_s();
   // The tolerance: the smallest among the elements that can share a window with e and the
@@ -173,69 +200,77 @@ void TolerancePlanner::decide(Element& e) {
   for (const Block& b : window_)
     if (b.t1 >= e.t0 && b.t0 < e.t1 + tau && b.m.path_tolerance_mm > 0.0)
       tol = std::min(tol, b.m.path_tolerance_mm);
-  const double margin = std::min(cfg_.rounding_mm, 0.5 * tol);
-  const double share = tol - margin;
+  tol = std::max(tol, 2.0 * cfg_.rounding_mm);  // below the BLU nothing can be held anyway
+  const double share = tol - cfg_.rounding_mm;
 
-  // n: e and the elements whose contributions can overlap e's in time. Times are fastest
-  // travel plus the pauses planned before (decided elements keep theirs); an element after e
-  // is further delayed by the pause `added` planned at e; its own pause is taken as 0.
-  const double off = added_pause_s_;
-  auto count = [&](double e0, double e1, double added) {
-    int n = 1;
-    for (const Element& f : elems_) {
-      if (&f == &e) continue;
-      double f0, f1;
-      if (f.decided) {
-        f0 = f.a0, f1 = f.a1;
-      } else {
-        f0 = (f.arc ? f.t0 : f.t1) + off + added;  // corner: once it leaves the vertex
-        f1 = (f.arc ? f.t1 : f.t0) + tau + off + added;
-      }
-      if (e0 < f1 + 1e-9 && f0 < e1 + 1e-9) ++n;
+  // Sharing: an element f whose contribution overlaps e's in time lies in e's zone (the speed
+  // is at most e's cap there for the zone's time, and past it e no longer counts). Each element
+  // takes share·w_e/W_e, W_e the weight (corner |Δu|, arc 1) of everything in its zone: any set
+  // of elements active at one instant adds up to at most the share.
+  // W(v) over a zone taken as s ∓ v·t: it holds the true zone (τ − P of time at speeds <= v),
+  // so W is never undercounted. load(v) = error·W grows with v: the largest v <= vmax with
+  // load(v) <= share, by bisection.
+  auto solve = [&](double vmax, auto&& load) {
+    if (load(vmax) <= share) return vmax;
+    double lo = 0.0, hi = vmax;
+    for (int it = 0; it < 40; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (load(mid) <= share ? lo : hi) = mid;
     }
-    return n;
+    return lo;
   };
 
   e.decided = true;
   e.cap = kInf;
   if (e.arc) {
-    e.a0 = e.t0 + off;
-    e.a1 = e.t1 + tau + off;
-    const double budget = share / count(e.a0, e.a1, 0.0);
-    const double v = std::sqrt(2.0 * budget / (e.kappa * filter_.variance_s2()));
+    // κ·v²·σ²/2 <= share/W
+    auto load = [&](double v) {
+      return 0.5 * e.kappa * v * v * filter_.variance_s2() *
+             zone_weight(e.s0 - v * tau, e.s1 + v * tau);
+    };
+    const double v = solve(e.vmax, load);
     if (v < e.vmax) e.cap = v;
     e.z0 = zone_back(e.s0, tau, e.cap);
     e.z1 = zone_fwd(e.s1, tau, e.cap);
     return;
   }
+  // The speed the interpolator would have here anyway: 100 % feed, or an earlier cap whose zone
+  // already covers this corner (then slowing further costs only the difference).
+  double v_ref = e.v100;
+  for (const Element& f : elems_)
+    if (f.decided && f.cap < kInf && f.z0 <= e.s0 && e.s0 <= f.z1) v_ref = std::min(v_ref, f.cap);
   // Corner: the pause P (at least what the program already dwells) and cap V with
-  // |Δu|·V·D(P) <= share / n(P) that cost the least time: the pause added plus the slowing in
-  // the zones, (τ − P) of time either side at V instead of the 100 % speed.
+  // V·D(P)·W <= share that cost the least time: the pause added plus the slowing in the zones,
+  // (τ − P) of time either side at V instead of v_ref.
   double best_cost = kInf, best_p = e.pause0, best_v = 0.0;
   auto consider = [&](double p, double d) {
-    double v = kInf;
-    if (d > 0.0) {
-      const int n = count(e.t0 + off + p, e.t0 + off + tau, p - e.pause0);
-      v = share / n / (e.turn * d);
-    }
-    v = std::min(v, e.vmax);
-    const double slow = std::max(0.0, 1.0 - v / e.v100);
-    const double cost = (p - e.pause0) + 2.0 * std::max(0.0, tau - p) * slow;
+    if (p - e.pause0 >= best_cost) return false;  // pauses only get longer from here
+    const double zt = std::max(0.0, tau - p);
+    auto weight = [&](double v) { return zone_weight(e.s0 - v * zt, e.s1 + v * zt); };
+    auto load = [&](double v) { return v * d * weight(v); };
+    const double v = d > 0.0 ? solve(e.vmax, load) : e.vmax;
+    // The slowing is shared by the elements in the zone (a run of short segments slows once);
+    // the pause is e's alone.
+    const double z0 = e.s0 - v * zt, z1 = e.s1 + v * zt;
+    const double slow = std::max(0.0, 1.0 - v / v_ref) / std::max(1.0, zone_count(z0, z1));
+    double cost = (p - e.pause0) + 2.0 * zt * slow;
+    // An arc the zone touches takes the cap whole (arcs are not split): its slowing counts too.
+    for (const Element& f : elems_)
+      if (f.arc && f.s1 > z0 && f.s0 < z1 && v < f.v100)
+        cost += (f.s1 - f.s0) * (1.0 / v - 1.0 / f.v100);
     if (cost < best_cost - 1e-12) {
       best_cost = cost;
       best_p = p;
       best_v = v;
     }
+    return true;
   };
   consider(e.pause0, filter_.corner_moment_s(e.pause0));
-  for (std::size_t k = 0; k < grid_d_.size(); ++k) {
+  for (std::size_t k = 0; k < grid_d_.size(); k += 2) {
     const double p = 0.5 * static_cast<double>(k) * filter_.period_s();
-    if (p > e.pause0) consider(p, grid_d_[k]);
+    if (p > e.pause0 && !consider(p, grid_d_[k])) break;
   }
   e.pause = best_p;
-  e.a0 = e.t0 + off + best_p;
-  e.a1 = e.t0 + off + tau;
-  added_pause_s_ += best_p - e.pause0;
   if (best_v < e.vmax) e.cap = best_v;
   const double zt = std::max(0.0, tau - best_p);
   e.z0 = zone_back(e.s0, zt, e.cap);

@@ -86,10 +86,8 @@ class TolerancePlanner : public CanonSource {
     double cap = 0;         ///< mm/s; infinity = none
     double pause = 0;       ///< corner: total pause at the vertex
     double z0 = 0, z1 = 0;  ///< zone in path length where the cap applies
-    /// Once decided: when it can contribute, in fastest time plus the pauses planned before
-    /// and at it (corner: from leaving the vertex to τ after reaching it; arc: from its start
-    /// to τ after its end).
-    double a0 = 0, a1 = 0;
+    double weight = 0;      ///< share weight: corner |Δu|, arc 1
+    double cum = 0;         ///< weights of all elements before it (prefix sum)
   };
 
   void pull();  ///< one item from upstream into the window
@@ -97,6 +95,9 @@ class TolerancePlanner : public CanonSource {
   void decide(Element& e);
   double zone_back(double s_from, double time_s, double cap) const;
   double zone_fwd(double s_from, double time_s, double cap) const;
+  double zone_weight(double z0, double z1) const;
+  double zone_count(double z0, double z1) const;
+  void push_element(Element e);
   void emit_front();
 
   FilterMoments filter_;
@@ -111,7 +112,7 @@ class TolerancePlanner : public CanonSource {
   std::uint64_t seq_ = 0;
   double s_end_ = 0, t_end_ = 0;  ///< where the last block in the window ends
   PlannerStats stats_;
-  double added_pause_s_ = 0.0;  ///< pauses planned so far (they delay everything after them)
+  double weight_total_ = 0.0;  ///< weights of all elements pushed so far
 };
 
 }  // namespace gm

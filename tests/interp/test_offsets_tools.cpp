@@ -139,3 +139,29 @@ TEST_CASE("tool table file: LinuxCNC format, comments, errors with the line") {
   std::istringstream bad("T1 K5\n");
   CHECK_THROWS_WITH(gm::read_tool_table(bad, "b.tbl"), "b.tbl:1: tool table: unknown word 'K'");
 }
+
+TEST_CASE("G81 and G83 expand as LinuxCNC: across, down to R, pecks, retract") {
+  const auto m = motions(
+      "G21 G90 G0 X0 Y0 Z10\n"
+      "G99 G81 X1 Y2 Z-3 R2 F100\n"  // across at 10, down to R 2, feed to -3, back to R
+      "G98 G83 X4 Z-5 R2 Q3\n"       // G98: back to the initial level 10; pecks of 3 from R 2
+      "M2\n");
+  REQUIRE(m.size() == 15);
+  CHECK(m[0].end_mm == AxisVec(0, 0, 10));
+  CHECK(m[1].end_mm == AxisVec(1, 2, 10));
+  CHECK(m[2].end_mm == AxisVec(1, 2, 2));
+  CHECK(m[3].kind == gm::MotionKind::Line);
+  CHECK(m[3].end_mm == AxisVec(1, 2, -3));
+  CHECK(m[4].end_mm == AxisVec(1, 2, 2));
+  // G83 at the R plane under G98: across at the initial level 10, down to R, pecks -1, -4
+  CHECK(m[5].end_mm == AxisVec(4, 2, 10));
+  CHECK(m[6].end_mm == AxisVec(4, 2, 2));
+  CHECK(m[7].end_mm[2] == Approx(-1));      // feed
+  CHECK(m[8].end_mm[2] == Approx(2));       // out to R
+  CHECK(m[9].end_mm[2] == Approx(-0.746));  // back down to 0.254 mm above the last depth
+  CHECK(m[10].end_mm[2] == Approx(-4));     // feed
+  CHECK(m[11].end_mm[2] == Approx(2));
+  CHECK(m[12].end_mm[2] == Approx(-3.746));
+  CHECK(m[13].end_mm[2] == Approx(-5));  // to the bottom
+  CHECK(m[14].end_mm[2] == Approx(10));  // G98: the initial level
+}

@@ -137,7 +137,7 @@ TEST_CASE("square at F6000: G64 P0.1 before P0.01 before G61, tolerance held, en
   CHECK_FALSE(p01.check.exceeded());
   CHECK(p001.check.cutting().samples > 0);
   CHECK(p001.stats.corners == 3);
-  // Measured (docs/tolerance.md): G61 1.456 s, P0.01 1.260 s, P0.1 1.156 s, unbounded 0.960 s.
+  // Measured (docs/tolerance.md): G61 1.456 s, P0.01 1.260 s, P0.1 1.152 s, unbounded 0.960 s.
   CHECK(p001.cycle_s < g61.cycle_s - 0.1);
   CHECK(p01.cycle_s < p001.cycle_s - 0.05);
   CHECK(free.cycle_s < p01.cycle_s);

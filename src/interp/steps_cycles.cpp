@@ -1,0 +1,222 @@
+// Canned cycles G73, G74, G81..G86, G89 with G98/G99, R, L, P, Q, incremental mode and every
+// plane, expanded into moves as LinuxCNC 2.9 expands them (interp_cycles.cc semantics).
+#include "interp/steps.hpp"
+
+#include <cmath>
+
+namespace gm {
+
+namespace {
+
+// G73/G83 back-off after each peck: 0.010 inch (0.254 mm in G21), as LinuxCNC.
+constexpr double kPeckRapidDeltaInch = 0.010;
+
+// The plane's axes (a, b) and the cycle axis c, as program-axis indices (LinuxCNC: XY -> Z,
+// XZ -> Y with a = Z and b = X, YZ -> X with a = Y and b = Z).
+struct CycleAxes {
+  int a, b, c;
+};
+CycleAxes cycle_axes(Plane p) {
+  switch (p) {
+    case Plane::XZ:
+      return {2, 0, 1};
+    case Plane::YZ:
+      return {1, 2, 0};
+    case Plane::XY:
+      break;
+  }
+  return {0, 1, 2};
+}
+
+// One cycle being expanded: positions in program units along (a, b, c); emits machine moves.
+struct CycleRun {
+  BlockCtx& ctx;
+  CycleAxes ax;
+  SourceLoc loc;
+
+  Pos9 machine(double a, double b, double c) const {
+    Pos9 p = ctx.s.position_mm;
+    const Pos9 off = ctx.offset();
+    const double u = ctx.scale();
+    p[ax.a] = a * u + off[ax.a];
+    p[ax.b] = b * u + off[ax.b];
+    p[ax.c] = c * u + off[ax.c];
+    return p;
+  }
+  bool traverse(double a, double b, double c) {
+    return emit_straight(ctx, MotionKind::Rapid, machine(a, b, c), loc);
+  }
+  bool feed(double a, double b, double c) {
+    return emit_straight(ctx, MotionKind::Line, machine(a, b, c), loc);
+  }
+  void dwell(double s) { ctx.out.emplace_back(Dwell{ctx.block.line, s}); }
+};
+
+const char* plane_text(Plane p) {
+  return p == Plane::XY ? "XY" : p == Plane::XZ ? "XZ" : "YZ";
+}
+
+}  // namespace
+
+bool run_spindle(BlockCtx& ctx, const Code& c) {
+  ctx.s.spindle_dir = c.number10 == 30 ? 1 : c.number10 == 40 ? -1 : 0;
+  return true;
+}
+
+bool run_retract_mode(BlockCtx& ctx, const Code& c) {
+  ctx.s.retract_to_r = c.number10 == 990;
+  return true;
+}
+
+bool run_cycle(BlockCtx& ctx, const Code& c) {
+  ModalState& s = ctx.s;
+  const BlockWords& w = ctx.w;
+  const int g = c.number10;
+  const SourceLoc loc = w.word_of(Group::Motion) ? w.word_of(Group::Motion)->loc
+                        : w.first_axis           ? w.first_axis->loc
+                                                 : SourceLoc{ctx.block.line, 1};
+  const std::string name = code_name(c);
+  const bool entering = s.cycle_mode != g;  // LinuxCNC: motion_mode != motion
+  const CycleAxes ax = cycle_axes(s.plane);
+  const char cl = kProgramAxisLetters[static_cast<std::size_t>(ax.c)];
+
+  for (const char rot : {'A', 'B', 'C'})
+    if (w.has(rot))
+      return ctx.fail(
+          ErrorCode::CycleMisused, w[rot]->loc,
+          fmt::format("{} word in a canned cycle ({}): rotary axes may not move", rot, name));
+  if (entering && !w.has(cl))
+    return ctx.fail(ErrorCode::MissingWord, loc,
+                    fmt::format("{} without {} (the hole bottom) in the {} plane", name, cl,
+                                plane_text(s.plane)));
+  if (entering && !w.has('R'))
+    return ctx.fail(ErrorCode::MissingWord, loc,
+                    fmt::format("{} without R (the retract plane)", name));
+  int repeats = 1;
+  if (w.has('L')) {
+    double l = 0;
+    if (!near_integer(w['L']->value, l))
+      return ctx.fail(ErrorCode::BadLWord, w['L']->loc,
+                      fmt::format("{} L{:g}: L must be an integer", name, w['L']->value));
+    if (l <= 0 || l > 1e6)
+      return ctx.fail(ErrorCode::BadLWord, w['L']->loc,
+                      fmt::format("{} L{:g}: L must be 1 or more (repeats)", name, l));
+    repeats = static_cast<int>(l);
+  }
+  if (s.inverse_time || s.feed_mm_min <= 0.0)
+    return ctx.fail(
+        ErrorCode::ZeroFeed, loc,
+        fmt::format("{} with zero feed rate ({})", name,
+                    s.inverse_time ? "G93 gives no feed to a cycle" : "no F yet, or F0"));
+  const bool needs_p = g == 820 || g == 860 || g == 890;
+  const bool needs_q = g == 730 || g == 830;
+  if (entering && needs_p && !w.has('P'))
+    return ctx.fail(ErrorCode::MissingWord, loc, fmt::format("{} without P (dwell seconds)", name));
+  if (entering && needs_q && !w.has('Q'))
+    return ctx.fail(ErrorCode::MissingWord, loc, fmt::format("{} without Q (peck depth)", name));
+  if ((g == 740 || g == 840 || g == 860) && s.spindle_dir == 0)
+    return ctx.fail(ErrorCode::CycleMisused, loc,
+                    fmt::format("{} with the spindle not turning (M3/M4 first)", name));
+  if (g == 840 && s.spindle_dir < 0)
+    return ctx.fail(ErrorCode::CycleMisused, loc, "G84 with the spindle turning counterclockwise");
+  if (g == 740 && s.spindle_dir > 0)
+    return ctx.fail(ErrorCode::CycleMisused, loc, "G74 with the spindle turning clockwise");
+
+  const double u = ctx.scale();
+  const Pos9 off = ctx.offset();
+  auto prog = [&](int i) { return (s.position_mm[i] - off[i]) / u; };
+  const double r_word = w.has('R') ? w['R']->value : s.cycle_r;
+  const double z_word = w.has(cl) ? w[cl]->value : s.cycle_bottom;
+  const double p = w.has('P') ? w['P']->value : s.cycle_p;
+  const double q = w.has('Q') ? w['Q']->value : s.cycle_q;
+  if (needs_q && q <= 0.0)
+    return ctx.fail(ErrorCode::CycleMisused, w.has('Q') ? w['Q']->loc : loc,
+                    fmt::format("{} Q{:g}: the peck depth must be positive", name, q));
+
+  // The initial level: the cycle axis where the first cycle block of a run started.
+  if (!s.cycle_il_set) {
+    s.cycle_il = prog(ax.c);
+    s.cycle_il_set = true;
+  }
+  double old_cc = s.cycle_il;
+  double a = prog(ax.a), b = prog(ax.b), r = 0, bottom = 0, da = 0, db = 0;
+  const char la = kProgramAxisLetters[static_cast<std::size_t>(ax.a)];
+  const char lb = kProgramAxisLetters[static_cast<std::size_t>(ax.b)];
+  if (s.incremental) {
+    da = w.get(la);
+    db = w.get(lb);
+    r = r_word + old_cc;
+    bottom = r + z_word;
+  } else {
+    a = w.get(la, a);
+    b = w.get(lb, b);
+    r = r_word;
+    bottom = z_word;
+  }
+  if (r < bottom)
+    return ctx.fail(
+        ErrorCode::CycleMisused, w.has('R') ? w['R']->loc : loc,
+        fmt::format("{}: R ({:g}) below the hole bottom {} ({:g})", name, r, cl, bottom));
+
+  CycleRun run{ctx, ax, loc};
+  double cc = prog(ax.c);  // where the cycle axis is now
+  if (old_cc < r) {        // the initial level is below the R plane: straight up to it first
+    if (!run.traverse(prog(ax.a), prog(ax.b), r)) return false;
+    old_cc = cc = r;
+  }
+  const double clear = s.retract_to_r ? r : old_cc;
+  const double delta = (s.inch ? 1.0 : 25.4) * kPeckRapidDeltaInch;
+  for (int k = 0; k < repeats; ++k) {
+    a += da;
+    b += db;
+    // Across above the R plane (where the tool is if above it, else at the clearance height),
+    // then down to R (checked against rs274 2.9 output).
+    const double across = cc > r ? cc : clear;
+    if (!run.traverse(a, b, across)) return false;
+    if (across != r && !run.traverse(a, b, r)) return false;
+    bool ok = true;
+    switch (g) {
+      case 730:  // chip break: feed a peck, back off a little
+      case 830:  // peck: feed a peck, out to R, back down to just above the last depth
+        for (double depth = r - q; ok && depth > bottom; depth -= q) {
+          ok = run.feed(a, b, depth) && (g == 730 || run.traverse(a, b, r)) &&
+               run.traverse(a, b, depth + delta);
+        }
+        ok = ok && run.feed(a, b, bottom) && run.traverse(a, b, clear);
+        break;
+      case 740:  // tapping: feed in, (spindle reverses), dwell, feed out
+      case 840:
+        ok = run.feed(a, b, bottom);
+        if (ok) run.dwell(p);
+        ok = ok && run.feed(a, b, clear);
+        break;
+      case 820:  // feed in, dwell, rapid out
+      case 860:  // as G82 with the spindle stopped on the way out
+        ok = run.feed(a, b, bottom);
+        if (ok) run.dwell(p);
+        ok = ok && run.traverse(a, b, clear);
+        break;
+      case 850:  // feed in, feed out to R, rapid to clear
+        ok = run.feed(a, b, bottom) && run.feed(a, b, r) && run.traverse(a, b, clear);
+        break;
+      case 890:  // feed in, dwell, feed out to clear
+        ok = run.feed(a, b, bottom);
+        if (ok) run.dwell(p);
+        ok = ok && run.feed(a, b, clear);
+        break;
+      default:  // 810: feed in, rapid out
+        ok = run.feed(a, b, bottom) && run.traverse(a, b, clear);
+        break;
+    }
+    if (!ok) return false;
+    cc = clear;
+  }
+  s.cycle_r = r_word;
+  s.cycle_bottom = z_word;
+  if (w.has('P')) s.cycle_p = p;
+  if (w.has('Q')) s.cycle_q = q;
+  s.cycle_mode = g;
+  return true;
+}
+
+}  // namespace gm
