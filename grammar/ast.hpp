@@ -60,6 +60,11 @@ struct Block : x3::position_tagged {
   std::vector<ExprOp> ops;
   std::vector<Assign> assigns;
   std::vector<Op> pending;  ///< operators waiting for their right operand
+  struct Arg {
+    int first, last;  ///< ops of one bracketed O-word argument
+  };
+  std::vector<Arg> args;  ///< O-word arguments (`o100 call [1] [2]`, `o1 if [#1 GT 0]`)
+  int arg_first = 0;
   Open open = Open::None;
   std::size_t open_ops = 0;  ///< ops.size() when the open item began
 
@@ -70,6 +75,7 @@ struct Block : x3::position_tagged {
     ops.clear();
     assigns.clear();
     pending.clear();
+    args.clear();
     open = Open::None;
   }
   Word& next_word() {

@@ -16,4 +16,9 @@ struct block_class;
 using block_type = x3::rule<block_class, ast::Block>;
 BOOST_SPIRIT_DECLARE(block_type)
 
+struct oword_args_class;
+/// oword_args := ( '[' expression ']' )*
+using oword_args_type = x3::rule<oword_args_class>;
+BOOST_SPIRIT_DECLARE(oword_args_type)
+
 }  // namespace gm::grammar::parser

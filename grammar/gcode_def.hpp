@@ -242,10 +242,22 @@ inline auto const comment = x3::lit('(')[actions::begin_comment] >
                             close_paren;
 inline auto const line_comment = x3::lit(';') >> x3::omit[*x3::char_];
 
+// O-word arguments: bracketed expressions, one after the other.
+namespace actions {
+inline auto const begin_arg = [](auto&) { B().arg_first = static_cast<int>(B().ops.size()); };
+inline auto const end_arg = [](auto&) {
+  B().args.push_back(ast::Block::Arg{B().arg_first, static_cast<int>(B().ops.size())});
+};
+}  // namespace actions
+inline oword_args_type const oword_args = "oword arguments";
+inline auto const oword_args_def =
+    *x3::omit[x3::eps[actions::begin_arg] >> (x3::lit('[') > expr > close_bracket)]
+             [actions::end_arg];
+
 inline block_type const block = "block";
 inline auto const block_def = *x3::omit[word | comment | line_comment | assignment];
 
 BOOST_SPIRIT_DEFINE(number, close_paren, value, expr, unary, primary, param_body, name, close_name,
-                    open_bracket, close_bracket, slash, equals, block)
+                    open_bracket, close_bracket, slash, equals, block, oword_args)
 
 }  // namespace gm::grammar::parser

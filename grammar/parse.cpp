@@ -118,6 +118,88 @@ const char* skip_unsupported(const char* pos, const char* end) {
 
 }  // namespace
 
+const char* okind_name(OKind k) {
+  constexpr const char* kNames[] = {"",       "sub",       "endsub", "call",    "return",   "if",
+                                    "elseif", "else",      "endif",  "while",   "endwhile", "do",
+                                    "repeat", "endrepeat", "break",  "continue"};
+  return kNames[static_cast<int>(k)];
+}
+
+bool BlockParser::parse_oword(Block& out, std::string_view compact, std::size_t k,
+                              std::size_t& after) {
+  OWord& o = out.oword;
+  o.loc = SourceLoc{line_, columns_[k]};
+  o.label.clear();
+  std::size_t p = k + 1;
+  if (p < compact.size() && compact[p] == '<') {
+    const std::size_t close = compact.find('>', p + 1);
+    if (close == std::string_view::npos || close == p + 1) {
+      add_error(out, ErrorCode::BadOWord, static_cast<int>(p),
+                close == std::string_view::npos ? "O-word name not closed: expected '>'"
+                                                : "empty O-word name");
+      return false;
+    }
+    o.named = true;
+    for (std::size_t i = p + 1; i < close; ++i) {
+      char ch = compact[i];
+      if (ch >= 'A' && ch <= 'Z') ch = static_cast<char>(ch - 'A' + 'a');
+      o.label.push_back(ch);
+    }
+    p = close + 1;
+  } else if (p < compact.size() && compact[p] >= '0' && compact[p] <= '9') {
+    o.named = false;
+    while (p < compact.size() && compact[p] == '0') ++p;
+    while (p < compact.size() && compact[p] >= '0' && compact[p] <= '9')
+      o.label.push_back(compact[p++]);
+    if (o.label.empty()) o.label = "0";
+  } else {
+    add_error(out, ErrorCode::BadOWord, static_cast<int>(p),
+              "an O-word needs a number or a <name> after 'O'");
+    return false;
+  }
+  const std::size_t kw = p;
+  while (p < compact.size() && compact[p] >= 'A' && compact[p] <= 'Z') ++p;
+  const std::string_view word = compact.substr(kw, p - kw);
+  static constexpr std::pair<std::string_view, OKind> kKeywords[] = {
+      {"SUB", OKind::Sub},
+      {"ENDSUB", OKind::EndSub},
+      {"CALL", OKind::Call},
+      {"RETURN", OKind::Return},
+      {"IF", OKind::If},
+      {"ELSEIF", OKind::ElseIf},
+      {"ELSE", OKind::Else},
+      {"ENDIF", OKind::EndIf},
+      {"WHILE", OKind::While},
+      {"ENDWHILE", OKind::EndWhile},
+      {"DO", OKind::Do},
+      {"REPEAT", OKind::Repeat},
+      {"ENDREPEAT", OKind::EndRepeat},
+      {"BREAK", OKind::Break},
+      {"CONTINUE", OKind::Continue}};
+  for (const auto& [name, kind] : kKeywords)
+    if (word == name) o.kind = kind;
+  if (o.kind == OKind::None) {
+    add_error(out, ErrorCode::BadOWord, static_cast<int>(kw),
+              word.empty() ? "expected an O-word keyword (sub, call, if, while, ...)"
+                           : "unknown O-word keyword '" + std::string(word) + "'");
+    return false;
+  }
+  const char* pos = compact.data() + p;
+  ItemFailure fail;
+  if (!parse_oword_args(pos, compact.data() + compact.size(), ast_, fail)) {
+    const int off = static_cast<int>(fail.where - compact.data());
+    add_error(out, fail.code == ErrorCode::ExpectedNumber ? ErrorCode::BadExpression : fail.code,
+              off,
+              fail.code == ErrorCode::UnclosedBracket
+                  ? std::string("expected ']' to close the O-word argument")
+                  : std::string("bad expression in the O-word argument"));
+    o.kind = OKind::None;
+    return false;
+  }
+  after = static_cast<std::size_t>(pos - compact.data());
+  return true;
+}
+
 void BlockParser::add_error(Block& out, ErrorCode code, int offset, std::string message) {
   if (out.errors.size() >= kMaxErrorsPerLine) return;
   const int col = columns_[static_cast<std::size_t>(offset)];
@@ -136,6 +218,8 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
   out.word_exprs.clear();
   out.assignments.clear();
   out.names.clear();
+  out.oword.kind = OKind::None;
+  out.oword.args.clear();
   out.errors.clear();
   if (!text.empty() && text.back() == '\r') text.remove_suffix(1);
 
@@ -184,7 +268,10 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
     ++start;
   }
 
-  // O-word lines (subroutines, loops: `O100 sub`, `o<name> call`) have their own syntax: one error.
+  // O-word lines: `O<label> keyword [args]` (comments may follow).
+  const char* const begin = compact.data();
+  const char* const end = begin + compact.size();
+  ast_.reset(begin);
   {
     std::size_t k = start;
     if (k < compact.size() && compact[k] == 'N')
@@ -193,16 +280,13 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
            ++k) {
       }
     if (k < compact.size() && compact[k] == 'O') {
-      add_error(out, ErrorCode::OWordsUnsupported, static_cast<int>(k),
-                "O-words are not supported");
-      return;
+      std::size_t after = 0;
+      if (!parse_oword(out, compact, k, after)) return;
+      start = after;
     }
   }
 
   // 2. Parse items, resynchronising after each error at the next letter, '(' or ';'.
-  const char* const begin = compact.data();
-  const char* const end = begin + compact.size();
-  ast_.reset(begin);
   const char* pos = begin + start;
   while (pos != end && out.errors.size() < kMaxErrorsPerLine) {
     ItemFailure fail;
@@ -307,6 +391,11 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
     while (pos != end && !starts_item(*pos)) ++pos;
   }
 
+  if (out.oword.kind != OKind::None && (ast_.word_count > 0 || !ast_.assigns.empty())) {
+    const int at = ast_.word_count > 0 ? ast_.words[0].id_first : ast_.assigns[0].pos;
+    add_error(out, ErrorCode::BadOWord, at, "nothing but comments may follow an O-word");
+  }
+
   // 3. Convert the expressions (one ExprOp per ast op, same indices), then the words.
   const auto loc_at = [&](int offset) {
     return SourceLoc{line, columns_[static_cast<std::size_t>(offset)]};
@@ -335,6 +424,9 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
       add_name(a.first, a.last, op.name, op.name_size);
     }
   }
+  for (const ast::Block::Arg& a : ast_.args)
+    out.oword.args.push_back(
+        OpRange{static_cast<std::uint32_t>(a.first), static_cast<std::uint32_t>(a.last)});
   for (const ast::Assign& a : ast_.assigns) {
     Assignment& s = out.assignments.emplace_back();
     s.loc = loc_at(a.pos);

@@ -79,6 +79,36 @@ struct Assignment {
   OpRange value;
 };
 
+/// The O-word keywords (LinuxCNC's "O codes").
+enum class OKind : std::uint8_t {
+  None,
+  Sub,
+  EndSub,
+  Call,
+  Return,
+  If,
+  ElseIf,
+  Else,
+  EndIf,
+  While,
+  EndWhile,
+  Do,
+  Repeat,
+  EndRepeat,
+  Break,
+  Continue,
+};
+const char* okind_name(OKind k);
+
+/// An O-word line: `o100 while [#1 LT 10]`, `o<name> call [1] [2]`.
+struct OWord {
+  OKind kind = OKind::None;
+  bool named = false;  ///< o<name> (else numbered)
+  std::string label;   ///< "100" (leading zeros dropped) or the name in lower case
+  SourceLoc loc;       ///< the 'O'
+  std::vector<OpRange> args;
+};
+
 /// One parsed line. The containers are reused from line to line (counts say what is valid),
 /// so a BlockParser that keeps parsing into the same Block allocates nothing in steady state.
 struct Block {
@@ -96,6 +126,7 @@ struct Block {
   std::vector<WordExpr> word_exprs;     ///< words whose value is an expression
   std::vector<Assignment> assignments;  ///< parameter settings, in the order written
   std::string names;                    ///< parameter names, lower case, back to back
+  OWord oword;                          ///< kind None on ordinary lines
   std::vector<SyntaxError> errors;
 
   bool has_errors() const { return !errors.empty(); }
@@ -124,6 +155,7 @@ class BlockParser {
 
  private:
   void add_error(Block& out, ErrorCode code, int offset, std::string message);
+  bool parse_oword(Block& out, std::string_view compact, std::size_t k, std::size_t& after);
   std::string compact_;       ///< the line without spaces/tabs outside comments, letters upper
   std::vector<int> columns_;  ///< 1-based source column of each compact_ character (+1 sentinel)
   ast::Block ast_;

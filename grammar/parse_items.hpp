@@ -17,4 +17,9 @@ struct ItemFailure {
 /// returns true when it stopped, possibly before `last`, at a character that starts no item.
 bool parse_items(const char*& first, const char* last, ast::Block& out, ItemFailure& fail);
 
+/// Parses the bracketed arguments of an O-word (`[expr] [expr] ...`) from `first` into
+/// out.args/out.ops; stops at the first character that starts no argument. False on a malformed
+/// expression (`fail` says which and where).
+bool parse_oword_args(const char*& first, const char* last, ast::Block& out, ItemFailure& fail);
+
 }  // namespace gm::grammar

@@ -30,6 +30,7 @@ enum class ErrorCode : int {
   BadParameterName = 115,        ///< `#<` without `>`, or an empty name
   ExpectedEquals = 116,          ///< `#1` at the start of an item without `=value`
   CommentAbort = 117,            ///< (ABORT, ...) ends the program with an error
+  BadOWord = 118,                ///< an O-word without label or keyword, or with words after it
   // Block (interp/) ----------------------------------------------------------------------------
   ModalGroupViolation = 201,     ///< two codes of one modal group in a block
   DuplicateWord = 202,           ///< the same value word twice in a block
@@ -59,6 +60,13 @@ enum class ErrorCode : int {
   ParameterOutOfRange = 233,  ///< #n with n outside 1..5601, or not an integer
   ParameterReadOnly = 234,    ///< setting #5400-#5413, #5420-#5428 or a predefined #<_name>
   UndefinedParameter = 235,   ///< reading a named parameter that was never set
+  // O-word control flow (interp/oword_flow) ----------------------------------------------------
+  ControlMismatch = 240,      ///< endsub/endif/endwhile/... without its opening O-word
+  UndefinedSubroutine = 241,  ///< a call of a subroutine defined nowhere
+  CallTooDeep = 242,          ///< more nested calls than LinuxCNC allows
+  TooManyIterations = 243,    ///< loops ran past --max-iterations
+  NotSeekable = 244,          ///< control flow needs to re-read an input that cannot seek
+  UnterminatedControl = 245,  ///< the program ends inside a sub, if or loop
   // Machine-side codes (offsets, tools, cycles) ------------------------------------------------
   G53Misused = 260,      ///< G53 with a motion other than G0/G1, or in G91 (LinuxCNC)
   BadLWord = 261,        ///< G10 without L or with an L it does not know; cycle L not >= 1
@@ -113,6 +121,8 @@ inline constexpr std::array kErrorTable{
               "A named parameter is #<name> with a non-empty name"},
     ErrorInfo{ErrorCode::ExpectedEquals, "expected '='", "A parameter setting is #n=value"},
     ErrorInfo{ErrorCode::CommentAbort, "abort", "(ABORT, ...) ends the program with an error"},
+    ErrorInfo{ErrorCode::BadOWord, "bad O-word",
+              "An O-word is O<number or <name>> keyword [arguments]"},
     ErrorInfo{ErrorCode::ModalGroupViolation, "modal group violation",
               "Two codes of the same modal group in one block"},
     ErrorInfo{ErrorCode::DuplicateWord, "duplicate word",
@@ -151,6 +161,17 @@ inline constexpr std::array kErrorTable{
     ErrorInfo{ErrorCode::ParameterReadOnly, "parameter read-only", "This parameter cannot be set"},
     ErrorInfo{ErrorCode::UndefinedParameter, "undefined parameter",
               "A named parameter was read before it was set"},
+    ErrorInfo{ErrorCode::ControlMismatch, "control mismatch",
+              "An O-word that closes or continues a block that is not open"},
+    ErrorInfo{ErrorCode::UndefinedSubroutine, "undefined subroutine",
+              "The called subroutine is defined neither in the program nor on the path"},
+    ErrorInfo{ErrorCode::CallTooDeep, "calls too deep", "Subroutine calls nest too deep"},
+    ErrorInfo{ErrorCode::TooManyIterations, "too many iterations",
+              "Loops ran past the iteration limit"},
+    ErrorInfo{ErrorCode::NotSeekable, "input not seekable",
+              "Loops and calls re-read the program: it must be a file"},
+    ErrorInfo{ErrorCode::UnterminatedControl, "unterminated block",
+              "The program ends inside a subroutine, if or loop"},
     ErrorInfo{ErrorCode::G53Misused, "G53 misused",
               "G53 needs G0 or G1 and absolute distance mode (G90)"},
     ErrorInfo{ErrorCode::BadLWord, "bad L word", "L has a value this code does not accept"},

@@ -10,6 +10,7 @@ namespace gm {
 bool LineReader::fill() {
   std::streambuf* sb = in_.rdbuf();
   if (sb == nullptr) return false;
+  chunk_offset_ = next_offset_;  // the chunk starts where the unread input starts
   const std::streamsize n = sb->sgetn(chunk_.get(), static_cast<std::streamsize>(kChunkBytes));
   pos_ = chunk_.get();
   end_ = pos_ + (n > 0 ? n : 0);
@@ -23,10 +24,31 @@ void LineReader::keep(std::string& line, const char* first, const char* last) {
   line.append(first, std::min(len, room));
 }
 
+bool LineReader::restart(std::uint64_t offset, int number) {
+  // A jump back into the chunk in memory (a loop of a few lines) needs no read at all.
+  if (end_ != nullptr && offset >= chunk_offset_ &&
+      offset < chunk_offset_ + static_cast<std::uint64_t>(end_ - chunk_.get())) {
+    pos_ = chunk_.get() + (offset - chunk_offset_);
+    number_ = number;
+    line_offset_ = next_offset_ = offset;
+    return true;
+  }
+  in_.clear();
+  std::streambuf* sb = in_.rdbuf();
+  if (sb == nullptr) return false;
+  const auto at = sb->pubseekpos(static_cast<std::streamoff>(offset), std::ios::in);
+  if (at == std::streampos(std::streamoff(-1))) return false;
+  pos_ = end_ = nullptr;
+  number_ = number;
+  line_offset_ = next_offset_ = offset;
+  return true;
+}
+
 bool LineReader::next(std::string& line) {
   line.clear();
   truncated_ = false;
   bool any = false;
+  line_offset_ = next_offset_;
   for (;;) {
     if (pos_ == end_ && !fill()) break;
     any = true;
@@ -34,10 +56,12 @@ bool LineReader::next(std::string& line) {
         static_cast<const char*>(std::memchr(pos_, '\n', static_cast<std::size_t>(end_ - pos_)));
     if (nl != nullptr) {
       keep(line, pos_, nl);
+      next_offset_ += static_cast<std::uint64_t>(nl + 1 - pos_);
       pos_ = nl + 1;
       break;
     }
     keep(line, pos_, end_);
+    next_offset_ += static_cast<std::uint64_t>(end_ - pos_);
     pos_ = end_;
   }
   if (!any) {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <istream>
 #include <memory>
 #include <string>
@@ -25,6 +26,12 @@ class LineReader {
   bool truncated() const { return truncated_; }
   /// 1-based number of the last line read.
   int number() const { return number_; }
+  /// Byte offset of the last line read, and of the line after it.
+  std::uint64_t line_offset() const { return line_offset_; }
+  std::uint64_t next_offset() const { return next_offset_; }
+  /// Continues at byte `offset` of a seekable stream, numbering the next line `number` + 1.
+  /// False if the stream cannot seek (a pipe).
+  bool restart(std::uint64_t offset, int number);
 
  private:
   bool fill();  // reads the next chunk; false at end of input
@@ -37,6 +44,9 @@ class LineReader {
   const char* end_ = nullptr;  ///< end of the bytes in the chunk
   bool truncated_ = false;
   int number_ = 0;
+  std::uint64_t line_offset_ = 0;
+  std::uint64_t next_offset_ = 0;
+  std::uint64_t chunk_offset_ = 0;  ///< input offset of chunk_[0]
 };
 
 }  // namespace gm

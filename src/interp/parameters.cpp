@@ -25,12 +25,19 @@ double ParameterStore::get(int n) const {
 }
 
 bool ParameterStore::predefined(std::string_view name) const {
+  if (name == "_value" || name == "_value_returned" || name == "_call_level") return true;
   double v = 0.0;
   return provider_ != nullptr && !name.empty() && name[0] == '_' && provider_->predefined(name, v);
 }
 
 bool ParameterStore::get_named(std::string_view name, double& value) const {
   if (!name.empty() && name[0] == '_') {
+    if (name == "_value" || name == "_value_returned" || name == "_call_level") {
+      value = name == "_value"            ? value_
+              : name == "_value_returned" ? value_returned_
+                                          : static_cast<double>(depth());
+      return true;
+    }
     if (provider_ != nullptr && provider_->predefined(name, value)) return true;
     const auto it = globals_.find(name);
     if (it == globals_.end()) return false;

@@ -66,6 +66,12 @@ class ParameterStore {
   /// The interpreter's live values (may be null: then predefined names are unset).
   void set_provider(const ParameterProvider* p) { provider_ = p; }
 
+  /// What the last subroutine returned: #<_value> and #<_value_returned>.
+  void set_returned(double value, bool returned) {
+    value_ = value;
+    value_returned_ = returned ? 1.0 : 0.0;
+  }
+
   /// Call frames (O-word subroutines): a new frame has no named locals and saves #1-#30.
   void push_frame();
   void pop_frame();
@@ -94,6 +100,8 @@ class ParameterStore {
   NameMap globals_;
   std::vector<Frame> frames_;
   const ParameterProvider* provider_ = nullptr;
+  double value_ = 0.0;
+  double value_returned_ = 0.0;
 };
 
 }  // namespace gm

@@ -8,6 +8,7 @@
 #include "interp/expression.hpp"
 #include "interp/interpreter.hpp"
 #include "interp/line_reader.hpp"
+#include "interp/oword_flow.hpp"
 #include "interp/parameters.hpp"
 
 #include <fmt/format.h>
@@ -25,9 +26,11 @@ namespace gm {
 /// One line as read and parsed: what the front half (reader + grammar) hands to the back half
 /// (program rules + interpreter). Reused from line to line.
 struct ParsedLine {
-  int number = 0;          ///< 1-based line number
-  bool truncated = false;  ///< longer than grammar::kMaxLineLength (not parsed)
-  std::string text;        ///< the line as read (diagnostics echo it)
+  int number = 0;                 ///< 1-based line number
+  std::uint64_t offset = 0;       ///< byte offset of the line in the program
+  std::uint64_t next_offset = 0;  ///< byte offset of the line after it
+  bool truncated = false;         ///< longer than grammar::kMaxLineLength (not parsed)
+  std::string text;               ///< the line as read (diagnostics echo it)
   grammar::Block block;
 
   /// Gives back memory a hostile line made this slot grow (kept lines stay small).
@@ -48,12 +51,17 @@ class LineParser {
   bool next(ParsedLine& p) {
     if (!reader_.next(p.text)) return false;
     p.number = reader_.number();
+    p.offset = reader_.line_offset();
+    p.next_offset = reader_.next_offset();
     p.truncated = reader_.truncated();
     if (!p.truncated) parser_.parse(p.text, p.number, p.block);
     return true;
   }
   /// Number of the last line read (0 before the first).
   int last_number() const { return reader_.number(); }
+  /// Continues at byte `offset`, the line there being numbered `line`. False if the input
+  /// cannot seek.
+  bool seek(std::uint64_t offset, int line) { return reader_.restart(offset, line - 1); }
 
  private:
   LineReader reader_;
@@ -113,10 +121,7 @@ class StateParameters : public ParameterProvider {
         {"_current_tool", static_cast<double>(s.tool_in_spindle)},
         {"_selected_tool", static_cast<double>(s.tool_selected)},
         {"_task", 0.0},
-        {"_call_level", 0.0},
         {"_remap_level", 0.0},
-        {"_value", 0.0},
-        {"_value_returned", 0.0},
     };
     for (const Entry& e : table)
       if (e.name == name) {
@@ -160,7 +165,8 @@ class ProgramRunner {
         machine_(opts.machine ? *opts.machine : default_machine_),
         block_delete_(opts.block_delete),
         interp_(machine_),
-        state_params_(interp_) {
+        state_params_(interp_),
+        flow_(params_, opts.max_iterations) {
     params_.set_provider(&state_params_);
   }
   ProgramRunner(const ProgramRunner&) = delete;
@@ -168,11 +174,17 @@ class ProgramRunner {
 
   /// Processes one parsed line. Appends canon to `out` and diagnostics to `diags`.
   /// Returns false when the program is over (end code or closing %).
-  bool process(ParsedLine& p, std::vector<Canon>& out, std::vector<Diagnostic>& diags) {
+  bool process(ParsedLine& p, std::vector<Canon>& out, std::vector<Diagnostic>& diags,
+               FlowJump& jump) {
+    jump.seek = false;
     if (done_) return false;
     const std::string& text = p.text;
     const int line = p.number;
     remember(text);
+    if (flow_.skipping()) {  // passing over lines: only O-words matter, nothing else is checked
+      if (p.truncated || p.block.oword.kind == grammar::OKind::None) return true;
+      return control(p, diags, jump);
+    }
     if (p.truncated) {
       diags.push_back(Diagnostic{Severity::Error,
                                  static_cast<int>(ErrorCode::LineTooLong),
@@ -199,6 +211,10 @@ class ProgramRunner {
         done_ = true;
         return false;
       }
+    }
+    if (block.oword.kind != grammar::OKind::None) {
+      first_content_seen_ = true;
+      return control(p, diags, jump);
     }
     if (block.words.empty() && block.message_count == 0 && !block.needs_evaluation()) return true;
     first_content_seen_ = true;
@@ -231,6 +247,12 @@ class ProgramRunner {
   void end_of_input(int last_line, std::vector<Diagnostic>& diags) {
     if (done_) return;
     done_ = true;
+    InterpError err;
+    if (!flow_.at_end(last_line, err)) {
+      diags.push_back(
+          Diagnostic{Severity::Error, static_cast<int>(err.code), err.loc, err.message, {}});
+      return;
+    }
     if (!interp_.state().ended) {
       const int last = last_line > 0 ? last_line : 1;
       diags.push_back(Diagnostic{
@@ -252,6 +274,34 @@ class ProgramRunner {
     // Very long lines are not echoed under the message (the location is still exact).
     return text.size() <= 512 ? text : std::string();
   }
+  // An O-word line: control flow. An error there ends the program (the flow state is lost).
+  bool control(ParsedLine& p, std::vector<Diagnostic>& diags, FlowJump& jump) {
+    state_params_.set_line(p.number);
+    InterpError err;
+    if (!flow_.handle(p.block, LinePos{p.offset, p.next_offset, p.number}, jump, err)) {
+      diags.push_back(Diagnostic{Severity::Error, static_cast<int>(err.code), err.loc, err.message,
+                                 source_for(p.text)});
+      done_ = true;
+      jump.seek = false;
+      return false;
+    }
+    return true;
+  }
+
+ public:
+  /// The driver could not seek where the control flow asked (the input is a pipe).
+  void cannot_seek(int line, std::vector<Diagnostic>& diags) {
+    diags.push_back(Diagnostic{
+        Severity::Error,
+        static_cast<int>(ErrorCode::NotSeekable),
+        SourceLoc{line, 1},
+        "loops and subroutine calls re-read the program, which cannot seek here (a pipe?): "
+        "give it as a file",
+        {}});
+    done_ = true;
+  }
+
+ private:
   // ABORT ends the program with a located error; LOG comments write nothing (no log directory
   // is configured), LOGOPEN/LOGAPPEND say so once. False when the program is over.
   bool directive(const grammar::Message& m, const std::string& text,
@@ -289,6 +339,7 @@ class ProgramRunner {
   StateParameters state_params_;
   ParameterStore params_;
   LineEvaluator evaluator_;
+  OwordFlow flow_;
   std::string last_line_;
   bool aborted_ = false;
   bool log_warned_ = false;
@@ -310,8 +361,14 @@ class SerialRunner {
       back_.end_of_input(front_.last_number(), diags);
       return false;
     }
-    const bool more = back_.process(line_, out, diags);
+    FlowJump jump;
+    const bool more = back_.process(line_, out, diags, jump);
+    const int number = line_.number;
     line_.trim();
+    if (more && jump.seek && !front_.seek(jump.offset, jump.line)) {
+      back_.cannot_seek(number, diags);
+      return false;
+    }
     return more;
   }
   const ProgramRunner& back() const { return back_; }
@@ -468,18 +525,45 @@ CheckSummary run_check(std::istream& in, std::string_view filename, const Interp
     return sum;
   }
   ProgramRunner back(std::string(filename), opts);
-  ParallelFront front(in);
-  while (!back.done()) {
-    ParallelFront::Batch& b = front.acquire();
-    for (std::size_t i = 0; i < b.count && !back.done(); ++i) {
-      back.process(b.lines[i], out, diags);
+  FlowJump jump;
+  int jump_from = 0;
+  {
+    ParallelFront front(in);
+    while (!back.done() && !jump.seek) {
+      ParallelFront::Batch& b = front.acquire();
+      for (std::size_t i = 0; i < b.count && !back.done() && !jump.seek; ++i) {
+        back.process(b.lines[i], out, diags, jump);
+        jump_from = b.lines[i].number;
+        emit(back.machine());
+      }
+      if (b.eof && !back.done() && !jump.seek) {
+        back.end_of_input(b.last_number, diags);
+        emit(back.machine());
+      }
+      front.release();
+    }
+  }
+  if (jump.seek && !back.done()) {
+    // Control flow re-reads the program: the rest runs on this thread, seeking as asked.
+    LineParser serial(in);
+    ParsedLine line;
+    bool ok = serial.seek(jump.offset, jump.line);
+    if (!ok) back.cannot_seek(jump_from, diags);
+    while (ok && !back.done()) {
+      if (!serial.next(line)) {
+        back.end_of_input(serial.last_number(), diags);
+        emit(back.machine());
+        break;
+      }
+      const bool more = back.process(line, out, diags, jump);
+      line.trim();
+      if (more && jump.seek && !serial.seek(jump.offset, jump.line)) {
+        back.cannot_seek(line.number, diags);
+        ok = false;
+      }
       emit(back.machine());
     }
-    if (b.eof && !back.done()) {
-      back.end_of_input(b.last_number, diags);
-      emit(back.machine());
-    }
-    front.release();
+    emit(back.machine());
   }
   sum.blocks = back.blocks();
   return sum;

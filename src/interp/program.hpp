@@ -16,8 +16,9 @@
 namespace gm {
 
 struct InterpreterOptions {
-  const Machine* machine = nullptr;  ///< null: a default-constructed Machine
-  bool block_delete = false;         ///< honour '/' at line start (skip those lines)
+  const Machine* machine = nullptr;          ///< null: a default-constructed Machine
+  bool block_delete = false;                 ///< honour '/' at line start (skip those lines)
+  std::int64_t max_iterations = 10'000'000;  ///< loop iterations and calls before an error
 };
 
 struct CheckSummary {

@@ -1,3 +1,3 @@
-; expect 2:1 108
-o100 sub
+; expect 2:1 240
+o100 endwhile
 M2

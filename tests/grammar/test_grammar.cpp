@@ -98,8 +98,12 @@ TEST_CASE("syntax errors carry code, line and column") {
       {"#1", ErrorCode::ExpectedEquals, 3},
       {"#<ab=2", ErrorCode::BadParameterName, 7},
       {"[1]", ErrorCode::NumberWithoutLetter, 1},
-      {"o100 sub", ErrorCode::OWordsUnsupported, 1},
-      {"N10 O<x> call", ErrorCode::OWordsUnsupported, 5},
+      {"o100", ErrorCode::BadOWord, 5},
+      {"o100 bogus", ErrorCode::BadOWord, 6},
+      {"N10 O<x call", ErrorCode::BadOWord, 6},
+      {"o1 if [1+", ErrorCode::BadExpression, 10},
+      {"o1 if [1", ErrorCode::UnclosedBracket, 9},
+      {"o1 if [1] G0", ErrorCode::BadOWord, 11},
       {"X1e400", ErrorCode::NumberOutOfRange, 2},
       {"X1e3", ErrorCode::ExponentUnsupported, 2},
       {"G1 * X1", ErrorCode::UnexpectedCharacter, 4},
@@ -114,6 +118,23 @@ TEST_CASE("syntax errors carry code, line and column") {
     CHECK(b.errors[0].loc.line == 7);
     CHECK(b.errors[0].loc.column == c.column);
   }
+}
+
+TEST_CASE("O-word lines: label, keyword and bracketed arguments") {
+  Block b = parse("N5 o<My Sub> call [1+2] [#3] (comment)");
+  REQUIRE_FALSE(b.has_errors());
+  CHECK(b.oword.kind == gm::grammar::OKind::Call);
+  CHECK(b.oword.named);
+  CHECK(b.oword.label == "mysub");
+  CHECK(b.oword.args.size() == 2);
+  CHECK(b.oword.loc.column == 4);
+  b = parse("O0100 ENDWHILE");
+  REQUIRE_FALSE(b.has_errors());
+  CHECK(b.oword.kind == gm::grammar::OKind::EndWhile);
+  CHECK_FALSE(b.oword.named);
+  CHECK(b.oword.label == "100");
+  b = parse("G1 X1");
+  CHECK(b.oword.kind == gm::grammar::OKind::None);
 }
 
 TEST_CASE("a number written out beyond double range is out of range, a tiny one is zero") {

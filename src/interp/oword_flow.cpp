@@ -1,0 +1,306 @@
+// O-word control flow: a stack of open subs/ifs/loops, a skip state for passing over lines, and
+// the positions of the subs seen so far; backward jumps are seeks the driver performs.
+#include "interp/oword_flow.hpp"
+
+#include <fmt/format.h>
+
+namespace gm {
+
+namespace {
+
+using grammar::OKind;
+
+bool fail(InterpError& err, ErrorCode code, SourceLoc loc, std::string msg) {
+  err.code = code;
+  err.loc = loc;
+  err.message = std::move(msg);
+  return false;
+}
+
+std::string label_of(const grammar::OWord& o) {
+  return o.named ? "o<" + o.label + ">" : "o" + o.label;
+}
+
+void seek_to(FlowJump& jump, std::uint64_t offset, int line) {
+  jump.seek = true;
+  jump.offset = offset;
+  jump.line = line;
+}
+
+}  // namespace
+
+bool OwordFlow::evaluate_arg(const grammar::Block& b, std::size_t i, double& v, InterpError& err) {
+  const grammar::OWord& o = b.oword;
+  if (i >= o.args.size())
+    return fail(err, ErrorCode::BadOWord, o.loc,
+                fmt::format("{} {} needs a [value]", label_of(o), grammar::okind_name(o.kind)));
+  return eval_.evaluate(b, o.args[i], params_, v, err);
+}
+
+bool OwordFlow::count_iteration(SourceLoc loc, InterpError& err) {
+  if (++iterations_ > max_iterations_)
+    return fail(err, ErrorCode::TooManyIterations, loc,
+                fmt::format("loops and calls ran past --max-iterations ({})", max_iterations_));
+  return true;
+}
+
+void OwordFlow::skip(Skip mode, const std::string& label, const grammar::Block& b) {
+  skip_.mode = mode;
+  skip_.label = label;
+  skip_.started = b.oword.loc;
+  skip_.started_kind = b.oword.kind;
+}
+
+int OwordFlow::find_loop(const std::string& label) const {
+  for (int i = static_cast<int>(stack_.size()) - 1; i >= 0; --i) {
+    const Open& f = stack_[static_cast<std::size_t>(i)];
+    if (f.kind == Frame::Call) return -1;  // loops do not reach across a call
+    // rs274 2.9: break and continue belong to while and do loops only (not repeat).
+    if ((f.kind == Frame::While || f.kind == Frame::Do) && f.label == label) return i;
+  }
+  return -1;
+}
+
+bool OwordFlow::handle(const grammar::Block& b, const LinePos& pos, FlowJump& jump,
+                       InterpError& err) {
+  return skipping() ? skipped(b, pos, jump, err) : normal(b, pos, jump, err);
+}
+
+bool OwordFlow::enter_sub(const std::string& label, const LinePos& body, SourceLoc loc,
+                          FlowJump& jump, bool seek, InterpError& err) {
+  if (calls_ >= kMaxCallDepth)
+    return fail(
+        err, ErrorCode::CallTooDeep, loc,
+        fmt::format("too many nested subroutine calls (LinuxCNC allows {})", kMaxCallDepth));
+  if (!count_iteration(loc, err)) return false;
+  stack_.push_back(Open{Frame::Call, label, pending_return_});
+  params_.push_frame();
+  for (std::size_t i = 0; i < pending_args_.size(); ++i)
+    params_.set(static_cast<int>(i) + 1, pending_args_[i]);
+  ++calls_;
+  if (seek) seek_to(jump, body.next, body.line + 1);
+  return true;
+}
+
+bool OwordFlow::leave_sub(const grammar::Block& b, FlowJump& jump, InterpError& err) {
+  const grammar::OWord& o = b.oword;
+  int at = -1;
+  for (int i = static_cast<int>(stack_.size()) - 1; i >= 0; --i)
+    if (stack_[static_cast<std::size_t>(i)].kind == Frame::Call) {
+      at = i;
+      break;
+    }
+  if (at < 0)
+    return fail(
+        err, ErrorCode::ControlMismatch, o.loc,
+        fmt::format("{} {} outside a called subroutine", label_of(o), grammar::okind_name(o.kind)));
+  const Open call = stack_[static_cast<std::size_t>(at)];
+  if (call.label != o.label)
+    return fail(err, ErrorCode::ControlMismatch, o.loc,
+                fmt::format("{} {} inside subroutine {} ", label_of(o), grammar::okind_name(o.kind),
+                            o.named ? "o<" + call.label + ">" : "o" + call.label));
+  double value = 0.0;
+  const bool has_value = !o.args.empty();
+  if (has_value && !evaluate_arg(b, 0, value, err)) return false;
+  stack_.resize(static_cast<std::size_t>(at));
+  params_.pop_frame();
+  params_.set_returned(value, has_value);
+  --calls_;
+  seek_to(jump, call.pos.next, call.pos.line + 1);
+  return true;
+}
+
+bool OwordFlow::normal(const grammar::Block& b, const LinePos& pos, FlowJump& jump,
+                       InterpError& err) {
+  const grammar::OWord& o = b.oword;
+  auto mismatch = [&](const char* opens) {
+    return fail(err, ErrorCode::ControlMismatch, o.loc,
+                fmt::format("{} {} without {} {}", label_of(o), grammar::okind_name(o.kind),
+                            label_of(o), opens));
+  };
+  auto top_is = [&](Frame k) {
+    return !stack_.empty() && stack_.back().kind == k && stack_.back().label == o.label;
+  };
+  double v = 0.0;
+  switch (o.kind) {
+    case OKind::Sub:
+      subs_[o.label] = pos;
+      skip(Skip::SubBody, o.label, b);
+      return true;
+    case OKind::EndSub:
+    case OKind::Return:
+      return leave_sub(b, jump, err);
+    case OKind::Call: {
+      pending_args_.clear();
+      for (std::size_t i = 0; i < o.args.size() && i < ParameterStore::kArgs; ++i) {
+        if (!evaluate_arg(b, i, v, err)) return false;
+        pending_args_.push_back(v);
+      }
+      pending_return_ = pos;
+      const auto it = subs_.find(o.label);
+      if (it != subs_.end()) return enter_sub(o.label, it->second, o.loc, jump, true, err);
+      if (calls_ >= kMaxCallDepth) return enter_sub(o.label, pos, o.loc, jump, false, err);
+      skip(Skip::FindSub, o.label, b);  // defined further down: search forward
+      return true;
+    }
+    case OKind::If:
+      if (!evaluate_arg(b, 0, v, err)) return false;
+      stack_.push_back(Open{Frame::If, o.label, pos});
+      if (v == 0.0) skip(Skip::IfBranch, o.label, b);
+      return true;
+    case OKind::ElseIf:
+    case OKind::Else:
+      if (!top_is(Frame::If)) return mismatch("if");
+      skip(Skip::IfDone, o.label, b);  // the branch that ran ends here
+      return true;
+    case OKind::EndIf:
+      if (!top_is(Frame::If)) return mismatch("if");
+      stack_.pop_back();
+      return true;
+    case OKind::Do:
+      stack_.push_back(Open{Frame::Do, o.label, pos});
+      return true;
+    case OKind::While:
+      if (top_is(Frame::Do)) {  // the end of a do ... while loop
+        if (!evaluate_arg(b, 0, v, err)) return false;
+        if (v != 0.0) {
+          if (!count_iteration(o.loc, err)) return false;
+          seek_to(jump, stack_.back().pos.next, stack_.back().pos.line + 1);
+        } else {
+          stack_.pop_back();
+        }
+        return true;
+      }
+      if (!(top_is(Frame::While) && stack_.back().pos.offset == pos.offset))
+        stack_.push_back(Open{Frame::While, o.label, pos});
+      if (!evaluate_arg(b, 0, v, err)) return false;
+      if (v == 0.0) {
+        stack_.pop_back();
+        skip(Skip::LoopEnd, o.label, b);
+      }
+      return true;
+    case OKind::EndWhile:
+      if (!top_is(Frame::While)) return mismatch("while");
+      if (!count_iteration(o.loc, err)) return false;
+      seek_to(jump, stack_.back().pos.offset, stack_.back().pos.line);  // re-evaluate
+      return true;
+    case OKind::Repeat:
+      if (!evaluate_arg(b, 0, v, err)) return false;
+      if (v >= 1.0) {
+        stack_.push_back(Open{Frame::Repeat, o.label, pos, v});
+      } else {
+        skip(Skip::LoopEnd, o.label, b);
+      }
+      return true;
+    case OKind::EndRepeat: {
+      if (!top_is(Frame::Repeat)) return mismatch("repeat");
+      Open& f = stack_.back();
+      f.remaining -= 1.0;
+      if (f.remaining >= 1.0) {
+        if (!count_iteration(o.loc, err)) return false;
+        seek_to(jump, f.pos.next, f.pos.line + 1);
+      } else {
+        stack_.pop_back();
+      }
+      return true;
+    }
+    case OKind::Break:
+    case OKind::Continue: {
+      const int at = find_loop(o.label);
+      if (at < 0) return mismatch("while or do");
+      const Open loop = stack_[static_cast<std::size_t>(at)];
+      if (o.kind == OKind::Break) {
+        stack_.resize(static_cast<std::size_t>(at));
+        skip(Skip::LoopEnd, o.label, b);
+        return true;
+      }
+      stack_.resize(static_cast<std::size_t>(at) + 1);
+      if (loop.kind == Frame::Do) {
+        // rs274 2.9: `continue` in a do loop goes to its `while` line as if that opened a
+        // while loop (the do is forgotten): a true condition runs on past the loop.
+        stack_.pop_back();
+        skip(Skip::ToLoopEnd, o.label, b);
+        return true;
+      }
+      if (loop.kind == Frame::While) {
+        if (!count_iteration(o.loc, err)) return false;
+        seek_to(jump, loop.pos.offset, loop.pos.line);
+      } else {
+        skip(Skip::ToLoopEnd, o.label, b);
+      }
+      return true;
+    }
+    case OKind::None:
+      break;
+  }
+  return true;
+}
+
+bool OwordFlow::skipped(const grammar::Block& b, const LinePos& pos, FlowJump& jump,
+                        InterpError& err) {
+  const grammar::OWord& o = b.oword;
+  if (o.kind == OKind::Sub && skip_.mode != Skip::FindSub) subs_.emplace(o.label, pos);
+  if (o.label != skip_.label) return true;
+  double v = 0.0;
+  switch (skip_.mode) {
+    case Skip::SubBody:
+      if (o.kind == OKind::EndSub) skip_.mode = Skip::None;
+      return true;
+    case Skip::FindSub:
+      if (o.kind != OKind::Sub) return true;
+      subs_[o.label] = pos;
+      skip_.mode = Skip::None;
+      return enter_sub(o.label, pos, o.loc, jump, false, err);
+    case Skip::IfBranch:
+      if (o.kind == OKind::ElseIf) {
+        if (!evaluate_arg(b, 0, v, err)) return false;
+        if (v != 0.0) skip_.mode = Skip::None;
+      } else if (o.kind == OKind::Else) {
+        skip_.mode = Skip::None;
+      } else if (o.kind == OKind::EndIf) {
+        skip_.mode = Skip::None;
+        if (!stack_.empty()) stack_.pop_back();
+      }
+      return true;
+    case Skip::IfDone:
+      if (o.kind == OKind::EndIf) {
+        skip_.mode = Skip::None;
+        if (!stack_.empty()) stack_.pop_back();
+      }
+      return true;
+    case Skip::LoopEnd:
+      if (o.kind == OKind::EndWhile || o.kind == OKind::EndRepeat || o.kind == OKind::While)
+        skip_.mode = Skip::None;
+      return true;
+    case Skip::ToLoopEnd:
+      if (o.kind == OKind::EndRepeat || o.kind == OKind::While) {
+        skip_.mode = Skip::None;
+        return normal(b, pos, jump, err);
+      }
+      return true;
+    case Skip::None:
+      break;
+  }
+  return true;
+}
+
+bool OwordFlow::at_end(int last_line, InterpError& err) const {
+  const std::string label = skip_.label;
+  if (skip_.mode == Skip::FindSub)
+    return fail(err, ErrorCode::UndefinedSubroutine, skip_.started,
+                fmt::format("subroutine {} is not defined in the program", label));
+  if (skip_.mode != Skip::None)
+    return fail(err, ErrorCode::UnterminatedControl, skip_.started,
+                fmt::format("the program ends inside this {} (line {} is the last)",
+                            grammar::okind_name(skip_.started_kind), last_line));
+  if (!stack_.empty()) {
+    const Open& f = stack_.back();
+    constexpr const char* kNames[] = {"call", "if", "while", "do", "repeat"};
+    return fail(err, ErrorCode::UnterminatedControl, SourceLoc{f.pos.line, 1},
+                fmt::format("the program ends inside {} {} (line {} is the last)", f.label,
+                            kNames[static_cast<int>(f.kind)], last_line));
+  }
+  return true;
+}
+
+}  // namespace gm

@@ -1,0 +1,103 @@
+// O-word control flow (LinuxCNC's O codes): subroutines, if/elseif/else, while, do/while, repeat,
+// break/continue. The program is re-read, never held: the driver seeks when asked.
+#pragma once
+
+#include "grammar/parse.hpp"
+#include "interp/expression.hpp"
+#include "interp/interpreter.hpp"
+#include "interp/parameters.hpp"
+
+#include <cstdint>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace gm {
+
+/// Where a line is in the program text.
+struct LinePos {
+  std::uint64_t offset = 0;  ///< first byte of the line
+  std::uint64_t next = 0;    ///< first byte of the line after it
+  int line = 0;              ///< 1-based line number
+};
+
+/// What the driver must do after an O-word line.
+struct FlowJump {
+  bool seek = false;
+  std::uint64_t offset = 0;  ///< continue reading here ...
+  int line = 0;              ///< ... with this line number
+};
+
+/// LinuxCNC allows this many nested subroutine calls (rs274 2.9: the tenth fails).
+inline constexpr int kMaxCallDepth = 9;
+/// Default bound on loop iterations and calls, so that no program runs forever.
+inline constexpr std::int64_t kDefaultMaxIterations = 10'000'000;
+
+class OwordFlow {
+ public:
+  OwordFlow(ParameterStore& params, std::int64_t max_iterations)
+      : params_(params), max_iterations_(max_iterations) {}
+
+  /// True while lines are passed over (a false condition, a sub definition, a forward search):
+  /// then only O-word lines matter.
+  bool skipping() const { return skip_.mode != Skip::None; }
+
+  /// Handles an O-word line at `pos`. False with `err` set on an error; `jump` says where to
+  /// continue when the program must be re-read from elsewhere.
+  bool handle(const grammar::Block& b, const LinePos& pos, FlowJump& jump, InterpError& err);
+
+  /// The input ended: false with `err` set if a sub, if or loop is still open (or a called
+  /// subroutine was never found).
+  bool at_end(int last_line, InterpError& err) const;
+
+  int call_depth() const { return calls_; }
+
+ private:
+  enum class Frame : std::uint8_t { Call, If, While, Do, Repeat };
+  struct Open {
+    Frame kind;
+    std::string label;
+    LinePos pos;           ///< the opening line (call: the call line)
+    double remaining = 0;  ///< repeat: iterations left
+    bool branch_taken = false;
+  };
+  enum class Skip : std::uint8_t {
+    None,
+    SubBody,    ///< passing over a definition: to its endsub
+    FindSub,    ///< searching forward for a called sub
+    IfBranch,   ///< condition false: to the next elseif/else/endif
+    IfDone,     ///< a branch ran: to endif
+    LoopEnd,    ///< break/false: past the loop's end line
+    ToLoopEnd,  ///< continue in do/repeat: to the loop's end line, then run it
+  };
+  struct SkipState {
+    Skip mode = Skip::None;
+    std::string label;
+    SourceLoc started;  ///< the line that began the skip (for errors at the end)
+    grammar::OKind started_kind = grammar::OKind::None;
+  };
+
+  bool evaluate_arg(const grammar::Block& b, std::size_t i, double& v, InterpError& err);
+  bool normal(const grammar::Block& b, const LinePos& pos, FlowJump& jump, InterpError& err);
+  bool skipped(const grammar::Block& b, const LinePos& pos, FlowJump& jump, InterpError& err);
+  bool enter_sub(const std::string& label, const LinePos& body, SourceLoc loc, FlowJump& jump,
+                 bool seek, InterpError& err);
+  bool leave_sub(const grammar::Block& b, FlowJump& jump, InterpError& err);
+  bool count_iteration(SourceLoc loc, InterpError& err);
+  void skip(Skip mode, const std::string& label, const grammar::Block& b);
+  /// Index of the innermost open loop labelled `label`, or -1.
+  int find_loop(const std::string& label) const;
+
+  ParameterStore& params_;
+  Evaluator eval_;
+  std::int64_t max_iterations_;
+  std::int64_t iterations_ = 0;
+  std::vector<Open> stack_;
+  std::unordered_map<std::string, LinePos> subs_;  ///< label -> the `sub` line
+  SkipState skip_;
+  std::vector<double> pending_args_;  ///< FindSub: the arguments of the call
+  LinePos pending_return_;            ///< FindSub: the call line
+  int calls_ = 0;
+};
+
+}  // namespace gm

@@ -1,0 +1,130 @@
+// O-word control flow: subroutines, conditionals and loops (values worked by hand and checked
+// against rs274), their errors, and re-reading instead of holding the program.
+#include "common/error_codes.hpp"
+#include "gcode_helpers.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <sstream>
+
+using namespace gmtest;
+
+namespace {
+
+std::vector<double> xs(const std::string& program) {
+  std::vector<double> out;
+  for (const auto& m : motions(program)) out.push_back(m.end_mm[0]);
+  return out;
+}
+
+std::vector<gm::Diagnostic> check_with(const std::string& program, std::int64_t max_iterations,
+                                       gm::CheckThreads threads = gm::CheckThreads::Auto) {
+  std::istringstream in(program);
+  std::vector<gm::Diagnostic> d;
+  gm::Machine m;
+  gm::InterpreterOptions o{&m, false, max_iterations};
+  gm::check_program_diagnostics(in, "t.ngc", o, d, threads);
+  return d;
+}
+
+}  // namespace
+
+TEST_CASE("while, repeat and do loops run their bodies the documented number of times") {
+  // (the first G0 X0 is a zero-length move: not emitted)
+  CHECK(xs("#1=0\no1 while [#1 LT 3]\nG0 X#1\n#1=[#1+1]\no1 endwhile\nM2\n") ==
+        std::vector<double>{1, 2});
+  CHECK(xs("#1=0\no2 repeat [3]\n#1=[#1+1]\nG0 X#1\no2 endrepeat\nM2\n") ==
+        std::vector<double>{1, 2, 3});
+  CHECK(xs("o2 repeat [0]\nG0 X9\no2 endrepeat\nG0 X1\nM2\n") == std::vector<double>{1});
+  // do ... while runs once even when the condition is false at once
+  CHECK(xs("#1=5\no3 do\nG0 X#1\n#1=[#1+1]\no3 while [#1 LT 3]\nM2\n") == std::vector<double>{5});
+  // break and continue in a while loop
+  CHECK(xs("#1=0\no4 while [#1 LT 10]\n#1=[#1+1]\no5 if [#1 EQ 2]\no4 continue\no5 endif\n"
+           "o6 if [#1 EQ 4]\no4 break\no6 endif\nG0 X#1\no4 endwhile\nG0 X0\nM2\n") ==
+        std::vector<double>{1, 3, 0});
+}
+
+TEST_CASE("if, elseif and else pick one branch") {
+  const std::string p =
+      "o1 if [#1 EQ 1]\nG0 X1\no1 elseif [#1 EQ 2]\nG0 X2\no1 elseif [#1 EQ 2]\nG0 X22\n"
+      "o1 else\nG0 X3\no1 endif\nM2\n";
+  CHECK(xs("#1=1\n" + p) == std::vector<double>{1});
+  CHECK(xs("#1=2\n" + p) == std::vector<double>{2});
+  CHECK(xs("#1=7\n" + p) == std::vector<double>{3});
+}
+
+TEST_CASE("subroutines: arguments in #1-#30 of a new scope, return values, later definitions") {
+  // #1 is restored after the call; #<_value> holds what the sub returned
+  const auto m = motions(
+      "#1=100\no<twice> call [21]\nG0 X#<_value> Y#1\nM2\n"
+      "o<twice> sub\n#<local>=[#1*2]\no<twice> return [#<local>]\no<twice> endsub\n");
+  REQUIRE(m.size() == 1);
+  CHECK(m[0].end_mm[0] == 42.0);
+  CHECK(m[0].end_mm[1] == 100.0);
+  // recursion: 5! through the call stack
+  const auto f = motions(
+      "o<f> sub\no1 if [#1 LE 1]\no<f> return [1]\no1 endif\no<f> call [#1-1]\n"
+      "o<f> return [#1*#<_value>]\no<f> endsub\no<f> call [5]\nG0 X#<_value>\nM2\n");
+  REQUIRE(f.size() == 1);
+  CHECK(f[0].end_mm[0] == 120.0);
+}
+
+TEST_CASE("control-flow errors are located and name the O-word") {
+  struct Case {
+    const char* program;
+    gm::ErrorCode code;
+    int line;
+    const char* says;
+  };
+  const Case cases[] = {
+      {"o1 endwhile\nM2\n", gm::ErrorCode::ControlMismatch, 1, "o1 endwhile without o1 while"},
+      {"o1 if [1]\no2 endif\nM2\n", gm::ErrorCode::ControlMismatch, 2, "o2 endif"},
+      {"o<nope> call\nM2\n", gm::ErrorCode::UndefinedSubroutine, 1, "nope"},
+      {"o1 sub\nG0 X1\n", gm::ErrorCode::UnterminatedControl, 1, "sub"},
+      {"o1 endsub\nM2\n", gm::ErrorCode::ControlMismatch, 1, "outside a called subroutine"},
+      {"o1 repeat [2]\no1 break\no1 endrepeat\nM2\n", gm::ErrorCode::ControlMismatch, 2,
+       "without o1 while or do"},
+      {"o<r> sub\no<r> call\no<r> endsub\no<r> call\nM2\n", gm::ErrorCode::CallTooDeep, 2,
+       "nested subroutine calls"},
+      {"o1 bogus\nM2\n", gm::ErrorCode::BadOWord, 1, "unknown O-word keyword 'BOGUS'"},
+      {"o1 if\nM2\n", gm::ErrorCode::BadOWord, 1, "needs a [value]"},
+  };
+  for (const auto& c : cases) {
+    INFO(c.program);
+    const auto d = diagnose(c.program);
+    REQUIRE(!d.empty());
+    CHECK(d[0].code == code(c.code));
+    CHECK(d[0].loc.line == c.line);
+    CHECK_THAT(d[0].message, Catch::Contains(c.says));
+  }
+}
+
+TEST_CASE("an endless loop stops at --max-iterations with a located error") {
+  const auto d = check_with("o1 while [1]\no1 endwhile\nM2\n", 1000);
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].code == code(gm::ErrorCode::TooManyIterations));
+  CHECK(d[0].loc.line == 2);
+  CHECK_THAT(d[0].message, Catch::Contains("1000"));
+}
+
+TEST_CASE("check on two threads gives what one thread gives when the program loops") {
+  // The loop starts after more than one batch of lines: the parallel front hands over to the
+  // serial re-reading path in the middle of the program.
+  std::string p;
+  for (int i = 0; i < 3000; ++i) p += "G1 X" + std::to_string(i % 7) + " F100\n";
+  p += "#1=0\no9 while [#1 LT 50]\nG1 Y#1\n#1=[#1+1]\no9 endwhile\nG1 X[1/0]\nM2\n";
+  std::istringstream a(p), b(p);
+  std::vector<gm::Diagnostic> da, db;
+  gm::Machine m;
+  const auto sa = gm::check_program_diagnostics(a, "t", gm::InterpreterOptions{&m, false}, da,
+                                                gm::CheckThreads::Auto);
+  const auto sb = gm::check_program_diagnostics(b, "t", gm::InterpreterOptions{&m, false}, db,
+                                                gm::CheckThreads::Single);
+  CHECK(sa.moves == sb.moves);
+  CHECK(sa.moves == 3000 + 50 - 2);  // G1 X0 and G1 Y0 first: zero-length, not emitted
+  CHECK(sa.path_length_mm == Approx(sb.path_length_mm));
+  REQUIRE(da.size() == 1);
+  REQUIRE(db.size() == 1);
+  CHECK(da[0].loc.line == 3006);
+  CHECK(db[0].loc.line == 3006);
+}
