@@ -10,7 +10,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kMinTurn = 1e-9;
-constexpr bool kAmortize = false;  // |Δu| below this is a straight continuation
 
 double min_positive(double a, double b) {
   if (a > 0.0 && b > 0.0) return std::min(a, b);
