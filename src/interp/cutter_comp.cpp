@@ -124,9 +124,9 @@ void set_endpoint(CutterComp& cc, P2 p) {
 
 bool enqueue(BlockCtx& ctx, CompQueued q) {
   if (ctx.s.comp.queue.size() >= kMaxQueued)
-    return ctx.fail(ErrorCode::CutterCompMisused, block_loc(ctx),
-                    fmt::format("more than {} moves without motion in the compensation plane",
-                                kMaxQueued));
+    return ctx.fail(
+        ErrorCode::CutterCompMisused, block_loc(ctx),
+        fmt::format("more than {} moves without motion in the compensation plane", kMaxQueued));
   ctx.s.comp.queue.push_back(std::move(q));
   return true;
 }
@@ -157,11 +157,11 @@ bool move_end_and_flush(BlockCtx& ctx, P2 p) {
     } else {
       const double dot = q.dir_a * (p.a - from.a) + q.dir_b * (p.b - from.b);
       if (cc.end_valid && dot < 0)
-        return ctx.fail(ErrorCode::CompGouge, block_loc(ctx),
-                        fmt::format("straight {} in concave corner cannot be reached by the tool "
-                                    "without gouging (line {} would run backwards)",
-                                    q.mo.kind == MotionKind::Rapid ? "traverse" : "feed",
-                                    q.mo.line));
+        return ctx.fail(
+            ErrorCode::CompGouge, block_loc(ctx),
+            fmt::format("straight {} in concave corner cannot be reached by the tool "
+                        "without gouging (line {} would run backwards)",
+                        q.mo.kind == MotionKind::Rapid ? "traverse" : "feed", q.mo.line));
     }
     q.end_mm = with_plane(q.end_mm, ax, p);
   }
@@ -189,8 +189,8 @@ CompQueued straight_item(const BlockCtx& ctx, MotionKind kind, const Pos9& end, 
   return q;
 }
 
-CompQueued arc_item(const BlockCtx& ctx, const Pos9& end, const Pos9& centre, int turn,
-                    double feed, double sweep_rad) {
+CompQueued arc_item(const BlockCtx& ctx, const Pos9& end, const Pos9& centre, int turn, double feed,
+                    double sweep_rad) {
   CompQueued q;
   q.mo = motion_template(ctx, MotionKind::Arc);
   q.mo.feed_mm_min = feed;
@@ -320,16 +320,17 @@ bool run_cutter_comp(BlockCtx& ctx, const Code& c) {
     if (dw) {
       double t = 0;
       if (std::fabs(dw->value - std::round(dw->value)) >= 0.0001)
-        return ctx.fail(ErrorCode::CutterCompMisused, dw->loc,
-                        fmt::format("{} D{:g}: D must be a whole number (a tool)", name, dw->value));
+        return ctx.fail(
+            ErrorCode::CutterCompMisused, dw->loc,
+            fmt::format("{} D{:g}: D must be a whole number (a tool)", name, dw->value));
       t = std::round(dw->value);
       if (t < 0)
         return ctx.fail(ErrorCode::NegativeValue, dw->loc,
                         fmt::format("{} D{:g}: negative tool number", name, dw->value));
       if (t > kMaxToolNumber || (t != 0 && !ctx.tables().tools.find(static_cast<int>(t))))
         return ctx.fail(ErrorCode::ToolNumberOutOfRange, dw->loc,
-                        fmt::format("{} D{:g}: tool {:g} is not in the tool table ({})", name, t,
-                                    t, ctx.tables().tools.source));
+                        fmt::format("{} D{:g}: tool {:g} is not in the tool table ({})", name, t, t,
+                                    ctx.tables().tools.source));
       if (t != 0) tool = static_cast<int>(t);
     }
     if (const ToolEntry* e = tool == 0 ? nullptr : ctx.tables().tools.find(tool)) {
@@ -337,9 +338,9 @@ bool run_cutter_comp(BlockCtx& ctx, const Code& c) {
       orientation = e->orientation;
     }
     if (ctx.s.plane != Plane::XZ && orientation != 0 && orientation != 9)
-      return ctx.fail(ErrorCode::CutterCompMisused, loc,
-                      fmt::format("{} with a lathe tool (orientation {}) outside G18", name,
-                                  orientation));
+      return ctx.fail(
+          ErrorCode::CutterCompMisused, loc,
+          fmt::format("{} with a lathe tool (orientation {}) outside G18", name, orientation));
   }
   if (radius_mm < 0.0) {  // a negative diameter: the other side with the positive radius
     radius_mm = -radius_mm;
@@ -496,7 +497,8 @@ bool comp_arc(BlockCtx& ctx, const Code& code, const Pos9& target, int turns) {
       set_endpoint(cc, c);
     }
     const Pos9 end = with_plane(target, ax, ee);
-    if (!enqueue(ctx, arc_item(ctx, end, with_plane(end, ax, nc), turn, feed, sweep(c, nc, turn, ee))))
+    if (!enqueue(ctx,
+                 arc_item(ctx, end, with_plane(end, ax, nc), turn, feed, sweep(c, nc, turn, ee))))
       return false;
     s.position_mm = end;
     return true;

@@ -18,27 +18,27 @@ struct SourceLoc;
 /// change (LinuxCNC's queued canon), or a dwell queued behind it.
 struct CompQueued {
   bool is_motion = true;
-  Motion mo;                         ///< kind, line, feed, arc sense and turns, plane, path mode
-  Pos9 end_mm = Pos9::Zero();        ///< end point (machine coordinates, nine axes)
-  Pos9 center_mm = Pos9::Zero();     ///< arcs: the centre (in-plane components)
-  double dir_a = 0.0, dir_b = 0.0;   ///< straight moves: the programmed direction in the plane
-  double sweep_rad = 0.0;            ///< arcs: the sweep as enqueued (0: not checked)
-  bool inverse_time = false;         ///< G93: inverse_time_s is set when it leaves the queue
-  Dwell dwell;                       ///< when !is_motion
+  Motion mo;                        ///< kind, line, feed, arc sense and turns, plane, path mode
+  Pos9 end_mm = Pos9::Zero();       ///< end point (machine coordinates, nine axes)
+  Pos9 center_mm = Pos9::Zero();    ///< arcs: the centre (in-plane components)
+  double dir_a = 0.0, dir_b = 0.0;  ///< straight moves: the programmed direction in the plane
+  double sweep_rad = 0.0;           ///< arcs: the sweep as enqueued (0: not checked)
+  bool inverse_time = false;        ///< G93: inverse_time_s is set when it leaves the queue
+  Dwell dwell;                      ///< when !is_motion
 };
 
 /// Compensation state (LinuxCNC's cutter_comp_side/radius/firstmove, program_x/y/z, the queue).
 /// Positions are machine coordinates in mm; `a`, `b` are the plane's two axes (plane_axes()).
 struct CutterComp {
-  int side = 0;                  ///< +1 left (G41), -1 right (G42), 0 off (G40)
-  double radius_mm = 0.0;        ///< tool radius, >= 0 (a negative D swaps the side)
-  int orientation = 0;           ///< lathe tool orientation (G18 only), 0 = mill
-  bool first_move = true;        ///< no move made since compensation was turned on
+  int side = 0;                       ///< +1 left (G41), -1 right (G42), 0 off (G40)
+  double radius_mm = 0.0;             ///< tool radius, >= 0 (a negative D swaps the side)
+  int orientation = 0;                ///< lathe tool orientation (G18 only), 0 = mill
+  bool first_move = true;             ///< no move made since compensation was turned on
   double prog_a = 0.0, prog_b = 0.0;  ///< the programmed (uncompensated) point in the plane
-  bool arc_not_allowed = false;  ///< the move after G40 must be straight
-  std::vector<CompQueued> queue; ///< held-back commands, oldest first
-  Pos9 emitted_mm = Pos9::Zero();  ///< where the last command that left the queue ended
-  double end_a = 0.0, end_b = 0.0;  ///< start of the queued moves (LinuxCNC's endpoint)
+  bool arc_not_allowed = false;       ///< the move after G40 must be straight
+  std::vector<CompQueued> queue;      ///< held-back commands, oldest first
+  Pos9 emitted_mm = Pos9::Zero();     ///< where the last command that left the queue ended
+  double end_a = 0.0, end_b = 0.0;    ///< start of the queued moves (LinuxCNC's endpoint)
   bool end_valid = false;
   /// After G40 the interpreter's point is the programmed one while the tool is still where the
   /// last compensated move left it: the next move starts from `emitted_mm`.

@@ -30,7 +30,7 @@ TEST_CASE("G41 concave corner: the first line ends where the offset lines meet")
   CHECK(near(m[1].end_mm, AxisVec(0, 3, 0)));  // entry, released by the next block
   CHECK(m[1].line == 3);
   CHECK(near(m[2].start_mm, AxisVec(0, 3, 0)));
-  CHECK(near(m[2].end_mm, AxisVec(7, 3, 0)));  // backed off by r / tan(45 deg) = 3
+  CHECK(near(m[2].end_mm, AxisVec(7, 3, 0)));   // backed off by r / tan(45 deg) = 3
   CHECK(near(m[3].end_mm, AxisVec(7, 10, 0)));  // G40: the last line ends where it was going
   CHECK(m[4].line == 6);  // the exit move starts at the tool, ends at the programmed point
   CHECK(near(m[4].start_mm, AxisVec(7, 10, 0)));
