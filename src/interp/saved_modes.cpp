@@ -55,8 +55,7 @@ bool restore_modes(BlockCtx& ctx, const SavedModes& m) {
   if (s.inch != m.inch && !run(ctx, 'G', m.inch ? 200 : 210)) return false;
   // One block "F.. S.. G.." in the order of execution: feed mode, F, S, plane, compensation,
   // tool length, coordinate system, path control, distance, retract mode.
-  if (s.inverse_time != m.inverse_time && !run(ctx, 'G', m.inverse_time ? 930 : 940))
-    return false;
+  if (s.inverse_time != m.inverse_time && !run(ctx, 'G', m.inverse_time ? 930 : 940)) return false;
   if (!s.inverse_time) s.feed_mm_min = printed(m.feed_units, 1) * s.mm_per_unit();
   s.spindle_rpm = printed(m.speed_rpm, 0);
   if (s.plane != m.plane && !run(ctx, 'G', plane_code(m.plane))) return false;
@@ -76,11 +75,9 @@ bool restore_modes(BlockCtx& ctx, const SavedModes& m) {
   }
   s.incremental = m.incremental;
   s.ijk_absolute = m.ijk_absolute;
-  if (s.retract_to_r != m.retract_to_r && !run(ctx, 'G', m.retract_to_r ? 990 : 980))
-    return false;
+  if (s.retract_to_r != m.retract_to_r && !run(ctx, 'G', m.retract_to_r ? 990 : 980)) return false;
   // The M codes, each on a line of its own.
-  if (s.spindle_dir != m.spindle_dir)
-    s.spindle_dir = m.spindle_dir;
+  if (s.spindle_dir != m.spindle_dir) s.spindle_dir = m.spindle_dir;
   if (s.feed_override != m.feed_override && !run(ctx, 'M', m.feed_override ? 480 : 490))
     return false;
   return true;
