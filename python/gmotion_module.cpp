@@ -28,8 +28,8 @@ namespace {
 
 /// The keyword arguments of gmotion.run(), named as the `run` flags are (dashes as underscores).
 const std::set<std::string> kRunOptions = {
-    "profile",  "tau",        "period",          "blu",      "servo",    "block_delete",
-    "override", "tool_table", "rapid_override",  "schedule", "decimate", "tolerance",
+    "profile",  "tau",           "period",         "blu",      "servo",    "block_delete",
+    "override", "tool_table",    "rapid_override", "schedule", "decimate", "tolerance",
     "max_time", "max_iterations"};
 
 template <typename T>
@@ -80,7 +80,8 @@ struct ScratchTrace {
     const char* dir = std::getenv("TMPDIR");
     path = (dir != nullptr && *dir != '\0' ? std::string(dir) : "/tmp") + "/gmotion-py-XXXXXX";
     const int fd = mkstemp(path.data());
-    if (fd < 0) throw gm::InputError(fmt::format("cannot make a scratch trace: {}", std::strerror(errno)));
+    if (fd < 0)
+      throw gm::InputError(fmt::format("cannot make a scratch trace: {}", std::strerror(errno)));
     ::close(fd);
   }
   ~ScratchTrace() { std::remove(path.c_str()); }
@@ -94,7 +95,8 @@ py::dict run(const std::string& path, const std::string& machine, const py::dict
     if (kRunOptions.count(key) == 0) {
       std::string known;
       for (const auto& k : kRunOptions) known += (known.empty() ? "" : ", ") + k;
-      throw py::type_error(fmt::format("run() got an unknown option '{}' (the options: {})", key, known));
+      throw py::type_error(
+          fmt::format("run() got an unknown option '{}' (the options: {})", key, known));
     }
   }
   gm::cli::MachineFlags flags;
