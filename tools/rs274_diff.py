@@ -52,6 +52,7 @@ sys.path.insert(0, str(HERE))
 MM_PER_INCH = 25.4
 RS274_PRINT_HALF_ULP = 0.5e-4  # rs274 prints %.4f
 SKIP = 77
+GMOTION_AXES = ""  # --axes: passed to `gmotion moves`
 
 
 # ---------------------------------------------------------------------------------------------
@@ -72,6 +73,7 @@ class Move:
     tol_mm: float = 0.0            # extra tolerance: print rounding of this value on rs274's side
     feed_tol: float = 0.0          # the same for the feed, mm/min
     note: str = ""
+    rot: dict | None = None        # rotary ends {"A": deg, ...}: rs274 A B C; gmotion "axes"
 
     def as_dict(self) -> dict:
         d = {"line": self.line, "kind": self.kind}
@@ -85,6 +87,8 @@ class Move:
         d["feed"] = self.feed
         if self.kind == "arc":
             d.update(center=self.center, dir=self.dir, turns=self.turns, plane=self.plane)
+        if self.rot:
+            d["axes"] = self.rot
         return d
 
     def __str__(self) -> str:
@@ -134,6 +138,11 @@ def parse_rs274_output(text: str) -> list[Move]:
     g5x_tol = g92_tol = 0.0  # print rounding of the offsets, mm
     tool = [0.0, 0.0, 0.0]   # tool length offsets, mm (USE_TOOL_LENGTH_OFFSET)
     tool_tol = 0.0
+    g5x_rot = [0.0, 0.0, 0.0]
+    g92_rot = [0.0, 0.0, 0.0]
+
+    def rot_ends(vals):
+        return {"ABC"[i]: vals[i] + g5x_rot[i] + g92_rot[i] for i in range(3)}
 
     def mach(v, i):
         return None if v is None else v * factor + g5x[i] + g92[i] + tool[i]
@@ -155,10 +164,12 @@ def parse_rs274_output(text: str) -> list[Move]:
         elif name == "SET_G5X_OFFSET":
             v = _floats(args)
             g5x = [v[1] * factor, v[2] * factor, v[3] * factor]
+            g5x_rot = [float(x) for x in v[4:7]] if len(v) >= 7 else [0.0, 0.0, 0.0]
             g5x_tol = RS274_PRINT_HALF_ULP * factor if any(v[1:4]) else 0.0
         elif name == "SET_G92_OFFSET":
             v = _floats(args)
             g92 = [v[0] * factor, v[1] * factor, v[2] * factor]
+            g92_rot = [float(x) for x in v[3:6]] if len(v) >= 6 else [0.0, 0.0, 0.0]
             g92_tol = RS274_PRINT_HALF_ULP * factor if any(v[0:3]) else 0.0
         elif name == "USE_TOOL_LENGTH_OFFSET":
             tool, tool_tol = _tool_offsets_mm(args, factor)
@@ -175,7 +186,8 @@ def parse_rs274_output(text: str) -> list[Move]:
             v = _floats(args)
             mv = Move(kind="rapid" if name == "STRAIGHT_TRAVERSE" else "line", line=line,
                       end=[mach(v[i], i) for i in range(3)],
-                      tol_mm=RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol + tool_tol)
+                      tol_mm=RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol + tool_tol,
+                      rot=rot_ends(v[3:6]) if len(v) >= 6 else None)
             if mv.kind == "line":
                 mv.feed = feed_mm_min
                 mv.feed_tol = feed_tol
@@ -200,6 +212,7 @@ def parse_rs274_output(text: str) -> list[Move]:
                               center=[mach(cen[i], i) for i in range(3)],
                               dir="cw" if rot < 0 else "ccw", turns=abs(rot), plane=plane,
                               feed=feed_mm_min, note=feed_units_note, feed_tol=feed_tol,
+                              rot=rot_ends(v[6:9]) if len(v) >= 9 else None,
                               tol_mm=RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol + tool_tol))
         elif name == "DWELL":
             moves.append(Move(kind="dwell", line=line, seconds=_floats(args)[0]))
@@ -311,7 +324,7 @@ def parse_gmotion_output(text: str) -> list[Move]:
         moves.append(Move(kind=d.get("kind"), line=d.get("line"), end=d.get("end"),
                           feed=d.get("feed"), center=d.get("center"), dir=d.get("dir"),
                           turns=d.get("turns"), plane=d.get("plane"), seconds=d.get("seconds"),
-                          text=d.get("text")))
+                          text=d.get("text"), rot=d.get("axes")))
     return moves
 
 
@@ -319,6 +332,8 @@ def run_gmotion(gmotion: str, path: str, timeout: float = 120.0,
                 extra: list | None = None,
                 tool_table_path: str | None = None) -> tuple[bool, list, str]:
     tools = ["--tool-table", tool_table_path] if tool_table_path else []
+    if GMOTION_AXES:
+        tools += ["--axes", GMOTION_AXES]
     p = subprocess.run([gmotion, "moves", path, "--messages"] + tools + (extra or []),
                        stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=timeout)
     if p.returncode != 0:
@@ -386,6 +401,12 @@ def compare_move(ref: Move, got: Move, tol: Tol) -> str | None:
     d = _vec_diff(ref.end, got.end, ptol)
     if d:
         return f"end {d} (tol {ptol:.3g} mm)"
+    # Rotary axes the gmotion machine has (--axes): degrees, printed %.4f by rs274.
+    for k, v in (got.rot or {}).items():
+        if k in "ABC" and ref.rot is not None:
+            rtol = tol.mm + RS274_PRINT_HALF_ULP + 1e-9
+            if not isinstance(v, (int, float)) or abs(ref.rot[k] - v) > rtol:
+                return f"end {k}: {ref.rot[k]!r} vs {v!r} deg (tol {rtol:.3g})"
     if ref.kind in ("line", "arc"):
         if got.feed is None:
             return "feed missing"
@@ -418,17 +439,20 @@ def compare_moves(ref: list[Move], got: list[Move], tol: Tol):
 
 def drop_zero_length(moves: list[Move], eps_mm: float) -> tuple[list[Move], int]:
     """Remove rapids/lines that end where the previous move ended (start: origin)."""
-    out, dropped, prev, prev_tol = [], 0, [0.0, 0.0, 0.0], 0.0
+    out, dropped, prev, prev_tol, prev_rot = [], 0, [0.0, 0.0, 0.0], 0.0, {}
     for m in moves:
+        rot = {k: v for k, v in (m.rot or {}).items() if k in "ABC"}
+        rot_same = all(abs(v - prev_rot.get(k, 0.0)) <= eps_mm for k, v in rot.items())
         # rs274's ends are rounded to 4 decimals in program units: a move that only undoes that
         # rounding (inch mode, then mm) is zero-length too.
         eps = max(eps_mm, 2 * max(m.tol_mm, prev_tol))
         if m.kind in ("rapid", "line") and m.end is not None and all(
-                abs(a - b) <= eps for a, b in zip(m.end, prev)):
+                abs(a - b) <= eps for a, b in zip(m.end, prev)) and rot_same:
             dropped += 1
             continue
         if m.end is not None:
             prev, prev_tol = m.end, m.tol_mm
+            prev_rot = rot
         out.append(m)
     return out, dropped
 
@@ -803,8 +827,13 @@ def main(argv=None) -> int:
                     help="directories/files of programs both must reject on the same line")
     ap.add_argument("--tool-table", metavar="FILE",
                     help="tool table in mm for both sides (default: gmotion's built-in table)")
+    ap.add_argument("--axes", default="",
+                    help="gmotion's machine axes (gmotion --axes), e.g. XYZA: its A/B/C ends are "
+                         "compared with rs274's too")
     ap.add_argument("-v", "--verbose", action="store_true")
     args = ap.parse_args(argv)
+    global GMOTION_AXES
+    GMOTION_AXES = args.axes
     args.tol = Tol(args.tol_mm, args.tol_feed_rel)
     args.moves_compared = 0
     args.messages_compared = 0

@@ -20,6 +20,7 @@ void add_check(CLI::App& app, Context& ctx) {
     std::string program;
     std::string machine_file;
     std::string tool_table;
+    std::string axes;
     bool block_delete = false;
     std::string arc_rule;
 
@@ -28,6 +29,7 @@ void add_check(CLI::App& app, Context& ctx) {
   auto opts = std::make_shared<Opts>();
   sub->add_option("PROGRAM", opts->program, "G-code file ('-' reads stdin)")->required();
   sub->add_option("--machine", opts->machine_file, "machine description file (TOML)");
+  sub->add_option("--axes", opts->axes, kAxesFlagHelp);
   sub->add_option("--tool-table", opts->tool_table,
                   "LinuxCNC tool table (T1 P1 Z50 D6 ;comment), mm; default: the machine's");
   sub->add_flag("--block-delete", opts->block_delete, "skip lines that start with '/'");
@@ -39,6 +41,7 @@ void add_check(CLI::App& app, Context& ctx) {
   sub->callback([opts, &ctx] {
     Machine machine;
     if (!opts->machine_file.empty()) machine = load_machine_file(opts->machine_file);
+    apply_axes_flag(machine, opts->axes);
     if (!opts->tool_table.empty()) machine.tool_table = load_tool_table(opts->tool_table);
     if (!opts->arc_rule.empty()) {
       static const std::map<std::string, ArcRule> rules{

@@ -70,7 +70,7 @@ int compare(const CompareFlags& f) {
   if (!validate_program(program, opts)) return static_cast<int>(ExitCode::InputError);
 
   const std::optional<Motion> arc = first_arc(program, opts);
-  const double blu = base.blu_mm().minCoeff();
+  const double blu = base.contour_blu_mm();
   double r_blu = 0, v_blu_s = 0;
   if (arc) {
     r_blu = (arc->start_mm - arc->center_mm).norm() / blu;  // planar arcs: in-plane radius

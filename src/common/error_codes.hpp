@@ -50,7 +50,7 @@ enum class ErrorCode : int {
   UnusedWord = 216,              ///< a value word nothing in the block uses (I with G1, R with G0)
   NegativeValue = 217,           ///< S, T or H negative
   LineNumberNotFirst = 218,      ///< N after other words (LinuxCNC)
-  AxisUnavailable = 219,         ///< A/B/C/U/V/W on this 3-axis machine
+  AxisUnavailable = 219,         ///< an axis word for an axis the machine lacks
   ValueOutOfRange =
       220,  ///< a position beyond ±1e12 mm, a feed beyond 1e12 mm/min, a tool beyond 1e6
   // Expressions and parameters (interp/expression, interp/parameters) --------------------------
@@ -148,7 +148,7 @@ inline constexpr std::array kErrorTable{
     ErrorInfo{ErrorCode::LineNumberNotFirst, "line number not first",
               "N must be the first word of a block"},
     ErrorInfo{ErrorCode::AxisUnavailable, "axis not available",
-              "This machine has the axes X, Y and Z only"},
+              "The machine lacks this axis (its axes: machine key axes.letters, flag --axes; default XYZ)"},
     ErrorInfo{ErrorCode::ValueOutOfRange, "value out of range",
               "A position, feed or tool number beyond what the machine can represent"},
     ErrorInfo{ErrorCode::DivisionByZero, "division by zero", "An expression divides by zero"},

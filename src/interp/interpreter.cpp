@@ -16,14 +16,14 @@ bool is_free_letter(char c) {
   return c == 'F' || c == 'N' || c == 'S' || c == 'T';
 }
 
-std::string machine_axes_text() {
+std::string machine_axes_text(const AxisLayout& l) {
   std::string s;
-  for (int i = 0; i < kAxes; ++i)
+  for (int i = 0; i < l.count; ++i)
     s += fmt::format("{}{}",
-                     i == 0           ? ""
-                     : i + 1 == kAxes ? " and "
-                                      : ", ",
-                     kAxisLetters[static_cast<std::size_t>(i)]);
+                     i == 0             ? ""
+                     : i + 1 == l.count ? " and "
+                                        : ", ",
+                     l.letter(i));
   return s;
 }
 
@@ -36,7 +36,8 @@ bool fail(InterpError& err, ErrorCode code, SourceLoc loc, std::string msg) {
 
 // STEP 1-2: sorts the block's words by letter and modal group; rejects unknown codes and letters,
 // two codes of one group, repeated words.
-bool import_words(const grammar::Block& block, BlockWords& w, InterpError& err) {
+bool import_words(const grammar::Block& block, const AxisLayout& axes, BlockWords& w,
+                  InterpError& err) {
   for (std::size_t i = 0; i < block.words.size(); ++i) {
     const grammar::Word& word = block.words[i];
     const char c = word.letter;
@@ -62,10 +63,10 @@ bool import_words(const grammar::Block& block, BlockWords& w, InterpError& err) 
       continue;
     }
     const int axis = program_axis_index(c);
-    if (axis >= 0 && !machine_has_axis(axis))
+    if (axis >= 0 && !axes.has(axis))
       return fail(
           err, ErrorCode::AxisUnavailable, word.loc,
-          fmt::format("axis {} is not available: this machine has {}", c, machine_axes_text()));
+          fmt::format("axis {} is not available: this machine has {}", c, machine_axes_text(axes)));
     if (axis < 0 && !is_free_letter(c) && !code_word(c))
       return fail(err, ErrorCode::UnknownLetter, word.loc,
                   fmt::format("unknown word letter {}", c));
@@ -179,7 +180,7 @@ double ModalState::mm_per_unit() const {
 
 Interpreter::Interpreter(const Machine& machine) : machine_(machine) {
   for (std::size_t i = 0; i < machine.work_offsets_mm.size(); ++i)
-    tables_.g5x_mm[i] = from_machine(machine.work_offsets_mm[i]);
+    tables_.g5x_mm[i] = machine.work_offsets_mm[i];
   tables_.tools = machine.tool_table;
   // The machine file's `tools = [...]` lengths: tool i gets Z offset tools[i] (i >= 1).
   for (std::size_t i = 1; i < machine.tool_lengths_mm.size(); ++i) {
@@ -193,12 +194,13 @@ Interpreter::Interpreter(const Machine& machine) : machine_(machine) {
 
 AxisVec Interpreter::total_offset_mm() const {
   return to_machine(tables_.g5x_mm[static_cast<std::size_t>(state_.coord_system)] + state_.g92_mm +
-                    state_.tool_offset_mm);
+                        state_.tool_offset_mm,
+                    machine_.layout);
 }
 
 bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, InterpError& err) {
   BlockWords w;
-  if (!import_words(block, w, err)) return false;
+  if (!import_words(block, machine_.layout, w, err)) return false;
 
   ModalState s = state_;
   BlockCtx ctx{machine_, block, w, s, out, err, tables_, nullptr};

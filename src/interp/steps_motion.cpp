@@ -78,12 +78,13 @@ bool axis_target(BlockCtx& ctx, const Pos9& from_mm, Pos9& target_mm) {
     const char letter = kProgramAxisLetters[static_cast<std::size_t>(i)];
     const auto* aw = ctx.w[letter];
     if (!aw) continue;
+    const double unit = axis_is_rotary(i) ? 1.0 : scale;  // A, B, C: degrees in G20 and G21
     if (ctx.s.incremental) {
-      target_mm[i] = from_mm[i] + aw->value * scale;
+      target_mm[i] = from_mm[i] + aw->value * unit;
     } else {
       if (!have_off) off = ctx.offset();
       have_off = true;
-      target_mm[i] = aw->value * scale + off[i];
+      target_mm[i] = aw->value * unit + off[i];
     }
     if (!within(target_mm[i], kMaxPositionMm))
       return ctx.fail(
@@ -103,7 +104,7 @@ bool machine_target(BlockCtx& ctx, Pos9& target_mm) {
     const char letter = kProgramAxisLetters[static_cast<std::size_t>(i)];
     const auto* aw = ctx.w[letter];
     if (!aw) continue;
-    target_mm[i] = aw->value * ctx.scale();
+    target_mm[i] = aw->value * (axis_is_rotary(i) ? 1.0 : ctx.scale());
     if (!within(target_mm[i], kMaxPositionMm))
       return ctx.fail(ErrorCode::ValueOutOfRange, aw->loc,
                       fmt::format("{} would move to {:g} mm, outside -{:g}..{:g} mm", letter,
@@ -116,8 +117,8 @@ bool emit_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target_mm, Source
   Motion mo;
   mo.line = ctx.block.line;
   mo.kind = kind;
-  mo.start_mm = to_machine(ctx.s.position_mm);
-  mo.end_mm = to_machine(target_mm);
+  mo.start_mm = to_machine(ctx.s.position_mm, ctx.machine.layout);
+  mo.end_mm = to_machine(target_mm, ctx.machine.layout);
   mo.plane = ctx.s.plane;
   set_path_mode(ctx, mo);
   if (mo.end_mm != mo.start_mm) {
@@ -202,9 +203,9 @@ bool run_arc(BlockCtx& ctx, const Code& c) {
   Motion mo;
   mo.line = ctx.block.line;
   mo.kind = MotionKind::Arc;
-  mo.start_mm = to_machine(s.position_mm);
-  mo.end_mm = to_machine(target);
-  mo.center_mm = to_machine(center);
+  mo.start_mm = to_machine(s.position_mm, ctx.machine.layout);
+  mo.end_mm = to_machine(target, ctx.machine.layout);
+  mo.center_mm = to_machine(center, ctx.machine.layout);
   mo.plane = s.plane;
   set_path_mode(ctx, mo);
   mo.ccw = in.ccw;

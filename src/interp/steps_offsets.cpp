@@ -36,7 +36,7 @@ bool run_g10(BlockCtx& ctx, const Code&) {
   for (int i = 0; i < kProgramAxes; ++i) {
     const auto* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]];
     if (!aw) continue;
-    const double v = aw->value * ctx.scale();  // absolute whatever G90/G91
+    const double v = aw->value * (axis_is_rotary(i) ? 1.0 : ctx.scale());  // absolute whatever G90/G91
     if (l == 2)
       g5x[i] = v;
     else  // L20: the current point gets coordinate v in that system
@@ -55,7 +55,7 @@ bool run_g92(BlockCtx& ctx, const Code&) {
     if (!aw) continue;
     // The current point gets coordinate value: machine = program + work + g92 + tool.
     g92[i] = 0.0;
-    g92[i] = ctx.s.position_mm[i] - ctx.offset()[i] - aw->value * ctx.scale();
+    g92[i] = ctx.s.position_mm[i] - ctx.offset()[i] - aw->value * (axis_is_rotary(i) ? 1.0 : ctx.scale());
   }
   ctx.tables_w().g92_saved_mm = g92;
   return true;
@@ -65,7 +65,7 @@ bool run_g52(BlockCtx& ctx, const Code&) {
   Pos9& g92 = ctx.s.g92_mm;  // LinuxCNC keeps the G52 local offset in the G92 offsets
   for (int i = 0; i < kProgramAxes; ++i)
     if (const auto* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]])
-      g92[i] = aw->value * ctx.scale();
+      g92[i] = aw->value * (axis_is_rotary(i) ? 1.0 : ctx.scale());
   ctx.tables_w().g92_saved_mm = g92;
   return true;
 }
