@@ -185,8 +185,8 @@ void FirAccDec::step(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu) {
   head_ = head_ + 1 == length_ ? 0 : head_ + 1;  // the oldest slot becomes the newest
   const bool running = structure_ == FirStructure::RunningSum;
   for (int a = 0; a < axes_; ++a) {
-    const std::size_t idx =
-        static_cast<std::size_t>(head_) * static_cast<std::size_t>(axes_) + static_cast<std::size_t>(a);
+    const std::size_t idx = static_cast<std::size_t>(head_) * static_cast<std::size_t>(axes_) +
+                            static_cast<std::size_t>(a);
     const std::int64_t rel = in_pos_blu[a] - start_[a];
     const std::int64_t old = hist_[idx];
     big_in_window_ += static_cast<int>(rel > fast_limit_ || rel < -fast_limit_) -

@@ -73,9 +73,9 @@ class FirAccDec {
   FirStructure structure_ = FirStructure::Direct;
   AxisBlu start_ = AxisBlu::Zero();
   AxisBlu last_in_ = AxisBlu::Zero();
-  int equal_run_ = 0;                 // consecutive equal inputs, counting the implicit history
-  std::vector<std::int64_t> hist_;    // ring: hist_[slot*axes_ + axis] = in - start
-  int head_ = 0;                      // slot of the newest sample
+  int equal_run_ = 0;                    // consecutive equal inputs, counting the implicit history
+  std::vector<std::int64_t> hist_;       // ring: hist_[slot*axes_ + axis] = in - start
+  int head_ = 0;                         // slot of the newest sample
   std::array<Acc, kMaxAxes> running_{};  // RunningSum: Σ of the last N+1 relative positions
   // Fast path: the window as 4-lane columns (axes 4g .. 4g+3 of group g, unused lanes 0), group
   // g in columns g·2(N+1) .. (g+1)·2(N+1) - 1; each sample stored at slot and slot + N+1, so

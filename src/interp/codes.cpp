@@ -60,7 +60,11 @@ constexpr std::array kCodes{
     Code{'G',  200, G::Units,       S::Units,       run_units},
     Code{'G',  210, G::Units,       S::Units,       run_units},
     // Cutter compensation (group 7)
-    Code{'G',  400, G::CutterComp,  S::CutterComp,  run_nothing},
+    Code{'G',  400, G::CutterComp,  S::CutterComp,  run_cutter_comp},
+    Code{'G',  410, G::CutterComp,  S::CutterComp,  run_cutter_comp,  "D"},
+    Code{'G',  411, G::CutterComp,  S::CutterComp,  run_cutter_comp,  "DL"},
+    Code{'G',  420, G::CutterComp,  S::CutterComp,  run_cutter_comp,  "D"},
+    Code{'G',  421, G::CutterComp,  S::CutterComp,  run_cutter_comp,  "DL"},
     // Tool length (group 8)
     Code{'G',  430, G::ToolLength,  S::ToolLength,  run_tool_length,  "H"},
     Code{'G',  431, G::ToolLength,  S::ToolLength,  run_tool_length,  "",  true},
@@ -95,6 +99,10 @@ constexpr std::array kCodes{
     Code{'M',   30, G::MSpindle,    S::Spindle,     run_spindle},
     Code{'M',   40, G::MSpindle,    S::Spindle,     run_spindle},
     Code{'M',   50, G::MSpindle,    S::Spindle,     run_spindle},
+    Code{'M',  700, G::MSpindle,    S::Spindle,     run_modes_save},
+    Code{'M',  710, G::MSpindle,    S::Spindle,     run_modes_save},
+    Code{'M',  720, G::MSpindle,    S::Spindle,     run_modes_save},
+    Code{'M',  730, G::MSpindle,    S::Spindle,     run_modes_save},
     Code{'M',   70, G::MCoolant,    S::Coolant,     run_nothing},
     Code{'M',   80, G::MCoolant,    S::Coolant,     run_nothing},
     Code{'M',   90, G::MCoolant,    S::Coolant,     run_nothing},

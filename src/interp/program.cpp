@@ -2,6 +2,8 @@
 // (% delimiters, block delete, missing end) and diagnostics rendering.
 #include "interp/program.hpp"
 
+#include "common/batch_ring.hpp"
+
 #include "common/diagnostic.hpp"
 #include "common/status.hpp"
 #include "grammar/parse.hpp"
@@ -13,10 +15,7 @@
 
 #include <fmt/format.h>
 
-#include <array>
-#include <condition_variable>
 #include <exception>
-#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -117,7 +116,7 @@ class StateParameters : public ParameterProvider {
         {"_tool_offset", s.tool_offset_mm.isZero() ? 0.0 : 1.0},
         {"_ijk_absolute_mode", s.ijk_absolute ? 1.0 : 0.0},
         {"_feed", s.feed_mm_min / units},
-        {"_rpm", 0.0},
+        {"_rpm", s.spindle_rpm},
         {"_current_tool", static_cast<double>(s.tool_in_spindle)},
         {"_selected_tool", static_cast<double>(s.tool_selected)},
         {"_task", 0.0},
@@ -183,7 +182,7 @@ class ProgramRunner {
     remember(text);
     if (flow_.skipping()) {  // passing over lines: only O-words matter, nothing else is checked
       if (p.truncated || p.block.oword.kind == grammar::OKind::None) return true;
-      return control(p, diags, jump);
+      return control(p, out, diags, jump);
     }
     if (p.truncated) {
       diags.push_back(Diagnostic{Severity::Error,
@@ -214,7 +213,7 @@ class ProgramRunner {
     }
     if (block.oword.kind != grammar::OKind::None) {
       first_content_seen_ = true;
-      return control(p, diags, jump);
+      return control(p, out, diags, jump);
     }
     if (block.words.empty() && block.message_count == 0 && !block.needs_evaluation()) return true;
     first_content_seen_ = true;
@@ -275,10 +274,16 @@ class ProgramRunner {
     return text.size() <= 512 ? text : std::string();
   }
   // An O-word line: control flow. An error there ends the program (the flow state is lost).
-  bool control(ParsedLine& p, std::vector<Diagnostic>& diags, FlowJump& jump) {
+  bool control(ParsedLine& p, std::vector<Canon>& out, std::vector<Diagnostic>& diags,
+               FlowJump& jump) {
     state_params_.set_line(p.number);
     InterpError err;
-    if (!flow_.handle(p.block, LinePos{p.offset, p.next_offset, p.number}, jump, err)) {
+    const int depth = flow_.call_depth();
+    bool ok = flow_.handle(p.block, LinePos{p.offset, p.next_offset, p.number}, jump, err);
+    // The interpreter keeps M70/M73 modes per call level (machine's, interp/saved_modes.cpp).
+    if (ok && flow_.call_depth() > depth) interp_.enter_call(flow_.call_depth());
+    if (ok && flow_.call_depth() < depth) ok = interp_.leave_call(depth, p.number, out, err);
+    if (!ok) {
       diags.push_back(Diagnostic{Severity::Error, static_cast<int>(err.code), err.loc, err.message,
                                  source_for(p.text)});
       done_ = true;
@@ -403,7 +408,8 @@ void account(const std::vector<Canon>& out, const Machine& machine, CheckSummary
 /// Reading and parsing on a second thread, in batches, ahead of the interpreter on this one.
 /// Same diagnostics, in the same order, and the same summary as the serial check: the front
 /// half has no state the back half changes. A batch closes at kBatchLines lines or kBatchBytes
-/// bytes of text, so at most kBatches batches of bounded size are in memory.
+/// bytes of text, so at most kBatches batches of bounded size are in memory. The hand-over is
+/// the run's own queue type, BatchRing.
 class ParallelFront {
  public:
   static constexpr std::size_t kBatches = 3;
@@ -415,88 +421,61 @@ class ParallelFront {
     std::size_t count = 0;
     bool eof = false;     ///< the input ends after these lines
     int last_number = 0;  ///< with eof: the last line number read
-    bool full = false;    ///< written by the producer, not yet consumed
   };
 
   explicit ParallelFront(std::istream& in) : front_(in), thread_([this] { produce(); }) {}
   ~ParallelFront() {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      stop_ = true;
-    }
-    changed_.notify_all();
+    ring_.stop();
     thread_.join();
   }
   ParallelFront(const ParallelFront&) = delete;
   ParallelFront& operator=(const ParallelFront&) = delete;
 
-  /// Waits for the next batch; rethrows what the reader thread threw.
+  /// Waits for the next batch; rethrows what the reader thread threw. The consumer stops
+  /// asking after the batch marked eof, so a batch always comes.
   Batch& acquire() {
-    Batch& b = batches_[next_];
-    std::unique_lock<std::mutex> lock(mutex_);
-    changed_.wait(lock, [&] { return b.full || error_ != nullptr; });
-    if (!b.full && error_ != nullptr) std::rethrow_exception(error_);
-    return b;
+    taken_ = ring_.begin_take();
+    return *taken_;
   }
   /// Hands the batch returned by acquire() back for refilling.
   void release() {
-    Batch& b = batches_[next_];
-    for (std::size_t i = 0; i < b.count; ++i) b.lines[i].trim();
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      b.full = false;
-    }
-    changed_.notify_all();
-    next_ = (next_ + 1) % kBatches;
+    for (std::size_t i = 0; i < taken_->count; ++i) taken_->lines[i].trim();
+    ring_.end_take();
   }
 
  private:
   void produce() {
     try {
-      for (std::size_t i = 0;; i = (i + 1) % kBatches) {
-        Batch& b = batches_[i];
-        {
-          std::unique_lock<std::mutex> lock(mutex_);
-          changed_.wait(lock, [&] { return !b.full || stop_; });
-          if (stop_) return;
-        }
-        b.count = 0;
-        b.eof = false;
-        std::size_t bytes = 0;
-        while (b.count < kBatchLines && bytes < kBatchBytes) {
-          ParsedLine& p = b.lines[b.count];
-          if (!front_.next(p)) {
-            b.eof = true;
-            b.last_number = front_.last_number();
-            break;
-          }
-          bytes += p.text.size();
-          ++b.count;
-        }
-        {
-          std::lock_guard<std::mutex> lock(mutex_);
-          b.full = true;
-        }
-        changed_.notify_all();
-        if (b.eof) return;
+      while (Batch* b = ring_.begin_fill()) {
+        fill(*b);
+        const bool eof = b->eof;
+        ring_.end_fill();
+        if (eof) return;
       }
     } catch (...) {
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        error_ = std::current_exception();
+      ring_.fail(std::current_exception());
+    }
+  }
+  void fill(Batch& b) {
+    b.count = 0;
+    b.eof = false;
+    std::size_t bytes = 0;
+    while (b.count < kBatchLines && bytes < kBatchBytes) {
+      ParsedLine& p = b.lines[b.count];
+      if (!front_.next(p)) {
+        b.eof = true;
+        b.last_number = front_.last_number();
+        return;
       }
-      changed_.notify_all();
+      bytes += p.text.size();
+      ++b.count;
     }
   }
 
   LineParser front_;
-  std::array<Batch, kBatches> batches_;
-  std::size_t next_ = 0;  ///< the batch the consumer takes next
-  std::mutex mutex_;
-  std::condition_variable changed_;
-  bool stop_ = false;
-  std::exception_ptr error_;
-  std::thread thread_;  ///< last: starts once everything above is constructed
+  BatchRing<Batch, kBatches> ring_;
+  Batch* taken_ = nullptr;  ///< the consumer's batch between acquire() and release()
+  std::thread thread_;      ///< last: starts once everything above is constructed
 };
 
 template <typename Sink>

@@ -47,6 +47,7 @@ struct BlockCtx {
   const SystemTables& committed;         ///< the tables as before this block
   std::unique_ptr<SystemTables> staged;  ///< this block's changes to them, if any
   int motion_to_be = -1;                 ///< the motion code x 10 this block executes, -1 none
+  int call_level = 0;                    ///< subroutine call level (M70..M73 contexts)
   double inverse_f = 0.0;                ///< G93: this block's F (1/min)
 
   /// Sets the error; returns false so a step can `return ctx.fail(...)`.
@@ -91,9 +92,10 @@ inline bool near_integer(double v, double& rounded) {
 bool step_comment(BlockCtx&);
 bool step_feed(BlockCtx&);
 bool step_tool_select(BlockCtx&);
+bool step_speed(BlockCtx&);
 
 // Steps named by the code table -----------------------------------------------------------------
-bool run_nothing(BlockCtx&, const Code&);  ///< accepted and recorded nowhere (M3, G40, ...)
+bool run_nothing(BlockCtx&, const Code&);  ///< accepted and recorded nowhere (M7, G9, ...)
 bool run_feed_mode(BlockCtx&, const Code&);
 bool run_tool_change(BlockCtx&, const Code&);
 bool run_override(BlockCtx&, const Code&);
@@ -119,6 +121,10 @@ bool run_g10_tool(BlockCtx&, int l);            ///< G10 L1/L10/L11 (from run_g1
 bool run_straight(BlockCtx&, const Code&);      ///< G0 G1
 bool run_arc(BlockCtx&, const Code&);           ///< G2 G3
 bool run_stop(BlockCtx&, const Code&);
+bool run_modes_save(BlockCtx&, const Code&);  ///< M70 M71 M72 M73
+/// Restores saved modes as LinuxCNC does (units first, then one block of F, S and the modal
+/// codes that differ, then the M codes).
+bool restore_modes(BlockCtx& ctx, const SavedModes& m);
 
 // Shared by the motion steps ---------------------------------------------------------------------
 /// The machine-coordinate end point of the block's axis words from `from_mm` (G90/G91, offsets);
@@ -129,6 +135,12 @@ bool machine_target(BlockCtx& ctx, Pos9& target_mm);
 /// Emits a straight move (rapid or feed) from the current position to `target_mm` and moves
 /// there; zero-length moves are not emitted.
 bool emit_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target_mm, SourceLoc loc);
+/// A motion of this block's kind, line, plane and path mode (ends, feed and arc data unset).
+Motion motion_template(const BlockCtx& ctx, MotionKind kind);
+/// The centre of the block's arc (R or I/J/K words, G90.1/G91.1) from `start_mm` to `end_mm`,
+/// machine coordinates (the in-plane components; the rest are start's); false with the error set.
+bool arc_centre(BlockCtx& ctx, const Code& c, const Pos9& start_mm, const Pos9& end_mm,
+                Pos9& centre_mm);
 /// The feed checks of a feed motion (G93 F present and > 0, G94 feed > 0).
 bool check_feed(BlockCtx& ctx, int code10, SourceLoc loc);
 

@@ -79,9 +79,8 @@ struct Machine {
   std::vector<double> tool_lengths_mm;  ///< index = tool number (T0 = index 0); overrides table Z
   ToolTable tool_table = default_tool_table();  ///< key `tool_table` or --tool-table FILE
   /// G54..G59 on the nine program axes (XYZABCUVW order), mm (degrees for A, B, C).
-  std::array<AxisVec, 6> work_offsets_mm{AxisVec::Zero(), AxisVec::Zero(),
-                                         AxisVec::Zero(), AxisVec::Zero(),
-                                         AxisVec::Zero(), AxisVec::Zero()};
+  std::array<AxisVec, 6> work_offsets_mm{AxisVec::Zero(), AxisVec::Zero(), AxisVec::Zero(),
+                                         AxisVec::Zero(), AxisVec::Zero(), AxisVec::Zero()};
 
   int axis_count() const { return layout.count; }
   /// Per-axis BLU in the machine's axis order (0 past the count), mm (degrees on rotary axes).

@@ -38,7 +38,7 @@ class ContourMeter {
 
   MachineVec blu_mm_;
   std::array<int, 3> xyz_slot_{};  ///< machine axis of X, Y, Z (kMaxAxes - 1: absent, reads 0)
-  double contour_blu_mm_;  ///< the BLU the errors are expressed in (smallest axis BLU)
+  double contour_blu_mm_;          ///< the BLU the errors are expressed in (smallest axis BLU)
   PathWindow window_;
   std::int64_t steady_after_;
   std::int64_t block_start_k_ = 0;

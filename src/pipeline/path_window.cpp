@@ -24,9 +24,10 @@ void PathWindow::push(const Motion& m, std::int64_t k) {
     // Planar arc: every point the distance is measured to (the circle's nearest point inside the
     // sweep, or an end point) lies within the larger of the start and end radii of the centre.
     e.sphere_c_mm = m.center_mm.head<3>();
-    e.sphere_r_mm = e.geometry.planar
-                        ? std::max(e.geometry.r0_mm, Vec3(m.end_mm.head<3>() - m.center_mm.head<3>()).norm())
-                        : -1.0;
+    e.sphere_r_mm =
+        e.geometry.planar
+            ? std::max(e.geometry.r0_mm, Vec3(m.end_mm.head<3>() - m.center_mm.head<3>()).norm())
+            : -1.0;
   } else {
     e.sphere_c_mm = 0.5 * (m.start_mm.head<3>() + m.end_mm.head<3>());
     e.sphere_r_mm = 0.5 * Vec3(m.end_mm.head<3>() - m.start_mm.head<3>()).norm();

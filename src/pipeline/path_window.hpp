@@ -49,10 +49,10 @@ class PathWindow {
   struct Entry {
     MotionGeometry geometry;
     std::int64_t first_sample = 0;
-    std::int64_t last_sample = 0;           ///< the sample the next block started at (or ongoing)
+    std::int64_t last_sample = 0;     ///< the sample the next block started at (or ongoing)
     Vec3 sphere_c_mm = Vec3::Zero();  ///< a sphere holding every point the distance is to
-    double sphere_r_mm = -1.0;              ///< < 0: no bound (helix: the distance is radial only)
-    double margin_mm = 0.0;                 ///< slack for rounding in the bound test
+    double sphere_r_mm = -1.0;        ///< < 0: no bound (helix: the distance is radial only)
+    double margin_mm = 0.0;           ///< slack for rounding in the bound test
   };
 
   std::array<Entry, kCapacity> ring_{};

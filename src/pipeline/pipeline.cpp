@@ -93,9 +93,9 @@ PipelineStatus Pipeline::step(const OverrideInput& ovr, SampleRecord& out) {
       try {
         enc_blu_[a] = s.step(ref_blu_[a]);
       } catch (const InputError& e) {
-        throw InputError(fmt::format(
-            "axis {} at t = {:.3f} s (line {}): {}", cfg_.machine.layout.letter(a),
-            static_cast<double>(k_) * cfg_.machine.period_s, cmd_.line, e.what()));
+        throw InputError(
+            fmt::format("axis {} at t = {:.3f} s (line {}): {}", cfg_.machine.layout.letter(a),
+                        static_cast<double>(k_) * cfg_.machine.period_s, cmd_.line, e.what()));
       }
       // The motor hunts inside one count at standstill (quantised feedback), so settling is
       // judged on the encoder alone: within ±1 count of the reference.

@@ -98,10 +98,10 @@ std::string RunSummary::text() const {
     fmt::format_to(out,
                    "{:<4}  {:>8.0f} ({:>5})   {:>9.3f} ({:>5})   {:>10.1f} ({:>5})   {:>10.0f} "
                    "({:>5})   {:+d} / {:+d}\n",
-                   machine_.layout.letter(a), s.following_err_blu.value,
-                   s.following_err_blu.line, s.velocity_mm_s.value, s.velocity_mm_s.line,
-                   s.accel_mm_s2.value, s.accel_mm_s2.line, s.jerk_mm_s3.value, s.jerk_mm_s3.line,
-                   s.final_ref_err_blu, s.final_enc_err_blu);
+                   machine_.layout.letter(a), s.following_err_blu.value, s.following_err_blu.line,
+                   s.velocity_mm_s.value, s.velocity_mm_s.line, s.accel_mm_s2.value,
+                   s.accel_mm_s2.line, s.jerk_mm_s3.value, s.jerk_mm_s3.line, s.final_ref_err_blu,
+                   s.final_enc_err_blu);
   }
   bool any = false;
   for (int a = 0; a < machine_.axis_count(); ++a) {
@@ -112,8 +112,8 @@ std::string RunSummary::text() const {
       if (c->violations == 0) continue;
       any = true;
       fmt::format_to(out, "LIMIT {} {}: {} samples over {:.6g}, worst {:.6g} at line {}\n",
-                     machine_.layout.letter(a), name, c->violations, c->limit,
-                     c->worst.value, c->worst.line);
+                     machine_.layout.letter(a), name, c->violations, c->limit, c->worst.value,
+                     c->worst.line);
     }
   }
   if (!any) t += "limits: velocity, force and power within the machine's limits on every axis\n";

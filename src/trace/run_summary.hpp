@@ -58,7 +58,7 @@ class RunSummary {
   Peak contour_err_blu;         ///< max |contour error| of the actual position
   double contour_rms_blu = 0.0;
   bool settled = false;
-  double hold_time_s = 0.0;  ///< time spent in feed hold (0 % override)
+  double hold_time_s = 0.0;                  ///< time spent in feed hold (0 % override)
   std::array<AxisSummary, kMaxAxes> axes{};  ///< the machine's axes, its order
   /// Mean signed radial deviation over the steady part of arc blocks (BLU; NaN if no arcs).
   double arc_ref_radial_dev_blu = 0.0;

@@ -10,8 +10,9 @@
 namespace gm {
 
 /// Calls f(kind, value) for every column of sample `s` in row order: the head columns, the axis
-/// columns for each of the first `axes` axes (the machine's, in its order), the tail columns. `kind` is a std::integral_constant<TraceKind, ...>,
-/// so a writer picks the format at compile time and the row costs no per-column branch.
+/// columns for each of the first `axes` axes (the machine's, in its order), the tail columns.
+/// `kind` is a std::integral_constant<TraceKind, ...>, so a writer picks the format at compile time
+/// and the row costs no per-column branch.
 template <typename F>
 inline void visit_trace_row(const SampleRecord& s, int axes, F&& f) {
 #define GM_TRACE_COLUMN(section, name, kind, value, unit, res) GM_TRACE_VISIT_##section(kind, value)

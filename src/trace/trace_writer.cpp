@@ -47,12 +47,12 @@ std::string trace_header(const TraceMeta& m) {
   fmt::format_to(out, "# machine: {} ({})\n", m.machine_name, m.machine_source);
   fmt::format_to(out, "# profile: {} taps={} tau_s={}\n", m.profile, m.taps, m.tau_s);
   fmt::format_to(out, "# period_s: {}\n", m.period_s);
-  fmt::format_to(out, "# blu_mm: {}\n", fmt::join(m.blu_mm.data(), m.blu_mm.data() + m.axes.size(), ","));
+  fmt::format_to(out, "# blu_mm: {}\n",
+                 fmt::join(m.blu_mm.data(), m.blu_mm.data() + m.axes.size(), ","));
   fmt::format_to(out, "# servo: {}\n", m.servo ? "on" : "off (encoder reads the Acc/Dec output)");
   fmt::format_to(out, "# decimate: {}\n", m.decimate);
   fmt::format_to(out, "# units: {}\n", trace_units_text());
-  fmt::format_to(out, "{}\n",
-                 fmt::join(trace_column_names(m.axes), ","));
+  fmt::format_to(out, "{}\n", fmt::join(trace_column_names(m.axes), ","));
   return h;
 }
 

@@ -25,7 +25,7 @@ struct TraceMeta {
   int taps = 0;  ///< N+1
   double tau_s = 0.0;
   double period_s = 0.0;
-  std::string axes = "XYZ";             ///< the machine's axis letters, its order
+  std::string axes = "XYZ";                ///< the machine's axis letters, its order
   MachineVec blu_mm = MachineVec::Zero();  ///< per axis, in that order
   bool servo = true;
   int decimate = 1;
@@ -100,7 +100,8 @@ class TraceWriter {
   std::int64_t written_ = 0;        ///< bytes of whole rows (and header) written to the file
   fmt::memory_buffer buf_;
   std::int64_t rows_ = 0;
-  static constexpr std::size_t kMaxCsvRow = 1200;  ///< 38 integers (nine axes), 2 fixed-point, 1 %g, commas
+  static constexpr std::size_t kMaxCsvRow =
+      1200;  ///< 38 integers (nine axes), 2 fixed-point, 1 %g, commas
   double last_pct_ = std::numeric_limits<double>::quiet_NaN();  ///< override of the cached text
   std::string last_pct_text_;                                   ///< "{:.6g}" of last_pct_ (SSO)
 };

@@ -19,7 +19,6 @@ gm::Vec3 p3(double x, double y, double z) {
   return gm::Vec3(x, y, z);
 }
 
-
 constexpr double kPi = std::numbers::pi;
 
 Motion line(AxisVec a, AxisVec b) {
@@ -80,11 +79,11 @@ TEST_CASE("geometry: sweeps by LinuxCNC's rule, in each plane and direction") {
   CHECK(gm::arc_sweep_rad(arc(s, e, AxisVec::Zero(), true)) == Approx(1e-9).margin(1e-15));
   CHECK(gm::arc_sweep_rad(arc(s, e, AxisVec::Zero(), false)) == Approx(-2 * kPi + 1e-9));
   // G18: angles run from Z toward X. X=10 -> Z=10 counter-clockwise: from π/2 to 0, i.e. 3π/2.
-  CHECK(gm::arc_sweep_rad(arc(xyz(r, 0, 0), xyz(0, 0, r), AxisVec::Zero(), true,
-                              gm::Plane::XZ)) == Approx(3 * kPi / 2));
+  CHECK(gm::arc_sweep_rad(arc(xyz(r, 0, 0), xyz(0, 0, r), AxisVec::Zero(), true, gm::Plane::XZ)) ==
+        Approx(3 * kPi / 2));
   // G19: angles run from Y toward Z. Y=10 -> Z=10 counter-clockwise: π/2.
-  CHECK(gm::arc_sweep_rad(arc(xyz(0, r, 0), xyz(0, 0, r), AxisVec::Zero(), true,
-                              gm::Plane::YZ)) == Approx(kPi / 2));
+  CHECK(gm::arc_sweep_rad(arc(xyz(0, r, 0), xyz(0, 0, r), AxisVec::Zero(), true, gm::Plane::YZ)) ==
+        Approx(kPi / 2));
 }
 
 TEST_CASE("geometry: a quarter arc's length, points, tangents and distances") {

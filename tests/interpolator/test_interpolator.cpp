@@ -10,8 +10,8 @@
 #include <random>
 #include <vector>
 
-using gm::xyz;
 using gm::blu3;
+using gm::xyz;
 
 using gm::AxisBlu;
 using gm::AxisVec;
@@ -103,8 +103,8 @@ TEST_CASE("a line at F600 moves 40 BLU per 4 ms sample and ends exactly") {
 
 TEST_CASE("time carries across blocks: two collinear blocks sample like one") {
   const auto one = samples({line(AxisVec::Zero(), xyz(7.3, 0, 0), 750)});
-  const auto two = samples({line(AxisVec::Zero(), xyz(2.01, 0, 0), 750),
-                            line(xyz(2.01, 0, 0), xyz(7.3, 0, 0), 750)});
+  const auto two = samples(
+      {line(AxisVec::Zero(), xyz(2.01, 0, 0), 750), line(xyz(2.01, 0, 0), xyz(7.3, 0, 0), 750)});
   REQUIRE(one.size() == two.size());
   for (std::size_t k = 0; k < one.size(); ++k) CHECK(one[k].pos_blu == two[k].pos_blu);
   // The second block started in the sample where the first ended: its block_seq is 2 there.
@@ -135,8 +135,8 @@ TEST_CASE("full circles and multi-turn arcs take the whole circumference per tur
   const double turn_s = 2 * M_PI * 4 / 15;
   for (int turns : {1, 3}) {
     INFO("turns " << turns);
-    const auto s = samples({arc(xyz(4, 0, 0), xyz(4, 0, 0), AxisVec::Zero(), false, 900,
-                                gm::Plane::XY, turns)});
+    const auto s = samples(
+        {arc(xyz(4, 0, 0), xyz(4, 0, 0), AxisVec::Zero(), false, 900, gm::Plane::XY, turns)});
     CHECK(std::abs(static_cast<double>(s.size()) * 0.004 - turns * turn_s) <= 0.004);
     CHECK(s.back().pos_blu == blu3(4000, 0, 0));
     CHECK(s[0].pos_blu[1] < 0);  // G2 (clockwise) from +X goes toward −Y
@@ -146,8 +146,8 @@ TEST_CASE("full circles and multi-turn arcs take the whole circumference per tur
 TEST_CASE(
     "a helix moves the normal axis in proportion to the angle, its length is sqrt((Rθ)² + h²)") {
   // Two turns of R = 5 about (0,0) descending 4 mm, cw, 600 mm/min.
-  const auto s = samples(
-      {arc(xyz(5, 0, 0), xyz(5, 0, -4), AxisVec::Zero(), false, 600, gm::Plane::XY, 2)});
+  const auto s =
+      samples({arc(xyz(5, 0, 0), xyz(5, 0, -4), AxisVec::Zero(), false, 600, gm::Plane::XY, 2)});
   const double length = std::hypot(2 * 2 * M_PI * 5, 4.0);
   CHECK(s.size() == static_cast<std::size_t>(std::ceil(length / 0.04)));
   for (std::size_t k = 0; k < s.size(); ++k) {
@@ -160,8 +160,7 @@ TEST_CASE(
 TEST_CASE("arcs in XZ and YZ turn the LinuxCNC way") {
   // G18: in-plane axes (Z, X), ccw seen from +Y goes from +Z toward +X (rs274 ARC_FEED first
   // axis Z, second X; rotation > 0 is G3). From (0,0,5) about the origin, ccw: X grows first.
-  auto s =
-      samples({arc(xyz(0, 0, 5), xyz(5, 0, 0), AxisVec::Zero(), true, 600, gm::Plane::XZ)});
+  auto s = samples({arc(xyz(0, 0, 5), xyz(5, 0, 0), AxisVec::Zero(), true, 600, gm::Plane::XZ)});
   CHECK(s[0].pos_blu[0] > 0);
   CHECK(s.back().pos_blu == blu3(5000, 0, 0));
   CHECK(s.size() == static_cast<std::size_t>(std::ceil(2.5 * M_PI / 0.04)));  // a quarter turn
@@ -170,8 +169,7 @@ TEST_CASE("arcs in XZ and YZ turn the LinuxCNC way") {
   CHECK(s[0].pos_blu[2] > 0);
   CHECK(s.size() == static_cast<std::size_t>(std::ceil(2.5 * M_PI / 0.04)));
   // The same end point clockwise is three quarters of a turn.
-  s = samples(
-      {arc(xyz(0, 5, 0), xyz(0, 0, 5), AxisVec::Zero(), false, 600, gm::Plane::YZ)});
+  s = samples({arc(xyz(0, 5, 0), xyz(0, 0, 5), AxisVec::Zero(), false, 600, gm::Plane::YZ)});
   CHECK(s[0].pos_blu[2] < 0);
   CHECK(s.size() == static_cast<std::size_t>(std::ceil(7.5 * M_PI / 0.04)));
 }
@@ -181,8 +179,8 @@ TEST_CASE("a dwell holds for exactly its time, exact stop holds settle_samples")
   d.seconds = 0.1;
   d.line = 2;
   // 1 mm at 600 mm/min = 25 samples, then 0.1 s = 25 samples of dwell, then 25 more.
-  auto s = samples({line(AxisVec::Zero(), xyz(1, 0, 0), 600), d,
-                    line(xyz(1, 0, 0), xyz(2, 0, 0), 600, 3)});
+  auto s = samples(
+      {line(AxisVec::Zero(), xyz(1, 0, 0), 600), d, line(xyz(1, 0, 0), xyz(2, 0, 0), 600, 3)});
   REQUIRE(s.size() == 75);
   for (std::size_t k = 25; k < 50; ++k) {
     CHECK(s[k].pos_blu == blu3(1000, 0, 0));
@@ -247,8 +245,8 @@ TEST_CASE(
   CHECK((s[0].events & gm::kEventPause) != 0);
   CHECK(s[0].feed_scale == 1.0);
   gm::Event end{1, gm::EventKind::End, {}};
-  s = samples({line(AxisVec::Zero(), xyz(1, 0, 0), 600), end,
-               line(xyz(1, 0, 0), xyz(2, 0, 0), 600)});
+  s = samples(
+      {line(AxisVec::Zero(), xyz(1, 0, 0), 600), end, line(xyz(1, 0, 0), xyz(2, 0, 0), 600)});
   CHECK(s.size() == 25);  // nothing after M2 runs
 }
 

@@ -86,7 +86,7 @@ TEST_CASE("axis layouts: a subsequence of XYZABCUVW, each letter once") {
   CHECK(AxisLayout::of("XYZABCUVW")->count == 9);
   CHECK(AxisLayout::of("XYZ")->is_xyz());
   CHECK_FALSE(AxisLayout::of(""));
-  CHECK_FALSE(AxisLayout::of("XAZ"));   // out of order
+  CHECK_FALSE(AxisLayout::of("XAZ"));    // out of order
   CHECK_FALSE(AxisLayout::of("XYZAA"));  // twice
   CHECK_FALSE(AxisLayout::of("XYQ"));    // not an axis
   CHECK(gm::axis_is_rotary(gm::axis_index('B')));
@@ -164,7 +164,8 @@ TEST_CASE("machine file: axes.letters, a table per axis, written back the same")
     }
     return "<no error>";
   };
-  std::string no_a = text.substr(0, text.find("[axes.a]")) + text.substr(text.find("[work_offsets]"));
+  std::string no_a =
+      text.substr(0, text.find("[axes.a]")) + text.substr(text.find("[work_offsets]"));
   CHECK_THAT(error_of(no_a), Catch::Contains("axes.a"));
   std::string bad = text;
   bad.replace(bad.find("\"XYZA\""), 6, "\"XYAZ\"");
@@ -191,8 +192,8 @@ TEST_CASE("nine axes: each ends exactly on its programmed end, rotary in its own
   m.axes[3].blu_mm = 0.01;  // A: 0.01 degree per count
   const auto recs = records(kRepo / "tests/golden/programs/nine-axis.nc", m);
   REQUIRE(!recs.empty());
-  const auto mv = motions(
-      "G0 X1.5 Y2 Z3 A45.67 B-30 C720 U4 V-5 W6\nM2\n", m);  // the same machine, a direct check
+  const auto mv = motions("G0 X1.5 Y2 Z3 A45.67 B-30 C720 U4 V-5 W6\nM2\n",
+                          m);  // the same machine, a direct check
   REQUIRE(mv.size() == 1);
   CHECK(mv[0].end_mm[5] == 720.0);
   // The program returns every axis to 0 but Z (to 5 mm); on the way A reached 180 degrees =

@@ -6,9 +6,9 @@
 #include <cmath>
 
 using gm::AxisVec;
-using gm::xyz;
 using gm::Motion;
 using gm::MotionKind;
+using gm::xyz;
 
 namespace {
 // A point in X, Y, Z: what the contour error is measured on.
