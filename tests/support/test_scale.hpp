@@ -1,4 +1,5 @@
-// Test helper: how many cases a property sweep runs, shrunk under the sanitizers by GMOTION_TEST_SCALE.
+// Test helper: how many cases a property sweep runs, shrunk under the sanitizers by
+// GMOTION_TEST_SCALE.
 #pragma once
 
 #include <algorithm>
