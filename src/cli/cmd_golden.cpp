@@ -29,7 +29,10 @@ struct GoldenFlags {
 
 void print_result(const golden::CaseResult& r) {
   fmt::print("{:<9} {}{}{}\n", golden::outcome_word(r.outcome), r.name,
-             r.headline.empty() ? "" : r.outcome == golden::Outcome::Pass ? " " : ": ", r.headline);
+             r.headline.empty()                   ? ""
+             : r.outcome == golden::Outcome::Pass ? " "
+                                                  : ": ",
+             r.headline);
   for (const std::string& d : r.details) {
     std::size_t a = 0;
     while (a <= d.size()) {  // a multi-line detail (program errors) keeps its indent
@@ -64,8 +67,7 @@ int golden_cmd(golden::Mode mode, const GoldenFlags& f) {
   else
     fmt::print("{} case{}: {} recorded, {} changed, {} unchanged, {} errors (goldens in {})\n",
                results.size(), results.size() == 1 ? "" : "s", n(Outcome::Recorded),
-               n(Outcome::Changed), n(Outcome::Unchanged), n(Outcome::Error),
-               suite.store.string());
+               n(Outcome::Changed), n(Outcome::Unchanged), n(Outcome::Error), suite.store.string());
   std::fflush(stdout);
   fmt::print(stderr, "gmotion golden: {} cases in {:.2f} s\n", results.size(), seconds);
   if (!f.junit.empty()) {
@@ -89,7 +91,8 @@ void add_common(CLI::App* sub, GoldenFlags& f) {
 }  // namespace
 
 void add_golden(CLI::App& app, Context& ctx) {
-  auto* g = app.add_subcommand("golden", "Golden trace tests over a suite: record, then verify in CI");
+  auto* g =
+      app.add_subcommand("golden", "Golden trace tests over a suite: record, then verify in CI");
   g->require_subcommand(1);
   g->footer(fmt::format(
       "A case's `flags` in suite.toml takes these `gmotion run` flags: {}.\nSee docs/golden.md.",
@@ -97,26 +100,29 @@ void add_golden(CLI::App& app, Context& ctx) {
 
   auto rec = std::make_shared<GoldenFlags>();
   auto* r = g->add_subcommand(
-      "record", "Run every case and store its trace (binary, zstd), summary, gmotion version and "
-                "set-up hash; a run that does not complete is refused");
+      "record",
+      "Run every case and store its trace (binary, zstd), summary, gmotion version and "
+      "set-up hash; a run that does not complete is refused");
   add_common(r, *rec);
   r->callback([rec, &ctx] { ctx.exit_code = golden_cmd(golden::Mode::Record, *rec); });
 
   auto ver = std::make_shared<GoldenFlags>();
   auto* v = g->add_subcommand(
-      "verify", "Run every case again and compare with its golden: one line per case, the first "
-                "divergence and the largest difference per column of each failure");
+      "verify",
+      "Run every case again and compare with its golden: one line per case, the first "
+      "divergence and the largest difference per column of each failure");
   add_common(v, *ver);
   v->add_option("--junit", ver->junit, "Write the results as JUnit XML to this file");
   v->add_option("--pictures", ver->pictures,
                 "Draw each divergence as DIR/CASE.png (paths around it, difference vs time)");
-  v->add_flag("--update", ver->update,
-              "Re-record the cases that changed (after a deliberate change) and print what changed");
-  v->footer("Exit 0 when every case passes, 1 otherwise (with --update: 1 only when a case could "
-            "not run).");
+  v->add_flag(
+      "--update", ver->update,
+      "Re-record the cases that changed (after a deliberate change) and print what changed");
+  v->footer(
+      "Exit 0 when every case passes, 1 otherwise (with --update: 1 only when a case could "
+      "not run).");
   v->callback([ver, &ctx] {
-    ctx.exit_code =
-        golden_cmd(ver->update ? golden::Mode::Update : golden::Mode::Verify, *ver);
+    ctx.exit_code = golden_cmd(ver->update ? golden::Mode::Update : golden::Mode::Verify, *ver);
   });
 }
 

@@ -7,8 +7,8 @@
 #include "override/override_schedule.hpp"
 #include "pipeline/run.hpp"
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include <exception>
 #include <optional>
@@ -46,8 +46,8 @@ CaseFlags parse_flags(const GoldenCase& c) {
   try {
     app.parse(c.flags, false);
   } catch (const CLI::ParseError& e) {
-    throw InputError(fmt::format("flags '{}': {} (a case takes: {})", c.flags, e.what(),
-                                 kCaseFlagsHelp));
+    throw InputError(
+        fmt::format("flags '{}': {} (a case takes: {})", c.flags, e.what(), kCaseFlagsHelp));
   }
   auto both = [&](const std::string& key, const std::string& flag_value, const char* flag) {
     if (!key.empty() && !flag_value.empty())

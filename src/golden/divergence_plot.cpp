@@ -49,7 +49,8 @@ std::string draw_divergence(const std::string& golden_trace, const std::string& 
   try {
     std::vector<std::string> cols, cols_f;
     const Table g = read_all(golden_trace, cols), f = read_all(fresh_trace, cols_f);
-    if (cols != cols_f || g.empty() || f.empty()) return "the traces have different columns or no rows";
+    if (cols != cols_f || g.empty() || f.empty())
+      return "the traces have different columns or no rows";
     const auto col = std::find(cols.begin(), cols.end(), d.column);
     if (col == cols.end()) return "no column " + d.column;
     const std::size_t dc = static_cast<std::size_t>(col - cols.begin());
@@ -69,16 +70,21 @@ std::string draw_divergence(const std::string& golden_trace, const std::string& 
       if (cols[i].size() > 2 && cols[i][1] == '_' && cols[i].substr(2) == kind) axes.push_back(i);
     auto range = [&](std::size_t c) {
       double a = std::numeric_limits<double>::infinity(), b = -a;
-      for (std::size_t r = lo; r < hi; ++r) a = std::min({a, g[r][c], f[r][c]}), b = std::max({b, g[r][c], f[r][c]});
+      for (std::size_t r = lo; r < hi; ++r)
+        a = std::min({a, g[r][c], f[r][c]}), b = std::max({b, g[r][c], f[r][c]});
       return b - a;
     };
     // The two axes that move most around the divergence, in trace order.
-    std::sort(axes.begin(), axes.end(), [&](std::size_t a, std::size_t b) { return range(a) > range(b); });
+    std::sort(axes.begin(), axes.end(),
+              [&](std::size_t a, std::size_t b) { return range(a) > range(b); });
     if (axes.size() > 2) axes.resize(2);
     std::sort(axes.begin(), axes.end());
 
     Raster img(1000, 900);
-    img.text(20, 12, fmt::format("{}: first divergence t = {:.4f} s, line {}, {}", title, d.t_s, d.line, d.column), kInk, 2);
+    img.text(20, 12,
+             fmt::format("{}: first divergence t = {:.4f} s, line {}, {}", title, d.t_s, d.line,
+                         d.column),
+             kInk, 2);
     img.text(20, 36, fmt::format("golden {}  now {}", d.golden, d.fresh), kInk, 2);
     img.text(700, 36, "golden", kGolden, 2);
     img.text(800, 36, "now", kNow, 2);
@@ -95,15 +101,18 @@ std::string draw_divergence(const std::string& golden_trace, const std::string& 
       // Equal scales on both axes, centred in a 560 x 500 box.
       const double span = std::max(u1 - u0, (v1 - v0) * 560.0 / 500.0);
       const double uc = (u0 + u1) / 2, vc = (v0 + v1) / 2, vspan = span * 500.0 / 560.0;
-      const Frame fr{220, 70, 780, 570, uc - span / 2, uc + span / 2, vc - vspan / 2, vc + vspan / 2};
+      const Frame fr{220,           70, 780, 570, uc - span / 2, uc + span / 2, vc - vspan / 2,
+                     vc + vspan / 2};
       img.rect(fr.x0, fr.y0, fr.x1, fr.y1, kGrid);
       for (const auto& [t, c] : {std::pair{&g, kGolden}, std::pair{&f, kNow}})
         for (std::size_t r = lo + 1; r < hi; ++r)
-          img.line(fr.px((*t)[r - 1][cx]), fr.py((*t)[r - 1][cy]), fr.px((*t)[r][cx]), fr.py((*t)[r][cy]), c);
+          img.line(fr.px((*t)[r - 1][cx]), fr.py((*t)[r - 1][cy]), fr.px((*t)[r][cx]),
+                   fr.py((*t)[r][cy]), c);
       const double mx = fr.px(f[at][cx]), my = fr.py(f[at][cy]);
       img.line(mx - 8, my - 8, mx + 8, my + 8, kInk);
       img.line(mx - 8, my + 8, mx + 8, my - 8, kInk);
-      img.text(fr.x0, fr.y1 + 6, fmt::format("{} {:.0f} .. {:.0f} BLU", cols[cx], fr.u0, fr.u1), kInk);
+      img.text(fr.x0, fr.y1 + 6, fmt::format("{} {:.0f} .. {:.0f} BLU", cols[cx], fr.u0, fr.u1),
+               kInk);
       img.text(fr.x0 - 200, fr.y0, fmt::format("{} {:.0f}", cols[cy], fr.v1), kInk);
       img.text(fr.x0 - 200, fr.y1 - 7, fmt::format("{} {:.0f}", cols[cy], fr.v0), kInk);
       img.text(fr.x1 + 10, fr.y0, fmt::format("rows {}..{}", lo + 1, hi), kInk);
@@ -111,7 +120,8 @@ std::string draw_divergence(const std::string& golden_trace, const std::string& 
 
     // The difference now - golden of the diverging column against time, every row.
     double t0 = g.front()[0], t1 = g[n - 1][0], e0 = 0.0, e1 = 0.0;
-    for (std::size_t r = 0; r < n; ++r) e0 = std::min(e0, f[r][dc] - g[r][dc]), e1 = std::max(e1, f[r][dc] - g[r][dc]);
+    for (std::size_t r = 0; r < n; ++r)
+      e0 = std::min(e0, f[r][dc] - g[r][dc]), e1 = std::max(e1, f[r][dc] - g[r][dc]);
     widen(t0, t1), widen(e0, e1);
     const Frame fd{120, 640, 960, 860, t0, t1, e0, e1};
     img.rect(fd.x0, fd.y0, fd.x1, fd.y1, kGrid);

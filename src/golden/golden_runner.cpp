@@ -32,8 +32,8 @@ class TempDir {
  public:
   TempDir() {
     const char* base = std::getenv("TMPDIR");
-    std::string tmpl = std::string(base != nullptr && *base != '\0' ? base : "/tmp") +
-                       "/gmotion-golden-XXXXXX";
+    std::string tmpl =
+        std::string(base != nullptr && *base != '\0' ? base : "/tmp") + "/gmotion-golden-XXXXXX";
     if (mkdtemp(tmpl.data()) == nullptr)
       throw InputError(fmt::format("cannot create a temporary folder '{}'", tmpl));
     path_ = tmpl;
@@ -181,9 +181,8 @@ struct Worker {
     const bool summary_ok = !c.pin_summary || stored.summary_json == fresh.summary_json;
     const bool setup_ok = stored.setup_hash == fresh.setup_hash;
     const bool version_ok = stored.gmotion_version == fresh.gmotion_version;
-    const std::string version_note =
-        fmt::format("recorded with gmotion {}, this is {}", stored.gmotion_version,
-                    fresh.gmotion_version);
+    const std::string version_note = fmt::format("recorded with gmotion {}, this is {}",
+                                                 stored.gmotion_version, fresh.gmotion_version);
     if (cmp.pass() && summary_ok && setup_ok) {
       r.outcome = Outcome::Pass;
       if (!version_ok) r.headline = "(" + version_note + ")";
@@ -193,9 +192,9 @@ struct Worker {
     std::vector<std::string> why;
     if (!setup_ok) {
       const std::vector<std::string> ch = setup_changes(stored.setup, fresh.setup);
-      why.push_back(fmt::format("set-up changed since recorded (machine hash {:016x}, now {:016x}{}{})",
-                                stored.setup_hash, fresh.setup_hash, ch.empty() ? "" : ": ",
-                                fmt::join(ch, "; ")));
+      why.push_back(fmt::format(
+          "set-up changed since recorded (machine hash {:016x}, now {:016x}{}{})",
+          stored.setup_hash, fresh.setup_hash, ch.empty() ? "" : ": ", fmt::join(ch, "; ")));
       r.kind = "setup";
     }
     if (!version_ok) {
@@ -233,12 +232,18 @@ struct Worker {
 
 const char* outcome_word(Outcome o) {
   switch (o) {
-    case Outcome::Pass: return "PASS";
-    case Outcome::Fail: return "FAIL";
-    case Outcome::Error: return "ERROR";
-    case Outcome::Recorded: return "RECORDED";
-    case Outcome::Unchanged: return "UNCHANGED";
-    case Outcome::Changed: return "CHANGED";
+    case Outcome::Pass:
+      return "PASS";
+    case Outcome::Fail:
+      return "FAIL";
+    case Outcome::Error:
+      return "ERROR";
+    case Outcome::Recorded:
+      return "RECORDED";
+    case Outcome::Unchanged:
+      return "UNCHANGED";
+    case Outcome::Changed:
+      return "CHANGED";
   }
   return "?";
 }
@@ -254,7 +259,8 @@ std::vector<std::string> setup_changes(const std::string& before, const std::str
   std::size_t more = 0;
   auto add = [&](const std::string& key, const std::string& x, const std::string& y) {
     if (out.size() < max)
-      out.push_back(fmt::format("{}: {} -> {}", key, x.empty() ? "(none)" : x, y.empty() ? "(none)" : y));
+      out.push_back(
+          fmt::format("{}: {} -> {}", key, x.empty() ? "(none)" : x, y.empty() ? "(none)" : y));
     else
       ++more;
   };
@@ -284,8 +290,8 @@ std::vector<CaseResult> run_suite(const Suite& suite, const RunnerOptions& optio
     std::error_code ec;
     fs::create_directories(options.pictures_dir, ec);
     if (ec)
-      throw InputError(
-          fmt::format("cannot create --pictures folder '{}': {}", options.pictures_dir, ec.message()));
+      throw InputError(fmt::format("cannot create --pictures folder '{}': {}", options.pictures_dir,
+                                   ec.message()));
   }
   TempDir tmp;
   const Worker worker{suite, options, tmp.path()};

@@ -23,18 +23,18 @@ bool outcome_failed(Outcome o);
 struct CaseResult {
   std::string name;
   Outcome outcome = Outcome::Error;
-  std::string headline;              ///< after the name on the case's one line ("" for a plain pass)
+  std::string headline;  ///< after the name on the case's one line ("" for a plain pass)
   std::vector<std::string> details;  ///< further lines (first divergence, largest differences)
-  std::string kind;                  ///< JUnit failure type: divergence, setup, version, summary, run
-  std::string picture;               ///< the PNG drawn for it (--pictures), or ""
-  double seconds = 0.0;              ///< wall time of the case
+  std::string kind;      ///< JUnit failure type: divergence, setup, version, summary, run
+  std::string picture;   ///< the PNG drawn for it (--pictures), or ""
+  double seconds = 0.0;  ///< wall time of the case
 };
 
 struct RunnerOptions {
   Mode mode = Mode::Verify;
-  int jobs = 0;                    ///< 0: every core
-  std::vector<std::string> only;   ///< case names (globs) to run; empty: all
-  std::string pictures_dir;        ///< verify: draw each divergence there as NAME.png
+  int jobs = 0;                   ///< 0: every core
+  std::vector<std::string> only;  ///< case names (globs) to run; empty: all
+  std::string pictures_dir;       ///< verify: draw each divergence there as NAME.png
 };
 
 /// Runs the suite's cases (in parallel), calling `report` for each result in suite order as soon

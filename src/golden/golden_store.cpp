@@ -79,9 +79,11 @@ std::uintmax_t write_stored(const fs::path& store, const std::string& name,
   if (ec) throw InputError(fmt::format("cannot create '{}': {}", store.string(), ec.message()));
   const std::string raw = read_text(trace_path);
   std::string packed(ZSTD_compressBound(raw.size()), '\0');
-  const std::size_t n = ZSTD_compress(packed.data(), packed.size(), raw.data(), raw.size(), kZstdLevel);
+  const std::size_t n =
+      ZSTD_compress(packed.data(), packed.size(), raw.data(), raw.size(), kZstdLevel);
   if (ZSTD_isError(n) != 0)
-    throw InputError(fmt::format("zstd: cannot compress '{}': {}", trace_path, ZSTD_getErrorName(n)));
+    throw InputError(
+        fmt::format("zstd: cannot compress '{}': {}", trace_path, ZSTD_getErrorName(n)));
   packed.resize(n);
   write_atomic(store / (name + ".trace.zst"), packed);
   write_atomic(store / (name + ".summary.json"), meta.summary_json);

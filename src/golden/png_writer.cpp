@@ -87,15 +87,16 @@ void chunk(std::string& out, const char* type, const std::string& data) {
   std::string body(type, 4);
   body += data;
   out += body;
-  put_u32(out, static_cast<std::uint32_t>(
-                   crc32(0, reinterpret_cast<const Bytef*>(body.data()), static_cast<uInt>(body.size()))));
+  put_u32(out, static_cast<std::uint32_t>(crc32(0, reinterpret_cast<const Bytef*>(body.data()),
+                                                static_cast<uInt>(body.size()))));
 }
 
 }  // namespace
 
 Raster::Raster(int width, int height, Rgb bg)
     : w_(width), h_(height), px_(static_cast<std::size_t>(width) * height * 3) {
-  for (std::size_t i = 0; i < px_.size(); i += 3) px_[i] = bg.r, px_[i + 1] = bg.g, px_[i + 2] = bg.b;
+  for (std::size_t i = 0; i < px_.size(); i += 3)
+    px_[i] = bg.r, px_[i + 1] = bg.g, px_[i + 2] = bg.b;
 }
 
 void Raster::set(int x, int y, Rgb c) {
@@ -108,7 +109,8 @@ void Raster::line(double x0, double y0, double x1, double y1, Rgb c) {
   // Far-away points (a diverged run) are clamped well outside the raster first.
   auto clamp = [](double v) { return std::clamp(std::isfinite(v) ? v : 0.0, -1e5, 1e5); };
   int ax = static_cast<int>(std::lround(clamp(x0))), ay = static_cast<int>(std::lround(clamp(y0)));
-  const int bx = static_cast<int>(std::lround(clamp(x1))), by = static_cast<int>(std::lround(clamp(y1)));
+  const int bx = static_cast<int>(std::lround(clamp(x1))),
+            by = static_cast<int>(std::lround(clamp(y1)));
   const int dx = std::abs(bx - ax), sx = ax < bx ? 1 : -1;
   const int dy = -std::abs(by - ay), sy = ay < by ? 1 : -1;
   int err = dx + dy;

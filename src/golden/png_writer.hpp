@@ -19,7 +19,7 @@ class Raster {
   int height() const { return h_; }
   void set(int x, int y, Rgb c);
   void line(double x0, double y0, double x1, double y1, Rgb c);  ///< 1 px, clipped
-  void rect(int x0, int y0, int x1, int y1, Rgb c);               ///< outline
+  void rect(int x0, int y0, int x1, int y1, Rgb c);              ///< outline
   /// Text from the 5x7 font (letters, digits, common punctuation; others as '?'), `scale`
   /// pixels per font pixel, top-left at (x, y).
   void text(int x, int y, std::string_view s, Rgb c, int scale = 1);

@@ -19,12 +19,13 @@ namespace fs = std::filesystem;
 }
 
 // Every key of `t` must be one of `known`.
-void check_keys(const fs::path& file, const toml::table& t, std::initializer_list<const char*> known,
-                std::string_view where) {
+void check_keys(const fs::path& file, const toml::table& t,
+                std::initializer_list<const char*> known, std::string_view where) {
   for (const auto& [k, v] : t) {
     if (std::none_of(known.begin(), known.end(), [&](const char* s) { return k.str() == s; }))
-      fail_at(file, v, fmt::format("unknown key '{}' in {} (known: {})", k.str(), where,
-                                   fmt::join(known, ", ")));
+      fail_at(file, v,
+              fmt::format("unknown key '{}' in {} (known: {})", k.str(), where,
+                          fmt::join(known, ", ")));
   }
 }
 
@@ -71,7 +72,8 @@ void apply(const fs::path& file, const toml::table& t, GoldenCase& c) {
     if (tt == nullptr) fail_at(file, *n, "key 'tolerances' must be a table: column glob = BLU");
     std::vector<std::pair<std::string, double>> own;
     for (const auto& [k, v] : *tt)
-      own.emplace_back(std::string(k.str()), get_number(file, v, "tolerances." + std::string(k.str())));
+      own.emplace_back(std::string(k.str()),
+                       get_number(file, v, "tolerances." + std::string(k.str())));
     // A case's own patterns are tried before the defaults'.
     own.insert(own.end(), c.pins.tolerances.begin(), c.pins.tolerances.end());
     c.pins.tolerances = std::move(own);
@@ -83,8 +85,8 @@ void apply(const fs::path& file, const toml::table& t, GoldenCase& c) {
 }
 
 constexpr std::initializer_list<const char*> kCaseKeys = {
-    "name", "program", "machine", "override_file", "flags", "decimate",
-    "columns", "tolerance_blu", "tolerances", "summary"};
+    "name",     "program", "machine",       "override_file", "flags",
+    "decimate", "columns", "tolerance_blu", "tolerances",    "summary"};
 
 std::string stem_name(const std::string& program) {
   return fs::path(program).stem().string();
@@ -92,8 +94,7 @@ std::string stem_name(const std::string& program) {
 
 bool valid_name(const std::string& s) {
   return !s.empty() && s[0] != '.' && std::all_of(s.begin(), s.end(), [](char ch) {
-    return std::isalnum(static_cast<unsigned char>(ch)) != 0 || ch == '-' || ch == '_' ||
-           ch == '.';
+    return std::isalnum(static_cast<unsigned char>(ch)) != 0 || ch == '-' || ch == '_' || ch == '.';
   });
 }
 
@@ -117,8 +118,8 @@ Suite load_suite(const fs::path& dir) {
     try {
       doc = toml::parse_file(file.string());
     } catch (const toml::parse_error& e) {
-      throw InputError(fmt::format("{}:{}: {}", file.string(), e.source().begin.line,
-                                   e.description()));
+      throw InputError(
+          fmt::format("{}:{}: {}", file.string(), e.source().begin.line, e.description()));
     }
     check_keys(file, doc, {"suite", "defaults", "case"}, "suite.toml");
     if (const toml::table* st = doc["suite"].as_table()) {
@@ -149,8 +150,9 @@ Suite load_suite(const fs::path& dir) {
       if (c.program.empty()) fail_at(file, n, "[[case]] needs 'program'");
       if (c.name.empty()) c.name = stem_name(c.program);
       if (!valid_name(c.name))
-        fail_at(file, n, fmt::format("case name '{}' may hold only letters, digits, '-', '_' and '.'",
-                                     c.name));
+        fail_at(
+            file, n,
+            fmt::format("case name '{}' may hold only letters, digits, '-', '_' and '.'", c.name));
       s.cases.push_back(std::move(c));
     }
   } else {
@@ -165,12 +167,13 @@ Suite load_suite(const fs::path& dir) {
     std::vector<std::string> names;
     for (const fs::directory_entry& e : fs::directory_iterator(s.root, ec)) {
       const std::string fname = e.path().filename().string();
-      if (e.is_regular_file() && std::any_of(patterns.begin(), patterns.end(), [&](const std::string& p) {
-            return glob_match(p, fname);
-          }))
+      if (e.is_regular_file() &&
+          std::any_of(patterns.begin(), patterns.end(),
+                      [&](const std::string& p) { return glob_match(p, fname); }))
         names.push_back(fname);
     }
-    if (ec) throw InputError(fmt::format("cannot list suite '{}': {}", s.root.string(), ec.message()));
+    if (ec)
+      throw InputError(fmt::format("cannot list suite '{}': {}", s.root.string(), ec.message()));
     std::sort(names.begin(), names.end());
     for (const std::string& fname : names) {
       GoldenCase c = defaults;

@@ -1,4 +1,5 @@
-// A golden suite: a folder with suite.toml listing cases, or a folder of programs run with defaults.
+// A golden suite: a folder with suite.toml listing cases, or a folder of programs run with
+// defaults.
 #pragma once
 
 #include "golden/trace_compare.hpp"
@@ -14,8 +15,8 @@ struct GoldenCase {
   std::string name;     ///< unique in the suite; names the stored files
   std::string program;  ///< as written in the suite (relative to the root) — for messages
   std::filesystem::path program_path;
-  std::string flags;  ///< `gmotion run` flags (machine, profile, τ, overrides, ...), one string
-  std::string machine;        ///< key `machine` (= --machine), relative to the root; "" = none
+  std::string flags;    ///< `gmotion run` flags (machine, profile, τ, overrides, ...), one string
+  std::string machine;  ///< key `machine` (= --machine), relative to the root; "" = none
   std::string override_file;  ///< key `override_file` (= --override-file); "" = none
   int decimate = 1;           ///< key `decimate` (= --decimate)
   PinSpec pins;

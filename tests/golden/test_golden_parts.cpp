@@ -8,9 +8,9 @@
 #include "support/scratch_dir.hpp"
 #include "trace/trace_schema.hpp"
 
-#include <catch2/catch.hpp>
 #include <fmt/format.h>
 #include <zlib.h>
+#include <catch2/catch.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -35,7 +35,8 @@ void write_text(const fs::path& p, const std::string& text) {
 std::string csv_trace(const std::string& name, int rows, int bump_row = 0,
                       const std::string& bump_col = "", double bump = 0) {
   const std::vector<std::string> cols = gm::trace_column_names("XY");
-  std::string s = "# gmotion test trace v1\n# period_s: 0.004\n" + fmt::format("{}\n", fmt::join(cols, ","));
+  std::string s =
+      "# gmotion test trace v1\n# period_s: 0.004\n" + fmt::format("{}\n", fmt::join(cols, ","));
   for (int k = 0; k < rows; ++k) {
     std::vector<std::string> v;
     for (std::size_t i = 0; i < cols.size(); ++i) {
@@ -85,11 +86,13 @@ TEST_CASE("the comparison finds the first divergence, honours pins and tolerance
     CHECK(r.first->t_s == Approx(11 * 0.004));
     CHECK(r.first->line == 4);
     CHECK(r.first->column == "y_enc");
-    CHECK(r.first->golden == 10 * 11 + 8);  // y_enc is column 8 (t_s line x_cmd..x_ferr y_cmd y_ref y_enc)
+    CHECK(r.first->golden ==
+          10 * 11 + 8);  // y_enc is column 8 (t_s line x_cmd..x_ferr y_cmd y_ref y_enc)
     CHECK(r.first->fresh == 10 * 11 + 8 + 1);
     CHECK(r.beyond == 1);
     CHECK(largest_differences(r) == "y_enc=1");
-    CHECK(describe_first(r) == "t = 0.044000 s, line 4, column y_enc: golden 118, now 119 (row 12)");
+    CHECK(describe_first(r) ==
+          "t = 0.044000 s, line 4, column y_enc: golden 118, now 119 (row 12)");
   }
   const std::string b = csv_trace("c.csv", 30, 5, "x_ref", 3);
   SECTION("a column left out of the pins is not compared") {
@@ -162,8 +165,8 @@ TEST_CASE("JUnit text is escaped for XML") {
   CHECK_THAT(x, Catch::Contains("tests=\"2\" failures=\"1\" errors=\"0\""));
   CHECK_THAT(x, Catch::Contains("<testcase classname=\"golden.s\" name=\"ok\" time=\"0.500\"/>"));
   CHECK_THAT(x, Catch::Contains("name=\"b&lt;\""));
-  CHECK_THAT(x, Catch::Contains(
-                    "<failure message=\"first divergence x\" type=\"divergence\">first divergence x\nlargest</failure>"));
+  CHECK_THAT(x, Catch::Contains("<failure message=\"first divergence x\" type=\"divergence\">first "
+                                "divergence x\nlargest</failure>"));
 }
 
 TEST_CASE("the PNG writer writes valid chunks whose pixels decompress back") {
