@@ -104,10 +104,14 @@ std::string draw_divergence(const std::string& golden_trace, const std::string& 
       const Frame fr{220,           70, 780, 570, uc - span / 2, uc + span / 2, vc - vspan / 2,
                      vc + vspan / 2};
       img.rect(fr.x0, fr.y0, fr.x1, fr.y1, kGrid);
-      for (const auto& [t, c] : {std::pair{&g, kGolden}, std::pair{&f, kNow}})
-        for (std::size_t r = lo + 1; r < hi; ++r)
-          img.line(fr.px((*t)[r - 1][cx]), fr.py((*t)[r - 1][cy]), fr.px((*t)[r][cx]),
-                   fr.py((*t)[r][cy]), c);
+      // The golden 3 px wide under the 1 px run, so both show where they coincide.
+      auto seg = [&](const Table& t, std::size_t r, double d, Rgb c) {
+        img.line(fr.px(t[r - 1][cx]) + d, fr.py(t[r - 1][cy]) + d, fr.px(t[r][cx]) + d,
+                 fr.py(t[r][cy]) + d, c);
+      };
+      for (std::size_t r = lo + 1; r < hi; ++r)
+        for (double d : {-1.0, 0.0, 1.0}) seg(g, r, d, kGolden);
+      for (std::size_t r = lo + 1; r < hi; ++r) seg(f, r, 0.0, kNow);
       const double mx = fr.px(f[at][cx]), my = fr.py(f[at][cy]);
       img.line(mx - 8, my - 8, mx + 8, my + 8, kInk);
       img.line(mx - 8, my + 8, mx + 8, my - 8, kInk);
