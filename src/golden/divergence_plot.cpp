@@ -105,12 +105,12 @@ std::string draw_divergence(const std::string& golden_trace, const std::string& 
                      vc + vspan / 2};
       img.rect(fr.x0, fr.y0, fr.x1, fr.y1, kGrid);
       // The golden 3 px wide under the 1 px run, so both show where they coincide.
-      auto seg = [&](const Table& t, std::size_t r, double d, Rgb c) {
-        img.line(fr.px(t[r - 1][cx]) + d, fr.py(t[r - 1][cy]) + d, fr.px(t[r][cx]) + d,
-                 fr.py(t[r][cy]) + d, c);
+      auto seg = [&](const Table& t, std::size_t r, double off, Rgb c) {
+        img.line(fr.px(t[r - 1][cx]) + off, fr.py(t[r - 1][cy]) + off, fr.px(t[r][cx]) + off,
+                 fr.py(t[r][cy]) + off, c);
       };
       for (std::size_t r = lo + 1; r < hi; ++r)
-        for (double d : {-1.0, 0.0, 1.0}) seg(g, r, d, kGolden);
+        for (double off : {-1.0, 0.0, 1.0}) seg(g, r, off, kGolden);
       for (std::size_t r = lo + 1; r < hi; ++r) seg(f, r, 0.0, kNow);
       const double mx = fr.px(f[at][cx]), my = fr.py(f[at][cy]);
       img.line(mx - 8, my - 8, mx + 8, my + 8, kInk);
