@@ -70,11 +70,12 @@ enum class ErrorCode : int {
   SubroutineRedefined = 246,  ///< a second `sub` with a label already defined elsewhere
   SubroutineFile = 247,       ///< a subroutine file that cannot be read (any more)
   // Machine-side codes (offsets, tools, cycles) ------------------------------------------------
-  G53Misused = 260,      ///< G53 with a motion other than G0/G1, or in G91 (LinuxCNC)
-  BadLWord = 261,        ///< G10 without L or with an L it does not know; cycle L not >= 1
-  MissingWord = 262,     ///< a code without a word it needs (G10 P, M61 Q, G43.2 H, cycle R/Z)
-  BadCoordSystem = 263,  ///< G10 L2/L20 P outside 0..9
-  CycleMisused = 264,    ///< a canned cycle with cutter compensation, or no plane axis word
+  G53Misused = 260,         ///< G53 with a motion other than G0/G1, or in G91 (LinuxCNC)
+  BadLWord = 261,           ///< G10 without L or with an L it does not know; cycle L not >= 1
+  MissingWord = 262,        ///< a code without a word it needs (G10 P, M61 Q, G43.2 H, cycle R/Z)
+  BadCoordSystem = 263,     ///< G10 L2/L20 P outside 0..9
+  CycleMisused = 264,       ///< a canned cycle with cutter compensation, or no plane axis word
+  CutterCompMisused = 265,  ///< G41/G42 when on, out of XY/XZ, no D; a code compensation forbids
   // Arcs ---------------------------------------------------------------------------------------
   ArcRadiusTooSmall = 301,    ///< R form: |R| cannot reach the end point
   ArcRadiusMismatch = 302,    ///< IJK form: start and end radii differ beyond the rule's tolerance
@@ -83,6 +84,8 @@ enum class ErrorCode : int {
   ArcRWithIjk = 305,          ///< R and I/J/K in one arc block
   ArcMissingCenter = 306,     ///< G2/G3 with neither R nor an in-plane offset
   ArcRSameEndPoint = 307,     ///< R form with end == start (a full circle needs I/J/K)
+  CompToolTooLarge = 308,     ///< compensation: entry move or arc radius not beyond the tool radius
+  CompGouge = 309,            ///< compensation: a concave corner the tool cannot reach
   // Program --------------------------------------------------------------------------------------
   MissingProgramEnd = 401,  ///< no M2/M30 and no closing %
 };
@@ -186,6 +189,8 @@ inline constexpr std::array kErrorTable{
               "G10 L2/L20 P names coordinate systems 0 (current) to 9"},
     ErrorInfo{ErrorCode::CycleMisused, "canned cycle misused",
               "A canned cycle lacks what it needs or meets what it cannot use"},
+    ErrorInfo{ErrorCode::CutterCompMisused, "cutter compensation misused",
+              "Cutter radius compensation cannot be turned on here, or forbids this code"},
     ErrorInfo{ErrorCode::ArcRadiusTooSmall, "arc radius too small", "R cannot reach the end point"},
     ErrorInfo{ErrorCode::ArcRadiusMismatch, "arc radius mismatch",
               "Start and end radii differ beyond tolerance"},
@@ -198,6 +203,10 @@ inline constexpr std::array kErrorTable{
               "G2/G3 need R or an I/J/K offset in the plane"},
     ErrorInfo{ErrorCode::ArcRSameEndPoint, "R arc to start point",
               "An R-form arc cannot end where it starts"},
+    ErrorInfo{ErrorCode::CompToolTooLarge, "tool too large for compensation",
+              "An entry move or an arc is not longer or larger than the tool radius"},
+    ErrorInfo{ErrorCode::CompGouge, "compensation gouge",
+              "The compensated tool cannot reach this concave corner without gouging"},
     ErrorInfo{ErrorCode::MissingProgramEnd, "missing program end",
               "The program must end with M2, M30 or a closing %"},
 };

@@ -60,7 +60,11 @@ constexpr std::array kCodes{
     Code{'G',  200, G::Units,       S::Units,       run_units},
     Code{'G',  210, G::Units,       S::Units,       run_units},
     // Cutter compensation (group 7)
-    Code{'G',  400, G::CutterComp,  S::CutterComp,  run_nothing},
+    Code{'G',  400, G::CutterComp,  S::CutterComp,  run_cutter_comp},
+    Code{'G',  410, G::CutterComp,  S::CutterComp,  run_cutter_comp,  "D"},
+    Code{'G',  411, G::CutterComp,  S::CutterComp,  run_cutter_comp,  "DL"},
+    Code{'G',  420, G::CutterComp,  S::CutterComp,  run_cutter_comp,  "D"},
+    Code{'G',  421, G::CutterComp,  S::CutterComp,  run_cutter_comp,  "DL"},
     // Tool length (group 8)
     Code{'G',  430, G::ToolLength,  S::ToolLength,  run_tool_length,  "H"},
     Code{'G',  431, G::ToolLength,  S::ToolLength,  run_tool_length,  "",  true},

@@ -6,6 +6,7 @@
 #include "common/error_codes.hpp"
 #include "grammar/parse.hpp"
 #include "interp/canon.hpp"
+#include "interp/cutter_comp.hpp"
 #include "interp/program_axes.hpp"
 #include "interpolator/geometry.hpp"  // motion_length_mm, arc_sweep_rad, plane_axes
 #include "machine/machine.hpp"
@@ -66,6 +67,7 @@ struct ModalState {
   bool cycle_il_set = false;  ///< the initial level of this run of cycle blocks is known
   double cycle_il = 0.0;      ///< initial level (cycle axis, program units)
   double cycle_r = 0.0, cycle_bottom = 0.0, cycle_p = 0.0, cycle_q = 0.0;  ///< sticky R Z P Q
+  CutterComp comp;     ///< G40/G41/G42: side, radius, the held-back moves
   bool ended = false;  ///< M2/M30 or closing % seen
 
   /// mm per program length unit (25.4 under G20).

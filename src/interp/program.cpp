@@ -2,6 +2,8 @@
 // (% delimiters, block delete, missing end) and diagnostics rendering.
 #include "interp/program.hpp"
 
+#include "common/batch_ring.hpp"
+
 #include "common/diagnostic.hpp"
 #include "common/status.hpp"
 #include "grammar/parse.hpp"
@@ -14,11 +16,8 @@
 
 #include <fmt/format.h>
 
-#include <array>
-#include <condition_variable>
 #include <exception>
 #include <fstream>
-#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -540,7 +539,8 @@ void account(const std::vector<Canon>& out, const Machine& machine, CheckSummary
 /// Reading and parsing on a second thread, in batches, ahead of the interpreter on this one.
 /// Same diagnostics, in the same order, and the same summary as the serial check: the front
 /// half has no state the back half changes. A batch closes at kBatchLines lines or kBatchBytes
-/// bytes of text, so at most kBatches batches of bounded size are in memory.
+/// bytes of text, so at most kBatches batches of bounded size are in memory. The hand-over is
+/// the run's own queue type, BatchRing.
 class ParallelFront {
  public:
   static constexpr std::size_t kBatches = 3;
@@ -552,88 +552,61 @@ class ParallelFront {
     std::size_t count = 0;
     bool eof = false;     ///< the input ends after these lines
     int last_number = 0;  ///< with eof: the last line number read
-    bool full = false;    ///< written by the producer, not yet consumed
   };
 
   explicit ParallelFront(std::istream& in) : front_(in), thread_([this] { produce(); }) {}
   ~ParallelFront() {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      stop_ = true;
-    }
-    changed_.notify_all();
+    ring_.stop();
     thread_.join();
   }
   ParallelFront(const ParallelFront&) = delete;
   ParallelFront& operator=(const ParallelFront&) = delete;
 
-  /// Waits for the next batch; rethrows what the reader thread threw.
+  /// Waits for the next batch; rethrows what the reader thread threw. The consumer stops
+  /// asking after the batch marked eof, so a batch always comes.
   Batch& acquire() {
-    Batch& b = batches_[next_];
-    std::unique_lock<std::mutex> lock(mutex_);
-    changed_.wait(lock, [&] { return b.full || error_ != nullptr; });
-    if (!b.full && error_ != nullptr) std::rethrow_exception(error_);
-    return b;
+    taken_ = ring_.begin_take();
+    return *taken_;
   }
   /// Hands the batch returned by acquire() back for refilling.
   void release() {
-    Batch& b = batches_[next_];
-    for (std::size_t i = 0; i < b.count; ++i) b.lines[i].trim();
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      b.full = false;
-    }
-    changed_.notify_all();
-    next_ = (next_ + 1) % kBatches;
+    for (std::size_t i = 0; i < taken_->count; ++i) taken_->lines[i].trim();
+    ring_.end_take();
   }
 
  private:
   void produce() {
     try {
-      for (std::size_t i = 0;; i = (i + 1) % kBatches) {
-        Batch& b = batches_[i];
-        {
-          std::unique_lock<std::mutex> lock(mutex_);
-          changed_.wait(lock, [&] { return !b.full || stop_; });
-          if (stop_) return;
-        }
-        b.count = 0;
-        b.eof = false;
-        std::size_t bytes = 0;
-        while (b.count < kBatchLines && bytes < kBatchBytes) {
-          ParsedLine& p = b.lines[b.count];
-          if (!front_.next(p)) {
-            b.eof = true;
-            b.last_number = front_.last_number();
-            break;
-          }
-          bytes += p.text.size();
-          ++b.count;
-        }
-        {
-          std::lock_guard<std::mutex> lock(mutex_);
-          b.full = true;
-        }
-        changed_.notify_all();
-        if (b.eof) return;
+      while (Batch* b = ring_.begin_fill()) {
+        fill(*b);
+        const bool eof = b->eof;
+        ring_.end_fill();
+        if (eof) return;
       }
     } catch (...) {
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        error_ = std::current_exception();
+      ring_.fail(std::current_exception());
+    }
+  }
+  void fill(Batch& b) {
+    b.count = 0;
+    b.eof = false;
+    std::size_t bytes = 0;
+    while (b.count < kBatchLines && bytes < kBatchBytes) {
+      ParsedLine& p = b.lines[b.count];
+      if (!front_.next(p)) {
+        b.eof = true;
+        b.last_number = front_.last_number();
+        return;
       }
-      changed_.notify_all();
+      bytes += p.text.size();
+      ++b.count;
     }
   }
 
   LineParser front_;
-  std::array<Batch, kBatches> batches_;
-  std::size_t next_ = 0;  ///< the batch the consumer takes next
-  std::mutex mutex_;
-  std::condition_variable changed_;
-  bool stop_ = false;
-  std::exception_ptr error_;
-  std::thread thread_;  ///< last: starts once everything above is constructed
+  BatchRing<Batch, kBatches> ring_;
+  Batch* taken_ = nullptr;  ///< the consumer's batch between acquire() and release()
+  std::thread thread_;      ///< last: starts once everything above is constructed
 };
 
 template <typename Sink>

@@ -93,7 +93,7 @@ bool step_feed(BlockCtx&);
 bool step_tool_select(BlockCtx&);
 
 // Steps named by the code table -----------------------------------------------------------------
-bool run_nothing(BlockCtx&, const Code&);  ///< accepted and recorded nowhere (M3, G40, ...)
+bool run_nothing(BlockCtx&, const Code&);  ///< accepted and recorded nowhere (M7, G9, ...)
 bool run_feed_mode(BlockCtx&, const Code&);
 bool run_tool_change(BlockCtx&, const Code&);
 bool run_override(BlockCtx&, const Code&);
@@ -129,6 +129,12 @@ bool machine_target(BlockCtx& ctx, Pos9& target_mm);
 /// Emits a straight move (rapid or feed) from the current position to `target_mm` and moves
 /// there; zero-length moves are not emitted.
 bool emit_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target_mm, SourceLoc loc);
+/// A motion of this block's kind, line, plane and path mode (ends, feed and arc data unset).
+Motion motion_template(const BlockCtx& ctx, MotionKind kind);
+/// The centre of the block's arc (R or I/J/K words, G90.1/G91.1) from `start_mm` to `end_mm`,
+/// machine coordinates (the in-plane components; the rest are start's); false with the error set.
+bool arc_centre(BlockCtx& ctx, const Code& c, const Pos9& start_mm, const Pos9& end_mm,
+                Pos9& centre_mm);
 /// The feed checks of a feed motion (G93 F present and > 0, G94 feed > 0).
 bool check_feed(BlockCtx& ctx, int code10, SourceLoc loc);
 

@@ -49,7 +49,7 @@ struct CycleRun {
   bool feed(double a, double b, double c) {
     return emit_straight(ctx, MotionKind::Line, machine(a, b, c), loc);
   }
-  void dwell(double s) { ctx.out.emplace_back(Dwell{ctx.block.line, s}); }
+  void dwell(double s) { emit_in_order(ctx, Dwell{ctx.block.line, s}); }
 };
 
 const char* plane_text(Plane p) {
@@ -64,6 +64,7 @@ bool run_spindle(BlockCtx& ctx, const Code& c) {
 }
 
 bool run_retract_mode(BlockCtx& ctx, const Code& c) {
+  if (!comp_forbids(ctx, ctx.loc_of(Group::ReturnMode), "change the retract mode")) return false;
   ctx.s.retract_to_r = c.number10 == 990;
   return true;
 }
@@ -76,6 +77,7 @@ bool run_cycle(BlockCtx& ctx, const Code& c) {
                         : w.first_axis           ? w.first_axis->loc
                                                  : SourceLoc{ctx.block.line, 1};
   const std::string name = code_name(c);
+  if (!comp_forbids(ctx, loc, fmt::format("use canned cycle {}", name))) return false;
   const bool entering = s.cycle_mode != g;  // LinuxCNC: motion_mode != motion
   const CycleAxes ax = cycle_axes(s.plane);
   const char cl = kProgramAxisLetters[static_cast<std::size_t>(ax.c)];

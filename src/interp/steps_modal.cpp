@@ -48,6 +48,7 @@ bool run_override(BlockCtx& ctx, const Code& c) {
       return ctx.fail(ErrorCode::BadPWord, ctx.w['P']->loc,
                       fmt::format("M50 P{:g}: P must be 0 or 1", p));
   }
+  if (!comp_forbids(ctx, ctx.loc_of(Group::MOverride), "change overrides")) return false;
   ctx.out.emplace_back(Event{ctx.block.line, k, {}});
   return true;
 }
@@ -60,12 +61,15 @@ bool run_dwell(BlockCtx& ctx, const Code&) {
   if (p < 0)
     return ctx.fail(ErrorCode::NegativeDwell, ctx.w['P']->loc,
                     fmt::format("G4 P{:g}: negative dwell", p));
-  ctx.out.emplace_back(Dwell{ctx.block.line, p});
+  emit_in_order(ctx, Dwell{ctx.block.line, p});
   return true;
 }
 
 bool run_plane(BlockCtx& ctx, const Code& c) {
-  ctx.s.plane = c.number10 == 170 ? Plane::XY : c.number10 == 180 ? Plane::XZ : Plane::YZ;
+  const Plane p = c.number10 == 170 ? Plane::XY : c.number10 == 180 ? Plane::XZ : Plane::YZ;
+  if (p != ctx.s.plane && !comp_forbids(ctx, ctx.loc_of(Group::Plane), "change planes"))
+    return false;
+  ctx.s.plane = p;
   return true;
 }
 
@@ -75,6 +79,8 @@ bool run_units(BlockCtx& ctx, const Code& c) {
 }
 
 bool run_path_control(BlockCtx& ctx, const Code& c) {
+  if (!comp_forbids(ctx, ctx.loc_of(Group::PathControl), "change the path control mode"))
+    return false;
   // LinuxCNC: G61 = exact path, G61.1 = exact stop, G64 = continuous (P/Q ignored here).
   ctx.s.path_mode = c.number10 == 610   ? PathMode::ExactPath
                     : c.number10 == 611 ? PathMode::ExactStop
@@ -105,8 +111,13 @@ bool run_stop(BlockCtx& ctx, const Code& c) {
   const EventKind k = c.number10 == 0    ? EventKind::Pause
                       : c.number10 == 10 ? EventKind::OptionalPause
                                          : EventKind::End;
+  if (!comp_flush(ctx)) return false;  // the held-back move ends where the tool is
   ctx.out.emplace_back(Event{ctx.block.line, k, {}});
-  if (k == EventKind::End) ctx.s.ended = true;
+  if (k == EventKind::End) {
+    ctx.s.ended = true;
+    ctx.s.comp.side = 0;  // M2/M30 turn compensation off (LinuxCNC)
+    ctx.s.comp.first_move = true;
+  }
   return true;
 }
 

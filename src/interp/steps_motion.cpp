@@ -112,47 +112,94 @@ bool machine_target(BlockCtx& ctx, Pos9& target_mm) {
   return true;
 }
 
-bool emit_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target_mm, SourceLoc) {
+Motion motion_template(const BlockCtx& ctx, MotionKind kind) {
   Motion mo;
   mo.line = ctx.block.line;
   mo.kind = kind;
-  mo.start_mm = to_machine(ctx.s.position_mm);
-  mo.end_mm = to_machine(target_mm);
   mo.plane = ctx.s.plane;
   set_path_mode(ctx, mo);
+  return mo;
+}
+
+bool emit_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target_mm, SourceLoc) {
+  Motion mo = motion_template(ctx, kind);
+  mo.start_mm = to_machine(motion_start(ctx));
+  mo.end_mm = to_machine(target_mm);
   if (mo.end_mm != mo.start_mm) {
     if (kind != MotionKind::Rapid && !set_feed(ctx, mo)) return false;
     ctx.out.emplace_back(mo);
   }
   ctx.s.position_mm = target_mm;
+  ctx.s.comp.detached = false;
   return true;
 }
 
 bool run_straight(BlockCtx& ctx, const Code& c) {
   const SourceLoc loc = motion_loc(ctx);
   if (c.number10 != 0 && !check_feed(ctx, c.number10, loc)) return false;
+  ctx.s.comp.arc_not_allowed = false;
+  const MotionKind kind = c.number10 == 0 ? MotionKind::Rapid : MotionKind::Line;
   Pos9 target;
   if (ctx.w.has_code('G', 530)) {
+    if (ctx.s.comp.active())
+      return ctx.fail(ErrorCode::G53Misused, ctx.loc_of(Group::NonModal),
+                      "G53 with cutter radius compensation on");
     if (!machine_target(ctx, target)) return false;
-  } else if (!axis_target(ctx, ctx.s.position_mm, target)) {
+  } else if (!axis_target(ctx, comp_program_point(ctx), target)) {
     return false;
   }
-  return emit_straight(ctx, c.number10 == 0 ? MotionKind::Rapid : MotionKind::Line, target, loc);
+  if (ctx.s.comp.active()) return comp_straight(ctx, kind, target);
+  return emit_straight(ctx, kind, target, loc);
+}
+
+bool arc_centre(BlockCtx& ctx, const Code& c, const Pos9& start, const Pos9& end, Pos9& centre) {
+  const BlockWords& w = ctx.w;
+  const Pos9 off = ctx.offset();
+  const double scale = ctx.scale();
+  const PlaneAxes ax = plane_axes(ctx.s.plane);
+  const char la = "IJK"[ax.a], lb = "IJK"[ax.b];
+  ArcInput in;
+  in.start_a = (start[ax.a] - off[ax.a]) / scale;
+  in.start_b = (start[ax.b] - off[ax.b]) / scale;
+  in.end_a = (end[ax.a] - off[ax.a]) / scale;
+  in.end_b = (end[ax.b] - off[ax.b]) / scale;
+  in.use_r = w.has('R');
+  in.r = w.get('R');
+  in.off_a = w.get(la);
+  in.off_b = w.get(lb);
+  in.offsets_absolute = ctx.s.ijk_absolute;
+  in.ccw = c.number10 == 30;
+  in.mm_per_unit = scale;
+  in.rule = ctx.machine.arc_rule;
+  ArcResult ar = compute_arc(in);
+  const SourceLoc aloc = in.use_r ? w['R']->loc : w.has(la) ? w[la]->loc : w[lb]->loc;
+  if (ar.error != ErrorCode::None) return ctx.fail(ar.error, aloc, std::move(ar.message));
+  centre = start;
+  centre[ax.a] = start[ax.a] + ar.rel_a * scale;
+  centre[ax.b] = start[ax.b] + ar.rel_b * scale;
+  for (const int i : {ax.a, ax.b}) {
+    if (within(centre[i], kMaxPositionMm)) continue;
+    return ctx.fail(ErrorCode::ValueOutOfRange, aloc,
+                    fmt::format("arc centre {} = {:g} mm, outside -{:g}..{:g} mm",
+                                kProgramAxisLetters[static_cast<std::size_t>(i)], centre[i],
+                                kMaxPositionMm, kMaxPositionMm));
+  }
+  return true;
 }
 
 bool run_arc(BlockCtx& ctx, const Code& c) {
   const SourceLoc mloc = motion_loc(ctx);
+  if (ctx.s.comp.arc_not_allowed)
+    return ctx.fail(ErrorCode::CutterCompMisused, mloc,
+                    fmt::format("{} just after G40: the move leaving cutter compensation must be "
+                                "straight",
+                                code_name(c)));
   if (ctx.w.has_code('G', 530))
     return ctx.fail(ErrorCode::G53Misused, ctx.loc_of(Group::NonModal),
                     fmt::format("G53 with {}: G53 moves need G0 or G1", code_name(c)));
   if (!check_feed(ctx, c.number10, mloc)) return false;
   ModalState& s = ctx.s;
   const BlockWords& w = ctx.w;
-  Pos9 target;
-  if (!axis_target(ctx, s.position_mm, target)) return false;
-  const Pos9 off = ctx.offset();
-  const double scale = ctx.scale();
-
   const PlaneAxes ax = plane_axes(s.plane);
   const char la = "IJK"[ax.a], lb = "IJK"[ax.b], ln = "IJK"[ax.n];
   if (w.has(ln))
@@ -172,42 +219,16 @@ bool run_arc(BlockCtx& ctx, const Code& c) {
           fmt::format("arc P{:g}: P must be an integer of 1 or more (turns)", w['P']->value));
     turns = static_cast<int>(p);
   }
-  ArcInput in;
-  in.start_a = (s.position_mm[ax.a] - off[ax.a]) / scale;
-  in.start_b = (s.position_mm[ax.b] - off[ax.b]) / scale;
-  in.end_a = (target[ax.a] - off[ax.a]) / scale;
-  in.end_b = (target[ax.b] - off[ax.b]) / scale;
-  in.use_r = w.has('R');
-  in.r = w.get('R');
-  in.off_a = w.get(la);
-  in.off_b = w.get(lb);
-  in.offsets_absolute = s.ijk_absolute;
-  in.ccw = c.number10 == 30;
-  in.mm_per_unit = scale;
-  in.rule = ctx.machine.arc_rule;
-  ArcResult ar = compute_arc(in);
-  const SourceLoc aloc = in.use_r ? w['R']->loc : w.has(la) ? w[la]->loc : w[lb]->loc;
-  if (ar.error != ErrorCode::None) return ctx.fail(ar.error, aloc, std::move(ar.message));
-
-  Pos9 center = s.position_mm;
-  center[ax.a] = s.position_mm[ax.a] + ar.rel_a * scale;
-  center[ax.b] = s.position_mm[ax.b] + ar.rel_b * scale;
-  for (const int i : {ax.a, ax.b}) {
-    if (within(center[i], kMaxPositionMm)) continue;
-    return ctx.fail(ErrorCode::ValueOutOfRange, aloc,
-                    fmt::format("arc centre {} = {:g} mm, outside -{:g}..{:g} mm",
-                                kProgramAxisLetters[static_cast<std::size_t>(i)], center[i],
-                                kMaxPositionMm, kMaxPositionMm));
-  }
-  Motion mo;
-  mo.line = ctx.block.line;
-  mo.kind = MotionKind::Arc;
+  Pos9 target;
+  if (!axis_target(ctx, comp_program_point(ctx), target)) return false;
+  if (ctx.s.comp.active()) return comp_arc(ctx, c, target, turns);
+  Pos9 center;
+  if (!arc_centre(ctx, c, s.position_mm, target, center)) return false;
+  Motion mo = motion_template(ctx, MotionKind::Arc);
   mo.start_mm = to_machine(s.position_mm);
   mo.end_mm = to_machine(target);
   mo.center_mm = to_machine(center);
-  mo.plane = s.plane;
-  set_path_mode(ctx, mo);
-  mo.ccw = in.ccw;
+  mo.ccw = c.number10 == 30;
   mo.turns = turns;
   if (!set_feed(ctx, mo)) return false;
   ctx.out.emplace_back(mo);

@@ -5,6 +5,7 @@
 namespace gm {
 
 bool run_coord_system(BlockCtx& ctx, const Code& c) {
+  if (!comp_forbids(ctx, ctx.loc_of(Group::CoordSystem), "change coordinate systems")) return false;
   // G54..G59 = 0..5, G59.1..G59.3 = 6..8.
   ctx.s.coord_system = c.number10 <= 590 ? (c.number10 - 540) / 10 : 5 + (c.number10 - 590);
   return true;
@@ -32,6 +33,9 @@ bool run_g10(BlockCtx& ctx, const Code&) {
                     "G10 R (XY rotation of a coordinate system) is not supported yet");
   const std::size_t cs =
       p == 0 ? static_cast<std::size_t>(ctx.s.coord_system) : static_cast<std::size_t>(p) - 1;
+  if (cs == static_cast<std::size_t>(ctx.s.coord_system) &&
+      !comp_forbids(ctx, loc, "change the active coordinate system"))
+    return false;
   Pos9& g5x = ctx.tables_w().g5x_mm[cs];
   for (int i = 0; i < kProgramAxes; ++i) {
     const auto* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]];
@@ -46,6 +50,7 @@ bool run_g10(BlockCtx& ctx, const Code&) {
 }
 
 bool run_g92(BlockCtx& ctx, const Code&) {
+  if (!comp_forbids(ctx, ctx.loc_of(Group::NonModal), "change axis offsets")) return false;
   if (!ctx.w.first_axis)
     return ctx.fail(ErrorCode::G92WithoutAxes, ctx.loc_of(Group::NonModal),
                     "G92 without axis words");
@@ -62,6 +67,7 @@ bool run_g92(BlockCtx& ctx, const Code&) {
 }
 
 bool run_g52(BlockCtx& ctx, const Code&) {
+  if (!comp_forbids(ctx, ctx.loc_of(Group::NonModal), "change axis offsets")) return false;
   Pos9& g92 = ctx.s.g92_mm;  // LinuxCNC keeps the G52 local offset in the G92 offsets
   for (int i = 0; i < kProgramAxes; ++i)
     if (const auto* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]])
@@ -71,6 +77,7 @@ bool run_g52(BlockCtx& ctx, const Code&) {
 }
 
 bool run_g92_x(BlockCtx& ctx, const Code& c) {
+  if (!comp_forbids(ctx, ctx.loc_of(Group::NonModal), "change axis offsets")) return false;
   switch (c.number10) {
     case 921:  // reset, parameters too
       ctx.s.g92_mm.setZero();
@@ -95,6 +102,7 @@ bool run_home(BlockCtx& ctx, const Code& c) {
   const SourceLoc loc = ctx.loc_of(Group::NonModal);
   Pos9 via;  // the intermediate point (the axis words, G90/G91 and offsets as for G0)
   if (!axis_target(ctx, ctx.s.position_mm, via)) return false;
+  if (!comp_forbids(ctx, loc, fmt::format("use {}", code_name(c)))) return false;
   if (!emit_straight(ctx, MotionKind::Rapid, via, loc)) return false;
   const Pos9& home = c.number10 == 280 ? ctx.tables().g28_mm : ctx.tables().g30_mm;
   Pos9 target = ctx.s.position_mm;

@@ -51,6 +51,7 @@ bool step_tool_select(BlockCtx& ctx) {
 }
 
 bool run_tool_change(BlockCtx& ctx, const Code&) {
+  if (!comp_forbids(ctx, ctx.loc_of(Group::MToolChange), "change tools")) return false;
   ctx.s.tool_in_spindle = ctx.s.tool_selected;
   // rs274: T0 M6 leaves the spindle's tool data as it was (G43 without H still uses it).
   if (ctx.s.tool_selected != 0) ctx.s.spindle_slot_tool = ctx.s.tool_selected;
@@ -68,6 +69,8 @@ bool run_m61(BlockCtx& ctx, const Code&) {
 }
 
 bool run_tool_length(BlockCtx& ctx, const Code& c) {
+  if (!comp_forbids(ctx, ctx.loc_of(Group::ToolLength), "change the tool length offset"))
+    return false;
   Pos9& off = ctx.s.tool_offset_mm;
   switch (c.number10) {
     case 490:  // G49

@@ -1,4 +1,4 @@
-; expect 3:4 203
+; expect 3:1 203
 G21
-G0 D5
+E5 G0
 M2

@@ -7,6 +7,7 @@
 #include "pipeline/pipeline.hpp"
 #include "support/run_command.hpp"
 #include "support/scratch_dir.hpp"
+#include "support/test_scale.hpp"
 
 #include <fmt/format.h>
 #include <catch2/catch.hpp>
@@ -185,7 +186,7 @@ TEST_CASE(
     "property: random programs x random schedules x every profile end exactly, never speed up") {
   const char* env = std::getenv("GMOTION_SEED");
   const std::uint64_t seed = env ? std::strtoull(env, nullptr, 10) : 20261122u;
-  const int programs = env ? 1 : 1000;
+  const int programs = env ? 1 : gmtest::scaled(1000);
   std::mt19937_64 rng(seed);
   const std::vector<std::pair<std::string, double>> profiles = {
       {"linear", 0.164},   {"scurve1", 0.164}, {"scurve2", 0.164},

@@ -8,6 +8,7 @@
 #include "planner/tolerance_check.hpp"
 #include "planner/tolerance_planner.hpp"
 #include "support/run_command.hpp"
+#include "support/test_scale.hpp"
 
 #include <fmt/format.h>
 #include <catch2/catch.hpp>
@@ -154,7 +155,7 @@ TEST_CASE("property: random programs hold G64 P on every sample under random ove
   const char* profiles[] = {"blackman", "linear", "hann", "scurve1"};
   const double taus[] = {0.164, 0.1, 0.08, 0.12};
   const double tols[] = {0.003, 0.005, 0.01, 0.02, 0.05, 0.1, 0.3};
-  constexpr int kPrograms = 1000;
+  const int kPrograms = gmtest::scaled(1000);
   int arcs = 0, rapids = 0, lines = 0;
   std::int64_t samples = 0, rapid_samples = 0, paused = 0, capped = 0;
   double worst_ratio = 0;
