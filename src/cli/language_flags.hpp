@@ -13,8 +13,8 @@ namespace gm::cli {
 
 /// How the program's language is read (issue 15).
 struct LanguageFlags {
-  std::string subroutine_path;                 ///< --subroutine-path DIR[:DIR...]
-  std::int64_t max_iterations = 10'000'000;    ///< --max-iterations N
+  std::string subroutine_path;               ///< --subroutine-path DIR[:DIR...]
+  std::int64_t max_iterations = 10'000'000;  ///< --max-iterations N
 };
 
 /// Adds --subroutine-path and --max-iterations to `sub`.

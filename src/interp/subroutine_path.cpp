@@ -47,8 +47,9 @@ std::string SubroutinePath::describe_miss(std::string_view label) const {
     return "no subroutine path is set (--subroutine-path DIR or the machine key "
            "subroutine_path)";
   if (!safe_name(label))
-    return fmt::format("the name is not looked up on the subroutine path (only letters, digits, "
-                       "'_', '-' and '.' not first)");
+    return fmt::format(
+        "the name is not looked up on the subroutine path (only letters, digits, "
+        "'_', '-' and '.' not first)");
   std::string dirs;
   for (const std::string& d : dirs_) dirs += (dirs.empty() ? "" : ":") + d;
   return fmt::format("no file '{}.ngc' in {}", label, dirs);

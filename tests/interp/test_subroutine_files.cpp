@@ -80,20 +80,20 @@ TEST_CASE("o<name> call runs name.ngc from the subroutine path, with arguments a
   CHECK(xs(ms) == std::vector<double>{2, 4, 6, 6, 16});
   REQUIRE(ms.size() == 5);
   CHECK(ms[3].end_mm[1] == 6.0);  // the returned 3*2
-  CHECK(ms[0].line == 5);  // a line of steps.ngc
+  CHECK(ms[0].line == 5);         // a line of steps.ngc
   for (auto threads : {gm::CheckThreads::Auto, gm::CheckThreads::Single})
     CHECK(checked(program, o, threads).empty());
 }
 
-TEST_CASE("a sub file calls another; a numbered call finds N.ngc; files beyond the open limit") {
+TEST_CASE("a sub file calls another, a numbered call finds N.ngc, files beyond the open limit") {
   Library lib;
   lib.add("outer.ngc", "o<outer> sub\nG0 X#1\no<inner> call [#1+1]\nG0 X#1\no<outer> endsub\n");
   lib.add("inner.ngc", "o<inner> sub\nG0 X[#1*10]\no<inner> endsub\n");
   lib.add("200.ngc", "o200 sub\nG0 X200\no200 endsub\n");
   for (int k = 0; k < 6; ++k)
-    lib.add("f" + std::to_string(k) + ".ngc",
-            "o<f" + std::to_string(k) + "> sub\nG0 X" + std::to_string(k + 1) + "\no<f" +
-                std::to_string(k) + "> endsub\n");
+    lib.add("f" + std::to_string(k) + ".ngc", "o<f" + std::to_string(k) + "> sub\nG0 X" +
+                                                  std::to_string(k + 1) + "\no<f" +
+                                                  std::to_string(k) + "> endsub\n");
   gm::Machine m;
   const auto o = lib.options(m);
   CHECK(xs(streamed("o<outer> call [2]\no200 call\nM2\n", o)) ==
