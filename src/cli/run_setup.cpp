@@ -11,6 +11,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
@@ -52,15 +53,33 @@ Machine resolve_machine(const MachineFlags& f) {
 ProgramInput::ProgramInput(const std::string& path) : name_(path == "-" ? "<stdin>" : path) {
   std::string open_path = path;
   if (path == "-") {
-    char tmpl[] = "/tmp/gmotion-stdin-XXXXXX";
-    const int fd = mkstemp(tmpl);
+    // Spooled to a file so control flow can seek in it. Every write is checked: a full disk
+    // must not turn into a silently shorter program.
+    const char* tmpdir = std::getenv("TMPDIR");
+    std::string tmpl = (tmpdir != nullptr && *tmpdir != '\0' ? std::string(tmpdir) : "/tmp") +
+                       "/gmotion-stdin-XXXXXX";
+    const int fd = mkstemp(tmpl.data());
     if (fd < 0) throw InputError(fmt::format("cannot spool stdin: {}", std::strerror(errno)));
     spool_path_ = tmpl;
     std::FILE* out = fdopen(fd, "wb");
+    if (out == nullptr) {
+      const int err = errno;
+      ::close(fd);
+      std::remove(spool_path_.c_str());
+      throw InputError(fmt::format("cannot spool stdin: {}", std::strerror(err)));
+    }
     char buf[1 << 16];
     std::size_t n;
-    while ((n = std::fread(buf, 1, sizeof buf, stdin)) > 0) std::fwrite(buf, 1, n, out);
-    std::fclose(out);
+    int err = 0;  // the first failure's errno
+    while (err == 0 && (n = std::fread(buf, 1, sizeof buf, stdin)) > 0)
+      if (std::fwrite(buf, 1, n, out) != n) err = errno;
+    if (std::fflush(out) != 0 && err == 0) err = errno;
+    if (std::fclose(out) != 0 && err == 0) err = errno;
+    if (err != 0) {
+      std::remove(spool_path_.c_str());  // the destructor does not run for a throwing constructor
+      throw InputError(
+          fmt::format("cannot spool stdin to {}: {}", spool_path_, std::strerror(err)));
+    }
     open_path = spool_path_;
   } else {
     std::error_code ec;

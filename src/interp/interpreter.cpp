@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 namespace gm {
 
 namespace {
@@ -150,6 +152,7 @@ std::size_t plan_block(const BlockCtx& ctx, std::array<Action, kGroupCount + 4>&
   };
   if (ctx.block.message_count > 0) add({Step::Comment, step_comment, nullptr});
   if (ctx.w.has('F')) add({Step::Feed, step_feed, nullptr});
+  if (ctx.w.has('S')) add({Step::Speed, step_speed, nullptr});
   if (ctx.w.has('T')) add({Step::Tool, step_tool_select, nullptr});
   for (std::size_t i = 0; i < ctx.w.code_count; ++i)
     if (const Code* c = ctx.w.codes[i]; c->group != Group::Motion) add({c->step, nullptr, c});
@@ -202,6 +205,7 @@ bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, 
 
   ModalState s = state_;
   BlockCtx ctx{machine_, block, w, s, out, err, tables_, nullptr};
+  ctx.call_level = call_level_;
   if (!check_block(ctx)) return false;
 
   // STEP 4: execute on the copy, step by step in LinuxCNC's order ------------------------------
@@ -219,6 +223,33 @@ bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, 
     }
   }
   state_ = s;  // commit
+  if (ctx.staged) tables_ = *ctx.staged;
+  return true;
+}
+
+void Interpreter::enter_call(int level) {
+  call_level_ = std::clamp(level, 0, kCallLevels - 1);
+  tables_.saved_modes[static_cast<std::size_t>(call_level_)] = SavedModes{};
+}
+
+bool Interpreter::leave_call(int level, int line, std::vector<Canon>& out, InterpError& err) {
+  level = std::clamp(level, 0, kCallLevels - 1);
+  call_level_ = std::max(0, level - 1);
+  const SavedModes saved = tables_.saved_modes[static_cast<std::size_t>(level)];
+  tables_.saved_modes[static_cast<std::size_t>(level)] = SavedModes{};
+  if (!saved.valid || !saved.restore_on_return) return true;
+  grammar::Block block;
+  block.line = line;
+  BlockWords w;
+  ModalState s = state_;
+  BlockCtx ctx{machine_, block, w, s, out, err, tables_, nullptr};
+  ctx.call_level = call_level_;
+  const std::size_t mark = out.size();
+  if (!restore_modes(ctx, saved)) {
+    out.resize(mark);
+    return false;
+  }
+  state_ = s;
   if (ctx.staged) tables_ = *ctx.staged;
   return true;
 }

@@ -25,6 +25,26 @@ struct InterpError {
   std::string message;
 };
 
+/// The modes M70/M73 save and M72 restores (LinuxCNC's saved_g_codes/m_codes/settings of a call
+/// level): modal G codes, F and S in the program units they were set in, spindle, override.
+struct SavedModes {
+  bool valid = false;              ///< M70/M73 saved here; M71 clears it
+  bool restore_on_return = false;  ///< M73: restored when the subroutine returns
+  bool inch = false;
+  bool incremental = false, ijk_absolute = false, inverse_time = false, retract_to_r = true;
+  Plane plane = Plane::XY;
+  int comp_code = 400;         ///< G40 G41 G42 (x 10)
+  int tool_length_code = 490;  ///< G43 G43.1 G43.2 G49 (x 10)
+  int coord_system = 0;
+  PathMode path_mode = PathMode::Continuous;
+  double path_tolerance_mm = -1.0, naive_cam_tolerance_mm = 0.0;
+  double feed_units = 0.0;  ///< F in the units in force when saved
+  double speed_rpm = 0.0;
+  int spindle_dir = 0;
+  bool feed_override = true;
+};
+inline constexpr int kCallLevels = 10;  ///< call levels 0 (the program) .. 9 (kMaxCallDepth)
+
 /// The values a block rarely changes (LinuxCNC's system parameters #5161..#5389: stored G28/G30
 /// positions, coordinate systems). Kept here until the parameter store holds them; a block that
 /// changes them works on a copy (BlockCtx::tables_w) that is committed with the block.
@@ -34,6 +54,7 @@ struct SystemTables {
   Pos9 g30_mm = Pos9::Zero();        ///< G30.1 position, machine coordinates
   Pos9 g92_saved_mm = Pos9::Zero();  ///< G92 offsets as stored: G92.2 keeps, G92.3 restores
   ToolTable tools;                   ///< the tool table (G10 L1/L10/L11 change it)
+  std::array<SavedModes, kCallLevels> saved_modes{};  ///< M70/M73 contexts by call level
 
   SystemTables() {
     for (auto& o : g5x_mm) o.setZero();
@@ -61,6 +82,9 @@ struct ModalState {
   Pos9 g92_mm = Pos9::Zero();           ///< G92/G52 axis offsets
   Pos9 tool_offset_mm = Pos9::Zero();   ///< G43 tool length offset
   int spindle_dir = 0;                  ///< M3 = 1, M4 = -1, M5 = 0
+  double spindle_rpm = 0.0;             ///< S
+  int tool_length_code = 490;           ///< G43/G43.1/G43.2/G49 in effect (x 10)
+  bool feed_override = true;            ///< M48 (M50 P1) vs M49 (M50 P0)
   // Canned cycles (program units, as LinuxCNC keeps them) --------------------------------------
   bool retract_to_r = true;   ///< G99 (LinuxCNC's initial retract mode); G98 = false
   int cycle_mode = -1;        ///< the cycle code x 10 of the previous cycle block, -1 none
@@ -87,6 +111,12 @@ class Interpreter {
   bool execute(const grammar::Block& block, std::vector<Canon>& out, InterpError& err);
 
   const ModalState& state() const { return state_; }
+  /// The subroutine call level the next blocks run at (0 = the program); entering a level
+  /// clears its saved modes (LinuxCNC enter_context).
+  void enter_call(int level);
+  /// A subroutine at `level` returned (endsub/return): modes saved there by M73 are restored
+  /// (LinuxCNC leave_context). `line` is the returning line; false with `err` on an error.
+  bool leave_call(int level, int line, std::vector<Canon>& out, InterpError& err);
   const SystemTables& tables() const { return tables_; }
   /// Sum of all offsets from program to machine coordinates under the current state, mm.
   AxisVec total_offset_mm() const;
@@ -95,6 +125,7 @@ class Interpreter {
   const Machine& machine_;
   ModalState state_;
   SystemTables tables_;
+  int call_level_ = 0;
 };
 
 }  // namespace gm

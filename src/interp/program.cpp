@@ -181,7 +181,7 @@ class StateParameters : public ParameterProvider {
         {"_tool_offset", s.tool_offset_mm.isZero() ? 0.0 : 1.0},
         {"_ijk_absolute_mode", s.ijk_absolute ? 1.0 : 0.0},
         {"_feed", s.feed_mm_min / units},
-        {"_rpm", 0.0},
+        {"_rpm", s.spindle_rpm},
         {"_current_tool", static_cast<double>(s.tool_in_spindle)},
         {"_selected_tool", static_cast<double>(s.tool_selected)},
         {"_task", 0.0},
@@ -272,7 +272,7 @@ class ProgramRunner {
     remember(text);
     if (flow_.skipping()) {  // passing over lines: only O-words matter, nothing else is checked
       if (p.truncated || p.block.oword.kind == grammar::OKind::None) return true;
-      return control(p, diags, jump);
+      return control(p, out, diags, jump);
     }
     if (p.truncated) {
       diags.push_back(Diagnostic{Severity::Error,
@@ -303,7 +303,7 @@ class ProgramRunner {
     }
     if (block.oword.kind != grammar::OKind::None) {
       first_content_seen_ = true;
-      return control(p, diags, jump);
+      return control(p, out, diags, jump);
     }
     if (block.words.empty() && block.message_count == 0 && !block.needs_evaluation()) return true;
     first_content_seen_ = true;
@@ -371,10 +371,16 @@ class ProgramRunner {
     return text.size() <= 512 ? text : std::string();
   }
   // An O-word line: control flow. An error there ends the program (the flow state is lost).
-  bool control(ParsedLine& p, std::vector<Diagnostic>& diags, FlowJump& jump) {
+  bool control(ParsedLine& p, std::vector<Canon>& out, std::vector<Diagnostic>& diags,
+               FlowJump& jump) {
     state_params_.set_line(p.number);
     InterpError err;
-    if (!flow_.handle(p.block, LinePos{p.offset, p.next_offset, p.number, p.file}, jump, err)) {
+    const int depth = flow_.call_depth();
+    bool ok = flow_.handle(p.block, LinePos{p.offset, p.next_offset, p.number, p.file}, jump, err);
+    // The interpreter keeps M70/M73 modes per call level (machine's, interp/saved_modes.cpp).
+    if (ok && flow_.call_depth() > depth) interp_.enter_call(flow_.call_depth());
+    if (ok && flow_.call_depth() < depth) ok = interp_.leave_call(depth, p.number, out, err);
+    if (!ok) {
       diags.push_back(Diagnostic{Severity::Error, static_cast<int>(err.code), err.loc, err.message,
                                  source_for(p.text)});
       done_ = true;

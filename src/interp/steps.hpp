@@ -47,6 +47,7 @@ struct BlockCtx {
   const SystemTables& committed;         ///< the tables as before this block
   std::unique_ptr<SystemTables> staged;  ///< this block's changes to them, if any
   int motion_to_be = -1;                 ///< the motion code x 10 this block executes, -1 none
+  int call_level = 0;                    ///< subroutine call level (M70..M73 contexts)
   double inverse_f = 0.0;                ///< G93: this block's F (1/min)
 
   /// Sets the error; returns false so a step can `return ctx.fail(...)`.
@@ -91,6 +92,7 @@ inline bool near_integer(double v, double& rounded) {
 bool step_comment(BlockCtx&);
 bool step_feed(BlockCtx&);
 bool step_tool_select(BlockCtx&);
+bool step_speed(BlockCtx&);
 
 // Steps named by the code table -----------------------------------------------------------------
 bool run_nothing(BlockCtx&, const Code&);  ///< accepted and recorded nowhere (M7, G9, ...)
@@ -119,6 +121,10 @@ bool run_g10_tool(BlockCtx&, int l);            ///< G10 L1/L10/L11 (from run_g1
 bool run_straight(BlockCtx&, const Code&);      ///< G0 G1
 bool run_arc(BlockCtx&, const Code&);           ///< G2 G3
 bool run_stop(BlockCtx&, const Code&);
+bool run_modes_save(BlockCtx&, const Code&);  ///< M70 M71 M72 M73
+/// Restores saved modes as LinuxCNC does (units first, then one block of F, S and the modal
+/// codes that differ, then the M codes).
+bool restore_modes(BlockCtx& ctx, const SavedModes& m);
 
 // Shared by the motion steps ---------------------------------------------------------------------
 /// The machine-coordinate end point of the block's axis words from `from_mm` (G90/G91, offsets);

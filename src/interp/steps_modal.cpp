@@ -15,6 +15,11 @@ bool step_comment(BlockCtx& ctx) {
   return true;
 }
 
+bool step_speed(BlockCtx& ctx) {
+  ctx.s.spindle_rpm = ctx.w['S']->value;  // negative S is refused when the block is checked
+  return true;
+}
+
 bool run_feed_mode(BlockCtx& ctx, const Code& c) {
   const bool to_inverse = c.number10 == 930;
   if (!to_inverse && ctx.s.inverse_time) ctx.s.feed_mm_min = 0.0;  // LinuxCNC: SET_FEED_RATE(0)
@@ -49,6 +54,7 @@ bool run_override(BlockCtx& ctx, const Code& c) {
                       fmt::format("M50 P{:g}: P must be 0 or 1", p));
   }
   if (!comp_forbids(ctx, ctx.loc_of(Group::MOverride), "change overrides")) return false;
+  ctx.s.feed_override = k == EventKind::OverrideEnable;
   ctx.out.emplace_back(Event{ctx.block.line, k, {}});
   return true;
 }

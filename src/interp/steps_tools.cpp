@@ -72,6 +72,7 @@ bool run_tool_length(BlockCtx& ctx, const Code& c) {
   if (!comp_forbids(ctx, ctx.loc_of(Group::ToolLength), "change the tool length offset"))
     return false;
   Pos9& off = ctx.s.tool_offset_mm;
+  ctx.s.tool_length_code = c.number10;
   switch (c.number10) {
     case 490:  // G49
       off.setZero();

@@ -58,6 +58,41 @@ TEST_CASE("a full file system mid-run leaves no trace and no partial file") {
   CHECK(left.empty());
 }
 
+TEST_CASE("a program on stdin that does not fit the spool directory is refused, not cut short") {
+  // 135 KiB of program into a 64 KiB TMPDIR: before, the spool's short write went unnoticed and
+  // the first 64 KiB ran as if they were the whole program.
+  const fs::path mnt = scratch() / "spool";
+  const fs::path prog = scratch() / "big.nc";
+  {
+    std::ofstream p(prog);
+    p << "G21 G90 G64 F3000\n";
+    for (int i = 0; i < 10000; ++i) p << "G1 X" << (i % 2 ? 100 : 0) << " Y" << i * 0.01 << "\n";
+    p << "M2\n";
+  }
+  REQUIRE(fs::file_size(prog) > 128 * 1024);
+  gmtest::SmallTmpfs fs_small(mnt);
+  if (!fs_small.mounted()) {
+    WARN("cannot mount a small tmpfs here (not root?): case skipped");
+    return;
+  }
+  const auto r = gmtest::sh("TMPDIR=" + mnt.string() + " " + std::string(GMOTION_BIN) +
+                            " check - < " + prog.string() + " 2>&1");
+  gmtest::sh("ls " + mnt.string() + " > " + (scratch() / "spool-ls.txt").string());
+  fs_small.unmount();
+  CHECK(r.code != 0);
+  CHECK_THAT(r.out, Catch::Contains("cannot spool stdin to " + mnt.string()));
+  CHECK_THAT(r.out, Catch::Contains("No space left on device"));
+  CHECK_THAT(r.out, !Catch::Contains("ok:"));
+  std::ifstream ls(scratch() / "spool-ls.txt");
+  std::string left((std::istreambuf_iterator<char>(ls)), std::istreambuf_iterator<char>());
+  CHECK(left.empty());
+  // The same program through a spool with room, all of it: the first G1 X0 Y0 is zero length,
+  // then 9,999 moves of hypot(100, 0.01) = 100.0000005 mm each.
+  const auto ok = gmtest::sh(std::string(GMOTION_BIN) + " check - < " + prog.string());
+  CHECK(ok.code == 0);
+  CHECK_THAT(ok.out, Catch::Contains("10002 blocks, 9999 moves, path 999900.005 mm"));
+}
+
 TEST_CASE("SIGINT stops the run with a message and removes the partial trace") {
   // A long program so the run is still going when SIGINT comes.
   const fs::path dir = scratch();
