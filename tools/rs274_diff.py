@@ -31,6 +31,9 @@ How rs274 is read (each claim checked against rs274 2.9 output, see --self-test)
     machine coordinates like `gmotion moves`. A non-zero SET_XY_ROTATION is not modelled (error).
   * Only N words are echoed, so the program is fed to rs274 with every line renumbered
     N<file line>, which makes rs274 report source line numbers.
+  * STRAIGHT_PROBE (G38.x): rs274's canon (saicanon.cc) moves to the end point without tripping
+    and then, unprinted, backs off 0.254 mm (0.01 in) towards the start; both are taken as feed
+    moves (gmotion moves the same way, interp/steps_probe.cpp).
   * Under cutter radius compensation (between the COMMENTs "interpreter: cutter radius
     compensation on ..." and "... off", or the program end) the interpreter holds each move back
     until the next one fixes its end point, and rs274 prints it with the line being read when it
@@ -193,6 +196,20 @@ def parse_rs274_output(text: str) -> list[Move]:
                 mv.note = feed_units_note
             mv.held = held
             moves.append(mv)
+        elif name == "STRAIGHT_PROBE":
+            v = _floats(args)
+            end = [mach(v[i], i) for i in range(3)]
+            prev = next((m.end for m in reversed(moves) if m.end is not None),
+                        [mach(0.0, i) for i in range(3)])
+            tol = RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol + tool_tol
+            moves.append(Move(kind="line", line=line, end=end, feed=feed_mm_min,
+                              feed_tol=feed_tol, tol_mm=tol, note="probe"))
+            d = [prev[i] - end[i] for i in range(3)]
+            dist = math.sqrt(sum(x * x for x in d))
+            if dist != 0.0:
+                back = [end[i] + 0.254 * d[i] / dist for i in range(3)]
+                moves.append(Move(kind="line", line=line, end=back, feed=feed_mm_min,
+                                  feed_tol=feed_tol, tol_mm=2 * tol, note="probe back-off"))
         elif name == "ARC_FEED":
             v = _floats(args)
             fe, se, fc, sc, rot, ax = v[0], v[1], v[2], v[3], int(v[4]), v[5]

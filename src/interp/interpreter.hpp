@@ -71,20 +71,22 @@ struct ModalState {
   bool ijk_absolute = false;  ///< G90.1 (default G91.1)
   bool inverse_time = false;  ///< G93
   PathMode path_mode = PathMode::Continuous;
-  double path_tolerance_mm = -1.0;      ///< G64 P in mm; < 0: G64 without P (the machine's)
-  double naive_cam_tolerance_mm = 0.0;  ///< G64 Q in mm
-  double feed_mm_min = 0.0;             ///< G94 feed; 0 = none yet
-  int tool_selected = 0;                ///< T
-  int tool_in_spindle = 0;              ///< after M6 or M61
-  int spindle_slot_tool = 0;            ///< the tool whose data M6 loaded (G43 without H uses it)
-  Pos9 position_mm = Pos9::Zero();      ///< machine coordinates
-  int coord_system = 0;                 ///< 0..8 = G54..G59, G59.1..G59.3
-  Pos9 g92_mm = Pos9::Zero();           ///< G92/G52 axis offsets
-  Pos9 tool_offset_mm = Pos9::Zero();   ///< G43 tool length offset
-  int spindle_dir = 0;                  ///< M3 = 1, M4 = -1, M5 = 0
-  double spindle_rpm = 0.0;             ///< S
-  int tool_length_code = 490;           ///< G43/G43.1/G43.2/G49 in effect (x 10)
-  bool feed_override = true;            ///< M48 (M50 P1) vs M49 (M50 P0)
+  double path_tolerance_mm = -1.0;       ///< G64 P in mm; < 0: G64 without P (the machine's)
+  double naive_cam_tolerance_mm = 0.0;   ///< G64 Q in mm
+  double feed_mm_min = 0.0;              ///< G94 feed; 0 = none yet
+  int tool_selected = 0;                 ///< T
+  int tool_in_spindle = 0;               ///< after M6 or M61
+  int spindle_slot_tool = 0;             ///< the tool whose data M6 loaded (G43 without H uses it)
+  Pos9 position_mm = Pos9::Zero();       ///< machine coordinates
+  int coord_system = 0;                  ///< 0..8 = G54..G59, G59.1..G59.3
+  Pos9 g92_mm = Pos9::Zero();            ///< G92/G52 axis offsets
+  Pos9 tool_offset_mm = Pos9::Zero();    ///< G43 tool length offset
+  int spindle_dir = 0;                   ///< M3 = 1, M4 = -1, M5 = 0
+  double spindle_rpm = 0.0;              ///< S
+  int probes = 0;                        ///< G38.x blocks run (#5061-#5070 hold the last result)
+  std::array<double, 9> probe_result{};  ///< probe end point, program coordinates and units
+  int tool_length_code = 490;            ///< G43/G43.1/G43.2/G49 in effect (x 10)
+  bool feed_override = true;             ///< M48 (M50 P1) vs M49 (M50 P0)
   // Canned cycles (program units, as LinuxCNC keeps them) --------------------------------------
   bool retract_to_r = true;   ///< G99 (LinuxCNC's initial retract mode); G98 = false
   int cycle_mode = -1;        ///< the cycle code x 10 of the previous cycle block, -1 none

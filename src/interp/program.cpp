@@ -168,7 +168,9 @@ class StateParameters : public ParameterProvider {
         {"_plane", s.plane == Plane::XY   ? 170.0
                    : s.plane == Plane::XZ ? 180.0
                                           : 190.0},
-        {"_ccomp", 400.0},
+        {"_ccomp", s.comp.side > 0   ? 410.0
+                   : s.comp.side < 0 ? 420.0
+                                     : 400.0},
         {"_metric", s.inch ? 0.0 : 1.0},
         {"_imperial", s.inch ? 1.0 : 0.0},
         {"_absolute", s.incremental ? 0.0 : 1.0},
@@ -325,6 +327,12 @@ class ProgramRunner {
                                  source_for(text)});
       return true;
     }
+    if (interp_.state().probes != probes_seen_) {  // G38.x: #5061-#5069 result, #5070 tripped
+      probes_seen_ = interp_.state().probes;
+      for (int i = 0; i < 9; ++i)
+        params_.set_system(5061 + i, interp_.state().probe_result[static_cast<std::size_t>(i)]);
+      params_.set_system(5070, 0.0);
+    }
     if (interp_.state().ended) {
       done_ = true;
       return false;
@@ -448,6 +456,7 @@ class ProgramRunner {
   bool log_warned_ = false;
   bool done_ = false;
   bool opened_percent_ = false;
+  int probes_seen_ = 0;
   bool first_content_seen_ = false;
   std::int64_t blocks_ = 0;
 };
