@@ -206,6 +206,21 @@ class StateParameters : public ParameterProvider {
       v = interp_.state().tool_in_spindle;
       return true;
     }
+    if (n > 5400 && n <= 5413) {  // the spindle's tool data (machine units, mm)
+      const int tool = interp_.state().spindle_slot_tool;
+      const ToolEntry* e = tool == 0 ? nullptr : interp_.tables().tools.find(tool);
+      if (e == nullptr) {
+        v = 0.0;
+      } else if (n <= 5409) {
+        v = e->offset_mm[static_cast<std::size_t>(n - 5401)];
+      } else {
+        v = n == 5410   ? e->diameter_mm
+            : n == 5411 ? e->front_angle_deg
+            : n == 5412 ? e->back_angle_deg
+                        : static_cast<double>(e->orientation);
+      }
+      return true;
+    }
     return false;
   }
 
@@ -327,6 +342,7 @@ class ProgramRunner {
                                  source_for(text)});
       return true;
     }
+    export_system_parameters();
     if (interp_.state().probes != probes_seen_) {  // G38.x: #5061-#5069 result, #5070 tripped
       probes_seen_ = interp_.state().probes;
       for (int i = 0; i < 9; ++i)
@@ -457,6 +473,26 @@ class ProgramRunner {
   bool done_ = false;
   bool opened_percent_ = false;
   int probes_seen_ = 0;
+  std::uint64_t tables_seen_ = 1;  // the tables as the interpreter starts: left to the store
+
+  // The interpreter's system parameters in machine units (mm): G28 #5161-#5169, G30
+  // #5181-#5189, G92 #5210-#5219, the coordinate system #5220, G54..G59.3 #5221+20k (machine's;
+  // a program that writes them does not move the interpreter's offsets yet).
+  void export_system_parameters() {
+    const ModalState& s = interp_.state();
+    params_.set_system(5210, s.g92_applied ? 1.0 : 0.0);
+    params_.set_system(5220, static_cast<double>(s.coord_system + 1));
+    if (interp_.tables_version() == tables_seen_) return;
+    tables_seen_ = interp_.tables_version();
+    const SystemTables& t = interp_.tables();
+    for (int i = 0; i < 9; ++i) {
+      params_.set_system(5161 + i, t.g28_mm[i]);
+      params_.set_system(5181 + i, t.g30_mm[i]);
+      params_.set_system(5211 + i, t.g92_saved_mm[i]);
+      for (int k = 0; k < 9; ++k)
+        params_.set_system(5221 + 20 * k + i, t.g5x_mm[static_cast<std::size_t>(k)][i]);
+    }
+  }
   bool first_content_seen_ = false;
   std::int64_t blocks_ = 0;
 };
