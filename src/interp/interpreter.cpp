@@ -223,7 +223,10 @@ bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, 
     }
   }
   state_ = s;  // commit
-  if (ctx.staged) tables_ = *ctx.staged;
+  if (ctx.staged) {
+    tables_ = *ctx.staged;
+    ++tables_version_;
+  }
   return true;
 }
 
@@ -250,7 +253,10 @@ bool Interpreter::leave_call(int level, int line, std::vector<Canon>& out, Inter
     return false;
   }
   state_ = s;
-  if (ctx.staged) tables_ = *ctx.staged;
+  if (ctx.staged) {
+    tables_ = *ctx.staged;
+    ++tables_version_;
+  }
   return true;
 }
 

@@ -13,6 +13,7 @@
 #include "machine/tool_table.hpp"
 
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -80,6 +81,7 @@ struct ModalState {
   Pos9 position_mm = Pos9::Zero();       ///< machine coordinates
   int coord_system = 0;                  ///< 0..8 = G54..G59, G59.1..G59.3
   Pos9 g92_mm = Pos9::Zero();            ///< G92/G52 axis offsets
+  bool g92_applied = false;              ///< #5210: G92/G52/G92.3 on, G92.1/G92.2 off
   Pos9 tool_offset_mm = Pos9::Zero();    ///< G43 tool length offset
   int spindle_dir = 0;                   ///< M3 = 1, M4 = -1, M5 = 0
   double spindle_rpm = 0.0;              ///< S
@@ -120,6 +122,8 @@ class Interpreter {
   /// (LinuxCNC leave_context). `line` is the returning line; false with `err` on an error.
   bool leave_call(int level, int line, std::vector<Canon>& out, InterpError& err);
   const SystemTables& tables() const { return tables_; }
+  /// Changes whenever a block changed the tables (so their parameters need writing again).
+  std::uint64_t tables_version() const { return tables_version_; }
   /// Sum of all offsets from program to machine coordinates under the current state, mm.
   AxisVec total_offset_mm() const;
 
@@ -128,6 +132,7 @@ class Interpreter {
   ModalState state_;
   SystemTables tables_;
   int call_level_ = 0;
+  std::uint64_t tables_version_ = 1;
 };
 
 }  // namespace gm

@@ -55,6 +55,7 @@ bool run_g92(BlockCtx& ctx, const Code&) {
     return ctx.fail(ErrorCode::G92WithoutAxes, ctx.loc_of(Group::NonModal),
                     "G92 without axis words");
   Pos9& g92 = ctx.s.g92_mm;
+  ctx.s.g92_applied = true;
   for (int i = 0; i < kProgramAxes; ++i) {
     const auto* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]];
     if (!aw) continue;
@@ -69,6 +70,7 @@ bool run_g92(BlockCtx& ctx, const Code&) {
 bool run_g52(BlockCtx& ctx, const Code&) {
   if (!comp_forbids(ctx, ctx.loc_of(Group::NonModal), "change axis offsets")) return false;
   Pos9& g92 = ctx.s.g92_mm;  // LinuxCNC keeps the G52 local offset in the G92 offsets
+  ctx.s.g92_applied = true;
   for (int i = 0; i < kProgramAxes; ++i)
     if (const auto* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]])
       g92[i] = aw->value * ctx.scale();
@@ -78,6 +80,7 @@ bool run_g52(BlockCtx& ctx, const Code&) {
 
 bool run_g92_x(BlockCtx& ctx, const Code& c) {
   if (!comp_forbids(ctx, ctx.loc_of(Group::NonModal), "change axis offsets")) return false;
+  ctx.s.g92_applied = c.number10 == 923;
   switch (c.number10) {
     case 921:  // reset, parameters too
       ctx.s.g92_mm.setZero();
