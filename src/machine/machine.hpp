@@ -78,6 +78,12 @@ struct Machine {
   std::vector<AxisConfig> axes = std::vector<AxisConfig>(3);  ///< one per axis, layout order
   std::vector<double> tool_lengths_mm;  ///< index = tool number (T0 = index 0); overrides table Z
   ToolTable tool_table = default_tool_table();  ///< key `tool_table` or --tool-table FILE
+  /// Where `o<name> call` finds `name.ngc` (key `subroutine_path` "DIR[:DIR...]", relative to
+  /// the machine file; LinuxCNC's [RS274NGC]SUBROUTINE_PATH); searched after --subroutine-path.
+  std::vector<std::string> subroutine_path;
+  /// LinuxCNC `.var` parameter file read at the start and written at the end of a run (key
+  /// `parameter_file`, relative to the machine file); empty: none.
+  std::string parameter_file;
   /// G54..G59 on the nine program axes (XYZABCUVW order), mm (degrees for A, B, C).
   std::array<AxisVec, 6> work_offsets_mm{AxisVec::Zero(), AxisVec::Zero(), AxisVec::Zero(),
                                          AxisVec::Zero(), AxisVec::Zero(), AxisVec::Zero()};
