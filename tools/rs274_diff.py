@@ -293,7 +293,7 @@ def tool_table_inches(text_mm: str) -> str:
 
 
 def run_rs274(rs274: str, program_text: str, timeout: float = 120.0,
-              tool_table_mm: str | None = None) -> Rs274Result:
+              tool_table_mm: str | None = None, subroutine_path: str | None = None) -> Rs274Result:
     """Run `rs274 -g` on the text (renumbered) in a scratch directory that is also its HOME (it
     keeps its tool table in $HOME/.tool.mmap; runs sharing one corrupt each other); with
     `tool_table_mm`, that table (mm) is given with -t (in inches). Parse its moves."""
@@ -308,6 +308,13 @@ def run_rs274(rs274: str, program_text: str, timeout: float = 120.0,
             tbl = os.path.join(tmp, "tools.tbl")
             Path(tbl).write_text(tool_table_inches(tool_table_mm))
             cmd += ["-t", tbl]
+        if subroutine_path:
+            # rs274 reads SUBROUTINE_PATH from an INI given with -i ([RS274NGC], absolute dirs);
+            # its scratch working directory holds no .ngc, so only the path can supply a sub.
+            ini = os.path.join(tmp, "rs274.ini")
+            dirs = ":".join(os.path.abspath(d) for d in subroutine_path.split(":") if d)
+            Path(ini).write_text(f"[RS274NGC]\nSUBROUTINE_PATH = {dirs}\n")
+            cmd += ["-i", ini]
         cmd += ["-g", path]
         # Every run gets its own empty HOME: rs274 keeps its tool table in $HOME/.tool.mmap and
         # runs sharing one truncate it under each other. A death by signal is retried.
@@ -344,10 +351,15 @@ def parse_gmotion_output(text: str) -> list[Move]:
     return moves
 
 
+SUBROUTINE_PATH: str | None = None  # --subroutine-path, given to every gmotion run
+
+
 def run_gmotion(gmotion: str, path: str, timeout: float = 120.0,
                 extra: list | None = None,
                 tool_table_path: str | None = None) -> tuple[bool, list, str]:
     tools = ["--tool-table", tool_table_path] if tool_table_path else []
+    if SUBROUTINE_PATH:
+        tools += ["--subroutine-path", SUBROUTINE_PATH]
     p = subprocess.run([gmotion, "moves", path, "--messages"] + tools + (extra or []),
                        stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=timeout)
     if p.returncode != 0:
@@ -483,7 +495,8 @@ def describe_mismatch(ref, got, idx, why, program_text, label) -> str:
 
 def diff_program(args, text: str, path: str, label: str, *, must_accept: bool) -> str:
     """'ok' | 'skip' | 'fail'; prints the first mismatch."""
-    rs = run_rs274(args.rs274, text, tool_table_mm=args.tool_table_text)
+    rs = run_rs274(args.rs274, text, tool_table_mm=args.tool_table_text,
+                   subroutine_path=args.subroutine_path)
     if not rs.ok:
         if must_accept:
             print(f"FAIL {label}: rs274 rejected it (generator bug):\n  {rs.error}")
@@ -619,6 +632,9 @@ def main_compare(args) -> int:
                     if counts["fail"] >= args.max_failures:
                         break
     files = collect_programs(args.programs + args.files)
+    if args.subroutine_path:  # the subroutine files are not programs of their own
+        sub_dirs = [Path(d).resolve() for d in args.subroutine_path.split(":") if d]
+        files = [f for f in files if not any(d in f.resolve().parents for d in sub_dirs)]
     if not files and not (args.random or args.random_expr):
         print(f"rs274_diff: no *.nc programs under {args.programs}; skipping")
         return SKIP
@@ -848,8 +864,12 @@ def main(argv=None) -> int:
                     help="directories/files of programs both must reject on the same line")
     ap.add_argument("--tool-table", metavar="FILE",
                     help="tool table in mm for both sides (default: gmotion's built-in table)")
+    ap.add_argument("--subroutine-path", metavar="DIR[:DIR]",
+                    help="subroutine files for both sides (rs274: an INI's SUBROUTINE_PATH)")
     ap.add_argument("-v", "--verbose", action="store_true")
     args = ap.parse_args(argv)
+    global SUBROUTINE_PATH
+    SUBROUTINE_PATH = args.subroutine_path
     args.tol = Tol(args.tol_mm, args.tol_feed_rel)
     args.moves_compared = 0
     args.messages_compared = 0

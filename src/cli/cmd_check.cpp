@@ -1,5 +1,6 @@
 // gmotion check PROGRAM: validates a G-code program, printing every error or a one-line summary.
 #include "cli/commands.hpp"
+#include "cli/language_flags.hpp"
 #include "cli/run_setup.hpp"
 #include "common/status.hpp"
 #include "interp/program.hpp"
@@ -22,8 +23,7 @@ void add_check(CLI::App& app, Context& ctx) {
     std::string tool_table;
     bool block_delete = false;
     std::string arc_rule;
-
-    std::int64_t max_iterations = 10'000'000;
+    LanguageFlags language;
   };
   auto opts = std::make_shared<Opts>();
   sub->add_option("PROGRAM", opts->program, "G-code file ('-' reads stdin)")->required();
@@ -31,9 +31,7 @@ void add_check(CLI::App& app, Context& ctx) {
   sub->add_option("--tool-table", opts->tool_table,
                   "LinuxCNC tool table (T1 P1 Z50 D6 ;comment), mm; default: the machine's");
   sub->add_flag("--block-delete", opts->block_delete, "skip lines that start with '/'");
-  sub->add_option("--max-iterations", opts->max_iterations,
-                  "loop iterations and subroutine calls before the program is stopped")
-      ->check(CLI::PositiveNumber);
+  add_language_flags(sub, opts->language);
   sub->add_option("--arc-rule", opts->arc_rule, "arc end-radius tolerance rule")
       ->check(CLI::IsMember({"linuxcnc", "grbl", "g2core"}));
   sub->callback([opts, &ctx] {
@@ -45,7 +43,8 @@ void add_check(CLI::App& app, Context& ctx) {
           {"linuxcnc", ArcRule::LinuxCnc}, {"grbl", ArcRule::Grbl}, {"g2core", ArcRule::G2core}};
       machine.arc_rule = rules.at(opts->arc_rule);
     }
-    InterpreterOptions io{&machine, opts->block_delete, opts->max_iterations};
+    InterpreterOptions io{&machine, opts->block_delete};
+    apply_language_flags(opts->language, machine, io);
     std::cout.flush();
     ProgramInput program(opts->program);
     const CheckSummary s = check_program(program.rewind(), program.name(), io, std::cerr);

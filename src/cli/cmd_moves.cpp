@@ -1,5 +1,6 @@
 // gmotion moves PROGRAM: the canonical moves as JSON Lines (mm, mm/min, machine coordinates).
 #include "cli/commands.hpp"
+#include "cli/language_flags.hpp"
 #include "cli/run_setup.hpp"
 #include "common/status.hpp"
 #include "interp/program.hpp"
@@ -75,8 +76,7 @@ void add_moves(CLI::App& app, Context& ctx) {
     std::string tool_table;
     bool block_delete = false;
     bool messages = false;
-
-    std::int64_t max_iterations = 10'000'000;
+    LanguageFlags language;
   };
   auto opts = std::make_shared<Opts>();
   sub->add_option("PROGRAM", opts->program, "G-code file ('-' reads stdin)")->required();
@@ -84,16 +84,15 @@ void add_moves(CLI::App& app, Context& ctx) {
   sub->add_option("--tool-table", opts->tool_table,
                   "LinuxCNC tool table (T1 P1 Z50 D6 ;comment), mm; default: the machine's");
   sub->add_flag("--block-delete", opts->block_delete, "skip lines that start with '/'");
-  sub->add_option("--max-iterations", opts->max_iterations,
-                  "loop iterations and subroutine calls before the program is stopped")
-      ->check(CLI::PositiveNumber);
+  add_language_flags(sub, opts->language);
   sub->add_flag("--messages", opts->messages,
                 "also print MSG/DEBUG/PRINT comments as records of kind \"message\"");
   sub->callback([opts, &ctx] {
     Machine machine;
     if (!opts->machine_file.empty()) machine = load_machine_file(opts->machine_file);
     if (!opts->tool_table.empty()) machine.tool_table = load_tool_table(opts->tool_table);
-    const InterpreterOptions io{&machine, opts->block_delete, opts->max_iterations};
+    InterpreterOptions io{&machine, opts->block_delete};
+    apply_language_flags(opts->language, machine, io);
     const std::string name = opts->program == "-" ? "<stdin>" : opts->program;
 
     // Nothing is printed if the program has any error: check it whole first, then stream it

@@ -67,6 +67,8 @@ enum class ErrorCode : int {
   TooManyIterations = 243,    ///< loops ran past --max-iterations
   NotSeekable = 244,          ///< control flow needs to re-read an input that cannot seek
   UnterminatedControl = 245,  ///< the program ends inside a sub, if or loop
+  SubroutineRedefined = 246,  ///< a second `sub` with a label already defined elsewhere
+  SubroutineFile = 247,       ///< a subroutine file that cannot be read (any more)
   // Machine-side codes (offsets, tools, cycles) ------------------------------------------------
   G53Misused = 260,         ///< G53 with a motion other than G0/G1, or in G91 (LinuxCNC)
   BadLWord = 261,           ///< G10 without L or with an L it does not know; cycle L not >= 1
@@ -175,6 +177,10 @@ inline constexpr std::array kErrorTable{
               "Loops and calls re-read the program: it must be a file"},
     ErrorInfo{ErrorCode::UnterminatedControl, "unterminated block",
               "The program ends inside a subroutine, if or loop"},
+    ErrorInfo{ErrorCode::SubroutineRedefined, "subroutine redefined",
+              "A subroutine label is defined twice (in the program or a subroutine file)"},
+    ErrorInfo{ErrorCode::SubroutineFile, "subroutine file unreadable",
+              "A subroutine file found on the path cannot be read"},
     ErrorInfo{ErrorCode::G53Misused, "G53 misused",
               "G53 needs G0 or G1 and absolute distance mode (G90)"},
     ErrorInfo{ErrorCode::BadLWord, "bad L word", "L has a value this code does not accept"},

@@ -74,6 +74,12 @@ struct Machine {
   std::array<AxisConfig, kAxes> axes{};
   std::vector<double> tool_lengths_mm;  ///< index = tool number (T0 = index 0); overrides table Z
   ToolTable tool_table = default_tool_table();  ///< key `tool_table` or --tool-table FILE
+  /// Where `o<name> call` finds `name.ngc` (key `subroutine_path` "DIR[:DIR...]", relative to
+  /// the machine file; LinuxCNC's [RS274NGC]SUBROUTINE_PATH); searched after --subroutine-path.
+  std::vector<std::string> subroutine_path;
+  /// LinuxCNC `.var` parameter file read at the start and written at the end of a run (key
+  /// `parameter_file`, relative to the machine file); empty: none.
+  std::string parameter_file;
   std::array<AxisVec, 6> work_offsets_mm{AxisVec::Zero(), AxisVec::Zero(),
                                          AxisVec::Zero(), AxisVec::Zero(),
                                          AxisVec::Zero(), AxisVec::Zero()};  ///< G54..G59

@@ -1,6 +1,8 @@
 // TOML machine file reader/writer (toml++): every error names the key, the file and the line.
 #include "machine/machine_file.hpp"
 
+#include "interp/subroutine_path.hpp"
+
 #include "common/status.hpp"
 #include "servo/discrete_plant.hpp"
 
@@ -328,6 +330,15 @@ Machine parse_machine_toml(std::string_view text, std::string_view source_name) 
     m.tool_table = load_tool_table(
         p.is_absolute() ? tt : (std::filesystem::path(src).parent_path() / p).string());
   }
+  // Both relative to the machine file's directory, like the tool table (LinuxCNC: the INI's).
+  const auto beside = [&](const std::string& f) {
+    const std::filesystem::path p(f);
+    return p.is_absolute() ? f : (std::filesystem::path(src).parent_path() / p).string();
+  };
+  if (std::string sp; r.string("subroutine_path", sp, false))
+    for (const std::string& dir : SubroutinePath::split(sp))
+      m.subroutine_path.push_back(beside(dir));
+  if (std::string pf; r.string("parameter_file", pf, false)) m.parameter_file = beside(pf);
   if (const toml::table* wo = r.table("work_offsets", false)) {
     Reader wr(*wo, "work_offsets.", src);
     for (int g = 0; g < 6; ++g) {
@@ -368,6 +379,13 @@ std::string machine_to_toml(const Machine& m) {
                    fmt_double(m.max_override * 100.0), rule, fmt_double(m.axes[0].blu_mm));
   if (m.path_tolerance_mm > 0.0)
     s += fmt::format("path_tolerance_mm = {}\n", fmt_double(m.path_tolerance_mm));
+  if (!m.subroutine_path.empty()) {
+    std::string dirs;
+    for (const std::string& d : m.subroutine_path) dirs += (dirs.empty() ? "" : ":") + d;
+    s += fmt::format("subroutine_path = {}\n", toml_string(dirs));
+  }
+  if (!m.parameter_file.empty())
+    s += fmt::format("parameter_file = {}\n", toml_string(m.parameter_file));
   s += "tools = " + list(m.tool_lengths_mm) + "\n\n";
   s += fmt::format("[accdec]\nprofile = {}\ntau_s = {}\n", toml_string(m.profile),
                    fmt_double(m.tau_s));
