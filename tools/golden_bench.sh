@@ -32,5 +32,11 @@ mid=$(date +%s.%N)
 "$bin" golden verify "$dir" | tail -1
 end=$(date +%s.%N)
 du -sh "$dir/golden" | awk '{print "golden_bench: store " $1}'
+cat "$dir"/golden/*.summary.json | grep -o '"samples":[0-9]*' |
+  awk -F: -v n="$n" '{s += $2} END {printf "golden_bench: %.0f samples per case on average (T = 4 ms)\n", s / n}'
+start1=$(date +%s.%N)
+"$bin" golden verify "$dir" -j 1 | tail -1
+end1=$(date +%s.%N)
 awk -v a="$start" -v b="$mid" -v c="$end" -v n="$n" \
-  'BEGIN { printf "golden_bench: record %.1f s, verify %.1f s (%.1f ms per case)\n", b - a, c - b, (c - b) * 1000 / n }'
+  -v d="$start1" -v e="$end1" \
+  'BEGIN { printf "golden_bench: record %.1f s, verify %.1f s (%.1f ms per case), verify -j 1 %.1f s\n", b - a, c - b, (c - b) * 1000 / n, e - d }'

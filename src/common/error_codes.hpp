@@ -69,6 +69,7 @@ enum class ErrorCode : int {
   UnterminatedControl = 245,  ///< the program ends inside a sub, if or loop
   SubroutineRedefined = 246,  ///< a second `sub` with a label already defined elsewhere
   SubroutineFile = 247,       ///< a subroutine file that cannot be read (any more)
+  PolarMisused = 248,         ///< @/^ with X/Y, with G53, or indeterminate at the origin
   // Machine-side codes (offsets, tools, cycles) ------------------------------------------------
   G53Misused = 260,         ///< G53 with a motion other than G0/G1, or in G91 (LinuxCNC)
   BadLWord = 261,           ///< G10 without L or with an L it does not know; cycle L not >= 1
@@ -181,6 +182,8 @@ inline constexpr std::array kErrorTable{
               "A subroutine label is defined twice (in the program or a subroutine file)"},
     ErrorInfo{ErrorCode::SubroutineFile, "subroutine file unreadable",
               "A subroutine file found on the path cannot be read"},
+    ErrorInfo{ErrorCode::PolarMisused, "polar coordinates misused",
+              "@ and ^ replace X and Y; at the origin a direction is needed"},
     ErrorInfo{ErrorCode::G53Misused, "G53 misused",
               "G53 needs G0 or G1 and absolute distance mode (G90)"},
     ErrorInfo{ErrorCode::BadLWord, "bad L word", "L has a value this code does not accept"},

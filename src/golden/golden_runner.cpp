@@ -202,7 +202,9 @@ struct Worker {
       if (r.kind.empty()) r.kind = "version";
     }
     if (!cmp.pass()) {
-      why.push_back("first divergence " + describe_first(cmp));
+      why.push_back(cmp.first              ? "first divergence " + describe_first(cmp)
+                    : !cmp.problem.empty() ? "cannot compare the traces: " + cmp.problem
+                                           : describe_first(cmp));
       if (r.kind.empty()) r.kind = "divergence";
       r.details.push_back("largest difference per column: " + largest_differences(cmp));
       r.details.push_back(fmt::format("{} value{} beyond the tolerance in {} rows", cmp.beyond,

@@ -63,6 +63,16 @@ bool import_words(const grammar::Block& block, BlockWords& w, InterpError& err) 
       w.codes[w.code_count++] = code;
       continue;
     }
+    if (c == '@' || c == '^') {  // polar coordinates: axis words in place of X and Y
+      const grammar::Word*& slot = c == '@' ? w.polar.radius : w.polar.angle;
+      if (slot)
+        return fail(
+            err, ErrorCode::DuplicateWord, word.loc,
+            fmt::format("{} appears twice in the block (first at column {})", c, slot->loc.column));
+      slot = &word;
+      if (!w.first_axis) w.first_axis = &word;
+      continue;
+    }
     const int axis = program_axis_index(c);
     if (axis >= 0 && !machine_has_axis(axis))
       return fail(

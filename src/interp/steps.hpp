@@ -4,6 +4,7 @@
 
 #include "interp/codes.hpp"
 #include "interp/interpreter.hpp"
+#include "interp/polar.hpp"
 
 #include <fmt/format.h>
 
@@ -22,6 +23,7 @@ struct BlockWords {
   std::array<const Code*, kGroupCount> codes{};  ///< the block's codes in the order written
   std::size_t code_count = 0;
   const grammar::Word* first_axis = nullptr;
+  PolarWords polar;  ///< `@` and `^` (lang's interp/polar.hpp): axis words in place of X and Y
 
   const grammar::Word* operator[](char c) const { return value[static_cast<std::size_t>(c - 'A')]; }
   bool has(char c) const { return (*this)[c] != nullptr; }

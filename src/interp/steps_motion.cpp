@@ -91,10 +91,31 @@ bool axis_target(BlockCtx& ctx, const Pos9& from_mm, Pos9& target_mm) {
           fmt::format("{} would move to {:g} mm (offsets included), outside -{:g}..{:g} mm", letter,
                       target_mm[i], kMaxPositionMm, kMaxPositionMm));
   }
+  if (ctx.w.polar.any()) {  // @ radius, ^ angle in place of X, Y (lang's interp/polar.cpp)
+    const grammar::Word* pw = ctx.w.polar.first();
+    if (ctx.w.has('X') || ctx.w.has('Y'))
+      return ctx.fail(ErrorCode::PolarMisused, pw->loc,
+                      "polar coordinates (@, ^) cannot be given with X or Y words");
+    const Pos9 o = ctx.offset();
+    double x = (from_mm[0] - o[0]) / scale, y = (from_mm[1] - o[1]) / scale;
+    std::string why;
+    if (!polar_end(ctx.w.polar, ctx.s.incremental, x, y, why))
+      return ctx.fail(ErrorCode::PolarMisused, pw->loc, why);
+    target_mm[0] = x * scale + o[0];
+    target_mm[1] = y * scale + o[1];
+    for (int i = 0; i < 2; ++i)
+      if (!within(target_mm[i], kMaxPositionMm))
+        return ctx.fail(ErrorCode::ValueOutOfRange, pw->loc,
+                        fmt::format("polar move to {:g} mm, outside -{:g}..{:g} mm", target_mm[i],
+                                    kMaxPositionMm, kMaxPositionMm));
+  }
   return true;
 }
 
 bool machine_target(BlockCtx& ctx, Pos9& target_mm) {
+  if (ctx.w.polar.any())
+    return ctx.fail(ErrorCode::PolarMisused, ctx.w.polar.first()->loc,
+                    "polar coordinates (@, ^) cannot be used with G53");
   if (ctx.s.incremental)
     return ctx.fail(ErrorCode::G53Misused, ctx.loc_of(Group::NonModal),
                     "G53 in incremental distance mode (G91): machine coordinates are absolute");

@@ -185,3 +185,20 @@ TEST_CASE("return and endsub leave the current call whatever their label (rs274'
       "M2\n");
   CHECK(xs(ms) == std::vector<double>{4712, 246, 0});
 }
+
+TEST_CASE("polar coordinates: @ radius and ^ angle about the origin (LinuxCNC), and their errors") {
+  // G90: @10 ^90 is (0, 10); then ^180 keeps the radius: (-10, 0). G91 @5 adds to the radius.
+  const auto ms = motions("G21 G90\nG0 @10 ^90\nG0 ^180\nG91 G0 @5\nM2\n");
+  REQUIRE(ms.size() == 3);
+  CHECK(ms[0].end_mm[0] == Approx(0.0).margin(1e-12));
+  CHECK(ms[0].end_mm[1] == Approx(10.0));
+  CHECK(ms[1].end_mm[0] == Approx(-10.0));
+  CHECK(ms[2].end_mm[0] == Approx(-15.0));
+  auto d = diagnose("G0 X1 @2\nM2\n");
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].code == code(gm::ErrorCode::PolarMisused));
+  CHECK(d[0].loc.column == 7);
+  d = diagnose("G91 G0 ^30\nM2\n");  // at the origin: no direction (rs274 refuses it too)
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].code == code(gm::ErrorCode::PolarMisused));
+}
