@@ -42,6 +42,7 @@ struct SavedModes {
   double feed_units = 0.0;  ///< F in the units in force when saved
   double speed_rpm = 0.0;
   int spindle_dir = 0;
+  bool mist = false, flood = false;
   bool feed_override = true;
 };
 inline constexpr int kCallLevels = 10;  ///< call levels 0 (the program) .. 9 (kMaxCallDepth)
@@ -89,6 +90,7 @@ struct ModalState {
   std::array<double, 9> probe_result{};  ///< probe end point, program coordinates and units
   int tool_length_code = 490;            ///< G43/G43.1/G43.2/G49 in effect (x 10)
   bool feed_override = true;             ///< M48 (M50 P1) vs M49 (M50 P0)
+  bool mist = false, flood = false;      ///< M7, M8 (M9 turns both off)
   // Canned cycles (program units, as LinuxCNC keeps them) --------------------------------------
   bool retract_to_r = true;   ///< G99 (LinuxCNC's initial retract mode); G98 = false
   int cycle_mode = -1;        ///< the cycle code x 10 of the previous cycle block, -1 none

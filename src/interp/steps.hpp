@@ -123,6 +123,7 @@ bool run_g10_tool(BlockCtx&, int l);            ///< G10 L1/L10/L11 (from run_g1
 bool run_straight(BlockCtx&, const Code&);      ///< G0 G1
 bool run_arc(BlockCtx&, const Code&);           ///< G2 G3
 bool run_stop(BlockCtx&, const Code&);
+bool run_coolant(BlockCtx&, const Code&);     ///< M7 M8 M9
 bool run_probe(BlockCtx&, const Code&);       ///< G38.2 G38.3 G38.4 G38.5
 bool run_modes_save(BlockCtx&, const Code&);  ///< M70 M71 M72 M73
 /// Restores saved modes as LinuxCNC does (units first, then one block of F, S and the modal
