@@ -22,7 +22,7 @@ inline ast::Block& B() {
 
 // The line is compacted before parsing: no spaces or tabs outside comments, letters upper case.
 // Characters are matched with explicit ranges (never std::isalpha: bytes >= 0x80 are negative).
-inline auto const letter = x3::char_('A', 'Z');
+inline auto const letter = x3::char_("A-Z@^");  // @ and ^: polar radius and angle
 inline auto const digit = x3::char_('0', '9');
 
 struct number_class;

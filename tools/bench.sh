@@ -5,6 +5,7 @@
 #     on the same program with the ratio (when rs274 is installed: install-deps --with-oracle);
 #   - `gmotion run` without a trace (default machine: 3 axes, blackman, tau 0.164 s, T 4 ms,
 #     servo on): samples/s and peak RSS;
+#   - `gmotion run` on the same program with A, B, C moving on a six-axis machine (--axes XYZABC);
 #   - `gmotion run --trace FILE.csv`: rows/s, trace size;
 #   - per-sample step latency (tests/bench/latency.cpp) on the first 100,000 blocks;
 #   - with --big: peak RSS of check and run on a 10 MB and a 1 GB program (the 10 MB body
@@ -76,6 +77,15 @@ samples=$(samples_of "$work/summary.json")
 rows+=("| \`gmotion run\`, no trace (blackman 41 taps, servo on) | $(calc "%.2f" "$samples / 1e6 / $secs") M samples/s | $samples samples in $secs s, peak RSS $((rss_kb / 1024)) MB |")
 measure 3 "$bin/gmotion" run "$prog" --no-servo
 rows+=("| \`gmotion run --no-servo\`, no trace | $(calc "%.2f" "$samples / 1e6 / $secs") M samples/s | $secs s |")
+
+# Six axes: the same program with A, B, C words on every motion block (A turning steadily, B
+# swinging, C turning back; X Y Z still set each block's time), on the built-in machine with
+# --axes XYZABC (A B C take the X axis's servo).
+prog6=$work/bench-$blocks-abc.nc
+[[ -s "$prog6" ]] || awk '/^G[0-3] /{n++; printf "%s A%.3f B%.3f C%.3f\n", $0, n*0.01, 10*sin(n/50), -n*0.005; next} {print}' "$prog" >"$prog6"
+measure 3 "$bin/gmotion" run "$prog6" --axes XYZABC --summary-json "$work/summary6.json"
+samples6=$(samples_of "$work/summary6.json")
+rows+=("| \`gmotion run --axes XYZABC\`, six axes moving, no trace | $(calc "%.2f" "$samples6 / 1e6 / $secs") M samples/s | $samples6 samples in $secs s, peak RSS $((rss_kb / 1024)) MB |")
 
 measure 1 "$bin/gmotion" run "$prog" --trace "$work/trace.csv"
 trace_mb=$(calc "%.0f" "$(stat -c %s "$work/trace.csv") / 1e6")

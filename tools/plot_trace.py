@@ -115,7 +115,9 @@ def plot_motion(args):
     t = c["t_s"]
     T = t[1] - t[0] if len(t) > 1 else float(header.get("period_s", "0.004"))
     fig, axes = plt.subplots(3, 1, figsize=(9, 7.5), sharex=True)
-    for i, a in enumerate("xyz"):
+    # Every axis of the trace, in its order (x, y, z, then a, b, c in degrees, u, v, w).
+    letters = [n[0] for n in c if len(n) == 5 and n.endswith("_ref")]
+    for i, a in enumerate(letters):
         pos = [p * b[i] for p in c[f"{a}_ref"]]
         v = diff(pos, T)
         acc = diff(v, T)
@@ -123,7 +125,8 @@ def plot_motion(args):
         axes[0].plot(t, v, lw=0.8, label=a.upper())
         axes[1].plot(t, acc, lw=0.8, label=a.upper())
         axes[2].plot(t, jerk, lw=0.8, label=a.upper())
-    for ax, unit in zip(axes, ["velocity [mm/s]", "acceleration [mm/s²]", "jerk [mm/s³]"]):
+    for ax, unit in zip(axes, ["velocity [mm/s, deg/s]", "acceleration [mm/s², deg/s²]",
+                               "jerk [mm/s³, deg/s³]"]):
         ax.set_ylabel(unit)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8, loc="upper right")

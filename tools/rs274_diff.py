@@ -31,6 +31,9 @@ How rs274 is read (each claim checked against rs274 2.9 output, see --self-test)
     machine coordinates like `gmotion moves`. A non-zero SET_XY_ROTATION is not modelled (error).
   * Only N words are echoed, so the program is fed to rs274 with every line renumbered
     N<file line>, which makes rs274 report source line numbers.
+  * STRAIGHT_PROBE (G38.x): rs274's canon (saicanon.cc) moves to the end point without tripping
+    and then, unprinted, backs off 0.254 mm (0.01 in) towards the start; both are taken as feed
+    moves (gmotion moves the same way, interp/steps_probe.cpp).
   * Under cutter radius compensation (between the COMMENTs "interpreter: cutter radius
     compensation on ..." and "... off", or the program end) the interpreter holds each move back
     until the next one fixes its end point, and rs274 prints it with the line being read when it
@@ -57,6 +60,7 @@ sys.path.insert(0, str(HERE))
 MM_PER_INCH = 25.4
 RS274_PRINT_HALF_ULP = 0.5e-4  # rs274 prints %.4f
 SKIP = 77
+GMOTION_AXES = ""  # --axes: passed to `gmotion moves`
 
 
 # ---------------------------------------------------------------------------------------------
@@ -78,6 +82,7 @@ class Move:
     tol_mm: float = 0.0            # extra tolerance: print rounding of this value on rs274's side
     feed_tol: float = 0.0          # the same for the feed, mm/min
     note: str = ""
+    rot: dict | None = None        # rotary ends {"A": deg, ...}: rs274 A B C; gmotion "axes"
 
     def as_dict(self) -> dict:
         d = {"line": self.line, "kind": self.kind}
@@ -91,6 +96,8 @@ class Move:
         d["feed"] = self.feed
         if self.kind == "arc":
             d.update(center=self.center, dir=self.dir, turns=self.turns, plane=self.plane)
+        if self.rot:
+            d["axes"] = self.rot
         return d
 
     def __str__(self) -> str:
@@ -140,7 +147,12 @@ def parse_rs274_output(text: str) -> list[Move]:
     g5x_tol = g92_tol = 0.0  # print rounding of the offsets, mm
     tool = [0.0, 0.0, 0.0]   # tool length offsets, mm (USE_TOOL_LENGTH_OFFSET)
     tool_tol = 0.0
+    g5x_rot = [0.0, 0.0, 0.0]
+    g92_rot = [0.0, 0.0, 0.0]
     held = False             # inside a cutter compensation section
+
+    def rot_ends(vals):
+        return {"ABC"[i]: vals[i] + g5x_rot[i] + g92_rot[i] for i in range(3)}
 
     def mach(v, i):
         return None if v is None else v * factor + g5x[i] + g92[i] + tool[i]
@@ -166,10 +178,12 @@ def parse_rs274_output(text: str) -> list[Move]:
         elif name == "SET_G5X_OFFSET":
             v = _floats(args)
             g5x = [v[1] * factor, v[2] * factor, v[3] * factor]
+            g5x_rot = [float(x) for x in v[4:7]] if len(v) >= 7 else [0.0, 0.0, 0.0]
             g5x_tol = RS274_PRINT_HALF_ULP * factor if any(v[1:4]) else 0.0
         elif name == "SET_G92_OFFSET":
             v = _floats(args)
             g92 = [v[0] * factor, v[1] * factor, v[2] * factor]
+            g92_rot = [float(x) for x in v[3:6]] if len(v) >= 6 else [0.0, 0.0, 0.0]
             g92_tol = RS274_PRINT_HALF_ULP * factor if any(v[0:3]) else 0.0
         elif name == "USE_TOOL_LENGTH_OFFSET":
             tool, tool_tol = _tool_offsets_mm(args, factor)
@@ -186,13 +200,28 @@ def parse_rs274_output(text: str) -> list[Move]:
             v = _floats(args)
             mv = Move(kind="rapid" if name == "STRAIGHT_TRAVERSE" else "line", line=line,
                       end=[mach(v[i], i) for i in range(3)],
-                      tol_mm=RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol + tool_tol)
+                      tol_mm=RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol + tool_tol,
+                      rot=rot_ends(v[3:6]) if len(v) >= 6 else None)
             if mv.kind == "line":
                 mv.feed = feed_mm_min
                 mv.feed_tol = feed_tol
                 mv.note = feed_units_note
             mv.held = held
             moves.append(mv)
+        elif name == "STRAIGHT_PROBE":
+            v = _floats(args)
+            end = [mach(v[i], i) for i in range(3)]
+            prev = next((m.end for m in reversed(moves) if m.end is not None),
+                        [mach(0.0, i) for i in range(3)])
+            tol = RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol + tool_tol
+            moves.append(Move(kind="line", line=line, end=end, feed=feed_mm_min,
+                              feed_tol=feed_tol, tol_mm=tol, note="probe"))
+            d = [prev[i] - end[i] for i in range(3)]
+            dist = math.sqrt(sum(x * x for x in d))
+            if dist != 0.0:
+                back = [end[i] + 0.254 * d[i] / dist for i in range(3)]
+                moves.append(Move(kind="line", line=line, end=back, feed=feed_mm_min,
+                                  feed_tol=feed_tol, tol_mm=2 * tol, note="probe back-off"))
         elif name == "ARC_FEED":
             v = _floats(args)
             fe, se, fc, sc, rot, ax = v[0], v[1], v[2], v[3], int(v[4]), v[5]
@@ -212,6 +241,7 @@ def parse_rs274_output(text: str) -> list[Move]:
                               center=[mach(cen[i], i) for i in range(3)],
                               dir="cw" if rot < 0 else "ccw", turns=abs(rot), plane=plane,
                               feed=feed_mm_min, note=feed_units_note, feed_tol=feed_tol,
+                              rot=rot_ends(v[6:9]) if len(v) >= 9 else None,
                               held=held, tol_mm=RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol + tool_tol))
         elif name == "DWELL":
             moves.append(Move(kind="dwell", line=line, seconds=_floats(args)[0], held=held))
@@ -276,7 +306,7 @@ def tool_table_inches(text_mm: str) -> str:
 
 
 def run_rs274(rs274: str, program_text: str, timeout: float = 120.0,
-              tool_table_mm: str | None = None) -> Rs274Result:
+              tool_table_mm: str | None = None, subroutine_path: str | None = None) -> Rs274Result:
     """Run `rs274 -g` on the text (renumbered) in a scratch directory that is also its HOME (it
     keeps its tool table in $HOME/.tool.mmap; runs sharing one corrupt each other); with
     `tool_table_mm`, that table (mm) is given with -t (in inches). Parse its moves."""
@@ -291,6 +321,13 @@ def run_rs274(rs274: str, program_text: str, timeout: float = 120.0,
             tbl = os.path.join(tmp, "tools.tbl")
             Path(tbl).write_text(tool_table_inches(tool_table_mm))
             cmd += ["-t", tbl]
+        if subroutine_path:
+            # rs274 reads SUBROUTINE_PATH from an INI given with -i ([RS274NGC], absolute dirs);
+            # its scratch working directory holds no .ngc, so only the path can supply a sub.
+            ini = os.path.join(tmp, "rs274.ini")
+            dirs = ":".join(os.path.abspath(d) for d in subroutine_path.split(":") if d)
+            Path(ini).write_text(f"[RS274NGC]\nSUBROUTINE_PATH = {dirs}\n")
+            cmd += ["-i", ini]
         cmd += ["-g", path]
         # Every run gets its own empty HOME: rs274 keeps its tool table in $HOME/.tool.mmap and
         # runs sharing one truncate it under each other. A death by signal is retried.
@@ -323,14 +360,21 @@ def parse_gmotion_output(text: str) -> list[Move]:
         moves.append(Move(kind=d.get("kind"), line=d.get("line"), end=d.get("end"),
                           feed=d.get("feed"), center=d.get("center"), dir=d.get("dir"),
                           turns=d.get("turns"), plane=d.get("plane"), seconds=d.get("seconds"),
-                          text=d.get("text")))
+                          text=d.get("text"), rot=d.get("axes")))
     return moves
+
+
+SUBROUTINE_PATH: str | None = None  # --subroutine-path, given to every gmotion run
 
 
 def run_gmotion(gmotion: str, path: str, timeout: float = 120.0,
                 extra: list | None = None,
                 tool_table_path: str | None = None) -> tuple[bool, list, str]:
     tools = ["--tool-table", tool_table_path] if tool_table_path else []
+    if GMOTION_AXES:
+        tools += ["--axes", GMOTION_AXES]
+    if SUBROUTINE_PATH:
+        tools += ["--subroutine-path", SUBROUTINE_PATH]
     p = subprocess.run([gmotion, "moves", path, "--messages"] + tools + (extra or []),
                        stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=timeout)
     if p.returncode != 0:
@@ -399,6 +443,12 @@ def compare_move(ref: Move, got: Move, tol: Tol) -> str | None:
     d = _vec_diff(ref.end, got.end, ptol)
     if d:
         return f"end {d} (tol {ptol:.3g} mm)"
+    # Rotary axes the gmotion machine has (--axes): degrees, printed %.4f by rs274.
+    for k, v in (got.rot or {}).items():
+        if k in "ABC" and ref.rot is not None:
+            rtol = tol.mm + RS274_PRINT_HALF_ULP + 1e-9
+            if not isinstance(v, (int, float)) or abs(ref.rot[k] - v) > rtol:
+                return f"end {k}: {ref.rot[k]!r} vs {v!r} deg (tol {rtol:.3g})"
     if ref.kind in ("line", "arc"):
         if got.feed is None:
             return "feed missing"
@@ -431,17 +481,20 @@ def compare_moves(ref: list[Move], got: list[Move], tol: Tol):
 
 def drop_zero_length(moves: list[Move], eps_mm: float) -> tuple[list[Move], int]:
     """Remove rapids/lines that end where the previous move ended (start: origin)."""
-    out, dropped, prev, prev_tol = [], 0, [0.0, 0.0, 0.0], 0.0
+    out, dropped, prev, prev_tol, prev_rot = [], 0, [0.0, 0.0, 0.0], 0.0, {}
     for m in moves:
+        rot = {k: v for k, v in (m.rot or {}).items() if k in "ABC"}
+        rot_same = all(abs(v - prev_rot.get(k, 0.0)) <= eps_mm for k, v in rot.items())
         # rs274's ends are rounded to 4 decimals in program units: a move that only undoes that
         # rounding (inch mode, then mm) is zero-length too.
         eps = max(eps_mm, 2 * max(m.tol_mm, prev_tol))
         if m.kind in ("rapid", "line") and m.end is not None and all(
-                abs(a - b) <= eps for a, b in zip(m.end, prev)):
+                abs(a - b) <= eps for a, b in zip(m.end, prev)) and rot_same:
             dropped += 1
             continue
         if m.end is not None:
             prev, prev_tol = m.end, m.tol_mm
+            prev_rot = rot
         out.append(m)
     return out, dropped
 
@@ -466,7 +519,8 @@ def describe_mismatch(ref, got, idx, why, program_text, label) -> str:
 
 def diff_program(args, text: str, path: str, label: str, *, must_accept: bool) -> str:
     """'ok' | 'skip' | 'fail'; prints the first mismatch."""
-    rs = run_rs274(args.rs274, text, tool_table_mm=args.tool_table_text)
+    rs = run_rs274(args.rs274, text, tool_table_mm=args.tool_table_text,
+                   subroutine_path=args.subroutine_path)
     if not rs.ok:
         if must_accept:
             print(f"FAIL {label}: rs274 rejected it (generator bug):\n  {rs.error}")
@@ -602,6 +656,9 @@ def main_compare(args) -> int:
                     if counts["fail"] >= args.max_failures:
                         break
     files = collect_programs(args.programs + args.files)
+    if args.subroutine_path:  # the subroutine files are not programs of their own
+        sub_dirs = [Path(d).resolve() for d in args.subroutine_path.split(":") if d]
+        files = [f for f in files if not any(d in f.resolve().parents for d in sub_dirs)]
     if not files and not (args.random or args.random_expr):
         print(f"rs274_diff: no *.nc programs under {args.programs}; skipping")
         return SKIP
@@ -831,8 +888,16 @@ def main(argv=None) -> int:
                     help="directories/files of programs both must reject on the same line")
     ap.add_argument("--tool-table", metavar="FILE",
                     help="tool table in mm for both sides (default: gmotion's built-in table)")
+    ap.add_argument("--axes", default="",
+                    help="gmotion's machine axes (gmotion --axes), e.g. XYZA: its A/B/C ends are "
+                         "compared with rs274's too")
+    ap.add_argument("--subroutine-path", metavar="DIR[:DIR]",
+                    help="subroutine files for both sides (rs274: an INI's SUBROUTINE_PATH)")
     ap.add_argument("-v", "--verbose", action="store_true")
     args = ap.parse_args(argv)
+    global GMOTION_AXES, SUBROUTINE_PATH
+    GMOTION_AXES = args.axes
+    SUBROUTINE_PATH = args.subroutine_path
     args.tol = Tol(args.tol_mm, args.tol_feed_rel)
     args.moves_compared = 0
     args.messages_compared = 0

@@ -96,8 +96,13 @@ bool cpu_has_avx2() {
 
 }  // namespace
 
-FirAccDec::FirAccDec(const Taps& taps, const AxisBlu& start_pos_blu, FirStructure structure)
+FirAccDec::FirAccDec(const Taps& taps, const AxisBlu& start_pos_blu, FirStructure structure,
+                     int axes)
     : taps_(taps.integer), start_(start_pos_blu), last_in_(start_pos_blu) {
+  if (axes < 1 || axes > kMaxAxes)
+    throw InputError(fmt::format("FIR Acc/Dec: {} axes (1..{})", axes, kMaxAxes));
+  axes_ = axes;
+  groups_ = (axes + 3) / 4;
   if (taps_.empty()) throw InputError(fmt::format("profile '{}': no integer taps", taps.profile));
   std::int64_t sum = 0;
   for (std::size_t i = 0; i < taps_.size(); ++i) {
@@ -127,9 +132,9 @@ FirAccDec::FirAccDec(const Taps& taps, const AxisBlu& start_pos_blu, FirStructur
     throw InputError(
         fmt::format("profile '{}': the symmetric form needs b_i = b_(N-i)", taps.profile));
   structure_ = structure;
-  hist_.assign(static_cast<std::size_t>(length_) * kAxes, 0);
+  hist_.assign(static_cast<std::size_t>(length_) * static_cast<std::size_t>(axes_), 0);
   running_.fill(0);
-  window_.setZero(4, 2 * length_);
+  window_.setZero(4, 2 * length_ * groups_);
   taps_oldest_first_.assign(taps_.rbegin(), taps_.rend());
   fast_limit_ = ((std::int64_t{1} << 53) - 1) / b_s_;
   use_avx2_ = cpu_has_avx2();
@@ -141,7 +146,8 @@ FirAccDec::Acc FirAccDec::convolve(int axis) const {
   auto at = [&](int i) -> Acc {
     int slot = head_ - i;
     if (slot < 0) slot += n;
-    return hist_[static_cast<std::size_t>(slot) * kAxes + static_cast<std::size_t>(axis)];
+    return hist_[static_cast<std::size_t>(slot) * static_cast<std::size_t>(axes_) +
+                 static_cast<std::size_t>(axis)];
   };
   Acc acc = 0;
   if (structure_ == FirStructure::Symmetric) {
@@ -157,14 +163,16 @@ FirAccDec::Acc FirAccDec::convolve(int axis) const {
 
 // AVX2 when the CPU has it (one 4-lane operation per tap pair), SSE2 otherwise; the sums are
 // exact integers either way, so the result does not depend on which one runs.
-void FirAccDec::convolve_fast(double (&sums)[4]) const {
-  static_assert(kAxes <= 4, "the fast path packs the axes into 4 lanes");
-  const double* col = window_.data() + 4 * (head_ + 1);  // the oldest sample of the window
+void FirAccDec::convolve_fast(double (&sums)[4 * kGroups]) const {
   const bool folded = structure_ == FirStructure::Symmetric;
-  if (use_avx2_)
-    dot4_avx2(col, taps_oldest_first_.data(), length_, folded, sums);
-  else
-    dot4_baseline(col, taps_oldest_first_.data(), length_, folded, sums);
+  for (int g = 0; g < groups_; ++g) {
+    // The oldest sample of group g's window.
+    const double* col = window_.data() + 4 * (2 * length_ * g + head_ + 1);
+    if (use_avx2_)
+      dot4_avx2(col, taps_oldest_first_.data(), length_, folded, sums + 4 * g);
+    else
+      dot4_baseline(col, taps_oldest_first_.data(), length_, folded, sums + 4 * g);
+  }
 }
 
 void FirAccDec::step(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu) {
@@ -176,8 +184,9 @@ void FirAccDec::step(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu) {
   }
   head_ = head_ + 1 == length_ ? 0 : head_ + 1;  // the oldest slot becomes the newest
   const bool running = structure_ == FirStructure::RunningSum;
-  for (int a = 0; a < kAxes; ++a) {
-    const std::size_t idx = static_cast<std::size_t>(head_) * kAxes + static_cast<std::size_t>(a);
+  for (int a = 0; a < axes_; ++a) {
+    const std::size_t idx = static_cast<std::size_t>(head_) * static_cast<std::size_t>(axes_) +
+                            static_cast<std::size_t>(a);
     const std::int64_t rel = in_pos_blu[a] - start_[a];
     const std::int64_t old = hist_[idx];
     big_in_window_ += static_cast<int>(rel > fast_limit_ || rel < -fast_limit_) -
@@ -186,13 +195,14 @@ void FirAccDec::step(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu) {
     if (running) {
       running_[static_cast<std::size_t>(a)] += Acc{rel} - Acc{old};
     } else {
-      window_(a, head_) = window_(a, head_ + length_) = static_cast<double>(rel);
+      const int col = 2 * length_ * (a >> 2) + head_;
+      window_(a & 3, col) = window_(a & 3, col + length_) = static_cast<double>(rel);
     }
   }
   const bool fast = big_in_window_ == 0;  // every |rel| in the window <= fast_limit_
-  double sums[4] = {0.0, 0.0, 0.0, 0.0};
+  double sums[4 * kGroups] = {};
   if (fast && !running) convolve_fast(sums);
-  for (int a = 0; a < kAxes; ++a) {
+  for (int a = 0; a < axes_; ++a) {
     std::int64_t q;
     if (fast && !running && std::fabs(sums[a]) < kQuotientExact) {
       // |sum| < 2^51: the double quotient lies within 1/(4 b_s) of the exact one, and the

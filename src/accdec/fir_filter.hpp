@@ -30,15 +30,17 @@ enum class FirStructure {
 /// Two evaluations, chosen per sample, give the same integer sum:
 ///  - fast: while every relative position in the window is at most `exact_limit()` =
 ///    (2^53 − 1) / b_s in magnitude, every product and partial sum is an integer below 2^53,
-///    so double arithmetic is exact; the three axes run side by side in one 4-lane vector over
-///    a contiguous (mirrored) window, which the compiler vectorises;
+///    so double arithmetic is exact; the axes run side by side in 4-lane vectors (one group of
+///    four axes per vector: one for up to four axes, three for nine) over a contiguous
+///    (mirrored) window, which the compiler vectorises;
 ///  - exact: otherwise, __int128 sums over the integer ring.
 /// Valid for positions with |in - start| < 2^62 BLU. Allocates only in the constructor.
 class FirAccDec {
  public:
   /// `taps.integer` must be non-empty with all taps >= 0 and b_s > 0 (else gm::InputError).
+  /// `axes`: how many entries of the position vectors are filtered (1..kMaxAxes).
   FirAccDec(const Taps& taps, const AxisBlu& start_pos_blu,
-            FirStructure structure = FirStructure::Auto);
+            FirStructure structure = FirStructure::Auto, int axes = 3);
 
   /// One sample: input = the interpolator's commanded position (BLU); output = the smoothed
   /// reference position (BLU).
@@ -57,23 +59,27 @@ class FirAccDec {
   __extension__ using Acc = __int128;
 
   Acc convolve(int axis) const;  // Σ b_i·hist[k-i] for the current head (exact path)
+  static constexpr int kGroups = (kMaxAxes + 3) / 4;  // 4-lane groups for the most axes
   void convolve_fast(
-      double (&sums)[4]) const;  // the same sums (exact integers in double), fast path
+      double (&sums)[4 * kGroups]) const;  // the same sums (exact integers in double), fast path
 
   std::vector<std::int64_t> taps_;  // integer taps b_0..b_N
   std::int64_t b_s_ = 1;
   double b_s_real_ = 1.0;  // b_s_ as a double (exact whenever a fast sum is non-zero)
   static constexpr double kQuotientExact = 2251799813685248.0;  // 2^51: see step()
   int length_ = 1;
+  int axes_ = 3;
+  int groups_ = 1;  // 4-lane groups in use: (axes_ + 3) / 4
   FirStructure structure_ = FirStructure::Direct;
   AxisBlu start_ = AxisBlu::Zero();
   AxisBlu last_in_ = AxisBlu::Zero();
-  int equal_run_ = 0;                 // consecutive equal inputs, counting the implicit history
-  std::vector<std::int64_t> hist_;    // ring: hist_[slot*kAxes + axis] = in - start
-  int head_ = 0;                      // slot of the newest sample
-  std::array<Acc, kAxes> running_{};  // RunningSum: Σ of the last N+1 relative positions
-  // Fast path: the window as 4-lane columns (x, y, z, 0), each sample stored at slot and
-  // slot + N+1, so the last N+1 samples are columns head_+1 .. head_+N+1, oldest first.
+  int equal_run_ = 0;                    // consecutive equal inputs, counting the implicit history
+  std::vector<std::int64_t> hist_;       // ring: hist_[slot*axes_ + axis] = in - start
+  int head_ = 0;                         // slot of the newest sample
+  std::array<Acc, kMaxAxes> running_{};  // RunningSum: Σ of the last N+1 relative positions
+  // Fast path: the window as 4-lane columns (axes 4g .. 4g+3 of group g, unused lanes 0), group
+  // g in columns g·2(N+1) .. (g+1)·2(N+1) - 1; each sample stored at slot and slot + N+1, so
+  // the last N+1 samples are columns head_+1 .. head_+N+1 of the group, oldest first.
   Eigen::Matrix<double, 4, Eigen::Dynamic> window_;
   std::vector<double> taps_oldest_first_;  // b_N .. b_0
   std::int64_t fast_limit_ = 0;            // (2^53 - 1) / b_s

@@ -1,5 +1,6 @@
 // gmotion check PROGRAM: validates a G-code program, printing every error or a one-line summary.
 #include "cli/commands.hpp"
+#include "cli/language_flags.hpp"
 #include "cli/run_setup.hpp"
 #include "common/status.hpp"
 #include "interp/program.hpp"
@@ -20,32 +21,33 @@ void add_check(CLI::App& app, Context& ctx) {
     std::string program;
     std::string machine_file;
     std::string tool_table;
+    std::string axes;
     bool block_delete = false;
     std::string arc_rule;
-
-    std::int64_t max_iterations = 10'000'000;
+    LanguageFlags language;
   };
   auto opts = std::make_shared<Opts>();
   sub->add_option("PROGRAM", opts->program, "G-code file ('-' reads stdin)")->required();
   sub->add_option("--machine", opts->machine_file, "machine description file (TOML)");
+  sub->add_option("--axes", opts->axes, kAxesFlagHelp);
   sub->add_option("--tool-table", opts->tool_table,
                   "LinuxCNC tool table (T1 P1 Z50 D6 ;comment), mm; default: the machine's");
   sub->add_flag("--block-delete", opts->block_delete, "skip lines that start with '/'");
-  sub->add_option("--max-iterations", opts->max_iterations,
-                  "loop iterations and subroutine calls before the program is stopped")
-      ->check(CLI::PositiveNumber);
+  add_language_flags(sub, opts->language);
   sub->add_option("--arc-rule", opts->arc_rule, "arc end-radius tolerance rule")
       ->check(CLI::IsMember({"linuxcnc", "grbl", "g2core"}));
   sub->callback([opts, &ctx] {
     Machine machine;
     if (!opts->machine_file.empty()) machine = load_machine_file(opts->machine_file);
+    apply_axes_flag(machine, opts->axes);
     if (!opts->tool_table.empty()) machine.tool_table = load_tool_table(opts->tool_table);
     if (!opts->arc_rule.empty()) {
       static const std::map<std::string, ArcRule> rules{
           {"linuxcnc", ArcRule::LinuxCnc}, {"grbl", ArcRule::Grbl}, {"g2core", ArcRule::G2core}};
       machine.arc_rule = rules.at(opts->arc_rule);
     }
-    InterpreterOptions io{&machine, opts->block_delete, opts->max_iterations};
+    InterpreterOptions io{&machine, opts->block_delete};
+    apply_language_flags(opts->language, machine, io);
     std::cout.flush();
     ProgramInput program(opts->program);
     const CheckSummary s = check_program(program.rewind(), program.name(), io, std::cerr);

@@ -3,6 +3,7 @@
 #include "accdec/analysis.hpp"
 #include "accdec/profiles.hpp"
 #include "cli/commands.hpp"
+#include "cli/language_flags.hpp"
 #include "cli/run_setup.hpp"
 #include "common/status.hpp"
 #include "pipeline/run.hpp"
@@ -24,6 +25,7 @@ namespace {
 struct CompareFlags {
   std::string program;
   MachineFlags machine;
+  LanguageFlags language;
   std::vector<std::string> profiles = paper_profiles();
   bool json = false;
 };
@@ -67,10 +69,11 @@ int compare(const CompareFlags& f) {
   InterpreterOptions opts;
   opts.machine = &base;
   opts.block_delete = f.machine.block_delete;
+  apply_language_flags(f.language, base, opts);
   if (!validate_program(program, opts)) return static_cast<int>(ExitCode::InputError);
 
   const std::optional<Motion> arc = first_arc(program, opts);
-  const double blu = base.blu_mm().minCoeff();
+  const double blu = base.contour_blu_mm();
   double r_blu = 0, v_blu_s = 0;
   if (arc) {
     r_blu = (arc->start_mm - arc->center_mm).norm() / blu;  // planar arcs: in-plane radius
@@ -178,6 +181,7 @@ void add_compare(CLI::App& app, Context& ctx) {
       "compare", "Run a program through several Acc/Dec profiles and tabulate radius loss");
   sub->add_option("program", flags->program, "G-code program, or - for stdin")->required();
   add_machine_flags(sub, flags->machine);
+  add_language_flags(sub, flags->language);
   sub->add_option("--profiles", flags->profiles,
                   "Comma-separated profiles; default: the paper's (" +
                       fmt::format("{}", fmt::join(paper_profiles(), ",")) + ")")

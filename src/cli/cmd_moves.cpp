@@ -1,5 +1,6 @@
 // gmotion moves PROGRAM: the canonical moves as JSON Lines (mm, mm/min, machine coordinates).
 #include "cli/commands.hpp"
+#include "cli/language_flags.hpp"
 #include "cli/run_setup.hpp"
 #include "common/status.hpp"
 #include "interp/program.hpp"
@@ -22,7 +23,7 @@ const char* plane_name(Plane p) {
 
 // One JSON object per canonical move. Numbers are printed shortest-round-trip ({} in fmt).
 // Rapids print "feed":0 (the machine's rapid rate applies; it is not part of the program).
-void print_move(std::FILE* f, const Canon& c) {
+void print_move(std::FILE* f, const Canon& c, const AxisLayout& axes) {
   if (const auto* m = std::get_if<Motion>(&c)) {
     const char* kind = m->kind == MotionKind::Rapid  ? "rapid"
                        : m->kind == MotionKind::Line ? "line"
@@ -30,6 +31,15 @@ void print_move(std::FILE* f, const Canon& c) {
     fmt::print(f, "{{\"line\":{},\"kind\":\"{}\",\"end\":[{},{},{}],\"feed\":{}", m->line, kind,
                m->end_mm[0] + 0.0, m->end_mm[1] + 0.0, m->end_mm[2] + 0.0,
                m->kind == MotionKind::Rapid ? 0.0 : m->feed_mm_min);
+    // The machine's axes past X, Y, Z: "axes":{"A":90,...} (degrees for A, B, C).
+    if (!axes.is_xyz()) {
+      std::string more;
+      for (int a = 0; a < axes.count; ++a)
+        if (axes.program(a) >= 3)
+          more += fmt::format("{}\"{}\":{}", more.empty() ? "" : ",", axes.letter(a),
+                              m->end_mm[axes.program(a)] + 0.0);
+      if (!more.empty()) fmt::print(f, ",\"axes\":{{{}}}", more);
+    }
     if (m->kind == MotionKind::Arc)
       fmt::print(f, ",\"center\":[{},{},{}],\"dir\":\"{}\",\"turns\":{},\"plane\":\"{}\"",
                  m->center_mm[0] + 0.0, m->center_mm[1] + 0.0, m->center_mm[2] + 0.0,
@@ -73,27 +83,28 @@ void add_moves(CLI::App& app, Context& ctx) {
     std::string program;
     std::string machine_file;
     std::string tool_table;
+    std::string axes;
     bool block_delete = false;
     bool messages = false;
-
-    std::int64_t max_iterations = 10'000'000;
+    LanguageFlags language;
   };
   auto opts = std::make_shared<Opts>();
   sub->add_option("PROGRAM", opts->program, "G-code file ('-' reads stdin)")->required();
   sub->add_option("--machine", opts->machine_file, "machine description file (TOML)");
+  sub->add_option("--axes", opts->axes, kAxesFlagHelp);
   sub->add_option("--tool-table", opts->tool_table,
                   "LinuxCNC tool table (T1 P1 Z50 D6 ;comment), mm; default: the machine's");
   sub->add_flag("--block-delete", opts->block_delete, "skip lines that start with '/'");
-  sub->add_option("--max-iterations", opts->max_iterations,
-                  "loop iterations and subroutine calls before the program is stopped")
-      ->check(CLI::PositiveNumber);
+  add_language_flags(sub, opts->language);
   sub->add_flag("--messages", opts->messages,
                 "also print MSG/DEBUG/PRINT comments as records of kind \"message\"");
   sub->callback([opts, &ctx] {
     Machine machine;
     if (!opts->machine_file.empty()) machine = load_machine_file(opts->machine_file);
+    apply_axes_flag(machine, opts->axes);
     if (!opts->tool_table.empty()) machine.tool_table = load_tool_table(opts->tool_table);
-    const InterpreterOptions io{&machine, opts->block_delete, opts->max_iterations};
+    InterpreterOptions io{&machine, opts->block_delete};
+    apply_language_flags(opts->language, machine, io);
     const std::string name = opts->program == "-" ? "<stdin>" : opts->program;
 
     // Nothing is printed if the program has any error: check it whole first, then stream it
@@ -107,7 +118,7 @@ void add_moves(CLI::App& app, Context& ctx) {
     ProgramStream stream(*in, name, io);
     Canon c;
     while (stream.next(c)) {
-      print_move(stdout, c);
+      print_move(stdout, c, machine.layout);
       if (opts->messages) print_message(stdout, c);
     }
     std::fflush(stdout);

@@ -1,5 +1,6 @@
 // gmotion run: the whole pipeline on a program, streaming a trace and printing a summary.
 #include "cli/commands.hpp"
+#include "cli/language_flags.hpp"
 #include "cli/run_setup.hpp"
 #include "common/status.hpp"
 #include "override/override_schedule.hpp"
@@ -27,6 +28,7 @@ extern "C" void on_sigint(int) {
 struct RunFlags {
   std::string program;
   MachineFlags machine;
+  LanguageFlags language;
   std::string trace_path;
   std::string trace_format = "csv";
   int decimate = 1;
@@ -67,6 +69,7 @@ int run(const RunFlags& f, std::unique_ptr<Run>& run_out) {
   InterpreterOptions opts;
   opts.machine = &o.config.machine;
   opts.block_delete = f.machine.block_delete;
+  apply_language_flags(f.language, o.config.machine, opts);
   if (!validate_program(program, opts)) return static_cast<int>(ExitCode::InputError);
 
   o.program_name = program.name();
@@ -143,6 +146,7 @@ void add_run(CLI::App& app, Context& ctx) {
   sub->add_option("program", flags->program, "G-code program (.nc, .ngc), or - for stdin")
       ->required();
   add_machine_flags(sub, flags->machine);
+  add_language_flags(sub, flags->language);
   auto* trace = sub->add_option("--trace", flags->trace_path,
                                 "Write the per-sample encoder trace here (- = stdout)");
   sub->add_option("--trace-format", flags->trace_format, "csv or bin")

@@ -21,5 +21,6 @@ void add_analyze(CLI::App& app, Context& ctx);  ///< gmotion analyze radius-erro
 void add_run(CLI::App& app, Context& ctx);      ///< gmotion run PROGRAM (the whole pipeline)
 void add_diff(CLI::App& app, Context& ctx);     ///< gmotion diff A B (trace comparison)
 void add_compare(CLI::App& app, Context& ctx);  ///< gmotion compare PROGRAM (profiles side by side)
+void add_golden(CLI::App& app, Context& ctx);   ///< gmotion golden record|verify SUITE
 
 }  // namespace gm::cli

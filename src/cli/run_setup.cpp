@@ -21,6 +21,7 @@ namespace gm::cli {
 void add_machine_flags(CLI::App* sub, MachineFlags& f) {
   sub->add_option("--machine", f.machine_file,
                   "Machine file (TOML); default: the built-in 3-axis machine");
+  sub->add_option("--axes", f.axes, kAxesFlagHelp);
   sub->add_option("--profile", f.profile,
                   "Acc/Dec profile: " + profile_forms(" | ") + " (C = cutoff or max)");
   sub->add_option("--tau", f.tau_s, "Acc/Dec time constant tau = (N+1)T, seconds");
@@ -32,8 +33,18 @@ void add_machine_flags(CLI::App* sub, MachineFlags& f) {
                   "LinuxCNC tool table (T1 P1 Z50 D6 ;comment), mm; default: the machine's");
 }
 
+void apply_axes_flag(Machine& m, const std::string& letters) {
+  if (letters.empty()) return;
+  const std::optional<AxisLayout> l = AxisLayout::of(letters);
+  if (!l)
+    throw InputError(fmt::format(
+        "--axes {}: give axis letters in the order XYZABCUVW, each at most once", letters));
+  m.set_axes(*l, default_machine().axes[0]);
+}
+
 Machine resolve_machine(const MachineFlags& f) {
   Machine m = f.machine_file.empty() ? default_machine() : load_machine_file(f.machine_file);
+  apply_axes_flag(m, f.axes);
   auto positive = [](const char* flag, double v) {
     if (!(v > 0.0) || !std::isfinite(v))
       throw InputError(

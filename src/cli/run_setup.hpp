@@ -24,10 +24,20 @@ struct MachineFlags {
   bool no_servo = false;               ///< --no-servo: ideal axes
   bool block_delete = false;           ///< --block-delete: honour '/'
   std::string tool_table;              ///< --tool-table FILE (else the machine's table)
+  std::string axes;                    ///< --axes LETTERS (else the machine's)
 };
 
-/// Adds --machine, --profile, --tau, --period, --blu, --no-servo, --block-delete, --tool-table
-/// to `sub`.
+/// --axes LETTERS: gives `m` those axes (a subsequence of XYZABCUVW); an axis the machine
+/// already has keeps its settings, a new one takes the built-in machine's X axis. No-op when
+/// `letters` is empty. Throws gm::InputError on bad letters.
+void apply_axes_flag(Machine& m, const std::string& letters);
+/// The --axes option's help text.
+inline constexpr const char* kAxesFlagHelp =
+    "Machine axes, a subsequence of XYZABCUVW (e.g. XYZA; A B C rotary, degrees); default: the "
+    "machine's (built-in: XYZ)";
+
+/// Adds --machine, --axes, --profile, --tau, --period, --blu, --no-servo, --block-delete,
+/// --tool-table to `sub`.
 void add_machine_flags(CLI::App* sub, MachineFlags& flags);
 
 /// The machine file (or the built-in machine) with the flags applied. Throws gm::InputError.

@@ -10,7 +10,8 @@ std::string format_diagnostic(std::string_view file, const Diagnostic& d) {
                      : d.severity == Severity::Warning ? "warning"
                                                        : "note";
   std::string out =
-      fmt::format("{}:{}:{}: {}: {}\n", file, d.loc.line, d.loc.column, kind, d.message);
+      fmt::format("{}:{}:{}: {}: {}\n", d.file.empty() ? file : std::string_view(d.file),
+                  d.loc.line, d.loc.column, kind, d.message);
   if (!d.source_line.empty()) {
     std::string line = d.source_line;
     if (!line.empty() && line.back() == '\r') line.pop_back();

@@ -22,9 +22,11 @@ struct Diagnostic {
   SourceLoc loc;
   std::string message;
   std::string source_line;  ///< the text of the line, for the caret display (may be empty)
+  std::string file{};       ///< the file it is in when not the one being read (a subroutine file)
 };
 
-/// Renders `file:line:col: error: message`, then the source line and a caret under the column.
+/// Renders `file:line:col: error: message`, then the source line and a caret under the column;
+/// `d.file`, when set, is the file named instead of `file`.
 std::string format_diagnostic(std::string_view file, const Diagnostic& d);
 
 }  // namespace gm

@@ -50,7 +50,7 @@ enum class ErrorCode : int {
   UnusedWord = 216,              ///< a value word nothing in the block uses (I with G1, R with G0)
   NegativeValue = 217,           ///< S, T or H negative
   LineNumberNotFirst = 218,      ///< N after other words (LinuxCNC)
-  AxisUnavailable = 219,         ///< A/B/C/U/V/W on this 3-axis machine
+  AxisUnavailable = 219,         ///< an axis word for an axis the machine lacks
   ValueOutOfRange =
       220,  ///< a position beyond ±1e12 mm, a feed beyond 1e12 mm/min, a tool beyond 1e6
   // Expressions and parameters (interp/expression, interp/parameters) --------------------------
@@ -67,6 +67,9 @@ enum class ErrorCode : int {
   TooManyIterations = 243,    ///< loops ran past --max-iterations
   NotSeekable = 244,          ///< control flow needs to re-read an input that cannot seek
   UnterminatedControl = 245,  ///< the program ends inside a sub, if or loop
+  SubroutineRedefined = 246,  ///< a second `sub` with a label already defined elsewhere
+  SubroutineFile = 247,       ///< a subroutine file that cannot be read (any more)
+  PolarMisused = 248,         ///< @/^ with X/Y, with G53, or indeterminate at the origin
   // Machine-side codes (offsets, tools, cycles) ------------------------------------------------
   G53Misused = 260,         ///< G53 with a motion other than G0/G1, or in G91 (LinuxCNC)
   BadLWord = 261,           ///< G10 without L or with an L it does not know; cycle L not >= 1
@@ -151,7 +154,8 @@ inline constexpr std::array kErrorTable{
     ErrorInfo{ErrorCode::LineNumberNotFirst, "line number not first",
               "N must be the first word of a block"},
     ErrorInfo{ErrorCode::AxisUnavailable, "axis not available",
-              "This machine has the axes X, Y and Z only"},
+              "The machine lacks this axis (its axes: machine key axes.letters, flag --axes; "
+              "default XYZ)"},
     ErrorInfo{ErrorCode::ValueOutOfRange, "value out of range",
               "A position, feed or tool number beyond what the machine can represent"},
     ErrorInfo{ErrorCode::DivisionByZero, "division by zero", "An expression divides by zero"},
@@ -175,6 +179,12 @@ inline constexpr std::array kErrorTable{
               "Loops and calls re-read the program: it must be a file"},
     ErrorInfo{ErrorCode::UnterminatedControl, "unterminated block",
               "The program ends inside a subroutine, if or loop"},
+    ErrorInfo{ErrorCode::SubroutineRedefined, "subroutine redefined",
+              "A subroutine label is defined twice (in the program or a subroutine file)"},
+    ErrorInfo{ErrorCode::SubroutineFile, "subroutine file unreadable",
+              "A subroutine file found on the path cannot be read"},
+    ErrorInfo{ErrorCode::PolarMisused, "polar coordinates misused",
+              "@ and ^ replace X and Y; at the origin a direction is needed"},
     ErrorInfo{ErrorCode::G53Misused, "G53 misused",
               "G53 needs G0 or G1 and absolute distance mode (G90)"},
     ErrorInfo{ErrorCode::BadLWord, "bad L word", "L has a value this code does not accept"},

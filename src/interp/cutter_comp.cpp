@@ -100,12 +100,12 @@ void dequeue(BlockCtx& ctx) {
     Pos9 end = q.end_mm, centre = q.center_mm;
     lathe_origin(cc, mo.plane, end);
     const Pos9 start = cc.emitted_mm;
-    mo.start_mm = to_machine(start);
-    mo.end_mm = to_machine(end);
+    mo.start_mm = to_machine(start, ctx.machine.layout);
+    mo.end_mm = to_machine(end, ctx.machine.layout);
     if (mo.kind == MotionKind::Arc) {
       lathe_origin(cc, mo.plane, centre);
       centre[plane_axes(mo.plane).n] = start[plane_axes(mo.plane).n];
-      mo.center_mm = to_machine(centre);
+      mo.center_mm = to_machine(centre, ctx.machine.layout);
     }
     cc.emitted_mm = end;
     if (mo.kind != MotionKind::Arc && mo.end_mm == mo.start_mm) continue;  // as emit_straight
@@ -470,9 +470,9 @@ bool comp_arc(BlockCtx& ctx, const Code& code, const Pos9& target, int turns) {
     if (!ctx.w.has('R') && tool_inside && dist(centre, c) <= r)
       return tool_too_large(ctx, "the arc radius", dist(centre, c));
     Motion prog = motion_template(ctx, MotionKind::Arc);
-    prog.start_mm = to_machine(s.position_mm);
-    prog.end_mm = to_machine(target);
-    prog.center_mm = to_machine(centre9);
+    prog.start_mm = to_machine(s.position_mm, ctx.machine.layout);
+    prog.end_mm = to_machine(target, ctx.machine.layout);
+    prog.center_mm = to_machine(centre9, ctx.machine.layout);
     prog.ccw = ccw;
     prog.turns = turns;
     const double feed = block_feed(ctx, motion_length_mm(prog));
@@ -510,9 +510,9 @@ bool comp_arc(BlockCtx& ctx, const Code& code, const Pos9& target, int turns) {
   if (!arc_centre(ctx, code, o9, target, centre9)) return false;
   const P2 centre = in_plane(centre9, ax);
   Motion prog = motion_template(ctx, MotionKind::Arc);
-  prog.start_mm = to_machine(o9);
-  prog.end_mm = to_machine(target);
-  prog.center_mm = to_machine(centre9);
+  prog.start_mm = to_machine(o9, ctx.machine.layout);
+  prog.end_mm = to_machine(target, ctx.machine.layout);
+  prog.center_mm = to_machine(centre9, ctx.machine.layout);
   prog.ccw = ccw;
   prog.turns = turns;
   const double feed = block_feed(ctx, motion_length_mm(prog));

@@ -18,14 +18,10 @@ bool is_free_letter(char c) {
   return c == 'F' || c == 'N' || c == 'S' || c == 'T';
 }
 
-std::string machine_axes_text() {
+std::string machine_axes_text(const AxisLayout& l) {
   std::string s;
-  for (int i = 0; i < kAxes; ++i)
-    s += fmt::format("{}{}",
-                     i == 0           ? ""
-                     : i + 1 == kAxes ? " and "
-                                      : ", ",
-                     kAxisLetters[static_cast<std::size_t>(i)]);
+  for (int i = 0; i < l.count; ++i)
+    s += fmt::format("{}{}", i == 0 ? "" : i + 1 == l.count ? " and " : ", ", l.letter(i));
   return s;
 }
 
@@ -38,7 +34,8 @@ bool fail(InterpError& err, ErrorCode code, SourceLoc loc, std::string msg) {
 
 // STEP 1-2: sorts the block's words by letter and modal group; rejects unknown codes and letters,
 // two codes of one group, repeated words.
-bool import_words(const grammar::Block& block, BlockWords& w, InterpError& err) {
+bool import_words(const grammar::Block& block, const AxisLayout& axes, BlockWords& w,
+                  InterpError& err) {
   for (std::size_t i = 0; i < block.words.size(); ++i) {
     const grammar::Word& word = block.words[i];
     const char c = word.letter;
@@ -63,11 +60,21 @@ bool import_words(const grammar::Block& block, BlockWords& w, InterpError& err) 
       w.codes[w.code_count++] = code;
       continue;
     }
+    if (c == '@' || c == '^') {  // polar coordinates: axis words in place of X and Y
+      const grammar::Word*& slot = c == '@' ? w.polar.radius : w.polar.angle;
+      if (slot)
+        return fail(
+            err, ErrorCode::DuplicateWord, word.loc,
+            fmt::format("{} appears twice in the block (first at column {})", c, slot->loc.column));
+      slot = &word;
+      if (!w.first_axis) w.first_axis = &word;
+      continue;
+    }
     const int axis = program_axis_index(c);
-    if (axis >= 0 && !machine_has_axis(axis))
+    if (axis >= 0 && !axes.has(axis))
       return fail(
           err, ErrorCode::AxisUnavailable, word.loc,
-          fmt::format("axis {} is not available: this machine has {}", c, machine_axes_text()));
+          fmt::format("axis {} is not available: this machine has {}", c, machine_axes_text(axes)));
     if (axis < 0 && !is_free_letter(c) && !code_word(c))
       return fail(err, ErrorCode::UnknownLetter, word.loc,
                   fmt::format("unknown word letter {}", c));
@@ -182,7 +189,7 @@ double ModalState::mm_per_unit() const {
 
 Interpreter::Interpreter(const Machine& machine) : machine_(machine) {
   for (std::size_t i = 0; i < machine.work_offsets_mm.size(); ++i)
-    tables_.g5x_mm[i] = from_machine(machine.work_offsets_mm[i]);
+    tables_.g5x_mm[i] = machine.work_offsets_mm[i];
   tables_.tools = machine.tool_table;
   // The machine file's `tools = [...]` lengths: tool i gets Z offset tools[i] (i >= 1).
   for (std::size_t i = 1; i < machine.tool_lengths_mm.size(); ++i) {
@@ -196,12 +203,13 @@ Interpreter::Interpreter(const Machine& machine) : machine_(machine) {
 
 AxisVec Interpreter::total_offset_mm() const {
   return to_machine(tables_.g5x_mm[static_cast<std::size_t>(state_.coord_system)] + state_.g92_mm +
-                    state_.tool_offset_mm);
+                        state_.tool_offset_mm,
+                    machine_.layout);
 }
 
 bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, InterpError& err) {
   BlockWords w;
-  if (!import_words(block, w, err)) return false;
+  if (!import_words(block, machine_.layout, w, err)) return false;
 
   ModalState s = state_;
   BlockCtx ctx{machine_, block, w, s, out, err, tables_, nullptr};
@@ -223,7 +231,10 @@ bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, 
     }
   }
   state_ = s;  // commit
-  if (ctx.staged) tables_ = *ctx.staged;
+  if (ctx.staged) {
+    tables_ = *ctx.staged;
+    ++tables_version_;
+  }
   return true;
 }
 
@@ -250,7 +261,10 @@ bool Interpreter::leave_call(int level, int line, std::vector<Canon>& out, Inter
     return false;
   }
   state_ = s;
-  if (ctx.staged) tables_ = *ctx.staged;
+  if (ctx.staged) {
+    tables_ = *ctx.staged;
+    ++tables_version_;
+  }
   return true;
 }
 

@@ -13,6 +13,7 @@
 #include "machine/tool_table.hpp"
 
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,7 @@ struct SavedModes {
   double feed_units = 0.0;  ///< F in the units in force when saved
   double speed_rpm = 0.0;
   int spindle_dir = 0;
+  bool mist = false, flood = false;
   bool feed_override = true;
 };
 inline constexpr int kCallLevels = 10;  ///< call levels 0 (the program) .. 9 (kMaxCallDepth)
@@ -71,20 +73,24 @@ struct ModalState {
   bool ijk_absolute = false;  ///< G90.1 (default G91.1)
   bool inverse_time = false;  ///< G93
   PathMode path_mode = PathMode::Continuous;
-  double path_tolerance_mm = -1.0;      ///< G64 P in mm; < 0: G64 without P (the machine's)
-  double naive_cam_tolerance_mm = 0.0;  ///< G64 Q in mm
-  double feed_mm_min = 0.0;             ///< G94 feed; 0 = none yet
-  int tool_selected = 0;                ///< T
-  int tool_in_spindle = 0;              ///< after M6 or M61
-  int spindle_slot_tool = 0;            ///< the tool whose data M6 loaded (G43 without H uses it)
-  Pos9 position_mm = Pos9::Zero();      ///< machine coordinates
-  int coord_system = 0;                 ///< 0..8 = G54..G59, G59.1..G59.3
-  Pos9 g92_mm = Pos9::Zero();           ///< G92/G52 axis offsets
-  Pos9 tool_offset_mm = Pos9::Zero();   ///< G43 tool length offset
-  int spindle_dir = 0;                  ///< M3 = 1, M4 = -1, M5 = 0
-  double spindle_rpm = 0.0;             ///< S
-  int tool_length_code = 490;           ///< G43/G43.1/G43.2/G49 in effect (x 10)
-  bool feed_override = true;            ///< M48 (M50 P1) vs M49 (M50 P0)
+  double path_tolerance_mm = -1.0;       ///< G64 P in mm; < 0: G64 without P (the machine's)
+  double naive_cam_tolerance_mm = 0.0;   ///< G64 Q in mm
+  double feed_mm_min = 0.0;              ///< G94 feed; 0 = none yet
+  int tool_selected = 0;                 ///< T
+  int tool_in_spindle = 0;               ///< after M6 or M61
+  int spindle_slot_tool = 0;             ///< the tool whose data M6 loaded (G43 without H uses it)
+  Pos9 position_mm = Pos9::Zero();       ///< machine coordinates
+  int coord_system = 0;                  ///< 0..8 = G54..G59, G59.1..G59.3
+  Pos9 g92_mm = Pos9::Zero();            ///< G92/G52 axis offsets
+  bool g92_applied = false;              ///< #5210: G92/G52/G92.3 on, G92.1/G92.2 off
+  Pos9 tool_offset_mm = Pos9::Zero();    ///< G43 tool length offset
+  int spindle_dir = 0;                   ///< M3 = 1, M4 = -1, M5 = 0
+  double spindle_rpm = 0.0;              ///< S
+  int probes = 0;                        ///< G38.x blocks run (#5061-#5070 hold the last result)
+  std::array<double, 9> probe_result{};  ///< probe end point, program coordinates and units
+  int tool_length_code = 490;            ///< G43/G43.1/G43.2/G49 in effect (x 10)
+  bool feed_override = true;             ///< M48 (M50 P1) vs M49 (M50 P0)
+  bool mist = false, flood = false;      ///< M7, M8 (M9 turns both off)
   // Canned cycles (program units, as LinuxCNC keeps them) --------------------------------------
   bool retract_to_r = true;   ///< G99 (LinuxCNC's initial retract mode); G98 = false
   int cycle_mode = -1;        ///< the cycle code x 10 of the previous cycle block, -1 none
@@ -118,6 +124,8 @@ class Interpreter {
   /// (LinuxCNC leave_context). `line` is the returning line; false with `err` on an error.
   bool leave_call(int level, int line, std::vector<Canon>& out, InterpError& err);
   const SystemTables& tables() const { return tables_; }
+  /// Changes whenever a block changed the tables (so their parameters need writing again).
+  std::uint64_t tables_version() const { return tables_version_; }
   /// Sum of all offsets from program to machine coordinates under the current state, mm.
   AxisVec total_offset_mm() const;
 
@@ -126,6 +134,7 @@ class Interpreter {
   ModalState state_;
   SystemTables tables_;
   int call_level_ = 0;
+  std::uint64_t tables_version_ = 1;
 };
 
 }  // namespace gm

@@ -21,10 +21,12 @@ std::string label_of(const grammar::OWord& o) {
   return o.named ? "o<" + o.label + ">" : "o" + o.label;
 }
 
-void seek_to(FlowJump& jump, std::uint64_t offset, int line) {
+// Continue at the line `p` (`after`: at the line after it).
+void seek_to(FlowJump& jump, const LinePos& p, bool after) {
   jump.seek = true;
-  jump.offset = offset;
-  jump.line = line;
+  jump.offset = after ? p.next : p.offset;
+  jump.line = after ? p.line + 1 : p.line;
+  jump.file = p.file;
 }
 
 }  // namespace
@@ -44,9 +46,12 @@ bool OwordFlow::count_iteration(SourceLoc loc, InterpError& err) {
   return true;
 }
 
-void OwordFlow::skip(Skip mode, const std::string& label, const grammar::Block& b) {
+void OwordFlow::skip(Skip mode, const std::string& label, const grammar::Block& b, int file) {
   skip_.mode = mode;
+  skip_.started_file = file;
+  skip_.file = file;
   skip_.label = label;
+  skip_.shown = label_of(b.oword);
   skip_.started = b.oword.loc;
   skip_.started_kind = b.oword.kind;
 }
@@ -78,7 +83,7 @@ bool OwordFlow::enter_sub(const std::string& label, const LinePos& body, SourceL
   for (std::size_t i = 0; i < pending_args_.size(); ++i)
     params_.set(static_cast<int>(i) + 1, pending_args_[i]);
   ++calls_;
-  if (seek) seek_to(jump, body.next, body.line + 1);
+  if (seek) seek_to(jump, body, true);
   return true;
 }
 
@@ -94,11 +99,9 @@ bool OwordFlow::leave_sub(const grammar::Block& b, FlowJump& jump, InterpError& 
     return fail(
         err, ErrorCode::ControlMismatch, o.loc,
         fmt::format("{} {} outside a called subroutine", label_of(o), grammar::okind_name(o.kind)));
+  // rs274 returns from the current call whatever the label of `return`/`endsub` (its
+  // sample retval.ngc returns from o1000 with `o1010 return`).
   const Open call = stack_[static_cast<std::size_t>(at)];
-  if (call.label != o.label)
-    return fail(err, ErrorCode::ControlMismatch, o.loc,
-                fmt::format("{} {} inside subroutine {} ", label_of(o), grammar::okind_name(o.kind),
-                            o.named ? "o<" + call.label + ">" : "o" + call.label));
   double value = 0.0;
   const bool has_value = !o.args.empty();
   if (has_value && !evaluate_arg(b, 0, value, err)) return false;
@@ -106,7 +109,7 @@ bool OwordFlow::leave_sub(const grammar::Block& b, FlowJump& jump, InterpError& 
   params_.pop_frame();
   params_.set_returned(value, has_value);
   --calls_;
-  seek_to(jump, call.pos.next, call.pos.line + 1);
+  seek_to(jump, call.pos, true);
   return true;
 }
 
@@ -123,10 +126,20 @@ bool OwordFlow::normal(const grammar::Block& b, const LinePos& pos, FlowJump& ju
   };
   double v = 0.0;
   switch (o.kind) {
-    case OKind::Sub:
-      subs_[o.label] = pos;
-      skip(Skip::SubBody, o.label, b);
+    case OKind::Sub: {
+      const auto [it, added] = subs_.emplace(o.label, pos);
+      if (!added && (it->second.file != pos.file || it->second.offset != pos.offset))
+        return fail(
+            err, ErrorCode::SubroutineRedefined, o.loc,
+            fmt::format("redefining subroutine {}: already defined at {}line {}", label_of(o),
+                        it->second.file > 0 && finder_ != nullptr
+                            ? finder_->file_name(it->second.file) + " "
+                            : std::string(),
+                        it->second.line));
+      it->second = pos;
+      skip(Skip::SubBody, o.label, b, pos.file);
       return true;
+    }
     case OKind::EndSub:
     case OKind::Return:
       return leave_sub(b, jump, err);
@@ -140,18 +153,26 @@ bool OwordFlow::normal(const grammar::Block& b, const LinePos& pos, FlowJump& ju
       const auto it = subs_.find(o.label);
       if (it != subs_.end()) return enter_sub(o.label, it->second, o.loc, jump, true, err);
       if (calls_ >= kMaxCallDepth) return enter_sub(o.label, pos, o.loc, jump, false, err);
-      skip(Skip::FindSub, o.label, b);  // defined further down: search forward
+      // LinuxCNC's order: a sub already seen, then `name.ngc` on the subroutine path, then a
+      // definition further down the current file.
+      if (const int file = finder_ != nullptr ? finder_->find(o.label) : 0; file > 0) {
+        skip(Skip::FindSub, o.label, b, pos.file);
+        skip_.file = file;
+        seek_to(jump, LinePos{0, 0, 1, file}, false);
+        return true;
+      }
+      skip(Skip::FindSub, o.label, b, pos.file);  // defined further down: search forward
       return true;
     }
     case OKind::If:
       if (!evaluate_arg(b, 0, v, err)) return false;
       stack_.push_back(Open{Frame::If, o.label, pos});
-      if (v == 0.0) skip(Skip::IfBranch, o.label, b);
+      if (v == 0.0) skip(Skip::IfBranch, o.label, b, pos.file);
       return true;
     case OKind::ElseIf:
     case OKind::Else:
       if (!top_is(Frame::If)) return mismatch("if");
-      skip(Skip::IfDone, o.label, b);  // the branch that ran ends here
+      skip(Skip::IfDone, o.label, b, pos.file);  // the branch that ran ends here
       return true;
     case OKind::EndIf:
       if (!top_is(Frame::If)) return mismatch("if");
@@ -165,7 +186,7 @@ bool OwordFlow::normal(const grammar::Block& b, const LinePos& pos, FlowJump& ju
         if (!evaluate_arg(b, 0, v, err)) return false;
         if (v != 0.0) {
           if (!count_iteration(o.loc, err)) return false;
-          seek_to(jump, stack_.back().pos.next, stack_.back().pos.line + 1);
+          seek_to(jump, stack_.back().pos, true);
         } else {
           stack_.pop_back();
         }
@@ -176,20 +197,20 @@ bool OwordFlow::normal(const grammar::Block& b, const LinePos& pos, FlowJump& ju
       if (!evaluate_arg(b, 0, v, err)) return false;
       if (v == 0.0) {
         stack_.pop_back();
-        skip(Skip::LoopEnd, o.label, b);
+        skip(Skip::LoopEnd, o.label, b, pos.file);
       }
       return true;
     case OKind::EndWhile:
       if (!top_is(Frame::While)) return mismatch("while");
       if (!count_iteration(o.loc, err)) return false;
-      seek_to(jump, stack_.back().pos.offset, stack_.back().pos.line);  // re-evaluate
+      seek_to(jump, stack_.back().pos, false);  // re-evaluate
       return true;
     case OKind::Repeat:
       if (!evaluate_arg(b, 0, v, err)) return false;
       if (v >= 1.0) {
         stack_.push_back(Open{Frame::Repeat, o.label, pos, v});
       } else {
-        skip(Skip::LoopEnd, o.label, b);
+        skip(Skip::LoopEnd, o.label, b, pos.file);
       }
       return true;
     case OKind::EndRepeat: {
@@ -198,7 +219,7 @@ bool OwordFlow::normal(const grammar::Block& b, const LinePos& pos, FlowJump& ju
       f.remaining -= 1.0;
       if (f.remaining >= 1.0) {
         if (!count_iteration(o.loc, err)) return false;
-        seek_to(jump, f.pos.next, f.pos.line + 1);
+        seek_to(jump, f.pos, true);
       } else {
         stack_.pop_back();
       }
@@ -211,7 +232,7 @@ bool OwordFlow::normal(const grammar::Block& b, const LinePos& pos, FlowJump& ju
       const Open loop = stack_[static_cast<std::size_t>(at)];
       if (o.kind == OKind::Break) {
         stack_.resize(static_cast<std::size_t>(at));
-        skip(Skip::LoopEnd, o.label, b);
+        skip(Skip::LoopEnd, o.label, b, pos.file);
         return true;
       }
       stack_.resize(static_cast<std::size_t>(at) + 1);
@@ -219,14 +240,14 @@ bool OwordFlow::normal(const grammar::Block& b, const LinePos& pos, FlowJump& ju
         // rs274 2.9: `continue` in a do loop goes to its `while` line as if that opened a
         // while loop (the do is forgotten): a true condition runs on past the loop.
         stack_.pop_back();
-        skip(Skip::ToLoopEnd, o.label, b);
+        skip(Skip::ToLoopEnd, o.label, b, pos.file);
         return true;
       }
       if (loop.kind == Frame::While) {
         if (!count_iteration(o.loc, err)) return false;
-        seek_to(jump, loop.pos.offset, loop.pos.line);
+        seek_to(jump, loop.pos, false);
       } else {
-        skip(Skip::ToLoopEnd, o.label, b);
+        skip(Skip::ToLoopEnd, o.label, b, pos.file);
       }
       return true;
     }
@@ -284,17 +305,26 @@ bool OwordFlow::skipped(const grammar::Block& b, const LinePos& pos, FlowJump& j
   return true;
 }
 
-bool OwordFlow::at_end(int last_line, InterpError& err) const {
+bool OwordFlow::at_end(int last_line, InterpError& err, int& err_file) const {
   const std::string label = skip_.label;
-  if (skip_.mode == Skip::FindSub)
+  err_file = skip_.started_file;
+  if (skip_.mode == Skip::FindSub) {
+    if (skip_.file != skip_.started_file && finder_ != nullptr)
+      return fail(err, ErrorCode::UndefinedSubroutine, skip_.started,
+                  fmt::format("subroutine {} is not defined in its file {}", skip_.shown,
+                              finder_->file_name(skip_.file)));
     return fail(err, ErrorCode::UndefinedSubroutine, skip_.started,
-                fmt::format("subroutine {} is not defined in the program", label));
+                fmt::format("subroutine {} is not defined in the program, and {}", skip_.shown,
+                            finder_ != nullptr ? finder_->miss(label)
+                                               : std::string("no subroutine path is set")));
+  }
   if (skip_.mode != Skip::None)
     return fail(err, ErrorCode::UnterminatedControl, skip_.started,
                 fmt::format("the program ends inside this {} (line {} is the last)",
                             grammar::okind_name(skip_.started_kind), last_line));
   if (!stack_.empty()) {
     const Open& f = stack_.back();
+    err_file = f.pos.file;
     constexpr const char* kNames[] = {"call", "if", "while", "do", "repeat"};
     return fail(err, ErrorCode::UnterminatedControl, SourceLoc{f.pos.line, 1},
                 fmt::format("the program ends inside {} {} (line {} is the last)", f.label,

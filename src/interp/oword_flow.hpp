@@ -19,6 +19,7 @@ struct LinePos {
   std::uint64_t offset = 0;  ///< first byte of the line
   std::uint64_t next = 0;    ///< first byte of the line after it
   int line = 0;              ///< 1-based line number
+  int file = 0;              ///< 0: the program; > 0: a subroutine file (SubroutineFinder)
 };
 
 /// What the driver must do after an O-word line.
@@ -26,6 +27,20 @@ struct FlowJump {
   bool seek = false;
   std::uint64_t offset = 0;  ///< continue reading here ...
   int line = 0;              ///< ... with this line number
+  int file = 0;              ///< ... of this file (0: the program)
+};
+
+/// Finds the file of a subroutine the program has not defined (LinuxCNC: `o<name> call` reads
+/// `name.ngc` from the subroutine path). The driver implements it: it owns the files.
+class SubroutineFinder {
+ public:
+  virtual ~SubroutineFinder() = default;
+  /// The id (> 0) of the file for `label`, or 0 when there is none.
+  virtual int find(const std::string& label) = 0;
+  /// Why there is none, for the error ("no file 'x.ngc' in DIR").
+  virtual std::string miss(const std::string& label) const = 0;
+  /// The name of file `id` (for messages).
+  virtual std::string file_name(int id) const = 0;
 };
 
 /// LinuxCNC allows this many nested subroutine calls (rs274 2.9: the tenth fails).
@@ -35,8 +50,8 @@ inline constexpr std::int64_t kDefaultMaxIterations = 10'000'000;
 
 class OwordFlow {
  public:
-  OwordFlow(ParameterStore& params, std::int64_t max_iterations)
-      : params_(params), max_iterations_(max_iterations) {}
+  OwordFlow(ParameterStore& params, std::int64_t max_iterations, SubroutineFinder* finder = nullptr)
+      : params_(params), finder_(finder), max_iterations_(max_iterations) {}
 
   /// True while lines are passed over (a false condition, a sub definition, a forward search):
   /// then only O-word lines matter.
@@ -47,8 +62,8 @@ class OwordFlow {
   bool handle(const grammar::Block& b, const LinePos& pos, FlowJump& jump, InterpError& err);
 
   /// The input ended: false with `err` set if a sub, if or loop is still open (or a called
-  /// subroutine was never found).
-  bool at_end(int last_line, InterpError& err) const;
+  /// subroutine was never found); `err_file` is then the file the error is in.
+  bool at_end(int last_line, InterpError& err, int& err_file) const;
 
   int call_depth() const { return calls_; }
 
@@ -73,8 +88,11 @@ class OwordFlow {
   struct SkipState {
     Skip mode = Skip::None;
     std::string label;
+    std::string shown;  ///< the label as written in messages: o<name> or o100
     SourceLoc started;  ///< the line that began the skip (for errors at the end)
     grammar::OKind started_kind = grammar::OKind::None;
+    int started_file = 0;  ///< the file of the line that began the skip
+    int file = 0;          ///< FindSub: the file searched
   };
 
   bool evaluate_arg(const grammar::Block& b, std::size_t i, double& v, InterpError& err);
@@ -84,11 +102,12 @@ class OwordFlow {
                  bool seek, InterpError& err);
   bool leave_sub(const grammar::Block& b, FlowJump& jump, InterpError& err);
   bool count_iteration(SourceLoc loc, InterpError& err);
-  void skip(Skip mode, const std::string& label, const grammar::Block& b);
+  void skip(Skip mode, const std::string& label, const grammar::Block& b, int file);
   /// Index of the innermost open loop labelled `label`, or -1.
   int find_loop(const std::string& label) const;
 
   ParameterStore& params_;
+  SubroutineFinder* finder_;
   Evaluator eval_;
   std::int64_t max_iterations_;
   std::int64_t iterations_ = 0;

@@ -12,10 +12,12 @@
 #include "interp/line_reader.hpp"
 #include "interp/oword_flow.hpp"
 #include "interp/parameters.hpp"
+#include "interp/subroutine_path.hpp"
 
 #include <fmt/format.h>
 
 #include <exception>
+#include <fstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -29,6 +31,7 @@ struct ParsedLine {
   std::uint64_t offset = 0;       ///< byte offset of the line in the program
   std::uint64_t next_offset = 0;  ///< byte offset of the line after it
   bool truncated = false;         ///< longer than grammar::kMaxLineLength (not parsed)
+  int file = 0;                   ///< 0: the program; > 0: a subroutine file
   std::string text;               ///< the line as read (diagnostics echo it)
   grammar::Block block;
 
@@ -67,6 +70,68 @@ class LineParser {
   grammar::BlockParser parser_;
 };
 
+/// The subroutine files a program has called (`o<name> call` -> `name.ngc` on the path), each
+/// read like the program: streamed, seeking for loops and returns. At most kMaxOpen are open at
+/// once (each holds a read chunk); a file closed for room is opened again when a jump needs it.
+class SubroutineFiles : public SubroutineFinder {
+ public:
+  static constexpr std::size_t kMaxOpen = 4;
+
+  explicit SubroutineFiles(std::vector<std::string> dirs) : path_(std::move(dirs)) {}
+
+  int find(const std::string& label) override {
+    if (path_.empty()) return 0;
+    const std::string path = path_.find(label);
+    if (path.empty()) return 0;
+    for (std::size_t i = 0; i < files_.size(); ++i)
+      if (files_[i].path == path) return static_cast<int>(i) + 1;
+    files_.push_back(File{path, nullptr, nullptr, 0});
+    return static_cast<int>(files_.size());
+  }
+  std::string miss(const std::string& label) const override { return path_.describe_miss(label); }
+  std::string file_name(int id) const override {
+    return id > 0 && static_cast<std::size_t>(id) <= files_.size()
+               ? files_[static_cast<std::size_t>(id) - 1].path
+               : std::string();
+  }
+
+  /// The reader of file `id`, opened if needed; null if it cannot be opened.
+  LineParser* parser(int id) {
+    File& f = files_.at(static_cast<std::size_t>(id) - 1);
+    f.used = ++clock_;
+    if (f.parser) return f.parser.get();
+    std::size_t open = 0;
+    File* oldest = nullptr;
+    for (File& g : files_)
+      if (g.parser) {
+        ++open;
+        if (oldest == nullptr || g.used < oldest->used) oldest = &g;
+      }
+    if (open >= kMaxOpen && oldest != nullptr) {
+      oldest->parser.reset();
+      oldest->in.reset();
+    }
+    f.in = std::make_unique<std::ifstream>(f.path, std::ios::binary);
+    if (!*f.in) {
+      f.in.reset();
+      return nullptr;
+    }
+    f.parser = std::make_unique<LineParser>(*f.in);
+    return f.parser.get();
+  }
+
+ private:
+  struct File {
+    std::string path;
+    std::unique_ptr<std::ifstream> in;
+    std::unique_ptr<LineParser> parser;
+    std::uint64_t used;  ///< clock_ at the last use
+  };
+  SubroutinePath path_;
+  std::vector<File> files_;
+  std::uint64_t clock_ = 0;
+};
+
 /// The predefined read-only parameters (#<_x>, #<_metric>, ..., #5420-#5428), read from the
 /// interpreter's state when a program asks for them.
 class StateParameters : public ParameterProvider {
@@ -103,7 +168,9 @@ class StateParameters : public ParameterProvider {
         {"_plane", s.plane == Plane::XY   ? 170.0
                    : s.plane == Plane::XZ ? 180.0
                                           : 190.0},
-        {"_ccomp", 400.0},
+        {"_ccomp", s.comp.side > 0   ? 410.0
+                   : s.comp.side < 0 ? 420.0
+                                     : 400.0},
         {"_metric", s.inch ? 0.0 : 1.0},
         {"_imperial", s.inch ? 1.0 : 0.0},
         {"_absolute", s.incremental ? 0.0 : 1.0},
@@ -114,6 +181,20 @@ class StateParameters : public ParameterProvider {
         {"_coord_system",
          s.coord_system < 6 ? 540.0 + 10.0 * s.coord_system : 590.0 + (s.coord_system - 5)},
         {"_tool_offset", s.tool_offset_mm.isZero() ? 0.0 : 1.0},
+        {"_retract_r_plane", s.retract_to_r ? 1.0 : 0.0},
+        {"_retract_old_z", s.retract_to_r ? 0.0 : 1.0},
+        {"_spindle_rpm_mode", 1.0},
+        {"_spindle_css_mode", 0.0},
+        {"_lathe_diameter_mode", 0.0},
+        {"_lathe_radius_mode", 1.0},
+        {"_spindle_on", s.spindle_dir != 0 ? 1.0 : 0.0},
+        {"_spindle_cw", s.spindle_dir > 0 ? 1.0 : 0.0},
+        {"_mist", s.mist ? 1.0 : 0.0},
+        {"_flood", s.flood ? 1.0 : 0.0},
+        {"_speed_override", s.feed_override ? 1.0 : 0.0},
+        {"_feed_override", s.feed_override ? 1.0 : 0.0},
+        {"_adaptive_feed", 0.0},
+        {"_feed_hold", 1.0},
         {"_ijk_absolute_mode", s.ijk_absolute ? 1.0 : 0.0},
         {"_feed", s.feed_mm_min / units},
         {"_rpm", s.spindle_rpm},
@@ -137,6 +218,21 @@ class StateParameters : public ParameterProvider {
     }
     if (n == 5400) {
       v = interp_.state().tool_in_spindle;
+      return true;
+    }
+    if (n > 5400 && n <= 5413) {  // the spindle's tool data (machine units, mm)
+      const int tool = interp_.state().spindle_slot_tool;
+      const ToolEntry* e = tool == 0 ? nullptr : interp_.tables().tools.find(tool);
+      if (e == nullptr) {
+        v = 0.0;
+      } else if (n <= 5409) {
+        v = e->offset_mm[static_cast<std::size_t>(n - 5401)];
+      } else {
+        v = n == 5410   ? e->diameter_mm
+            : n == 5411 ? e->front_angle_deg
+            : n == 5412 ? e->back_angle_deg
+                        : static_cast<double>(e->orientation);
+      }
       return true;
     }
     return false;
@@ -165,7 +261,8 @@ class ProgramRunner {
         block_delete_(opts.block_delete),
         interp_(machine_),
         state_params_(interp_),
-        flow_(params_, opts.max_iterations) {
+        files_(opts.subroutine_path),
+        flow_(params_, opts.max_iterations, &files_) {
     params_.set_provider(&state_params_);
   }
   ProgramRunner(const ProgramRunner&) = delete;
@@ -175,6 +272,30 @@ class ProgramRunner {
   /// Returns false when the program is over (end code or closing %).
   bool process(ParsedLine& p, std::vector<Canon>& out, std::vector<Diagnostic>& diags,
                FlowJump& jump) {
+    const std::size_t first = diags.size();
+    const bool more = process_line(p, out, diags, jump);
+    if (p.file > 0)
+      for (std::size_t i = first; i < diags.size(); ++i) diags[i].file = files_.file_name(p.file);
+    return more;
+  }
+
+  SubroutineFiles& files() { return files_; }
+
+  /// A subroutine file found on the path could not be opened when the program jumped to it.
+  void cannot_open(int file, int line, int from_file, std::vector<Diagnostic>& diags) {
+    diags.push_back(
+        Diagnostic{Severity::Error,
+                   static_cast<int>(ErrorCode::SubroutineFile),
+                   SourceLoc{line, 1},
+                   fmt::format("cannot read subroutine file {}", files_.file_name(file)),
+                   {},
+                   files_.file_name(from_file)});
+    done_ = true;
+  }
+
+ private:
+  bool process_line(ParsedLine& p, std::vector<Canon>& out, std::vector<Diagnostic>& diags,
+                    FlowJump& jump) {
     jump.seek = false;
     if (done_) return false;
     const std::string& text = p.text;
@@ -235,6 +356,13 @@ class ProgramRunner {
                                  source_for(text)});
       return true;
     }
+    export_system_parameters();
+    if (interp_.state().probes != probes_seen_) {  // G38.x: #5061-#5069 result, #5070 tripped
+      probes_seen_ = interp_.state().probes;
+      for (int i = 0; i < 9; ++i)
+        params_.set_system(5061 + i, interp_.state().probe_result[static_cast<std::size_t>(i)]);
+      params_.set_system(5070, 0.0);
+    }
     if (interp_.state().ended) {
       done_ = true;
       return false;
@@ -242,14 +370,21 @@ class ProgramRunner {
     return true;
   }
 
-  /// The input ended after line `last_line` (0: empty input): reports a missing program end.
-  void end_of_input(int last_line, std::vector<Diagnostic>& diags) {
+ public:
+  /// The input (file `file`) ended after line `last_line` (0: empty input): reports a missing
+  /// program end.
+  void end_of_input(int last_line, std::vector<Diagnostic>& diags, int file = 0) {
     if (done_) return;
     done_ = true;
     InterpError err;
-    if (!flow_.at_end(last_line, err)) {
-      diags.push_back(
-          Diagnostic{Severity::Error, static_cast<int>(err.code), err.loc, err.message, {}});
+    int err_file = 0;
+    if (!flow_.at_end(last_line, err, err_file)) {
+      diags.push_back(Diagnostic{Severity::Error,
+                                 static_cast<int>(err.code),
+                                 err.loc,
+                                 err.message,
+                                 {},
+                                 files_.file_name(err_file)});
       return;
     }
     if (!interp_.state().ended) {
@@ -258,7 +393,7 @@ class ProgramRunner {
           Severity::Error, static_cast<int>(ErrorCode::MissingProgramEnd), SourceLoc{last, 1},
           opened_percent_ ? "missing program end: no closing '%' (or M2/M30)"
                           : "missing program end: the program must end with M2 or M30",
-          last_line_});
+          last_line_, files_.file_name(file)});
     }
   }
 
@@ -279,7 +414,7 @@ class ProgramRunner {
     state_params_.set_line(p.number);
     InterpError err;
     const int depth = flow_.call_depth();
-    bool ok = flow_.handle(p.block, LinePos{p.offset, p.next_offset, p.number}, jump, err);
+    bool ok = flow_.handle(p.block, LinePos{p.offset, p.next_offset, p.number, p.file}, jump, err);
     // The interpreter keeps M70/M73 modes per call level (machine's, interp/saved_modes.cpp).
     if (ok && flow_.call_depth() > depth) interp_.enter_call(flow_.call_depth());
     if (ok && flow_.call_depth() < depth) ok = interp_.leave_call(depth, p.number, out, err);
@@ -344,36 +479,96 @@ class ProgramRunner {
   StateParameters state_params_;
   ParameterStore params_;
   LineEvaluator evaluator_;
+  SubroutineFiles files_;
   OwordFlow flow_;
   std::string last_line_;
   bool aborted_ = false;
   bool log_warned_ = false;
   bool done_ = false;
   bool opened_percent_ = false;
+  int probes_seen_ = 0;
+  std::uint64_t tables_seen_ = 1;  // the tables as the interpreter starts: left to the store
+
+  // The interpreter's system parameters in machine units (mm): G28 #5161-#5169, G30
+  // #5181-#5189, G92 #5210-#5219, the coordinate system #5220, G54..G59.3 #5221+20k (machine's;
+  // a program that writes them does not move the interpreter's offsets yet).
+  void export_system_parameters() {
+    const ModalState& s = interp_.state();
+    params_.set_system(5210, s.g92_applied ? 1.0 : 0.0);
+    params_.set_system(5220, static_cast<double>(s.coord_system + 1));
+    if (interp_.tables_version() == tables_seen_) return;
+    tables_seen_ = interp_.tables_version();
+    const SystemTables& t = interp_.tables();
+    for (int i = 0; i < 9; ++i) {
+      params_.set_system(5161 + i, t.g28_mm[i]);
+      params_.set_system(5181 + i, t.g30_mm[i]);
+      params_.set_system(5211 + i, t.g92_saved_mm[i]);
+      for (int k = 0; k < 9; ++k)
+        params_.set_system(5221 + 20 * k + i, t.g5x_mm[static_cast<std::size_t>(k)][i]);
+    }
+  }
   bool first_content_seen_ = false;
   std::int64_t blocks_ = 0;
+};
+
+/// Where the serial driver reads: the program, or a subroutine file after a call jumped there.
+class LineSource {
+ public:
+  LineSource(LineParser& program, ProgramRunner& back) : program_(program), back_(back) {}
+  /// The next line of the current file (tagged with it). False at its end.
+  bool next(ParsedLine& p) {
+    if (!current().next(p)) return false;
+    p.file = file_;
+    return true;
+  }
+  int last_number() { return current().last_number(); }
+  int file() const { return file_; }
+  /// Continues where `jump` says; false (with the error reported) if that is impossible.
+  bool go(const FlowJump& jump, int from_line, std::vector<Diagnostic>& diags) {
+    LineParser* target = &program_;
+    if (jump.file > 0) target = back_.files().parser(jump.file);
+    if (target == nullptr) {
+      back_.cannot_open(jump.file, from_line, file_, diags);
+      return false;
+    }
+    const int from_file = file_;
+    file_ = jump.file;
+    if (!target->seek(jump.offset, jump.line)) {
+      back_.cannot_seek(from_line, diags);
+      if (from_file > 0) diags.back().file = back_.files().file_name(from_file);
+      return false;
+    }
+    return true;
+  }
+
+ private:
+  LineParser& current() {
+    if (file_ == 0) return program_;
+    LineParser* p = back_.files().parser(file_);  // open: go() opened it
+    return p != nullptr ? *p : program_;
+  }
+  LineParser& program_;
+  ProgramRunner& back_;
+  int file_ = 0;
 };
 
 /// Both halves on one thread: what ProgramStream pulls, a line at a time.
 class SerialRunner {
  public:
   SerialRunner(std::istream& in, std::string filename, const InterpreterOptions& opts)
-      : front_(in), back_(std::move(filename), opts) {}
+      : front_(in), back_(std::move(filename), opts), source_(front_, back_) {}
   /// Reads, parses and interprets one line; false when the program is over.
   bool step(std::vector<Canon>& out, std::vector<Diagnostic>& diags) {
     if (back_.done()) return false;
-    if (!front_.next(line_)) {
-      back_.end_of_input(front_.last_number(), diags);
+    if (!source_.next(line_)) {
+      back_.end_of_input(source_.last_number(), diags, source_.file());
       return false;
     }
     FlowJump jump;
     const bool more = back_.process(line_, out, diags, jump);
     const int number = line_.number;
     line_.trim();
-    if (more && jump.seek && !front_.seek(jump.offset, jump.line)) {
-      back_.cannot_seek(number, diags);
-      return false;
-    }
+    if (more && jump.seek && !source_.go(jump, number, diags)) return false;
     return more;
   }
   const ProgramRunner& back() const { return back_; }
@@ -381,6 +576,7 @@ class SerialRunner {
  private:
   LineParser front_;
   ProgramRunner back_;
+  LineSource source_;
   ParsedLine line_;
 };
 
@@ -525,21 +721,18 @@ CheckSummary run_check(std::istream& in, std::string_view filename, const Interp
   if (jump.seek && !back.done()) {
     // Control flow re-reads the program: the rest runs on this thread, seeking as asked.
     LineParser serial(in);
+    LineSource source(serial, back);
     ParsedLine line;
-    bool ok = serial.seek(jump.offset, jump.line);
-    if (!ok) back.cannot_seek(jump_from, diags);
+    bool ok = source.go(jump, jump_from, diags);
     while (ok && !back.done()) {
-      if (!serial.next(line)) {
-        back.end_of_input(serial.last_number(), diags);
+      if (!source.next(line)) {
+        back.end_of_input(source.last_number(), diags, source.file());
         emit(back.machine());
         break;
       }
       const bool more = back.process(line, out, diags, jump);
       line.trim();
-      if (more && jump.seek && !serial.seek(jump.offset, jump.line)) {
-        back.cannot_seek(line.number, diags);
-        ok = false;
-      }
+      if (more && jump.seek && !source.go(jump, line.number, diags)) ok = false;
       emit(back.machine());
     }
     emit(back.machine());

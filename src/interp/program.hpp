@@ -19,6 +19,9 @@ struct InterpreterOptions {
   const Machine* machine = nullptr;          ///< null: a default-constructed Machine
   bool block_delete = false;                 ///< honour '/' at line start (skip those lines)
   std::int64_t max_iterations = 10'000'000;  ///< loop iterations and calls before an error
+  /// Directories where `o<name> call` finds `name.ngc` (LinuxCNC's SUBROUTINE_PATH); empty:
+  /// no file is ever opened for a call.
+  std::vector<std::string> subroutine_path{};
 };
 
 struct CheckSummary {

@@ -10,48 +10,24 @@
 namespace gm {
 
 /// The nine program axes in LinuxCNC's order.
-inline constexpr int kProgramAxes = 9;
-inline constexpr std::array<char, kProgramAxes> kProgramAxisLetters{'X', 'Y', 'Z', 'A', 'B',
-                                                                    'C', 'U', 'V', 'W'};
+inline constexpr int kProgramAxes = kMaxAxes;
+inline constexpr std::array<char, kProgramAxes> kProgramAxisLetters = kAxisLetters;
 
-/// A position or offset on the nine program axes (unit in the variable name).
-using Pos9 = Eigen::Matrix<double, kProgramAxes, 1>;
+/// A position or offset on the nine program axes (unit in the variable name). The same vector
+/// type as a canonical move's positions (AxisVec, program order).
+using Pos9 = AxisVec;
 
 /// Index of program axis `letter` (0..8), or -1.
 constexpr int program_axis_index(char letter) {
-  for (int i = 0; i < kProgramAxes; ++i)
-    if (kProgramAxisLetters[static_cast<std::size_t>(i)] == letter) return i;
-  return -1;
+  return axis_index(letter);
 }
 
-/// Program-axis index of each machine axis (the machine's AxisVec order).
-inline constexpr std::array<int, kAxes> kMachineAxisIndex = [] {
-  std::array<int, kAxes> idx{};
-  for (int i = 0; i < kAxes; ++i)
-    idx[static_cast<std::size_t>(i)] =
-        program_axis_index(kAxisLetters[static_cast<std::size_t>(i)]);
-  return idx;
-}();
-
-/// The machine's axes of a program-side position.
-inline AxisVec to_machine(const Pos9& p) {
-  AxisVec v;
-  for (int i = 0; i < kAxes; ++i) v[i] = p[kMachineAxisIndex[static_cast<std::size_t>(i)]];
+/// What a canonical move carries of a program-side position: the machine's axes (others 0).
+inline AxisVec to_machine(const Pos9& p, const AxisLayout& l) {
+  if (l.is_xyz()) return xyz(p[0], p[1], p[2]);
+  AxisVec v = AxisVec::Zero();
+  for (int a = 0; a < l.count; ++a) v[l.program(a)] = p[l.program(a)];
   return v;
-}
-
-/// A machine position widened to the nine program axes (absent axes 0).
-inline Pos9 from_machine(const AxisVec& v) {
-  Pos9 p = Pos9::Zero();
-  for (int i = 0; i < kAxes; ++i) p[kMachineAxisIndex[static_cast<std::size_t>(i)]] = v[i];
-  return p;
-}
-
-/// True if the machine has program axis `i` (0..8).
-constexpr bool machine_has_axis(int i) {
-  for (const int m : kMachineAxisIndex)
-    if (m == i) return true;
-  return false;
 }
 
 }  // namespace gm

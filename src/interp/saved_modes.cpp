@@ -27,6 +27,8 @@ SavedModes save(const ModalState& s) {
   m.speed_rpm = s.spindle_rpm;
   m.spindle_dir = s.spindle_dir;
   m.feed_override = s.feed_override;
+  m.mist = s.mist;
+  m.flood = s.flood;
   return m;
 }
 
@@ -77,7 +79,9 @@ bool restore_modes(BlockCtx& ctx, const SavedModes& m) {
   s.ijk_absolute = m.ijk_absolute;
   if (s.retract_to_r != m.retract_to_r && !run(ctx, 'G', m.retract_to_r ? 990 : 980)) return false;
   // The M codes, each on a line of its own.
-  if (s.spindle_dir != m.spindle_dir) s.spindle_dir = m.spindle_dir;
+  s.spindle_dir = m.spindle_dir;
+  s.mist = m.mist;
+  s.flood = m.flood;
   if (s.feed_override != m.feed_override && !run(ctx, 'M', m.feed_override ? 480 : 490))
     return false;
   return true;

@@ -4,6 +4,7 @@
 
 #include "interp/codes.hpp"
 #include "interp/interpreter.hpp"
+#include "interp/polar.hpp"
 
 #include <fmt/format.h>
 
@@ -22,6 +23,7 @@ struct BlockWords {
   std::array<const Code*, kGroupCount> codes{};  ///< the block's codes in the order written
   std::size_t code_count = 0;
   const grammar::Word* first_axis = nullptr;
+  PolarWords polar;  ///< `@` and `^` (lang's interp/polar.hpp): axis words in place of X and Y
 
   const grammar::Word* operator[](char c) const { return value[static_cast<std::size_t>(c - 'A')]; }
   bool has(char c) const { return (*this)[c] != nullptr; }
@@ -121,6 +123,8 @@ bool run_g10_tool(BlockCtx&, int l);            ///< G10 L1/L10/L11 (from run_g1
 bool run_straight(BlockCtx&, const Code&);      ///< G0 G1
 bool run_arc(BlockCtx&, const Code&);           ///< G2 G3
 bool run_stop(BlockCtx&, const Code&);
+bool run_coolant(BlockCtx&, const Code&);     ///< M7 M8 M9
+bool run_probe(BlockCtx&, const Code&);       ///< G38.2 G38.3 G38.4 G38.5
 bool run_modes_save(BlockCtx&, const Code&);  ///< M70 M71 M72 M73
 /// Restores saved modes as LinuxCNC does (units first, then one block of F, S and the modal
 /// codes that differ, then the M codes).

@@ -155,6 +155,20 @@ bool run_cycle(BlockCtx& ctx, const Code& c) {
     r = r_word;
     bottom = z_word;
   }
+  // Polar words (XY plane only, as rs274): G90 places the hole, G91 turns it each repeat.
+  double dr = 0, dtheta = 0;
+  const bool polar = w.polar.any() && s.plane == Plane::XY;
+  if (polar) {
+    if (w.has('X') || w.has('Y'))
+      return ctx.fail(ErrorCode::PolarMisused, w.polar.first()->loc,
+                      "polar coordinates (@, ^) cannot be given with X or Y words");
+    if (s.incremental) {
+      dr = w.polar.radius ? w.polar.radius->value : 0.0;
+      dtheta = w.polar.angle ? w.polar.angle->value : 0.0;
+    } else {
+      polar_cycle_start(w.polar, a, b);
+    }
+  }
   if (r < bottom)
     return ctx.fail(
         ErrorCode::CycleMisused, w.has('R') ? w['R']->loc : loc,
@@ -171,6 +185,8 @@ bool run_cycle(BlockCtx& ctx, const Code& c) {
   for (int k = 0; k < repeats; ++k) {
     a += da;
     b += db;
+    if (std::string why; polar && !polar_cycle_step(dr, dtheta, a, b, why))
+      return ctx.fail(ErrorCode::PolarMisused, w.polar.first()->loc, why);
     // Across above the R plane (where the tool is if above it, else at the clearance height),
     // then down to R (checked against rs274 2.9 output).
     const double across = cc > r ? cc : clear;

@@ -15,6 +15,13 @@ bool step_comment(BlockCtx& ctx) {
   return true;
 }
 
+bool run_coolant(BlockCtx& ctx, const Code& c) {
+  if (c.number10 == 70) ctx.s.mist = true;
+  if (c.number10 == 80) ctx.s.flood = true;
+  if (c.number10 == 90) ctx.s.mist = ctx.s.flood = false;
+  return true;
+}
+
 bool step_speed(BlockCtx& ctx) {
   ctx.s.spindle_rpm = ctx.w['S']->value;  // negative S is refused when the block is checked
   return true;

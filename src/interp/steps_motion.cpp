@@ -78,12 +78,13 @@ bool axis_target(BlockCtx& ctx, const Pos9& from_mm, Pos9& target_mm) {
     const char letter = kProgramAxisLetters[static_cast<std::size_t>(i)];
     const auto* aw = ctx.w[letter];
     if (!aw) continue;
+    const double unit = axis_is_rotary(i) ? 1.0 : scale;  // A, B, C: degrees in G20 and G21
     if (ctx.s.incremental) {
-      target_mm[i] = from_mm[i] + aw->value * scale;
+      target_mm[i] = from_mm[i] + aw->value * unit;
     } else {
       if (!have_off) off = ctx.offset();
       have_off = true;
-      target_mm[i] = aw->value * scale + off[i];
+      target_mm[i] = aw->value * unit + off[i];
     }
     if (!within(target_mm[i], kMaxPositionMm))
       return ctx.fail(
@@ -91,10 +92,31 @@ bool axis_target(BlockCtx& ctx, const Pos9& from_mm, Pos9& target_mm) {
           fmt::format("{} would move to {:g} mm (offsets included), outside -{:g}..{:g} mm", letter,
                       target_mm[i], kMaxPositionMm, kMaxPositionMm));
   }
+  if (ctx.w.polar.any()) {  // @ radius, ^ angle in place of X, Y (lang's interp/polar.cpp)
+    const grammar::Word* pw = ctx.w.polar.first();
+    if (ctx.w.has('X') || ctx.w.has('Y'))
+      return ctx.fail(ErrorCode::PolarMisused, pw->loc,
+                      "polar coordinates (@, ^) cannot be given with X or Y words");
+    const Pos9 o = ctx.offset();
+    double x = (from_mm[0] - o[0]) / scale, y = (from_mm[1] - o[1]) / scale;
+    std::string why;
+    if (!polar_end(ctx.w.polar, ctx.s.incremental, x, y, why))
+      return ctx.fail(ErrorCode::PolarMisused, pw->loc, why);
+    target_mm[0] = x * scale + o[0];
+    target_mm[1] = y * scale + o[1];
+    for (int i = 0; i < 2; ++i)
+      if (!within(target_mm[i], kMaxPositionMm))
+        return ctx.fail(ErrorCode::ValueOutOfRange, pw->loc,
+                        fmt::format("polar move to {:g} mm, outside -{:g}..{:g} mm", target_mm[i],
+                                    kMaxPositionMm, kMaxPositionMm));
+  }
   return true;
 }
 
 bool machine_target(BlockCtx& ctx, Pos9& target_mm) {
+  if (ctx.w.polar.any())
+    return ctx.fail(ErrorCode::PolarMisused, ctx.w.polar.first()->loc,
+                    "polar coordinates (@, ^) cannot be used with G53");
   if (ctx.s.incremental)
     return ctx.fail(ErrorCode::G53Misused, ctx.loc_of(Group::NonModal),
                     "G53 in incremental distance mode (G91): machine coordinates are absolute");
@@ -103,7 +125,7 @@ bool machine_target(BlockCtx& ctx, Pos9& target_mm) {
     const char letter = kProgramAxisLetters[static_cast<std::size_t>(i)];
     const auto* aw = ctx.w[letter];
     if (!aw) continue;
-    target_mm[i] = aw->value * ctx.scale();
+    target_mm[i] = aw->value * (axis_is_rotary(i) ? 1.0 : ctx.scale());
     if (!within(target_mm[i], kMaxPositionMm))
       return ctx.fail(ErrorCode::ValueOutOfRange, aw->loc,
                       fmt::format("{} would move to {:g} mm, outside -{:g}..{:g} mm", letter,
@@ -123,8 +145,8 @@ Motion motion_template(const BlockCtx& ctx, MotionKind kind) {
 
 bool emit_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target_mm, SourceLoc) {
   Motion mo = motion_template(ctx, kind);
-  mo.start_mm = to_machine(motion_start(ctx));
-  mo.end_mm = to_machine(target_mm);
+  mo.start_mm = to_machine(motion_start(ctx), ctx.machine.layout);
+  mo.end_mm = to_machine(target_mm, ctx.machine.layout);
   if (mo.end_mm != mo.start_mm) {
     if (kind != MotionKind::Rapid && !set_feed(ctx, mo)) return false;
     ctx.out.emplace_back(mo);
@@ -225,9 +247,9 @@ bool run_arc(BlockCtx& ctx, const Code& c) {
   Pos9 center;
   if (!arc_centre(ctx, c, s.position_mm, target, center)) return false;
   Motion mo = motion_template(ctx, MotionKind::Arc);
-  mo.start_mm = to_machine(s.position_mm);
-  mo.end_mm = to_machine(target);
-  mo.center_mm = to_machine(center);
+  mo.start_mm = to_machine(s.position_mm, ctx.machine.layout);
+  mo.end_mm = to_machine(target, ctx.machine.layout);
+  mo.center_mm = to_machine(center, ctx.machine.layout);
   mo.ccw = c.number10 == 30;
   mo.turns = turns;
   if (!set_feed(ctx, mo)) return false;

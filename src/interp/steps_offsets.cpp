@@ -40,7 +40,8 @@ bool run_g10(BlockCtx& ctx, const Code&) {
   for (int i = 0; i < kProgramAxes; ++i) {
     const auto* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]];
     if (!aw) continue;
-    const double v = aw->value * ctx.scale();  // absolute whatever G90/G91
+    const double v =
+        aw->value * (axis_is_rotary(i) ? 1.0 : ctx.scale());  // absolute whatever G90/G91
     if (l == 2)
       g5x[i] = v;
     else  // L20: the current point gets coordinate v in that system
@@ -55,12 +56,14 @@ bool run_g92(BlockCtx& ctx, const Code&) {
     return ctx.fail(ErrorCode::G92WithoutAxes, ctx.loc_of(Group::NonModal),
                     "G92 without axis words");
   Pos9& g92 = ctx.s.g92_mm;
+  ctx.s.g92_applied = true;
   for (int i = 0; i < kProgramAxes; ++i) {
     const auto* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]];
     if (!aw) continue;
     // The current point gets coordinate value: machine = program + work + g92 + tool.
     g92[i] = 0.0;
-    g92[i] = ctx.s.position_mm[i] - ctx.offset()[i] - aw->value * ctx.scale();
+    g92[i] = ctx.s.position_mm[i] - ctx.offset()[i] -
+             aw->value * (axis_is_rotary(i) ? 1.0 : ctx.scale());
   }
   ctx.tables_w().g92_saved_mm = g92;
   return true;
@@ -69,15 +72,17 @@ bool run_g92(BlockCtx& ctx, const Code&) {
 bool run_g52(BlockCtx& ctx, const Code&) {
   if (!comp_forbids(ctx, ctx.loc_of(Group::NonModal), "change axis offsets")) return false;
   Pos9& g92 = ctx.s.g92_mm;  // LinuxCNC keeps the G52 local offset in the G92 offsets
+  ctx.s.g92_applied = true;
   for (int i = 0; i < kProgramAxes; ++i)
     if (const auto* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]])
-      g92[i] = aw->value * ctx.scale();
+      g92[i] = aw->value * (axis_is_rotary(i) ? 1.0 : ctx.scale());
   ctx.tables_w().g92_saved_mm = g92;
   return true;
 }
 
 bool run_g92_x(BlockCtx& ctx, const Code& c) {
   if (!comp_forbids(ctx, ctx.loc_of(Group::NonModal), "change axis offsets")) return false;
+  ctx.s.g92_applied = c.number10 == 923;
   switch (c.number10) {
     case 921:  // reset, parameters too
       ctx.s.g92_mm.setZero();

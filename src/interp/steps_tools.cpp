@@ -80,7 +80,7 @@ bool run_tool_length(BlockCtx& ctx, const Code& c) {
     case 431:  // G43.1: the axis words are the offsets (other axes keep theirs)
       for (int i = 0; i < kProgramAxes; ++i)
         if (const auto* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]])
-          off[i] = aw->value * ctx.scale();
+          off[i] = aw->value * (axis_is_rotary(i) ? 1.0 : ctx.scale());
       return true;
     default:
       break;
@@ -115,7 +115,7 @@ bool run_g10_tool(BlockCtx& ctx, int l) {
   for (int i = 0; i < kProgramAxes; ++i) {
     const auto* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]];
     if (!aw) continue;
-    const double v = aw->value * ctx.scale();
+    const double v = aw->value * (axis_is_rotary(i) ? 1.0 : ctx.scale());
     double& o = e.offset_mm[static_cast<std::size_t>(i)];
     if (l == 1)
       o = v;

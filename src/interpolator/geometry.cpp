@@ -11,8 +11,8 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-double segment_distance_mm(const AxisVec& a, const AxisVec& b, const AxisVec& p) {
-  const AxisVec d = b - a;
+double segment_distance_mm(const Vec3& a, const Vec3& b, const Vec3& p) {
+  const Vec3 d = b - a;
   const double len2 = d.squaredNorm();
   double t = len2 > 0 ? (p - a).dot(d) / len2 : 0.0;
   t = std::clamp(t, 0.0, 1.0);
@@ -48,7 +48,16 @@ double arc_sweep_rad(const Motion& m) {
 }
 
 double motion_length_mm(const Motion& m) {
-  if (m.kind != MotionKind::Arc) return (m.end_mm - m.start_mm).norm();
+  if (m.kind != MotionKind::Arc) {
+    // LinuxCNC's feed rule: the XYZ distance when X, Y or Z move; else U V W; else the rotary
+    // axes alone, whose length is in degrees (a feed in deg/min).
+    const AxisVec d = m.end_mm - m.start_mm;
+    const Vec3 xyz = d.head<3>();
+    if (xyz != Vec3::Zero()) return xyz.norm();
+    const Vec3 uvw = d.segment<3>(6);
+    if (uvw != Vec3::Zero()) return uvw.norm();
+    return Vec3(d.segment<3>(3)).norm();
+  }
   const PlaneAxes ax = plane_axes(m.plane);
   const double r1 =
       std::hypot(m.start_mm[ax.a] - m.center_mm[ax.a], m.start_mm[ax.b] - m.center_mm[ax.b]);
@@ -75,6 +84,7 @@ MotionGeometry MotionGeometry::of(const Motion& m) {
   g.theta0_rad = std::atan2(g.s_b, g.s_a);
   g.sweep_rad = arc_sweep_rad(m);
   g.planar = m.start_mm[g.ax.n] == m.end_mm[g.ax.n];
+  g.rest_moves = m.start_mm.tail<kMaxAxes - 3>() != m.end_mm.tail<kMaxAxes - 3>();
   return g;
 }
 
@@ -84,7 +94,8 @@ AxisVec MotionGeometry::at_fraction(double u) const {
   if (kind != MotionKind::Arc) return start_mm + u * (end_mm - start_mm);
   const double theta = theta0_rad + u * sweep_rad;
   const double r = r0_mm + u * (r1_mm - r0_mm);
-  AxisVec p = start_mm;  // axes outside the plane and normal stay (none with three axes)
+  // Axes outside X, Y and Z (rotary, U V W) move in proportion to the path.
+  AxisVec p = rest_moves ? AxisVec(start_mm + u * (end_mm - start_mm)) : start_mm;
   p[ax.a] = center_mm[ax.a] + r * std::cos(theta);
   p[ax.b] = center_mm[ax.b] + r * std::sin(theta);
   p[ax.n] = start_mm[ax.n] + u * (end_mm[ax.n] - start_mm[ax.n]);
@@ -92,7 +103,9 @@ AxisVec MotionGeometry::at_fraction(double u) const {
 }
 
 AxisVec MotionGeometry::tangent_at_fraction(double u) const {
-  AxisVec d = end_mm - start_mm;
+  // The direction of the tool in X, Y and Z (the contour the tolerance planner bounds).
+  AxisVec d = AxisVec::Zero();
+  d.head<3>() = end_mm.head<3>() - start_mm.head<3>();
   if (kind == MotionKind::Arc) {
     // d/du of the position: the turn, the radius blend and the lead.
     u = std::clamp(u, 0.0, 1.0);
@@ -104,17 +117,17 @@ AxisVec MotionGeometry::tangent_at_fraction(double u) const {
     d[ax.b] = dr * std::sin(th) + r * sweep_rad * std::cos(th);
     d[ax.n] = end_mm[ax.n] - start_mm[ax.n];
   }
-  const double norm = d.norm();
+  const double norm = d.head<3>().norm();
   return norm > 0.0 ? AxisVec(d / norm) : AxisVec(AxisVec::Zero());
 }
 
-double MotionGeometry::radial_deviation_mm(const AxisVec& p_mm) const {
+double MotionGeometry::radial_deviation_mm(const Vec3& p_mm) const {
   return std::hypot(p_mm[ax.a] - center_mm[ax.a], p_mm[ax.b] - center_mm[ax.b]) - r0_mm;
 }
 
-void MotionGeometry::distance(const AxisVec& p_mm, double& dist_mm, double& signed_mm) const {
+void MotionGeometry::distance(const Vec3& p_mm, double& dist_mm, double& signed_mm) const {
   if (kind != MotionKind::Arc) {
-    dist_mm = signed_mm = segment_distance_mm(start_mm, end_mm, p_mm);
+    dist_mm = signed_mm = segment_distance_mm(start_mm.head<3>(), end_mm.head<3>(), p_mm);
     return;
   }
   const double dca = p_mm[ax.a] - center_mm[ax.a];
@@ -132,7 +145,8 @@ void MotionGeometry::distance(const AxisVec& p_mm, double& dist_mm, double& sign
                                                 : (to_p >= 0.0 && p_to_end >= 0.0);
     if (!inside) {
       // Beyond the arc's ends: the nearest point of this motion is an end point.
-      dist_mm = signed_mm = std::min((p_mm - start_mm).norm(), (p_mm - end_mm).norm());
+      dist_mm = signed_mm =
+          std::min((p_mm - start_mm.head<3>()).norm(), (p_mm - end_mm.head<3>()).norm());
       return;
     }
   }

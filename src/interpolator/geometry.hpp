@@ -8,6 +8,9 @@
 
 namespace gm {
 
+/// A point in X, Y and Z: what the contour error is measured in.
+using Vec3 = Eigen::Matrix<double, 3, 1>;
+
 /// The in-plane axes (a, b) and the normal axis n of a plane, as LinuxCNC orders them:
 /// XY → (X, Y; Z), XZ → (Z, X; Y), YZ → (Y, Z; X). Angles run from a toward b.
 struct PlaneAxes {
@@ -21,8 +24,10 @@ PlaneAxes plane_axes(Plane p);
 /// circle; each turn past the first adds 2π.
 double arc_sweep_rad(const Motion& m);
 
-/// Length of a motion's path, mm: the segment for lines and rapids; for arcs the helix over the
-/// mean of the start and end radii, extra turns included.
+/// Length of a motion's path, the length its feed applies to (LinuxCNC's rule), mm: for lines
+/// and rapids the XYZ segment when X, Y or Z move, else the UVW segment, else the rotary (A B C)
+/// segment in degrees; for arcs the XYZ helix over the mean of the start and end radii, extra
+/// turns included. Other axes move in proportion.
 double motion_length_mm(const Motion& m);
 
 /// A motion prepared for evaluation: plain data, built once per block.
@@ -40,6 +45,7 @@ struct MotionGeometry {
   double s_a = 0, s_b = 0;          ///< start − centre in the plane
   double e_a = 0, e_b = 0;          ///< end − centre in the plane
   bool planar = true;               ///< no lead along the normal axis
+  bool rest_moves = false;          ///< an axis past X, Y, Z moves (arcs)
 
   /// The geometry of `m` (lines, rapids and arcs in any plane, multi-turn, helical).
   static MotionGeometry of(const Motion& m);
@@ -51,7 +57,7 @@ struct MotionGeometry {
   AxisVec point_at(double s_mm) const {
     return at_fraction(length_mm > 0.0 ? s_mm / length_mm : 1.0);
   }
-  /// Unit tangent (direction of motion) at `s_mm` along the path; zero for a zero-length move.
+  /// Unit tangent of the XYZ path at `s_mm` (the other axes 0); zero when X, Y and Z stand.
   AxisVec tangent_at(double s_mm) const {
     return tangent_at_fraction(length_mm > 0.0 ? s_mm / length_mm : 0.0);
   }
@@ -63,9 +69,10 @@ struct MotionGeometry {
   /// combined with the axial offset from a planar arc (a helix counts the radial part only);
   /// otherwise the distance to the nearer end point. `signed_mm` carries the sign of the radial
   /// deviation (negative = inside) on arcs; on lines it equals `dist_mm`.
-  void distance(const AxisVec& p_mm, double& dist_mm, double& signed_mm) const;
+  /// Measured in X, Y and Z only (the rotary and U V W axes report their own following error).
+  void distance(const Vec3& p_mm, double& dist_mm, double& signed_mm) const;
   /// Signed radial deviation |p−c|−r0 of `p_mm` in the arc's plane (mm); arcs only.
-  double radial_deviation_mm(const AxisVec& p_mm) const;
+  double radial_deviation_mm(const Vec3& p_mm) const;
 };
 
 /// The interpolator's name for it.

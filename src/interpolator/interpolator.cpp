@@ -13,7 +13,10 @@ Interpolator::Interpolator(const InterpolatorConfig& cfg, CanonSource& source)
 
 AxisBlu Interpolator::to_blu(const AxisVec& p_mm) const {
   AxisBlu q;
-  for (int i = 0; i < kAxes; ++i) q[i] = round_half_away(p_mm[i] / cfg_.blu_mm[i]);
+  // Machine axis a is program axis cfg_.axes.index[a]; entries past the count stay 0.
+  q.setZero();
+  for (int a = 0; a < cfg_.axes.count; ++a)
+    q[a] = round_half_away(p_mm[cfg_.axes.index[static_cast<std::size_t>(a)]] / cfg_.blu_mm[a]);
   return q;
 }
 

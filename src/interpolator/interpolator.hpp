@@ -11,10 +11,11 @@
 namespace gm {
 
 struct InterpolatorConfig {
-  double period_s = 0.004;                    ///< T
-  AxisVec blu_mm = AxisVec::Constant(0.001);  ///< one count per axis
-  double rapid_mm_min = 6000;                 ///< G0 path speed at 100 % rapid override
-  int settle_samples = 0;                     ///< zero-velocity samples after an exact-stop block
+  double period_s = 0.004;                          ///< T
+  AxisLayout axes{};                                ///< the machine's axes (default X Y Z)
+  MachineVec blu_mm = MachineVec::Constant(0.001);  ///< one count per machine axis, its order
+  double rapid_mm_min = 6000;                       ///< G0 path speed at 100 % rapid override
+  int settle_samples = 0;  ///< zero-velocity samples after an exact-stop block
   AxisVec start_mm = AxisVec::Zero();
 };
 

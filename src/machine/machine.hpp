@@ -71,18 +71,60 @@ struct Machine {
   /// Contour tolerance under G64 without P, mm (machine key path_tolerance_mm, CLI --tolerance);
   /// 0 = unbounded, the filter blends corners freely (issue 21).
   double path_tolerance_mm = 0.0;
-  std::array<AxisConfig, kAxes> axes{};
+  /// The machine's axes (key `axes.letters`, CLI --axes): a subsequence of XYZABCUVW. Rotary
+  /// axes (A, B, C) count in degrees: their `_mm` quantities are degrees (blu_mm = degrees per
+  /// count, v_max_mm_s = deg/s). Kinematics are trivial: each axis is one joint.
+  AxisLayout layout{};
+  std::vector<AxisConfig> axes = std::vector<AxisConfig>(3);  ///< one per axis, layout order
   std::vector<double> tool_lengths_mm;  ///< index = tool number (T0 = index 0); overrides table Z
   ToolTable tool_table = default_tool_table();  ///< key `tool_table` or --tool-table FILE
-  std::array<AxisVec, 6> work_offsets_mm{AxisVec::Zero(), AxisVec::Zero(),
-                                         AxisVec::Zero(), AxisVec::Zero(),
-                                         AxisVec::Zero(), AxisVec::Zero()};  ///< G54..G59
+  /// Where `o<name> call` finds `name.ngc` (key `subroutine_path` "DIR[:DIR...]", relative to
+  /// the machine file; LinuxCNC's [RS274NGC]SUBROUTINE_PATH); searched after --subroutine-path.
+  std::vector<std::string> subroutine_path;
+  /// LinuxCNC `.var` parameter file read at the start and written at the end of a run (key
+  /// `parameter_file`, relative to the machine file); empty: none.
+  std::string parameter_file;
+  /// G54..G59 on the nine program axes (XYZABCUVW order), mm (degrees for A, B, C).
+  std::array<AxisVec, 6> work_offsets_mm{AxisVec::Zero(), AxisVec::Zero(), AxisVec::Zero(),
+                                         AxisVec::Zero(), AxisVec::Zero(), AxisVec::Zero()};
 
-  /// Per-axis BLU as a vector, mm.
-  AxisVec blu_mm() const {
-    AxisVec b;
-    for (int i = 0; i < kAxes; ++i) b[i] = axes[static_cast<std::size_t>(i)].blu_mm;
+  int axis_count() const { return layout.count; }
+  /// Per-axis BLU in the machine's axis order (0 past the count), mm (degrees on rotary axes).
+  MachineVec blu_mm() const {
+    MachineVec b = MachineVec::Zero();
+    for (int i = 0; i < layout.count; ++i) b[i] = axes[static_cast<std::size_t>(i)].blu_mm;
     return b;
+  }
+  /// BLU of X, Y and Z (0 for an axis the machine lacks), mm: the contour's resolution.
+  Eigen::Vector3d xyz_blu_mm() const {
+    Eigen::Vector3d b = Eigen::Vector3d::Zero();
+    for (int i = 0; i < layout.count; ++i)
+      if (layout.program(i) < 3) b[layout.program(i)] = axes[static_cast<std::size_t>(i)].blu_mm;
+    return b;
+  }
+  /// The BLU contour errors are expressed in: the smallest of the linear axes (of all axes when
+  /// the machine has only rotary ones), mm.
+  double contour_blu_mm() const {
+    double lin = 0.0, any = 0.0;
+    for (int i = 0; i < layout.count; ++i) {
+      const double b = axes[static_cast<std::size_t>(i)].blu_mm;
+      if (!axis_is_rotary(layout.program(i)) && (lin == 0.0 || b < lin)) lin = b;
+      if (any == 0.0 || b < any) any = b;
+    }
+    return lin > 0.0 ? lin : any;
+  }
+  /// Gives the machine the axes `l`: an axis it already has keeps its settings, a new one
+  /// takes `fresh`.
+  void set_axes(const AxisLayout& l, const AxisConfig& fresh) {
+    std::vector<AxisConfig> next;
+    for (int a = 0; a < l.count; ++a) {
+      const AxisConfig* kept = nullptr;
+      for (int b = 0; b < layout.count; ++b)
+        if (layout.program(b) == l.program(a)) kept = &axes[static_cast<std::size_t>(b)];
+      next.push_back(kept ? *kept : fresh);
+    }
+    layout = l;
+    axes = std::move(next);
   }
 };
 

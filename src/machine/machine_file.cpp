@@ -1,6 +1,8 @@
 // TOML machine file reader/writer (toml++): every error names the key, the file and the line.
 #include "machine/machine_file.hpp"
 
+#include "interp/subroutine_path.hpp"
+
 #include "common/status.hpp"
 #include "servo/discrete_plant.hpp"
 
@@ -313,8 +315,17 @@ Machine parse_machine_toml(std::string_view text, std::string_view source_name) 
   }
   const toml::table* axes = r.table("axes", true);
   Reader axr(*axes, "axes.", src);
-  for (int i = 0; i < kAxes; ++i) {
-    const char letter = static_cast<char>(kAxisLetters[static_cast<std::size_t>(i)] - 'A' + 'a');
+  if (std::string letters; axr.string("letters", letters, false)) {
+    const std::optional<AxisLayout> l = AxisLayout::of(letters);
+    if (!l)
+      axr.fail_at(axes->get("letters")->source(), "axes.letters",
+                  fmt::format("must be axis letters in the order XYZABCUVW, each at most once "
+                              "(got \"{}\")",
+                              letters));
+    m.set_axes(*l, AxisConfig{});
+  }
+  for (int i = 0; i < m.axis_count(); ++i) {
+    const char letter = static_cast<char>(m.layout.letter(i) - 'A' + 'a');
     const std::string k(1, letter);
     const toml::table* at = axr.table(k, true);
     Reader ar(*at, "axes." + k + ".", src);
@@ -328,12 +339,22 @@ Machine parse_machine_toml(std::string_view text, std::string_view source_name) 
     m.tool_table = load_tool_table(
         p.is_absolute() ? tt : (std::filesystem::path(src).parent_path() / p).string());
   }
+  // Both relative to the machine file's directory, like the tool table (LinuxCNC: the INI's).
+  const auto beside = [&](const std::string& f) {
+    const std::filesystem::path p(f);
+    return p.is_absolute() ? f : (std::filesystem::path(src).parent_path() / p).string();
+  };
+  if (std::string sp; r.string("subroutine_path", sp, false))
+    for (const std::string& dir : SubroutinePath::split(sp))
+      m.subroutine_path.push_back(beside(dir));
+  if (std::string pf; r.string("parameter_file", pf, false)) m.parameter_file = beside(pf);
   if (const toml::table* wo = r.table("work_offsets", false)) {
     Reader wr(*wo, "work_offsets.", src);
     for (int g = 0; g < 6; ++g) {
       std::vector<double> v;
-      if (wr.numbers(fmt::format("g{}", 54 + g), v, false, kAxes, kAxes))
-        for (int a = 0; a < kAxes; ++a)
+      // [x, y, z] or more, in XYZABCUVW order (an axis the machine lacks must be 0).
+      if (wr.numbers(fmt::format("g{}", 54 + g), v, false, 3, kMaxAxes))
+        for (int a = 0; a < static_cast<int>(v.size()); ++a)
           m.work_offsets_mm[static_cast<std::size_t>(g)][a] = v[static_cast<std::size_t>(a)];
     }
     wr.reject_unknown();
@@ -368,13 +389,20 @@ std::string machine_to_toml(const Machine& m) {
                    fmt_double(m.max_override * 100.0), rule, fmt_double(m.axes[0].blu_mm));
   if (m.path_tolerance_mm > 0.0)
     s += fmt::format("path_tolerance_mm = {}\n", fmt_double(m.path_tolerance_mm));
+  if (!m.subroutine_path.empty()) {
+    std::string dirs;
+    for (const std::string& d : m.subroutine_path) dirs += (dirs.empty() ? "" : ":") + d;
+    s += fmt::format("subroutine_path = {}\n", toml_string(dirs));
+  }
+  if (!m.parameter_file.empty())
+    s += fmt::format("parameter_file = {}\n", toml_string(m.parameter_file));
   s += "tools = " + list(m.tool_lengths_mm) + "\n\n";
   s += fmt::format("[accdec]\nprofile = {}\ntau_s = {}\n", toml_string(m.profile),
                    fmt_double(m.tau_s));
-  for (int i = 0; i < kAxes; ++i) {
+  if (!m.layout.is_xyz()) s += fmt::format("\n[axes]\nletters = \"{}\"\n", m.layout.letters());
+  for (int i = 0; i < m.axis_count(); ++i) {
     const AxisConfig& a = m.axes[static_cast<std::size_t>(i)];
-    s += fmt::format("\n[axes.{}]\n",
-                     static_cast<char>(kAxisLetters[static_cast<std::size_t>(i)] - 'A' + 'a'));
+    s += fmt::format("\n[axes.{}]\n", static_cast<char>(m.layout.letter(i) - 'A' + 'a'));
     s += fmt::format("blu_mm = {}\nv_max_mm_s = {}\nf_max_N = {}\np_max_W = {}\n",
                      fmt_double(a.blu_mm), fmt_double(a.v_max_mm_s), fmt_double(a.f_max_N),
                      fmt_double(a.p_max_W));
@@ -390,8 +418,12 @@ std::string machine_to_toml(const Machine& m) {
         a.kv_form == VelocityLoopForm::Ip ? "ip" : "pi", fmt_double(a.drive_N_per_unit));
   }
   s += "\n[work_offsets]\n";
-  for (int g = 0; g < 6; ++g)
-    s += fmt::format("g{} = {}\n", 54 + g, list(m.work_offsets_mm[static_cast<std::size_t>(g)]));
+  for (int g = 0; g < 6; ++g) {
+    const AxisVec& w = m.work_offsets_mm[static_cast<std::size_t>(g)];
+    int n = kMaxAxes;
+    while (n > 3 && w[n - 1] == 0.0) --n;  // [x, y, z] unless a later axis is offset
+    s += fmt::format("g{} = {}\n", 54 + g, list(std::vector<double>(w.data(), w.data() + n)));
+  }
   return s;
 }
 

@@ -6,6 +6,7 @@
 #include "pipeline/path_window.hpp"
 #include "pipeline/sample_record.hpp"
 
+#include <array>
 #include <cstdint>
 
 namespace gm {
@@ -20,7 +21,11 @@ class ContourMeter {
   /// blu_mm: BLU per axis (the errors are expressed in the smallest); window_samples: how long
   /// after its end a block stays a candidate for the nearest point (Acc/Dec length + servo lag);
   /// steady_after: samples after a block start, or a pause, before an arc counts as steady.
-  ContourMeter(const AxisVec& blu_mm, std::int64_t window_samples, std::int64_t steady_after);
+  /// `axes`: the machine's axes (blu_mm in their order); the contour is measured in X, Y and Z
+  /// and expressed in `contour_blu_mm` (Machine::contour_blu_mm()); the other axes report only
+  /// their following error.
+  ContourMeter(const MachineVec& blu_mm, const AxisLayout& axes, double contour_blu_mm,
+               std::int64_t window_samples, std::int64_t steady_after);
 
   /// Fills r.contour_err_blu, r.arc_ref_dev_blu and r.arc_enc_dev_blu from r.k, r.table_blu,
   /// r.ref_blu, r.enc_blu, r.events and r.settling. `started` is the motion block that became
@@ -29,8 +34,11 @@ class ContourMeter {
   void measure(SampleRecord& r, const Motion* started);
 
  private:
-  AxisVec blu_mm_;
-  double contour_blu_mm_;  ///< the BLU the errors are expressed in (smallest axis BLU)
+  Vec3 xyz_mm(const MachineVec& v_blu) const;  ///< X, Y, Z of machine-order BLU, mm (absent: 0)
+
+  MachineVec blu_mm_;
+  std::array<int, 3> xyz_slot_{};  ///< machine axis of X, Y, Z (kMaxAxes - 1: absent, reads 0)
+  double contour_blu_mm_;          ///< the BLU the errors are expressed in (smallest axis BLU)
   PathWindow window_;
   std::int64_t steady_after_;
   std::int64_t block_start_k_ = 0;

@@ -23,18 +23,20 @@ void PathWindow::push(const Motion& m, std::int64_t k) {
   if (m.kind == MotionKind::Arc) {
     // Planar arc: every point the distance is measured to (the circle's nearest point inside the
     // sweep, or an end point) lies within the larger of the start and end radii of the centre.
-    e.sphere_c_mm = m.center_mm;
+    e.sphere_c_mm = m.center_mm.head<3>();
     e.sphere_r_mm =
-        e.geometry.planar ? std::max(e.geometry.r0_mm, (m.end_mm - m.center_mm).norm()) : -1.0;
+        e.geometry.planar
+            ? std::max(e.geometry.r0_mm, Vec3(m.end_mm.head<3>() - m.center_mm.head<3>()).norm())
+            : -1.0;
   } else {
-    e.sphere_c_mm = 0.5 * (m.start_mm + m.end_mm);
-    e.sphere_r_mm = 0.5 * (m.end_mm - m.start_mm).norm();
+    e.sphere_c_mm = 0.5 * (m.start_mm.head<3>() + m.end_mm.head<3>());
+    e.sphere_r_mm = 0.5 * Vec3(m.end_mm.head<3>() - m.start_mm.head<3>()).norm();
   }
   e.margin_mm = 1e-9 + 1e-12 * (std::max(e.sphere_r_mm, 0.0) + e.sphere_c_mm.cwiseAbs().maxCoeff());
   if (count_ < kCapacity) ++count_;
 }
 
-double PathWindow::contour_error_mm(const AxisVec& p_mm, std::int64_t k) {
+double PathWindow::contour_error_mm(const Vec3& p_mm, std::int64_t k) {
   if (count_ == 0) return 0.0;
   auto at = [&](int age) -> const Entry& {
     static_assert((kCapacity & (kCapacity - 1)) == 0);

@@ -33,7 +33,7 @@ class PathWindow {
   /// arc's plane; negative = inside) when the nearest block is an arc, else the unsigned
   /// distance to the nearest line segment. 0 when no block has been seen.
   /// Not const: remembers where the nearest block was, to start the next search there.
-  double contour_error_mm(const AxisVec& p_mm, std::int64_t k);
+  double contour_error_mm(const Vec3& p_mm, std::int64_t k);
 
   /// The geometry of the block pushed last (the current one), nullptr before the first.
   const MotionGeometry* newest() const {
@@ -41,7 +41,7 @@ class PathWindow {
   }
 
   /// Signed radial deviation of `p_mm` from arc `m` (mm); `m` must be an arc.
-  static double radial_deviation_mm(const Motion& m, const AxisVec& p_mm) {
+  static double radial_deviation_mm(const Motion& m, const Vec3& p_mm) {
     return MotionGeometry::of(m).radial_deviation_mm(p_mm);
   }
 
@@ -49,10 +49,10 @@ class PathWindow {
   struct Entry {
     MotionGeometry geometry;
     std::int64_t first_sample = 0;
-    std::int64_t last_sample = 0;           ///< the sample the next block started at (or ongoing)
-    AxisVec sphere_c_mm = AxisVec::Zero();  ///< a sphere holding every point the distance is to
-    double sphere_r_mm = -1.0;              ///< < 0: no bound (helix: the distance is radial only)
-    double margin_mm = 0.0;                 ///< slack for rounding in the bound test
+    std::int64_t last_sample = 0;     ///< the sample the next block started at (or ongoing)
+    Vec3 sphere_c_mm = Vec3::Zero();  ///< a sphere holding every point the distance is to
+    double sphere_r_mm = -1.0;        ///< < 0: no bound (helix: the distance is radial only)
+    double margin_mm = 0.0;           ///< slack for rounding in the bound test
   };
 
   std::array<Entry, kCapacity> ring_{};

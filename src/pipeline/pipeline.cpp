@@ -14,6 +14,7 @@ namespace {
 InterpolatorConfig interpolator_config(const Machine& m, int settle_samples) {
   InterpolatorConfig c;
   c.period_s = m.period_s;
+  c.axes = m.layout;
   c.blu_mm = m.blu_mm();
   c.rapid_mm_min = m.rapid_mm_min;
   c.settle_samples = settle_samples;
@@ -34,7 +35,8 @@ Pipeline::Pipeline(const RunConfig& cfg, CanonSource& source)
     : cfg_(cfg),
       taps_(design_taps(cfg.machine.profile, cfg.machine.tau_s, cfg.machine.period_s)),
       interp_(interpolator_config(cfg.machine, static_cast<int>(taps_.integer.size())), source),
-      accdec_(taps_, AxisBlu::Zero()),
+      accdec_(taps_, AxisBlu::Zero(), FirStructure::Auto, cfg.machine.axis_count()),
+      axes_(cfg.machine.axis_count()),
       lag_samples_(static_cast<std::int64_t>(taps_.integer.size()) +
                    (cfg.servo ? servo_lag_samples(cfg.machine) : 0)),
       meter_(contour_meter()),
@@ -42,7 +44,7 @@ Pipeline::Pipeline(const RunConfig& cfg, CanonSource& source)
       enc_blu_(AxisBlu::Zero()),
       last_cmd_blu_(AxisBlu::Zero()) {
   if (cfg_.servo) {
-    for (int a = 0; a < kAxes; ++a)
+    for (int a = 0; a < axes_; ++a)
       servo_[static_cast<std::size_t>(a)].emplace(cfg_.machine.axes[static_cast<std::size_t>(a)],
                                                   cfg_.machine.period_s,
                                                   cfg_.machine.servo_substeps, 0);
@@ -52,7 +54,8 @@ Pipeline::Pipeline(const RunConfig& cfg, CanonSource& source)
 
 ContourMeter Pipeline::contour_meter() const {
   // A block counts as steady, and a past block stops being a candidate, after the same delay.
-  return ContourMeter(cfg_.machine.blu_mm(), lag_samples_, lag_samples_);
+  return ContourMeter(cfg_.machine.blu_mm(), cfg_.machine.layout, cfg_.machine.contour_blu_mm(),
+                      lag_samples_, lag_samples_);
 }
 
 bool Pipeline::settled() const {
@@ -84,15 +87,15 @@ PipelineStatus Pipeline::step(const OverrideInput& ovr, SampleRecord& out) {
   accdec_.step(cmd_.pos_blu, ref_blu_);
   if (cfg_.servo) {
     bool quiet = true;
-    for (int a = 0; a < kAxes; ++a) {
+    for (int a = 0; a < axes_; ++a) {
       ServoAxis& s = *servo_[static_cast<std::size_t>(a)];
       table_blu_[a] = s.table_blu();  // at the start of the period, the instant the count is read
       try {
         enc_blu_[a] = s.step(ref_blu_[a]);
       } catch (const InputError& e) {
-        throw InputError(fmt::format(
-            "axis {} at t = {:.3f} s (line {}): {}", kAxisLetters[static_cast<std::size_t>(a)],
-            static_cast<double>(k_) * cfg_.machine.period_s, cmd_.line, e.what()));
+        throw InputError(
+            fmt::format("axis {} at t = {:.3f} s (line {}): {}", cfg_.machine.layout.letter(a),
+                        static_cast<double>(k_) * cfg_.machine.period_s, cmd_.line, e.what()));
       }
       // The motor hunts inside one count at standstill (quantised feedback), so settling is
       // judged on the encoder alone: within ±1 count of the reference.

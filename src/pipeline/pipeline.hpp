@@ -63,13 +63,14 @@ class Pipeline {
   Taps taps_;
   Interpolator interp_;
   FirAccDec accdec_;
-  std::array<std::optional<ServoAxis>, kAxes> servo_;
+  int axes_;  ///< the machine's axis count (entries 0..axes_-1 of the per-axis vectors)
+  std::array<std::optional<ServoAxis>, kMaxAxes> servo_;
   std::int64_t lag_samples_;  ///< Acc/Dec length + servo lag: how long a past block can be nearest
   ContourMeter meter_;        ///< used unless defer_contour
   CommandSample cmd_{};
   AxisBlu ref_blu_, enc_blu_, last_cmd_blu_;
-  AxisVec table_blu_ =
-      AxisVec::Zero();  ///< table positions (BLU, continuous) at the sample instant
+  MachineVec table_blu_ =
+      MachineVec::Zero();  ///< table positions (BLU, continuous) at the sample instant
   std::int64_t k_ = 0;
   std::uint64_t seen_block_ = 0;
   const Motion* started_ = nullptr;

@@ -37,7 +37,7 @@ std::unique_ptr<TolerancePlanner> make_planner(const Machine& m, CanonSource& so
   PlannerConfig c;
   c.max_override = m.max_override;
   c.rapid_mm_min = m.rapid_mm_min;
-  c.rounding_mm = m.blu_mm().norm();
+  c.rounding_mm = m.xyz_blu_mm().norm();
   const FilterMoments moments(design_taps(m.profile, m.tau_s, m.period_s), m.period_s);
   return std::make_unique<TolerancePlanner>(moments, c, source);
 }
@@ -49,7 +49,7 @@ Run::Run(RunOptions options, CanonSource& source)
       planner_(make_planner(options_.config.machine, source)),
       pipeline_(options_.config, *planner_),
       summary_(options_.config.machine),
-      tolerance_(options_.config.machine.blu_mm().minCoeff()),
+      tolerance_(options_.config.machine.contour_blu_mm()),
       player_(options_.schedule, options_.config.machine.period_s, options_.feed_override_pct,
               options_.rapid_override_pct) {
   init();
@@ -62,7 +62,7 @@ Run::Run(RunOptions options, std::istream& program, InterpreterOptions opts)
       planner_(make_planner(options_.config.machine, *stream_)),
       pipeline_(options_.config, *planner_),
       summary_(options_.config.machine),
-      tolerance_(options_.config.machine.blu_mm().minCoeff()),
+      tolerance_(options_.config.machine.contour_blu_mm()),
       player_(options_.schedule, options_.config.machine.period_s, options_.feed_override_pct,
               options_.rapid_override_pct) {
   init();
@@ -79,6 +79,7 @@ void Run::init() {
     meta.taps = static_cast<int>(pipeline_.taps().integer.size());
     meta.tau_s = o.config.machine.tau_s;
     meta.period_s = o.config.machine.period_s;
+    meta.axes = o.config.machine.layout.letters();
     meta.blu_mm = o.config.machine.blu_mm();
     meta.servo = o.config.servo;
     meta.decimate = o.decimate;

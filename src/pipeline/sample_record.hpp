@@ -7,7 +7,8 @@
 
 namespace gm {
 
-/// One servo sample of every stage, in BLU (what a trace row holds).
+/// One servo sample of every stage, in BLU (what a trace row holds). Per-axis vectors are in the
+/// machine's axis order (Machine::layout); entries past its axis count are 0.
 struct SampleRecord {
   std::int64_t k = 0;  ///< sample index; t = k·T
   double t_s = 0.0;
@@ -18,7 +19,7 @@ struct SampleRecord {
   AxisBlu ferr_blu = AxisBlu::Zero();  ///< following error ref − enc
   /// Table position (BLU, continuous) at the sample instant: the motor minus lost motion; what
   /// the contour error is measured on (equal to ref with the servo off).
-  AxisVec table_blu = AxisVec::Zero();
+  MachineVec table_blu = MachineVec::Zero();
   double contour_err_blu = 0.0;  ///< table position to programmed path (signed radial on arcs)
   double feed_scale = 1.0;       ///< feed override in effect (1.0 = 100 %)
   std::uint32_t events = 0;      ///< interpolator SampleEvent bits

@@ -14,7 +14,7 @@ namespace gm {
 
 RunSummary::RunSummary(const Machine& machine)
     : machine_(machine), blu_mm_(machine.blu_mm()), period_s_(machine.period_s) {
-  for (int a = 0; a < kAxes; ++a) {
+  for (int a = 0; a < machine.axis_count(); ++a) {
     const AxisConfig& ac = machine.axes[static_cast<std::size_t>(a)];
     AxisSummary& s = axes[static_cast<std::size_t>(a)];
     s.v_limit.limit = ac.v_max_mm_s;
@@ -25,7 +25,7 @@ RunSummary::RunSummary(const Machine& machine)
 
 void RunSummary::add(const SampleRecord& s) {
   const double T = period_s_;
-  for (int a = 0; a < kAxes; ++a) {
+  for (int a = 0; a < machine_.axis_count(); ++a) {
     AxisSummary& ax = axes[static_cast<std::size_t>(a)];
     const AxisConfig& ac = machine_.axes[static_cast<std::size_t>(a)];
     const double v = static_cast<double>(s.ref_blu[a] - prev_ref_[a]) * blu_mm_[a] / T;  // mm/s
@@ -63,7 +63,7 @@ void RunSummary::add(const SampleRecord& s) {
 }
 
 void RunSummary::finish(const SampleRecord& last, const AxisBlu& program_end_blu, bool is_settled) {
-  for (int a = 0; a < kAxes; ++a) {
+  for (int a = 0; a < machine_.axis_count(); ++a) {
     axes[static_cast<std::size_t>(a)].final_ref_err_blu = last.ref_blu[a] - program_end_blu[a];
     axes[static_cast<std::size_t>(a)].final_enc_err_blu = last.enc_blu[a] - program_end_blu[a];
   }
@@ -93,18 +93,18 @@ std::string RunSummary::text() const {
   fmt::format_to(out,
                  "axis  ferr max BLU (line)   v max mm/s (line)   a max mm/s2 (line)   j max mm/s3 "
                  "(line)   final ref/enc err BLU\n");
-  for (int a = 0; a < kAxes; ++a) {
+  for (int a = 0; a < machine_.axis_count(); ++a) {
     const AxisSummary& s = axes[static_cast<std::size_t>(a)];
     fmt::format_to(out,
                    "{:<4}  {:>8.0f} ({:>5})   {:>9.3f} ({:>5})   {:>10.1f} ({:>5})   {:>10.0f} "
                    "({:>5})   {:+d} / {:+d}\n",
-                   kAxisLetters[static_cast<std::size_t>(a)], s.following_err_blu.value,
-                   s.following_err_blu.line, s.velocity_mm_s.value, s.velocity_mm_s.line,
-                   s.accel_mm_s2.value, s.accel_mm_s2.line, s.jerk_mm_s3.value, s.jerk_mm_s3.line,
-                   s.final_ref_err_blu, s.final_enc_err_blu);
+                   machine_.layout.letter(a), s.following_err_blu.value, s.following_err_blu.line,
+                   s.velocity_mm_s.value, s.velocity_mm_s.line, s.accel_mm_s2.value,
+                   s.accel_mm_s2.line, s.jerk_mm_s3.value, s.jerk_mm_s3.line, s.final_ref_err_blu,
+                   s.final_enc_err_blu);
   }
   bool any = false;
-  for (int a = 0; a < kAxes; ++a) {
+  for (int a = 0; a < machine_.axis_count(); ++a) {
     const AxisSummary& s = axes[static_cast<std::size_t>(a)];
     const std::pair<const char*, const LimitCheck*> checks[] = {
         {"velocity mm/s", &s.v_limit}, {"force N", &s.f_limit}, {"power W", &s.p_limit}};
@@ -112,8 +112,8 @@ std::string RunSummary::text() const {
       if (c->violations == 0) continue;
       any = true;
       fmt::format_to(out, "LIMIT {} {}: {} samples over {:.6g}, worst {:.6g} at line {}\n",
-                     kAxisLetters[static_cast<std::size_t>(a)], name, c->violations, c->limit,
-                     c->worst.value, c->worst.line);
+                     machine_.layout.letter(a), name, c->violations, c->limit, c->worst.value,
+                     c->worst.line);
     }
   }
   if (!any) t += "limits: velocity, force and power within the machine's limits on every axis\n";
@@ -145,14 +145,14 @@ std::string RunSummary::json() const {
                  samples, num(cycle_time_s), num(program_time_s), num(hold_time_s),
                  settled ? "true" : "false", peak(contour_err_blu), num(contour_rms_blu),
                  num(arc_ref_radial_dev_blu), num(arc_enc_radial_dev_blu));
-  for (int a = 0; a < kAxes; ++a) {
+  for (int a = 0; a < machine_.axis_count(); ++a) {
     const AxisSummary& s = axes[static_cast<std::size_t>(a)];
     fmt::format_to(
         out,
         "{}\"{}\":{{\"following_err_max_blu\":{},\"velocity_max_mm_s\":{},\"accel_max_mm_s2\":{},"
         "\"jerk_max_mm_s3\":{},\"limits\":{{\"velocity\":{},\"force\":{},\"power\":{}}},"
         "\"final_ref_err_blu\":{},\"final_enc_err_blu\":{}}}",
-        a == 0 ? "" : ",", static_cast<char>(kAxisLetters[static_cast<std::size_t>(a)] - 'A' + 'a'),
+        a == 0 ? "" : ",", static_cast<char>(machine_.layout.letter(a) - 'A' + 'a'),
         peak(s.following_err_blu), peak(s.velocity_mm_s), peak(s.accel_mm_s2), peak(s.jerk_mm_s3),
         limit(s.v_limit), limit(s.f_limit), limit(s.p_limit), s.final_ref_err_blu,
         s.final_enc_err_blu);

@@ -58,8 +58,8 @@ class RunSummary {
   Peak contour_err_blu;         ///< max |contour error| of the actual position
   double contour_rms_blu = 0.0;
   bool settled = false;
-  double hold_time_s = 0.0;  ///< time spent in feed hold (0 % override)
-  std::array<AxisSummary, kAxes> axes{};
+  double hold_time_s = 0.0;                  ///< time spent in feed hold (0 % override)
+  std::array<AxisSummary, kMaxAxes> axes{};  ///< the machine's axes, its order
   /// Mean signed radial deviation over the steady part of arc blocks (BLU; NaN if no arcs).
   double arc_ref_radial_dev_blu = 0.0;
   double arc_enc_radial_dev_blu = 0.0;
@@ -67,13 +67,13 @@ class RunSummary {
 
  private:
   const Machine& machine_;
-  AxisVec blu_mm_;
+  MachineVec blu_mm_;
   double period_s_;
   double contour_sq_sum_ = 0.0;
   std::int64_t hold_samples_ = 0;
   double arc_ref_sum_ = 0.0, arc_enc_sum_ = 0.0;
   AxisBlu prev_ref_ = AxisBlu::Zero();
-  AxisVec prev_v_ = AxisVec::Zero(), prev_a_ = AxisVec::Zero();
+  MachineVec prev_v_ = MachineVec::Zero(), prev_a_ = MachineVec::Zero();
   std::int64_t last_motion_k_ = 0;
 };
 

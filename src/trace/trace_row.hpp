@@ -10,10 +10,11 @@
 namespace gm {
 
 /// Calls f(kind, value) for every column of sample `s` in row order: the head columns, the axis
-/// columns for each axis, the tail columns. `kind` is a std::integral_constant<TraceKind, ...>,
-/// so a writer picks the format at compile time and the row costs no per-column branch.
+/// columns for each of the first `axes` axes (the machine's, in its order), the tail columns.
+/// `kind` is a std::integral_constant<TraceKind, ...>, so a writer picks the format at compile time
+/// and the row costs no per-column branch.
 template <typename F>
-inline void visit_trace_row(const SampleRecord& s, F&& f) {
+inline void visit_trace_row(const SampleRecord& s, int axes, F&& f) {
 #define GM_TRACE_COLUMN(section, name, kind, value, unit, res) GM_TRACE_VISIT_##section(kind, value)
 #define GM_TRACE_CALL(kind, value) f(std::integral_constant<TraceKind, trace_def::kind>{}, value);
 #define GM_TRACE_VISIT_head(kind, value) GM_TRACE_CALL(kind, value)
@@ -24,7 +25,7 @@ inline void visit_trace_row(const SampleRecord& s, F&& f) {
 #undef GM_TRACE_VISIT_axis
 #define GM_TRACE_VISIT_head(kind, value)
 #define GM_TRACE_VISIT_axis(kind, value) GM_TRACE_CALL(kind, value)
-  for (int a = 0; a < kAxes; ++a) {
+  for (int a = 0; a < axes; ++a) {
 #include "trace/trace_columns.def"
   }
 #undef GM_TRACE_VISIT_axis

@@ -21,14 +21,13 @@ constexpr std::size_t kFlushBytes = 1u << 20;
 constexpr char kBinaryMagic[8] = {'G', 'M', 'T', 'R', 'A', 'C', 'E', '1'};
 
 // Bytes of a binary row (the schema's fields, the axis columns once per axis).
-constexpr std::int64_t binary_row_bytes() {
+constexpr std::int64_t binary_row_bytes(int axes) {
   std::int64_t n = 0;
   for (const TraceColumn& c : kTraceColumns)
     n += static_cast<std::int64_t>(trace_binary_bytes(c.kind)) *
-         (c.section == TraceSection::Axis ? kAxes : 1);
+         (c.section == TraceSection::Axis ? axes : 1);
   return n;
 }
-constexpr std::int64_t kBinaryRow = binary_row_bytes();
 
 template <typename T>
 void put_raw(fmt::memory_buffer& buf, T v) {
@@ -48,12 +47,12 @@ std::string trace_header(const TraceMeta& m) {
   fmt::format_to(out, "# machine: {} ({})\n", m.machine_name, m.machine_source);
   fmt::format_to(out, "# profile: {} taps={} tau_s={}\n", m.profile, m.taps, m.tau_s);
   fmt::format_to(out, "# period_s: {}\n", m.period_s);
-  fmt::format_to(out, "# blu_mm: {}\n", fmt::join(m.blu_mm.data(), m.blu_mm.data() + kAxes, ","));
+  fmt::format_to(out, "# blu_mm: {}\n",
+                 fmt::join(m.blu_mm.data(), m.blu_mm.data() + m.axes.size(), ","));
   fmt::format_to(out, "# servo: {}\n", m.servo ? "on" : "off (encoder reads the Acc/Dec output)");
   fmt::format_to(out, "# decimate: {}\n", m.decimate);
   fmt::format_to(out, "# units: {}\n", trace_units_text());
-  fmt::format_to(out, "{}\n",
-                 fmt::join(trace_column_names(std::string_view(kAxisLetters.data(), kAxes)), ","));
+  fmt::format_to(out, "{}\n", fmt::join(trace_column_names(m.axes), ","));
   return h;
 }
 
@@ -84,7 +83,9 @@ TraceWriter::TraceWriter(std::string path, TraceFormat format, const TraceMeta& 
     : path_(std::move(path)),
       format_(format),
       decimate_(meta.decimate < 1 ? 1 : meta.decimate),
-      status_line_(meta.status_line) {
+      status_line_(meta.status_line),
+      axes_(static_cast<int>(meta.axes.size())),
+      binary_row_(binary_row_bytes(axes_)) {
   struct stat st {};
   const bool special = path_ != "-" && ::stat(path_.c_str(), &st) == 0 && !S_ISREG(st.st_mode);
   if (status_line_ && written_in_place(path_))
@@ -147,7 +148,7 @@ void TraceWriter::write_csv(const SampleRecord& s) {
   const std::size_t at = buf_.size();
   buf_.resize(at + kMaxCsvRow);
   char* p = buf_.data() + at;
-  visit_trace_row(s, [&](auto kind, auto value) {
+  visit_trace_row(s, axes_, [&](auto kind, auto value) {
     if constexpr (kind() == TraceKind::Time) {
       p = put_fixed(p, value, 6);
     } else if constexpr (kind() == TraceKind::Line || kind() == TraceKind::Count) {
@@ -174,7 +175,7 @@ void TraceWriter::write_csv(const SampleRecord& s) {
 // Binary row: the schema's fields in row order, little-endian, no padding (trace_columns.def:
 // time as the int64 sample index k, line int32, count int64, fixed3 and percent float64).
 void TraceWriter::write_binary(const SampleRecord& s) {
-  visit_trace_row(s, [&](auto kind, auto value) {
+  visit_trace_row(s, axes_, [&](auto kind, auto value) {
     if constexpr (kind() == TraceKind::Time)
       put_raw(buf_, static_cast<std::int64_t>(s.k));
     else if constexpr (kind() == TraceKind::Line)
@@ -205,7 +206,7 @@ void TraceWriter::count_whole_rows(std::size_t n) {
   std::int64_t good = 0;  // whole rows (and header) among the n bytes written
   if (end >= header_bytes_) {
     if (format_ == TraceFormat::Binary) {
-      good = header_bytes_ + (end - header_bytes_) / kBinaryRow * kBinaryRow - written_;
+      good = header_bytes_ + (end - header_bytes_) / binary_row_ * binary_row_ - written_;
     } else {
       const std::size_t nl = std::string_view(buf_.data(), n).rfind('\n');
       good = nl == std::string_view::npos ? 0 : static_cast<std::int64_t>(nl) + 1;

@@ -25,7 +25,8 @@ struct TraceMeta {
   int taps = 0;  ///< N+1
   double tau_s = 0.0;
   double period_s = 0.0;
-  AxisVec blu_mm = AxisVec::Zero();
+  std::string axes = "XYZ";                ///< the machine's axis letters, its order
+  MachineVec blu_mm = MachineVec::Zero();  ///< per axis, in that order
   bool servo = true;
   int decimate = 1;
   /// --keep-partial: a `# status:` line of fixed width right after the first line, saying
@@ -92,12 +93,15 @@ class TraceWriter {
   bool to_stdout_ = false;
   bool direct_ = false;             ///< an existing device or FIFO: written in place
   bool status_line_ = false;        ///< the header has a `# status:` line (--keep-partial)
+  int axes_ = 3;                    ///< axis blocks per row
+  std::int64_t binary_row_ = 0;     ///< bytes of a binary row
   std::int64_t status_offset_ = 0;  ///< its byte offset in the file
   std::int64_t header_bytes_ = 0;   ///< magic, length and header: the file before the first row
   std::int64_t written_ = 0;        ///< bytes of whole rows (and header) written to the file
   fmt::memory_buffer buf_;
   std::int64_t rows_ = 0;
-  static constexpr std::size_t kMaxCsvRow = 1200;  ///< 14 integers, 2 fixed-point, 1 %g, commas
+  static constexpr std::size_t kMaxCsvRow =
+      1200;  ///< 38 integers (nine axes), 2 fixed-point, 1 %g, commas
   double last_pct_ = std::numeric_limits<double>::quiet_NaN();  ///< override of the cached text
   std::string last_pct_text_;                                   ///< "{:.6g}" of last_pct_ (SSO)
 };

@@ -17,6 +17,8 @@
 #include <utility>
 #include <vector>
 
+using gm::blu3;
+
 using gm::AxisBlu;
 using gm::FirAccDec;
 using gm::FirStructure;
@@ -24,14 +26,14 @@ using gm::FirStructure;
 namespace {
 
 AxisBlu blu(std::int64_t x, std::int64_t y, std::int64_t z) {
-  return AxisBlu(x, y, z);
+  return blu3(x, y, z);
 }
 
 std::vector<std::int64_t> run_x(const gm::Taps& t, const std::vector<std::int64_t>& xs,
                                 FirStructure s = FirStructure::Auto) {
   FirAccDec f(t, AxisBlu::Zero(), s);
   std::vector<std::int64_t> out;
-  AxisBlu o;
+  AxisBlu o = AxisBlu::Zero();
   for (auto x : xs) {
     f.step(blu(x, -x, 0), o);
     CHECK(o[1] == -o[0]);  // rounding is symmetric about zero
@@ -67,7 +69,7 @@ TEST_CASE("filter starts settled at the start position and reports length N+1") 
   FirAccDec f(t, blu(1000, -5, 7));
   CHECK(f.length() == 41);
   CHECK(f.settled());
-  AxisBlu o;
+  AxisBlu o = AxisBlu::Zero();
   f.step(blu(1000, -5, 7), o);
   CHECK(o == blu(1000, -5, 7));
   f.step(blu(1001, -5, 7), o);
@@ -97,26 +99,28 @@ TEST_CASE(
       const bool huge = trial % 4 == 3;  // magnitudes near 2^50 exercise the 128-bit sums
       const std::int64_t vmax = huge ? (std::int64_t{1} << 40)
                                      : std::uniform_int_distribution<std::int64_t>(1, 5000)(rng);
-      AxisBlu start;
-      for (int a = 0; a < gm::kAxes; ++a)
+      // 1..9 axes: the fast path packs them four to a vector (one to three groups).
+      const int axes = std::uniform_int_distribution<int>(1, gm::kMaxAxes)(rng);
+      AxisBlu start = AxisBlu::Zero();
+      for (int a = 0; a < axes; ++a)
         start[a] = std::uniform_int_distribution<std::int64_t>(
             huge ? -(std::int64_t{1} << 50) : -1000000,
             huge ? (std::int64_t{1} << 50) : 1000000)(rng);
       const int len = std::uniform_int_distribution<int>(1, 400)(rng);
-      CAPTURE(seed, p.spec, n, trial, vmax, len);
-      FirAccDec f(taps, start);
+      CAPTURE(seed, p.spec, n, trial, vmax, len, axes);
+      FirAccDec f(taps, start, gm::FirStructure::Auto, axes);
       std::vector<AxisBlu> in_hist;  // relative inputs for the reference convolution
-      AxisBlu pos = start, prev_out = start, out;
+      AxisBlu pos = start, prev_out = start, out = AxisBlu::Zero();
       AxisBlu vel = AxisBlu::Zero();
       std::int64_t peak_in = 0, peak_out = 0;
       auto feed = [&](const AxisBlu& x) {
-        for (int a = 0; a < gm::kAxes; ++a) {
+        for (int a = 0; a < axes; ++a) {
           const std::int64_t prev = in_hist.empty() ? start[a] : in_hist.back()[a];
           peak_in = std::max(peak_in, std::abs(x[a] - prev));
         }
         in_hist.push_back(x);
         f.step(x, out);
-        for (int a = 0; a < gm::kAxes; ++a) {
+        for (int a = 0; a < axes; ++a) {
           peak_out = std::max(peak_out, std::abs(out[a] - prev_out[a]));
           // Reference: exact convolution in long double, within 0.5 BLU (+ tiny slack).
           long double acc = 0;
@@ -134,7 +138,7 @@ TEST_CASE(
       };
       for (int k = 0; k < len; ++k) {
         const int mode = std::uniform_int_distribution<int>(0, 9)(rng);
-        for (int a = 0; a < gm::kAxes; ++a) {
+        for (int a = 0; a < axes; ++a) {
           if (mode == 0)
             vel[a] = std::uniform_int_distribution<std::int64_t>(-vmax, vmax)(rng);  // step
           else if (mode == 1)
@@ -193,7 +197,7 @@ TEST_CASE(
     }
     const double expected = R * static_cast<double>(std::sqrt(re * re + im * im) / taps.b_s);
     FirAccDec f(taps, blu(4000, 0, 0));
-    AxisBlu o;
+    AxisBlu o = AxisBlu::Zero();
     double sum = 0;
     int count = 0;
     const int samples = 41 + static_cast<int>(2 * 3.14159265358979 / wT) + 1;
@@ -231,7 +235,7 @@ TEST_CASE("fast (double) and exact (__int128) evaluations agree across the exact
     for (auto b : taps.integer) b_s += b;
     REQUIRE(lim == ((std::int64_t{1} << 53) - 1) / b_s);
     std::vector<std::int64_t> hist;
-    AxisBlu o;
+    AxisBlu o = AxisBlu::Zero();
     // Wander around ±lim so the window holds small and large values, then come back so the
     // fast path takes over again; positions go up to 16·lim (far beyond what doubles hold exactly).
     std::int64_t x = 0;

@@ -90,7 +90,7 @@ void BM_Fir(benchmark::State& state, const char* profile) {
   gm::AxisBlu in = gm::AxisBlu::Zero(), out;
   std::int64_t k = 0;
   for (auto _ : state) {
-    in += gm::AxisBlu(40 + (k & 7), -20, 3);
+    in += gm::blu3(40 + (k & 7), -20, 3);
     fir.step(in, out);
     benchmark::DoNotOptimize(out);
     ++k;
@@ -161,11 +161,11 @@ void BM_TraceCsv(benchmark::State& state) {
   meta.period_s = 0.004;
   gm::TraceWriter w("/dev/null", gm::TraceFormat::Csv, meta);
   gm::SampleRecord s;
-  s.ref_blu = gm::AxisBlu(123456, -7890, 12);
+  s.ref_blu = gm::blu3(123456, -7890, 12);
   for (auto _ : state) {
     ++s.k;
     s.t_s = static_cast<double>(s.k) * 0.004;
-    s.cmd_blu += gm::AxisBlu(40, -3, 1);
+    s.cmd_blu += gm::blu3(40, -3, 1);
     w.write(s);
   }
   w.finish();

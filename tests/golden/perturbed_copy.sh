@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
-# A golden with one encoder count changed must make `gmotion diff` fail and name that value;
-# the unchanged copy must pass. Usage: perturbed_copy.sh GMOTION GOLDEN.csv
+# A trace with one encoder count changed must make `gmotion diff` fail and name that value;
+# the unchanged copy must pass. Usage: perturbed_copy.sh GMOTION REPO_DIR
 set -euo pipefail
-bin=$1 golden=$2
+bin=$1 repo=$2
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
+golden=$tmp/square.csv
+(cd "$repo" && "$bin" run programs/square.nc --decimate 4 --trace "$golden" >/dev/null)
 cp "$golden" "$tmp/same.csv"
 "$bin" diff "$golden" "$tmp/same.csv" >/dev/null
 # Row 100 of the data (after the header), column 5 (x_enc): add one count.

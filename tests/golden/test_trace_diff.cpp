@@ -39,9 +39,9 @@ std::string write(const fs::path& p, int rows, int bump_at = -1, int bump = 0,
     s.k = k;
     s.t_s = k * 0.004;
     s.line = 3 + k / 10;
-    s.cmd_blu = gm::AxisBlu(10 * k, -5 * k, 1);
-    s.ref_blu = gm::AxisBlu(9 * k, -4 * k, 1);
-    s.enc_blu = gm::AxisBlu(8 * k, -3 * k + (k == bump_at ? bump : 0), 1);
+    s.cmd_blu = gm::blu3(10 * k, -5 * k, 1);
+    s.ref_blu = gm::blu3(9 * k, -4 * k, 1);
+    s.enc_blu = gm::blu3(8 * k, -3 * k + (k == bump_at ? bump : 0), 1);
     s.ferr_blu = s.ref_blu - s.enc_blu;
     s.contour_err_blu = 0.125 * k;
     w.write(s);

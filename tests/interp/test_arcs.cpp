@@ -25,7 +25,7 @@ gm::Motion one_arc(const std::string& setup_and_arc, const gm::Machine& m = gm::
 
 TEST_CASE("IJK arc in XY: centre = start + (I, J), G2 clockwise, half circle") {
   const auto a = one_arc("G2 X10 Y0 I5 J0");
-  CHECK(a.center_mm == gm::AxisVec(5, 0, 0));
+  CHECK(a.center_mm == gm::xyz(5, 0, 0));
   CHECK_FALSE(a.ccw);
   CHECK(a.turns == 1);
   CHECK(a.plane == Plane::XY);
@@ -58,8 +58,8 @@ TEST_CASE("R equal to half the chord within 0.00127 mm is a semicircle (LinuxCNC
 
 TEST_CASE("full circle with IJK and P turns, helix on the normal axis") {
   const auto a = one_arc("G3 I5 Z-3 P2");
-  CHECK(a.end_mm == gm::AxisVec(0, 0, -3));
-  CHECK(a.center_mm == gm::AxisVec(5, 0, 0));  // normal component = start's
+  CHECK(a.end_mm == gm::xyz(0, 0, -3));
+  CHECK(a.center_mm == gm::xyz(5, 0, 0));  // normal component = start's
   CHECK(a.turns == 2);
   CHECK(gm::arc_sweep_rad(a) == Approx(4 * kPi));
   CHECK(gm::motion_length_mm(a) == Approx(std::hypot(5 * 4 * kPi, 3.0)));
@@ -68,22 +68,22 @@ TEST_CASE("full circle with IJK and P turns, helix on the normal axis") {
 TEST_CASE("G18 and G19 planes: offsets K/I and J/K, normal axes Y and X") {
   auto a = one_arc("G18 G2 X10 Z0 I5");
   CHECK(a.plane == Plane::XZ);
-  CHECK(a.center_mm == gm::AxisVec(5, 0, 0));
+  CHECK(a.center_mm == gm::xyz(5, 0, 0));
   a = one_arc("G18 G3 X10 Z10 R10 Y3");  // rs274: centre Z0 X10, end Y3
   CHECK(a.center_mm[0] == Approx(10));
   CHECK(a.center_mm[2] == Approx(0).margin(1e-9));
-  CHECK(a.end_mm == gm::AxisVec(10, 3, 10));
+  CHECK(a.end_mm == gm::xyz(10, 3, 10));
   a = one_arc("G19 G2 Y10 Z0 J5");
   CHECK(a.plane == Plane::YZ);
-  CHECK(a.center_mm == gm::AxisVec(0, 5, 0));
+  CHECK(a.center_mm == gm::xyz(0, 5, 0));
 }
 
 TEST_CASE("G90.1 absolute arc centres include the work offset") {
   gm::Machine m;
-  m.work_offsets_mm[0] = gm::AxisVec(100, 0, 0);
+  m.work_offsets_mm[0] = gm::xyz(100, 0, 0);
   const auto a = one_arc("G0 X0 Y0\nG90.1 G2 X10 Y0 I5 J0", m);
-  CHECK(a.center_mm == gm::AxisVec(105, 0, 0));
-  CHECK(a.end_mm == gm::AxisVec(110, 0, 0));
+  CHECK(a.center_mm == gm::xyz(105, 0, 0));
+  CHECK(a.end_mm == gm::xyz(110, 0, 0));
 }
 
 TEST_CASE("inch arcs are converted after the geometry is checked in inches") {

@@ -9,6 +9,7 @@ using namespace gmtest;
 using gm::AxisVec;
 using gm::ErrorCode;
 using gm::MotionKind;
+using gm::xyz;
 
 namespace {
 bool near(const AxisVec& a, const AxisVec& b) {
@@ -27,14 +28,14 @@ TEST_CASE("G41 concave corner: the first line ends where the offset lines meet")
       "G40 G1 X0 Y20\n"
       "M2\n");
   REQUIRE(m.size() == 5);
-  CHECK(near(m[1].end_mm, AxisVec(0, 3, 0)));  // entry, released by the next block
+  CHECK(near(m[1].end_mm, xyz(0, 3, 0)));  // entry, released by the next block
   CHECK(m[1].line == 3);
-  CHECK(near(m[2].start_mm, AxisVec(0, 3, 0)));
-  CHECK(near(m[2].end_mm, AxisVec(7, 3, 0)));   // backed off by r / tan(45 deg) = 3
-  CHECK(near(m[3].end_mm, AxisVec(7, 10, 0)));  // G40: the last line ends where it was going
+  CHECK(near(m[2].start_mm, xyz(0, 3, 0)));
+  CHECK(near(m[2].end_mm, xyz(7, 3, 0)));   // backed off by r / tan(45 deg) = 3
+  CHECK(near(m[3].end_mm, xyz(7, 10, 0)));  // G40: the last line ends where it was going
   CHECK(m[4].line == 6);  // the exit move starts at the tool, ends at the programmed point
-  CHECK(near(m[4].start_mm, AxisVec(7, 10, 0)));
-  CHECK(near(m[4].end_mm, AxisVec(0, 20, 0)));
+  CHECK(near(m[4].start_mm, xyz(7, 10, 0)));
+  CHECK(near(m[4].end_mm, xyz(0, 20, 0)));
 }
 
 TEST_CASE("G41 convex corner: an arc of the tool radius around the programmed corner") {
@@ -48,13 +49,13 @@ TEST_CASE("G41 convex corner: an arc of the tool radius around the programmed co
       "G40 G1 X20 Y-20\n"
       "M2\n");
   REQUIRE(m.size() == 6);
-  CHECK(near(m[2].end_mm, AxisVec(10, 3, 0)));
+  CHECK(near(m[2].end_mm, xyz(10, 3, 0)));
   REQUIRE(m[3].kind == MotionKind::Arc);
   CHECK(m[3].line == 5);
   CHECK_FALSE(m[3].ccw);  // clockwise around (10,0) from (10,3) to (13,0)
-  CHECK(near(m[3].center_mm, AxisVec(10, 0, 0)));
-  CHECK(near(m[3].end_mm, AxisVec(13, 0, 0)));
-  CHECK(near(m[4].end_mm, AxisVec(13, -10, 0)));
+  CHECK(near(m[3].center_mm, xyz(10, 0, 0)));
+  CHECK(near(m[3].end_mm, xyz(13, 0, 0)));
+  CHECK(near(m[4].end_mm, xyz(13, -10, 0)));
 }
 
 TEST_CASE("G42 inside an arc: the arc keeps its centre, radius minus the tool radius") {
@@ -67,10 +68,10 @@ TEST_CASE("G42 inside an arc: the arc keeps its centre, radius minus the tool ra
       "G40 G1 X20 Y-10\n"
       "M2\n");
   REQUIRE(m.size() == 4);
-  CHECK(near(m[1].end_mm, AxisVec(2, 0, 0)));
+  CHECK(near(m[1].end_mm, xyz(2, 0, 0)));
   REQUIRE(m[2].kind == MotionKind::Arc);
-  CHECK(near(m[2].center_mm, AxisVec(10, 0, 0)));
-  CHECK(near(m[2].end_mm, AxisVec(18, 0, 0)));
+  CHECK(near(m[2].center_mm, xyz(10, 0, 0)));
+  CHECK(near(m[2].end_mm, xyz(18, 0, 0)));
 }
 
 TEST_CASE("cutter compensation errors") {

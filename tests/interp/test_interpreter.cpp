@@ -12,11 +12,11 @@ TEST_CASE("G0 and G1 end points and feed in mm, mm/min") {
   const auto m = motions("G21 G90\nG0 X1 Y2 Z3\nG1 X4 F600\nM2\n");
   REQUIRE(m.size() == 2);
   CHECK(m[0].kind == MotionKind::Rapid);
-  CHECK(m[0].end_mm == gm::AxisVec(1, 2, 3));
+  CHECK(m[0].end_mm == gm::xyz(1, 2, 3));
   CHECK(m[0].line == 2);
   CHECK(m[1].kind == MotionKind::Line);
-  CHECK(m[1].start_mm == gm::AxisVec(1, 2, 3));
-  CHECK(m[1].end_mm == gm::AxisVec(4, 2, 3));
+  CHECK(m[1].start_mm == gm::xyz(1, 2, 3));
+  CHECK(m[1].end_mm == gm::xyz(4, 2, 3));
   CHECK(m[1].feed_mm_min == 600.0);
 }
 
@@ -35,14 +35,14 @@ TEST_CASE("G20 converts lengths and feed to mm once, G21 back") {
 TEST_CASE("G91 incremental and G90 absolute") {
   const auto m = motions("G91 G1 X1 Y1 F100\nX1\nG90 X0\nM2\n");
   REQUIRE(m.size() == 3);
-  CHECK(m[0].end_mm == gm::AxisVec(1, 1, 0));
-  CHECK(m[1].end_mm == gm::AxisVec(2, 1, 0));
-  CHECK(m[2].end_mm == gm::AxisVec(0, 1, 0));
+  CHECK(m[0].end_mm == gm::xyz(1, 1, 0));
+  CHECK(m[1].end_mm == gm::xyz(2, 1, 0));
+  CHECK(m[2].end_mm == gm::xyz(0, 1, 0));
 }
 
 TEST_CASE("work offsets G54-G59, G92, G92.1 and tool length G43/G49") {
   gm::Machine mach;
-  mach.work_offsets_mm[1] = gm::AxisVec(100, 200, 300);  // G55
+  mach.work_offsets_mm[1] = gm::xyz(100, 200, 300);  // G55
   mach.tool_lengths_mm = {0.0, 12.5};
   const auto m = motions(
       "G55 G0 X1 Y2 Z3\n"  // 101 202 303
@@ -54,8 +54,8 @@ TEST_CASE("work offsets G54-G59, G92, G92.1 and tool length G43/G49") {
       "G49 G0 Z0\nM2\n",
       mach);
   REQUIRE(m.size() == 6);
-  CHECK(m[0].end_mm == gm::AxisVec(101, 202, 303));
-  CHECK(m[1].end_mm == gm::AxisVec(1, 202, 303));
+  CHECK(m[0].end_mm == gm::xyz(101, 202, 303));
+  CHECK(m[1].end_mm == gm::xyz(1, 202, 303));
   CHECK(m[2].end_mm[0] == Approx(11));
   CHECK(m[3].end_mm[0] == Approx(0));
   CHECK(m[4].end_mm[2] == Approx(12.5));

@@ -7,6 +7,8 @@
 
 #include <sstream>
 
+using gm::xyz;
+
 using namespace gmtest;
 using gm::AxisVec;
 using gm::ErrorCode;
@@ -21,9 +23,9 @@ TEST_CASE("G10 L2 / L20 and G54..G59.3: machine = program + work offset") {
       "G54 G0 X10\n"              // 10 -49 6
       "M2\n");
   REQUIRE(m.size() == 3);
-  CHECK(m[0].end_mm == AxisVec(101, -49, 6));
-  CHECK(m[1].end_mm == AxisVec(111, -49, 6));
-  CHECK(m[2].end_mm == AxisVec(10, -49, 6));
+  CHECK(m[0].end_mm == xyz(101, -49, 6));
+  CHECK(m[1].end_mm == xyz(111, -49, 6));
+  CHECK(m[2].end_mm == xyz(10, -49, 6));
 }
 
 TEST_CASE("G92 family and G52 share the axis offsets, G92.2 suspends and G92.3 restores") {
@@ -63,12 +65,12 @@ TEST_CASE(
       "M2\n",
       mach);
   REQUIRE(m.size() == 6);
-  CHECK(m[0].end_mm == AxisVec(11, 12, 13));
-  CHECK(m[1].end_mm == AxisVec(10, 10, 10));
-  CHECK(m[2].end_mm == AxisVec(10, 10, 15));
-  CHECK(m[3].end_mm == AxisVec(10, 10, 13));
-  CHECK(m[4].end_mm == AxisVec(-1, 10, 13));
-  CHECK(m[5].end_mm == AxisVec(11, 10, 13));  // the via point (here) is a zero-length move
+  CHECK(m[0].end_mm == xyz(11, 12, 13));
+  CHECK(m[1].end_mm == xyz(10, 10, 10));
+  CHECK(m[2].end_mm == xyz(10, 10, 15));
+  CHECK(m[3].end_mm == xyz(10, 10, 13));
+  CHECK(m[4].end_mm == xyz(-1, 10, 13));
+  CHECK(m[5].end_mm == xyz(11, 10, 13));  // the via point (here) is a zero-length move
 }
 
 TEST_CASE("tool table: T M6, G43 H, G43.1, G43.2, G49, G10 L1/L10 (default table T1 Z50)") {
@@ -147,15 +149,15 @@ TEST_CASE("G81 and G83 expand as LinuxCNC: across, down to R, pecks, retract") {
       "G98 G83 X4 Z-5 R2 Q3\n"       // G98: back to the initial level 10; pecks of 3 from R 2
       "M2\n");
   REQUIRE(m.size() == 15);
-  CHECK(m[0].end_mm == AxisVec(0, 0, 10));
-  CHECK(m[1].end_mm == AxisVec(1, 2, 10));
-  CHECK(m[2].end_mm == AxisVec(1, 2, 2));
+  CHECK(m[0].end_mm == xyz(0, 0, 10));
+  CHECK(m[1].end_mm == xyz(1, 2, 10));
+  CHECK(m[2].end_mm == xyz(1, 2, 2));
   CHECK(m[3].kind == gm::MotionKind::Line);
-  CHECK(m[3].end_mm == AxisVec(1, 2, -3));
-  CHECK(m[4].end_mm == AxisVec(1, 2, 2));
+  CHECK(m[3].end_mm == xyz(1, 2, -3));
+  CHECK(m[4].end_mm == xyz(1, 2, 2));
   // G83 at the R plane under G98: across at the initial level 10, down to R, pecks -1, -4
-  CHECK(m[5].end_mm == AxisVec(4, 2, 10));
-  CHECK(m[6].end_mm == AxisVec(4, 2, 2));
+  CHECK(m[5].end_mm == xyz(4, 2, 10));
+  CHECK(m[6].end_mm == xyz(4, 2, 2));
   CHECK(m[7].end_mm[2] == Approx(-1));      // feed
   CHECK(m[8].end_mm[2] == Approx(2));       // out to R
   CHECK(m[9].end_mm[2] == Approx(-0.746));  // back down to 0.254 mm above the last depth
@@ -164,4 +166,31 @@ TEST_CASE("G81 and G83 expand as LinuxCNC: across, down to R, pecks, retract") {
   CHECK(m[12].end_mm[2] == Approx(-3.746));
   CHECK(m[13].end_mm[2] == Approx(-5));  // to the bottom
   CHECK(m[14].end_mm[2] == Approx(10));  // G98: the initial level
+}
+
+TEST_CASE("system parameters: G28/G30, G92, coordinate systems and tool data in mm") {
+  // Hand-worked: G55 = (10, 20, -5); the point G55 (1, 2, 3) is machine (11, 22, -2); G92 X0 Y0
+  // there makes the G92 offsets (1, 2); the spindle's tool is T1 (Z50 D6 in the default table).
+  const auto canon =
+      run("G21 G10 L2 P2 X10 Y20 Z-5\n"
+          "G55 G0 X1 Y2 Z3\n"
+          "G28.1\n"
+          "G92 X0 Y0\n"
+          "(DEBUG,#5220 #5241 #5242 #5243 #5161 #5162 #5163 #5210 #5211 #5212)\n"
+          "G20 G10 L2 P2 X1\n"
+          "G92.2\n"
+          "(DEBUG,#5241 #5210 #5211)\n"
+          "G21 T1 M6\n"
+          "(DEBUG,#5400 #5403 #5410)\n"
+          "M2\n");
+  std::vector<std::string> texts;
+  for (const auto& c : canon)
+    if (const auto* e = std::get_if<gm::Event>(&c); e && e->kind == gm::EventKind::Message)
+      texts.push_back(e->text);
+  REQUIRE(texts.size() == 3);
+  CHECK(texts[0] ==
+        "2.000000 10.000000 20.000000 -5.000000 11.000000 22.000000 -2.000000 1.000000 1.000000 "
+        "2.000000");
+  CHECK(texts[1] == "25.400000 0.000000 1.000000");  // G92.2 keeps the stored values
+  CHECK(texts[2] == "1.000000 50.000000 6.000000");
 }

@@ -6,12 +6,18 @@
 #include <cmath>
 #include <numbers>
 
+using gm::xyz;
+
 using gm::AxisVec;
 using gm::Motion;
 using gm::MotionGeometry;
 using gm::MotionKind;
 
 namespace {
+// A point in X, Y, Z: what the contour error is measured on.
+gm::Vec3 p3(double x, double y, double z) {
+  return gm::Vec3(x, y, z);
+}
 
 constexpr double kPi = std::numbers::pi;
 
@@ -43,15 +49,15 @@ bool near(const AxisVec& a, const AxisVec& b, double tol = 1e-12) {
 }  // namespace
 
 TEST_CASE("geometry: a 3-4-5 line") {
-  const MotionGeometry g = MotionGeometry::of(line(AxisVec(1, 1, 0), AxisVec(4, 5, 0)));
+  const MotionGeometry g = MotionGeometry::of(line(xyz(1, 1, 0), xyz(4, 5, 0)));
   CHECK(g.length_mm == 5.0);
-  CHECK(near(g.point_at(2.5), AxisVec(2.5, 3, 0)));
-  CHECK(near(g.tangent_at(1.0), AxisVec(0.6, 0.8, 0)));
-  CHECK(g.at_fraction(1.0) == AxisVec(4, 5, 0));
+  CHECK(near(g.point_at(2.5), xyz(2.5, 3, 0)));
+  CHECK(near(g.tangent_at(1.0), xyz(0.6, 0.8, 0)));
+  CHECK(g.at_fraction(1.0) == xyz(4, 5, 0));
   double d = 0, sd = 0;
-  g.distance(AxisVec(1 + 4, 1 - 3, 0), d, sd);  // perpendicular to the start: 5 away
+  g.distance(p3(1 + 4, 1 - 3, 0), d, sd);  // perpendicular to the start: 5 away
   CHECK(d == Approx(5.0));
-  g.distance(AxisVec(7, 9, 0), d, sd);  // beyond the end (3, 4) further on: 5 away from it
+  g.distance(p3(7, 9, 0), d, sd);  // beyond the end (3, 4) further on: 5 away from it
   CHECK(d == Approx(5.0));
   CHECK(sd == d);
 }
@@ -59,57 +65,57 @@ TEST_CASE("geometry: a 3-4-5 line") {
 TEST_CASE("geometry: sweeps by LinuxCNC's rule, in each plane and direction") {
   const double r = 10;
   // XY quarter turns: (10,0) -> (0,10) is +π/2 counter-clockwise, -3π/2 clockwise.
-  CHECK(gm::arc_sweep_rad(arc(AxisVec(r, 0, 0), AxisVec(0, r, 0), AxisVec::Zero(), true)) ==
+  CHECK(gm::arc_sweep_rad(arc(xyz(r, 0, 0), xyz(0, r, 0), AxisVec::Zero(), true)) ==
         Approx(kPi / 2));
-  CHECK(gm::arc_sweep_rad(arc(AxisVec(r, 0, 0), AxisVec(0, r, 0), AxisVec::Zero(), false)) ==
+  CHECK(gm::arc_sweep_rad(arc(xyz(r, 0, 0), xyz(0, r, 0), AxisVec::Zero(), false)) ==
         Approx(-3 * kPi / 2));
   // An end equal to the start is a full circle; P3 adds two more turns.
-  const AxisVec s(r, 0, 0);
+  const AxisVec s = xyz(r, 0, 0);
   CHECK(gm::arc_sweep_rad(arc(s, s, AxisVec::Zero(), true)) == Approx(2 * kPi));
   CHECK(gm::arc_sweep_rad(arc(s, s, AxisVec::Zero(), false)) == Approx(-2 * kPi));
   CHECK(gm::arc_sweep_rad(arc(s, s, AxisVec::Zero(), true, gm::Plane::XY, 3)) == Approx(6 * kPi));
   // An end a hair past the start is a hair of an arc one way and almost a turn the other.
-  const AxisVec e(r * std::cos(1e-9), r * std::sin(1e-9), 0);
+  const AxisVec e = xyz(r * std::cos(1e-9), r * std::sin(1e-9), 0);
   CHECK(gm::arc_sweep_rad(arc(s, e, AxisVec::Zero(), true)) == Approx(1e-9).margin(1e-15));
   CHECK(gm::arc_sweep_rad(arc(s, e, AxisVec::Zero(), false)) == Approx(-2 * kPi + 1e-9));
   // G18: angles run from Z toward X. X=10 -> Z=10 counter-clockwise: from π/2 to 0, i.e. 3π/2.
-  CHECK(gm::arc_sweep_rad(arc(AxisVec(r, 0, 0), AxisVec(0, 0, r), AxisVec::Zero(), true,
-                              gm::Plane::XZ)) == Approx(3 * kPi / 2));
+  CHECK(gm::arc_sweep_rad(arc(xyz(r, 0, 0), xyz(0, 0, r), AxisVec::Zero(), true, gm::Plane::XZ)) ==
+        Approx(3 * kPi / 2));
   // G19: angles run from Y toward Z. Y=10 -> Z=10 counter-clockwise: π/2.
-  CHECK(gm::arc_sweep_rad(arc(AxisVec(0, r, 0), AxisVec(0, 0, r), AxisVec::Zero(), true,
-                              gm::Plane::YZ)) == Approx(kPi / 2));
+  CHECK(gm::arc_sweep_rad(arc(xyz(0, r, 0), xyz(0, 0, r), AxisVec::Zero(), true, gm::Plane::YZ)) ==
+        Approx(kPi / 2));
 }
 
 TEST_CASE("geometry: a quarter arc's length, points, tangents and distances") {
   const MotionGeometry g =
-      MotionGeometry::of(arc(AxisVec(10, 0, 0), AxisVec(0, 10, 0), AxisVec::Zero(), true));
+      MotionGeometry::of(arc(xyz(10, 0, 0), xyz(0, 10, 0), AxisVec::Zero(), true));
   CHECK(g.length_mm == Approx(5 * kPi));
   const double h = 10 / std::sqrt(2.0);
-  CHECK(near(g.point_at(g.length_mm / 2), AxisVec(h, h, 0), 1e-12));
-  CHECK(near(g.tangent_at(0), AxisVec(0, 1, 0)));
-  CHECK(near(g.tangent_at(g.length_mm), AxisVec(-1, 0, 0)));
+  CHECK(near(g.point_at(g.length_mm / 2), xyz(h, h, 0), 1e-12));
+  CHECK(near(g.tangent_at(0), xyz(0, 1, 0)));
+  CHECK(near(g.tangent_at(g.length_mm), xyz(-1, 0, 0)));
   double d = 0, sd = 0;
-  g.distance(AxisVec(20, 20, 0), d, sd);  // in the sector: radial 20√2 − 10, outside
+  g.distance(p3(20, 20, 0), d, sd);  // in the sector: radial 20√2 − 10, outside
   CHECK(d == Approx(20 * std::sqrt(2.0) - 10));
   CHECK(sd == Approx(d));
-  g.distance(AxisVec(3, 4, 0), d, sd);  // inside the circle: negative
+  g.distance(p3(3, 4, 0), d, sd);  // inside the circle: negative
   CHECK(sd == Approx(-5.0));
-  g.distance(AxisVec(10, -5, 0), d, sd);  // behind the start: the start point is nearest
+  g.distance(p3(10, -5, 0), d, sd);  // behind the start: the start point is nearest
   CHECK(d == Approx(5.0));
-  g.distance(AxisVec(h, h, 2), d, sd);  // above the arc: the axial offset counts
+  g.distance(p3(h, h, 2), d, sd);  // above the arc: the axial offset counts
   CHECK(d == Approx(2.0));
-  CHECK(g.radial_deviation_mm(AxisVec(0, -12, 7)) == Approx(2.0));
+  CHECK(g.radial_deviation_mm(p3(0, -12, 7)) == Approx(2.0));
 }
 
 TEST_CASE("geometry: a helix of two turns") {
   // r = 1 around Z, rising 3 mm over two full turns (P2): length hypot(2·2π, 3).
-  const Motion m = arc(AxisVec(1, 0, 0), AxisVec(1, 0, 3), AxisVec::Zero(), true, gm::Plane::XY, 2);
+  const Motion m = arc(xyz(1, 0, 0), xyz(1, 0, 3), AxisVec::Zero(), true, gm::Plane::XY, 2);
   const MotionGeometry g = MotionGeometry::of(m);
   CHECK(g.sweep_rad == Approx(4 * kPi));
   CHECK(g.length_mm == Approx(std::hypot(4 * kPi, 3.0)));
   CHECK(gm::motion_length_mm(m) == g.length_mm);
-  CHECK(near(g.point_at(g.length_mm / 4), AxisVec(-1, 0, 0.75), 1e-12));
+  CHECK(near(g.point_at(g.length_mm / 4), xyz(-1, 0, 0.75), 1e-12));
   const AxisVec t = g.tangent_at(0);
-  CHECK(near(t, AxisVec(0, 4 * kPi, 3) / std::hypot(4 * kPi, 3.0), 1e-12));
+  CHECK(near(t, xyz(0, 4 * kPi, 3) / std::hypot(4 * kPi, 3.0), 1e-12));
   CHECK(g.at_fraction(1.0) == m.end_mm);
 }

@@ -10,6 +10,9 @@
 #include <random>
 #include <vector>
 
+using gm::blu3;
+using gm::xyz;
+
 using gm::AxisBlu;
 using gm::AxisVec;
 using gm::Canon;
@@ -87,21 +90,21 @@ std::vector<gm::CommandSample> samples(std::vector<Canon> canon,
 
 TEST_CASE("a line at F600 moves 40 BLU per 4 ms sample and ends exactly") {
   // 10 mm at 10 mm/s, T = 4 ms: 0.04 mm = 40 BLU a sample, 250 samples.
-  const auto s = samples({line(AxisVec::Zero(), AxisVec(10, 0, 0), 600)});
+  const auto s = samples({line(AxisVec::Zero(), xyz(10, 0, 0), 600)});
   REQUIRE(s.size() == 250);
   for (std::size_t k = 0; k < s.size(); ++k)
-    CHECK(s[k].pos_blu == AxisBlu(40 * (static_cast<long>(k) + 1), 0, 0));
+    CHECK(s[k].pos_blu == blu3(40 * (static_cast<long>(k) + 1), 0, 0));
   // 10.01 mm: ceil(10.01 / 0.04) = 251 samples, the last one short.
-  const auto t = samples({line(AxisVec::Zero(), AxisVec(10.01, 0, 0), 600)});
+  const auto t = samples({line(AxisVec::Zero(), xyz(10.01, 0, 0), 600)});
   REQUIRE(t.size() == 251);
-  CHECK(t.back().pos_blu == AxisBlu(10010, 0, 0));
-  CHECK(t[249].pos_blu == AxisBlu(10000, 0, 0));
+  CHECK(t.back().pos_blu == blu3(10010, 0, 0));
+  CHECK(t[249].pos_blu == blu3(10000, 0, 0));
 }
 
 TEST_CASE("time carries across blocks: two collinear blocks sample like one") {
-  const auto one = samples({line(AxisVec::Zero(), AxisVec(7.3, 0, 0), 750)});
-  const auto two = samples({line(AxisVec::Zero(), AxisVec(2.01, 0, 0), 750),
-                            line(AxisVec(2.01, 0, 0), AxisVec(7.3, 0, 0), 750)});
+  const auto one = samples({line(AxisVec::Zero(), xyz(7.3, 0, 0), 750)});
+  const auto two = samples(
+      {line(AxisVec::Zero(), xyz(2.01, 0, 0), 750), line(xyz(2.01, 0, 0), xyz(7.3, 0, 0), 750)});
   REQUIRE(one.size() == two.size());
   for (std::size_t k = 0; k < one.size(); ++k) CHECK(one[k].pos_blu == two[k].pos_blu);
   // The second block started in the sample where the first ended: its block_seq is 2 there.
@@ -113,7 +116,7 @@ TEST_CASE("time carries across blocks: two collinear blocks sample like one") {
 
 TEST_CASE("a quarter arc stays on the circle and ends exactly") {
   // R = 10 mm, ccw from (10,0) to (0,10) about the origin at 600 mm/min: length 5π mm.
-  const auto s = samples({arc(AxisVec(10, 0, 0), AxisVec(0, 10, 0), AxisVec::Zero(), true, 600)});
+  const auto s = samples({arc(xyz(10, 0, 0), xyz(0, 10, 0), AxisVec::Zero(), true, 600)});
   CHECK(s.size() == static_cast<std::size_t>(std::ceil(5 * M_PI / 0.04)));
   for (const auto& x : s) {
     const double r =
@@ -122,7 +125,7 @@ TEST_CASE("a quarter arc stays on the circle and ends exactly") {
     CHECK(x.pos_blu[0] >= 0);
     CHECK(x.pos_blu[1] >= 0);
   }
-  CHECK(s.back().pos_blu == AxisBlu(0, 10000, 0));
+  CHECK(s.back().pos_blu == blu3(0, 10000, 0));
   // Counter-clockwise: Y grows first.
   CHECK(s[0].pos_blu[1] > 0);
 }
@@ -132,10 +135,10 @@ TEST_CASE("full circles and multi-turn arcs take the whole circumference per tur
   const double turn_s = 2 * M_PI * 4 / 15;
   for (int turns : {1, 3}) {
     INFO("turns " << turns);
-    const auto s = samples({arc(AxisVec(4, 0, 0), AxisVec(4, 0, 0), AxisVec::Zero(), false, 900,
-                                gm::Plane::XY, turns)});
+    const auto s = samples(
+        {arc(xyz(4, 0, 0), xyz(4, 0, 0), AxisVec::Zero(), false, 900, gm::Plane::XY, turns)});
     CHECK(std::abs(static_cast<double>(s.size()) * 0.004 - turns * turn_s) <= 0.004);
-    CHECK(s.back().pos_blu == AxisBlu(4000, 0, 0));
+    CHECK(s.back().pos_blu == blu3(4000, 0, 0));
     CHECK(s[0].pos_blu[1] < 0);  // G2 (clockwise) from +X goes toward −Y
   }
 }
@@ -143,32 +146,30 @@ TEST_CASE("full circles and multi-turn arcs take the whole circumference per tur
 TEST_CASE(
     "a helix moves the normal axis in proportion to the angle, its length is sqrt((Rθ)² + h²)") {
   // Two turns of R = 5 about (0,0) descending 4 mm, cw, 600 mm/min.
-  const auto s = samples(
-      {arc(AxisVec(5, 0, 0), AxisVec(5, 0, -4), AxisVec::Zero(), false, 600, gm::Plane::XY, 2)});
+  const auto s =
+      samples({arc(xyz(5, 0, 0), xyz(5, 0, -4), AxisVec::Zero(), false, 600, gm::Plane::XY, 2)});
   const double length = std::hypot(2 * 2 * M_PI * 5, 4.0);
   CHECK(s.size() == static_cast<std::size_t>(std::ceil(length / 0.04)));
   for (std::size_t k = 0; k < s.size(); ++k) {
     const double u = std::min(1.0, (static_cast<double>(k) + 1) * 0.04 / length);  // fraction done
     CHECK(std::abs(static_cast<double>(s[k].pos_blu[2]) - (-4000.0 * u)) <= 0.5 + 1e-6);
   }
-  CHECK(s.back().pos_blu == AxisBlu(5000, 0, -4000));
+  CHECK(s.back().pos_blu == blu3(5000, 0, -4000));
 }
 
 TEST_CASE("arcs in XZ and YZ turn the LinuxCNC way") {
   // G18: in-plane axes (Z, X), ccw seen from +Y goes from +Z toward +X (rs274 ARC_FEED first
   // axis Z, second X; rotation > 0 is G3). From (0,0,5) about the origin, ccw: X grows first.
-  auto s =
-      samples({arc(AxisVec(0, 0, 5), AxisVec(5, 0, 0), AxisVec::Zero(), true, 600, gm::Plane::XZ)});
+  auto s = samples({arc(xyz(0, 0, 5), xyz(5, 0, 0), AxisVec::Zero(), true, 600, gm::Plane::XZ)});
   CHECK(s[0].pos_blu[0] > 0);
-  CHECK(s.back().pos_blu == AxisBlu(5000, 0, 0));
+  CHECK(s.back().pos_blu == blu3(5000, 0, 0));
   CHECK(s.size() == static_cast<std::size_t>(std::ceil(2.5 * M_PI / 0.04)));  // a quarter turn
   // G19: in-plane axes (Y, Z), ccw from +Y toward +Z.
-  s = samples({arc(AxisVec(0, 5, 0), AxisVec(0, 0, 5), AxisVec::Zero(), true, 600, gm::Plane::YZ)});
+  s = samples({arc(xyz(0, 5, 0), xyz(0, 0, 5), AxisVec::Zero(), true, 600, gm::Plane::YZ)});
   CHECK(s[0].pos_blu[2] > 0);
   CHECK(s.size() == static_cast<std::size_t>(std::ceil(2.5 * M_PI / 0.04)));
   // The same end point clockwise is three quarters of a turn.
-  s = samples(
-      {arc(AxisVec(0, 5, 0), AxisVec(0, 0, 5), AxisVec::Zero(), false, 600, gm::Plane::YZ)});
+  s = samples({arc(xyz(0, 5, 0), xyz(0, 0, 5), AxisVec::Zero(), false, 600, gm::Plane::YZ)});
   CHECK(s[0].pos_blu[2] < 0);
   CHECK(s.size() == static_cast<std::size_t>(std::ceil(7.5 * M_PI / 0.04)));
 }
@@ -178,27 +179,27 @@ TEST_CASE("a dwell holds for exactly its time, exact stop holds settle_samples")
   d.seconds = 0.1;
   d.line = 2;
   // 1 mm at 600 mm/min = 25 samples, then 0.1 s = 25 samples of dwell, then 25 more.
-  auto s = samples({line(AxisVec::Zero(), AxisVec(1, 0, 0), 600), d,
-                    line(AxisVec(1, 0, 0), AxisVec(2, 0, 0), 600, 3)});
+  auto s = samples(
+      {line(AxisVec::Zero(), xyz(1, 0, 0), 600), d, line(xyz(1, 0, 0), xyz(2, 0, 0), 600, 3)});
   REQUIRE(s.size() == 75);
   for (std::size_t k = 25; k < 50; ++k) {
-    CHECK(s[k].pos_blu == AxisBlu(1000, 0, 0));
+    CHECK(s[k].pos_blu == blu3(1000, 0, 0));
     CHECK((s[k].events & gm::kEventDwell) != 0);
     CHECK(s[k].line == 2);
   }
   // Exact stop: a block of 1.01 mm ends inside sample 26; the rest of that sample is dropped
   // and 7 settle samples follow before the next block starts.
-  Motion a = line(AxisVec::Zero(), AxisVec(1.01, 0, 0), 600);
+  Motion a = line(AxisVec::Zero(), xyz(1.01, 0, 0), 600);
   a.path_mode = gm::PathMode::ExactStop;
-  s = samples({a, line(AxisVec(1.01, 0, 0), AxisVec(2.01, 0, 0), 600)}, config(0.001, 7));
+  s = samples({a, line(xyz(1.01, 0, 0), xyz(2.01, 0, 0), 600)}, config(0.001, 7));
   REQUIRE(s.size() == 26 + 7 + 25);
-  CHECK(s[25].pos_blu == AxisBlu(1010, 0, 0));
+  CHECK(s[25].pos_blu == blu3(1010, 0, 0));
   for (std::size_t k = 26; k < 33; ++k) CHECK((s[k].events & gm::kEventSettle) != 0);
-  CHECK(s[33].pos_blu == AxisBlu(1050, 0, 0));  // the next block starts on a fresh sample
+  CHECK(s[33].pos_blu == blu3(1050, 0, 0));  // the next block starts on a fresh sample
 }
 
 TEST_CASE("an override step changes V[k] at the next sample, 0 % holds without losing position") {
-  auto s = samples({line(AxisVec::Zero(), AxisVec(20, 0, 0), 600)}, config(), [](std::int64_t k) {
+  auto s = samples({line(AxisVec::Zero(), xyz(20, 0, 0), 600)}, config(), [](std::int64_t k) {
     return k < 10 ? 1.0 : k < 20 ? 2.0 : k < 30 ? 0.0 : 1.0;
   });
   CHECK(s[9].pos_blu[0] - s[8].pos_blu[0] == 40);
@@ -208,13 +209,13 @@ TEST_CASE("an override step changes V[k] at the next sample, 0 % holds without l
     CHECK((s[k].events & gm::kEventHold) != 0);
   }
   CHECK(s[30].pos_blu[0] - s[29].pos_blu[0] == 40);
-  CHECK(s.back().pos_blu == AxisBlu(20000, 0, 0));
+  CHECK(s.back().pos_blu == blu3(20000, 0, 0));
   // 20 mm: 10 samples at 40 BLU, 10 at 80 (1.2 mm), 10 held, then 18.8 mm at 40 = 470 samples.
   CHECK(s.size() == 10 + 10 + 10 + 470);
 }
 
 TEST_CASE("rapids run at the rapid rate times the rapid override, G93 takes its inverse time") {
-  Motion r = line(AxisVec::Zero(), AxisVec(10, 0, 0), 0);
+  Motion r = line(AxisVec::Zero(), xyz(10, 0, 0), 0);
   r.kind = MotionKind::Rapid;
   // 6000 mm/min = 100 mm/s: 0.4 mm a sample, 25 samples; at 50 % rapid override 50 samples.
   CHECK(samples({r}).size() == 25);
@@ -228,7 +229,7 @@ TEST_CASE("rapids run at the rapid rate times the rapid override, G93 takes its 
   while (ip.step(o, cs) == gm::InterpStatus::Working) ++n;
   CHECK(n == 50);
   // G93: 10 mm in 0.5 s whatever the F word: 125 samples.
-  Motion g = line(AxisVec::Zero(), AxisVec(10, 0, 0), 1200);
+  Motion g = line(AxisVec::Zero(), xyz(10, 0, 0), 1200);
   g.inverse_time_s = 0.5;
   CHECK(samples({g}).size() == 125);
 }
@@ -238,14 +239,14 @@ TEST_CASE(
   gm::Event off{1, gm::EventKind::OverrideDisable, {}};
   gm::Event pause{1, gm::EventKind::Pause, {}};
   auto s = samples({line(AxisVec::Zero(), AxisVec::Zero(), 600), off, pause,
-                    line(AxisVec::Zero(), AxisVec(1, 0, 0), 600)},
+                    line(AxisVec::Zero(), xyz(1, 0, 0), 600)},
                    config(), [](std::int64_t) { return 0.5; });
   REQUIRE(s.size() == 25);  // 100 % although 50 % is asked: disabled
   CHECK((s[0].events & gm::kEventPause) != 0);
   CHECK(s[0].feed_scale == 1.0);
   gm::Event end{1, gm::EventKind::End, {}};
-  s = samples({line(AxisVec::Zero(), AxisVec(1, 0, 0), 600), end,
-               line(AxisVec(1, 0, 0), AxisVec(2, 0, 0), 600)});
+  s = samples(
+      {line(AxisVec::Zero(), xyz(1, 0, 0), 600), end, line(xyz(1, 0, 0), xyz(2, 0, 0), 600)});
   CHECK(s.size() == 25);  // nothing after M2 runs
 }
 
@@ -267,7 +268,7 @@ TEST_CASE("property: random chains end every block exactly and never outrun the 
       const double f = u(50, 5000);
       max_f = std::max(max_f, f);
       if (u(0, 1) < 0.5) {
-        const AxisVec q(u(-20, 20), u(-20, 20), u(-5, 5));
+        const AxisVec q = xyz(u(-20, 20), u(-20, 20), u(-5, 5));
         canon.push_back(line(p, q, f));
         p = q;
       } else {
@@ -293,7 +294,7 @@ TEST_CASE("property: random chains end every block exactly and never outrun the 
     if (exact)
       for (auto& c : canon) std::get<Motion>(c).path_mode = gm::PathMode::ExactStop;
     auto rounded = [&](const AxisVec& v) {
-      AxisBlu q;
+      AxisBlu q = AxisBlu::Zero();
       for (int i = 0; i < 3; ++i) q[i] = std::llround(v[i] / blu_mm);
       return q;
     };

@@ -89,7 +89,7 @@ TEST_CASE("override steps 100 -> 50 -> 150 % follow the filter's step response e
 TEST_CASE("a hold stops the output within N+1 samples, keeps the position and resumes exactly") {
   const gm::Taps taps = gm::design_taps("blackman", 0.164, 0.004);
   const std::int64_t n = static_cast<std::int64_t>(taps.integer.size());
-  gm::AxisBlu end;
+  gm::AxisBlu end = gm::AxisBlu::Zero();
   const auto s = run(
       "G21 G90 G64\nG1 X20 Y10 F1200\nM2\n", "blackman",
       [](std::int64_t k) { return k >= 50 && k < 300 ? 0.0 : 1.0; }, &end);
@@ -101,7 +101,7 @@ TEST_CASE("a hold stops the output within N+1 samples, keeps the position and re
     CHECK((s[static_cast<std::size_t>(k)].events & gm::kEventHold) != 0);
   }
   CHECK(s.back().ref_blu == end);
-  CHECK(end == gm::AxisBlu(20000, 10000, 0));
+  CHECK(end == gm::blu3(20000, 10000, 0));
   // Resumed: the cycle is longer than without the hold by the 250 held samples exactly.
   const auto free_run =
       run("G21 G90 G64\nG1 X20 Y10 F1200\nM2\n", "blackman", [](std::int64_t) { return 1.0; });
@@ -232,7 +232,7 @@ TEST_CASE(
       INFO("seed " << program_seed << " (GMOTION_SEED=" << program_seed << " replays it), profile "
                    << profile << "\nprogram:\n"
                    << text);
-      gm::AxisBlu end;
+      gm::AxisBlu end = gm::AxisBlu::Zero();
       const auto s = run(text, profile, scale, &end, tau);
       REQUIRE(!s.empty());
       CHECK(s.back().ref_blu == end);

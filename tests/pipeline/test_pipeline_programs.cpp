@@ -24,7 +24,7 @@ namespace {
 struct RunResult {
   gm::RunStatus status;
   gm::SampleRecord last;
-  gm::AxisBlu program_end;
+  gm::AxisBlu program_end = gm::AxisBlu::Zero();
   std::vector<double> contour;  // per sample
   std::vector<gm::AxisVec> commanded_end_mm;
 };
@@ -70,15 +70,15 @@ TEST_CASE("every bundled program ends exactly on its end point, Acc/Dec output a
     if (entry.path().extension() != ".nc") continue;
     INFO(entry.path().string());
     const gm::AxisVec end_mm = last_end_mm(entry.path(), m);
-    gm::AxisBlu end_blu;
-    for (int a = 0; a < gm::kAxes; ++a) end_blu[a] = std::llround(end_mm[a] / m.axes[a].blu_mm);
+    gm::AxisBlu end_blu = gm::AxisBlu::Zero();
+    for (int a = 0; a < 3; ++a) end_blu[a] = std::llround(end_mm[a] / m.axes[a].blu_mm);
     for (bool servo : {false, true}) {
       INFO("servo " << servo);
       const RunResult r = run(entry.path(), m, servo);
       CHECK(r.status == gm::RunStatus::Finished);
       CHECK(r.program_end == end_blu);
       CHECK(r.last.ref_blu == end_blu);  // the Acc/Dec output converges exactly (Eq. 5)
-      for (int a = 0; a < gm::kAxes; ++a) CHECK(std::llabs(r.last.enc_blu[a] - end_blu[a]) <= 1);
+      for (int a = 0; a < 3; ++a) CHECK(std::llabs(r.last.enc_blu[a] - end_blu[a]) <= 1);
     }
   }
 }

@@ -29,9 +29,9 @@ namespace {
 
 const std::string kRepo = fs::path(GMOTION_TESTS_DIR).parent_path().string();
 const std::string kPocket = kRepo + "/programs/pocket.nc";
-constexpr std::size_t kStatusLine = gm::kTraceStatusWidth + 1;      // with its '\n'
-constexpr std::size_t kRecord = 8 + 4 + 4 * 8 * gm::kAxes + 8 + 8;  // one binary row
-constexpr std::size_t kCsvColumns = 2 + 4 * gm::kAxes + 2;          // t_s, line, ..., override
+constexpr std::size_t kStatusLine = gm::kTraceStatusWidth + 1;  // with its '\n'
+constexpr std::size_t kRecord = 8 + 4 + 4 * 8 * 3 + 8 + 8;      // one binary row
+constexpr std::size_t kCsvColumns = 2 + 4 * 3 + 2;              // t_s, line, ..., override
 fs::path scratch() {
   return gmtest::scratch_dir("keep-partial");
 }

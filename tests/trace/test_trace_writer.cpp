@@ -39,9 +39,9 @@ gm::SampleRecord sample(std::int64_t k) {
   s.k = k;
   s.t_s = static_cast<double>(k) * 0.004;
   s.line = 7;
-  s.cmd_blu = gm::AxisBlu(10, -20, 3);
-  s.ref_blu = gm::AxisBlu(9, -19, 3);
-  s.enc_blu = gm::AxisBlu(8, -18, 3);
+  s.cmd_blu = gm::blu3(10, -20, 3);
+  s.ref_blu = gm::blu3(9, -19, 3);
+  s.enc_blu = gm::blu3(8, -18, 3);
   s.ferr_blu = s.ref_blu - s.enc_blu;
   s.contour_err_blu = -1.25;
   s.feed_scale = 1.5;
@@ -103,7 +103,7 @@ TEST_CASE("binary trace: magic, header length, fixed little-endian records") {
   std::uint32_t hlen = 0;
   std::memcpy(&hlen, b.data() + 8, 4);
   CHECK(hlen == gm::trace_header(meta()).size());
-  const std::size_t rec = 8 + 4 + 4 * 8 * gm::kAxes + 8 + 8;
+  const std::size_t rec = 8 + 4 + 4 * 8 * 3 + 8 + 8;
   REQUIRE(b.size() == 12 + hlen + rec);
   const char* r = b.data() + 12 + hlen;
   std::int64_t k = 0, y_enc = 0;
@@ -178,7 +178,7 @@ TEST_CASE(
         std::uint32_t hlen = 0;
         std::memcpy(&hlen, after.data() + 8, 4);
         CHECK(hlen == header.size());
-        const std::size_t rec = 8 + 4 + 4 * 8 * gm::kAxes + 8 + 8;
+        const std::size_t rec = 8 + 4 + 4 * 8 * 3 + 8 + 8;
         CHECK(after.size() == 12 + hlen + 30000 * rec);
       } else {
         CHECK(after.compare(0, at, header, 0, at) == 0);
@@ -214,7 +214,7 @@ TEST_CASE(
             gm::trace_status_line("partial: interrupted at t = 0.028 s (line 7)"));
       const std::size_t rows_at = (bin ? 12 : 0) + header.size();
       if (bin) {
-        CHECK(text.size() == rows_at + 7 * (8 + 4 + 4 * 8 * gm::kAxes + 8 + 8));
+        CHECK(text.size() == rows_at + 7 * (8 + 4 + 4 * 8 * 3 + 8 + 8));
       } else {
         const std::string rows = text.substr(rows_at);
         CHECK(std::count(rows.begin(), rows.end(), '\n') == 7);

@@ -1,0 +1,27 @@
+// The flags of every command that reads a program: subroutine path and iteration bound.
+#pragma once
+
+#include "interp/program.hpp"
+#include "machine/machine.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdint>
+#include <string>
+
+namespace gm::cli {
+
+/// How the program's language is read (issue 15).
+struct LanguageFlags {
+  std::string subroutine_path;               ///< --subroutine-path DIR[:DIR...]
+  std::int64_t max_iterations = 10'000'000;  ///< --max-iterations N
+};
+
+/// Adds --subroutine-path and --max-iterations to `sub`.
+void add_language_flags(CLI::App* sub, LanguageFlags& flags);
+
+/// Sets the options' subroutine path (the flag's directories, then the machine's) and bound.
+void apply_language_flags(const LanguageFlags& flags, const Machine& machine,
+                          InterpreterOptions& opts);
+
+}  // namespace gm::cli

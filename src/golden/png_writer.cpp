@@ -1,0 +1,177 @@
+// PNG output for the divergence pictures: a raster, Bresenham lines, a 5x7 font, zlib chunks.
+#include "golden/png_writer.hpp"
+
+#include <zlib.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+
+namespace gm::golden {
+namespace {
+
+// A 5x7 font: one byte per row, bit 4 the leftmost pixel. Lower case prints as upper case.
+constexpr char kGlyphChars[] = " %()*+,-./0123456789:<=>?ABCDEFGHIJKLMNOPQRSTUVWXYZ[]_";
+constexpr std::uint8_t kGlyphRows[][7] = {
+    {0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00},  // ' '
+    {0x18, 0x19, 0x02, 0x04, 0x08, 0x13, 0x03},  // '%'
+    {0x02, 0x04, 0x08, 0x08, 0x08, 0x04, 0x02},  // '('
+    {0x08, 0x04, 0x02, 0x02, 0x02, 0x04, 0x08},  // ')'
+    {0x00, 0x04, 0x15, 0x0e, 0x15, 0x04, 0x00},  // '*'
+    {0x00, 0x04, 0x04, 0x1f, 0x04, 0x04, 0x00},  // '+'
+    {0x00, 0x00, 0x00, 0x00, 0x0c, 0x04, 0x08},  // ','
+    {0x00, 0x00, 0x00, 0x1f, 0x00, 0x00, 0x00},  // '-'
+    {0x00, 0x00, 0x00, 0x00, 0x00, 0x0c, 0x0c},  // '.'
+    {0x00, 0x01, 0x02, 0x04, 0x08, 0x10, 0x00},  // '/'
+    {0x0e, 0x11, 0x13, 0x15, 0x19, 0x11, 0x0e},  // '0'
+    {0x04, 0x0c, 0x04, 0x04, 0x04, 0x04, 0x0e},  // '1'
+    {0x0e, 0x11, 0x01, 0x02, 0x04, 0x08, 0x1f},  // '2'
+    {0x1f, 0x02, 0x04, 0x02, 0x01, 0x11, 0x0e},  // '3'
+    {0x02, 0x06, 0x0a, 0x12, 0x1f, 0x02, 0x02},  // '4'
+    {0x1f, 0x10, 0x1e, 0x01, 0x01, 0x11, 0x0e},  // '5'
+    {0x06, 0x08, 0x10, 0x1e, 0x11, 0x11, 0x0e},  // '6'
+    {0x1f, 0x01, 0x02, 0x04, 0x08, 0x08, 0x08},  // '7'
+    {0x0e, 0x11, 0x11, 0x0e, 0x11, 0x11, 0x0e},  // '8'
+    {0x0e, 0x11, 0x11, 0x0f, 0x01, 0x02, 0x0c},  // '9'
+    {0x00, 0x0c, 0x0c, 0x00, 0x0c, 0x0c, 0x00},  // ':'
+    {0x02, 0x04, 0x08, 0x10, 0x08, 0x04, 0x02},  // '<'
+    {0x00, 0x00, 0x1f, 0x00, 0x1f, 0x00, 0x00},  // '='
+    {0x08, 0x04, 0x02, 0x01, 0x02, 0x04, 0x08},  // '>'
+    {0x0e, 0x11, 0x01, 0x02, 0x04, 0x00, 0x04},  // '?'
+    {0x0e, 0x11, 0x11, 0x1f, 0x11, 0x11, 0x11},  // 'A'
+    {0x1e, 0x11, 0x11, 0x1e, 0x11, 0x11, 0x1e},  // 'B'
+    {0x0e, 0x11, 0x10, 0x10, 0x10, 0x11, 0x0e},  // 'C'
+    {0x1c, 0x12, 0x11, 0x11, 0x11, 0x12, 0x1c},  // 'D'
+    {0x1f, 0x10, 0x10, 0x1e, 0x10, 0x10, 0x1f},  // 'E'
+    {0x1f, 0x10, 0x10, 0x1e, 0x10, 0x10, 0x10},  // 'F'
+    {0x0e, 0x11, 0x10, 0x17, 0x11, 0x11, 0x0f},  // 'G'
+    {0x11, 0x11, 0x11, 0x1f, 0x11, 0x11, 0x11},  // 'H'
+    {0x0e, 0x04, 0x04, 0x04, 0x04, 0x04, 0x0e},  // 'I'
+    {0x07, 0x02, 0x02, 0x02, 0x02, 0x12, 0x0c},  // 'J'
+    {0x11, 0x12, 0x14, 0x18, 0x14, 0x12, 0x11},  // 'K'
+    {0x10, 0x10, 0x10, 0x10, 0x10, 0x10, 0x1f},  // 'L'
+    {0x11, 0x1b, 0x15, 0x15, 0x11, 0x11, 0x11},  // 'M'
+    {0x11, 0x11, 0x19, 0x15, 0x13, 0x11, 0x11},  // 'N'
+    {0x0e, 0x11, 0x11, 0x11, 0x11, 0x11, 0x0e},  // 'O'
+    {0x1e, 0x11, 0x11, 0x1e, 0x10, 0x10, 0x10},  // 'P'
+    {0x0e, 0x11, 0x11, 0x11, 0x15, 0x12, 0x0d},  // 'Q'
+    {0x1e, 0x11, 0x11, 0x1e, 0x14, 0x12, 0x11},  // 'R'
+    {0x0f, 0x10, 0x10, 0x0e, 0x01, 0x01, 0x1e},  // 'S'
+    {0x1f, 0x04, 0x04, 0x04, 0x04, 0x04, 0x04},  // 'T'
+    {0x11, 0x11, 0x11, 0x11, 0x11, 0x11, 0x0e},  // 'U'
+    {0x11, 0x11, 0x11, 0x11, 0x11, 0x0a, 0x04},  // 'V'
+    {0x11, 0x11, 0x11, 0x15, 0x15, 0x15, 0x0a},  // 'W'
+    {0x11, 0x11, 0x0a, 0x04, 0x0a, 0x11, 0x11},  // 'X'
+    {0x11, 0x11, 0x0a, 0x04, 0x04, 0x04, 0x04},  // 'Y'
+    {0x1f, 0x01, 0x02, 0x04, 0x08, 0x10, 0x1f},  // 'Z'
+    {0x0e, 0x08, 0x08, 0x08, 0x08, 0x08, 0x0e},  // '['
+    {0x0e, 0x02, 0x02, 0x02, 0x02, 0x02, 0x0e},  // ']'
+    {0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x1f},  // '_'
+};
+
+const std::uint8_t* glyph(char ch) {
+  const char up = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+  const char* at = std::strchr(kGlyphChars, up);
+  if (at == nullptr || up == '\0') at = std::strchr(kGlyphChars, '?');
+  return kGlyphRows[at - kGlyphChars];
+}
+
+void put_u32(std::string& out, std::uint32_t v) {
+  for (int s = 24; s >= 0; s -= 8) out += static_cast<char>((v >> s) & 0xFF);
+}
+
+void chunk(std::string& out, const char* type, const std::string& data) {
+  put_u32(out, static_cast<std::uint32_t>(data.size()));
+  std::string body(type, 4);
+  body += data;
+  out += body;
+  put_u32(out, static_cast<std::uint32_t>(crc32(0, reinterpret_cast<const Bytef*>(body.data()),
+                                                static_cast<uInt>(body.size()))));
+}
+
+}  // namespace
+
+Raster::Raster(int width, int height, Rgb bg)
+    : w_(width), h_(height), px_(static_cast<std::size_t>(width) * height * 3) {
+  for (std::size_t i = 0; i < px_.size(); i += 3)
+    px_[i] = bg.r, px_[i + 1] = bg.g, px_[i + 2] = bg.b;
+}
+
+void Raster::set(int x, int y, Rgb c) {
+  if (x < 0 || y < 0 || x >= w_ || y >= h_) return;
+  const std::size_t i = (static_cast<std::size_t>(y) * w_ + x) * 3;
+  px_[i] = c.r, px_[i + 1] = c.g, px_[i + 2] = c.b;
+}
+
+void Raster::line(double x0, double y0, double x1, double y1, Rgb c) {
+  // Far-away points (a diverged run) are clamped well outside the raster first.
+  auto clamp = [](double v) { return std::clamp(std::isfinite(v) ? v : 0.0, -1e5, 1e5); };
+  int ax = static_cast<int>(std::lround(clamp(x0))), ay = static_cast<int>(std::lround(clamp(y0)));
+  const int bx = static_cast<int>(std::lround(clamp(x1))),
+            by = static_cast<int>(std::lround(clamp(y1)));
+  const int dx = std::abs(bx - ax), sx = ax < bx ? 1 : -1;
+  const int dy = -std::abs(by - ay), sy = ay < by ? 1 : -1;
+  int err = dx + dy;
+  for (int n = 0; n < 400000; ++n) {
+    set(ax, ay, c);
+    if (ax == bx && ay == by) break;
+    const int e2 = 2 * err;
+    if (e2 >= dy) err += dy, ax += sx;
+    if (e2 <= dx) err += dx, ay += sy;
+  }
+}
+
+void Raster::rect(int x0, int y0, int x1, int y1, Rgb c) {
+  line(x0, y0, x1, y0, c);
+  line(x1, y0, x1, y1, c);
+  line(x1, y1, x0, y1, c);
+  line(x0, y1, x0, y0, c);
+}
+
+void Raster::text(int x, int y, std::string_view s, Rgb c, int scale) {
+  for (char ch : s) {
+    const std::uint8_t* g = glyph(ch);
+    for (int row = 0; row < 7; ++row)
+      for (int col = 0; col < 5; ++col)
+        if ((g[row] >> (4 - col) & 1) != 0)
+          for (int i = 0; i < scale; ++i)
+            for (int j = 0; j < scale; ++j) set(x + col * scale + i, y + row * scale + j, c);
+    x += 6 * scale;
+  }
+}
+
+std::string Raster::png() const {
+  std::string raw;  // filter byte 0 before each row
+  raw.reserve(px_.size() + h_);
+  for (int y = 0; y < h_; ++y) {
+    raw += '\0';
+    raw.append(reinterpret_cast<const char*>(px_.data()) + static_cast<std::size_t>(y) * w_ * 3,
+               static_cast<std::size_t>(w_) * 3);
+  }
+  uLongf n = compressBound(static_cast<uLong>(raw.size()));
+  std::string z(n, '\0');
+  compress2(reinterpret_cast<Bytef*>(z.data()), &n, reinterpret_cast<const Bytef*>(raw.data()),
+            static_cast<uLong>(raw.size()), 6);
+  z.resize(n);
+  std::string out("\x89PNG\r\n\x1a\n", 8);
+  std::string ihdr;
+  put_u32(ihdr, static_cast<std::uint32_t>(w_));
+  put_u32(ihdr, static_cast<std::uint32_t>(h_));
+  ihdr += std::string("\x08\x02\x00\x00\x00", 5);  // 8 bits, RGB, deflate, no filter, no interlace
+  chunk(out, "IHDR", ihdr);
+  chunk(out, "IDAT", z);
+  chunk(out, "IEND", "");
+  return out;
+}
+
+std::string write_png(const Raster& r, const std::string& path) {
+  const std::string bytes = r.png();
+  std::ofstream f(path, std::ios::binary | std::ios::trunc);
+  f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  f.close();
+  return f ? "" : "cannot write " + path;
+}
+
+}  // namespace gm::golden

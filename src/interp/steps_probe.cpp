@@ -1,0 +1,47 @@
+// G38.2..G38.5 straight probing, simulated as LinuxCNC's standalone interpreter (rs274) does
+// with no probe input: the probe feeds to its end point without tripping, stops there and backs
+// off 0.254 mm (0.010 in) towards where it started; #5061-#5069 get that end point, #5070 = 0.
+#include "interp/steps.hpp"
+
+namespace gm {
+
+namespace {
+
+constexpr double kProbeBackoffMm = 0.254;  // rs274 (saicanon.cc): 0.254 mm or 0.01 in
+
+}  // namespace
+
+bool run_probe(BlockCtx& ctx, const Code& c) {
+  const SourceLoc loc = ctx.w.word_of(Group::Motion) ? ctx.w.word_of(Group::Motion)->loc
+                        : ctx.w.first_axis           ? ctx.w.first_axis->loc
+                                                     : SourceLoc{ctx.block.line, 1};
+  const std::string name = code_name(c);
+  if (!comp_forbids(ctx, loc, "probe")) return false;
+  if (!ctx.s.inverse_time && ctx.s.feed_mm_min <= 0.0)
+    return ctx.fail(ErrorCode::ZeroFeed, loc, fmt::format("{} with zero feed rate", name));
+  if (!check_feed(ctx, c.number10, loc)) return false;
+  if (ctx.w.has_code('G', 530))
+    return ctx.fail(ErrorCode::G53Misused, ctx.loc_of(Group::NonModal),
+                    fmt::format("G53 with {}: G53 moves need G0 or G1", name));
+  Pos9 target;
+  if (!axis_target(ctx, ctx.s.position_mm, target)) return false;
+  const Pos9 start = ctx.s.position_mm;
+  const bool must_trip = c.number10 == 382 || c.number10 == 384;  // G38.3/G38.5 may miss
+  if (must_trip && target == start)
+    return ctx.fail(ErrorCode::ValueOutOfRange, loc,
+                    fmt::format("{}: the start point is the probe point", name));
+  if (!emit_straight(ctx, MotionKind::Line, target, loc)) return false;
+  // The probe result, in the program's coordinates and units at this block.
+  const Pos9 off = ctx.offset();
+  for (int i = 0; i < kProgramAxes; ++i)
+    ctx.s.probe_result[static_cast<std::size_t>(i)] = (target[i] - off[i]) / ctx.scale();
+  ++ctx.s.probes;
+  const Eigen::Vector3d d = (start - target).head<3>();
+  const double dist = d.norm();
+  if (dist == 0.0) return true;
+  Pos9 back = target;
+  back.head<3>() += kProbeBackoffMm * d / dist;
+  return emit_straight(ctx, MotionKind::Line, back, loc);
+}
+
+}  // namespace gm

@@ -1,0 +1,58 @@
+// The subroutine search path: name checks (no escape from the directories) and the file lookup.
+#include "interp/subroutine_path.hpp"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <fstream>
+
+namespace gm {
+
+std::vector<std::string> SubroutinePath::split(std::string_view colon_list) {
+  std::vector<std::string> out;
+  while (!colon_list.empty()) {
+    const std::size_t colon = colon_list.find(':');
+    const std::string_view dir = colon_list.substr(0, colon);
+    if (!dir.empty()) out.emplace_back(dir);
+    if (colon == std::string_view::npos) break;
+    colon_list.remove_prefix(colon + 1);
+  }
+  return out;
+}
+
+bool SubroutinePath::safe_name(std::string_view label) {
+  if (label.empty() || label.size() > 200 || label.front() == '.') return false;
+  for (const char c : label) {
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                    c == '_' || c == '-' || c == '.';
+    if (!ok) return false;
+  }
+  return true;
+}
+
+std::string SubroutinePath::find(std::string_view label) const {
+  if (!safe_name(label)) return {};
+  for (const std::string& dir : dirs_) {
+    std::filesystem::path p = std::filesystem::path(dir) / (std::string(label) + ".ngc");
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(p, ec)) continue;
+    std::ifstream probe(p, std::ios::binary);
+    if (probe) return p.string();
+  }
+  return {};
+}
+
+std::string SubroutinePath::describe_miss(std::string_view label) const {
+  if (dirs_.empty())
+    return "no subroutine path is set (--subroutine-path DIR or the machine key "
+           "subroutine_path)";
+  if (!safe_name(label))
+    return fmt::format(
+        "the name is not looked up on the subroutine path (only letters, digits, "
+        "'_', '-' and '.' not first)");
+  std::string dirs;
+  for (const std::string& d : dirs_) dirs += (dirs.empty() ? "" : ":") + d;
+  return fmt::format("no file '{}.ngc' in {}", label, dirs);
+}
+
+}  // namespace gm

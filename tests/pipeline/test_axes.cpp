@@ -1,0 +1,213 @@
+// Up to nine axes (issue 17): the axis layout, LinuxCNC's feed rule with rotary axes, degrees in
+// G20, the missing-axis error, machine files with `axes.letters`, and extra axes that leave X, Y
+// and Z sample for sample as they were.
+#include "common/status.hpp"
+#include "interp/program.hpp"
+#include "interpolator/geometry.hpp"
+#include "machine/machine_file.hpp"
+#include "pipeline/run.hpp"
+#include "support/run_command.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+using gm::AxisLayout;
+using gm::AxisVec;
+
+namespace {
+
+const fs::path kRepo = fs::path(GMOTION_TESTS_DIR).parent_path();
+
+AxisVec at(std::initializer_list<std::pair<char, double>> values) {
+  AxisVec v = AxisVec::Zero();
+  for (const auto& [letter, x] : values) v[gm::axis_index(letter)] = x;
+  return v;
+}
+
+gm::Motion line(const AxisVec& a, const AxisVec& b) {
+  gm::Motion m;
+  m.kind = gm::MotionKind::Line;
+  m.start_mm = a;
+  m.end_mm = b;
+  return m;
+}
+
+// The canonical motions of `program` on `machine`.
+std::vector<gm::Motion> motions(const std::string& program, const gm::Machine& machine) {
+  std::istringstream in(program);
+  gm::InterpreterOptions o;
+  o.machine = &machine;
+  gm::ProgramStream stream(in, "t.nc", o);
+  std::vector<gm::Motion> out;
+  gm::Canon c;
+  while (stream.next(c))
+    if (const auto* m = std::get_if<gm::Motion>(&c)) out.push_back(*m);
+  return out;
+}
+
+gm::Machine with_axes(const char* letters) {
+  gm::Machine m = gm::default_machine();
+  m.set_axes(*AxisLayout::of(letters), m.axes[0]);
+  return m;
+}
+
+// Every record of a run of `program` on `m` (servo on, contour measured inline).
+std::vector<gm::SampleRecord> records(const fs::path& program, const gm::Machine& m) {
+  std::ifstream in(program);
+  REQUIRE(in);
+  gm::RunOptions o;
+  o.config.machine = m;
+  o.program_name = program.string();
+  o.consumer_thread = false;
+  gm::Run run(std::move(o), in, gm::InterpreterOptions{});
+  std::vector<gm::SampleRecord> out;
+  while (run.step() == gm::RunStatus::Working) out.push_back(run.last());
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("axis layouts: a subsequence of XYZABCUVW, each letter once") {
+  const auto l = AxisLayout::of("XYZA");
+  REQUIRE(l);
+  CHECK(l->count == 4);
+  CHECK(l->letters() == "XYZA");
+  CHECK(l->program(3) == 3);
+  CHECK_FALSE(l->is_xyz());
+  CHECK(AxisLayout::of("xzc")->letters() == "XZC");
+  CHECK(AxisLayout::of("xzc")->program(2) == 5);
+  CHECK(AxisLayout::of("XYZABCUVW")->count == 9);
+  CHECK(AxisLayout::of("XYZ")->is_xyz());
+  CHECK_FALSE(AxisLayout::of(""));
+  CHECK_FALSE(AxisLayout::of("XAZ"));    // out of order
+  CHECK_FALSE(AxisLayout::of("XYZAA"));  // twice
+  CHECK_FALSE(AxisLayout::of("XYQ"));    // not an axis
+  CHECK(gm::axis_is_rotary(gm::axis_index('B')));
+  CHECK_FALSE(gm::axis_is_rotary(gm::axis_index('U')));
+}
+
+TEST_CASE("feed length follows LinuxCNC: XYZ when they move, else UVW, else the rotary degrees") {
+  // X3 Y4 with A90: the 5 mm XYZ path sets the time; A follows.
+  CHECK(gm::motion_length_mm(line(at({}), at({{'X', 3}, {'Y', 4}, {'A', 90}}))) == 5.0);
+  // A and B alone: degrees, sqrt(30² + 40²).
+  CHECK(gm::motion_length_mm(line(at({{'A', 10}}), at({{'A', 40}, {'B', 40}}))) == 50.0);
+  // U V with C: the UVW length.
+  CHECK(gm::motion_length_mm(line(at({}), at({{'U', 6}, {'V', 8}, {'C', 5}}))) == 10.0);
+  // Part way along a mixed line every axis is in proportion.
+  const gm::MotionGeometry g =
+      gm::MotionGeometry::of(line(at({}), at({{'X', 10}, {'A', 90}, {'W', -4}})));
+  const AxisVec p = g.point_at(2.5);
+  CHECK(p[0] == 2.5);
+  CHECK(p[gm::axis_index('A')] == 22.5);
+  CHECK(p[gm::axis_index('W')] == -1.0);
+  // The contour is measured in X, Y and Z: a rotary axis away from the path does not count.
+  double d = 0, sd = 0;
+  g.distance(gm::Vec3(5, 0.25, 0), d, sd);
+  CHECK(d == Approx(0.25));
+}
+
+TEST_CASE("rotary words are degrees in G20 too, and G93 times a mixed move by its XYZ length") {
+  const gm::Machine m = with_axes("XYZA");
+  const auto mv = motions("G20 G1 X1 A10 F10\nG93 G1 X0 A0 F2\nM2\n", m);
+  REQUIRE(mv.size() == 2);
+  CHECK(mv[0].end_mm[0] == Approx(25.4));
+  CHECK(mv[0].end_mm[3] == 10.0);  // not 254
+  // 25.4 mm of X in 1/2 minute: 50.8 mm/min, 30 s.
+  CHECK(mv[1].feed_mm_min == Approx(50.8));
+  CHECK(mv[1].inverse_time_s == Approx(30.0));
+}
+
+TEST_CASE("an axis word for an axis the machine lacks is a located error naming its axes") {
+  const fs::path p = fs::temp_directory_path() / "gmotion-test-axes.nc";
+  std::ofstream(p) << "G0 X1 A2\nG1 X2 B3 F100\nM2\n";
+  auto r = gmtest::run_gmotion("check " + p.string() + " --axes XYZA");
+  CHECK(r.code == 1);
+  CHECK_THAT(r.out, Catch::Contains(p.string() +
+                                    ":2:7: error: axis B is not available: this machine has X, "
+                                    "Y, Z and A"));
+  CHECK_THAT(r.out, !Catch::Contains(":1:"));  // A is there
+  r = gmtest::run_gmotion("check " + p.string());
+  CHECK_THAT(r.out, Catch::Contains(p.string() +
+                                    ":1:7: error: axis A is not available: this machine has X, Y "
+                                    "and Z"));
+  r = gmtest::run_gmotion("check " + p.string() + " --axes XAY");
+  CHECK(r.code == 1);
+  CHECK_THAT(r.out, Catch::Contains("--axes XAY: give axis letters in the order XYZABCUVW"));
+  fs::remove(p);
+}
+
+TEST_CASE("machine file: axes.letters, a table per axis, written back the same") {
+  const gm::Machine m = gm::load_machine_file(kRepo / "programs/machines/rotary-a.toml");
+  CHECK(m.layout.letters() == "XYZA");
+  REQUIRE(m.axes.size() == 4);
+  CHECK(m.axes[3].v_max_mm_s == 3000.0);
+  CHECK(m.axes[3].mass_kg == 50.0);
+  const gm::Machine back = gm::parse_machine_toml(gm::machine_to_toml(m), "back.toml");
+  CHECK(back.layout.letters() == "XYZA");
+  CHECK(back.axes[3].v_max_mm_s == 3000.0);
+  CHECK(gm::machine_to_toml(back) == gm::machine_to_toml(m));
+
+  std::ifstream src(kRepo / "programs/machines/rotary-a.toml");
+  const std::string text((std::istreambuf_iterator<char>(src)), std::istreambuf_iterator<char>());
+  auto error_of = [](const std::string& t) -> std::string {
+    try {
+      gm::parse_machine_toml(t, "t.toml");
+    } catch (const gm::InputError& e) {
+      return e.what();
+    }
+    return "<no error>";
+  };
+  std::string no_a =
+      text.substr(0, text.find("[axes.a]")) + text.substr(text.find("[work_offsets]"));
+  CHECK_THAT(error_of(no_a), Catch::Contains("axes.a"));
+  std::string bad = text;
+  bad.replace(bad.find("\"XYZA\""), 6, "\"XYAZ\"");
+  CHECK_THAT(error_of(bad),
+             Catch::Contains("key 'axes.letters': must be axis letters in the order XYZABCUVW"));
+}
+
+TEST_CASE("an idle fourth axis leaves X, Y and Z sample for sample as on three axes") {
+  const fs::path prog = kRepo / "programs" / "square.nc";
+  const auto three = records(prog, gm::default_machine());
+  const auto four = records(prog, with_axes("XYZA"));
+  REQUIRE(three.size() == four.size());
+  for (std::size_t k = 0; k < three.size(); ++k) {
+    INFO("sample " << k);
+    REQUIRE(three[k].ref_blu.head<3>() == four[k].ref_blu.head<3>());
+    REQUIRE(three[k].enc_blu.head<3>() == four[k].enc_blu.head<3>());
+    REQUIRE(three[k].contour_err_blu == four[k].contour_err_blu);
+    REQUIRE(four[k].enc_blu[3] == 0);
+  }
+}
+
+TEST_CASE("nine axes: each ends exactly on its programmed end, rotary in its own BLU") {
+  gm::Machine m = with_axes("XYZABCUVW");
+  m.axes[3].blu_mm = 0.01;  // A: 0.01 degree per count
+  const auto recs = records(kRepo / "tests/golden/programs/nine-axis.nc", m);
+  REQUIRE(!recs.empty());
+  const auto mv = motions("G0 X1.5 Y2 Z3 A45.67 B-30 C720 U4 V-5 W6\nM2\n",
+                          m);  // the same machine, a direct check
+  REQUIRE(mv.size() == 1);
+  CHECK(mv[0].end_mm[5] == 720.0);
+  // The program returns every axis to 0 but Z (to 5 mm); on the way A reached 180 degrees =
+  // 18000 counts at the end of the arc, passed within one sample (at most 0.38 degrees: 60
+  // degrees over the 15.7 mm arc at 25 mm/s), since time carries across continuous blocks.
+  const gm::SampleRecord& last = recs.back();
+  for (int a = 0; a < 9; ++a) {
+    INFO("axis " << m.layout.letter(a));
+    const std::int64_t end = a == 2 ? 5000 : 0;
+    CHECK(last.ref_blu[a] == end);
+    CHECK(std::llabs(last.enc_blu[a] - end) <= 1);
+  }
+  std::int64_t a_max = 0;
+  for (const auto& r : recs) a_max = std::max(a_max, r.cmd_blu[3]);
+  CHECK(a_max <= 18000);
+  CHECK(a_max >= 18000 - 39);
+}
