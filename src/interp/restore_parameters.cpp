@@ -11,7 +11,8 @@ void Interpreter::restore_system_parameters(const std::function<double(int)>& pa
     tables_.g28_mm[i] = par(5161 + i);
     tables_.g30_mm[i] = par(5181 + i);
     tables_.g92_saved_mm[i] = par(5211 + i);
-    for (int k = 0; k < 9; ++k) tables_.g5x_mm[static_cast<std::size_t>(k)][i] = par(5221 + 20 * k + i);
+    for (int k = 0; k < 9; ++k)
+      tables_.g5x_mm[static_cast<std::size_t>(k)][i] = par(5221 + 20 * k + i);
   }
   // #5210: G92 was in effect when the file was written, so its offsets apply again.
   state_.g92_applied = par(5210) != 0.0;

@@ -32,8 +32,8 @@ struct Scratch {
     dir = fs::temp_directory_path() / ("gm_varfile_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir / "machines");
-    std::string base = slurp(fs::path(GMOTION_TESTS_DIR) / ".." / "programs" / "machines" /
-                             "default.toml");
+    std::string base =
+        slurp(fs::path(GMOTION_TESTS_DIR) / ".." / "programs" / "machines" / "default.toml");
     base.replace(base.find("\n["), 1, "\nparameter_file = \"../params.var\"\n");
     std::ofstream(dir / "machines" / "m.toml") << base;
   }
@@ -88,7 +88,7 @@ TEST_CASE("parameter file: #5220 selects the coordinate system, #5210 re-applies
         "{\"line\":3,\"kind\":\"rapid\",\"end\":[50,0,0],\"feed\":0}\n");
   const std::string text = slurp(s.var());
   CHECK(text.find("5210\t0.000000\n5211\t-3.000000\n") != std::string::npos);  // G92.2: off, kept
-  CHECK(text.find("5220\t1.000000\n") != std::string::npos);  // M2: G54
+  CHECK(text.find("5220\t1.000000\n") != std::string::npos);                   // M2: G54
 }
 
 TEST_CASE("parameter file: a corrupt file is a located error and is not overwritten") {
