@@ -119,9 +119,10 @@ const char* skip_unsupported(const char* pos, const char* end) {
 }  // namespace
 
 const char* okind_name(OKind k) {
-  constexpr const char* kNames[] = {"",       "sub",       "endsub", "call",    "return",   "if",
-                                    "elseif", "else",      "endif",  "while",   "endwhile", "do",
-                                    "repeat", "endrepeat", "break",  "continue"};
+  constexpr const char* kNames[] = {"",         "sub",    "endsub", "call",      "return",
+                                    "if",       "elseif", "else",   "endif",     "while",
+                                    "endwhile", "do",     "repeat", "endrepeat", "break",
+                                    "continue", "",       "M98",    "M99"};
   return kNames[static_cast<int>(k)];
 }
 
@@ -178,6 +179,12 @@ bool BlockParser::parse_oword(Block& out, std::string_view compact, std::size_t 
       {"CONTINUE", OKind::Continue}};
   for (const auto& [name, kind] : kKeywords)
     if (word == name) o.kind = kind;
+  if (o.kind == OKind::None && word.empty() &&
+      (p == compact.size() || compact[p] == '(' || compact[p] == ';')) {
+    o.kind = OKind::Program;  // `O1234 (title)`: LinuxCNC's Fanuc-style program number
+    after = p;
+    return true;
+  }
   if (o.kind == OKind::None) {
     add_error(out, ErrorCode::BadOWord, static_cast<int>(kw),
               word.empty() ? "expected an O-word keyword (sub, call, if, while, ...)"
@@ -283,6 +290,19 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
       std::size_t after = 0;
       if (!parse_oword(out, compact, k, after)) return;
       start = after;
+    } else if (k + 2 < compact.size() && compact[k] == 'M') {
+      // M98/M99 first on the line are control flow (LinuxCNC read_o): M0098 too.
+      std::size_t d = k + 1;
+      while (d < compact.size() && compact[d] == '0') ++d;
+      if (d + 1 < compact.size() && compact[d] == '9' &&
+          (compact[d + 1] == '8' || compact[d + 1] == '9') &&
+          (d + 2 == compact.size() ||
+           !((compact[d + 2] >= '0' && compact[d + 2] <= '9') || compact[d + 2] == '.'))) {
+        out.oword.kind = compact[d + 1] == '8' ? OKind::M98 : OKind::M99;
+        out.oword.loc = SourceLoc{line_, columns_[k]};
+        out.oword.named = false;
+        out.oword.label.clear();
+      }
     }
   }
 
@@ -391,7 +411,8 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
     while (pos != end && !starts_item(*pos)) ++pos;
   }
 
-  if (out.oword.kind != OKind::None && (ast_.word_count > 0 || !ast_.assigns.empty())) {
+  if (out.oword.kind != OKind::None && out.oword.kind != OKind::M98 &&
+      out.oword.kind != OKind::M99 && (ast_.word_count > 0 || !ast_.assigns.empty())) {
     const int at = ast_.word_count > 0 ? ast_.words[0].id_first : ast_.assigns[0].pos;
     add_error(out, ErrorCode::BadOWord, at, "nothing but comments may follow an O-word");
   }

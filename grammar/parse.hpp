@@ -97,10 +97,14 @@ enum class OKind : std::uint8_t {
   EndRepeat,
   Break,
   Continue,
+  Program,  ///< a bare `O1234`: a Fanuc-style (sub)program start, ended by M99
+  M98,      ///< `M98 P... L...` first on the line: call a Fanuc-style subprogram
+  M99,      ///< `M99` first on the line: return from it (in the main program: program end)
 };
 const char* okind_name(OKind k);
 
-/// An O-word line: `o100 while [#1 LT 10]`, `o<name> call [1] [2]`.
+/// An O-word line: `o100 while [#1 LT 10]`, `o<name> call [1] [2]`. An M98/M99 line is one too
+/// (kind M98/M99, no label: its words, M98 P L, stay in Block::words to be evaluated).
 struct OWord {
   OKind kind = OKind::None;
   bool named = false;  ///< o<name> (else numbered)

@@ -1,4 +1,4 @@
-// --subroutine-path and --max-iterations, shared by check, moves, run and compare.
+// --subroutine-path, --max-iterations and --dialect, shared by check, moves, run and compare.
 #include "cli/language_flags.hpp"
 
 #include "interp/subroutine_path.hpp"
@@ -12,6 +12,10 @@ void add_language_flags(CLI::App* sub, LanguageFlags& f) {
   sub->add_option("--max-iterations", f.max_iterations,
                   "loop iterations and subroutine calls before the program is stopped")
       ->check(CLI::PositiveNumber);
+  sub->add_option("--dialect", f.dialect,
+                  "what the program is written for: linuxcnc (default: rs274's rules), fanuc "
+                  "(Fanuc/Haas posts), grbl (grbl 1.1); docs/dialects.md")
+      ->check(CLI::IsMember({"linuxcnc", "fanuc", "grbl"}, CLI::ignore_case));
 }
 
 void apply_language_flags(const LanguageFlags& f, const Machine& machine,
@@ -20,6 +24,8 @@ void apply_language_flags(const LanguageFlags& f, const Machine& machine,
   for (const std::string& dir : machine.subroutine_path) opts.subroutine_path.push_back(dir);
   opts.max_iterations = f.max_iterations;
   opts.parameter_file = machine.parameter_file;
+  const std::string& d = f.dialect.empty() ? machine.dialect : f.dialect;
+  if (!d.empty()) parse_dialect(d, opts.dialect);  // both checked when read
 }
 
 }  // namespace gm::cli

@@ -1,4 +1,4 @@
-// The flags of every command that reads a program: subroutine path and iteration bound.
+// The flags of every command that reads a program: subroutine path, iteration bound, dialect.
 #pragma once
 
 #include "interp/program.hpp"
@@ -15,12 +15,14 @@ namespace gm::cli {
 struct LanguageFlags {
   std::string subroutine_path;               ///< --subroutine-path DIR[:DIR...]
   std::int64_t max_iterations = 10'000'000;  ///< --max-iterations N
+  std::string dialect;                       ///< --dialect linuxcnc|fanuc|grbl (else the machine's)
 };
 
-/// Adds --subroutine-path and --max-iterations to `sub`.
+/// Adds --subroutine-path, --max-iterations and --dialect to `sub`.
 void add_language_flags(CLI::App* sub, LanguageFlags& flags);
 
-/// Sets the options' subroutine path (the flag's directories, then the machine's) and bound.
+/// Sets the options' subroutine path (the flag's directories, then the machine's), bound,
+/// parameter file (the machine's) and dialect (the flag's, else the machine's).
 void apply_language_flags(const LanguageFlags& flags, const Machine& machine,
                           InterpreterOptions& opts);
 

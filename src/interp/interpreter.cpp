@@ -51,6 +51,16 @@ bool import_words(const grammar::Block& block, const AxisLayout& axes, BlockWord
         return fail(err, c == 'G' ? ErrorCode::UnknownGCode : ErrorCode::UnknownMCode, word.loc,
                     fmt::format("{} is not supported", code_name(c, number10)));
       const auto gi = static_cast<std::size_t>(code->group);
+      // rs274 (read_g): G80 yields to another code of its group in the same block, whichever
+      // comes first, so `G80 G0 X1` is a rapid (CAM posts write it).
+      if (w.code[gi] && c == 'G' && number10 == 800) continue;
+      if (w.code[gi] && w.code[gi]->letter == 'G' && w.code[gi]->number10 == 800) {
+        for (std::size_t k = 0; k < w.code_count; ++k)
+          if (w.codes[k] == w.code[gi]) w.codes[k] = code;
+        w.code[gi] = code;
+        w.code_word[gi] = &word;
+        continue;
+      }
       if (w.code[gi])
         return fail(err, ErrorCode::ModalGroupViolation, word.loc,
                     fmt::format("{} and {} are both in modal group {}", code_name(*w.code[gi]),
@@ -113,6 +123,15 @@ bool check_block(BlockCtx& ctx) {
     ctx.motion_to_be = -1;
   }
 
+  // rs274: @ and ^ belong to motions; G10/G28/G30 refuse them, G92/G52 find no axis in them.
+  if (w.polar.any() && axis_user)
+    return ctx.fail(ErrorCode::PolarMisused, w.polar.first()->loc,
+                    axis_user->number10 == 920 || axis_user->number10 == 520
+                        ? fmt::format("{} takes axis words, not polar coordinates (@, ^)",
+                                      code_name(*axis_user))
+                        : fmt::format("polar coordinates (@, ^) can only be used for motion, "
+                                      "not with {}",
+                                      code_name(*axis_user)));
   if (has_axes && axis_user && motion)
     return ctx.fail(ErrorCode::ModalGroupViolation, w.word_of(Group::Motion)->loc,
                     fmt::format("{} and {} both use the axis words", code_name(*axis_user),

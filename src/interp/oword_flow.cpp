@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 namespace gm {
 
 namespace {
@@ -18,6 +20,7 @@ bool fail(InterpError& err, ErrorCode code, SourceLoc loc, std::string msg) {
 }
 
 std::string label_of(const grammar::OWord& o) {
+  if (o.kind == OKind::M98 || o.kind == OKind::M99) return std::string(grammar::okind_name(o.kind));
   return o.named ? "o<" + o.label + ">" : "o" + o.label;
 }
 
@@ -78,8 +81,11 @@ bool OwordFlow::enter_sub(const std::string& label, const LinePos& body, SourceL
         err, ErrorCode::CallTooDeep, loc,
         fmt::format("too many nested subroutine calls (LinuxCNC allows {})", kMaxCallDepth));
   if (!count_iteration(loc, err)) return false;
-  stack_.push_back(Open{Frame::Call, label, pending_return_});
-  params_.push_frame();
+  Open call{Frame::Call, label, pending_return_};
+  call.fanuc = pending_fanuc_;
+  call.again = pending_again_;
+  stack_.push_back(call);
+  params_.push_frame(!pending_fanuc_);  // M98: #1-#30 stay global
   for (std::size_t i = 0; i < pending_args_.size(); ++i)
     params_.set(static_cast<int>(i) + 1, pending_args_[i]);
   ++calls_;
@@ -102,15 +108,109 @@ bool OwordFlow::leave_sub(const grammar::Block& b, FlowJump& jump, InterpError& 
   // rs274 returns from the current call whatever the label of `return`/`endsub` (its
   // sample retval.ngc returns from o1000 with `o1010 return`).
   const Open call = stack_[static_cast<std::size_t>(at)];
+  // LinuxCNC does not mix the styles: M98's `O1234` ends with M99, `o1234 sub` with endsub.
+  if (call.fanuc && o.kind != OKind::M99)
+    return fail(err, ErrorCode::SubprogramMisused, o.loc,
+                fmt::format("subprogram O{} was called with M98: it must end with M99, not {} {}",
+                            call.label, label_of(o), grammar::okind_name(o.kind)));
+  if (!call.fanuc && o.kind == OKind::M99)
+    return fail(err, ErrorCode::SubprogramMisused, o.loc,
+                fmt::format("M99 in subroutine o{}: an 'o... sub' ends with 'endsub' or 'return'",
+                            call.label));
   double value = 0.0;
-  const bool has_value = !o.args.empty();
+  const bool has_value = o.kind != OKind::M99 && !o.args.empty();
   if (has_value && !evaluate_arg(b, 0, value, err)) return false;
   stack_.resize(static_cast<std::size_t>(at));
   params_.pop_frame();
   params_.set_returned(value, has_value);
   --calls_;
-  seek_to(jump, call.pos, true);
+  seek_to(jump, call.pos, !call.again);  // M98 L: the call line runs again
   return true;
+}
+
+bool OwordFlow::m98(const grammar::Block& b, const LinePos& pos, FlowJump& jump, InterpError& err) {
+  const grammar::OWord& o = b.oword;
+  const grammar::Word* p = nullptr;
+  const grammar::Word* l = nullptr;
+  bool m98_seen = false;
+  for (const grammar::Word& w : b.words) {
+    if (w.letter == 'M' && w.value == 98.0 && !m98_seen) {
+      m98_seen = true;
+    } else if (w.letter == 'P' && p == nullptr) {
+      p = &w;
+    } else if (w.letter == 'L' && l == nullptr) {
+      l = &w;
+    } else if (w.letter != 'N') {
+      return fail(err, ErrorCode::SubprogramMisused, w.loc,
+                  fmt::format("M98 takes P (the subprogram number) and L (repeats) only, not {}",
+                              w.letter));
+    }
+  }
+  if (p == nullptr)
+    return fail(err, ErrorCode::SubprogramMisused, o.loc,
+                "M98 needs P, the number of the subprogram (O1234 ... M99) to call");
+  const double pn = std::floor(p->value + 1e-4);
+  if (std::abs(p->value - pn) > 1e-4 || pn < 0 || pn > 99999999)
+    return fail(err, ErrorCode::SubprogramMisused, p->loc,
+                fmt::format("M98 P must be a subprogram number, not {}", p->value));
+  const std::string label = fmt::format("{}", static_cast<long>(pn));
+  // LinuxCNC: the caller's frame counts the L repeats down; while some are left, the return
+  // comes back to this line, which calls again. `M98 L0` calls nothing.
+  pending_again_ = false;
+  if (l != nullptr) {
+    int& left = m98_loops_[static_cast<std::size_t>(calls_)];
+    if (left == -1) left = static_cast<int>(std::lround(l->value));
+    --left;
+    if (left > 0)
+      pending_again_ = true;
+    else
+      left = -1;
+    if (l->value == 0.0) return true;
+  }
+  pending_args_.clear();
+  pending_return_ = pos;
+  pending_fanuc_ = true;
+  grammar::OWord shown = o;
+  shown.named = false;
+  shown.label = label;
+  if (const auto it = subs_.find(label); it != subs_.end()) {
+    if (!it->second.fanuc)
+      return fail(err, ErrorCode::SubprogramMisused, o.loc,
+                  fmt::format("M98 P{} calls o{} sub (line {}): an 'o... sub' is called with "
+                              "'o... call'; M98 calls a bare O{} ... M99",
+                              label, label, it->second.pos.line, label));
+    return enter_sub(label, it->second.pos, o.loc, jump, true, err);
+  }
+  if (calls_ >= kMaxCallDepth) return enter_sub(label, pos, o.loc, jump, false, err);
+  skip_.mode = Skip::FindSub;
+  skip_.started_file = pos.file;
+  skip_.file = pos.file;
+  skip_.label = label;
+  skip_.shown = "O" + label;
+  skip_.started = o.loc;
+  skip_.started_kind = o.kind;
+  skip_.fanuc = true;
+  if (const int file = finder_ != nullptr ? finder_->find(label) : 0; file > 0) {
+    skip_.file = file;
+    seek_to(jump, LinePos{0, 0, 1, file}, false);
+  }
+  return true;
+}
+
+// FindSub reached the definition `o` at `pos`: enter it (the styles must match).
+bool OwordFlow::found_sub(const grammar::OWord& o, const LinePos& pos, FlowJump& jump,
+                          InterpError& err) {
+  const bool fanuc = o.kind == OKind::Program;
+  if (fanuc != skip_.fanuc)
+    return fail(
+        err, ErrorCode::SubprogramMisused, o.loc,
+        fanuc
+            ? fmt::format("O{} is a Fanuc-style subprogram: call it with M98 P{}", o.label, o.label)
+            : fmt::format("{} sub is called with '{} call', not M98", label_of(o), label_of(o)));
+  subs_[o.label] = SubDef{pos, fanuc};
+  skip_.mode = Skip::None;
+  skip_.fanuc = false;
+  return enter_sub(o.label, pos, o.loc, jump, false, err);
 }
 
 bool OwordFlow::normal(const grammar::Block& b, const LinePos& pos, FlowJump& jump,
@@ -127,16 +227,16 @@ bool OwordFlow::normal(const grammar::Block& b, const LinePos& pos, FlowJump& ju
   double v = 0.0;
   switch (o.kind) {
     case OKind::Sub: {
-      const auto [it, added] = subs_.emplace(o.label, pos);
-      if (!added && (it->second.file != pos.file || it->second.offset != pos.offset))
+      const auto [it, added] = subs_.emplace(o.label, SubDef{pos, false});
+      if (!added && (it->second.pos.file != pos.file || it->second.pos.offset != pos.offset))
         return fail(
             err, ErrorCode::SubroutineRedefined, o.loc,
             fmt::format("redefining subroutine {}: already defined at {}line {}", label_of(o),
-                        it->second.file > 0 && finder_ != nullptr
-                            ? finder_->file_name(it->second.file) + " "
+                        it->second.pos.file > 0 && finder_ != nullptr
+                            ? finder_->file_name(it->second.pos.file) + " "
                             : std::string(),
-                        it->second.line));
-      it->second = pos;
+                        it->second.pos.line));
+      it->second = SubDef{pos, false};
       skip(Skip::SubBody, o.label, b, pos.file);
       return true;
     }
@@ -150,8 +250,17 @@ bool OwordFlow::normal(const grammar::Block& b, const LinePos& pos, FlowJump& ju
         pending_args_.push_back(v);
       }
       pending_return_ = pos;
+      pending_fanuc_ = false;
+      pending_again_ = false;
+      skip_.fanuc = false;
       const auto it = subs_.find(o.label);
-      if (it != subs_.end()) return enter_sub(o.label, it->second, o.loc, jump, true, err);
+      if (it != subs_.end()) {
+        if (it->second.fanuc)
+          return fail(err, ErrorCode::SubprogramMisused, o.loc,
+                      fmt::format("O{} (line {}) is a Fanuc-style subprogram: call it with M98 P{}",
+                                  o.label, it->second.pos.line, o.label));
+        return enter_sub(o.label, it->second.pos, o.loc, jump, true, err);
+      }
       if (calls_ >= kMaxCallDepth) return enter_sub(o.label, pos, o.loc, jump, false, err);
       // LinuxCNC's order: a sub already seen, then `name.ngc` on the subroutine path, then a
       // definition further down the current file.
@@ -251,6 +360,11 @@ bool OwordFlow::normal(const grammar::Block& b, const LinePos& pos, FlowJump& ju
       }
       return true;
     }
+    case OKind::M98:
+      return m98(b, pos, jump, err);
+    case OKind::M99:
+      return leave_sub(b, jump, err);
+    case OKind::Program:  // reached in the flow, not by M98: LinuxCNC runs on into it
     case OKind::None:
       break;
   }
@@ -260,7 +374,8 @@ bool OwordFlow::normal(const grammar::Block& b, const LinePos& pos, FlowJump& ju
 bool OwordFlow::skipped(const grammar::Block& b, const LinePos& pos, FlowJump& jump,
                         InterpError& err) {
   const grammar::OWord& o = b.oword;
-  if (o.kind == OKind::Sub && skip_.mode != Skip::FindSub) subs_.emplace(o.label, pos);
+  if (o.kind == OKind::Sub && skip_.mode != Skip::FindSub)
+    subs_.emplace(o.label, SubDef{pos, false});
   if (o.label != skip_.label) return true;
   double v = 0.0;
   switch (skip_.mode) {
@@ -268,10 +383,8 @@ bool OwordFlow::skipped(const grammar::Block& b, const LinePos& pos, FlowJump& j
       if (o.kind == OKind::EndSub) skip_.mode = Skip::None;
       return true;
     case Skip::FindSub:
-      if (o.kind != OKind::Sub) return true;
-      subs_[o.label] = pos;
-      skip_.mode = Skip::None;
-      return enter_sub(o.label, pos, o.loc, jump, false, err);
+      if (o.kind != OKind::Sub && o.kind != OKind::Program) return true;
+      return found_sub(o, pos, jump, err);
     case Skip::IfBranch:
       if (o.kind == OKind::ElseIf) {
         if (!evaluate_arg(b, 0, v, err)) return false;

@@ -7,6 +7,7 @@
 #include "interp/interpreter.hpp"
 #include "interp/parameters.hpp"
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <unordered_map>
@@ -75,6 +76,13 @@ class OwordFlow {
     LinePos pos;           ///< the opening line (call: the call line)
     double remaining = 0;  ///< repeat: iterations left
     bool branch_taken = false;
+    bool fanuc = false;  ///< call: an M98 subprogram (ends with M99)
+    bool again = false;  ///< call: M98 L with repeats left returns to the call line itself
+  };
+  /// A subroutine seen: its `sub` line, or its bare `O1234` line (Fanuc-style, for M98).
+  struct SubDef {
+    LinePos pos;
+    bool fanuc = false;
   };
   enum class Skip : std::uint8_t {
     None,
@@ -93,6 +101,7 @@ class OwordFlow {
     grammar::OKind started_kind = grammar::OKind::None;
     int started_file = 0;  ///< the file of the line that began the skip
     int file = 0;          ///< FindSub: the file searched
+    bool fanuc = false;    ///< FindSub: an M98 call (looks for a bare `O1234`)
   };
 
   bool evaluate_arg(const grammar::Block& b, std::size_t i, double& v, InterpError& err);
@@ -100,6 +109,8 @@ class OwordFlow {
   bool skipped(const grammar::Block& b, const LinePos& pos, FlowJump& jump, InterpError& err);
   bool enter_sub(const std::string& label, const LinePos& body, SourceLoc loc, FlowJump& jump,
                  bool seek, InterpError& err);
+  bool m98(const grammar::Block& b, const LinePos& pos, FlowJump& jump, InterpError& err);
+  bool found_sub(const grammar::OWord& o, const LinePos& pos, FlowJump& jump, InterpError& err);
   bool leave_sub(const grammar::Block& b, FlowJump& jump, InterpError& err);
   bool count_iteration(SourceLoc loc, InterpError& err);
   void skip(Skip mode, const std::string& label, const grammar::Block& b, int file);
@@ -112,10 +123,19 @@ class OwordFlow {
   std::int64_t max_iterations_;
   std::int64_t iterations_ = 0;
   std::vector<Open> stack_;
-  std::unordered_map<std::string, LinePos> subs_;  ///< label -> the `sub` line
+  std::unordered_map<std::string, SubDef> subs_;  ///< label -> the `sub` (or `O1234`) line
   SkipState skip_;
   std::vector<double> pending_args_;  ///< FindSub: the arguments of the call
   LinePos pending_return_;            ///< FindSub: the call line
+  bool pending_fanuc_ = false;        ///< the pending call is an M98
+  bool pending_again_ = false;        ///< ... whose return re-reads the call line (L repeats)
+  /// M98 L repeats left, by the caller's call depth (LinuxCNC m98_loop_counter); -1: none.
+  std::array<int, kMaxCallDepth + 1> m98_loops_ = make_loops();
+  static std::array<int, kMaxCallDepth + 1> make_loops() {
+    std::array<int, kMaxCallDepth + 1> a{};
+    a.fill(-1);
+    return a;
+  }
   int calls_ = 0;
 };
 

@@ -67,15 +67,18 @@ bool ParameterStore::set_named(std::string_view name, double value) {
   return true;
 }
 
-void ParameterStore::push_frame() {
+void ParameterStore::push_frame(bool save_args) {
   Frame& f = frames_.emplace_back();
-  for (int i = 0; i < kArgs; ++i) f.saved_args[static_cast<std::size_t>(i)] = numbered_[i + 1];
+  f.restores_args = save_args;
+  if (save_args)
+    for (int i = 0; i < kArgs; ++i) f.saved_args[static_cast<std::size_t>(i)] = numbered_[i + 1];
 }
 
 void ParameterStore::pop_frame() {
   if (frames_.size() <= 1) return;
   const Frame& f = frames_.back();
-  for (int i = 0; i < kArgs; ++i) numbered_[i + 1] = f.saved_args[static_cast<std::size_t>(i)];
+  if (f.restores_args)
+    for (int i = 0; i < kArgs; ++i) numbered_[i + 1] = f.saved_args[static_cast<std::size_t>(i)];
   frames_.pop_back();
 }
 

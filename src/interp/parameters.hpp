@@ -78,8 +78,9 @@ class ParameterStore {
     value_returned_ = returned ? 1.0 : 0.0;
   }
 
-  /// Call frames (O-word subroutines): a new frame has no named locals and saves #1-#30.
-  void push_frame();
+  /// Call frames (O-word subroutines): a new frame has no named locals and saves #1-#30 (an
+  /// M98 subprogram's does not: #1-#30 stay global, LinuxCNC's Fanuc-style rule).
+  void push_frame(bool save_args = true);
   void pop_frame();
   std::size_t depth() const { return frames_.size() - 1; }
 
@@ -103,6 +104,7 @@ class ParameterStore {
   struct Frame {
     NameMap locals;
     std::array<double, kArgs> saved_args{};
+    bool restores_args = true;
   };
 
   std::vector<double> numbered_;

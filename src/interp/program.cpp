@@ -7,6 +7,8 @@
 #include "common/diagnostic.hpp"
 #include "common/status.hpp"
 #include "grammar/parse.hpp"
+#include "interp/codes.hpp"
+#include "interp/dialect.hpp"
 #include "interp/expression.hpp"
 #include "interp/interpreter.hpp"
 #include "interp/line_reader.hpp"
@@ -16,6 +18,8 @@
 
 #include <fmt/format.h>
 
+#include <array>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <fstream>
@@ -264,9 +268,17 @@ class ProgramRunner {
         state_params_(interp_),
         files_(opts.subroutine_path),
         flow_(params_, opts.max_iterations, &files_),
-        parameter_file_(opts.parameter_file) {
+        parameter_file_(opts.parameter_file),
+        dialect_(opts.dialect) {
     params_.set_provider(&state_params_);
     if (!parameter_file_.empty()) load_parameters();
+    if (dialect_ == Dialect::Grbl) {  // grbl starts in G0: a first `X10` moves (rs274 refuses it)
+      grammar::Block g0;
+      g0.words.push_back(grammar::Word{'G', 0.0, SourceLoc{1, 1}});
+      std::vector<Canon> none;
+      InterpError err;
+      interp_.execute(g0, none, err);
+    }
   }
   ProgramRunner(const ProgramRunner&) = delete;
   ProgramRunner& operator=(const ProgramRunner&) = delete;
@@ -309,6 +321,16 @@ class ProgramRunner {
       if (p.truncated || p.block.oword.kind == grammar::OKind::None) return true;
       return control(p, out, diags, jump);
     }
+    if (dialect_ == Dialect::Grbl && !p.truncated && grbl_dollar_line(text)) {
+      if (!dollar_warned_) {  // a grbl setting or command ($H, $$, $110=500): not G-code
+        dollar_warned_ = true;
+        diags.push_back(Diagnostic{Severity::Warning, 0, SourceLoc{line, 1},
+                                   "grbl '$' setting and command lines are passed over (the "
+                                   "first is here)",
+                                   source_for(text)});
+      }
+      return true;
+    }
     if (p.truncated) {
       diags.push_back(Diagnostic{Severity::Error,
                                  static_cast<int>(ErrorCode::LineTooLong),
@@ -318,13 +340,24 @@ class ProgramRunner {
       return true;
     }
     grammar::Block& block = p.block;
-    if (block.block_delete && block_delete_) return true;
+    // grbl passes over '/' and runs the line (protocol.c: block delete not supported)
+    if (block.block_delete && block_delete_ && dialect_ != Dialect::Grbl) return true;
     if (block.has_errors()) {
       for (const auto& e : block.errors)
         diags.push_back(Diagnostic{Severity::Error, static_cast<int>(e.code), e.loc, e.message,
                                    source_for(text)});
       first_content_seen_ = true;
       return true;
+    }
+    if (dialect_ == Dialect::Grbl) {
+      SourceLoc at;
+      std::string why;
+      if (!grbl_accepts(block, at, why)) {
+        diags.push_back(Diagnostic{Severity::Error, static_cast<int>(ErrorCode::NotInDialect), at,
+                                   why + " (--dialect grbl)", source_for(text)});
+        first_content_seen_ = true;
+        return true;
+      }
     }
     if (block.percent) {
       if (!first_content_seen_) {
@@ -335,6 +368,12 @@ class ProgramRunner {
         done_ = true;
         return false;
       }
+    }
+    if (block.oword.kind == grammar::OKind::M99 && flow_.call_depth() == 0) {
+      // M99 in the main program ends it as M2 does (rs274; LinuxCNC's task would loop).
+      block.oword.kind = grammar::OKind::None;
+      for (grammar::Word& w : block.words)
+        if (w.letter == 'M' && w.value == 99.0) w.value = 2.0;
     }
     if (block.oword.kind != grammar::OKind::None) {
       first_content_seen_ = true;
@@ -355,6 +394,7 @@ class ProgramRunner {
         if (!directive(block.directives[i], text, diags)) return false;
       if (block.words.empty() && block.message_count == 0) return true;
     }
+    if (dialect_ == Dialect::Fanuc && !fanuc_machine_codes(block, text, diags)) return true;
     if (!interp_.execute(block, out, err)) {
       diags.push_back(Diagnostic{Severity::Error, static_cast<int>(err.code), err.loc, err.message,
                                  source_for(text)});
@@ -389,6 +429,13 @@ class ProgramRunner {
                                  err.message,
                                  {},
                                  files_.file_name(err_file)});
+      return;
+    }
+    if (!interp_.state().ended && dialect_ == Dialect::Grbl) return;  // grbl streams: no end
+    if (!interp_.state().ended && dialect_ == Dialect::Fanuc) {
+      diags.push_back(Diagnostic{Severity::Warning, 0, SourceLoc{last_line > 0 ? last_line : 1, 1},
+                                 "the program ends without M2/M30 (ended here, --dialect fanuc)",
+                                 last_line_, files_.file_name(file)});
       return;
     }
     if (!interp_.state().ended) {
@@ -433,6 +480,15 @@ class ProgramRunner {
     state_params_.set_line(p.number);
     InterpError err;
     const int depth = flow_.call_depth();
+    const grammar::OKind kind = p.block.oword.kind;
+    if ((kind == grammar::OKind::M98 || kind == grammar::OKind::M99) && !flow_.skipping() &&
+        p.block.needs_evaluation() && !evaluator_.run(p.block, params_, err)) {
+      diags.push_back(Diagnostic{Severity::Error, static_cast<int>(err.code), err.loc, err.message,
+                                 source_for(p.text)});
+      done_ = true;
+      jump.seek = false;
+      return false;
+    }
     bool ok = flow_.handle(p.block, LinePos{p.offset, p.next_offset, p.number, p.file}, jump, err);
     // The interpreter keeps M70/M73 modes per call level (machine's, interp/saved_modes.cpp).
     if (ok && flow_.call_depth() > depth) interp_.enter_call(flow_.call_depth());
@@ -548,7 +604,46 @@ class ProgramRunner {
     done_ = true;
     return true;
   }
+  // --dialect fanuc: M codes of Fanuc/Haas machines that LinuxCNC does not have (M19 orient,
+  // M31 chip conveyor, M88 through-spindle coolant, ...) are passed over with one warning per
+  // code; M97 (Haas local subprogram call) is refused. False when nothing is left to execute.
+  bool fanuc_machine_codes(grammar::Block& block, const std::string& text,
+                           std::vector<Diagnostic>& diags) {
+    auto& words = block.words;
+    for (std::size_t i = 0; i < words.size();) {
+      const grammar::Word& w = words[i];
+      const long m = std::lround(w.value);
+      if (w.letter != 'M' || std::abs(w.value - static_cast<double>(m)) > 1e-6 || m < 0 || m > 99 ||
+          find_code('M', static_cast<int>(10 * m)) != nullptr) {
+        ++i;
+        continue;
+      }
+      if (m == 97) {
+        diags.push_back(Diagnostic{Severity::Error, static_cast<int>(ErrorCode::NotInDialect),
+                                   w.loc,
+                                   "M97 (Haas local subprogram call to line N) is not supported: "
+                                   "use M98 with an O-numbered subprogram",
+                                   source_for(text)});
+        return false;
+      }
+      if (m < static_cast<long>(fanuc_warned_.size()) &&
+          !fanuc_warned_[static_cast<std::size_t>(m)]) {
+        fanuc_warned_[static_cast<std::size_t>(m)] = true;
+        diags.push_back(Diagnostic{Severity::Warning, 0, w.loc,
+                                   fmt::format("M{} is a machine function LinuxCNC does not have: "
+                                               "passed over (--dialect fanuc; warned once)",
+                                               m),
+                                   source_for(text)});
+      }
+      words.erase(words.begin() + static_cast<std::ptrdiff_t>(i));
+    }
+    return !(words.empty() && block.message_count == 0);
+  }
+
   std::string parameter_file_;
+  Dialect dialect_;
+  bool dollar_warned_ = false;
+  std::array<bool, 100> fanuc_warned_{};
   std::vector<Diagnostic> start_error_;
   bool parameters_loaded_ = false;
   bool parameters_saved_ = false;

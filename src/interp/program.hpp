@@ -3,6 +3,7 @@
 
 #include "common/diagnostic.hpp"
 #include "interp/canon.hpp"
+#include "interp/dialect.hpp"
 #include "machine/machine.hpp"
 
 #include <cstdint>
@@ -29,6 +30,8 @@ struct InterpreterOptions {
   /// (ended, stopped at an error, or the stream destroyed), as rs274 does at exit. check_program
   /// never writes.
   bool save_parameters = false;
+  /// What the program is written for (docs/dialects.md); LinuxCNC: rs274's rules exactly.
+  Dialect dialect = Dialect::LinuxCNC;
 };
 
 struct CheckSummary {

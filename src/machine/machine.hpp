@@ -84,6 +84,9 @@ struct Machine {
   /// LinuxCNC `.var` parameter file read at the start and written at the end of a run (key
   /// `parameter_file`, relative to the machine file); empty: none.
   std::string parameter_file;
+  /// What programs for this machine are written in (key `dialect`: "linuxcnc", "fanuc",
+  /// "grbl"; docs/dialects.md); empty: linuxcnc. --dialect overrides it.
+  std::string dialect;
   /// G54..G59 on the nine program axes (XYZABCUVW order), mm (degrees for A, B, C).
   std::array<AxisVec, 6> work_offsets_mm{AxisVec::Zero(), AxisVec::Zero(), AxisVec::Zero(),
                                          AxisVec::Zero(), AxisVec::Zero(), AxisVec::Zero()};

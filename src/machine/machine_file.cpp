@@ -348,6 +348,13 @@ Machine parse_machine_toml(std::string_view text, std::string_view source_name) 
     for (const std::string& dir : SubroutinePath::split(sp))
       m.subroutine_path.push_back(beside(dir));
   if (std::string pf; r.string("parameter_file", pf, false)) m.parameter_file = beside(pf);
+  if (std::string d; r.string("dialect", d, false)) {
+    if (d == "linuxcnc" || d == "fanuc" || d == "grbl")
+      m.dialect = d;
+    else
+      r.fail_at(root.get("dialect")->source(), "dialect",
+                fmt::format("must be \"linuxcnc\", \"fanuc\" or \"grbl\" (got \"{}\")", d));
+  }
   if (const toml::table* wo = r.table("work_offsets", false)) {
     Reader wr(*wo, "work_offsets.", src);
     for (int g = 0; g < 6; ++g) {
@@ -396,6 +403,7 @@ std::string machine_to_toml(const Machine& m) {
   }
   if (!m.parameter_file.empty())
     s += fmt::format("parameter_file = {}\n", toml_string(m.parameter_file));
+  if (!m.dialect.empty()) s += fmt::format("dialect = {}\n", toml_string(m.dialect));
   s += "tools = " + list(m.tool_lengths_mm) + "\n\n";
   s += fmt::format("[accdec]\nprofile = {}\ntau_s = {}\n", toml_string(m.profile),
                    fmt_double(m.tau_s));
