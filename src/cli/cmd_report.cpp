@@ -51,8 +51,8 @@ void write_page(const ReportFlags& f, ProgramInput& program, const Run& run,
   in.servo = cfg.servo;
   in.summary_json = run.summary().json();
   in.summary_text = run.summary().text() + run.tolerance().text();
-  in.status = run.summary().settled ? "the program finished and the axes settled"
-                                    : run.unsettled_reason();
+  in.status =
+      run.summary().settled ? "the program finished and the axes settled" : run.unsettled_reason();
   in.taps = &run.pipeline().taps();
   in.line_texts = line_texts(program, collector.lines());
   const std::string page = report::render_page(collector, in);

@@ -132,11 +132,11 @@ void add_run_flags(CLI::App* sub, RunFlags& flags) {
 
 void validate_run_flags(const RunFlags& flags) {
   if (flags.keep_partial && TraceWriter::written_in_place(flags.trace_path))
-    throw CLI::ValidationError(
-        "--keep-partial", fmt::format("--trace {} is written in place (stdout, a device or a "
-                                      "FIFO), so no partial trace can be kept apart from it; "
-                                      "write the trace to a file",
-                                      flags.trace_path));
+    throw CLI::ValidationError("--keep-partial",
+                               fmt::format("--trace {} is written in place (stdout, a device or a "
+                                           "FIFO), so no partial trace can be kept apart from it; "
+                                           "write the trace to a file",
+                                           flags.trace_path));
 }
 
 // run(); with --keep-partial a run that fails keeps the trace written so far as FILE.partial, its

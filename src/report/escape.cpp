@@ -12,10 +12,14 @@ int utf8_sequence_length(std::string_view s) {
   if (c < 0x80) return 1;
   int n = 0;
   unsigned cp = 0;
-  if ((c & 0xE0) == 0xC0) n = 2, cp = c & 0x1Fu;
-  else if ((c & 0xF0) == 0xE0) n = 3, cp = c & 0x0Fu;
-  else if ((c & 0xF8) == 0xF0) n = 4, cp = c & 0x07u;
-  else return 0;
+  if ((c & 0xE0) == 0xC0)
+    n = 2, cp = c & 0x1Fu;
+  else if ((c & 0xF0) == 0xE0)
+    n = 3, cp = c & 0x0Fu;
+  else if ((c & 0xF8) == 0xF0)
+    n = 4, cp = c & 0x07u;
+  else
+    return 0;
   if (s.size() < static_cast<std::size_t>(n)) return 0;
   for (int i = 1; i < n; ++i) {
     if ((b(static_cast<std::size_t>(i)) & 0xC0) != 0x80) return 0;
@@ -37,12 +41,23 @@ std::string html_escape(std::string_view s) {
       continue;
     }
     switch (s[i]) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&#39;"; break;
-      default: out.append(s.substr(i, static_cast<std::size_t>(n)));
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&#39;";
+        break;
+      default:
+        out.append(s.substr(i, static_cast<std::size_t>(n)));
     }
     i += static_cast<std::size_t>(n);
   }
@@ -60,11 +75,14 @@ std::string json_string(std::string_view s) {
       continue;
     }
     const auto c = static_cast<unsigned char>(s[i]);
-    if (c == '"') out += "\\\"";
-    else if (c == '\\') out += "\\\\";
+    if (c == '"')
+      out += "\\\"";
+    else if (c == '\\')
+      out += "\\\\";
     else if (c < 0x20 || c == '<' || c == '>' || c == '&' || c == 0x7F)
       out += fmt::format("\\u{:04x}", c);
-    else out.append(s.substr(i, static_cast<std::size_t>(n)));
+    else
+      out.append(s.substr(i, static_cast<std::size_t>(n)));
     i += static_cast<std::size_t>(n);
   }
   out += '"';

@@ -52,8 +52,8 @@ void ReportCollector::add_motion(const Motion& m) {
   if (m.kind == MotionKind::Arc) {
     const MotionGeometry g = MotionGeometry::of(m);
     // Chords of at most 5 degrees: under 0.1 % of the radius from the arc.
-    const int n = std::max(1, static_cast<int>(std::ceil(std::abs(g.sweep_rad) /
-                                                         (5.0 * std::numbers::pi / 180.0))));
+    const int n = std::max(
+        1, static_cast<int>(std::ceil(std::abs(g.sweep_rad) / (5.0 * std::numbers::pi / 180.0))));
     for (int i = 1; i <= n; ++i) {
       const AxisVec p = g.at_fraction(static_cast<double>(i) / n);
       programmed_.add(p[0], p[1], false, rapid);
@@ -77,8 +77,7 @@ void ReportCollector::add(const SampleRecord& s, const Motion* started) {
   b.lo[kContourSeries] = b.hi[kContourSeries] = std::isfinite(ce) ? ce : 0.0;
   b.lo[kOverrideSeries] = b.hi[kOverrideSeries] = s.feed_scale * 100.0;
   for (int a = 0; a < axes_; ++a) {
-    const double v =
-        static_cast<double>(s.ref_blu[a] - prev_ref_[a]) * blu_mm_[a] / period_s_;
+    const double v = static_cast<double>(s.ref_blu[a] - prev_ref_[a]) * blu_mm_[a] / period_s_;
     const double acc = first_ ? 0.0 : (v - prev_v_[a]) / period_s_;
     const double jerk = first_ ? 0.0 : (acc - prev_a_[a]) / period_s_;
     const auto i = static_cast<std::size_t>(kFirstAxisSeries + 3 * a);

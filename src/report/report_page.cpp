@@ -73,7 +73,8 @@ std::string json_array(std::size_t n, F&& f) {
 std::vector<double> column_times(const ReportCollector& c) {
   std::vector<double> t;
   t.reserve(c.series().bins().size());
-  for (const SeriesBin& b : c.series().bins()) t.push_back(static_cast<double>(b.k0) * c.period_s());
+  for (const SeriesBin& b : c.series().bins())
+    t.push_back(static_cast<double>(b.k0) * c.period_s());
   return t;
 }
 
@@ -90,7 +91,11 @@ std::string time_chart(const ReportCollector& c, const std::vector<double>& t,
     }
   const auto [y0, y1] = padded_range(lo, hi);
   const double t0 = t.empty() ? 0.0 : t.front();
-  const double t1 = t.empty() ? 1.0 : std::max(t.back() + c.period_s() * static_cast<double>(c.series().width()) - c.period_s(), t0 + c.period_s());
+  const double t1 =
+      t.empty() ? 1.0
+                : std::max(t.back() + c.period_s() * static_cast<double>(c.series().width()) -
+                               c.period_s(),
+                           t0 + c.period_s());
   const Frame f = Frame::of(t0, t1, y0, y1, 1000, height);
   std::string s = fmt::format(
       R"(<svg class="tchart" viewBox="0 0 {} {}" data-x0="{}" data-x1="{}" data-t0="{}" data-t1="{}">)",
@@ -116,7 +121,8 @@ std::string axis_legend(const ReportCollector& c) {
   const std::string letters = c.axis_letters();
   for (int a = 0; a < c.axis_count(); ++a)
     s += fmt::format(R"(<span style="background:{}"></span>{} &nbsp; )",
-                     kAxisColours[static_cast<std::size_t>(a)], letters[static_cast<std::size_t>(a)]);
+                     kAxisColours[static_cast<std::size_t>(a)],
+                     letters[static_cast<std::size_t>(a)]);
   return s + "</div>";
 }
 
@@ -179,8 +185,7 @@ std::string decimation_note(const ReportCollector& c) {
   const auto& sb = c.series();
   std::string s;
   if (sb.width() == 1)
-    s += fmt::format("Time plots: all {} samples, one column each (not decimated). ",
-                     sb.samples());
+    s += fmt::format("Time plots: all {} samples, one column each (not decimated). ", sb.samples());
   else
     s += fmt::format(
         "Time plots: decimated: {} samples in {} columns of {} samples; each column keeps the "
@@ -274,18 +279,20 @@ std::string render_page(const ReportCollector& c, const PageInput& in) {
   h += "<h2>Path in XY, coloured by |contour error|</h2>\n";
   if (c.has_xy()) {
     h += R"(<div class="xybox"><div style="flex:1 1 520px">)" + xy_plot(c) + "</div><div>";
-    h += R"(<p><button id="zoom-in">Zoom in</button> <button id="zoom-out">Zoom out</button> <button id="zoom-reset">Reset</button></p>)";
+    h +=
+        R"(<p><button id="zoom-in">Zoom in</button> <button id="zoom-out">Zoom out</button> <button id="zoom-reset">Reset</button></p>)";
     h += R"(<p class="note">Wheel: zoom about the pointer; drag: pan; double click: all.</p>)";
     h += R"(<div class="legend"><p>|contour error|, BLU</p>)";
     const double emax = c.max_abs_contour_blu();
     for (std::size_t k = 0; k < kErrColours.size(); ++k) {
       const double a = class_floor(k, emax);
       const double b = k + 1 < kErrColours.size() ? class_floor(k + 1, emax) : emax;
-      h += fmt::format(R"(<div><span style="background:{}"></span>{} – {}</div>)",
-                       kErrColours[k], tick_label(a), tick_label(b));
+      h += fmt::format(R"(<div><span style="background:{}"></span>{} – {}</div>)", kErrColours[k],
+                       tick_label(a), tick_label(b));
     }
     h += R"(<div><span style="background:#888"></span>programmed (feed)</div>)";
-    h += R"(<div><span style="border-top:1px dashed #888;height:0"></span>programmed (rapid)</div>)";
+    h +=
+        R"(<div><span style="border-top:1px dashed #888;height:0"></span>programmed (rapid)</div>)";
     h += "</div></div></div>\n";
   } else {
     h += "<p>The machine has no X and Y axes: no XY plot.</p>\n";
@@ -294,7 +301,8 @@ std::string render_page(const ReportCollector& c, const PageInput& in) {
   // 2. Contour error and override against time, with the cursor.
   const std::vector<double> t = column_times(c);
   h += "<h2>Contour error and feed override against time</h2>\n";
-  h += R"(<div id="cursor-info">Move the pointer over a time plot: the time, the values and the source line under it.</div>)";
+  h +=
+      R"(<div id="cursor-info">Move the pointer over a time plot: the time, the values and the source line under it.</div>)";
   h += time_chart(c, t, {kContourSeries}, {"#d62728"}, "contour error, BLU");
   h += time_chart(c, t, {kOverrideSeries}, {"#2ca02c"}, "feed override, %", 130);
 
@@ -310,7 +318,8 @@ std::string render_page(const ReportCollector& c, const PageInput& in) {
     }
     h += time_chart(c, t, ids, colours, names[static_cast<std::size_t>(q)]);
   }
-  h += R"(<p class="note">Finite differences of the Acc/Dec output (the commanded motion) per sample period, as the summary computes its peaks; rotary axes in degrees.</p>)";
+  h +=
+      R"(<p class="note">Finite differences of the Acc/Dec output (the commanded motion) per sample period, as the summary computes its peaks; rotary axes in degrees.</p>)";
 
   // 4. The summary.
   h += "<h2>Summary</h2>\n<table id=\"summary-table\"><tr><th>value</th><th></th></tr></table>\n";
@@ -328,7 +337,8 @@ std::string render_page(const ReportCollector& c, const PageInput& in) {
   const auto& bins = sb.bins();
   auto col = [&](int id, bool hi) {
     return json_array(bins.size(), [&](std::size_t i) {
-      return num(hi ? bins[i].hi[static_cast<std::size_t>(id)] : bins[i].lo[static_cast<std::size_t>(id)]);
+      return num(hi ? bins[i].hi[static_cast<std::size_t>(id)]
+                    : bins[i].lo[static_cast<std::size_t>(id)]);
     });
   };
   std::string src = "{";

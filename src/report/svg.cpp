@@ -94,9 +94,9 @@ std::string band(const Frame& f, const std::vector<double>& x, const std::vector
   pts.reserve(2 * x.size());
   for (std::size_t i = 0; i < x.size(); ++i) pts.emplace_back(f.x(x[i]), f.y(hi[i]));
   for (std::size_t i = x.size(); i-- > 0;) pts.emplace_back(f.x(x[i]), f.y(lo[i]));
-  return fmt::format(
-      R"(<polygon class="band" points="{}" fill="{}" stroke="{}"{}{}/>)", points_attr(pts, 1),
-      colour, colour, extra_attrs.empty() ? "" : " ", extra_attrs);
+  return fmt::format(R"(<polygon class="band" points="{}" fill="{}" stroke="{}"{}{}/>)",
+                     points_attr(pts, 1), colour, colour, extra_attrs.empty() ? "" : " ",
+                     extra_attrs);
 }
 
 }  // namespace gm::report

@@ -22,8 +22,7 @@ TEST_CASE("path simplifier: only exact repeats are dropped under the budget", "[
   CHECK(p.tolerance_mm() == 0.0);
 }
 
-TEST_CASE("path simplifier: 10000 points along a circle stay within 1000",
-          "[report]") {
+TEST_CASE("path simplifier: 10000 points along a circle stay within 1000", "[report]") {
   PathSimplifier p(1000);
   const int n = 10000;
   for (int i = 0; i <= n; ++i) {

@@ -94,7 +94,8 @@ TEST_CASE("report: a 10 mm square, programmed path, summary and source lines", "
   for (std::size_t i = 0; i < lo.size(); ++i)
     worst = std::max({worst, std::abs(lo[i]), std::abs(hi[i])});
   std::smatch m;
-  REQUIRE(std::regex_search(json, m, std::regex(R"~("contour_err_max_blu":\{"value":([-0-9.e+]+))~")));
+  REQUIRE(
+      std::regex_search(json, m, std::regex(R"~("contour_err_max_blu":\{"value":([-0-9.e+]+))~")));
   CHECK(worst == Approx(std::stod(m[1].str())).epsilon(1e-5));
   const auto t = json_numbers(data, "t");
   REQUIRE(t.size() == lo.size());
@@ -115,7 +116,8 @@ TEST_CASE("report: a long program is decimated, its peaks kept", "[report]") {
   // 40 strokes of ~10 mm at 1200 mm/min (20 mm/s): ~20 s, ~5000 samples at 4 ms, so 2048
   // columns of 4 samples (between 4096 and 8192 samples).
   std::string text = "G21 G90 G64\nF1200\n";
-  for (int i = 0; i < 20; ++i) text += "G1 X10 Y" + std::to_string(i) + ".5\nG1 X0 Y" + std::to_string(i + 1) + "\n";
+  for (int i = 0; i < 20; ++i)
+    text += "G1 X10 Y" + std::to_string(i) + ".5\nG1 X0 Y" + std::to_string(i + 1) + "\n";
   text += "M2\n";
   const auto prog = write_program("zigzag20.nc", text);
   const auto page_path = dir / "zigzag20.html";
@@ -127,7 +129,8 @@ TEST_CASE("report: a long program is decimated, its peaks kept", "[report]") {
   const std::string page = gmtest::slurp(page_path);
   const std::string data = script_text(page, "gm-data");
   std::smatch m;
-  REQUIRE(std::regex_search(page, m, std::regex(R"~(decimated: (\d+) samples in (\d+) columns of (\d+) samples)~")));
+  REQUIRE(std::regex_search(
+      page, m, std::regex(R"~(decimated: (\d+) samples in (\d+) columns of (\d+) samples)~")));
   const long samples = std::stol(m[1].str()), columns = std::stol(m[2].str()),
              width = std::stol(m[3].str());
   REQUIRE(samples > 4096);
@@ -143,7 +146,8 @@ TEST_CASE("report: a long program is decimated, its peaks kept", "[report]") {
   double worst = 0;
   for (std::size_t i = 0; i < lo.size(); ++i)
     worst = std::max({worst, std::abs(lo[i]), std::abs(hi[i])});
-  REQUIRE(std::regex_search(json, m, std::regex(R"~("contour_err_max_blu":\{"value":([-0-9.e+]+))~")));
+  REQUIRE(
+      std::regex_search(json, m, std::regex(R"~("contour_err_max_blu":\{"value":([-0-9.e+]+))~")));
   CHECK(worst == Approx(std::stod(m[1].str())).epsilon(1e-5));
   CHECK(page.size() < 2'000'000);
 }
@@ -153,8 +157,10 @@ TEST_CASE("report: takes run's flags, refuses a page it cannot write, errors loc
   const auto prog = write_program("line.nc", "G1 X1 F600\nM2\n");
   // A run flag (--override, --profile, --tau) changes what the page says.
   const auto page_path = dir / "line.html";
-  auto r = gmtest::run_gmotion("report " + prog.string() + " --profile linear --tau 0.02 "
-                               "--override 50 -o " + page_path.string());
+  auto r = gmtest::run_gmotion("report " + prog.string() +
+                               " --profile linear --tau 0.02 "
+                               "--override 50 -o " +
+                               page_path.string());
   INFO(r.out);
   REQUIRE(r.code == 0);
   const std::string page = gmtest::slurp(page_path);
@@ -165,7 +171,8 @@ TEST_CASE("report: takes run's flags, refuses a page it cannot write, errors loc
   CHECK(ov.front() == 50.0);
   // No -o: a usage error (2); a page that cannot be written: an input error (1).
   CHECK(gmtest::run_gmotion("report " + prog.string()).code == 2);
-  r = gmtest::run_gmotion("report " + prog.string() + " -o " + (dir / "no-such-dir" / "p.html").string());
+  r = gmtest::run_gmotion("report " + prog.string() + " -o " +
+                          (dir / "no-such-dir" / "p.html").string());
   CHECK(r.code == 1);
   CHECK(r.out.find("cannot write the report") != std::string::npos);
   // A program error is located as `run` locates it, and no page is written.
