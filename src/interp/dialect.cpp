@@ -48,10 +48,9 @@ bool grbl_dollar_line(std::string_view text) {
 namespace {
 
 // grbl 1.1's G codes (x 10): gnea/grbl README "G-code support" and gcode.c.
-constexpr std::array<int, 38> kGrblG = {0,   10,  20,  30,  40,  100, 170, 180, 190, 200,
-                                        210, 280, 281, 300, 301, 382, 383, 384, 385, 400,
-                                        431, 490, 530, 540, 550, 560, 570, 580, 590, 610,
-                                        800, 900, 910, 911, 920, 921, 930, 940};
+constexpr std::array<int, 38> kGrblG = {
+    0,   10,  20,  30,  40,  100, 170, 180, 190, 200, 210, 280, 281, 300, 301, 382, 383, 384, 385,
+    400, 431, 490, 530, 540, 550, 560, 570, 580, 590, 610, 800, 900, 910, 911, 920, 921, 930, 940};
 // grbl 1.1's M codes: program flow, spindle, coolant, M56 (parking override).
 constexpr std::array<int, 11> kGrblM = {0, 1, 2, 30, 3, 4, 5, 7, 8, 9, 56};
 
@@ -106,8 +105,8 @@ bool grbl_accepts(const grammar::Block& b, SourceLoc& loc, std::string& why) {
       }
     } else if (std::string_view("FIJKLNPRSTXYZ").find(c) == std::string_view::npos) {
       loc = w.loc;
-      why = fmt::format("grbl 1.1 has no {} word", c == '@' || c == '^' ? "polar (@, ^)"
-                                                                      : std::string(1, c));
+      why = fmt::format("grbl 1.1 has no {} word",
+                        c == '@' || c == '^' ? "polar (@, ^)" : std::string(1, c));
       return false;
     } else if (c == 'P') {
       p = &w;

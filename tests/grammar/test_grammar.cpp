@@ -98,7 +98,7 @@ TEST_CASE("syntax errors carry code, line and column") {
       {"#1", ErrorCode::ExpectedEquals, 3},
       {"#<ab=2", ErrorCode::BadParameterName, 7},
       {"[1]", ErrorCode::NumberWithoutLetter, 1},
-      {"o100", ErrorCode::BadOWord, 5},
+      {"o100 G0", ErrorCode::BadOWord, 6},  // bare "o100" is a Fanuc-style program start
       {"o100 bogus", ErrorCode::BadOWord, 6},
       {"N10 O<x call", ErrorCode::BadOWord, 6},
       {"o1 if [1+", ErrorCode::BadExpression, 10},

@@ -27,14 +27,16 @@ TEST_CASE("dialect-cli: the CAM programs run as their LinuxCNC equivalents (chec
   // tool 1's length from the default table to Z
   const std::string haas = moves(src("programs/dialects/haas_bracket.nc") + " --dialect fanuc");
   CHECK(haas == moves(src("tests/dialects/haas_bracket.linuxcnc.ngc")));
-  CHECK(haas.find("\"end\":[48,48,45.5],\"feed\":900,\"center\":[58,48,45.5]") != std::string::npos);
+  CHECK(haas.find("\"end\":[48,48,45.5],\"feed\":900,\"center\":[58,48,45.5]") !=
+        std::string::npos);
   const std::string pcb = moves(src("programs/dialects/grbl_pcb_isolation.nc") + " --dialect grbl");
   CHECK(pcb == moves(src("tests/dialects/grbl_pcb_isolation.linuxcnc.ngc")));
   CHECK(pcb.rfind("{\"kind\":\"rapid\",\"end\":[0,0,5],\"feed\":0}", 0) == 0);  // bare Z5: G0
   CHECK(moves(src("programs/dialects/estlcam_engrave.nc") + " --dialect grbl") ==
         moves(src("tests/dialects/estlcam_engrave.linuxcnc.ngc")));
   // as LinuxCNC programs they are refused
-  CHECK(sh(bin() + " check " + src("programs/dialects/haas_bracket.nc") + " 2>/dev/null").code == 1);
+  CHECK(sh(bin() + " check " + src("programs/dialects/haas_bracket.nc") + " 2>/dev/null").code ==
+        1);
   CHECK(sh(bin() + " check " + src("programs/dialects/grbl_pcb_isolation.nc") + " 2>/dev/null")
             .code == 1);
 }
@@ -52,13 +54,15 @@ TEST_CASE("dialect-cli: missing end: error, fanuc warning, grbl silent") {
   CHECK(r.out.find("warning") == std::string::npos);
 }
 
-TEST_CASE("dialect-cli: fanuc machine M codes are passed over once each; M97 refused") {
-  auto r = sh("printf 'M19\\nG0 X1 M88\\nM88\\nM2\\n' | " + bin() + " moves - --dialect fanuc 2>&1");
+TEST_CASE("dialect-cli: fanuc machine M codes are passed over once each, M97 refused") {
+  auto r =
+      sh("printf 'M19\\nG0 X1 M88\\nM88\\nM2\\n' | " + bin() + " moves - --dialect fanuc 2>&1");
   CHECK(r.code == 0);
   CHECK(r.out.find("<stdin>:1:1: warning: M19 is a machine function") != std::string::npos);
   CHECK(r.out.find("<stdin>:2:7: warning: M88") != std::string::npos);
   CHECK(r.out.find("<stdin>:3:") == std::string::npos);  // warned once
-  CHECK(r.out.find("{\"line\":2,\"kind\":\"rapid\",\"end\":[1,0,0],\"feed\":0}") != std::string::npos);
+  CHECK(r.out.find("{\"line\":2,\"kind\":\"rapid\",\"end\":[1,0,0],\"feed\":0}") !=
+        std::string::npos);
   r = sh("printf 'M88\\nM2\\n' | " + bin() + " check - 2>&1");
   CHECK(r.code == 1);  // linuxcnc: not supported
   r = sh("printf 'M97 P100\\nM2\\n' | " + bin() + " check - --dialect fanuc 2>&1");
@@ -73,7 +77,8 @@ TEST_CASE("dialect-cli: grbl passes over $ lines, starts in G0, runs '/' lines")
   CHECK(r.out.find("<stdin>:1:1: warning: grbl '$' setting") != std::string::npos);
   CHECK(r.out.find("<stdin>:2:") == std::string::npos);
   CHECK(r.out.find("{\"line\":3,\"kind\":\"rapid\",\"end\":[3,0,0],\"feed\":0}\n"
-                   "{\"line\":4,\"kind\":\"rapid\",\"end\":[3,4,0],\"feed\":0}") != std::string::npos);
+                   "{\"line\":4,\"kind\":\"rapid\",\"end\":[3,4,0],\"feed\":0}") !=
+        std::string::npos);
   r = sh("printf 'X3\\nM2\\n' | " + bin() + " check - 2>&1");  // linuxcnc: no motion mode
   CHECK(r.code == 1);
 }
@@ -100,13 +105,13 @@ TEST_CASE("dialect-cli: grbl refuses what grbl 1.1 does not have") {
 }
 
 TEST_CASE("dialect-cli: the machine key dialect, and the flag over it") {
-  const auto r = sh("d=$(mktemp -d) && sed 's/^\\[accdec\\]/dialect = \"grbl\"\\n[accdec]/' " +
-                    src("programs/machines/default.toml") +
-                    " > $d/m.toml && printf '$H\\nX1\\n' > $d/p.nc && " + bin() +
-                    " check $d/p.nc --machine $d/m.toml 2>/dev/null; echo \" $?\"; " + bin() +
-                    " check $d/p.nc --machine $d/m.toml --dialect linuxcnc 2>/dev/null; echo \" "
-                    "$?\"; sed -i 's/dialect = \"grbl\"/dialect = \"mach3\"/' $d/m.toml; " +
-                    bin() + " check $d/p.nc --machine $d/m.toml 2>&1 | grep -c 'dialect'; rm -r $d");
+  const auto r = sh(
+      "d=$(mktemp -d) && sed 's/^\\[accdec\\]/dialect = \"grbl\"\\n[accdec]/' " +
+      src("programs/machines/default.toml") + " > $d/m.toml && printf '$H\\nX1\\n' > $d/p.nc && " +
+      bin() + " check $d/p.nc --machine $d/m.toml 2>/dev/null; echo \" $?\"; " + bin() +
+      " check $d/p.nc --machine $d/m.toml --dialect linuxcnc 2>/dev/null; echo \" "
+      "$?\"; sed -i 's/dialect = \"grbl\"/dialect = \"mach3\"/' $d/m.toml; " +
+      bin() + " check $d/p.nc --machine $d/m.toml 2>&1 | grep -c 'dialect'; rm -r $d");
   CHECK(r.out.find(" 0\n") != std::string::npos);
   CHECK(r.out.find(" 1\n") != std::string::npos);
   CHECK(r.out.find("\n1\n") != std::string::npos);
@@ -126,6 +131,7 @@ TEST_CASE("M98/M99: the errors rs274 gives, located") {
         "<stdin>:3:1: error: o100 sub is called with 'o100 call', not M98");
   error("G90 M98 P100\\nM30\\n", "<stdin>:1:5: error: M98 is not supported");
   error("M98 P100 X1\\nM30\\nO100\\nM99\\n", "<stdin>:1:10: error: M98 takes P");
-  error("M98 P100\\nM30\\nO100\\no100 endsub\\n", "<stdin>:4:1: error: subprogram O100 was called "
+  error("M98 P100\\nM30\\nO100\\no100 endsub\\n",
+        "<stdin>:4:1: error: subprogram O100 was called "
         "with M98: it must end with M99");
 }

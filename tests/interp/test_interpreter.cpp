@@ -156,7 +156,7 @@ TEST_CASE("one test per block error: code and line:col") {
       {"E2 G0 X1\nM2\n", ErrorCode::UnknownLetter, 1, 1},
       {"G0 X1 A2\nM2\n", ErrorCode::AxisUnavailable, 1, 7},
       {"G12 X1\nM2\n", ErrorCode::UnknownGCode, 1, 1},
-      {"M99\nM2\n", ErrorCode::UnknownMCode, 1, 1},
+      {"M97\nM2\n", ErrorCode::UnknownMCode, 1, 1},
       {"G1.5 X1\nM2\n", ErrorCode::UnknownGCode, 1, 1},
       {"G1.25 X1\nM2\n", ErrorCode::BadCodeNumber, 1, 1},
       {"X1\nM2\n", ErrorCode::AxisWordsWithoutMotion, 1, 1},
