@@ -18,9 +18,9 @@ void check_ticks(const std::vector<double>& got, const std::vector<double>& want
 }  // namespace
 
 TEST_CASE("nice_ticks: 1, 2, 5 steps covering the range", "[report]") {
-  check_ticks(nice_ticks(0, 10, 5), {0, 2, 4, 6, 8, 10});         // raw step 2
-  check_ticks(nice_ticks(-0.3, 0.7, 4), {-0.2, 0, 0.2, 0.4, 0.6});  // raw 0.25 -> 0.2
-  check_ticks(nice_ticks(95, 105, 4), {96, 98, 100, 102, 104});   // raw 2.5 -> 2
+  check_ticks(nice_ticks(0, 10, 5), {0, 2, 4, 6, 8, 10});                        // raw step 2
+  check_ticks(nice_ticks(-0.3, 0.7, 4), {-0.2, 0, 0.2, 0.4, 0.6});               // raw 0.25 -> 0.2
+  check_ticks(nice_ticks(95, 105, 4), {96, 98, 100, 102, 104});                  // raw 2.5 -> 2
   check_ticks(nice_ticks(0, 4.6, 8), {0, 0.5, 1, 1.5, 2, 2.5, 3, 3.5, 4, 4.5});  // raw 0.575
   CHECK(nice_ticks(1, 1, 4).empty());
 }
