@@ -13,13 +13,13 @@
 namespace gm::cli {
 namespace {
 
-void write_file(const std::string& path, const std::string& text) {
+void sweep_write_file(const std::string& path, const std::string& text) {
   std::ofstream f(path, std::ios::binary);
   f << text;
   if (!f) throw InputError(fmt::format("cannot write '{}'", path));
 }
 
-std::string self_exe() {
+std::string sweep_self_exe() {
   std::error_code ec;
   const auto p = std::filesystem::read_symlink("/proc/self/exe", ec);
   return ec ? std::string("gmotion") : p.string();
@@ -54,7 +54,7 @@ void add_sweep(CLI::App& app, Context& ctx) {
   sub->callback([o, &ctx] {
     const sweep::SweepSpec spec = sweep::load_sweep_spec(o->spec);
     if (!o->emit.empty()) {
-      const std::string exe = o->gmotion.empty() ? self_exe() : o->gmotion;
+      const std::string exe = o->gmotion.empty() ? sweep_self_exe() : o->gmotion;
       const auto points = sweep::expand(spec);
       std::error_code ec;
       std::filesystem::create_directories(o->out_dir, ec);
@@ -87,8 +87,8 @@ void add_sweep(CLI::App& app, Context& ctx) {
     if (o->csv.empty())
       std::cout << csv;
     else
-      write_file(o->csv, csv);
-    if (!o->json.empty()) write_file(o->json, sweep::to_json(rows));
+      sweep_write_file(o->csv, csv);
+    if (!o->json.empty()) sweep_write_file(o->json, sweep::to_json(rows));
     int bad = 0;
     for (const auto& r : rows) bad += r.status == "ok" ? 0 : 1;
     if (bad > 0) fmt::print(stderr, "gmotion sweep: {} of {} runs not ok\n", bad, rows.size());
