@@ -23,8 +23,9 @@ void add_machine(CLI::App& app, Context& ctx) {
   };
   auto o = std::make_shared<Opts>();
   auto* ex = sub->add_subcommand(
-      "export", "Write the machine (--machine, flags applied) as a complete TOML machine file, or "
-                "with --linuxcnc as the matching LinuxCNC INI sections");
+      "export",
+      "Write the machine (--machine, flags applied) as a complete TOML machine file, or "
+      "with --linuxcnc as the matching LinuxCNC INI sections");
   add_machine_flags(ex, o->machine);
   ex->add_flag("--linuxcnc", o->linuxcnc,
                "Write LinuxCNC INI sections ([EMCMOT] [TRAJ] [KINS] [AXIS_*] [JOINT_*])");

@@ -34,8 +34,9 @@ void add_sweep(CLI::App& app, Context& ctx) {
   };
   auto o = std::make_shared<Opts>();
   auto* sub = app.add_subcommand(
-      "sweep", "Run programs x machines x profiles x tau x overrides (a TOML spec) and write one "
-               "table, a row per run (docs/sweeps.md)");
+      "sweep",
+      "Run programs x machines x profiles x tau x overrides (a TOML spec) and write one "
+      "table, a row per run (docs/sweeps.md)");
   sub->add_option("spec", o->spec, "Sweep spec (TOML)")->required();
   sub->add_option("--csv", o->csv, "Write the table as CSV here (default: stdout)");
   sub->add_option("--json", o->json, "Write the table as JSON here");
@@ -59,10 +60,11 @@ void add_sweep(CLI::App& app, Context& ctx) {
       std::error_code ec;
       std::filesystem::create_directories(o->out_dir, ec);
       if (o->emit == "slurm") {
-        fmt::print("#!/bin/bash\n#SBATCH --job-name=gmotion-sweep\n#SBATCH --array=0-{}\n"
-                   "#SBATCH --cpus-per-task=1\n# then: gmotion sweep {} --merge {} --csv table.csv\n"
-                   "case \"$SLURM_ARRAY_TASK_ID\" in\n",
-                   points.size() - 1, o->spec, o->out_dir);
+        fmt::print(
+            "#!/bin/bash\n#SBATCH --job-name=gmotion-sweep\n#SBATCH --array=0-{}\n"
+            "#SBATCH --cpus-per-task=1\n# then: gmotion sweep {} --merge {} --csv table.csv\n"
+            "case \"$SLURM_ARRAY_TASK_ID\" in\n",
+            points.size() - 1, o->spec, o->out_dir);
         for (const auto& r : points)
           fmt::print("{}) {} ;;\n", r.index, sweep::run_command(spec, r, exe, o->out_dir));
         fmt::print("esac\n");

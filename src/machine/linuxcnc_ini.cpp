@@ -54,8 +54,8 @@ class IniFile {
         else if (inc.is_relative())
           inc = ini_dir / inc;
         if (name.empty() || !fs::is_regular_file(inc)) {
-          unreadable_includes.push_back(fmt::format("{}:{}: #INCLUDE {}: no such file",
-                                                    path.string(), n, name));
+          unreadable_includes.push_back(
+              fmt::format("{}:{}: #INCLUDE {}: no such file", path.string(), n, name));
           continue;
         }
         read(inc, ini_dir, depth + 1, section);
@@ -92,8 +92,8 @@ class IniFile {
     char* end = nullptr;
     const double d = std::strtod(v->value.c_str(), &end);
     if (end == v->value.c_str() || trim(end) != "" || !std::isfinite(d))
-      throw InputError(fmt::format("{}:{}: [{}]{}: must be a number (got \"{}\")", v->file,
-                                   v->line, section, key, v->value));
+      throw InputError(fmt::format("{}:{}: [{}]{}: must be a number (got \"{}\")", v->file, v->line,
+                                   section, key, v->value));
     return d;
   }
   [[noreturn]] void fail(const std::string& section, const std::string& key,
@@ -202,7 +202,8 @@ IniImport load_linuxcnc_ini(const std::filesystem::path& path) {
   if (const IniValue* v = ini.find("EMC", "MACHINE")) m.name = v->value;
 
   if (const auto ns = ini.number("EMCMOT", "SERVO_PERIOD")) {
-    if (!(*ns >= 1000.0 && *ns <= 1e9)) ini.fail("EMCMOT", "SERVO_PERIOD", "must be in 1000..1e9 ns");
+    if (!(*ns >= 1000.0 && *ns <= 1e9))
+      ini.fail("EMCMOT", "SERVO_PERIOD", "must be in 1000..1e9 ns");
     m.period_s = *ns * 1e-9;
   } else {
     warn.push_back("[EMCMOT]SERVO_PERIOD: missing; T stays 0.004 s");
@@ -226,13 +227,15 @@ IniImport load_linuxcnc_ini(const std::filesystem::path& path) {
   for (const char c : coords)
     if (axis_index(c) < 0) ini.fail("TRAJ", "COORDINATES", fmt::format("'{}' is not an axis", c));
   if (letters.size() != coords.size())
-    warn.push_back(fmt::format("[TRAJ]COORDINATES = {}: an axis on several joints (gantry) is one "
-                               "axis here, with the tightest joint limits",
-                               ini.find("TRAJ", "COORDINATES")->value));
+    warn.push_back(
+        fmt::format("[TRAJ]COORDINATES = {}: an axis on several joints (gantry) is one "
+                    "axis here, with the tightest joint limits",
+                    ini.find("TRAJ", "COORDINATES")->value));
   if (const IniValue* k = ini.find("KINS", "KINEMATICS"); k && k->value.rfind("trivkins", 0) != 0)
-    warn.push_back(fmt::format("[KINS]KINEMATICS = {}: not modelled; every axis is one joint "
-                               "(trivkins)",
-                               k->value));
+    warn.push_back(
+        fmt::format("[KINS]KINEMATICS = {}: not modelled; every axis is one joint "
+                    "(trivkins)",
+                    k->value));
   m.set_axes(*AxisLayout::of(letters), default_machine().axes[0]);
 
   out.a_max_mm_s2.assign(static_cast<std::size_t>(m.axis_count()), 0.0);
@@ -264,8 +267,8 @@ IniImport load_linuxcnc_ini(const std::filesystem::path& path) {
     if (a && *a > 0.0)
       out.a_max_mm_s2[static_cast<std::size_t>(i)] = *a * unit;
     else
-      warn.push_back(fmt::format("[{}]MAX_ACCELERATION: missing; {} does not limit tau",
-                                 axis_sec, letter));
+      warn.push_back(
+          fmt::format("[{}]MAX_ACCELERATION: missing; {} does not limit tau", axis_sec, letter));
     if (scale && *scale != 0.0) ac.blu_mm = unit / std::abs(*scale);
     if (backlash && *backlash > 0.0) ac.backlash_blu = std::round(*backlash * unit / ac.blu_mm);
   }
@@ -293,8 +296,8 @@ IniImport load_linuxcnc_ini(const std::filesystem::path& path) {
   if (const IniValue* t = ini.find("EMCIO", "TOOL_TABLE")) {
     const std::string file = beside(t->value);
     if (!fs::is_regular_file(file))
-      throw InputError(fmt::format("{}:{}: [EMCIO]TOOL_TABLE: cannot read {}", t->file, t->line,
-                                   file));
+      throw InputError(
+          fmt::format("{}:{}: [EMCIO]TOOL_TABLE: cannot read {}", t->file, t->line, file));
     m.tool_table = load_tool_table(file);
     if (lin != 1.0)
       for (ToolEntry& e : m.tool_table.tools) {
@@ -318,15 +321,16 @@ IniImport load_linuxcnc_ini(const std::filesystem::path& path) {
       warn.push_back(fmt::format("[RS274NGC]PARAMETER_FILE: {} does not exist; not used", file));
   }
   if (const IniValue* u = ini.find("RS274NGC", "USER_M_PATH"))
-    warn.push_back(fmt::format("[RS274NGC]USER_M_PATH = {}: M100-M199 are recorded, never run",
-                               u->value));
+    warn.push_back(
+        fmt::format("[RS274NGC]USER_M_PATH = {}: M100-M199 are recorded, never run", u->value));
   if (lin != 1.0)
-    warn.push_back(fmt::format("[TRAJ]LINEAR_UNITS = {}: limits and tool table converted to mm; "
-                               "LinuxCNC starts a program in G20, gmotion in G21 (write G20)",
-                               ini.find("TRAJ", "LINEAR_UNITS")->value));
+    warn.push_back(
+        fmt::format("[TRAJ]LINEAR_UNITS = {}: limits and tool table converted to mm; "
+                    "LinuxCNC starts a program in G20, gmotion in G21 (write G20)",
+                    ini.find("TRAJ", "LINEAR_UNITS")->value));
   if (const IniValue* r = ini.find("EMCIO", "TOOL_CHANGE_POSITION"))
-    warn.push_back(fmt::format("[EMCIO]TOOL_CHANGE_POSITION = {}: tool changes do not move",
-                               r->value));
+    warn.push_back(
+        fmt::format("[EMCIO]TOOL_CHANGE_POSITION = {}: tool changes do not move", r->value));
   out.machine = std::move(m);
   return out;
 }
@@ -341,11 +345,13 @@ std::string machine_to_linuxcnc_ini(const Machine& m) {
   s += fmt::format("\n[EMCMOT]\nSERVO_PERIOD = {}\n",
                    static_cast<long long>(std::llround(m.period_s * 1e9)));
   std::string coords;
-  for (int i = 0; i < m.axis_count(); ++i) coords += (i ? " " : "") + std::string(1, m.layout.letter(i));
+  for (int i = 0; i < m.axis_count(); ++i)
+    coords += (i ? " " : "") + std::string(1, m.layout.letter(i));
   s += fmt::format("\n[DISPLAY]\nMAX_FEED_OVERRIDE = {}\n", fmt_double(m.max_override));
-  s += fmt::format("\n[TRAJ]\nCOORDINATES = {}\nLINEAR_UNITS = mm\nANGULAR_UNITS = degree\n"
-                   "MAX_LINEAR_VELOCITY = {}\n",
-                   coords, fmt_double(m.rapid_mm_min / 60.0));
+  s += fmt::format(
+      "\n[TRAJ]\nCOORDINATES = {}\nLINEAR_UNITS = mm\nANGULAR_UNITS = degree\n"
+      "MAX_LINEAR_VELOCITY = {}\n",
+      coords, fmt_double(m.rapid_mm_min / 60.0));
   s += fmt::format("\n[KINS]\nKINEMATICS = trivkins coordinates={}\nJOINTS = {}\n",
                    m.layout.letters(), m.axis_count());
   for (int i = 0; i < m.axis_count(); ++i) {

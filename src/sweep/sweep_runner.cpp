@@ -85,7 +85,8 @@ std::vector<SweepRow> run_local(const SweepSpec& s, int jobs,
   std::atomic<std::size_t> next{0};
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   const int want = jobs > 0 ? jobs : s.jobs > 0 ? s.jobs : static_cast<int>(cores);
-  const std::size_t n_threads = std::min<std::size_t>(points.size(), static_cast<std::size_t>(want));
+  const std::size_t n_threads =
+      std::min<std::size_t>(points.size(), static_cast<std::size_t>(want));
   auto loop = [&] {
     for (std::size_t i; (i = next.fetch_add(1)) < points.size();) {
       SweepRow row = run_one(s, points[i]);

@@ -63,11 +63,13 @@ SweepSpec load_sweep_spec(const std::filesystem::path& path) {
     const std::string key(k.str());
     if (key != "programs" && key != "machines" && key != "profiles" && key != "tau_s" &&
         key != "overrides" && key != "servo" && key != "max_time_s" && key != "jobs")
-      fail(s, n, key, "unknown key (programs, machines, profiles, tau_s, overrides, servo, "
-                      "max_time_s, jobs)");
+      fail(s, n, key,
+           "unknown key (programs, machines, profiles, tau_s, overrides, servo, "
+           "max_time_s, jobs)");
   }
   const toml::array* programs = list(s, root, "programs");
-  if (programs == nullptr) throw InputError(fmt::format("{}: key 'programs' is missing", path.string()));
+  if (programs == nullptr)
+    throw InputError(fmt::format("{}: key 'programs' is missing", path.string()));
   for (const toml::node& n : *programs) s.programs.push_back(beside(text(s, n, "programs")));
 
   if (const toml::array* a = list(s, root, "machines")) {

@@ -13,7 +13,7 @@ namespace gm::sweep {
 /// One override setting: a constant feed override (percent) or a schedule file.
 struct OverrideChoice {
   double percent = 100.0;
-  std::string schedule;  ///< a schedule file (--override-file); empty: the constant percent
+  std::string schedule;       ///< a schedule file (--override-file); empty: the constant percent
   std::string label() const;  ///< "100" or the schedule's file name
 };
 
@@ -27,8 +27,8 @@ struct SweepMachine {
 /// The spec: every list is a dimension; the runs are their product.
 struct SweepSpec {
   std::filesystem::path source;
-  std::vector<std::string> programs;             ///< resolved paths
-  std::vector<SweepMachine> machines;            ///< default: the built-in machine
+  std::vector<std::string> programs;                 ///< resolved paths
+  std::vector<SweepMachine> machines;                ///< default: the built-in machine
   std::vector<std::optional<std::string>> profiles;  ///< nullopt: the machine's
   std::vector<std::optional<double>> taus_s;         ///< nullopt: the machine's
   std::vector<OverrideChoice> overrides;             ///< default: 100 %

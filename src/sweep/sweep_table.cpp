@@ -97,21 +97,29 @@ bool fill_from_summary_json(SweepRow& row, const std::string& j, const Machine& 
 
 namespace {
 constexpr const char* kColumns[] = {
-    "index",           "program",          "machine",        "profile",
-    "tau_s",           "period_s",         "override",       "status",
-    "cycle_time_s",    "program_time_s",   "contour_max_mm", "contour_max_line",
-    "contour_rms_mm",  "following_max_mm", "samples",        "error"};
+    "index",          "program",          "machine",        "profile",
+    "tau_s",          "period_s",         "override",       "status",
+    "cycle_time_s",   "program_time_s",   "contour_max_mm", "contour_max_line",
+    "contour_rms_mm", "following_max_mm", "samples",        "error"};
 
 // The row's values in column order; texts flagged so JSON quotes them.
 std::vector<std::pair<std::string, bool>> cells(const SweepRow& r) {
-  return {{std::to_string(r.index), false}, {r.program, true},
-          {r.machine, true},               {r.profile, true},
-          {num(r.tau_s), false},           {num(r.period_s), false},
-          {r.override_, true},             {r.status, true},
-          {num(r.cycle_time_s), false},    {num(r.program_time_s), false},
-          {num(r.contour_max_mm), false},  {std::to_string(r.contour_max_line), false},
-          {num(r.contour_rms_mm), false},  {num(r.following_max_mm), false},
-          {std::to_string(r.samples), false}, {r.error, true}};
+  return {{std::to_string(r.index), false},
+          {r.program, true},
+          {r.machine, true},
+          {r.profile, true},
+          {num(r.tau_s), false},
+          {num(r.period_s), false},
+          {r.override_, true},
+          {r.status, true},
+          {num(r.cycle_time_s), false},
+          {num(r.program_time_s), false},
+          {num(r.contour_max_mm), false},
+          {std::to_string(r.contour_max_line), false},
+          {num(r.contour_rms_mm), false},
+          {num(r.following_max_mm), false},
+          {std::to_string(r.samples), false},
+          {r.error, true}};
 }
 }  // namespace
 
@@ -133,9 +141,9 @@ std::string to_json(const std::vector<SweepRow>& rows) {
     s += i ? ",\n {" : "\n {";
     const auto c = cells(rows[i]);
     for (std::size_t k = 0; k < c.size(); ++k)
-      s += fmt::format("{}\"{}\":{}", k ? "," : "", kColumns[k],
-                       c[k].second ? json_text(c[k].first)
-                                   : (c[k].first.empty() ? "null" : c[k].first));
+      s += fmt::format(
+          "{}\"{}\":{}", k ? "," : "", kColumns[k],
+          c[k].second ? json_text(c[k].first) : (c[k].first.empty() ? "null" : c[k].first));
     s += "}";
   }
   return s + "\n]\n";

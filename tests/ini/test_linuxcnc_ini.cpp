@@ -206,8 +206,8 @@ TEST_CASE("ini: a value that is not a number names the file, line, section and k
     gm::load_linuxcnc_ini(d / "bad.ini");
     FAIL("no error");
   } catch (const gm::InputError& e) {
-    CHECK(std::string(e.what()) == (d / "bad.ini").string() +
-                                       ":2: [EMCMOT]SERVO_PERIOD: must be a number (got \"fast\")");
+    CHECK(std::string(e.what()) ==
+          (d / "bad.ini").string() + ":2: [EMCMOT]SERVO_PERIOD: must be a number (got \"fast\")");
   }
 }
 
@@ -245,7 +245,7 @@ TEST_CASE("ini: the shipped axis_mm sim runs a square on its own limits") {
   const gm::IniImport imp = gm::load_linuxcnc_ini(kSim / "axis_mm.ini");
   const gm::Machine& m = imp.machine;
   CHECK(m.layout.letters() == "XYZ");
-  CHECK(m.period_s == Approx(0.001));          // SERVO_PERIOD = 1000000 ns
+  CHECK(m.period_s == Approx(0.001));            // SERVO_PERIOD = 1000000 ns
   CHECK(m.axes[0].v_max_mm_s == Approx(30.48));  // mm config: no conversion
   CHECK(m.axes[0].blu_mm == Approx(1 / 157.48));
   CHECK(m.rapid_mm_min == Approx(53.34 * 60));
@@ -269,7 +269,8 @@ TEST_CASE("ini: the shipped lathe sim (X Z, inches) turns a shoulder") {
   CHECK(imp.a_max_mm_s2[1] == Approx(20 * 25.4));
   CHECK(m.tool_table.tools.size() == 10);
   gm::RunStatus st{};
-  const gm::RunSummary s = run_to_end(m, fs::path(GMOTION_TESTS_DIR) / "ini" / "lathe-turn.ngc", st);
+  const gm::RunSummary s =
+      run_to_end(m, fs::path(GMOTION_TESTS_DIR) / "ini" / "lathe-turn.ngc", st);
   CHECK(st == gm::RunStatus::Finished);
   // Ends at X1.1 Z0.1 in: both axes within a count of it.
   CHECK(std::abs(s.axes[0].final_enc_err_blu) <= 1);

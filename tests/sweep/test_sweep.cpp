@@ -54,8 +54,8 @@ TEST_CASE("sweep: a row per run, in order, with closed-form program times") {
   REQUIRE(rows.size() == 3 * 2 * 2 * 2);
   for (std::size_t i = 0; i < 16; ++i) {
     const auto& r = rows[i];
-    INFO("row " << i << " " << r.program << " " << r.profile << " " << r.tau_s << " "
-                << r.override_ << " " << r.error);
+    INFO("row " << i << " " << r.program << " " << r.profile << " " << r.tau_s << " " << r.override_
+                << " " << r.error);
     CHECK(r.index == i);
     CHECK(r.status == "ok");
     CHECK(r.program == (i < 8 ? "line.nc" : "diagonal.nc"));
@@ -82,7 +82,7 @@ TEST_CASE("sweep: a row per run, in order, with closed-form program times") {
   }
 }
 
-TEST_CASE("sweep: the CLI writes CSV and JSON; emitted commands merge to the same table") {
+TEST_CASE("sweep: the CLI writes CSV and JSON, and emitted commands merge to the same table") {
   const fs::path d = make_spec();
   const std::string spec = (d / "small.toml").string();
   const auto local = gmtest::run_gmotion("sweep " + spec + " --csv " + (d / "local.csv").string() +
@@ -90,19 +90,18 @@ TEST_CASE("sweep: the CLI writes CSV and JSON; emitted commands merge to the sam
   CHECK(local.code == 1);  // broken.nc's runs are not ok
   CHECK(local.out.find("4 of 8 runs not ok") != std::string::npos);
   const std::string csv = gmtest::slurp(d / "local.csv");
-  CHECK(csv.rfind("index,program,machine,profile,tau_s,period_s,override,status,cycle_time_s,", 0) ==
-        0);
+  CHECK(csv.rfind("index,program,machine,profile,tau_s,period_s,override,status,cycle_time_s,",
+                  0) == 0);
   CHECK(std::count(csv.begin(), csv.end(), '\n') == 9);
   const std::string json = gmtest::slurp(d / "local.json");
   CHECK(json.find("{\"index\":7,\"program\":\"broken.nc\"") != std::string::npos);
 
   // The same runs as separate `gmotion run` processes (what GNU parallel or Slurm would start).
-  const auto emitted =
-      gmtest::sh(std::string(GMOTION_BIN) + " sweep " + spec + " --emit parallel --out-dir " +
-                 (d / "runs").string() + " > " + (d / "cmds.txt").string() + " && sh " +
-                 (d / "cmds.txt").string() + " 2>/dev/null; " + GMOTION_BIN + " sweep " + spec +
-                 " --merge " + (d / "runs").string() + " --csv " + (d / "merged.csv").string() +
-                 " 2>/dev/null");
+  const auto emitted = gmtest::sh(
+      std::string(GMOTION_BIN) + " sweep " + spec + " --emit parallel --out-dir " +
+      (d / "runs").string() + " > " + (d / "cmds.txt").string() + " && sh " +
+      (d / "cmds.txt").string() + " 2>/dev/null; " + GMOTION_BIN + " sweep " + spec + " --merge " +
+      (d / "runs").string() + " --csv " + (d / "merged.csv").string() + " 2>/dev/null");
   CHECK(emitted.code == 1);
   const std::string merged = gmtest::slurp(d / "merged.csv");
   // The ok runs agree to the digit; the broken ones wrote no summary.
@@ -110,8 +109,10 @@ TEST_CASE("sweep: the CLI writes CSV and JSON; emitted commands merge to the sam
   std::string la, lb;
   int lines = 0;
   while (std::getline(a, la) && std::getline(b, lb)) {
-    if (lines++ <= 4) CHECK(la == lb);
-    else CHECK(lb.find(",missing,") != std::string::npos);
+    if (lines++ <= 4)
+      CHECK(la == lb);
+    else
+      CHECK(lb.find(",missing,") != std::string::npos);
   }
   CHECK(lines == 9);
   const std::string cmds = gmtest::slurp(d / "cmds.txt");
