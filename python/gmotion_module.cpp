@@ -1,4 +1,7 @@
 // gmotion._core: the run and check entry points for Python; python/gmotion/__init__.py wraps them.
+#include "accdec/analysis.hpp"
+#include "accdec/design_procedure.hpp"
+#include "accdec/profile_spec.hpp"
 #include "cli/run_setup.hpp"
 #include "common/diagnostic.hpp"
 #include "common/status.hpp"
@@ -11,6 +14,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <numbers>
 
 #include <unistd.h>
 #include <cerrno>
@@ -188,6 +192,187 @@ py::dict run(const std::string& path, const std::string& machine, const py::dict
   return out;
 }
 
+template <typename T>
+py::array_t<T> to_numpy(const std::vector<T>& v) {
+  py::array_t<T> a(static_cast<py::ssize_t>(v.size()));
+  std::copy(v.begin(), v.end(), a.mutable_data());
+  return a;
+}
+
+py::list xyz(const gm::AxisVec& v) {
+  py::list l;
+  for (int i = 0; i < 3; ++i) l.append(v[i] + 0.0);
+  return l;
+}
+
+/// The canonical moves as `gmotion moves` prints them (one dict per JSON Lines record, the same
+/// keys; tests/python compares the two).
+py::list moves(const std::string& path, const std::string& machine_file, const std::string& axes,
+               bool messages) {
+  gm::cli::MachineFlags flags;
+  flags.machine_file = machine_file;
+  flags.axes = axes;
+  const gm::Machine machine = gm::cli::resolve_machine(flags);
+  gm::InterpreterOptions io{&machine, false};
+  io.subroutine_path = machine.subroutine_path;
+  gm::cli::ProgramInput program(path);
+  std::vector<gm::Canon> all;
+  {
+    py::gil_scoped_release unlocked;
+    std::vector<gm::Diagnostic> diags;
+    const gm::CheckSummary s =
+        gm::check_program_diagnostics(program.rewind(), program.name(), io, diags);
+    if (s.errors > 0) {
+      std::string text;
+      for (const auto& d : diags)
+        if (d.severity == gm::Severity::Error) text += gm::format_diagnostic(program.name(), d);
+      throw gm::InputError(text);
+    }
+    gm::ProgramStream stream(program.rewind(), program.name(), io);
+    gm::Canon c;
+    while (stream.next(c)) all.push_back(c);
+  }
+  py::list out;
+  const gm::AxisLayout& l = machine.layout;
+  for (const gm::Canon& c : all) {
+    py::dict d;
+    if (const auto* m = std::get_if<gm::Motion>(&c)) {
+      d["line"] = m->line;
+      d["kind"] = m->kind == gm::MotionKind::Rapid  ? "rapid"
+                  : m->kind == gm::MotionKind::Line ? "line"
+                                                    : "arc";
+      d["end"] = xyz(m->end_mm);
+      d["feed"] = m->kind == gm::MotionKind::Rapid ? 0.0 : m->feed_mm_min;
+      if (!l.is_xyz()) {
+        py::dict more;
+        for (int a = 0; a < l.count; ++a)
+          if (l.program(a) >= 3)
+            more[py::str(std::string(1, l.letter(a)))] = m->end_mm[l.program(a)] + 0.0;
+        if (!more.empty()) d["axes"] = more;
+      }
+      if (m->kind == gm::MotionKind::Arc) {
+        d["center"] = xyz(m->center_mm);
+        d["dir"] = m->ccw ? "ccw" : "cw";
+        d["turns"] = m->turns;
+        d["plane"] = m->plane == gm::Plane::XY ? "XY" : m->plane == gm::Plane::XZ ? "XZ" : "YZ";
+      }
+    } else if (const auto* w = std::get_if<gm::Dwell>(&c)) {
+      d["line"] = w->line;
+      d["kind"] = "dwell";
+      d["seconds"] = w->seconds;
+    } else if (const auto* e = std::get_if<gm::Event>(&c);
+               messages && e && e->kind == gm::EventKind::Message) {
+      d["line"] = e->line;
+      d["kind"] = "message";
+      d["text"] = e->text;
+    } else {
+      continue;
+    }
+    out.append(d);
+  }
+  return out;
+}
+
+py::dict taps_dict(const gm::Taps& t) {
+  py::dict d;
+  d["profile"] = t.profile;
+  d["N"] = t.N;
+  d["cutoff"] = t.cutoff;
+  d["max_nonneg_cutoff"] = t.max_nonneg_cutoff;
+  d["taps"] = to_numpy(t.real);
+  d["taps_int"] = to_numpy(t.integer);
+  d["b_s"] = t.b_s;
+  d["integer_exact"] = t.integer_exact;
+  return d;
+}
+
+/// `gmotion design`: the Fig. 9 procedure; the result's taps and Step 4 figures, every attempt.
+py::dict design(const std::string& profile, double tau_s, double period_s,
+                const gm::DesignLimits& limits, int max_attempts) {
+  std::vector<gm::DesignAttempt> attempts;
+  {
+    py::gil_scoped_release unlocked;
+    attempts = gm::design_procedure(profile, tau_s, period_s, limits, max_attempts);
+  }
+  const gm::DesignAttempt& a = attempts.back();
+  py::dict d = taps_dict(a.taps);
+  d["period"] = period_s;
+  d["tau_initial"] = tau_s;
+  d["tau"] = a.tau_s;
+  d["quantisation_error"] = gm::quantisation_error(a.taps);
+  d["peak_velocity"] = a.peak_velocity_m_s;
+  d["peak_accel"] = a.peak_accel_m_s2;
+  d["peak_force"] = a.peak_force_N;
+  d["peak_power"] = a.peak_power_W;
+  d["profile_force"] = a.profile_force_N;
+  d["profile_power"] = a.profile_power_W;
+  d["v_ok"] = a.v_ok;
+  d["f_ok"] = a.f_ok;
+  d["p_ok"] = a.p_ok;
+  d["ok"] = a.ok();
+  py::list tries;
+  for (const auto& x : attempts) {
+    py::dict t;
+    t["tau"] = x.tau_s;
+    t["N"] = x.taps.N;
+    t["cutoff"] = x.taps.cutoff;
+    t["b_s"] = x.taps.b_s;
+    t["peak_accel"] = x.peak_accel_m_s2;
+    t["peak_force"] = x.peak_force_N;
+    t["peak_power"] = x.peak_power_W;
+    t["ok"] = x.ok();
+    tries.append(t);
+  }
+  d["attempts"] = tries;
+  return d;
+}
+
+/// `gmotion analyze response`: amplitude of the real and the applied (integer) taps on a grid of
+/// `points` frequencies from 0 to Nyquist.
+py::dict response(const std::string& profile, double tau_s, double period_s, int points) {
+  if (points < 2) throw gm::InputError(fmt::format("points {} must be >= 2", points));
+  const gm::Taps t = gm::design_taps(profile, tau_s, period_s);
+  const auto applied = gm::as_double(t.integer);
+  std::vector<double> f(static_cast<std::size_t>(points)), a(f.size()), ai(f.size());
+  for (int j = 0; j < points; ++j) {
+    const auto k = static_cast<std::size_t>(j);
+    f[k] = static_cast<double>(j) / (points - 1);
+    a[k] = gm::amplitude_response(t.real, std::numbers::pi * f[k]);
+    ai[k] = gm::amplitude_response(applied, std::numbers::pi * f[k]);
+  }
+  py::dict d = taps_dict(t);
+  d["f_norm"] = to_numpy(f);
+  std::vector<double> hz(f);
+  for (double& x : hz) x *= 0.5 / period_s;
+  d["f_hz"] = to_numpy(hz);
+  d["amplitude"] = to_numpy(a);
+  d["amplitude_int"] = to_numpy(ai);
+  return d;
+}
+
+/// `gmotion analyze radius-error`: radius loss of a circle per feed, µm (sampled for any
+/// profile; Eq. 18 and Eq. 19 for reference).
+py::dict radius_error(const std::string& profile, double tau_s, double period_s, double radius_mm,
+                      const std::vector<double>& feeds_mm_min) {
+  if (!(radius_mm > 0)) throw gm::InputError(fmt::format("radius {} mm must be > 0", radius_mm));
+  const gm::Taps t = gm::design_taps(profile, tau_s, period_s);
+  std::vector<double> sampled, cont, approx;
+  for (double feed : feeds_mm_min) {
+    if (!(feed > 0)) throw gm::InputError(fmt::format("feed {} mm/min must be > 0", feed));
+    const double v = feed / 60.0;
+    sampled.push_back(1000.0 * gm::radius_loss_sampled(t.real, radius_mm, v, period_s));
+    cont.push_back(1000.0 * gm::radius_loss_linear_continuous(radius_mm, v, tau_s));
+    approx.push_back(1000.0 * gm::radius_loss_linear_approx(radius_mm, v, tau_s));
+  }
+  py::dict d = taps_dict(t);
+  d["radius_mm"] = radius_mm;
+  d["feed_mm_min"] = to_numpy(feeds_mm_min);
+  d["sampled_um"] = to_numpy(sampled);
+  d["continuous_linear_um"] = to_numpy(cont);
+  d["approx_linear_um"] = to_numpy(approx);
+  return d;
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_core, m) {
@@ -212,4 +397,26 @@ PYBIND11_MODULE(_core, m) {
       },
       py::arg("program"), py::arg("block_delete") = false,
       py::arg("max_iterations") = gm::InterpreterOptions{}.max_iterations);
+  m.def("moves", &moves, py::arg("program"), py::arg("machine"), py::arg("axes"),
+        py::arg("messages"));
+  m.def(
+      "design",
+      [](const std::string& profile, double tau, double period, double v_max, double mass,
+         double damping, double f_max, double p_max, double v_step, int max_attempts) {
+        gm::DesignLimits l;
+        l.v_max_m_s = v_max;
+        l.mass_kg = mass;
+        l.damping_kg_s = damping;
+        l.f_max_N = f_max;
+        l.p_max_W = p_max;
+        l.v_step_m_s = v_step;
+        return design(profile, tau, period, l, max_attempts);
+      },
+      py::arg("profile"), py::arg("tau"), py::arg("period"), py::arg("v_max"), py::arg("mass"),
+      py::arg("damping"), py::arg("f_max"), py::arg("p_max"), py::arg("v_step"),
+      py::arg("max_attempts"));
+  m.def("response", &response, py::arg("profile"), py::arg("tau"), py::arg("period"),
+        py::arg("points"));
+  m.def("radius_error", &radius_error, py::arg("profile"), py::arg("tau"), py::arg("period"),
+        py::arg("radius"), py::arg("feeds"));
 }

@@ -6,6 +6,10 @@
     r.summary["cycle_time_s"] # the --summary-json dict
 
     gmotion.check("part.nc")  # raises gmotion.ProgramError at the first error
+    gmotion.moves("part.nc")  # the canonical moves, as `gmotion moves` prints them
+    d = gmotion.design("blackman", tau=0.164, period=0.004)   # `gmotion design`: d.taps (numpy)
+    gmotion.response("blackman", 0.164, 0.004)                # `gmotion analyze response`
+    gmotion.radius_error("linear", 0.041, 0.001, radius=150)  # `gmotion analyze radius-error`
 
 The keyword options of run() are the `gmotion run` flags (docs/cli.md) with dashes as
 underscores: profile, tau, period, blu, servo (False = --no-servo), block_delete, tool_table,
@@ -18,7 +22,8 @@ import os
 
 from . import _core
 
-__all__ = ["run", "check", "RunResult", "CheckResult", "ProgramError", "InputError", "__version__"]
+__all__ = ["run", "check", "moves", "design", "response", "radius_error", "RunResult",
+           "CheckResult", "Design", "ProgramError", "InputError", "__version__"]
 
 __version__ = _core.version
 
@@ -114,3 +119,56 @@ def run(program, machine=None, **options):
     if "diagnostics" in d:
         raise _first_error(d["diagnostics"])
     return RunResult(d)
+
+
+def moves(program, machine=None, axes="", messages=False):
+    """The canonical moves of `program` as `gmotion moves` prints them: a list of dicts with the
+    same keys ("line", "kind" rapid|line|arc|dwell, "end" [x, y, z] mm, "feed" mm/min, "axes"
+    {letter: value} past XYZ, "center"/"dir"/"turns"/"plane" for arcs, "seconds" for dwells;
+    with messages=True also "message" records). Raises InputError if the program has an error."""
+    return _core.moves(os.fspath(program), "" if machine is None else os.fspath(machine), axes,
+                       messages)
+
+
+class _Record:
+    """Attribute access over a result dict (the keys of the command's --json output)."""
+
+    def __init__(self, d):
+        self.__dict__.update(d)
+
+    def __repr__(self):
+        keys = ", ".join(k for k in self.__dict__ if not k.startswith("_"))
+        return f"{type(self).__name__}({keys})"
+
+
+class Design(_Record):
+    """`gmotion design`: .taps (real, DC gain 1) and .taps_int (applied) as numpy arrays, .b_s,
+    .N, .tau (after the procedure), .cutoff, .peak_accel (m/s^2), .peak_force (N), .peak_power
+    (W), .v_ok/.f_ok/.p_ok/.ok, .attempts (one dict per tau tried)."""
+
+    def response(self, points=201):
+        """The amplitude response of these taps: `response()` for the design's profile and tau."""
+        return response(self.profile, self.tau, self.period, points)
+
+
+def design(profile="blackman", tau=0.164, period=0.004, v_max=1.0, mass=500.0, damping=500.0,
+           f_max=4000.0, p_max=500.0, v_step=0.1, max_attempts=2000):
+    """The paper's Fig. 9 design procedure, as `gmotion design --json` (same defaults: the
+    paper's section 6 example). Limits in m/s, kg, kg/s, N, W."""
+    return Design(_core.design(profile, tau, period, v_max, mass, damping, f_max, p_max, v_step,
+                               max_attempts))
+
+
+def response(profile="blackman", tau=0.164, period=0.004, points=201):
+    """`gmotion analyze response`: a _Record with .f_norm (0..1 of Nyquist), .f_hz, .amplitude
+    (real taps) and .amplitude_int (applied integer taps) as numpy arrays, and the taps."""
+    return _Record(_core.response(profile, tau, period, points))
+
+
+def radius_error(profile="linear", tau=0.041, period=0.001, radius=150.0,
+                 feeds=(30000, 25000, 20000, 15000, 10000, 8000, 6000, 4000, 2000, 1000, 600,
+                        400, 200)):
+    """`gmotion analyze radius-error`: radius loss of a circle of `radius` mm per feed (mm/min),
+    in µm: .sampled_um (the sampled filter, any profile), .continuous_linear_um (Eq. 18) and
+    .approx_linear_um (Eq. 19) for reference, .feed_mm_min, all numpy arrays."""
+    return _Record(_core.radius_error(profile, tau, period, radius, [float(f) for f in feeds]))

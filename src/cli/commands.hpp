@@ -23,5 +23,7 @@ void add_diff(CLI::App& app, Context& ctx);     ///< gmotion diff A B (trace com
 void add_compare(CLI::App& app, Context& ctx);  ///< gmotion compare PROGRAM (profiles side by side)
 void add_golden(CLI::App& app, Context& ctx);   ///< gmotion golden record|verify SUITE
 void add_report(CLI::App& app, Context& ctx);   ///< gmotion report PROGRAM -o PAGE.html
+void add_machine(CLI::App& app, Context& ctx);  ///< gmotion machine export [--linuxcnc]
+void add_sweep(CLI::App& app, Context& ctx);    ///< gmotion sweep SPEC.toml
 
 }  // namespace gm::cli

@@ -28,6 +28,8 @@ int run_main(int argc, char** argv) {
   gm::cli::add_analyze(app, ctx);
   gm::cli::add_golden(app, ctx);
   gm::cli::add_report(app, ctx);
+  gm::cli::add_machine(app, ctx);
+  gm::cli::add_sweep(app, ctx);
 
   int code = 0;
   try {

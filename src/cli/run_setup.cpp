@@ -3,6 +3,7 @@
 
 #include "accdec/profiles.hpp"
 #include "common/status.hpp"
+#include "machine/linuxcnc_ini.hpp"
 #include "machine/machine_file.hpp"
 
 #include <fmt/format.h>
@@ -19,8 +20,10 @@
 namespace gm::cli {
 
 void add_machine_flags(CLI::App* sub, MachineFlags& f) {
-  sub->add_option("--machine", f.machine_file,
-                  "Machine file (TOML); default: the built-in 3-axis machine");
+  sub->add_option(
+      "--machine", f.machine_file,
+      "Machine file (TOML, or a LinuxCNC .ini: docs/linuxcnc-ini.md); default: the built-in "
+      "3-axis machine");
   sub->add_option("--axes", f.axes, kAxesFlagHelp);
   sub->add_option("--profile", f.profile,
                   "Acc/Dec profile: " + profile_forms(" | ") + " (C = cutoff or max)");
@@ -43,7 +46,19 @@ void apply_axes_flag(Machine& m, const std::string& letters) {
 }
 
 Machine resolve_machine(const MachineFlags& f) {
-  Machine m = f.machine_file.empty() ? default_machine() : load_machine_file(f.machine_file);
+  std::optional<IniImport> ini;
+  if (!f.machine_file.empty() && is_linuxcnc_ini(f.machine_file)) {
+    ini = load_linuxcnc_ini(f.machine_file);
+    if (!ini->warnings.empty()) {
+      std::string list;
+      for (const std::string& w : ini->warnings) list += "\n  " + w;
+      fmt::print(stderr, "gmotion: {}: not mapped from the LinuxCNC INI:{}\n", f.machine_file,
+                 list);
+    }
+  }
+  Machine m = ini                      ? ini->machine
+              : f.machine_file.empty() ? default_machine()
+                                       : load_machine_file(f.machine_file);
   apply_axes_flag(m, f.axes);
   auto positive = [](const char* flag, double v) {
     if (!(v > 0.0) || !std::isfinite(v))
@@ -58,6 +73,9 @@ Machine resolve_machine(const MachineFlags& f) {
     positive("--blu", *f.blu_mm);
     for (auto& a : m.axes) a.blu_mm = *f.blu_mm;
   }
+  // An INI's τ follows its limits, the profile and T: suggested again for the flags' ones.
+  if (ini && !f.tau_s && f.axes.empty() && (f.profile || f.period_s))
+    m.tau_s = suggest_tau_s(m, ini->a_max_mm_s2, m.tau_s);
   return m;
 }
 

@@ -1,5 +1,6 @@
 // TOML machine file reader/writer (toml++): every error names the key, the file and the line.
 #include "machine/machine_file.hpp"
+#include "machine/linuxcnc_ini.hpp"
 
 #include "interp/subroutine_path.hpp"
 
@@ -371,6 +372,7 @@ Machine parse_machine_toml(std::string_view text, std::string_view source_name) 
 }
 
 Machine load_machine_file(const std::filesystem::path& path) {
+  if (is_linuxcnc_ini(path)) return load_linuxcnc_ini(path).machine;  // docs/linuxcnc-ini.md
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(fmt::format("{}: cannot open machine file", path.string()));
   std::ostringstream ss;

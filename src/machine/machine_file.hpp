@@ -9,9 +9,10 @@
 
 namespace gm {
 
-/// Reads and validates a machine file. Throws gm::InputError with a located message
-/// "FILE:LINE: key 'axes.x.blu_mm': must be > 0 (got -1)" for a TOML syntax error, a missing
-/// required key, a mistyped value, an unknown key or an out-of-range value.
+/// Reads and validates a machine file (a `.ini` is read as a LinuxCNC INI: linuxcnc_ini.hpp).
+/// Throws gm::InputError with a located message "FILE:LINE: key 'axes.x.blu_mm': must be > 0 (got
+/// -1)" for a TOML syntax error, a missing required key, a mistyped value, an unknown key or an
+/// out-of-range value.
 Machine load_machine_file(const std::filesystem::path& path);
 
 /// The built-in default machine (3 axes XYZ, the paper's numbers; y has the paper's y plant).

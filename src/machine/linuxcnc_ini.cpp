@@ -1,0 +1,371 @@
+// LinuxCNC INI -> Machine (limits, units, period, paths, suggested τ) and Machine -> INI sections.
+#include "machine/linuxcnc_ini.hpp"
+
+#include "accdec/taps.hpp"
+#include "common/status.hpp"
+#include "interp/subroutine_path.hpp"
+#include "machine/machine_file.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <optional>
+
+namespace gm {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kMaxIncludeDepth = 8;
+
+/// One `KEY = VALUE` line and where it was.
+struct IniValue {
+  std::string value;
+  std::string file;
+  int line = 0;
+};
+
+/// The INI as LinuxCNC's inifile reads it: `[SECTION]` headers, `KEY = VALUE`, whole-line
+/// comments (# or ;), the first of repeated keys wins; #INCLUDE inserts a file in place.
+class IniFile {
+ public:
+  void read(const fs::path& path, const fs::path& ini_dir, int depth, std::string section) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(fmt::format("{}: cannot open LinuxCNC INI file", path.string()));
+    std::string line;
+    int n = 0;
+    while (std::getline(in, line)) {
+      ++n;
+      const std::string t = trim(line);
+      if (t.rfind("#INCLUDE", 0) == 0) {
+        const std::string name = trim(t.substr(8));
+        if (depth >= kMaxIncludeDepth)
+          throw InputError(fmt::format("{}:{}: #INCLUDE nested deeper than {}", path.string(), n,
+                                       kMaxIncludeDepth));
+        fs::path inc = name;
+        if (name.rfind("~/", 0) == 0 && std::getenv("HOME") != nullptr)
+          inc = fs::path(std::getenv("HOME")) / name.substr(2);
+        else if (inc.is_relative())
+          inc = ini_dir / inc;
+        if (name.empty() || !fs::is_regular_file(inc)) {
+          unreadable_includes.push_back(
+              fmt::format("{}:{}: #INCLUDE {}: no such file", path.string(), n, name));
+          continue;
+        }
+        read(inc, ini_dir, depth + 1, section);
+        section = last_section_;
+        continue;
+      }
+      if (t.empty() || t[0] == '#' || t[0] == ';') continue;
+      if (t[0] == '[') {
+        const auto close = t.find(']');
+        section = t.substr(1, close == std::string::npos ? std::string::npos : close - 1);
+        continue;
+      }
+      const auto eq = t.find('=');
+      if (eq == std::string::npos) continue;
+      const std::string key = trim(t.substr(0, eq));
+      auto& sec = sections_[section];
+      if (sec.count(key) == 0) sec[key] = IniValue{trim(t.substr(eq + 1)), path.string(), n};
+    }
+    last_section_ = section;
+  }
+
+  const IniValue* find(const std::string& section, const std::string& key) const {
+    const auto s = sections_.find(section);
+    if (s == sections_.end()) return nullptr;
+    const auto k = s->second.find(key);
+    return k == s->second.end() ? nullptr : &k->second;
+  }
+  bool has_section(const std::string& section) const { return sections_.count(section) != 0; }
+
+  /// A number, or nullopt when absent; throws naming the key when it is not one.
+  std::optional<double> number(const std::string& section, const std::string& key) const {
+    const IniValue* v = find(section, key);
+    if (v == nullptr) return std::nullopt;
+    char* end = nullptr;
+    const double d = std::strtod(v->value.c_str(), &end);
+    if (end == v->value.c_str() || trim(end) != "" || !std::isfinite(d))
+      throw InputError(fmt::format("{}:{}: [{}]{}: must be a number (got \"{}\")", v->file, v->line,
+                                   section, key, v->value));
+    return d;
+  }
+  [[noreturn]] void fail(const std::string& section, const std::string& key,
+                         const std::string& msg) const {
+    const IniValue* v = find(section, key);
+    throw InputError(v ? fmt::format("{}:{}: [{}]{}: {}", v->file, v->line, section, key, msg)
+                       : fmt::format("[{}]{}: {}", section, key, msg));
+  }
+
+  static std::string trim(std::string_view s) {
+    std::size_t b = 0, e = s.size();
+    while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
+    while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
+    return std::string(s.substr(b, e - b));
+  }
+
+  std::vector<std::string> unreadable_includes;
+
+ private:
+  std::map<std::string, std::map<std::string, IniValue>> sections_;
+  std::string last_section_;
+};
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// mm per LINEAR_UNITS unit (LinuxCNC accepts the words below or a number of units per mm).
+double linear_unit_mm(const IniFile& ini) {
+  const IniValue* v = ini.find("TRAJ", "LINEAR_UNITS");
+  if (v == nullptr) return 1.0;
+  const std::string u = lower(v->value);
+  if (u == "mm" || u == "metric" || u == "millimeter" || u == "millimetre") return 1.0;
+  if (u == "inch" || u == "imperial" || u == "in") return 25.4;
+  if (u == "cm" || u == "centimeter") return 10.0;
+  const double per_mm = ini.number("TRAJ", "LINEAR_UNITS").value_or(0.0);
+  if (per_mm > 0.0) return 1.0 / per_mm;
+  ini.fail("TRAJ", "LINEAR_UNITS", "must be mm, inch, cm or units per mm");
+}
+
+// Degrees per ANGULAR_UNITS unit.
+double angular_unit_deg(const IniFile& ini) {
+  const IniValue* v = ini.find("TRAJ", "ANGULAR_UNITS");
+  if (v == nullptr) return 1.0;
+  const std::string u = lower(v->value);
+  if (u == "degree" || u == "deg" || u == "degrees") return 1.0;
+  if (u == "radian" || u == "rad" || u == "radians") return 180.0 / std::numbers::pi;
+  if (u == "grad" || u == "gon") return 0.9;
+  const double per_deg = ini.number("TRAJ", "ANGULAR_UNITS").value_or(0.0);
+  if (per_deg > 0.0) return 1.0 / per_deg;
+  ini.fail("TRAJ", "ANGULAR_UNITS", "must be degree, radian, grad or units per degree");
+}
+
+std::optional<double> min_of(std::optional<double> a, std::optional<double> b) {
+  if (a && b) return std::min(*a, *b);
+  return a ? a : b;
+}
+
+std::string fmt_double(double v) {
+  return fmt::format("{}", v);
+}
+
+}  // namespace
+
+bool is_linuxcnc_ini(const std::filesystem::path& path) {
+  return lower(path.extension().string()) == ".ini";
+}
+
+double profile_peak_factor(const std::string& profile) {
+  constexpr int kTaps = 1000;
+  try {
+    const Taps t = design_taps(profile, kTaps * 1e-3, 1e-3);
+    return *std::max_element(t.real.begin(), t.real.end()) * static_cast<double>(t.real.size());
+  } catch (const InputError&) {
+    return 1.0;  // a fixed-length profile (custom, cascade) cannot be designed at 1000 taps
+  }
+}
+
+double suggest_tau_s(const Machine& m, const std::vector<double>& a_max_mm_s2, double fallback) {
+  double ratio = 0.0;
+  for (int i = 0; i < m.axis_count(); ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    if (k < a_max_mm_s2.size() && a_max_mm_s2[k] > 0.0)
+      ratio = std::max(ratio, m.axes[k].v_max_mm_s / a_max_mm_s2[k]);
+  }
+  if (ratio == 0.0) return fallback;
+  const double taps = std::ceil(profile_peak_factor(m.profile) * ratio / m.period_s - 1e-9);
+  return std::clamp(taps, 1.0, static_cast<double>(kMaxAccDecTaps)) * m.period_s;
+}
+
+IniImport load_linuxcnc_ini(const std::filesystem::path& path) {
+  IniFile ini;
+  const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  ini.read(path, dir, 0, "");
+  IniImport out;
+  std::vector<std::string>& warn = out.warnings;
+  for (const std::string& w : ini.unreadable_includes) warn.push_back(w + " (skipped)");
+  const auto beside = [&](const std::string& f) {
+    const fs::path p(f);
+    return p.is_absolute() ? f : (dir / p).lexically_normal().string();
+  };
+
+  Machine m = default_machine();
+  m.source = path.string();
+  if (const IniValue* v = ini.find("EMC", "MACHINE")) m.name = v->value;
+
+  if (const auto ns = ini.number("EMCMOT", "SERVO_PERIOD")) {
+    if (!(*ns >= 1000.0 && *ns <= 1e9))
+      ini.fail("EMCMOT", "SERVO_PERIOD", "must be in 1000..1e9 ns");
+    m.period_s = *ns * 1e-9;
+  } else {
+    warn.push_back("[EMCMOT]SERVO_PERIOD: missing; T stays 0.004 s");
+  }
+  const double lin = linear_unit_mm(ini);
+  const double ang = angular_unit_deg(ini);
+
+  // The axes: COORDINATES in joint order (trivkins: joint n drives the n-th letter).
+  std::string coords;
+  if (const IniValue* v = ini.find("TRAJ", "COORDINATES")) {
+    for (const char c : v->value)
+      if (std::isalpha(static_cast<unsigned char>(c)))
+        coords += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  } else {
+    coords = "XYZ";
+    warn.push_back("[TRAJ]COORDINATES: missing; the axes are XYZ");
+  }
+  std::string letters;
+  for (const char l : std::string("XYZABCUVW"))
+    if (coords.find(l) != std::string::npos) letters += l;
+  for (const char c : coords)
+    if (axis_index(c) < 0) ini.fail("TRAJ", "COORDINATES", fmt::format("'{}' is not an axis", c));
+  if (letters.size() != coords.size())
+    warn.push_back(
+        fmt::format("[TRAJ]COORDINATES = {}: an axis on several joints (gantry) is one "
+                    "axis here, with the tightest joint limits",
+                    ini.find("TRAJ", "COORDINATES")->value));
+  if (const IniValue* k = ini.find("KINS", "KINEMATICS"); k && k->value.rfind("trivkins", 0) != 0)
+    warn.push_back(
+        fmt::format("[KINS]KINEMATICS = {}: not modelled; every axis is one joint "
+                    "(trivkins)",
+                    k->value));
+  m.set_axes(*AxisLayout::of(letters), default_machine().axes[0]);
+
+  out.a_max_mm_s2.assign(static_cast<std::size_t>(m.axis_count()), 0.0);
+  bool soft_limits = false;
+  for (int i = 0; i < m.axis_count(); ++i) {
+    const char letter = m.layout.letter(i);
+    const bool rotary = axis_is_rotary(m.layout.program(i));
+    const double unit = rotary ? ang : lin;
+    const std::string axis_sec = fmt::format("AXIS_{}", letter);
+    std::optional<double> v = ini.number(axis_sec, "MAX_VELOCITY");
+    std::optional<double> a = ini.number(axis_sec, "MAX_ACCELERATION");
+    std::optional<double> scale, backlash;
+    for (std::size_t j = 0; j < coords.size(); ++j) {
+      if (coords[j] != letter) continue;
+      const std::string js = fmt::format("JOINT_{}", j);
+      v = min_of(v, ini.number(js, "MAX_VELOCITY"));
+      a = min_of(a, ini.number(js, "MAX_ACCELERATION"));
+      if (!scale) scale = ini.number(js, "INPUT_SCALE");
+      if (!backlash) backlash = ini.number(js, "BACKLASH");
+      soft_limits = soft_limits || ini.find(js, "MIN_LIMIT") || ini.find(js, "MAX_LIMIT");
+    }
+    soft_limits = soft_limits || ini.find(axis_sec, "MIN_LIMIT") || ini.find(axis_sec, "MAX_LIMIT");
+    AxisConfig& ac = m.axes[static_cast<std::size_t>(i)];
+    if (v && *v > 0.0)
+      ac.v_max_mm_s = *v * unit;
+    else
+      warn.push_back(fmt::format("[{}]MAX_VELOCITY: missing; {} keeps {} {}/s", axis_sec, letter,
+                                 ac.v_max_mm_s, rotary ? "deg" : "mm"));
+    if (a && *a > 0.0)
+      out.a_max_mm_s2[static_cast<std::size_t>(i)] = *a * unit;
+    else
+      warn.push_back(
+          fmt::format("[{}]MAX_ACCELERATION: missing; {} does not limit tau", axis_sec, letter));
+    if (scale && *scale != 0.0) ac.blu_mm = unit / std::abs(*scale);
+    if (backlash && *backlash > 0.0) ac.backlash_blu = std::round(*backlash * unit / ac.blu_mm);
+  }
+  if (soft_limits)
+    warn.push_back("[AXIS_*]/[JOINT_*]MIN_LIMIT, MAX_LIMIT: soft limits are not checked");
+
+  if (const auto r = ini.number("TRAJ", "MAX_LINEAR_VELOCITY"); r && *r > 0.0) {
+    m.rapid_mm_min = *r * lin * 60.0;
+  } else {
+    double fastest = 0.0;
+    for (int i = 0; i < m.axis_count(); ++i)
+      if (!axis_is_rotary(m.layout.program(i)))
+        fastest = std::max(fastest, m.axes[static_cast<std::size_t>(i)].v_max_mm_s);
+    if (fastest > 0.0) m.rapid_mm_min = fastest * 60.0;
+  }
+  if (const auto o = ini.number("DISPLAY", "MAX_FEED_OVERRIDE")) {
+    if (*o >= 1.0 && *o <= 10.0)
+      m.max_override = *o;
+    else
+      warn.push_back(fmt::format("[DISPLAY]MAX_FEED_OVERRIDE = {}: gmotion needs 1..10; keeps {}",
+                                 *o, m.max_override));
+  }
+  m.tau_s = suggest_tau_s(m, out.a_max_mm_s2, m.tau_s);
+
+  if (const IniValue* t = ini.find("EMCIO", "TOOL_TABLE")) {
+    const std::string file = beside(t->value);
+    if (!fs::is_regular_file(file))
+      throw InputError(
+          fmt::format("{}:{}: [EMCIO]TOOL_TABLE: cannot read {}", t->file, t->line, file));
+    m.tool_table = load_tool_table(file);
+    if (lin != 1.0)
+      for (ToolEntry& e : m.tool_table.tools) {
+        for (int k = 0; k < 9; ++k)
+          if (!axis_is_rotary(k)) e.offset_mm[static_cast<std::size_t>(k)] *= lin;
+        e.diameter_mm *= lin;
+      }
+  }
+  if (const IniValue* s = ini.find("RS274NGC", "SUBROUTINE_PATH"))
+    for (const std::string& d : SubroutinePath::split(s->value)) {
+      m.subroutine_path.push_back(beside(d));
+      if (!fs::is_directory(m.subroutine_path.back()))
+        warn.push_back(fmt::format("[RS274NGC]SUBROUTINE_PATH: {} is not a directory",
+                                   m.subroutine_path.back()));
+    }
+  if (const IniValue* p = ini.find("RS274NGC", "PARAMETER_FILE")) {
+    const std::string file = beside(p->value);
+    if (fs::is_regular_file(file))
+      m.parameter_file = file;
+    else
+      warn.push_back(fmt::format("[RS274NGC]PARAMETER_FILE: {} does not exist; not used", file));
+  }
+  if (const IniValue* u = ini.find("RS274NGC", "USER_M_PATH"))
+    warn.push_back(
+        fmt::format("[RS274NGC]USER_M_PATH = {}: M100-M199 are recorded, never run", u->value));
+  if (lin != 1.0)
+    warn.push_back(
+        fmt::format("[TRAJ]LINEAR_UNITS = {}: limits and tool table converted to mm; "
+                    "LinuxCNC starts a program in G20, gmotion in G21 (write G20)",
+                    ini.find("TRAJ", "LINEAR_UNITS")->value));
+  if (const IniValue* r = ini.find("EMCIO", "TOOL_CHANGE_POSITION"))
+    warn.push_back(
+        fmt::format("[EMCIO]TOOL_CHANGE_POSITION = {}: tool changes do not move", r->value));
+  out.machine = std::move(m);
+  return out;
+}
+
+std::string machine_to_linuxcnc_ini(const Machine& m) {
+  const double c = profile_peak_factor(m.profile);
+  std::string s;
+  s += fmt::format("# LinuxCNC axis sections written by gmotion from machine '{}' ({})\n", m.name,
+                   m.source);
+  s += fmt::format("# MAX_ACCELERATION = c*V/tau with c = {} ({} taps' peak-to-mean), tau = {} s\n",
+                   fmt_double(c), m.profile, fmt_double(m.tau_s));
+  s += fmt::format("\n[EMCMOT]\nSERVO_PERIOD = {}\n",
+                   static_cast<long long>(std::llround(m.period_s * 1e9)));
+  std::string coords;
+  for (int i = 0; i < m.axis_count(); ++i)
+    coords += (i ? " " : "") + std::string(1, m.layout.letter(i));
+  s += fmt::format("\n[DISPLAY]\nMAX_FEED_OVERRIDE = {}\n", fmt_double(m.max_override));
+  s += fmt::format(
+      "\n[TRAJ]\nCOORDINATES = {}\nLINEAR_UNITS = mm\nANGULAR_UNITS = degree\n"
+      "MAX_LINEAR_VELOCITY = {}\n",
+      coords, fmt_double(m.rapid_mm_min / 60.0));
+  s += fmt::format("\n[KINS]\nKINEMATICS = trivkins coordinates={}\nJOINTS = {}\n",
+                   m.layout.letters(), m.axis_count());
+  for (int i = 0; i < m.axis_count(); ++i) {
+    const AxisConfig& a = m.axes[static_cast<std::size_t>(i)];
+    const double acc = c * a.v_max_mm_s / m.tau_s;
+    s += fmt::format("\n[AXIS_{}]\nMAX_VELOCITY = {}\nMAX_ACCELERATION = {}\n", m.layout.letter(i),
+                     fmt_double(a.v_max_mm_s), fmt_double(acc));
+    s += fmt::format(
+        "\n[JOINT_{}]\nTYPE = {}\nMAX_VELOCITY = {}\nMAX_ACCELERATION = {}\nINPUT_SCALE = {}\n"
+        "BACKLASH = {}\n",
+        i, axis_is_rotary(m.layout.program(i)) ? "ANGULAR" : "LINEAR", fmt_double(a.v_max_mm_s),
+        fmt_double(acc), fmt_double(1.0 / a.blu_mm), fmt_double(a.backlash_blu * a.blu_mm));
+  }
+  return s;
+}
+
+}  // namespace gm

@@ -1,0 +1,293 @@
+// LinuxCNC INI -> machine: units, limits, joints, paths, τ, warnings; sample configs run; export.
+#include "machine/linuxcnc_ini.hpp"
+
+#include "accdec/taps.hpp"
+#include "common/status.hpp"
+#include "machine/machine_file.hpp"
+#include "pipeline/run.hpp"
+#include "support/scratch_dir.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+using Catch::Detail::Approx;
+
+namespace {
+
+void write(const fs::path& p, const std::string& text) {
+  std::ofstream(p) << text;
+}
+
+bool has_warning(const gm::IniImport& imp, const std::string& part) {
+  return std::any_of(imp.warnings.begin(), imp.warnings.end(),
+                     [&](const std::string& w) { return w.find(part) != std::string::npos; });
+}
+
+// A gantry router in inches, the way a user writes one: Y on two joints, an A axis, an
+// #INCLUDE'd axis file, paths relative to the INI.
+fs::path router_dir() {
+  const fs::path d = gmtest::scratch_dir("ini") / "router";
+  fs::create_directories(d / "subs");
+  write(d / "router.ini", R"([EMC]
+MACHINE = test-router
+
+[EMCMOT]
+EMCMOT = motmod
+SERVO_PERIOD = 500000
+
+[TRAJ]
+COORDINATES = X Y Y Z A
+LINEAR_UNITS = inch
+ANGULAR_UNITS = degree
+MAX_LINEAR_VELOCITY = 4
+
+[DISPLAY]
+MAX_FEED_OVERRIDE = 1.5
+
+[KINS]
+KINEMATICS = trivkins coordinates=XYYZA kinstype=BOTH
+JOINTS = 5
+
+#INCLUDE axes.inc
+#INCLUDE nosuch.inc
+
+[JOINT_0]
+TYPE = LINEAR
+MAX_VELOCITY = 3
+MAX_ACCELERATION = 30
+INPUT_SCALE = 20000
+BACKLASH = 0.001
+[JOINT_1]
+MAX_VELOCITY = 2.5
+MAX_ACCELERATION = 25
+[JOINT_2]
+MAX_VELOCITY = 2.8
+MAX_ACCELERATION = 20
+[JOINT_3]
+MAX_VELOCITY = 1.5
+MAX_ACCELERATION = 15
+[JOINT_4]
+TYPE = ANGULAR
+MAX_VELOCITY = 90
+MAX_ACCELERATION = 720
+
+[RS274NGC]
+SUBROUTINE_PATH = subs:../shared-subs
+USER_M_PATH = mcodes
+PARAMETER_FILE = router.var
+
+[EMCIO]
+TOOL_TABLE = router.tbl
+)");
+  write(d / "axes.inc", R"(# included: the axis limits
+[AXIS_X]
+MAX_VELOCITY = 3.2
+MAX_ACCELERATION = 40
+MIN_LIMIT = -1
+MAX_LIMIT = 40
+[AXIS_Y]
+MAX_VELOCITY = 3
+MAX_ACCELERATION = 30
+[AXIS_Z]
+MAX_VELOCITY = 1.5
+MAX_ACCELERATION = 15
+[AXIS_A]
+MAX_VELOCITY = 90
+MAX_ACCELERATION = 720
+)");
+  write(d / "router.tbl", "T1 P1 Z1.5 D0.25 ;quarter-inch end mill\nT2 P2 Z2 D0.5\n");
+  write(d / "router.var", "5220\t1.000000\n");
+  return d;
+}
+
+const fs::path kSim = "/usr/share/doc/linuxcnc/examples/sample-configs/sim/axis";
+
+bool have_sim(const std::string& ini) {
+  if (fs::exists(kSim / ini)) return true;
+  WARN("skipped: " << (kSim / ini).string()
+                   << " is absent (the linuxcnc-uspace package ships it; tools/install-deps.sh)");
+  return false;
+}
+
+// Runs `program` on `m` to its end; returns the summary (throws on a program error).
+gm::RunSummary run_to_end(const gm::Machine& m, const fs::path& program, gm::RunStatus& st) {
+  gm::RunOptions o;
+  o.config.machine = m;
+  o.program_name = program.string();
+  o.consumer_thread = false;
+  std::ifstream in(program);
+  gm::InterpreterOptions opts;
+  gm::Run run(std::move(o), in, opts);
+  while ((st = run.step()) == gm::RunStatus::Working) {
+  }
+  return run.summary();
+}
+
+}  // namespace
+
+TEST_CASE("ini: a gantry router in inches maps onto mm, the tightest joint and the INI's paths") {
+  const fs::path d = router_dir();
+  const gm::IniImport imp = gm::load_linuxcnc_ini(d / "router.ini");
+  const gm::Machine& m = imp.machine;
+  CHECK(m.name == "test-router");
+  CHECK(m.period_s == Approx(0.0005));
+  CHECK(m.layout.letters() == "XYZA");
+  REQUIRE(m.axes.size() == 4);
+  // X: the joint's 3 in/s is below the axis's 3.2; Y: the slower of its two joints.
+  CHECK(m.axes[0].v_max_mm_s == Approx(3 * 25.4));
+  CHECK(m.axes[1].v_max_mm_s == Approx(2.5 * 25.4));
+  CHECK(m.axes[2].v_max_mm_s == Approx(1.5 * 25.4));
+  CHECK(m.axes[3].v_max_mm_s == Approx(90.0));  // degrees stay degrees
+  REQUIRE(imp.a_max_mm_s2.size() == 4);
+  CHECK(imp.a_max_mm_s2[0] == Approx(30 * 25.4));
+  CHECK(imp.a_max_mm_s2[1] == Approx(20 * 25.4));
+  CHECK(imp.a_max_mm_s2[3] == Approx(720.0));
+  // INPUT_SCALE 20000 counts/inch: 1.27 µm a count; BACKLASH 0.001 in = 20 counts.
+  CHECK(m.axes[0].blu_mm == Approx(25.4 / 20000));
+  CHECK(m.axes[0].backlash_blu == 20.0);
+  CHECK(m.axes[1].blu_mm == 0.001);  // no INPUT_SCALE: gmotion's default
+  CHECK(m.rapid_mm_min == Approx(4 * 25.4 * 60));
+  CHECK(m.max_override == 1.5);
+  // The tool table is in inches like the INI.
+  REQUIRE(m.tool_table.find(1) != nullptr);
+  CHECK(m.tool_table.find(1)->offset_mm[2] == Approx(38.1));
+  CHECK(m.tool_table.find(1)->diameter_mm == Approx(6.35));
+  REQUIRE(m.subroutine_path.size() == 2);
+  CHECK(m.subroutine_path[0] == (d / "subs").lexically_normal().string());
+  CHECK(m.subroutine_path[1] == (d / ".." / "shared-subs").lexically_normal().string());
+  CHECK(m.parameter_file == (d / "router.var").string());
+  // Said once, each: what was not mapped.
+  CHECK(has_warning(imp, "nosuch.inc"));
+  CHECK(has_warning(imp, "gantry"));
+  CHECK(has_warning(imp, "USER_M_PATH = mcodes"));
+  CHECK(has_warning(imp, "shared-subs is not a directory"));
+  CHECK(has_warning(imp, "soft limits"));
+  CHECK(has_warning(imp, "G20"));
+  CHECK_FALSE(has_warning(imp, "KINEMATICS"));  // trivkins with parameters is trivkins
+  // load_machine_file reads an .ini the same way (check, moves and the bindings use it).
+  CHECK(gm::load_machine_file(d / "router.ini").layout.letters() == "XYZA");
+}
+
+TEST_CASE("ini: tau is the time a velocity step takes at the tightest V/A, by the profile's peak") {
+  const gm::IniImport imp = gm::load_linuxcnc_ini(router_dir() / "router.ini");
+  gm::Machine m = imp.machine;
+  // Linear (box) taps: a step V ramps at V/tau, so tau = max V/A = 2.5/20 s (Y, and A: 90/720).
+  m.profile = "linear";
+  CHECK(gm::profile_peak_factor("linear") == Approx(1.0));
+  CHECK(gm::suggest_tau_s(m, imp.a_max_mm_s2, 0.0) == Approx(0.125));
+  // The default Blackman: its designed taps, applied to a step at each axis's V, stay within the
+  // axis's A (the steepest sample is max h·V/T) to the rounding of c at 1000 taps.
+  m.profile = "blackman";
+  const double tau = imp.machine.tau_s;
+  CHECK(tau == Approx(gm::suggest_tau_s(m, imp.a_max_mm_s2, 0.0)));
+  const gm::Taps t = gm::design_taps("blackman", tau, m.period_s);
+  const double hmax = *std::max_element(t.real.begin(), t.real.end());
+  for (std::size_t i = 0; i < 4; ++i) {
+    INFO("axis " << i);
+    CHECK(hmax * m.axes[i].v_max_mm_s / m.period_s <= imp.a_max_mm_s2[i] * 1.01);
+  }
+  // ... and 20 periods shorter would not (Y binds).
+  const gm::Taps shorter = gm::design_taps("blackman", tau - 0.01, m.period_s);
+  CHECK(*std::max_element(shorter.real.begin(), shorter.real.end()) * m.axes[1].v_max_mm_s /
+            m.period_s >
+        imp.a_max_mm_s2[1]);
+}
+
+TEST_CASE("ini: a value that is not a number names the file, line, section and key") {
+  const fs::path d = gmtest::scratch_dir("ini");
+  write(d / "bad.ini", "[EMCMOT]\nSERVO_PERIOD = fast\n");
+  try {
+    gm::load_linuxcnc_ini(d / "bad.ini");
+    FAIL("no error");
+  } catch (const gm::InputError& e) {
+    CHECK(std::string(e.what()) ==
+          (d / "bad.ini").string() + ":2: [EMCMOT]SERVO_PERIOD: must be a number (got \"fast\")");
+  }
+}
+
+TEST_CASE("ini: export writes the axis sections that read back to the same machine") {
+  gm::Machine m = gm::default_machine();
+  m.set_axes(*gm::AxisLayout::of("XYZA"), m.axes[0]);
+  m.period_s = 0.001;
+  m.tau_s = 0.2;
+  m.rapid_mm_min = 9000;
+  m.max_override = 1.2;
+  m.axes[1].v_max_mm_s = 250;
+  m.axes[3].v_max_mm_s = 720;
+  m.axes[3].blu_mm = 0.0005;
+  m.axes[2].backlash_blu = 3;
+  const fs::path p = gmtest::scratch_dir("ini") / "exported.ini";
+  write(p, gm::machine_to_linuxcnc_ini(m));
+  const gm::IniImport back = gm::load_linuxcnc_ini(p);
+  const gm::Machine& b = back.machine;
+  CHECK(b.layout.letters() == "XYZA");
+  CHECK(b.period_s == Approx(m.period_s));
+  CHECK(b.tau_s == Approx(m.tau_s));  // the accelerations were written to suggest it
+  CHECK(b.rapid_mm_min == Approx(m.rapid_mm_min));
+  CHECK(b.max_override == Approx(m.max_override));
+  for (std::size_t i = 0; i < 4; ++i) {
+    INFO("axis " << i);
+    CHECK(b.axes[i].v_max_mm_s == Approx(m.axes[i].v_max_mm_s));
+    CHECK(b.axes[i].blu_mm == Approx(m.axes[i].blu_mm));
+    CHECK(b.axes[i].backlash_blu == m.axes[i].backlash_blu);
+  }
+  CHECK(back.warnings.empty());
+}
+
+TEST_CASE("ini: the shipped axis_mm sim runs a square on its own limits") {
+  if (!have_sim("axis_mm.ini")) return;
+  const gm::IniImport imp = gm::load_linuxcnc_ini(kSim / "axis_mm.ini");
+  const gm::Machine& m = imp.machine;
+  CHECK(m.layout.letters() == "XYZ");
+  CHECK(m.period_s == Approx(0.001));            // SERVO_PERIOD = 1000000 ns
+  CHECK(m.axes[0].v_max_mm_s == Approx(30.48));  // mm config: no conversion
+  CHECK(m.axes[0].blu_mm == Approx(1 / 157.48));
+  CHECK(m.rapid_mm_min == Approx(53.34 * 60));
+  CHECK(m.tool_table.tools.size() == 24);
+  CHECK(has_warning(imp, "PARAMETER_FILE"));  // sim_mm.var is written by LinuxCNC, not shipped
+  gm::RunStatus st{};
+  const gm::RunSummary s =
+      run_to_end(m, fs::path(GMOTION_TESTS_DIR) / ".." / "programs" / "square.nc", st);
+  CHECK(st == gm::RunStatus::Finished);
+  // 80 mm of feed at 1200 mm/min = 4 s, plus the plunge (1 mm at 300) and the rapid lift.
+  CHECK(s.program_time_s > 4.2);
+  CHECK(s.program_time_s < 4.2 + 3 * m.tau_s);
+}
+
+TEST_CASE("ini: the shipped lathe sim (X Z, inches) turns a shoulder") {
+  if (!have_sim("lathe.ini")) return;
+  const gm::IniImport imp = gm::load_linuxcnc_ini(kSim / "lathe.ini");
+  const gm::Machine& m = imp.machine;
+  CHECK(m.layout.letters() == "XZ");
+  CHECK(m.axes[0].v_max_mm_s == Approx(3.333333 * 25.4));
+  CHECK(imp.a_max_mm_s2[1] == Approx(20 * 25.4));
+  CHECK(m.tool_table.tools.size() == 10);
+  gm::RunStatus st{};
+  const gm::RunSummary s =
+      run_to_end(m, fs::path(GMOTION_TESTS_DIR) / "ini" / "lathe-turn.ngc", st);
+  CHECK(st == gm::RunStatus::Finished);
+  // Ends at X1.1 Z0.1 in: both axes within a count of it.
+  CHECK(std::abs(s.axes[0].final_enc_err_blu) <= 1);
+  CHECK(std::abs(s.axes[1].final_enc_err_blu) <= 1);
+}
+
+TEST_CASE("ini: the shipped 9-axis sim moves all of X Y Z A B C U V W") {
+  if (!have_sim("axis_9axis.ini")) return;
+  const gm::IniImport imp = gm::load_linuxcnc_ini(kSim / "axis_9axis.ini");
+  const gm::Machine& m = imp.machine;
+  CHECK(m.layout.letters() == "XYZABCUVW");
+  CHECK(m.axes[3].v_max_mm_s == Approx(90.0));        // A, degrees/s
+  CHECK(m.axes[6].v_max_mm_s == Approx(1.2 * 25.4));  // U, inches/s in mm/s
+  gm::RunStatus st{};
+  const gm::RunSummary s = run_to_end(m, fs::path(GMOTION_TESTS_DIR) / "ini" / "nine-axis.ngc", st);
+  CHECK(st == gm::RunStatus::Finished);
+  // The C axis turns 45 degrees and back: its peak speed is its share of the coordinated feed.
+  CHECK(s.axes[5].velocity_mm_s.value > 0.0);
+  for (std::size_t i = 0; i < 9; ++i) CHECK(std::abs(s.axes[i].final_enc_err_blu) <= 1);
+}
