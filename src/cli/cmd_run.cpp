@@ -42,6 +42,7 @@ struct RunFlags {
   bool keep_partial = false;
   std::optional<double> tolerance_mm;  ///< --tolerance: the machine's path_tolerance_mm
   bool check_tolerance = false;        ///< --check-tolerance: exit 1 if a sample exceeds it
+  std::string tolerance_on;            ///< --tolerance-on acc_dec|encoder (machine tolerance_on)
 };
 
 int run(const RunFlags& f, std::unique_ptr<Run>& run_out) {
@@ -54,6 +55,9 @@ int run(const RunFlags& f, std::unique_ptr<Run>& run_out) {
   o.config.servo = !f.machine.no_servo;
   const double max_pct =
       apply_run_limits(o.config.machine, f.tolerance_mm, f.override_pct, f.rapid_override_pct);
+  if (!f.tolerance_on.empty())
+    o.config.machine.tolerance_on =
+        f.tolerance_on == "encoder" ? ToleranceOn::Encoder : ToleranceOn::AccDec;
   if (!f.override_file.empty()) o.schedule = OverrideSchedule::load(f.override_file, max_pct);
 
   ProgramInput program(f.program);
@@ -98,7 +102,7 @@ int run(const RunFlags& f, std::unique_ptr<Run>& run_out) {
   fmt::print(text_out, "{}", run.tolerance().text());
   if (!f.summary_json.empty()) {
     std::ofstream js(f.summary_json);
-    js << run.summary().json();
+    js << run.summary().json(run.tolerance().json_member());
     if (!js) throw InputError(fmt::format("cannot write summary '{}'", f.summary_json));
   }
   if (f.check_tolerance && run.tolerance().exceeded()) {
@@ -172,6 +176,10 @@ void add_run(CLI::App& app, Context& ctx) {
                   "0 = unbounded)");
   sub->add_flag("--check-tolerance", flags->check_tolerance,
                 "Exit 1 when any sample's contour error exceeds the tolerance in force");
+  sub->add_option("--tolerance-on", flags->tolerance_on,
+                  "Plan the tolerance for the Acc/Dec output (acc_dec, default) or for the table "
+                  "through the servo model too (encoder; the machine's tolerance_on)")
+      ->check(CLI::IsMember({"acc_dec", "encoder"}));
   sub->callback([flags, &ctx] {
     if (flags->keep_partial && TraceWriter::written_in_place(flags->trace_path))
       throw CLI::ValidationError(
