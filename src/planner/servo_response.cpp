@@ -62,7 +62,8 @@ ChainResponse chain_response(const Taps& taps, const AxisConfig& axis, double pe
     for (std::size_t k = 0; k < valid; ++k) step[k] = acc += c[k];
     // Tail areas from the end: tail[k] = T·Σ_{j≥k} |1 − S_j| (over the computed part).
     std::vector<double> tail(valid + 1, 0.0);
-    for (std::size_t k = valid; k-- > 0;) tail[k] = tail[k + 1] + period_s * std::abs(1.0 - step[k]);
+    for (std::size_t k = valid; k-- > 0;)
+      tail[k] = tail[k + 1] + period_s * std::abs(1.0 - step[k]);
     if (!std::isfinite(tail[0]) || len > (1 << 20))
       throw InputError("tolerance_on = encoder: the servo loop does not settle");
     // The computed part must already be settled far below the limit, else compute longer.
@@ -88,8 +89,7 @@ std::vector<double> planned_chain(const Machine& m, bool servo, double& extra_ma
   extra_margin_mm = 0.0;
   if (!servo || m.tolerance_on != ToleranceOn::Encoder) {
     std::vector<double> h;
-    for (auto b : taps.integer)
-      h.push_back(static_cast<double>(b) / static_cast<double>(taps.b_s));
+    for (auto b : taps.integer) h.push_back(static_cast<double>(b) / static_cast<double>(taps.b_s));
     return h;
   }
   // One servo for the linear axes: compare their linear parameters.
@@ -101,9 +101,9 @@ std::vector<double> planned_chain(const Machine& m, bool servo, double& extra_ma
       first = &a;
       continue;
     }
-    if (a.plant_num != first->plant_num || a.plant_den != first->plant_den ||
-        a.kvp != first->kvp || a.kvi != first->kvi || a.kp_1_s != first->kp_1_s ||
-        a.kv_period_s != first->kv_period_s || a.kv_form != first->kv_form ||
+    if (a.plant_num != first->plant_num || a.plant_den != first->plant_den || a.kvp != first->kvp ||
+        a.kvi != first->kvi || a.kp_1_s != first->kp_1_s || a.kv_period_s != first->kv_period_s ||
+        a.kv_form != first->kv_form ||
         a.plant_blu_s_per_unit * a.blu_mm != first->plant_blu_s_per_unit * first->blu_mm)
       throw InputError(
           "tolerance_on = encoder needs the same servo (plant, gains) on X, Y and Z: the "
@@ -113,8 +113,8 @@ std::vector<double> planned_chain(const Machine& m, bool servo, double& extra_ma
   // Truncation allowance: 0.05 BLU at 2 m/s (scales with speed; docs/tolerance.md).
   constexpr double kFastMmS = 2000.0;
   const double blu = m.contour_blu_mm();
-  const ChainResponse r = chain_response(taps, *first, m.period_s, m.servo_substeps,
-                                         0.05 * blu / kFastMmS);
+  const ChainResponse r =
+      chain_response(taps, *first, m.period_s, m.servo_substeps, 0.05 * blu / kFastMmS);
   extra_margin_mm = kFastMmS * r.tail_area_s;
   return r.weights;
 }
