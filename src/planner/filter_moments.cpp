@@ -30,6 +30,9 @@ FilterMoments::FilterMoments(std::vector<double> weights, double period_s)
     under_s_ += period_s_ * std::max(-s, 0.0);
   }
   if (std::abs(s - 1.0) > 1e-9) throw InputError("filter moments: the weights must sum to 1");
+  // Sums of non-negative weights end a few ulp above 1: no overshoot below 1e-12 s (1 nm at
+  // 1 m/s), so the FIR alone plans exactly as with the Taps constructor.
+  if (over_s_ < 1e-12 && under_s_ < 1e-12) over_s_ = under_s_ = 0.0;
   if (over_s_ > 0.0 || under_s_ > 0.0) {
     // The output can run past a vertex before the input reaches it (by at most V·overshoot
     // area of path): the window is lengthened by whole samples covering that time, and the

@@ -32,7 +32,8 @@ TEST_CASE("linear servo response: the real ServoAxis follows it within the encod
   std::vector<std::int64_t> ref(n);
   for (int k = 0; k < n; ++k) {
     const double x = std::min(1.0, k / 100.0);
-    ref[static_cast<std::size_t>(k)] = std::llround(1500.0 * (1.0 - std::cos(3.14159265358979 * x)));
+    ref[static_cast<std::size_t>(k)] =
+        std::llround(1500.0 * (1.0 - std::cos(3.14159265358979 * x)));
   }
   gm::ServoAxis servo(ax, m.period_s, m.servo_substeps, 0);
   double worst = 0.0;
