@@ -31,6 +31,9 @@ int run(const RunFlags& f, std::unique_ptr<Run>& run_out, const RunHooks& hooks)
   o.config.servo = !f.machine.no_servo;
   const double max_pct =
       apply_run_limits(o.config.machine, f.tolerance_mm, f.override_pct, f.rapid_override_pct);
+  if (!f.tolerance_on.empty())
+    o.config.machine.tolerance_on =
+        f.tolerance_on == "encoder" ? ToleranceOn::Encoder : ToleranceOn::AccDec;
   if (!f.override_file.empty()) o.schedule = OverrideSchedule::load(f.override_file, max_pct);
 
   ProgramInput program(f.program);
@@ -78,7 +81,7 @@ int run(const RunFlags& f, std::unique_ptr<Run>& run_out, const RunHooks& hooks)
   fmt::print(text_out, "{}", run.tolerance().text());
   if (!f.summary_json.empty()) {
     std::ofstream js(f.summary_json);
-    js << run.summary().json();
+    js << run.summary().json(run.tolerance().json_member());
     if (!js) throw InputError(fmt::format("cannot write summary '{}'", f.summary_json));
   }
   if (f.check_tolerance && run.tolerance().exceeded()) {
@@ -129,6 +132,10 @@ void add_run_flags(CLI::App* sub, RunFlags& flags) {
                   "0 = unbounded)");
   sub->add_flag("--check-tolerance", flags.check_tolerance,
                 "Exit 1 when any sample's contour error exceeds the tolerance in force");
+  sub->add_option("--tolerance-on", flags.tolerance_on,
+                  "Plan the tolerance for the Acc/Dec output (acc_dec, default) or for the table "
+                  "through the servo model too (encoder; the machine's tolerance_on)")
+      ->check(CLI::IsMember({"acc_dec", "encoder"}));
 }
 
 void validate_run_flags(const RunFlags& flags) {

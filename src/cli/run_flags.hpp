@@ -32,6 +32,7 @@ struct RunFlags {
   bool keep_partial = false;
   std::optional<double> tolerance_mm;  ///< --tolerance: the machine's path_tolerance_mm
   bool check_tolerance = false;        ///< --check-tolerance: exit 1 if a sample exceeds it
+  std::string tolerance_on;            ///< --tolerance-on acc_dec|encoder (machine tolerance_on)
 };
 
 /// What a caller of run_with_flags() sees besides the printed output (`report` uses both).

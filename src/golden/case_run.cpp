@@ -125,7 +125,7 @@ CaseOutput run_case(const Suite& s, const GoldenCase& c, const std::string& trac
     if (f.check_tolerance && run.tolerance().exceeded())
       throw InputError(fmt::format("--check-tolerance: {} samples exceed the tolerance in force",
                                    run.tolerance().cutting().over + run.tolerance().rapids().over));
-    out.summary_json = run.summary().json();
+    out.summary_json = run.summary().json(run.tolerance().json_member());
     out.complete = true;
   } catch (const std::exception& e) {
     out.error = e.what();

@@ -23,6 +23,10 @@ enum class ArcRule { LinuxCnc, Grbl, G2core };
 /// Pi: u = Kvp*e + Kvi*sum(e) (proportional on the error; adds a zero, overshoots ~13-50 %).
 enum class VelocityLoopForm { Ip, Pi };
 
+/// What the contour tolerance (G64 P) is planned for (issue 21): the Acc/Dec output, or the
+/// whole linear chain FIR + servo, so that it holds for the table too (within one BLU more).
+enum class ToleranceOn { AccDec, Encoder };
+
 /// One axis: resolution, limits (Eq. 7 and 26 of the paper), plant and servo gains.
 struct AxisConfig {
   double blu_mm = 0.001;        ///< basic length unit: one encoder count, mm
@@ -71,6 +75,8 @@ struct Machine {
   /// Contour tolerance under G64 without P, mm (machine key path_tolerance_mm, CLI --tolerance);
   /// 0 = unbounded, the filter blends corners freely (issue 21).
   double path_tolerance_mm = 0.0;
+  /// Machine key tolerance_on ("acc_dec" or "encoder"), CLI --tolerance-on.
+  ToleranceOn tolerance_on = ToleranceOn::AccDec;
   /// The machine's axes (key `axes.letters`, CLI --axes): a subsequence of XYZABCUVW. Rotary
   /// axes (A, B, C) count in degrees: their `_mm` quantities are degrees (blu_mm = degrees per
   /// count, v_max_mm_s = deg/s). Kinematics are trivial: each axis is one joint.

@@ -296,6 +296,16 @@ Machine parse_machine_toml(std::string_view text, std::string_view source_name) 
       r.fail_at(root.get("arc_rule")->source(), "arc_rule",
                 fmt::format("must be \"linuxcnc\", \"grbl\" or \"g2core\" (got \"{}\")", rule));
   }
+  std::string tol_on;
+  if (r.string("tolerance_on", tol_on, false)) {
+    if (tol_on == "acc_dec")
+      m.tolerance_on = ToleranceOn::AccDec;
+    else if (tol_on == "encoder")
+      m.tolerance_on = ToleranceOn::Encoder;
+    else
+      r.fail_at(root.get("tolerance_on")->source(), "tolerance_on",
+                fmt::format("must be \"acc_dec\" or \"encoder\" (got \"{}\")", tol_on));
+  }
   double blu_mm = 0.001;
   r.number("blu_mm", blu_mm, false, positive);
 
@@ -398,6 +408,7 @@ std::string machine_to_toml(const Machine& m) {
                    fmt_double(m.max_override * 100.0), rule, fmt_double(m.axes[0].blu_mm));
   if (m.path_tolerance_mm > 0.0)
     s += fmt::format("path_tolerance_mm = {}\n", fmt_double(m.path_tolerance_mm));
+  if (m.tolerance_on == ToleranceOn::Encoder) s += "tolerance_on = \"encoder\"\n";
   if (!m.subroutine_path.empty()) {
     std::string dirs;
     for (const std::string& d : m.subroutine_path) dirs += (dirs.empty() ? "" : ":") + d;

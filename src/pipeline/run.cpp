@@ -5,6 +5,7 @@
 #include "override/live_override.hpp"
 #include "override/override_recorder.hpp"
 #include "pipeline/sample_queue.hpp"
+#include "planner/servo_response.hpp"
 
 #include <fmt/format.h>
 
@@ -33,12 +34,20 @@ RunOptions with_thread_choice(RunOptions o) {
 }
 
 // The tolerance planner over `source` for the machine's filter and overrides (issue 21).
-std::unique_ptr<TolerancePlanner> make_planner(const Machine& m, CanonSource& source) {
+// One BLU over the tolerance is allowed when it is planned for the table (tolerance_on = encoder).
+double encoder_allowance_mm(const RunConfig& c) {
+  return c.servo && c.machine.tolerance_on == ToleranceOn::Encoder ? c.machine.contour_blu_mm()
+                                                                   : 0.0;
+}
+
+// With tolerance_on = encoder and the servo on, the chain is FIR + servo (planner/servo_response).
+std::unique_ptr<TolerancePlanner> make_planner(const Machine& m, bool servo, CanonSource& source) {
   PlannerConfig c;
   c.max_override = m.max_override;
   c.rapid_mm_min = m.rapid_mm_min;
-  c.rounding_mm = m.xyz_blu_mm().norm();
-  const FilterMoments moments(design_taps(m.profile, m.tau_s, m.period_s), m.period_s);
+  double truncation_mm = 0.0;
+  const FilterMoments moments(planned_chain(m, servo, truncation_mm), m.period_s);
+  c.rounding_mm = m.xyz_blu_mm().norm() + truncation_mm;
   return std::make_unique<TolerancePlanner>(moments, c, source);
 }
 
@@ -46,10 +55,10 @@ std::unique_ptr<TolerancePlanner> make_planner(const Machine& m, CanonSource& so
 
 Run::Run(RunOptions options, CanonSource& source)
     : options_(with_thread_choice(std::move(options))),
-      planner_(make_planner(options_.config.machine, source)),
+      planner_(make_planner(options_.config.machine, options_.config.servo, source)),
       pipeline_(options_.config, *planner_),
       summary_(options_.config.machine),
-      tolerance_(options_.config.machine.contour_blu_mm()),
+      tolerance_(options_.config.machine.contour_blu_mm(), encoder_allowance_mm(options_.config)),
       player_(options_.schedule, options_.config.machine.period_s, options_.feed_override_pct,
               options_.rapid_override_pct) {
   init();
@@ -59,10 +68,10 @@ Run::Run(RunOptions options, std::istream& program, InterpreterOptions opts)
     : options_(with_thread_choice(std::move(options))),
       stream_(std::make_unique<ProgramStream>(program, options_.program_name,
                                               with_machine(opts, options_.config.machine))),
-      planner_(make_planner(options_.config.machine, *stream_)),
+      planner_(make_planner(options_.config.machine, options_.config.servo, *stream_)),
       pipeline_(options_.config, *planner_),
       summary_(options_.config.machine),
-      tolerance_(options_.config.machine.contour_blu_mm()),
+      tolerance_(options_.config.machine.contour_blu_mm(), encoder_allowance_mm(options_.config)),
       player_(options_.schedule, options_.config.machine.period_s, options_.feed_override_pct,
               options_.rapid_override_pct) {
   init();

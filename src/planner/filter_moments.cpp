@@ -3,9 +3,12 @@
 
 #include "common/status.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace gm {
 
@@ -13,10 +16,46 @@ FilterMoments::FilterMoments(const Taps& taps, double period_s) : period_s_(peri
   if (taps.integer.empty() || taps.b_s <= 0) throw InputError("filter moments need taps");
   h_.reserve(taps.integer.size());
   for (auto b : taps.integer) h_.push_back(static_cast<double>(b) / static_cast<double>(taps.b_s));
+  init();
+}
+
+FilterMoments::FilterMoments(std::vector<double> weights, double period_s)
+    : period_s_(period_s), h_(std::move(weights)) {
+  if (h_.empty() || !(period_s > 0.0)) throw InputError("filter moments need weights");
+  double s = 0.0;
+  for (std::size_t k = 0; k < h_.size(); ++k) {
+    // C on ((k−1)T, kT] is 1 − S_{k−1}; S on (kT, (k+1)T] is S_k.
+    over_s_ += period_s_ * std::max(s - 1.0, 0.0);
+    s += h_[k];
+    under_s_ += period_s_ * std::max(-s, 0.0);
+  }
+  if (std::abs(s - 1.0) > 1e-9) throw InputError("filter moments: the weights must sum to 1");
+  // Sums of non-negative weights end a few ulp above 1: no overshoot below 1e-12 s (1 nm at
+  // 1 m/s), so the FIR alone plans exactly as with the Taps constructor.
+  if (over_s_ < 1e-12 && under_s_ < 1e-12) over_s_ = under_s_ = 0.0;
+  if (over_s_ > 0.0 || under_s_ > 0.0) {
+    // The output can run past a vertex before the input reaches it (by at most V·overshoot
+    // area of path): the window is lengthened by whole samples covering that time, and the
+    // planner's zones are the whole window whatever the pause (zone_floor_s).
+    const auto extra = static_cast<std::size_t>(std::ceil(over_s_ / period_s_)) + 1;
+    h_.insert(h_.end(), extra, 0.0);
+    zone_floor_s_ = tau_s();
+  }
+  init();
+}
+
+void FilterMoments::init() {
   for (std::size_t i = 0; i < h_.size(); ++i) centre_ += static_cast<double>(i) * h_[i];
+  const bool signed_weights = std::any_of(h_.begin(), h_.end(), [](double c) { return c < 0.0; });
   for (std::size_t i = 0; i < h_.size(); ++i) {
-    const double d = (static_cast<double>(i) - centre_) * period_s_;
-    variance_s2_ += h_[i] * d * d;
+    double d = (static_cast<double>(i) - centre_) * period_s_;
+    if (signed_weights) {  // |s_i − s̄| ≤ V·T·Σ_j |c_j|·|i − j|
+      d = 0.0;
+      for (std::size_t j = 0; j < h_.size(); ++j)
+        d += std::abs(h_[j]) * std::abs(static_cast<double>(i) - static_cast<double>(j));
+      d *= period_s_;
+    }
+    variance_s2_ += std::abs(h_[i]) * d * d;
   }
 }
 
@@ -34,7 +73,39 @@ double FilterMoments::post_moment(double t) const {
   return b;
 }
 
+double FilterMoments::pre_pos(double t) const {
+  double a = 0.0, c = 1.0;  // c = C_k = Σ_{i≥k} h_i on ((k−1)T, kT]
+  for (std::size_t k = 0; k < h_.size(); ++k) {
+    const double hi = static_cast<double>(k) * period_s_, lo = hi - period_s_;
+    a += std::max(c, 0.0) * std::clamp(hi - std::max(t, lo), 0.0, period_s_);
+    c -= h_[k];
+  }
+  return a;
+}
+
+double FilterMoments::post_pos(double t) const {
+  double b = 0.0, s = 0.0;  // s = S_k = Σ_{i≤k} h_i on (kT, (k+1)T]
+  for (std::size_t k = 0; k < h_.size(); ++k) {
+    s += h_[k];
+    const double lo = static_cast<double>(k) * period_s_, hi = lo + period_s_;
+    if (k + 1 == h_.size()) return b + std::max(s, 0.0) * std::max(t - lo, 0.0);
+    b += std::max(s, 0.0) * std::clamp(std::min(t, hi) - lo, 0.0, period_s_);
+  }
+  return b;
+}
+
 double FilterMoments::corner_moment_s(double pause_s) const {
+  if (over_s_ > 0.0 || under_s_ > 0.0) {
+    // Signed moments: min(a, b) lies in [−V·max(A⁻, B⁻), V·min(A⁺, B⁺)] (docs/tolerance.md).
+    double lo = -period_s_, hi = tau_s() + pause_s + period_s_;
+    for (int it = 0; it < 200 && hi - lo > 1e-15 * (1.0 + hi); ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (pre_pos(mid) > post_pos(mid - pause_s) ? lo : hi) = mid;
+    }
+    const double t = 0.5 * (lo + hi);
+    const double d = std::max(0.0, std::min(pre_pos(t), post_pos(t - pause_s)));
+    return std::max({d, over_s_, under_s_});
+  }
   // A(t) falls and B(t − P) rises with t: min(A, B) is largest where they cross.
   double lo = -period_s_, hi = tau_s() + pause_s + period_s_;
   for (int it = 0; it < 200 && hi - lo > 1e-15 * (1.0 + hi); ++it) {

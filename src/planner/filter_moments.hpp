@@ -19,6 +19,13 @@ namespace gm {
 class FilterMoments {
  public:
   FilterMoments(const Taps& taps, double period_s);
+  /// Any linear chain given by its weights c_k at period T (Σ c_k = 1), e.g. FIR + servo
+  /// (planner/servo_response.hpp). The c_k may be negative. While the chain's step response
+  /// S_k = Σ_{j≤k} c_j stays within [0, 1], A(t) = Σ c_k (kT − t)⁺ = ∫_t^∞ (1 − S) and B are
+  /// monotone in the speed and the FIR's D(P) holds as it is. If S overshoots 1 (or dips below
+  /// 0), D(P) = max(max_t min(A⁺(t), B⁺(t − P)), ∫(S − 1)⁺, ∫S⁻) (absolute moments;
+  /// docs/tolerance.md), the window grows by the overshoot time and zone_floor_s() is the window.
+  FilterMoments(std::vector<double> weights, double period_s);
 
   double period_s() const { return period_s_; }
   double tau_s() const { return period_s_ * static_cast<double>(h_.size()); }
@@ -28,9 +35,16 @@ class FilterMoments {
   /// m = Σ i·h_i, in samples.
   double centre() const { return centre_; }
   /// σ² = T²·Σ h_i (i − m)², s²: a path of curvature κ taken at speed ≤ V is left by at most
-  /// κ·V²·σ²/2 (the steady radius loss of Eq. 13/14 is below it).
+  /// κ·V²·σ²/2 (the steady radius loss of Eq. 13/14 is below it). With negative weights the
+  /// bound T²·Σ |c_i|·(Σ_j |c_j|·|i − j|)² instead (|s_i − s̄| ≤ V·T·Σ_j |c_j|·|i − j|).
   double variance_s2() const { return variance_s2_; }
 
+  /// Shortest zone (time either side of a corner at the capped speed) whatever the pause: 0 when
+  /// the chain's step response stays in [0, 1], else the whole window (the output can run past
+  /// a vertex before and long after the input passes it).
+  double zone_floor_s() const { return zone_floor_s_; }
+  double overshoot_s() const { return over_s_; }
+  double undershoot_s() const { return under_s_; }
   /// D(P), s: the corner moment with a pause of `pause_s` at the vertex (computed directly as
   /// max_t min(A(t), B(t − P)), valid for any taps). 0 for P ≥ N·T.
   double corner_moment_s(double pause_s) const;
@@ -49,13 +63,19 @@ class FilterMoments {
   double shortest_pause_s(double tol_mm, double turn_rad, double speed_mm_s) const;
 
  private:
+  void init();
   double pre_moment(double t) const;   // A(t) = Σ h_i (iT − t)⁺
+  double pre_pos(double t) const;      // A⁺(t) = ∫_t^∞ (1 − S)⁺
+  double post_pos(double t) const;     // B⁺(t) = ∫_{−∞}^t S⁺
   double post_moment(double t) const;  // B(t) = Σ h_i (t − iT)⁺
 
   double period_s_;
   std::vector<double> h_;
   double centre_ = 0.0;
   double variance_s2_ = 0.0;
+  double over_s_ = 0.0;   ///< ∫ (S − 1)⁺: step response above 1 (overshoot area), s
+  double under_s_ = 0.0;  ///< ∫ S⁻: below 0, s
+  double zone_floor_s_ = 0.0;
 };
 
 }  // namespace gm

@@ -17,7 +17,7 @@ void ToleranceCheck::add(const SampleRecord& r, const Motion* started) {
   const double err = std::abs(r.contour_err_blu) * blu_mm_;
   ++w.samples;
   // A nanometre of slack for the BLU-to-mm products (the bound itself is planned with margin).
-  if (err > tol_mm_ + 1e-9) ++w.over;
+  if (err > tol_mm_ + allowance_mm_ + 1e-9) ++w.over;
   const double ratio = err / tol_mm_;
   if (ratio > w.ratio) {
     w.ratio = ratio;
@@ -43,6 +43,19 @@ std::string ToleranceCheck::text() const {
         name, w->err_mm, w->tol_mm, 100.0 * w->ratio, w->line, w->t_s, w->over, w->samples);
   }
   return s;
+}
+
+std::string ToleranceCheck::json_member() const {
+  if (!judged()) return "";
+  auto worst = [](const Worst& w) {
+    if (w.samples == 0) return std::string("{\"samples\":0}");
+    return fmt::format(
+        "{{\"samples\":{},\"over\":{},\"worst_err_mm\":{:.9g},\"tolerance_mm\":{:.9g},"
+        "\"ratio\":{:.9g},\"line\":{},\"t_s\":{:.9g}}}",
+        w.samples, w.over, w.err_mm, w.tol_mm, w.ratio, w.line, w.t_s);
+  };
+  return fmt::format("\"tolerance\":{{\"allowance_mm\":{:.9g},\"cutting\":{},\"rapids\":{}}}",
+                     allowance_mm_, worst(cut_), worst(rapid_));
 }
 
 }  // namespace gm

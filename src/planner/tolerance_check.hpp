@@ -17,7 +17,10 @@ namespace gm {
 class ToleranceCheck {
  public:
   /// `contour_blu_mm`: the length of one contour_err_blu unit (the smallest axis BLU), mm.
-  explicit ToleranceCheck(double contour_blu_mm) : blu_mm_(contour_blu_mm) {}
+  /// `allowance_mm`: what a sample may exceed the tolerance by without counting as over (one
+  /// BLU with tolerance_on = encoder and the servo on: the encoder's quantisation in the loop).
+  explicit ToleranceCheck(double contour_blu_mm, double allowance_mm = 0.0)
+      : blu_mm_(contour_blu_mm), allowance_mm_(allowance_mm) {}
 
   void add(const SampleRecord& r, const Motion* started);
 
@@ -36,9 +39,13 @@ class ToleranceCheck {
   bool exceeded() const { return cut_.over + rapid_.over > 0; }
   /// Two lines for the run summary ("" when nothing was judged).
   std::string text() const;
+  /// The JSON member `"tolerance":{"cutting":{…},"rapids":{…}}` for --summary-json ("" when
+  /// nothing was judged, so summaries of programs without a tolerance are unchanged).
+  std::string json_member() const;
 
  private:
   double blu_mm_;
+  double allowance_mm_ = 0.0;
   double tol_mm_ = 0.0;
   bool rapid_block_ = false;
   Worst cut_, rapid_;

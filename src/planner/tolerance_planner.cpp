@@ -244,7 +244,7 @@ void TolerancePlanner::decide(Element& e) {
   double best_cost = kInf, best_p = e.pause0, best_v = 0.0;
   auto consider = [&](double p, double d) {
     if (p - e.pause0 >= best_cost) return false;  // pauses only get longer from here
-    const double zt = std::max(0.0, tau - p);
+    const double zt = std::max(filter_.zone_floor_s(), tau - p);
     auto weight = [&](double v) { return zone_weight(e.s0 - v * zt, e.s1 + v * zt); };
     auto load = [&](double v) { return v * d * weight(v); };
     const double v = d > 0.0 ? solve(e.vmax, load) : e.vmax;
@@ -271,7 +271,7 @@ void TolerancePlanner::decide(Element& e) {
   }
   e.pause = best_p;
   if (best_v < e.vmax) e.cap = best_v;
-  const double zt = std::max(0.0, tau - best_p);
+  const double zt = std::max(filter_.zone_floor_s(), tau - best_p);
   e.z0 = zone_back(e.s0, zt, e.cap);
   e.z1 = zone_fwd(e.s1, zt, e.cap);
   ++stats_.corners;

@@ -134,7 +134,7 @@ std::string limit(const LimitCheck& c) {
 }
 }  // namespace
 
-std::string RunSummary::json() const {
+std::string RunSummary::json(const std::string& extra_member) const {
   std::string j;
   auto out = std::back_inserter(j);
   fmt::format_to(out,
@@ -157,7 +157,9 @@ std::string RunSummary::json() const {
         limit(s.v_limit), limit(s.f_limit), limit(s.p_limit), s.final_ref_err_blu,
         s.final_enc_err_blu);
   }
-  j += "}}\n";
+  j += "}";
+  if (!extra_member.empty()) j += "," + extra_member;
+  j += "}\n";
   return j;
 }
 

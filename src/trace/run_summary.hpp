@@ -50,7 +50,9 @@ class RunSummary {
   /// Human-readable summary, several lines.
   std::string text() const;
   /// The same as one JSON object.
-  std::string json() const;
+  /// `extra_member`: one more JSON member (e.g. the tolerance check's) appended to the object
+  /// when not empty.
+  std::string json(const std::string& extra_member = {}) const;
 
   std::int64_t samples = 0;
   double cycle_time_s = 0.0;    ///< until the axes settled

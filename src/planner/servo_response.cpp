@@ -1,0 +1,122 @@
+// The servo's linear step response (ServoAxis without rounding, saturation, friction, lost
+// motion) and its convolution with the FIR: the chain the encoder tolerance is planned for.
+#include "planner/servo_response.hpp"
+
+#include "common/status.hpp"
+#include "servo/discrete_plant.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace gm {
+
+std::vector<double> servo_step_response(const AxisConfig& axis, double period_s, int substeps,
+                                        int samples) {
+  if (!(period_s > 0.0) || substeps < 1 || samples < 1)
+    throw InputError("servo response: period > 0, substeps >= 1, samples >= 1");
+  const double h = period_s / substeps;
+  DiscretePlant plant(axis.plant_num, axis.plant_den, axis.plant_blu_s_per_unit, h);
+  const double kv = axis.kv_period_s;
+  double integ = 0.0, prev_pos = 0.0, prev_ref = 0.0;
+  std::vector<double> s;
+  s.reserve(static_cast<std::size_t>(samples));
+  for (int k = 0; k < samples; ++k) {
+    s.push_back(plant.position_blu());  // at the start of the period, as the trace records it
+    const double ref = 1.0, delta = ref - prev_ref;
+    for (int j = 0; j < substeps; ++j) {
+      const double r = ref + delta * j / substeps;
+      const double pos = plant.position_blu();
+      const double y = (pos - prev_pos) * kv / h;
+      prev_pos = pos;
+      const double e = axis.kp_1_s * (r - pos) * kv - y;
+      integ += e * h / kv;
+      const double u = axis.kv_form == VelocityLoopForm::Ip ? axis.kvi * integ - axis.kvp * y
+                                                            : axis.kvp * e + axis.kvi * integ;
+      plant.step(u);
+    }
+    prev_ref = ref;
+  }
+  return s;
+}
+
+ChainResponse chain_response(const Taps& taps, const AxisConfig& axis, double period_s,
+                             int substeps, double tail_area_s) {
+  if (taps.integer.empty() || taps.b_s <= 0) throw InputError("chain response: no taps");
+  // Long enough for any stable loop we accept: grow until the tail is below the limit.
+  for (int len = 256;; len *= 2) {
+    const std::vector<double> servo = servo_step_response(axis, period_s, substeps, len);
+    std::vector<double> g(servo.size());
+    for (std::size_t k = 0; k < servo.size(); ++k) g[k] = servo[k] - (k ? servo[k - 1] : 0.0);
+    const std::size_t n = taps.integer.size();
+    std::vector<double> c(servo.size() + n - 1, 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double hi = static_cast<double>(taps.integer[i]) / static_cast<double>(taps.b_s);
+      for (std::size_t k = 0; k < g.size(); ++k) c[i + k] += hi * g[k];
+    }
+    // Step response of the chain over the part fully computed (the servo's own length).
+    const std::size_t valid = servo.size();
+    std::vector<double> step(valid);
+    double acc = 0.0;
+    for (std::size_t k = 0; k < valid; ++k) step[k] = acc += c[k];
+    // Tail areas from the end: tail[k] = T·Σ_{j≥k} |1 − S_j| (over the computed part).
+    std::vector<double> tail(valid + 1, 0.0);
+    for (std::size_t k = valid; k-- > 0;)
+      tail[k] = tail[k + 1] + period_s * std::abs(1.0 - step[k]);
+    if (!std::isfinite(tail[0]) || len > (1 << 20))
+      throw InputError("tolerance_on = encoder: the servo loop does not settle");
+    // The computed part must already be settled far below the limit, else compute longer.
+    if (tail[valid / 2] > 1e-3 * tail_area_s) continue;
+    // Keeping c_0..c_{K−2} and 1 − S_{K−2} as the last weight moves the output by
+    // Σ_{k≥K} Δx_k (1 − S_{k−1}): at most V·tail[K − 1].
+    std::size_t K = 1;
+    while (K < valid && tail[K - 1] > tail_area_s) ++K;
+    ChainResponse r;
+    r.weights.assign(c.begin(), c.begin() + static_cast<std::ptrdiff_t>(K));
+    r.weights.back() = 1.0 - (K >= 2 ? step[K - 2] : 0.0);  // Σ = 1
+    r.tail_area_s = tail[K - 1];
+    for (std::size_t k = 0; k + 1 < K; ++k) {
+      r.overshoot_s += period_s * std::max(step[k] - 1.0, 0.0);
+      r.undershoot_s += period_s * std::max(-step[k], 0.0);
+    }
+    return r;
+  }
+}
+
+std::vector<double> planned_chain(const Machine& m, bool servo, double& extra_margin_mm) {
+  const Taps taps = design_taps(m.profile, m.tau_s, m.period_s);
+  extra_margin_mm = 0.0;
+  if (!servo || m.tolerance_on != ToleranceOn::Encoder) {
+    std::vector<double> h;
+    for (auto b : taps.integer) h.push_back(static_cast<double>(b) / static_cast<double>(taps.b_s));
+    return h;
+  }
+  // One servo for the linear axes: compare their linear parameters.
+  const AxisConfig* first = nullptr;
+  for (int i = 0; i < m.layout.count; ++i) {
+    if (m.layout.program(i) >= 3) continue;
+    const AxisConfig& a = m.axes[static_cast<std::size_t>(i)];
+    if (first == nullptr) {
+      first = &a;
+      continue;
+    }
+    if (a.plant_num != first->plant_num || a.plant_den != first->plant_den || a.kvp != first->kvp ||
+        a.kvi != first->kvi || a.kp_1_s != first->kp_1_s || a.kv_period_s != first->kv_period_s ||
+        a.kv_form != first->kv_form ||
+        a.plant_blu_s_per_unit * a.blu_mm != first->plant_blu_s_per_unit * first->blu_mm)
+      throw InputError(
+          "tolerance_on = encoder needs the same servo (plant, gains) on X, Y and Z: the "
+          "contour bound needs one linear filter for the whole path");
+  }
+  if (first == nullptr) throw InputError("tolerance_on = encoder: the machine has no X, Y or Z");
+  // Truncation allowance: 0.05 BLU at 2 m/s (scales with speed; docs/tolerance.md).
+  constexpr double kFastMmS = 2000.0;
+  const double blu = m.contour_blu_mm();
+  const ChainResponse r =
+      chain_response(taps, *first, m.period_s, m.servo_substeps, 0.05 * blu / kFastMmS);
+  extra_margin_mm = kFastMmS * r.tail_area_s;
+  return r.weights;
+}
+
+}  // namespace gm

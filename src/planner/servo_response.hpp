@@ -1,0 +1,43 @@
+// The servo model's linear closed-loop response and the FIR + servo chain the planner plans for.
+#pragma once
+
+#include "accdec/taps.hpp"
+#include "machine/machine.hpp"
+
+#include <vector>
+
+namespace gm {
+
+/// Table position at the start of periods k = 0..samples−1 (what the trace records as
+/// table_blu) for a unit step of the position reference at k = 0, the axis at rest before.
+/// ServoAxis without its nonlinear parts: no encoder rounding (the feedback reads the motor
+/// position), no saturation, no friction, no lost motion. Everything else as ServoAxis::step:
+/// substeps, linear extrapolation of the reference within T, P position loop, PI/IP velocity
+/// loop on the backward difference, the exact ZOH plant.
+std::vector<double> servo_step_response(const AxisConfig& axis, double period_s, int substeps,
+                                        int samples);
+
+/// The weights c_k of the whole linear chain from interpolator output to table position,
+/// sampled at T: FIR weights h_i = b_i/b_s convolved with the servo's impulse response
+/// (differences of servo_step_response), truncated at the first K with
+/// T·Σ_{k≥K} |1 − S_k| ≤ tail_area_s (S the chain's step response), the tail lumped into the
+/// last weight so that Σ c_k = 1 exactly. Truncating moves the output by at most V·tail_area_s
+/// (Abel summation of the dropped tail against path increments ≤ V·T): the caller adds that to
+/// its rounding margin.
+struct ChainResponse {
+  std::vector<double> weights;
+  double tail_area_s = 0.0;   ///< T·Σ |1 − S_k| over the dropped tail (≤ the limit asked for)
+  double overshoot_s = 0.0;   ///< T·Σ max(S_k − 1, 0): area of the step response above 1
+  double undershoot_s = 0.0;  ///< T·Σ max(−S_k, 0): area below 0
+};
+ChainResponse chain_response(const Taps& taps, const AxisConfig& axis, double period_s,
+                             int substeps, double tail_area_s);
+
+/// The chain the planner plans against for `m`: the FIR alone (tolerance_on = acc_dec, or the
+/// servo off), or FIR + servo (tolerance_on = encoder). The linear axes (X, Y, Z) must share
+/// one servo: the contour bound needs one filter for the whole path. `extra_margin_mm` receives
+/// the truncation allowance V_fastest·tail_area. A servo whose step response overshoots is
+/// planned with absolute moments (FilterMoments, docs/tolerance.md).
+std::vector<double> planned_chain(const Machine& m, bool servo, double& extra_margin_mm);
+
+}  // namespace gm

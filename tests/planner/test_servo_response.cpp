@@ -1,0 +1,101 @@
+// The servo's linear step response against the real ServoAxis, and the FIR + servo chain's
+// corner moment against a simulated corner with the servo on (tolerance_on = encoder).
+#include "accdec/taps.hpp"
+#include "interp/program.hpp"
+#include "machine/machine.hpp"
+#include "pipeline/pipeline.hpp"
+#include "planner/filter_moments.hpp"
+#include "planner/servo_response.hpp"
+#include "servo/servo_axis.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <vector>
+
+TEST_CASE("linear servo response: the real ServoAxis follows it within the encoder's rounding") {
+  const gm::Machine m;
+  const gm::AxisConfig& ax = m.axes[0];
+  const int n = 400;
+  const std::vector<double> S = gm::servo_step_response(ax, m.period_s, m.servo_substeps, n);
+  // Settles to 1 from 0. The position step overshoots a little (the P loop around the IP
+  // velocity loop): the planner must use the absolute-moment bound (docs/tolerance.md).
+  CHECK(S[0] == 0.0);
+  CHECK(S[n - 1] == Approx(1.0).margin(1e-9));
+  const double peak = *std::max_element(S.begin(), S.end());
+  CHECK(peak > 1.01);
+  CHECK(peak < 1.2);
+  // A smooth 3000 BLU move (cosine ramp over 0.4 s, well inside the drive's limit): the real
+  // loop, with its rounded feedback, against Σ g_j r_{k−j}, g the step response's differences.
+  std::vector<std::int64_t> ref(n);
+  for (int k = 0; k < n; ++k) {
+    const double x = std::min(1.0, k / 100.0);
+    ref[static_cast<std::size_t>(k)] =
+        std::llround(1500.0 * (1.0 - std::cos(3.14159265358979 * x)));
+  }
+  gm::ServoAxis servo(ax, m.period_s, m.servo_substeps, 0);
+  double worst = 0.0;
+  for (int k = 0; k < n; ++k) {
+    const double table = servo.table_blu();
+    servo.step(ref[static_cast<std::size_t>(k)]);
+    double lin = 0.0;
+    for (int j = 0; j <= k; ++j)
+      lin += (S[static_cast<std::size_t>(j)] - (j ? S[static_cast<std::size_t>(j - 1)] : 0.0)) *
+             static_cast<double>(ref[static_cast<std::size_t>(k - j)]);
+    worst = std::max(worst, std::abs(table - lin));
+  }
+  CHECK(worst < 1.0);  // the quantised feedback moves the table by less than one count
+}
+
+TEST_CASE("FIR + servo chain: monotone step, unit sum, corner moment matches a servo-on run") {
+  gm::Machine m;
+  m.tolerance_on = gm::ToleranceOn::Encoder;
+  double margin_mm = -1;
+  const std::vector<double> c = gm::planned_chain(m, true, margin_mm);
+  const gm::Taps taps = gm::design_taps(m.profile, m.tau_s, m.period_s);
+  CHECK(c.size() > taps.integer.size());
+  CHECK(margin_mm >= 0.0);
+  CHECK(margin_mm <= 0.05 * m.contour_blu_mm() + 1e-15);
+  double s = 0.0;
+  for (double w : c) s += w;
+  CHECK(s == Approx(1.0).margin(1e-12));
+  const gm::FilterMoments chain(c, m.period_s), fir(taps, m.period_s);
+  // It overshoots: D(P) never falls below the overshoot area, and zones are the whole window.
+  CHECK(chain.overshoot_s() > 0.0);
+  CHECK(chain.zone_floor_s() == chain.tau_s());
+  CHECK(fir.overshoot_s() == 0.0);
+  CHECK(fir.zone_floor_s() == 0.0);
+  // The servo adds lag: the chain cuts the corner more than the FIR alone (and the FIR is
+  // unchanged when the servo is off or tolerance_on = acc_dec).
+  CHECK(chain.corner_moment_s(0) > 1.2 * fir.corner_moment_s(0));
+  double none = 0;
+  CHECK(gm::planned_chain(m, false, none).size() == taps.integer.size());
+  // Moments fall with the pause and vanish past the chain's length.
+  CHECK(chain.corner_moment_s(0.05) < chain.corner_moment_s(0.0));
+  CHECK(chain.corner_moment_s(chain.tau_s()) == Approx(chain.overshoot_s()).epsilon(1e-9));
+  CHECK(chain.corner_moment_s(chain.tau_s()) < 0.2 * chain.corner_moment_s(0.0));
+
+  // A 90° corner at F3000 (50 mm/s) with the servo on and no tolerance: the table's worst
+  // contour error is at most V·D_chain(0) plus the encoder's rounding in the loop, and close
+  // to it (the signed moments are a little below the positive parts the bound takes).
+  std::istringstream in("G21 G90 G17 G64\nG1 X30 Y0 F3000\nY30\nM2\n");
+  gm::InterpreterOptions opts;
+  opts.machine = &m;
+  gm::ProgramStream stream(in, "corner.nc", opts);
+  gm::RunConfig cfg;
+  cfg.machine = m;
+  cfg.servo = true;
+  gm::Pipeline p(cfg, stream);
+  gm::SampleRecord rec;
+  double worst_mm = 0.0;
+  while (p.step({}, rec) == gm::PipelineStatus::Working)
+    worst_mm = std::max(worst_mm, std::abs(rec.contour_err_blu) * m.contour_blu_mm());
+  const double form_mm = 50.0 * chain.corner_moment_s(0.0);
+  const double fir_mm = 50.0 * fir.corner_moment_s(0.0);
+  CAPTURE(form_mm, fir_mm, worst_mm);
+  CHECK(worst_mm <= form_mm + 1.0 * m.contour_blu_mm());
+  CHECK(worst_mm >= 0.85 * form_mm);
+  CHECK(worst_mm > fir_mm * 1.05);
+}
