@@ -62,6 +62,7 @@ int run(const RunFlags& f, std::unique_ptr<Run>& run_out) {
   opts.block_delete = f.machine.block_delete;
   apply_language_flags(f.language, o.config.machine, opts);
   if (!validate_program(program, opts)) return static_cast<int>(ExitCode::InputError);
+  opts.save_parameters = true;  // the parameter file is written once, after the real pass
 
   o.program_name = program.name();
   o.feed_override_pct = f.override_pct;
