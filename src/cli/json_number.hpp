@@ -1,4 +1,5 @@
-// A double as a JSON value for the CLI's JSON outputs: shortest round-trip text, null when not finite.
+// A double as a JSON value for the CLI's JSON outputs: shortest round-trip text, null when not
+// finite.
 #pragma once
 
 #include <fmt/format.h>

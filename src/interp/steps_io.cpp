@@ -130,8 +130,7 @@ bool run_wait_input(BlockCtx& ctx, const Code&) {
     return ctx.fail(ErrorCode::MissingWord, iw ? iw->loc : loc,
                     "M66: invalid or missing P and E words (the input to wait for)");
   if (mode < 0 || mode > 4)
-    return ctx.fail(ErrorCode::BadLWord, w['L']->loc,
-                    fmt::format("M66 L{:g}: L must be 0..4", l));
+    return ctx.fail(ErrorCode::BadLWord, w['L']->loc, fmt::format("M66 L{:g}: L must be 0..4", l));
   if (!comp_forbids(ctx, loc, "wait for an input (M66)")) return false;
   Event e;
   e.line = ctx.block.line;
@@ -151,12 +150,12 @@ bool run_user_mcode(BlockCtx& ctx, const Code& c) {
   const std::string& dir = ctx.machine.user_mcode_dir;
   std::error_code ec;
   if (dir.empty() || !std::filesystem::is_regular_file(std::filesystem::path(dir) / name, ec))
-    return ctx.fail(ErrorCode::UnknownMCode, ctx.loc_of(Group::MUser),
-                    dir.empty() ? fmt::format("unknown M code used: {} (no user M-code directory; "
-                                              "--user-mcode-dir DIR with a file {})",
-                                              name, name)
-                                : fmt::format("unknown M code used: {} (no file {} in {})", name,
-                                              name, dir));
+    return ctx.fail(
+        ErrorCode::UnknownMCode, ctx.loc_of(Group::MUser),
+        dir.empty() ? fmt::format("unknown M code used: {} (no user M-code directory; "
+                                  "--user-mcode-dir DIR with a file {})",
+                                  name, name)
+                    : fmt::format("unknown M code used: {} (no file {} in {})", name, name, dir));
   Event e;
   e.line = ctx.block.line;
   e.kind = EventKind::UserMcode;

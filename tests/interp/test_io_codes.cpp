@@ -26,17 +26,17 @@ std::vector<gm::Event> events(const std::string& program, const gm::Machine& m =
 TEST_CASE("S, M3, M8, M6 and M2 give the spindle and coolant events in rs274's order") {
   const auto e = events(
       "G21\n"
-      "T2 M6\n"         // SELECT_TOOL(2), STOP_SPINDLE_TURNING, CHANGE_TOOL
-      "S1200 M3 M8\n"   // S before M3 before M8 (order of execution)
-      "M4 S900\n"       // S first although written last
-      "M2\n");          // spindle stop, flood off (only what is on), end
+      "T2 M6\n"        // SELECT_TOOL(2), STOP_SPINDLE_TURNING, CHANGE_TOOL
+      "S1200 M3 M8\n"  // S before M3 before M8 (order of execution)
+      "M4 S900\n"      // S first although written last
+      "M2\n");         // spindle stop, flood off (only what is on), end
   std::vector<EventKind> kinds;
   for (const auto& x : e) kinds.push_back(x.kind);
   const std::vector<EventKind> want{
-      EventKind::ToolSelect, EventKind::SpindleStop,  EventKind::ToolChange,
+      EventKind::ToolSelect,   EventKind::SpindleStop,  EventKind::ToolChange,
       EventKind::SpindleSpeed, EventKind::SpindleStart, EventKind::Flood,
       EventKind::SpindleSpeed, EventKind::SpindleStart, EventKind::SpindleStop,
-      EventKind::Flood,      EventKind::End};
+      EventKind::Flood,        EventKind::End};
   REQUIRE(kinds == want);
   CHECK(e[0].index == 2);
   CHECK(e[2].index == 2);
@@ -46,7 +46,7 @@ TEST_CASE("S, M3, M8, M6 and M2 give the spindle and coolant events in rs274's o
   CHECK(e[6].value == 900.0);
   CHECK(e[7].index == -1);  // counter-clockwise at the new speed
   CHECK(e[7].value == 900.0);
-  CHECK(e[9].index == 0);  // flood off at the end
+  CHECK(e[9].index == 0);   // flood off at the end
   CHECK(e[10].index == 2);  // M2
 }
 
