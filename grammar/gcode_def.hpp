@@ -52,11 +52,10 @@ inline x3::rule<close_bracket_class> const close_bracket{kCloseBracketRule.data(
 inline x3::rule<slash_class> const slash{kSlashRule.data()};
 inline x3::rule<equals_class> const equals{kEqualsRule.data()};
 
-/// A real number: optional sign, digits with an optional point (leading or trailing), and an
-/// exponent that is only accepted so it can be reported (G-code has none).
+/// A real number: optional sign, digits with an optional point (leading or trailing). No
+/// exponent: E is a word letter (M66/M67/M68 E<channel>), so X1E5 is X1 then E5, as in rs274.
 inline auto const number_def = -x3::char_("+-") >>
-                               ((+digit >> -(x3::lit('.') >> *digit)) | (x3::lit('.') >> +digit)) >>
-                               -(x3::char_("E") >> -x3::char_("+-") >> +digit);
+                               ((+digit >> -(x3::lit('.') >> *digit)) | (x3::lit('.') >> +digit));
 /// A number inside an expression: no sign (unary minus is an operator), no exponent.
 inline auto const unsigned_number =
     (+digit >> -(x3::lit('.') >> *digit)) | (x3::lit('.') >> +digit);

@@ -61,6 +61,7 @@ MM_PER_INCH = 25.4
 RS274_PRINT_HALF_ULP = 0.5e-4  # rs274 prints %.4f
 SKIP = 77
 GMOTION_AXES = ""  # --axes: passed to `gmotion moves`
+IO_RECORDS = False  # --io: spindle/coolant/tool/output/stop records compared too (kind "io")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -86,7 +87,7 @@ class Move:
 
     def as_dict(self) -> dict:
         d = {"line": self.line, "kind": self.kind}
-        if self.kind == "message":
+        if self.kind in ("message", "io"):
             d["text"] = self.text
             return d
         if self.kind == "dwell":
@@ -114,7 +115,68 @@ class Move:
 # ---------------------------------------------------------------------------------------------
 # rs274 side
 
-_CALL = re.compile(r"^\s*(\d+)\s+N(\d*)(?:\.{5})?\s*([A-Z_0-9]+)\((.*)\)\s*$")
+_CALL = re.compile(r"^\s*(\d+)\s+N(\d*)(?:\.{5})?\s*([A-Z_0-9.]+)\((.*)\)\s*$")
+
+
+def rs274_io_text(name: str, args: str, selected: list) -> str | None:
+    """--io: rs274's spindle, coolant, tool, output and stop calls as gmotion's io text."""
+    v = _floats(args)
+    simple = {"START_SPINDLE_CLOCKWISE": "spindle dir=cw",
+              "START_SPINDLE_COUNTERCLOCKWISE": "spindle dir=ccw",
+              "STOP_SPINDLE_TURNING": "spindle dir=off", "MIST_ON": "coolant mist=1",
+              "MIST_OFF": "coolant mist=0", "FLOOD_ON": "coolant flood=1",
+              "FLOOD_OFF": "coolant flood=0", "PROGRAM_STOP": "stop pause",
+              "OPTIONAL_PROGRAM_STOP": "stop optional", "PROGRAM_END": "stop end",
+              "CHANGE_TOOL_NUMBER": "tool_number"}
+    if name in simple:
+        return simple[name]
+    if name == "SET_SPINDLE_SPEED":
+        return f"spindle_speed rpm={v[1]}"
+    if name == "ORIENT_SPINDLE":
+        return f"spindle_orient angle={v[1]} mode={int(v[2])}"
+    if name.endswith("WAIT_ORIENT_COMPLETE"):
+        return f"spindle_orient_wait timeout={v[0]}"
+    if name == "SELECT_TOOL":
+        selected[0] = int(v[0])
+        return f"tool_select tool={int(v[0])}"
+    if name == "CHANGE_TOOL":  # prints the pocket: the tool is the one selected
+        return f"tool_change tool={selected[0]}"
+    m = re.match(r"(SET|CLEAR)_(MOTION|AUX)_OUTPUT_BIT$", name)
+    if m:
+        return (f"digital_out pin={int(v[0])} on={int(m.group(1) == 'SET')} "
+                f"sync={int(m.group(2) == 'MOTION')}")
+    m = re.match(r"SET_(MOTION|AUX)_OUTPUT_VALUE$", name)
+    if m:
+        return f"analog_out channel={int(v[0])} value={v[1]} sync={int(m.group(1) == 'MOTION')}"
+    return None
+
+
+def gmotion_io_text(d: dict) -> str | None:
+    """--io: a gmotion io record as the text rs274_io_text gives (None: rs274 prints nothing)."""
+    k = d.get("kind")
+    b = lambda x: int(bool(x))
+    if k == "spindle":
+        return f"spindle dir={d['dir']}"
+    if k == "spindle_speed":
+        return f"spindle_speed rpm={d['rpm']}"
+    if k == "spindle_orient":
+        return f"spindle_orient angle={d['angle']} mode={d['mode']}"
+    if k == "spindle_orient_wait":
+        return f"spindle_orient_wait timeout={d['timeout']}"
+    if k == "coolant":
+        return " ".join(["coolant"] + [f"{c}={b(d[c])}" for c in ("mist", "flood") if c in d])
+    if k in ("tool_select", "tool_change"):
+        return f"{k} tool={d['tool']}"
+    if k == "tool_number":
+        return "tool_number"
+    if k == "digital_out":
+        return f"digital_out pin={d['pin']} on={b(d['on'])} sync={b(d['sync'])}"
+    if k == "analog_out":
+        return f"analog_out channel={d['channel']} value={d['value']} sync={b(d['sync'])}"
+    if k == "stop":
+        return {"M0": "stop pause", "M60": "stop pause", "M1": "stop optional",
+                "M2": "stop end", "M30": "stop end"}.get(d["code"])
+    return None  # wait_input (rs274 prints no WAIT), user_mcode (rs274 knows none), "%"
 
 
 def _floats(args: str) -> list:
@@ -150,6 +212,7 @@ def parse_rs274_output(text: str) -> list[Move]:
     g5x_rot = [0.0, 0.0, 0.0]
     g92_rot = [0.0, 0.0, 0.0]
     held = False             # inside a cutter compensation section
+    selected = [0]           # --io: the tool SELECT_TOOL named
 
     def rot_ends(vals):
         return {"ABC"[i]: vals[i] + g5x_rot[i] + g92_rot[i] for i in range(3)}
@@ -166,6 +229,9 @@ def parse_rs274_output(text: str) -> list[Move]:
             continue
         nword, name, args = m.group(2), m.group(3), m.group(4)
         line = int(nword) if nword else None
+        io = rs274_io_text(name, args, selected) if IO_RECORDS else None
+        if io is not None:
+            moves.append(Move(kind="io", line=line, text=io, held=held))
         if name == "COMMENT" and "interpreter: cutter radius compensation" in args:
             held = " on " in args
         elif name in ("PROGRAM_END", "PROGRAM_STOP", "OPTIONAL_PROGRAM_STOP"):
@@ -364,6 +430,11 @@ def parse_gmotion_output(text: str) -> list[Move]:
             d = json.loads(raw)
         except json.JSONDecodeError as e:
             raise ValueError(f"gmotion moves output line {n} is not JSON ({e}): {raw!r}")
+        if d.get("kind") not in ("rapid", "line", "arc", "dwell", "message"):
+            io = gmotion_io_text(d)
+            if io is not None:
+                moves.append(Move(kind="io", line=d.get("line"), text=io))
+            continue
         moves.append(Move(kind=d.get("kind"), line=d.get("line"), end=d.get("end"),
                           feed=d.get("feed"), center=d.get("center"), dir=d.get("dir"),
                           turns=d.get("turns"), plane=d.get("plane"), seconds=d.get("seconds"),
@@ -439,6 +510,8 @@ def run_gmotion(gmotion: str, path: str, timeout: float = 120.0,
         tools += ["--axes", GMOTION_AXES]
     if SUBROUTINE_PATH:
         tools += ["--subroutine-path", SUBROUTINE_PATH]
+    if IO_RECORDS:
+        tools += ["--io"]
     if VAR_STATE is not None:
         tools += ["--machine", VAR_STATE.machine]
     p = subprocess.run([gmotion, "moves", path, "--messages"] + tools + (extra or []),
@@ -499,7 +572,7 @@ def compare_move(ref: Move, got: Move, tol: Tol) -> str | None:
     if ref.line is not None and got.line is not None and ref.line != got.line and not (
             ref.held and got.line < ref.line):
         return f"line {ref.line} vs {got.line}"
-    if ref.kind == "message":
+    if ref.kind in ("message", "io"):
         return compare_text(ref.text, got.text)
     if ref.kind == "dwell":
         if got.seconds is None or abs(ref.seconds - got.seconds) > tol.seconds + RS274_PRINT_HALF_ULP:
@@ -966,14 +1039,18 @@ def main(argv=None) -> int:
                          "compared with rs274's too")
     ap.add_argument("--subroutine-path", metavar="DIR[:DIR]",
                     help="subroutine files for both sides (rs274: an INI's SUBROUTINE_PATH)")
+    ap.add_argument("--io", action="store_true",
+                    help="also compare spindle, coolant, tool, output and stop records "
+                         "(gmotion moves --io)")
     ap.add_argument("--var-file", metavar="SEED|-",
                     help="a LinuxCNC parameter file for both sides (rs274 -v, gmotion's machine "
                          "parameter_file), carried through the programs in the order given, and the "
                          "files written compared at the end ('-': start without one)")
     ap.add_argument("-v", "--verbose", action="store_true")
     args = ap.parse_args(argv)
-    global GMOTION_AXES, SUBROUTINE_PATH, VAR_STATE
+    global GMOTION_AXES, SUBROUTINE_PATH, VAR_STATE, IO_RECORDS
     GMOTION_AXES = args.axes
+    IO_RECORDS = args.io
     SUBROUTINE_PATH = args.subroutine_path
     if args.var_file:
         VAR_STATE = VarState(args.var_file)

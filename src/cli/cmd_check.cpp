@@ -21,6 +21,7 @@ void add_check(CLI::App& app, Context& ctx) {
     std::string program;
     std::string machine_file;
     std::string tool_table;
+    std::string user_mcode_dir;
     std::string axes;
     bool block_delete = false;
     std::string arc_rule;
@@ -32,6 +33,7 @@ void add_check(CLI::App& app, Context& ctx) {
   sub->add_option("--axes", opts->axes, kAxesFlagHelp);
   sub->add_option("--tool-table", opts->tool_table,
                   "LinuxCNC tool table (T1 P1 Z50 D6 ;comment), mm; default: the machine's");
+  sub->add_option("--user-mcode-dir", opts->user_mcode_dir, kUserMcodeDirHelp);
   sub->add_flag("--block-delete", opts->block_delete, "skip lines that start with '/'");
   add_language_flags(sub, opts->language);
   sub->add_option("--arc-rule", opts->arc_rule, "arc end-radius tolerance rule")
@@ -41,6 +43,7 @@ void add_check(CLI::App& app, Context& ctx) {
     if (!opts->machine_file.empty()) machine = load_machine_file(opts->machine_file);
     apply_axes_flag(machine, opts->axes);
     if (!opts->tool_table.empty()) machine.tool_table = load_tool_table(opts->tool_table);
+    if (!opts->user_mcode_dir.empty()) machine.user_mcode_dir = opts->user_mcode_dir;
     if (!opts->arc_rule.empty()) {
       static const std::map<std::string, ArcRule> rules{
           {"linuxcnc", ArcRule::LinuxCnc}, {"grbl", ArcRule::Grbl}, {"g2core", ArcRule::G2core}};

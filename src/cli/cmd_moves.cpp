@@ -46,7 +46,66 @@ void print_move(std::FILE* f, const Canon& c, const AxisLayout& axes) {
                  m->ccw ? "ccw" : "cw", m->turns, plane_name(m->plane));
     fmt::print(f, "}}\n");
   } else if (const auto* d = std::get_if<Dwell>(&c)) {
-    fmt::print(f, "{{\"line\":{},\"kind\":\"dwell\",\"seconds\":{}}}\n", d->line, d->seconds);
+    fmt::print(f, "{{\"line\":{},\"kind\":\"{}\",\"seconds\":{}}}\n", d->line,
+               d->pause ? "pause" : "dwell", d->seconds);
+  }
+}
+
+// --io: spindle, coolant, tool, output, input, user M-code and program stop records (the schema
+// is in docs/machine-codes.md, "Records of gmotion moves --io").
+void print_io(std::FILE* f, const Canon& c) {
+  const auto* e = std::get_if<Event>(&c);
+  if (!e) return;
+  const auto rec = [&](std::string_view kind, const std::string& fields) {
+    fmt::print(f, "{{\"line\":{},\"kind\":\"{}\"{}{}}}\n", e->line, kind, fields.empty() ? "" : ",",
+               fields);
+  };
+  const char* on = e->index != 0 ? "true" : "false";
+  switch (e->kind) {
+    case EventKind::SpindleSpeed:
+      return rec("spindle_speed", fmt::format("\"rpm\":{}", e->value));
+    case EventKind::SpindleStart:
+      return rec("spindle",
+                 fmt::format("\"dir\":\"{}\",\"rpm\":{}", e->index > 0 ? "cw" : "ccw", e->value));
+    case EventKind::SpindleStop:
+      return rec("spindle", "\"dir\":\"off\"");
+    case EventKind::SpindleOrient:
+      return rec("spindle_orient", fmt::format("\"angle\":{},\"mode\":{}", e->value, e->index));
+    case EventKind::OrientWait:
+      return rec("spindle_orient_wait", fmt::format("\"timeout\":{}", e->value));
+    case EventKind::Mist:
+      return rec("coolant", fmt::format("\"mist\":{}", on));
+    case EventKind::Flood:
+      return rec("coolant", fmt::format("\"flood\":{}", on));
+    case EventKind::ToolSelect:
+      return rec("tool_select", fmt::format("\"tool\":{}", e->index));
+    case EventKind::ToolChange:
+      return rec("tool_change", fmt::format("\"tool\":{}", e->index));
+    case EventKind::ToolNumber:
+      return rec("tool_number", fmt::format("\"tool\":{}", e->index));
+    case EventKind::DigitalOut:
+      return rec("digital_out", fmt::format("\"pin\":{},\"on\":{},\"sync\":{}", e->index,
+                                            e->value != 0.0, e->sync));
+    case EventKind::AnalogOut:
+      return rec("analog_out", fmt::format("\"channel\":{},\"value\":{},\"sync\":{}", e->index,
+                                           e->value, e->sync));
+    case EventKind::WaitInput:
+      return rec("wait_input", fmt::format("\"input\":{},\"analog\":{},\"mode\":{},\"timeout\":{}",
+                                           e->index, e->analog, e->mode, e->value));
+    case EventKind::UserMcode:
+      return rec("user_mcode",
+                 fmt::format("\"code\":{},\"p\":{},\"q\":{}", e->index, e->value, e->value2));
+    case EventKind::Pause:
+    case EventKind::OptionalPause:
+    case EventKind::End:
+      // M0, M1, M2, M30, M60; "%" for the closing percent line (no M code).
+      return rec("stop", e->kind == EventKind::End && e->index == 0
+                             ? std::string("\"code\":\"%\"")
+                             : fmt::format("\"code\":\"M{}\"", e->index));
+    case EventKind::OverrideEnable:
+    case EventKind::OverrideDisable:
+    case EventKind::Message:
+      return;
   }
 }
 
@@ -83,9 +142,11 @@ void add_moves(CLI::App& app, Context& ctx) {
     std::string program;
     std::string machine_file;
     std::string tool_table;
+    std::string user_mcode_dir;
     std::string axes;
     bool block_delete = false;
     bool messages = false;
+    bool io = false;
     LanguageFlags language;
   };
   auto opts = std::make_shared<Opts>();
@@ -94,15 +155,20 @@ void add_moves(CLI::App& app, Context& ctx) {
   sub->add_option("--axes", opts->axes, kAxesFlagHelp);
   sub->add_option("--tool-table", opts->tool_table,
                   "LinuxCNC tool table (T1 P1 Z50 D6 ;comment), mm; default: the machine's");
+  sub->add_option("--user-mcode-dir", opts->user_mcode_dir, kUserMcodeDirHelp);
   sub->add_flag("--block-delete", opts->block_delete, "skip lines that start with '/'");
   add_language_flags(sub, opts->language);
   sub->add_flag("--messages", opts->messages,
                 "also print MSG/DEBUG/PRINT comments as records of kind \"message\"");
+  sub->add_flag("--io", opts->io,
+                "also print spindle, coolant, tool, I/O, user M-code and stop records "
+                "(docs/machine-codes.md)");
   sub->callback([opts, &ctx] {
     Machine machine;
     if (!opts->machine_file.empty()) machine = load_machine_file(opts->machine_file);
     apply_axes_flag(machine, opts->axes);
     if (!opts->tool_table.empty()) machine.tool_table = load_tool_table(opts->tool_table);
+    if (!opts->user_mcode_dir.empty()) machine.user_mcode_dir = opts->user_mcode_dir;
     InterpreterOptions io{&machine, opts->block_delete};
     apply_language_flags(opts->language, machine, io);
     const std::string name = opts->program == "-" ? "<stdin>" : opts->program;
@@ -121,6 +187,7 @@ void add_moves(CLI::App& app, Context& ctx) {
     while (stream.next(c)) {
       print_move(stdout, c, machine.layout);
       if (opts->messages) print_message(stdout, c);
+      if (opts->io) print_io(stdout, c);
     }
     std::fflush(stdout);
     ctx.exit_code = 0;

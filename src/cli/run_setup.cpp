@@ -34,6 +34,10 @@ void add_machine_flags(CLI::App* sub, MachineFlags& f) {
   sub->add_flag("--block-delete", f.block_delete, "Skip blocks that start with '/'");
   sub->add_option("--tool-table", f.tool_table,
                   "LinuxCNC tool table (T1 P1 Z50 D6 ;comment), mm; default: the machine's");
+  sub->add_option("--user-mcode-dir", f.user_mcode_dir, kUserMcodeDirHelp);
+  sub->add_option(
+      "--pause-s", f.pause_s,
+      "Seconds an M0/M1 program stop holds the run; default: the machine's pause_s (0)");
 }
 
 void apply_axes_flag(Machine& m, const std::string& letters) {
@@ -66,6 +70,12 @@ Machine resolve_machine(const MachineFlags& f) {
           fmt::format("{} must be a positive number of seconds or mm (got {})", flag, v));
   };
   if (!f.tool_table.empty()) m.tool_table = load_tool_table(f.tool_table);
+  if (!f.user_mcode_dir.empty()) m.user_mcode_dir = f.user_mcode_dir;
+  if (f.pause_s) {
+    if (!(*f.pause_s >= 0.0) || *f.pause_s > 1e6)
+      throw InputError(fmt::format("--pause-s {} is outside 0..1e6 s", *f.pause_s));
+    m.pause_s = *f.pause_s;
+  }
   if (f.profile) m.profile = *f.profile;
   if (f.tau_s) positive("--tau", *f.tau_s), m.tau_s = *f.tau_s;
   if (f.period_s) positive("--period", *f.period_s), m.period_s = *f.period_s;

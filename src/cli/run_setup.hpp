@@ -25,7 +25,13 @@ struct MachineFlags {
   bool block_delete = false;           ///< --block-delete: honour '/'
   std::string tool_table;              ///< --tool-table FILE (else the machine's table)
   std::string axes;                    ///< --axes LETTERS (else the machine's)
+  std::string user_mcode_dir;          ///< --user-mcode-dir DIR (M100..M199 known there)
+  std::optional<double> pause_s;       ///< --pause-s S: how long M0/M1 hold the run
 };
+/// The --user-mcode-dir option's help text.
+inline constexpr const char* kUserMcodeDirHelp =
+    "Directory where M100..M199 are found (a file named M101 makes M101 known; recorded, never "
+    "run); default: the machine's user_mcode_dir";
 
 /// --axes LETTERS: gives `m` those axes (a subsequence of XYZABCUVW); an axis the machine
 /// already has keeps its settings, a new one takes the built-in machine's X axis. No-op when

@@ -47,10 +47,12 @@ struct Motion {
   double speed_cap_mm_s = 0.0;
 };
 
-/// G4: zero velocity for `seconds`.
+/// G4: zero velocity for `seconds`. Also M0/M1 when the run pauses there (`pause`: the
+/// machine's pause_s, CLI --pause-s).
 struct Dwell {
   int line = 0;
   double seconds = 0.0;
+  bool pause = false;  ///< an M0/M1 program stop held for `seconds`, not a G4
 };
 
 /// Non-motion events the downstream stages care about.
@@ -61,12 +63,33 @@ enum class EventKind {
   OverrideEnable,   ///< M48, or M50 P1 / M50 alone: feed override takes effect
   OverrideDisable,  ///< M49, or M50 P0: feed override is 100 %
   Message,          ///< (MSG, text)
+  // Spindle and I/O (LinuxCNC's canon calls; no effect on motion yet) ---------------------
+  SpindleSpeed,   ///< S: SET_SPINDLE_SPEED(value = rpm)
+  SpindleStart,   ///< M3/M4: START_SPINDLE_(COUNTER)CLOCKWISE(index = +1 cw, -1 ccw)
+  SpindleStop,    ///< M5, M6, M19, M2/M30, cycles: STOP_SPINDLE_TURNING
+  SpindleOrient,  ///< M19 R P: ORIENT_SPINDLE(value = angle deg, index = P direction mode)
+  OrientWait,     ///< M19 Q: WAIT_ORIENT_SPINDLE_COMPLETE(value = timeout s)
+  Mist,           ///< M7 (index 1), M9 (index 0): MIST_ON / MIST_OFF
+  Flood,          ///< M8 (index 1), M9 (index 0): FLOOD_ON / FLOOD_OFF
+  ToolSelect,     ///< T: SELECT_TOOL(index = tool)
+  ToolChange,     ///< M6: CHANGE_TOOL (index = the tool now in the spindle)
+  ToolNumber,     ///< M61 Q: CHANGE_TOOL_NUMBER (index = tool)
+  DigitalOut,     ///< M62..M65: index = P, value = 1 set / 0 clear, sync = with motion
+  AnalogOut,      ///< M67/M68: index = E, value = Q, sync = with motion
+  WaitInput,      ///< M66: index = P or E, analog, mode = L, value = Q timeout s
+  UserMcode,      ///< M100..M199: index = the number, value = P, value2 = Q (never executed)
 };
 
 struct Event {
   int line = 0;
   EventKind kind = EventKind::End;
-  std::string text;  ///< message text for EventKind::Message
+  std::string text;     ///< message text for EventKind::Message
+  int index = 0;        ///< tool, pin, channel, direction or M number (see EventKind)
+  double value = 0.0;   ///< rpm, angle, output value, timeout or P (see EventKind)
+  double value2 = 0.0;  ///< UserMcode: Q
+  int mode = 0;         ///< WaitInput: L (0 immediate, 1 rise, 2 fall, 3 high, 4 low)
+  bool sync = false;    ///< DigitalOut/AnalogOut: with motion (M62/M63/M67) vs at once
+  bool analog = false;  ///< WaitInput: E (analog) rather than P (digital)
 };
 
 using Canon = std::variant<Motion, Dwell, Event>;

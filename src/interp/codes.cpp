@@ -98,11 +98,13 @@ constexpr std::array kCodes{
     Code{'M',   10, G::MStop,       S::Stop,        run_stop},
     Code{'M',   20, G::MStop,       S::Stop,        run_stop},
     Code{'M',  300, G::MStop,       S::Stop,        run_stop},
+    Code{'M',  600, G::MStop,       S::Stop,        run_stop},
     Code{'M',   60, G::MToolChange, S::ToolChange,  run_tool_change},
     Code{'M',  610, G::MToolChange, S::ToolChange,  run_m61,          "Q"},
     Code{'M',   30, G::MSpindle,    S::Spindle,     run_spindle},
     Code{'M',   40, G::MSpindle,    S::Spindle,     run_spindle},
     Code{'M',   50, G::MSpindle,    S::Spindle,     run_spindle},
+    Code{'M',  190, G::MSpindle,    S::Spindle,     run_orient,       "RPQ"},
     Code{'M',  700, G::MSpindle,    S::Spindle,     run_modes_save},
     Code{'M',  710, G::MSpindle,    S::Spindle,     run_modes_save},
     Code{'M',  720, G::MSpindle,    S::Spindle,     run_modes_save},
@@ -113,7 +115,24 @@ constexpr std::array kCodes{
     Code{'M',  480, G::MOverride,   S::Override,    run_override},
     Code{'M',  490, G::MOverride,   S::Override,    run_override},
     Code{'M',  500, G::MOverride,   S::Override,    run_override,     "P"},
+    Code{'M',  620, G::MIo,         S::Io,          run_digital_out,  "P"},
+    Code{'M',  630, G::MIo,         S::Io,          run_digital_out,  "P"},
+    Code{'M',  640, G::MIo,         S::Io,          run_digital_out,  "P"},
+    Code{'M',  650, G::MIo,         S::Io,          run_digital_out,  "P"},
+    Code{'M',  660, G::MIo,         S::Io,          run_wait_input,   "PELQ"},
+    Code{'M',  670, G::MIo,         S::Io,          run_analog_out,   "EQ"},
+    Code{'M',  680, G::MIo,         S::Io,          run_analog_out,   "EQ"},
 };
+
+// M100..M199 (user codes, group 10): one row each, made here rather than written out.
+constexpr int kUserMFirst = 100, kUserMCount = 100;
+constexpr std::array<Code, kUserMCount> make_user_codes() {
+  std::array<Code, kUserMCount> a{};
+  for (int i = 0; i < kUserMCount; ++i)
+    a[static_cast<std::size_t>(i)] = Code{'M', 10 * (kUserMFirst + i), G::MUser, S::UserMcode, run_user_mcode, "PQ"};
+  return a;
+}
+constexpr auto kUserCodes = make_user_codes();
 // clang-format on
 
 constexpr std::array<const char*, kGroupCount> kGroupTitles{"non-modal",    "motion",
@@ -124,7 +143,8 @@ constexpr std::array<const char*, kGroupCount> kGroupTitles{"non-modal",    "mot
                                                             "work offset",  "path control",
                                                             "exact stop",   "stop",
                                                             "tool change",  "spindle",
-                                                            "coolant",      "override"};
+                                                            "coolant",      "override",
+                                                            "I/O",          "user M code"};
 
 // Lookup by number (G and M numbers x 10 below 2000) and by value word, built at compile time.
 constexpr int kMaxNumber10 = 2000;
@@ -143,6 +163,7 @@ constexpr CodeIndex make_index() {
     slot[static_cast<std::size_t>(c.number10)] = static_cast<std::int16_t>(i);
     for (const char w : c.words) ix.word[static_cast<std::size_t>(w - 'A')] = true;
   }
+  for (const char w : kUserCodes[0].words) ix.word[static_cast<std::size_t>(w - 'A')] = true;
   return ix;
 }
 constexpr CodeIndex kIndex = make_index();
@@ -155,6 +176,9 @@ std::span<const Code> code_table() {
 
 const Code* find_code(char letter, int number10) {
   if (number10 < 0 || number10 >= kMaxNumber10) return nullptr;
+  if (letter == 'M' && number10 >= 10 * kUserMFirst && number10 < 10 * (kUserMFirst + kUserMCount))
+    return number10 % 10 == 0 ? &kUserCodes[static_cast<std::size_t>(number10 / 10 - kUserMFirst)]
+                              : nullptr;
   const auto i = (letter == 'G' ? kIndex.g : kIndex.m)[static_cast<std::size_t>(number10)];
   return i < 0 ? nullptr : &kCodes[static_cast<std::size_t>(i)];
 }
@@ -183,6 +207,7 @@ std::string codes_using(char letter) {
   std::vector<std::string> names;
   for (const Code& c : kCodes)
     if (c.words.find(letter) != std::string_view::npos) names.push_back(code_name(c));
+  if (kUserCodes[0].words.find(letter) != std::string_view::npos) names.emplace_back("M100..M199");
   std::string s;
   for (std::size_t i = 0; i < names.size(); ++i)
     s += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];

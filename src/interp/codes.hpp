@@ -28,6 +28,8 @@ enum class Group : std::uint8_t {
   MSpindle,     // M group 7
   MCoolant,     // M group 8
   MOverride,    // M group 9
+  MIo,          // M group 5: M62..M68
+  MUser,        // M group 10: M100..M199
   Count
 };
 inline constexpr std::size_t kGroupCount = static_cast<std::size_t>(Group::Count);
@@ -40,10 +42,12 @@ enum class Step : std::uint8_t {
   Feed,         // F
   Speed,        // S
   Tool,         // T
+  Io,           // M62..M68
   ToolChange,   // M6 M61
   Spindle,      // M3 M4 M5
   Coolant,      // M7 M8 M9
   Override,     // M48 M49 M50
+  UserMcode,    // M100..M199
   Dwell,        // G4
   Plane,        // G17 G18 G19
   Units,        // G20 G21

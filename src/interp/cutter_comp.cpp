@@ -93,7 +93,7 @@ void dequeue(BlockCtx& ctx) {
   cc.end_valid = false;
   for (CompQueued& q : cc.queue) {
     if (!q.is_motion) {
-      ctx.out.emplace_back(q.dwell);
+      ctx.out.push_back(q.held);
       continue;
     }
     Motion mo = q.mo;
@@ -252,17 +252,17 @@ Pos9 motion_start(const BlockCtx& ctx) {
 }
 
 void emit_in_order(BlockCtx& ctx, Canon c) {
-  if (ctx.s.comp.queue.empty() || !std::holds_alternative<Dwell>(c)) {
+  if (ctx.s.comp.queue.empty() || std::holds_alternative<Motion>(c)) {
     ctx.out.push_back(std::move(c));
     return;
   }
   CompQueued q;
   q.is_motion = false;
-  q.dwell = std::get<Dwell>(c);
+  q.held = std::move(c);
   if (ctx.s.comp.queue.size() < kMaxQueued)
-    ctx.s.comp.queue.push_back(q);
+    ctx.s.comp.queue.push_back(std::move(q));
   else
-    ctx.out.push_back(std::move(c));
+    ctx.out.push_back(std::move(q.held));
 }
 
 bool comp_forbids(BlockCtx& ctx, SourceLoc loc, std::string_view what) {

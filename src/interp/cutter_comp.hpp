@@ -24,7 +24,7 @@ struct CompQueued {
   double dir_a = 0.0, dir_b = 0.0;  ///< straight moves: the programmed direction in the plane
   double sweep_rad = 0.0;           ///< arcs: the sweep as enqueued (0: not checked)
   bool inverse_time = false;        ///< G93: inverse_time_s is set when it leaves the queue
-  Dwell dwell;                      ///< when !is_motion
+  Canon held;                       ///< when !is_motion: a dwell or an event
 };
 
 /// Compensation state (LinuxCNC's cutter_comp_side/radius/firstmove, program_x/y/z, the queue).

@@ -59,7 +59,11 @@ bool restore_modes(BlockCtx& ctx, const SavedModes& m) {
   // tool length, coordinate system, path control, distance, retract mode.
   if (s.inverse_time != m.inverse_time && !run(ctx, 'G', m.inverse_time ? 930 : 940)) return false;
   if (!s.inverse_time) s.feed_mm_min = printed(m.feed_units, 1) * s.mm_per_unit();
-  s.spindle_rpm = printed(m.speed_rpm, 0);
+  // S: rs274 2.9 prints SET_SPINDLE_SPEED only when the speed changes.
+  if (const double rpm = printed(m.speed_rpm, 0); rpm != s.spindle_rpm) {
+    s.spindle_rpm = rpm;
+    emit_io(ctx, EventKind::SpindleSpeed, 0, rpm);
+  }
   if (s.plane != m.plane && !run(ctx, 'G', plane_code(m.plane))) return false;
   const int comp_code = s.comp.side > 0 ? 410 : s.comp.side < 0 ? 420 : 400;
   if (comp_code != m.comp_code && !run(ctx, 'G', m.comp_code)) return false;
@@ -78,10 +82,16 @@ bool restore_modes(BlockCtx& ctx, const SavedModes& m) {
   s.incremental = m.incremental;
   s.ijk_absolute = m.ijk_absolute;
   if (s.retract_to_r != m.retract_to_r && !run(ctx, 'G', m.retract_to_r ? 990 : 980)) return false;
-  // The M codes, each on a line of its own.
-  s.spindle_dir = m.spindle_dir;
-  s.mist = m.mist;
-  s.flood = m.flood;
+  // The M codes that differ, each on a line of its own: spindle, mist (M7 or M9), flood (M8 or
+  // M9), compared with the modes before the restore (an M9 for mist turns flood off too).
+  const bool mist_was = s.mist, flood_was = s.flood;
+  if (s.spindle_dir != m.spindle_dir && !run(ctx, 'M',
+                                             m.spindle_dir > 0   ? 30
+                                             : m.spindle_dir < 0 ? 40
+                                                                 : 50))
+    return false;
+  if (mist_was != m.mist && !run(ctx, 'M', m.mist ? 70 : 90)) return false;
+  if (flood_was != m.flood && !run(ctx, 'M', m.flood ? 80 : 90)) return false;
   if (s.feed_override != m.feed_override && !run(ctx, 'M', m.feed_override ? 480 : 490))
     return false;
   return true;

@@ -123,9 +123,16 @@ bool run_g10_tool(BlockCtx&, int l);            ///< G10 L1/L10/L11 (from run_g1
 bool run_straight(BlockCtx&, const Code&);      ///< G0 G1
 bool run_arc(BlockCtx&, const Code&);           ///< G2 G3
 bool run_stop(BlockCtx&, const Code&);
-bool run_coolant(BlockCtx&, const Code&);     ///< M7 M8 M9
-bool run_probe(BlockCtx&, const Code&);       ///< G38.2 G38.3 G38.4 G38.5
-bool run_modes_save(BlockCtx&, const Code&);  ///< M70 M71 M72 M73
+bool run_coolant(BlockCtx&, const Code&);      ///< M7 M8 M9
+bool run_probe(BlockCtx&, const Code&);        ///< G38.2 G38.3 G38.4 G38.5
+bool run_modes_save(BlockCtx&, const Code&);   ///< M70 M71 M72 M73
+bool run_orient(BlockCtx&, const Code&);       ///< M19
+bool run_digital_out(BlockCtx&, const Code&);  ///< M62 M63 M64 M65
+bool run_analog_out(BlockCtx&, const Code&);   ///< M67 M68
+bool run_wait_input(BlockCtx&, const Code&);   ///< M66
+bool run_user_mcode(BlockCtx&, const Code&);   ///< M100..M199 (recorded, never executed)
+/// Emits a spindle, coolant or tool event (EventKind) of this block, behind held-back moves.
+void emit_io(BlockCtx& ctx, EventKind kind, int index, double value);
 /// Restores saved modes as LinuxCNC does (units first, then one block of F, S and the modal
 /// codes that differ, then the M codes).
 bool restore_modes(BlockCtx& ctx, const SavedModes& m);

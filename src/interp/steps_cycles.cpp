@@ -50,6 +50,11 @@ struct CycleRun {
     return emit_straight(ctx, MotionKind::Line, machine(a, b, c), loc);
   }
   void dwell(double s) { emit_in_order(ctx, Dwell{ctx.block.line, s}); }
+  /// The spindle's canon within a cycle: stop, then turn `dir` (+1 cw, -1 ccw; 0 stays stopped).
+  void spindle(int dir) {
+    emit_io(ctx, EventKind::SpindleStop, 0, 0.0);
+    if (dir != 0) emit_io(ctx, EventKind::SpindleStart, dir, ctx.s.spindle_rpm);
+  }
 };
 
 const char* plane_text(Plane p) {
@@ -57,11 +62,6 @@ const char* plane_text(Plane p) {
 }
 
 }  // namespace
-
-bool run_spindle(BlockCtx& ctx, const Code& c) {
-  ctx.s.spindle_dir = c.number10 == 30 ? 1 : c.number10 == 40 ? -1 : 0;
-  return true;
-}
 
 bool run_retract_mode(BlockCtx& ctx, const Code& c) {
   if (!comp_forbids(ctx, ctx.loc_of(Group::ReturnMode), "change the retract mode")) return false;
@@ -202,17 +202,23 @@ bool run_cycle(BlockCtx& ctx, const Code& c) {
         }
         ok = ok && run.feed(a, b, bottom) && run.traverse(a, b, clear);
         break;
-      case 740:  // tapping: feed in, (spindle reverses), dwell, feed out
+      case 740:  // tapping: feed in, spindle reverses, dwell, feed out, spindle as it was
       case 840:
         ok = run.feed(a, b, bottom);
-        if (ok) run.dwell(p);
+        if (ok) {
+          run.spindle(-s.spindle_dir);
+          run.dwell(p);
+        }
         ok = ok && run.feed(a, b, clear);
+        if (ok) run.spindle(s.spindle_dir);
         break;
       case 820:  // feed in, dwell, rapid out
       case 860:  // as G82 with the spindle stopped on the way out
         ok = run.feed(a, b, bottom);
         if (ok) run.dwell(p);
+        if (ok && g == 860) run.spindle(0);
         ok = ok && run.traverse(a, b, clear);
+        if (ok && g == 860) emit_io(ctx, EventKind::SpindleStart, s.spindle_dir, s.spindle_rpm);
         break;
       case 850:  // feed in, feed out to R, rapid to clear
         ok = run.feed(a, b, bottom) && run.feed(a, b, r) && run.traverse(a, b, clear);

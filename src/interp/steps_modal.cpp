@@ -15,18 +15,6 @@ bool step_comment(BlockCtx& ctx) {
   return true;
 }
 
-bool run_coolant(BlockCtx& ctx, const Code& c) {
-  if (c.number10 == 70) ctx.s.mist = true;
-  if (c.number10 == 80) ctx.s.flood = true;
-  if (c.number10 == 90) ctx.s.mist = ctx.s.flood = false;
-  return true;
-}
-
-bool step_speed(BlockCtx& ctx) {
-  ctx.s.spindle_rpm = ctx.w['S']->value;  // negative S is refused when the block is checked
-  return true;
-}
-
 bool run_feed_mode(BlockCtx& ctx, const Code& c) {
   const bool to_inverse = c.number10 == 930;
   if (!to_inverse && ctx.s.inverse_time) ctx.s.feed_mm_min = 0.0;  // LinuxCNC: SET_FEED_RATE(0)
@@ -121,11 +109,26 @@ bool run_arc_distance(BlockCtx& ctx, const Code& c) {
 }
 
 bool run_stop(BlockCtx& ctx, const Code& c) {
-  const EventKind k = c.number10 == 0    ? EventKind::Pause
-                      : c.number10 == 10 ? EventKind::OptionalPause
-                                         : EventKind::End;
+  const EventKind k = c.number10 == 0 || c.number10 == 600 ? EventKind::Pause
+                      : c.number10 == 10                   ? EventKind::OptionalPause
+                                                           : EventKind::End;
   if (!comp_flush(ctx)) return false;  // the held-back move ends where the tool is
-  ctx.out.emplace_back(Event{ctx.block.line, k, {}});
+  if (k == EventKind::End) {           // LinuxCNC: spindle stopped, coolant off, then the end
+    ctx.s.spindle_dir = 0;
+    emit_io(ctx, EventKind::SpindleStop, 0, 0.0);
+    if (ctx.s.mist) emit_io(ctx, EventKind::Mist, 0, 0.0);
+    if (ctx.s.flood) emit_io(ctx, EventKind::Flood, 0, 0.0);
+    ctx.s.mist = ctx.s.flood = false;
+  }
+  Event stop;
+  stop.line = ctx.block.line;
+  stop.kind = k;
+  stop.index = c.number10 / 10;  // M0, M1, M2, M30, M60
+  ctx.out.emplace_back(std::in_place_type<Event>, std::move(stop));
+  // M0/M1/M60 hold the run for the machine's pause time (the operator presses resume).
+  if (k != EventKind::End && ctx.machine.pause_s > 0.0)
+    ctx.out.emplace_back(std::in_place_type<Dwell>,
+                         Dwell{ctx.block.line, ctx.machine.pause_s, true});
   if (k == EventKind::End) {
     ctx.s.ended = true;
     ctx.s.comp.side = 0;  // M2/M30 turn compensation off (LinuxCNC)

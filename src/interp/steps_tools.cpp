@@ -47,11 +47,16 @@ bool step_tool_select(BlockCtx& ctx) {
   int t = 0;
   if (!tool_number(ctx, *tw, t) || !tool_in_table(ctx, *tw, t)) return false;
   ctx.s.tool_selected = t;
+  emit_io(ctx, EventKind::ToolSelect, t, 0.0);
   return true;
 }
 
 bool run_tool_change(BlockCtx& ctx, const Code&) {
   if (!comp_forbids(ctx, ctx.loc_of(Group::MToolChange), "change tools")) return false;
+  // LinuxCNC stops the spindle for the change (no TOOL_CHANGE_WITH_SPINDLE_ON in its sims).
+  ctx.s.spindle_dir = 0;
+  emit_io(ctx, EventKind::SpindleStop, 0, 0.0);
+  emit_io(ctx, EventKind::ToolChange, ctx.s.tool_selected, 0.0);
   ctx.s.tool_in_spindle = ctx.s.tool_selected;
   // rs274: T0 M6 leaves the spindle's tool data as it was (G43 without H still uses it).
   if (ctx.s.tool_selected != 0) ctx.s.spindle_slot_tool = ctx.s.tool_selected;
@@ -65,6 +70,7 @@ bool run_m61(BlockCtx& ctx, const Code&) {
   int t = 0;
   if (!tool_number(ctx, *ctx.w['Q'], t) || !tool_in_table(ctx, *ctx.w['Q'], t)) return false;
   ctx.s.tool_in_spindle = t;  // rs274: the spindle's tool data stays what M6 loaded
+  emit_io(ctx, EventKind::ToolNumber, t, 0.0);
   return true;
 }
 

@@ -85,6 +85,8 @@ bool Interpolator::pull_next() {
       case EventKind::End:
         ended_ = true;
         break;
+      default:  // spindle, coolant, tools, I/O (interp/canon.hpp): no effect on the motion
+        break;
     }
   }
   return false;

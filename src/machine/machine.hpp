@@ -93,6 +93,11 @@ struct Machine {
   /// What programs for this machine are written in (key `dialect`: "linuxcnc", "fanuc",
   /// "grbl"; docs/dialects.md); empty: linuxcnc. --dialect overrides it.
   std::string dialect;
+  /// Where M100..M199 are looked up (a file named M101 makes M101 known; it is recorded, never
+  /// run): key `user_mcode_dir` or --user-mcode-dir; empty: every user M code is an error.
+  std::string user_mcode_dir;
+  /// How long an M0/M1 program stop holds the run, s (key `pause_s`, CLI --pause-s); 0: none.
+  double pause_s = 0.0;
   /// G54..G59 on the nine program axes (XYZABCUVW order), mm (degrees for A, B, C).
   std::array<AxisVec, 6> work_offsets_mm{AxisVec::Zero(), AxisVec::Zero(), AxisVec::Zero(),
                                          AxisVec::Zero(), AxisVec::Zero(), AxisVec::Zero()};

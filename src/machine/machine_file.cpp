@@ -366,6 +366,9 @@ Machine parse_machine_toml(std::string_view text, std::string_view source_name) 
       r.fail_at(root.get("dialect")->source(), "dialect",
                 fmt::format("must be \"linuxcnc\", \"fanuc\" or \"grbl\" (got \"{}\")", d));
   }
+  if (std::string ud; r.string("user_mcode_dir", ud, false)) m.user_mcode_dir = beside(ud);
+  r.number("pause_s", m.pause_s, false,
+           [](double v) { return v >= 0.0 && v <= 1e6 ? "" : "must be 0..1e6 s"; });
   if (const toml::table* wo = r.table("work_offsets", false)) {
     Reader wr(*wo, "work_offsets.", src);
     for (int g = 0; g < 6; ++g) {
@@ -417,6 +420,9 @@ std::string machine_to_toml(const Machine& m) {
   if (!m.parameter_file.empty())
     s += fmt::format("parameter_file = {}\n", toml_string(m.parameter_file));
   if (!m.dialect.empty()) s += fmt::format("dialect = {}\n", toml_string(m.dialect));
+  if (!m.user_mcode_dir.empty())
+    s += fmt::format("user_mcode_dir = {}\n", toml_string(m.user_mcode_dir));
+  if (m.pause_s > 0.0) s += fmt::format("pause_s = {}\n", fmt_double(m.pause_s));
   s += "tools = " + list(m.tool_lengths_mm) + "\n\n";
   s += fmt::format("[accdec]\nprofile = {}\ntau_s = {}\n", toml_string(m.profile),
                    fmt_double(m.tau_s));

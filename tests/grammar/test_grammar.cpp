@@ -104,12 +104,21 @@ TEST_CASE("syntax errors carry code, line and column") {
       {"o1 if [1+", ErrorCode::BadExpression, 10},
       {"o1 if [1", ErrorCode::UnclosedBracket, 9},
       {"o1 if [1] G0", ErrorCode::BadOWord, 11},
-      {"X1e400", ErrorCode::NumberOutOfRange, 2},
-      {"X1e3", ErrorCode::ExponentUnsupported, 2},
       {"G1 * X1", ErrorCode::UnexpectedCharacter, 4},
       {"G1 ) X1", ErrorCode::UnexpectedCharacter, 4},
       {"12 X1", ErrorCode::NumberWithoutLetter, 1},
   };
+  {  // a number too large for a double (400 digits); E is a word letter, not an exponent
+    const Block big = parse("X1" + std::string(400, '0'), 7);
+    REQUIRE(big.errors.size() >= 1);
+    CHECK(big.errors[0].code == ErrorCode::NumberOutOfRange);
+    CHECK(big.errors[0].loc.column == 2);
+    const Block e = parse("X1e3", 7);  // rs274: X1 then E3
+    CHECK(e.errors.empty());
+    REQUIRE(e.words.size() == 2);
+    CHECK(e.words[1].letter == 'E');
+    CHECK(e.words[1].value == 3.0);
+  }
   for (const auto& c : cases) {
     INFO(c.text);
     const Block b = parse(c.text, 7);

@@ -110,9 +110,20 @@ TEST_CASE("dwell, path modes, events") {
   CHECK(ev(9).kind == EventKind::OverrideDisable);
   CHECK(ev(10).kind == EventKind::OverrideDisable);
   CHECK(ev(11).kind == EventKind::OverrideEnable);
-  CHECK(ev(12).kind == EventKind::End);
-  CHECK(ev(12).line == 14);
-  CHECK(c.size() == 13);
+  // M3 S1000 T1 M6 M8 in the order of execution: S, T, M6 (stops the spindle), M3, M8.
+  const std::vector<EventKind> line13{EventKind::SpindleSpeed, EventKind::ToolSelect,
+                                      EventKind::SpindleStop,  EventKind::ToolChange,
+                                      EventKind::SpindleStart, EventKind::Flood};
+  for (std::size_t i = 0; i < line13.size(); ++i) {
+    CHECK(ev(12 + i).kind == line13[i]);
+    CHECK(ev(12 + i).line == 13);
+  }
+  // M30: spindle stop, flood off, end.
+  CHECK(ev(18).kind == EventKind::SpindleStop);
+  CHECK((ev(19).kind == EventKind::Flood && ev(19).index == 0));
+  CHECK(ev(20).kind == EventKind::End);
+  CHECK(ev(20).line == 14);
+  CHECK(c.size() == 21);
 }
 
 TEST_CASE("a bad block changes no state (validated whole before commit)") {
@@ -153,7 +164,7 @@ TEST_CASE("one test per block error: code and line:col") {
       {"G17 G18\nM2\n", ErrorCode::ModalGroupViolation, 1, 5},
       {"M3 M5\nM2\n", ErrorCode::ModalGroupViolation, 1, 4},
       {"G0 X1 X2\nM2\n", ErrorCode::DuplicateWord, 1, 7},
-      {"E2 G0 X1\nM2\n", ErrorCode::UnknownLetter, 1, 1},
+      {"E2 G0 X1\nM2\n", ErrorCode::UnusedWord, 1, 1},  // E: M66..M68's word
       {"G0 X1 A2\nM2\n", ErrorCode::AxisUnavailable, 1, 7},
       {"G12 X1\nM2\n", ErrorCode::UnknownGCode, 1, 1},
       {"M97\nM2\n", ErrorCode::UnknownMCode, 1, 1},
