@@ -56,9 +56,9 @@ TEST_CASE("dialect-cli: missing end: error, fanuc warning, grbl silent") {
 
 TEST_CASE("dialect-cli: fanuc machine M codes are passed over once each, M97 refused") {
   auto r =
-      sh("printf 'M19\\nG0 X1 M88\\nM88\\nM2\\n' | " + bin() + " moves - --dialect fanuc 2>&1");
+      sh("printf 'M31\\nG0 X1 M88\\nM88\\nM2\\n' | " + bin() + " moves - --dialect fanuc 2>&1");
   CHECK(r.code == 0);
-  CHECK(r.out.find("<stdin>:1:1: warning: M19 is a machine function") != std::string::npos);
+  CHECK(r.out.find("<stdin>:1:1: warning: M31 is a machine function") != std::string::npos);
   CHECK(r.out.find("<stdin>:2:7: warning: M88") != std::string::npos);
   CHECK(r.out.find("<stdin>:3:") == std::string::npos);  // warned once
   CHECK(r.out.find("{\"line\":2,\"kind\":\"rapid\",\"end\":[1,0,0],\"feed\":0}") !=
