@@ -59,9 +59,11 @@ class FirAccDec {
   __extension__ using Acc = __int128;
 
   Acc convolve(int axis) const;  // Σ b_i·hist[k-i] for the current head (exact path)
-  static constexpr int kGroups = (kMaxAxes + 3) / 4;  // 4-lane groups for the most axes
-  void convolve_fast(
-      double (&sums)[4 * kGroups]) const;  // the same sums (exact integers in double), fast path
+  template <int N>
+  void step_n(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu);  // step() for N axes (0: axes_)
+  static constexpr int kGroups = (kMaxAxes + 3) / 4;             // 4-lane groups for the most axes
+  // The same sums (exact integers in double), fast path: sums[4g .. 4g+3] for groups g < groups.
+  void convolve_fast(double* sums, int groups) const;
 
   std::vector<std::int64_t> taps_;  // integer taps b_0..b_N
   std::int64_t b_s_ = 1;

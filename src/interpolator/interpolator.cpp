@@ -9,10 +9,15 @@
 namespace gm {
 
 Interpolator::Interpolator(const InterpolatorConfig& cfg, CanonSource& source)
-    : cfg_(cfg), source_(source), pos_mm_(cfg.start_mm) {}
+    : cfg_(cfg), source_(source), xyz_(cfg.axes.is_xyz()), pos_mm_(cfg.start_mm) {}
 
 AxisBlu Interpolator::to_blu(const AxisVec& p_mm) const {
   AxisBlu q;
+  if (xyz_) {  // the common machine: X, Y, Z in program order
+    q = AxisBlu::Zero();
+    for (int i = 0; i < 3; ++i) q[i] = round_half_away(p_mm[i] / cfg_.blu_mm[i]);
+    return q;
+  }
   // Machine axis a is program axis cfg_.axes.index[a]; entries past the count stay 0.
   q.setZero();
   for (int a = 0; a < cfg_.axes.count; ++a)

@@ -74,6 +74,7 @@ class Interpolator {
   InterpolatorConfig cfg_;
   CanonSource& source_;
   Canon scratch_;  ///< reused for every pull (no per-block allocation)
+  bool xyz_;       ///< the machine is X, Y, Z (to_blu's unrolled case)
 
   Motion block_{};
   BlockGeometry geom_{};

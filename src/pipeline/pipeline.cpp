@@ -64,6 +64,15 @@ bool Pipeline::settled() const {
   return quiet_samples_ >= 25;
 }
 
+template <int N>
+void Pipeline::fill_axes(SampleRecord& out) const {
+  out.cmd_blu.head<N>() = cmd_.pos_blu.head<N>();
+  out.ref_blu.head<N>() = ref_blu_.head<N>();
+  out.enc_blu.head<N>() = enc_blu_.head<N>();
+  out.ferr_blu.head<N>() = ref_blu_.head<N>() - enc_blu_.head<N>();
+  out.table_blu.head<N>() = table_blu_.head<N>();
+}
+
 PipelineStatus Pipeline::step(const OverrideInput& ovr, SampleRecord& out) {
   started_ = nullptr;
   if (!program_done_) {
@@ -110,14 +119,25 @@ PipelineStatus Pipeline::step(const OverrideInput& ovr, SampleRecord& out) {
   out.k = k_;
   out.t_s = static_cast<double>(k_) * cfg_.machine.period_s;
   out.line = cmd_.line;
-  out.cmd_blu = cmd_.pos_blu;
-  out.ref_blu = ref_blu_;
-  out.enc_blu = enc_blu_;
-  out.ferr_blu = ref_blu_ - enc_blu_;
+  // The per-axis vectors: only the machine's axes are copied (the rest of `out` stays 0), with a
+  // compile-time count for the common machines.
+  switch (axes_) {
+    case 3:
+      fill_axes<3>(out);
+      break;
+    case 4:
+      fill_axes<4>(out);
+      break;
+    case 6:
+      fill_axes<6>(out);
+      break;
+    default:
+      fill_axes<kMaxAxes>(out);
+      break;
+  }
   out.feed_scale = cmd_.feed_scale;
   out.events = program_done_ ? 0u : cmd_.events;
   out.settling = program_done_;
-  out.table_blu = table_blu_;
   if (!cfg_.defer_contour) meter_.measure(out, started_);
   ++k_;
   return PipelineStatus::Working;

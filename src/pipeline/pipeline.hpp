@@ -58,6 +58,10 @@ class Pipeline {
 
  private:
   bool settled() const;
+  /// Copies the first N axes of this sample's vectors into `out` (entries past the machine's
+  /// count are 0 in both, so N = kMaxAxes is right for any machine).
+  template <int N>
+  void fill_axes(SampleRecord& out) const;
 
   RunConfig cfg_;
   Taps taps_;
