@@ -151,7 +151,7 @@ bool BlockParser::parse_oword(Block& out, std::string_view compact, std::size_t 
     while (p < compact.size() && compact[p] == '0') ++p;
     while (p < compact.size() && compact[p] >= '0' && compact[p] <= '9')
       o.label.push_back(compact[p++]);
-    if (o.label.empty()) o.label = "0";
+    if (o.label.empty()) o.label.push_back('0');  // not = "0": a false -Wrestrict in g++ 12 -O3
   } else {
     add_error(out, ErrorCode::BadOWord, static_cast<int>(p),
               "an O-word needs a number or a <name> after 'O'");

@@ -11,7 +11,7 @@ packages=(
   cmake ninja-build g++ pkg-config
   libeigen3-dev libboost-dev libfmt-dev catch2 libcli11-dev libtomlplusplus-dev libbenchmark-dev
   libzstd-dev zlib1g-dev
-  python3 python3-matplotlib clang-format
+  python3 python3-matplotlib clang-format python3-dev python3-numpy pybind11-dev
 )
 for flag in "$@"; do
   case "$flag" in

@@ -61,6 +61,22 @@ Machine resolve_machine(const MachineFlags& f) {
   return m;
 }
 
+double apply_run_limits(Machine& m, std::optional<double> tolerance_mm, double override_pct,
+                        double rapid_override_pct) {
+  if (tolerance_mm) {
+    if (!(*tolerance_mm >= 0.0) || *tolerance_mm > 1000.0)
+      throw InputError(fmt::format("--tolerance {} is outside 0..1000 mm", *tolerance_mm));
+    m.path_tolerance_mm = *tolerance_mm;
+  }
+  const double max_pct = m.max_override * 100.0;
+  for (auto [flag, v] :
+       {std::pair{"--override", override_pct}, std::pair{"--rapid-override", rapid_override_pct}})
+    if (!(v >= 0.0) || v > max_pct + 1e-9)
+      throw InputError(fmt::format("{} {} is outside 0..{} % (the machine's maximum override)",
+                                   flag, v, max_pct));
+  return max_pct;
+}
+
 ProgramInput::ProgramInput(const std::string& path) : name_(path == "-" ? "<stdin>" : path) {
   std::string open_path = path;
   if (path == "-") {

@@ -43,6 +43,13 @@ void add_machine_flags(CLI::App* sub, MachineFlags& flags);
 /// The machine file (or the built-in machine) with the flags applied. Throws gm::InputError.
 Machine resolve_machine(const MachineFlags& flags);
 
+/// The run settings `run` and the golden cases share, checked against the machine: sets the
+/// machine's path tolerance (--tolerance, 0..1000 mm) when given, and refuses a feed or rapid
+/// override outside 0..the machine's maximum. Returns that maximum in percent. Throws
+/// gm::InputError naming the flag.
+double apply_run_limits(Machine& m, std::optional<double> tolerance_mm, double override_pct,
+                        double rapid_override_pct);
+
 /// A program opened for reading twice (validate, then run). `-` spools stdin to a temporary
 /// file first, so the same bytes are checked and run.
 class ProgramInput {

@@ -82,17 +82,8 @@ CaseOutput run_case(const Suite& s, const GoldenCase& c, const std::string& trac
     RunOptions o;
     o.config.machine = cli::resolve_machine(f.machine);
     o.config.servo = !f.machine.no_servo;
-    if (f.tolerance_mm) {
-      if (!(*f.tolerance_mm >= 0.0) || *f.tolerance_mm > 1000.0)
-        throw InputError(fmt::format("--tolerance {} is outside 0..1000 mm", *f.tolerance_mm));
-      o.config.machine.path_tolerance_mm = *f.tolerance_mm;
-    }
-    const double max_pct = o.config.machine.max_override * 100.0;
-    for (auto [flag, v] : {std::pair{"--override", f.override_pct},
-                           std::pair{"--rapid-override", f.rapid_override_pct}})
-      if (!(v >= 0.0) || v > max_pct + 1e-9)
-        throw InputError(fmt::format("{} {} is outside 0..{} % (the machine's maximum override)",
-                                     flag, v, max_pct));
+    const double max_pct = cli::apply_run_limits(o.config.machine, f.tolerance_mm, f.override_pct,
+                                                 f.rapid_override_pct);
     if (!f.override_file.empty())
       o.schedule = OverrideSchedule::load(under_root(s, f.override_file), max_pct);
 

@@ -142,7 +142,8 @@ TEST_CASE("machine_to_toml round-trips the default and a modified machine", "[ma
   m.max_override = 1.5;
   m.arc_rule = gm::ArcRule::G2core;
   m.tool_lengths_mm = {0.0, 12.345678901234567, -3.0};
-  m.work_offsets_mm[2] << 1.0 / 3.0, -2.5, 1e-9;
+  m.work_offsets_mm[2].head<3>() << 1.0 / 3.0, -2.5, 1e-9;  // the vector is nine wide (XYZABCUVW)
+  m.work_offsets_mm[2][3] = 22.5;                           // A, degrees
   m.axes[1].backlash_blu = 2.5;
   m.axes[1].kv_form = gm::VelocityLoopForm::Pi;
   m.axes[2].plant_num = {2.0};
