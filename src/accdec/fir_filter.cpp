@@ -175,29 +175,19 @@ void FirAccDec::convolve_fast(double* sums, int groups) const {
   }
 }
 
-// The common axis counts get a compile-time count (unrolled loops, known strides); the
-// others run the same code with the count read at run time (N = 0).
 void FirAccDec::step(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu) {
-  switch (axes_) {
-    case 3:
-      return step_n<3>(in_pos_blu, out_pos_blu);
-    case 4:
-      return step_n<4>(in_pos_blu, out_pos_blu);
-    case 6:
-      return step_n<6>(in_pos_blu, out_pos_blu);
-    default:
-      return step_n<0>(in_pos_blu, out_pos_blu);
-  }
+  with_axis_count(axes_, [&](auto n) { step_n<decltype(n)::value>(in_pos_blu, out_pos_blu); });
 }
 
 template <int N>
 void FirAccDec::step_n(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu) {
-  const int axes = N > 0 ? N : axes_;
-  if (in_pos_blu == last_in_) {
+  constexpr int axes = N;  // == axes_
+  const auto in = in_pos_blu.head<N>();
+  if (in == last_in_.head<N>()) {
     if (equal_run_ < length_) ++equal_run_;
   } else {
     equal_run_ = 1;
-    last_in_ = in_pos_blu;
+    last_in_.head<N>() = in;
   }
   head_ = head_ + 1 == length_ ? 0 : head_ + 1;  // the oldest slot becomes the newest
   const bool running = structure_ == FirStructure::RunningSum;
@@ -217,9 +207,9 @@ void FirAccDec::step_n(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu) {
     }
   }
   const bool fast = big_in_window_ == 0;  // every |rel| in the window <= fast_limit_
-  constexpr int kLanes = 4 * (((N > 0 ? N : kMaxAxes) + 3) / 4);
-  double sums[kLanes] = {};
-  if (fast && !running) convolve_fast(sums, N > 0 ? (N + 3) / 4 : groups_);
+  constexpr int kGroupsN = (N + 3) / 4;
+  double sums[4 * kGroupsN] = {};
+  if (fast && !running) convolve_fast(sums, kGroupsN);
   for (int a = 0; a < axes; ++a) {
     std::int64_t q;
     if (fast && !running && std::fabs(sums[a]) < kQuotientExact) {
@@ -241,5 +231,10 @@ void FirAccDec::step_n(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu) {
     out_pos_blu[a] = start_[a] + q;
   }
 }
+
+#define GM_FIR_STEP_N(N) \
+  template void FirAccDec::step_n<N>(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu);
+GM_FOR_EACH_AXIS_COUNT(GM_FIR_STEP_N)
+#undef GM_FIR_STEP_N
 
 }  // namespace gm

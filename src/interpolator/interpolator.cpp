@@ -9,20 +9,21 @@
 namespace gm {
 
 Interpolator::Interpolator(const InterpolatorConfig& cfg, CanonSource& source)
-    : cfg_(cfg), source_(source), xyz_(cfg.axes.is_xyz()), pos_mm_(cfg.start_mm) {}
+    : cfg_(cfg), source_(source), pos_mm_(cfg.start_mm) {
+  bool identity = true;
+  for (int a = 0; a < cfg_.axes.count; ++a) identity = identity && cfg_.axes.program(a) == a;
+  to_blu_ = with_axis_count(cfg_.axes.count, [&](auto n) {
+    constexpr int N = decltype(n)::value;
+    return identity ? &Interpolator::to_blu_n<N, true> : &Interpolator::to_blu_n<N, false>;
+  });
+}
 
-AxisBlu Interpolator::to_blu(const AxisVec& p_mm) const {
-  AxisBlu q;
-  if (xyz_) {  // the common machine: X, Y, Z in program order
-    q = AxisBlu::Zero();
-    for (int i = 0; i < 3; ++i) q[i] = round_half_away(p_mm[i] / cfg_.blu_mm[i]);
-    return q;
-  }
-  // Machine axis a is program axis cfg_.axes.index[a]; entries past the count stay 0.
-  q.setZero();
-  for (int a = 0; a < cfg_.axes.count; ++a)
-    q[a] = round_half_away(p_mm[cfg_.axes.index[static_cast<std::size_t>(a)]] / cfg_.blu_mm[a]);
-  return q;
+template <int N, bool Identity>
+void Interpolator::to_blu_n(AxisBlu& out) const {
+  // Machine axis a is program axis cfg_.axes.index[a].
+  for (int a = 0; a < N; ++a)
+    out[a] = round_half_away(pos_mm_[Identity ? a : cfg_.axes.index[static_cast<std::size_t>(a)]] /
+                             cfg_.blu_mm[a]);
 }
 
 double Interpolator::path_length_mm(const Motion& m) {
@@ -167,7 +168,7 @@ InterpStatus Interpolator::step(const OverrideInput& ovr, CommandSample& out) {
     has_block_ = false;
     return InterpStatus::Finished;
   }
-  out.pos_blu = to_blu(pos_mm_);
+  (this->*to_blu_)(out.pos_blu);
   out.line = line_;
   out.block_seq = block_seq_;
   out.events = events;

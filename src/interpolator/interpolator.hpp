@@ -69,12 +69,16 @@ class Interpolator {
  private:
   bool pull_next();  ///< loads the next motion or dwell; false at the end
   double block_speed_mm_s(const OverrideInput& ovr) const;
-  AxisBlu to_blu(const AxisVec& p_mm) const;
+  /// Writes pos_mm_ in BLU into entries 0..N-1 of `out` (machine order; the rest untouched).
+  /// `Identity`: machine axis a is program axis a (XYZ, XYZA, ..., all nine).
+  template <int N, bool Identity>
+  void to_blu_n(AxisBlu& out) const;
 
   InterpolatorConfig cfg_;
   CanonSource& source_;
   Canon scratch_;  ///< reused for every pull (no per-block allocation)
-  bool xyz_;       ///< the machine is X, Y, Z (to_blu's unrolled case)
+  /// to_blu_n for the machine's axis count and layout, chosen once (with_axis_count).
+  void (Interpolator::*to_blu_)(AxisBlu&) const = nullptr;
 
   Motion block_{};
   BlockGeometry geom_{};
