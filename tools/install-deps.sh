@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Installs the Debian packages gmotion's build, tests and tools need — only those missing.
 # Idempotent; quiet when nothing is missing; works as root or through sudo.
-# Usage: tools/install-deps.sh [--with-oracle] [--with-fuzz] [--with-bench]
+# Usage: tools/install-deps.sh [--with-oracle] [--with-fuzz] [--with-bench] [--with-browser]
 #   --with-oracle adds linuxcnc-uspace (rs274, for the differential tests);
 #   --with-fuzz adds clang-14 and libclang-rt-14-dev (libFuzzer and the sanitizers, tools/fuzz.sh);
-#   --with-bench adds GNU time (peak RSS in tools/bench.sh).
+#   --with-bench adds GNU time (peak RSS in tools/bench.sh);
+#   --with-browser adds chromium (the report_chromium test renders `gmotion report` headless).
 set -euo pipefail
 
 packages=(
@@ -18,7 +19,8 @@ for flag in "$@"; do
     --with-oracle) packages+=(linuxcnc-uspace) ;;
     --with-fuzz) packages+=(clang-14 libclang-rt-14-dev) ;;
     --with-bench) packages+=(time) ;;
-    *) echo "install-deps: unknown flag '$flag' (accepted: --with-oracle, --with-fuzz, --with-bench)" >&2; exit 2 ;;
+    --with-browser) packages+=(chromium) ;;
+    *) echo "install-deps: unknown flag '$flag' (accepted: --with-oracle, --with-fuzz, --with-bench, --with-browser)" >&2; exit 2 ;;
   esac
 done
 

@@ -321,12 +321,19 @@ def run_rs274(rs274: str, program_text: str, timeout: float = 120.0,
             tbl = os.path.join(tmp, "tools.tbl")
             Path(tbl).write_text(tool_table_inches(tool_table_mm))
             cmd += ["-t", tbl]
+        ini_text = ""
         if subroutine_path:
             # rs274 reads SUBROUTINE_PATH from an INI given with -i ([RS274NGC], absolute dirs);
             # its scratch working directory holds no .ngc, so only the path can supply a sub.
-            ini = os.path.join(tmp, "rs274.ini")
             dirs = ":".join(os.path.abspath(d) for d in subroutine_path.split(":") if d)
-            Path(ini).write_text(f"[RS274NGC]\nSUBROUTINE_PATH = {dirs}\n")
+            ini_text += f"[RS274NGC]\nSUBROUTINE_PATH = {dirs}\n"
+        if VAR_STATE is not None:
+            # The parameter file chained from program to program: -v names it, rs274 reads it at
+            # start and writes it at exit (Interp::init, Interp::exit), in inches (VarState).
+            cmd += ["-v", VAR_STATE.rs274_var]
+        if ini_text:
+            ini = os.path.join(tmp, "rs274.ini")
+            Path(ini).write_text(ini_text)
             cmd += ["-i", ini]
         cmd += ["-g", path]
         # Every run gets its own empty HOME: rs274 keeps its tool table in $HOME/.tool.mmap and
@@ -367,6 +374,63 @@ def parse_gmotion_output(text: str) -> list[Move]:
 SUBROUTINE_PATH: str | None = None  # --subroutine-path, given to every gmotion run
 
 
+def _var_is_length(n: int) -> bool:
+    """A length among the persistent parameters (X Y Z U V W of G28, G30, G92, G54-G59.3)."""
+    for base in [5161, 5181, 5211] + [5221 + 20 * k for k in range(9)]:
+        if base <= n < base + 9:
+            return (n - base) not in (3, 4, 5)  # A B C are degrees
+    return False
+
+
+def _read_var(path) -> dict:
+    out = {}
+    for line in Path(path).read_text().splitlines():
+        f = line.split()
+        if len(f) >= 2 and f[0].isdigit():
+            out[int(f[0])] = float(f[1])
+    return out
+
+
+class VarState:
+    """--var-file: one parameter file per side, carried from program to program (each run reads
+    the file the previous one wrote). gmotion gets a copy of programs/machines/default.toml naming
+    its file with `parameter_file`. gmotion's file is in mm (a LinuxCNC mm machine's); rs274 2.9's
+    standalone driver keeps its "user units" in inches (its [TRAJ]LINEAR_UNITS switch is not in
+    the packaged 2.9.0~pre1), so its lengths are divided by 25.4 in the seed and multiplied back
+    when the files are compared. (DEBUG of a length parameter differs the same way.)"""
+
+    def __init__(self, seed: str):
+        self.dir = tempfile.mkdtemp(prefix="rs274diff-var-")
+        self.rs274_var = os.path.join(self.dir, "rs274.var")
+        gm_var = os.path.join(self.dir, "gmotion.var")
+        if seed != "-":
+            shutil.copy(seed, gm_var)
+            vals = _read_var(seed)
+            Path(self.rs274_var).write_text("".join(
+                f"{n}\t{(v / MM_PER_INCH if _var_is_length(n) else v):.6f}\n" for n, v in sorted(vals.items())))
+        base = (HERE.parent / "programs" / "machines" / "default.toml").read_text()
+        self.machine = os.path.join(self.dir, "machine.toml")
+        Path(self.machine).write_text(base.replace("\n[", '\nparameter_file = "gmotion.var"\n\n[', 1))
+        self.gm_var = gm_var
+
+    def compare(self) -> str | None:
+        """None if both files hold the same numbers with values within print rounding."""
+        if not os.path.exists(self.rs274_var) or not os.path.exists(self.gm_var):
+            return (f"parameter file missing: rs274 {os.path.exists(self.rs274_var)}, "
+                    f"gmotion {os.path.exists(self.gm_var)}")
+        a, b = _read_var(self.rs274_var), _read_var(self.gm_var)
+        a = {n: (v * MM_PER_INCH if _var_is_length(n) else v) for n, v in a.items()}
+        if sorted(a) != sorted(b):
+            return f"numbers differ: only rs274 {sorted(set(a) - set(b))}, only gmotion {sorted(set(b) - set(a))}"
+        for n in sorted(a):
+            if abs(a[n] - b[n]) > 5e-5:  # rs274 prints %f inches
+                return f"#{n}: rs274 {a[n]} vs gmotion {b[n]}"
+        return None
+
+
+VAR_STATE: VarState | None = None
+
+
 def run_gmotion(gmotion: str, path: str, timeout: float = 120.0,
                 extra: list | None = None,
                 tool_table_path: str | None = None) -> tuple[bool, list, str]:
@@ -375,6 +439,8 @@ def run_gmotion(gmotion: str, path: str, timeout: float = 120.0,
         tools += ["--axes", GMOTION_AXES]
     if SUBROUTINE_PATH:
         tools += ["--subroutine-path", SUBROUTINE_PATH]
+    if VAR_STATE is not None:
+        tools += ["--machine", VAR_STATE.machine]
     p = subprocess.run([gmotion, "moves", path, "--messages"] + tools + (extra or []),
                        stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=timeout)
     if p.returncode != 0:
@@ -675,6 +741,13 @@ def main_compare(args) -> int:
              f" ({args.zero_dropped} zero-length G0/G1 moves of rs274 left out)"))
     for s in skipped:
         print(f"  skipped: {s}")
+    if VAR_STATE is not None:
+        why = VAR_STATE.compare()
+        if why:
+            print(f"MISMATCH parameter files after the last program: {why}")
+            counts["fail"] += 1
+        else:
+            print(f"rs274_diff: the parameter files written agree ({VAR_STATE.gm_var})")
     if counts["ok"] + counts["fail"] == 0 and not args.allow_empty:
         print("rs274_diff: nothing was compared")
         return 1
@@ -893,11 +966,17 @@ def main(argv=None) -> int:
                          "compared with rs274's too")
     ap.add_argument("--subroutine-path", metavar="DIR[:DIR]",
                     help="subroutine files for both sides (rs274: an INI's SUBROUTINE_PATH)")
+    ap.add_argument("--var-file", metavar="SEED|-",
+                    help="a LinuxCNC parameter file for both sides (rs274 -v, gmotion's machine "
+                         "parameter_file), carried through the programs in the order given, and the "
+                         "files written compared at the end ('-': start without one)")
     ap.add_argument("-v", "--verbose", action="store_true")
     args = ap.parse_args(argv)
-    global GMOTION_AXES, SUBROUTINE_PATH
+    global GMOTION_AXES, SUBROUTINE_PATH, VAR_STATE
     GMOTION_AXES = args.axes
     SUBROUTINE_PATH = args.subroutine_path
+    if args.var_file:
+        VAR_STATE = VarState(args.var_file)
     args.tol = Tol(args.tol_mm, args.tol_feed_rel)
     args.moves_compared = 0
     args.messages_compared = 0

@@ -3,6 +3,7 @@
 #include "accdec/profile_spec.hpp"
 #include "accdec/taps.hpp"
 #include "cli/commands.hpp"
+#include "cli/json_number.hpp"
 #include "common/status.hpp"
 #include "common/units.hpp"
 #include "planner/filter_moments.hpp"
@@ -19,14 +20,10 @@ namespace gm::cli {
 
 namespace {
 
-std::string jnum(double v) {
-  return std::isfinite(v) ? fmt::format("{}", v) : "null";
-}
-
 std::string jtaps(const Taps& t) {
   std::string s = fmt::format("\"profile\":\"{}\",\"N\":{},\"cutoff\":{},\"taps\":[", t.profile,
-                              t.N, jnum(t.cutoff));
-  for (std::size_t i = 0; i < t.real.size(); ++i) s += (i ? "," : "") + jnum(t.real[i]);
+                              t.N, json_number(t.cutoff));
+  for (std::size_t i = 0; i < t.real.size(); ++i) s += (i ? "," : "") + json_number(t.real[i]);
   s += "],\"taps_int\":[";
   for (std::size_t i = 0; i < t.integer.size(); ++i)
     s += fmt::format("{}{}", i ? "," : "", t.integer[i]);
@@ -67,15 +64,16 @@ void run_radius(const RadiusOptions& o) {
                     1000.0 * radius_loss_linear_approx(o.radius_mm, v_mm_s, o.tau_s)});
   }
   if (o.json) {
-    std::string s = "{" + jtaps(t) +
-                    fmt::format(",\"tau\":{},\"period\":{},\"radius_mm\":{},\"rows\":[",
-                                jnum(o.tau_s), jnum(o.period_s), jnum(o.radius_mm));
+    std::string s =
+        "{" + jtaps(t) +
+        fmt::format(",\"tau\":{},\"period\":{},\"radius_mm\":{},\"rows\":[", json_number(o.tau_s),
+                    json_number(o.period_s), json_number(o.radius_mm));
     for (std::size_t i = 0; i < rows.size(); ++i) {
-      s += fmt::format("{}{{\"feed_mm_min\":{},\"sampled_um\":{}", i ? "," : "", jnum(rows[i].feed),
-                       jnum(rows[i].sampled));
+      s += fmt::format("{}{{\"feed_mm_min\":{},\"sampled_um\":{}", i ? "," : "",
+                       json_number(rows[i].feed), json_number(rows[i].sampled));
       if (linear)
-        s += fmt::format(",\"continuous_um\":{},\"approx_um\":{}", jnum(rows[i].cont),
-                         jnum(rows[i].approx));
+        s += fmt::format(",\"continuous_um\":{},\"approx_um\":{}", json_number(rows[i].cont),
+                         json_number(rows[i].approx));
       s += "}";
     }
     fmt::print("{}]}}\n", s);
@@ -110,14 +108,15 @@ void run_response(const ResponseOptions& o) {
     a_int = amplitude_response(applied, std::numbers::pi * f_norm);
   };
   if (o.json) {
-    std::string s =
-        "{" + jtaps(t) +
-        fmt::format(",\"tau\":{},\"period\":{},\"response\":[", jnum(o.tau_s), jnum(o.period_s));
+    std::string s = "{" + jtaps(t) +
+                    fmt::format(",\"tau\":{},\"period\":{},\"response\":[", json_number(o.tau_s),
+                                json_number(o.period_s));
     for (int j = 0; j < o.points; ++j) {
       double f, a, ai;
       sample(j, f, a, ai);
       s += fmt::format("{}{{\"f_norm\":{},\"f_hz\":{},\"amplitude\":{},\"amplitude_int\":{}}}",
-                       j ? "," : "", jnum(f), jnum(f * nyquist_hz), jnum(a), jnum(ai));
+                       j ? "," : "", json_number(f), json_number(f * nyquist_hz), json_number(a),
+                       json_number(ai));
     }
     fmt::print("{}]}}\n", s);
     return;

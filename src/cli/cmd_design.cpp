@@ -5,6 +5,7 @@
 #include "accdec/profiles.hpp"
 #include "accdec/taps.hpp"
 #include "cli/commands.hpp"
+#include "cli/json_number.hpp"
 
 #include <fmt/format.h>
 
@@ -30,17 +31,13 @@ struct DesignOptions {
 };
 
 // A JSON number (shortest round-trip form), or null when not finite.
-std::string jnum(double v) {
-  return std::isfinite(v) ? fmt::format("{}", v) : "null";
-}
-
 template <typename T>
 std::string jarray(const std::vector<T>& v) {
   std::string s = "[";
   for (std::size_t i = 0; i < v.size(); ++i) {
     if (i) s += ",";
     if constexpr (std::is_floating_point_v<T>)
-      s += jnum(v[i]);
+      s += json_number(v[i]);
     else
       s += fmt::format("{}", v[i]);
   }
@@ -65,20 +62,22 @@ void print_json(const DesignOptions& o, const std::vector<DesignAttempt>& attemp
   const Taps& t = a.taps;
   std::string s = "{";
   s += fmt::format("\"profile\":{},\"period\":{},\"tau_initial\":{},\"tau\":{},", jstr(t.profile),
-                   jnum(o.period_s), jnum(o.tau_s), jnum(a.tau_s));
-  s += fmt::format("\"N\":{},\"cutoff\":{},\"max_nonneg_cutoff\":{},", t.N, jnum(t.cutoff),
-                   jnum(t.max_nonneg_cutoff));
+                   json_number(o.period_s), json_number(o.tau_s), json_number(a.tau_s));
+  s += fmt::format("\"N\":{},\"cutoff\":{},\"max_nonneg_cutoff\":{},", t.N, json_number(t.cutoff),
+                   json_number(t.max_nonneg_cutoff));
   s += fmt::format("\"taps\":{},\"taps_int\":{},\"b_s\":{},\"integer_exact\":{},", jarray(t.real),
                    jarray(t.integer), t.b_s, t.integer_exact ? "true" : "false");
-  s += fmt::format("\"quantisation_error\":{},", jnum(quantisation_error(t)));
+  s += fmt::format("\"quantisation_error\":{},", json_number(quantisation_error(t)));
   s += fmt::format(
       "\"v_step\":{},\"peak_velocity\":{},\"peak_accel\":{},\"peak_force\":{},"
       "\"peak_power\":{},\"profile_force\":{},\"profile_power\":{},",
-      jnum(o.limits.v_step_m_s), jnum(a.peak_velocity_m_s), jnum(a.peak_accel_m_s2),
-      jnum(a.peak_force_N), jnum(a.peak_power_W), jnum(a.profile_force_N), jnum(a.profile_power_W));
+      json_number(o.limits.v_step_m_s), json_number(a.peak_velocity_m_s),
+      json_number(a.peak_accel_m_s2), json_number(a.peak_force_N), json_number(a.peak_power_W),
+      json_number(a.profile_force_N), json_number(a.profile_power_W));
   s += fmt::format("\"limits\":{{\"vmax\":{},\"mass\":{},\"damping\":{},\"fmax\":{},\"pmax\":{}}},",
-                   jnum(o.limits.v_max_m_s), jnum(o.limits.mass_kg), jnum(o.limits.damping_kg_s),
-                   jnum(o.limits.f_max_N), jnum(o.limits.p_max_W));
+                   json_number(o.limits.v_max_m_s), json_number(o.limits.mass_kg),
+                   json_number(o.limits.damping_kg_s), json_number(o.limits.f_max_N),
+                   json_number(o.limits.p_max_W));
   s += fmt::format("\"v_ok\":{},\"f_ok\":{},\"p_ok\":{},\"ok\":{},\"attempts\":[",
                    a.v_ok ? "true" : "false", a.f_ok ? "true" : "false", a.p_ok ? "true" : "false",
                    a.ok() ? "true" : "false");
@@ -87,8 +86,8 @@ void print_json(const DesignOptions& o, const std::vector<DesignAttempt>& attemp
     s += fmt::format(
         "{}{{\"tau\":{},\"N\":{},\"cutoff\":{},\"b_s\":{},\"peak_accel\":{},"
         "\"peak_force\":{},\"peak_power\":{},\"ok\":{}}}",
-        i ? "," : "", jnum(x.tau_s), x.taps.N, jnum(x.taps.cutoff), x.taps.b_s,
-        jnum(x.peak_accel_m_s2), jnum(x.peak_force_N), jnum(x.peak_power_W),
+        i ? "," : "", json_number(x.tau_s), x.taps.N, json_number(x.taps.cutoff), x.taps.b_s,
+        json_number(x.peak_accel_m_s2), json_number(x.peak_force_N), json_number(x.peak_power_W),
         x.ok() ? "true" : "false");
   }
   s += "]}";

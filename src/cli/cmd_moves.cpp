@@ -115,6 +115,7 @@ void add_moves(CLI::App& app, Context& ctx) {
       return;
     }
     std::istream* in = &program.rewind();
+    io.save_parameters = true;  // the parameter file is written once, after the real pass
     ProgramStream stream(*in, name, io);
     Canon c;
     while (stream.next(c)) {

@@ -1,184 +1,18 @@
 // gmotion run: the whole pipeline on a program, streaming a trace and printing a summary.
 #include "cli/commands.hpp"
-#include "cli/language_flags.hpp"
-#include "cli/run_setup.hpp"
-#include "common/status.hpp"
-#include "override/override_schedule.hpp"
-#include "pipeline/run.hpp"
-#include "trace/trace_writer.hpp"
+#include "cli/run_flags.hpp"
 
-#include <fmt/format.h>
-
-#include <unistd.h>
-#include <csignal>
-#include <cstdio>
-#include <exception>
-#include <fstream>
 #include <memory>
-#include <optional>
 
 namespace gm::cli {
-namespace {
-
-volatile std::sig_atomic_t g_interrupted = 0;
-extern "C" void on_sigint(int) {
-  g_interrupted = 1;
-}
-
-struct RunFlags {
-  std::string program;
-  MachineFlags machine;
-  LanguageFlags language;
-  std::string trace_path;
-  std::string trace_format = "csv";
-  int decimate = 1;
-  std::string summary_json;
-  double override_pct = 100.0;
-  double rapid_override_pct = 100.0;
-  std::string override_file;
-  std::string record_override;
-  bool realtime = false;
-  double max_time_s = 0.0;
-  bool keep_partial = false;
-  std::optional<double> tolerance_mm;  ///< --tolerance: the machine's path_tolerance_mm
-  bool check_tolerance = false;        ///< --check-tolerance: exit 1 if a sample exceeds it
-};
-
-int run(const RunFlags& f, std::unique_ptr<Run>& run_out) {
-  // Caught from the start, so an interrupt during the check of a long program is not lost
-  // (a background job's SIGINT is otherwise ignored); the run stops at its first sample.
-  std::signal(SIGINT, on_sigint);
-  std::signal(SIGTERM, on_sigint);
-  RunOptions o;
-  o.config.machine = resolve_machine(f.machine);
-  o.config.servo = !f.machine.no_servo;
-  const double max_pct =
-      apply_run_limits(o.config.machine, f.tolerance_mm, f.override_pct, f.rapid_override_pct);
-  if (!f.override_file.empty()) o.schedule = OverrideSchedule::load(f.override_file, max_pct);
-
-  ProgramInput program(f.program);
-  InterpreterOptions opts;
-  opts.machine = &o.config.machine;
-  opts.block_delete = f.machine.block_delete;
-  apply_language_flags(f.language, o.config.machine, opts);
-  if (!validate_program(program, opts)) return static_cast<int>(ExitCode::InputError);
-
-  o.program_name = program.name();
-  o.feed_override_pct = f.override_pct;
-  o.rapid_override_pct = f.rapid_override_pct;
-  if (f.realtime) o.live_fd = STDIN_FILENO;
-  o.trace_path = f.trace_path;
-  o.trace_format = f.trace_format == "bin" ? TraceFormat::Binary : TraceFormat::Csv;
-  o.decimate = f.decimate;
-  o.keep_partial = f.keep_partial;
-  o.record_override_path = f.record_override;
-  if (isatty(STDERR_FILENO) != 0)
-    o.progress = [name = program.name()](const SampleRecord& r) {
-      fmt::print(stderr, "\r{}: t = {:.1f} s, line {}   ", name, r.t_s, r.line);
-    };
-  o.max_time_s = f.max_time_s;
-  o.interrupted = &g_interrupted;
-  run_out = std::make_unique<Run>(std::move(o), program.rewind(), opts);
-  Run& run = *run_out;
-
-  RunStatus st;
-  while ((st = run.step()) == RunStatus::Working) {
-  }
-  if (run.progress_shown()) fmt::print(stderr, "\n");
-
-  const RunConfig& cfg = run.config();
-  std::FILE* text_out = f.trace_path == "-" ? stderr : stdout;
-  fmt::print(text_out, "{}: {} on {} ({}, tau {} s, T {} s, {} taps, servo {})\n", program.name(),
-             "gmotion run", cfg.machine.name, cfg.machine.profile, cfg.machine.tau_s,
-             cfg.machine.period_s, run.pipeline().taps().integer.size(), cfg.servo ? "on" : "off");
-  fmt::print(text_out, "tool table {} ({} tools)\n", cfg.machine.tool_table.source,
-             cfg.machine.tool_table.tools.size());
-  fmt::print(text_out, "{}", run.summary().text());
-  fmt::print(text_out, "{}", run.tolerance().text());
-  if (!f.summary_json.empty()) {
-    std::ofstream js(f.summary_json);
-    js << run.summary().json();
-    if (!js) throw InputError(fmt::format("cannot write summary '{}'", f.summary_json));
-  }
-  if (f.check_tolerance && run.tolerance().exceeded()) {
-    fmt::print(stderr, "gmotion run: --check-tolerance: {} samples exceed the tolerance in force\n",
-               run.tolerance().cutting().over + run.tolerance().rapids().over);
-    return static_cast<int>(ExitCode::InputError);
-  }
-  return st == RunStatus::Finished ? 0 : static_cast<int>(ExitCode::InputError);
-}
-
-// run(); with --keep-partial a run that fails keeps the trace written so far as FILE.partial, its
-// status line saying why, and leaves main a note of where it is.
-int run_keeping_partial(const RunFlags& f, Context& ctx) {
-  std::unique_ptr<Run> run_state;
-  auto keep = [&](const std::string& reason) {
-    if (!f.keep_partial || !run_state) return;
-    const std::optional<std::string> kept = run_state->keep_partial(reason);
-    if (!kept) return;
-    ctx.note = kept->empty() ? "no partial trace could be kept (its header was never written)"
-                             : fmt::format("partial trace kept at {}", *kept);
-  };
-  try {
-    const int rc = run(f, run_state);
-    if (rc != 0) keep(run_state ? run_state->unsettled_reason() : "");
-    return rc;
-  } catch (const std::exception& e) {
-    keep(e.what());
-    throw;
-  }
-}
-
-}  // namespace
 
 void add_run(CLI::App& app, Context& ctx) {
   auto flags = std::make_shared<RunFlags>();
   auto* sub = app.add_subcommand("run", "Run the whole pipeline on a program: trace and summary");
-  sub->add_option("program", flags->program, "G-code program (.nc, .ngc), or - for stdin")
-      ->required();
-  add_machine_flags(sub, flags->machine);
-  add_language_flags(sub, flags->language);
-  auto* trace = sub->add_option("--trace", flags->trace_path,
-                                "Write the per-sample encoder trace here (- = stdout)");
-  sub->add_option("--trace-format", flags->trace_format, "csv or bin")
-      ->check(CLI::IsMember({"csv", "bin"}));
-  sub->add_option("--decimate", flags->decimate, "Write every K-th sample")
-      ->check(CLI::PositiveNumber);
-  sub->add_option("--summary-json", flags->summary_json, "Write the summary as JSON to this file");
-  sub->add_option("--override", flags->override_pct,
-                  "Feed override at the start, percent (default 100)");
-  sub->add_option("--rapid-override", flags->rapid_override_pct,
-                  "Rapid override at the start, percent (default 100)");
-  sub->add_option(
-      "--override-file", flags->override_file,
-      "Override schedule: lines t_s,percent | line:N,percent | t_s,rapid=percent; # comments");
-  sub->add_flag(
-      "--realtime", flags->realtime,
-      "Pace the run at wall-clock speed and read override changes from stdin, one a line: "
-      "75 | rapid 25 | + | - | hold");
-  sub->add_option(
-      "--record-override", flags->record_override,
-      "Write the overrides in effect as a schedule that --override-file replays exactly");
-  sub->add_option("--max-time", flags->max_time_s,
-                  "Stop the run (exit 1) when simulated time passes this, s");
-  sub->add_flag(
-         "--keep-partial", flags->keep_partial,
-         "When the run fails, keep the trace written so far as FILE.partial; a '# status:' header "
-         "line says whether the trace is complete or why it is partial")
-      ->needs(trace);
-  sub->add_option("--tolerance", flags->tolerance_mm,
-                  "Contour tolerance under G64 without P, mm (the machine's path_tolerance_mm; "
-                  "0 = unbounded)");
-  sub->add_flag("--check-tolerance", flags->check_tolerance,
-                "Exit 1 when any sample's contour error exceeds the tolerance in force");
+  add_run_flags(sub, *flags);
   sub->callback([flags, &ctx] {
-    if (flags->keep_partial && TraceWriter::written_in_place(flags->trace_path))
-      throw CLI::ValidationError(
-          "--keep-partial", fmt::format("--trace {} is written in place (stdout, a device or a "
-                                        "FIFO), so no partial trace can be kept apart from it; "
-                                        "write the trace to a file",
-                                        flags->trace_path));
-    ctx.exit_code = run_keeping_partial(*flags, ctx);
+    validate_run_flags(*flags);
+    ctx.exit_code = run_with_flags(*flags, ctx);
   });
 }
 

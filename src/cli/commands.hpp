@@ -22,5 +22,6 @@ void add_run(CLI::App& app, Context& ctx);      ///< gmotion run PROGRAM (the wh
 void add_diff(CLI::App& app, Context& ctx);     ///< gmotion diff A B (trace comparison)
 void add_compare(CLI::App& app, Context& ctx);  ///< gmotion compare PROGRAM (profiles side by side)
 void add_golden(CLI::App& app, Context& ctx);   ///< gmotion golden record|verify SUITE
+void add_report(CLI::App& app, Context& ctx);   ///< gmotion report PROGRAM -o PAGE.html
 
 }  // namespace gm::cli

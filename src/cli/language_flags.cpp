@@ -19,6 +19,7 @@ void apply_language_flags(const LanguageFlags& f, const Machine& machine,
   opts.subroutine_path = SubroutinePath::split(f.subroutine_path);
   for (const std::string& dir : machine.subroutine_path) opts.subroutine_path.push_back(dir);
   opts.max_iterations = f.max_iterations;
+  opts.parameter_file = machine.parameter_file;
 }
 
 }  // namespace gm::cli

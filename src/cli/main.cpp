@@ -27,6 +27,7 @@ int run_main(int argc, char** argv) {
   gm::cli::add_design(app, ctx);
   gm::cli::add_analyze(app, ctx);
   gm::cli::add_golden(app, ctx);
+  gm::cli::add_report(app, ctx);
 
   int code = 0;
   try {

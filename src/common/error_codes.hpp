@@ -70,6 +70,8 @@ enum class ErrorCode : int {
   SubroutineRedefined = 246,  ///< a second `sub` with a label already defined elsewhere
   SubroutineFile = 247,       ///< a subroutine file that cannot be read (any more)
   PolarMisused = 248,         ///< @/^ with X/Y, with G53, or indeterminate at the origin
+  ParameterFile = 249,        ///< the machine's .var file cannot be read or written, or is corrupt
+  SubprogramMisused = 250,    ///< M98 without P, M98/M99 where the dialect has no subprograms
   // Machine-side codes (offsets, tools, cycles) ------------------------------------------------
   G53Misused = 260,         ///< G53 with a motion other than G0/G1, or in G91 (LinuxCNC)
   BadLWord = 261,           ///< G10 without L or with an L it does not know; cycle L not >= 1
@@ -185,6 +187,10 @@ inline constexpr std::array kErrorTable{
               "A subroutine file found on the path cannot be read"},
     ErrorInfo{ErrorCode::PolarMisused, "polar coordinates misused",
               "@ and ^ replace X and Y; at the origin a direction is needed"},
+    ErrorInfo{ErrorCode::ParameterFile, "parameter file",
+              "The machine's parameter file (.var) cannot be read or written, or is corrupt"},
+    ErrorInfo{ErrorCode::SubprogramMisused, "subprogram misused",
+              "M98 needs P (the subprogram number); M99 ends a subprogram or repeats the program"},
     ErrorInfo{ErrorCode::G53Misused, "G53 misused",
               "G53 needs G0 or G1 and absolute distance mode (G90)"},
     ErrorInfo{ErrorCode::BadLWord, "bad L word", "L has a value this code does not accept"},

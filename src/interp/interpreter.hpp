@@ -14,6 +14,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -124,6 +125,11 @@ class Interpreter {
   /// (LinuxCNC leave_context). `line` is the returning line; false with `err` on an error.
   bool leave_call(int level, int line, std::vector<Canon>& out, InterpError& err);
   const SystemTables& tables() const { return tables_; }
+  /// Starts from the persistent parameters of a .var file, as LinuxCNC's Interp::init does
+  /// after reading it (lang's interp/restore_parameters.cpp): G28/G30 positions, G54-G59.3
+  /// offsets, the coordinate system #5220 (1-9, else G54) and G92's offsets, applied if #5210
+  /// is set. `par(n)` is #n (mm, degrees).
+  void restore_system_parameters(const std::function<double(int)>& par);
   /// Changes whenever a block changed the tables (so their parameters need writing again).
   std::uint64_t tables_version() const { return tables_version_; }
   /// Sum of all offsets from program to machine coordinates under the current state, mm.

@@ -1,13 +1,18 @@
 // The parameter store: numbered, named local/global and predefined parameters, the .var file.
 #include "interp/parameters.hpp"
 
+#include "common/error_codes.hpp"
+
 #include <fmt/format.h>
 
+#include <cctype>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
-#include <sstream>
 
 namespace gm {
 
@@ -74,28 +79,73 @@ void ParameterStore::pop_frame() {
   frames_.pop_back();
 }
 
-bool ParameterStore::load_var_file(const std::string& path, std::string& error) {
+bool ParameterStore::load_var_file(const std::string& path, Diagnostic& error) {
+  error = Diagnostic{};
+  error.code = static_cast<int>(ErrorCode::ParameterFile);
+  error.file = path;
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec) && !ec) return true;  // created at the first save
   std::ifstream in(path);
   if (!in) {
-    error = fmt::format("cannot read parameter file '{}'", path);
+    error.loc = SourceLoc{1, 1};
+    error.message = fmt::format("cannot read parameter file '{}': {}", path, std::strerror(errno));
     return false;
   }
+  std::vector<double> values(numbered_.size(), 0.0);
+  std::vector<bool> seen(numbered_.size(), false);
   std::string line;
   int line_no = 0;
+  long last = 0;
+  const auto fail = [&](std::size_t column, std::string message) {
+    error.loc = SourceLoc{line_no, static_cast<int>(column) + 1};
+    error.message = std::move(message);
+    error.source_line = line.size() <= 512 ? line : std::string();
+    return false;
+  };
   while (std::getline(in, line)) {
     ++line_no;
-    const auto first = line.find_first_not_of(" \t\r");
-    if (first == std::string::npos) continue;
-    if (line[first] < '0' || line[first] > '9') continue;  // LinuxCNC skips such lines
-    std::istringstream ls(line);
-    long n = 0;
-    double v = 0.0;
-    if (!(ls >> n >> v) || n < kFirst || n > kLast) {
-      error = fmt::format("{}:{}: expected 'number value' with number 1-{}", path, line_no, kLast);
-      return false;
-    }
-    numbered_[static_cast<std::size_t>(n)] = v;
-    from_file_[static_cast<std::size_t>(n)] = true;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const char* begin = line.c_str();
+    const char* p = begin;
+    while (*p == ' ' || *p == '\t') ++p;
+    const std::size_t number_col = static_cast<std::size_t>(p - begin);
+    const bool sign = *p == '-' || *p == '+';
+    if (!(std::isdigit(static_cast<unsigned char>(p[sign ? 1 : 0])) != 0))
+      continue;  // not 'number value': LinuxCNC passes over it
+    char* end = nullptr;
+    errno = 0;
+    const long n = std::strtol(p, &end, 10);
+    if (errno != 0 || n < kFirst || n > kLast)
+      return fail(number_col,
+                  fmt::format("parameter number {} out of range 1-{} in the "
+                              "parameter file",
+                              std::string(p, static_cast<std::size_t>(end - p)), kLast));
+    if (n <= last)
+      return fail(number_col, fmt::format("parameter #{} out of order in the parameter file "
+                                          "(numbers must increase; #{} came before)",
+                                          n, last));
+    p = end;
+    while (*p == ' ' || *p == '\t') ++p;
+    const std::size_t value_col = static_cast<std::size_t>(p - begin);
+    errno = 0;
+    const double v = std::strtod(p, &end);
+    if (end == p || !std::isfinite(v))
+      return fail(value_col, fmt::format("expected a number after parameter #{} in the "
+                                         "parameter file",
+                                         n));
+    last = n;
+    values[static_cast<std::size_t>(n)] = v;
+    seen[static_cast<std::size_t>(n)] = true;
+  }
+  if (in.bad()) {
+    error.loc = SourceLoc{line_no + 1, 1};
+    error.message = fmt::format("cannot read parameter file '{}'", path);
+    return false;
+  }
+  // Interp::restore_parameters: every numbered parameter not in the file is 0.
+  for (std::size_t n = 1; n < numbered_.size(); ++n) {
+    numbered_[n] = values[n];
+    from_file_[n] = seen[n];
   }
   return true;
 }
@@ -107,7 +157,7 @@ bool ParameterStore::save_var_file(const std::string& path, std::string& error) 
       text += fmt::format("{}\t{:.6f}\n", n, numbered_[static_cast<std::size_t>(n)]);
   std::ofstream out(path, std::ios::trunc);
   if (!out || !(out << text) || !out.flush()) {
-    error = fmt::format("cannot write parameter file '{}'", path);
+    error = fmt::format("cannot write parameter file '{}': {}", path, std::strerror(errno));
     return false;
   }
   return true;

@@ -2,6 +2,8 @@
 // parameters, predefined read-only ones supplied by the interpreter, and the `.var` file.
 #pragma once
 
+#include "common/diagnostic.hpp"
+
 #include <array>
 #include <cstddef>
 #include <functional>
@@ -42,9 +44,13 @@ class ParameterStore {
   static bool valid(int n) { return n >= kFirst && n <= kLast; }
   /// #5400-#5413 and #5420-#5428: a program cannot set them.
   static bool read_only(int n) { return (n >= 5400 && n <= 5413) || (n >= 5420 && n <= 5428); }
-  /// Saved in the parameter file: G28, G30, G92, the coordinate system and G54-G59.3.
+  /// Always saved in the parameter file (LinuxCNC's _required_parameters): G28 #5161-#5169,
+  /// G30 #5181-#5189, G92 #5210-#5219, the coordinate system #5220 and, for each of G54-G59.3,
+  /// #5221+20k .. #5230+20k (X..W and the XY rotation R).
   static bool persistent(int n) {
-    return (n >= 5161 && n <= 5169) || (n >= 5181 && n <= 5189) || (n >= 5210 && n <= 5390);
+    if ((n >= 5161 && n <= 5169) || (n >= 5181 && n <= 5189) || (n >= 5210 && n <= 5220))
+      return true;
+    return n >= 5221 && n <= 5390 && (n - 5221) % 20 < 10;
   }
 
   /// The value of #n (`n` must be valid): live values come from the provider.
@@ -77,11 +83,15 @@ class ParameterStore {
   void pop_frame();
   std::size_t depth() const { return frames_.size() - 1; }
 
-  /// Reads a LinuxCNC `.var` file (lines `number value`; other lines ignored). False with
-  /// `error` set if it cannot be read or a line is malformed. The numbers read are remembered
-  /// and written back by save_var_file together with the persistent ones.
-  bool load_var_file(const std::string& path, std::string& error);
-  /// Writes the persistent parameters and those loaded, sorted, `number<TAB>value`.
+  /// Reads a LinuxCNC `.var` file as Interp::restore_parameters does: lines `number value`
+  /// with increasing numbers in 1..5601 set those parameters, every other numbered parameter
+  /// becomes 0, lines that do not start with a number are ignored. A missing file is not an
+  /// error (nothing changes). False with `error` located in the file (`error.file` = path)
+  /// when it cannot be read or is corrupt: a number out of range or out of order, a number
+  /// without a finite value. The numbers read are remembered and written back by save_var_file.
+  bool load_var_file(const std::string& path, Diagnostic& error);
+  /// Writes the persistent parameters and those loaded, in increasing order, `number<TAB>%f`
+  /// (Interp::save_parameters' lines). Writes that one file only (no backup, no temporary).
   bool save_var_file(const std::string& path, std::string& error) const;
 
  private:

@@ -16,6 +16,7 @@
 
 #include <fmt/format.h>
 
+#include <cstdio>
 #include <exception>
 #include <fstream>
 #include <string>
@@ -262,8 +263,10 @@ class ProgramRunner {
         interp_(machine_),
         state_params_(interp_),
         files_(opts.subroutine_path),
-        flow_(params_, opts.max_iterations, &files_) {
+        flow_(params_, opts.max_iterations, &files_),
+        parameter_file_(opts.parameter_file) {
     params_.set_provider(&state_params_);
+    if (!parameter_file_.empty()) load_parameters();
   }
   ProgramRunner(const ProgramRunner&) = delete;
   ProgramRunner& operator=(const ProgramRunner&) = delete;
@@ -272,6 +275,7 @@ class ProgramRunner {
   /// Returns false when the program is over (end code or closing %).
   bool process(ParsedLine& p, std::vector<Canon>& out, std::vector<Diagnostic>& diags,
                FlowJump& jump) {
+    if (start_failed(diags)) return false;
     const std::size_t first = diags.size();
     const bool more = process_line(p, out, diags, jump);
     if (p.file > 0)
@@ -374,7 +378,7 @@ class ProgramRunner {
   /// The input (file `file`) ended after line `last_line` (0: empty input): reports a missing
   /// program end.
   void end_of_input(int last_line, std::vector<Diagnostic>& diags, int file = 0) {
-    if (done_) return;
+    if (start_failed(diags) || done_) return;
     done_ = true;
     InterpError err;
     int err_file = 0;
@@ -398,6 +402,21 @@ class ProgramRunner {
   }
 
   bool done() const { return done_; }
+
+  /// Writes the parameters to the parameter file (if one is named and it was read), once.
+  void save_parameters(std::vector<Diagnostic>& diags) {
+    if (parameter_file_.empty() || !parameters_loaded_ || parameters_saved_) return;
+    parameters_saved_ = true;
+    export_system_parameters();
+    std::string error;
+    if (!params_.save_var_file(parameter_file_, error))
+      diags.push_back(Diagnostic{Severity::Error,
+                                 static_cast<int>(ErrorCode::ParameterFile),
+                                 SourceLoc{1, 1},
+                                 error,
+                                 {},
+                                 parameter_file_});
+  }
   const std::string& filename() const { return filename_; }
   const ParameterStore& parameters() const { return params_; }
   const Machine& machine() const { return machine_; }
@@ -509,6 +528,30 @@ class ProgramRunner {
   }
   bool first_content_seen_ = false;
   std::int64_t blocks_ = 0;
+
+  // The parameter file: read before the first line (its offsets apply, LinuxCNC Interp::init);
+  // an error there is reported with the first line processed and stops the program.
+  void load_parameters() {
+    Diagnostic d;
+    if (!params_.load_var_file(parameter_file_, d)) {
+      start_error_.push_back(std::move(d));
+      return;
+    }
+    parameters_loaded_ = true;
+    interp_.restore_system_parameters([this](int n) { return params_.get(n); });
+    export_system_parameters();
+  }
+  bool start_failed(std::vector<Diagnostic>& diags) {
+    if (start_error_.empty()) return false;
+    for (Diagnostic& d : start_error_) diags.push_back(std::move(d));
+    start_error_.clear();
+    done_ = true;
+    return true;
+  }
+  std::string parameter_file_;
+  std::vector<Diagnostic> start_error_;
+  bool parameters_loaded_ = false;
+  bool parameters_saved_ = false;
 };
 
 /// Where the serial driver reads: the program, or a subroutine file after a call jumped there.
@@ -572,6 +615,8 @@ class SerialRunner {
     return more;
   }
   const ProgramRunner& back() const { return back_; }
+  /// The program is over: writes the parameter file (once).
+  void finish(std::vector<Diagnostic>& diags) { back_.save_parameters(diags); }
 
  private:
   LineParser front_;
@@ -758,9 +803,17 @@ CheckSummary check_program_diagnostics(std::istream& in, std::string_view filena
 }
 
 ProgramStream::ProgramStream(std::istream& in, std::string filename, InterpreterOptions opts)
-    : runner_(std::make_unique<SerialRunner>(in, std::move(filename), opts)) {}
+    : runner_(std::make_unique<SerialRunner>(in, std::move(filename), opts)),
+      save_parameters_(opts.save_parameters) {}
 
-ProgramStream::~ProgramStream() = default;
+ProgramStream::~ProgramStream() {
+  // A run stopped early (time limit, interrupt) still writes the parameters, as rs274 at exit.
+  if (!save_parameters_) return;
+  std::vector<Diagnostic> diags;
+  runner_->finish(diags);
+  for (const auto& d : diags)
+    std::fputs(format_diagnostic(runner_->back().filename(), d).c_str(), stderr);
+}
 
 bool ProgramStream::next(Canon& out) {
   while (head_ >= queue_.size()) {
@@ -769,6 +822,9 @@ bool ProgramStream::next(Canon& out) {
     diags_.clear();
     const bool more = runner_->step(queue_, diags_);
     bool error = false;
+    for (const auto& d : diags_) error = error || d.severity == Severity::Error;
+    if (save_parameters_ && (error || (!more && queue_.empty()))) runner_->finish(diags_);
+    error = false;
     for (const auto& d : diags_) error = error || d.severity == Severity::Error;
     if (error) {
       std::string msg;

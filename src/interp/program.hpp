@@ -22,6 +22,13 @@ struct InterpreterOptions {
   /// Directories where `o<name> call` finds `name.ngc` (LinuxCNC's SUBROUTINE_PATH); empty:
   /// no file is ever opened for a call.
   std::vector<std::string> subroutine_path{};
+  /// LinuxCNC's parameter file (`.var`, the machine's `parameter_file`); empty: none. Read
+  /// before the first line (a missing file is not an error); the offsets in it apply.
+  std::string parameter_file{};
+  /// ProgramStream writes the parameters back to `parameter_file` when the program is over
+  /// (ended, stopped at an error, or the stream destroyed), as rs274 does at exit. check_program
+  /// never writes.
+  bool save_parameters = false;
 };
 
 struct CheckSummary {
@@ -69,6 +76,7 @@ class ProgramStream : public CanonSource {
   std::vector<Canon> queue_;  ///< canon of the current line (reused)
   std::size_t head_ = 0;
   std::vector<Diagnostic> diags_;
+  bool save_parameters_ = false;
 };
 
 }  // namespace gm

@@ -7,6 +7,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -186,26 +187,58 @@ TEST_CASE("the parameter store: LinuxCNC's table and the .var file") {
   const std::string path = (dir / ("gm_params_" + std::to_string(::getpid()) + ".var")).string();
   std::string err;
   REQUIRE(s.save_var_file(path, err));
-  {
-    std::ofstream add(path, std::ios::app);
-    add << "31\t4.250000\n";
+  {  // LinuxCNC's required set: 9 + 9 + 11 + 9 x 10 = 119 lines, #5221 first of G54's ten
+    std::ifstream in(path);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    CHECK(std::count(text.begin(), text.end(), '\n') == 119);
+    CHECK_THAT(text, Catch::StartsWith("5161\t0.000000\n"));
+    CHECK_THAT(text, Catch::Contains("5220\t1.000000\n5221\t12.500000\n"));
+    CHECK_THAT(text, Catch::Contains("5230\t0.000000\n5241\t"));  // #5231-#5240 not saved
+    CHECK_THAT(text, Catch::EndsWith("5390\t0.000000\n"));
+  }
+  {  // a hand-written file: a comment line, a user parameter, G55's X, no #5220
+    std::ofstream f(path);
+    f << "# saved by hand\n31\t4.25\n  5241 -7.5 trailing words\n";
   }
   ParameterStore t;
-  REQUIRE(t.load_var_file(path, err));
-  CHECK(t.get(5221) == 12.5);
+  t.set(100, 3.0);
+  gm::Diagnostic d;
+  REQUIRE(t.load_var_file(path, d));
   CHECK(t.get(31) == 4.25);
-  CHECK(t.get(100) == 0.0);
+  CHECK(t.get(5241) == -7.5);
+  CHECK(t.get(100) == 0.0);   // not in the file: 0, as Interp::restore_parameters
+  CHECK(t.get(5220) == 0.0);  // (the interpreter then starts in G54)
   REQUIRE(t.save_var_file(path, err));
-  std::ifstream in(path);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  CHECK_THAT(text, Catch::StartsWith("31\t4.250000\n5161\t0.000000\n"));
-  CHECK_THAT(text, Catch::Contains("5221\t12.500000\n"));
-  std::remove(path.c_str());
   {
-    std::ofstream bad(path);
-    bad << "5221 x\n";
+    std::ifstream in(path);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    CHECK_THAT(text, Catch::StartsWith("31\t4.250000\n5161\t0.000000\n"));
+    CHECK_THAT(text, Catch::Contains("5241\t-7.500000\n"));
+    CHECK(std::count(text.begin(), text.end(), '\n') == 120);
   }
-  CHECK_FALSE(t.load_var_file(path, err));
-  CHECK_THAT(err, Catch::Contains(":1:"));
+  const auto corrupt = [&](const char* text, int line, int column, const char* what) {
+    {
+      std::ofstream bad(path);
+      bad << text;
+    }
+    ParameterStore u;
+    gm::Diagnostic e;
+    CHECK_FALSE(u.load_var_file(path, e));
+    CHECK(e.file == path);
+    CHECK(e.loc.line == line);
+    CHECK(e.loc.column == column);
+    CHECK_THAT(e.message, Catch::Contains(what));
+    CHECK(e.code == static_cast<int>(gm::ErrorCode::ParameterFile));
+  };
+  corrupt("5221 1\n5221 2\n", 2, 1, "out of order");
+  corrupt("5221 1\n 5161 2\n", 2, 2, "out of order");
+  corrupt("5161 0\n5602 1\n", 2, 1, "out of range");
+  corrupt("0 1\n", 1, 1, "out of range");
+  corrupt("5161\t\n", 1, 6, "expected a number");
+  corrupt("5161 nan\n", 1, 6, "expected a number");
   std::remove(path.c_str());
+  ParameterStore missing;  // no file yet: nothing changes (written at the first save)
+  missing.set(5221, 2.0);
+  REQUIRE(missing.load_var_file(path, d));
+  CHECK(missing.get(5221) == 2.0);
 }

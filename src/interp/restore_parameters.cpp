@@ -1,0 +1,23 @@
+// The interpreter's start from the persistent parameters of a .var file (LinuxCNC Interp::init).
+#include "interp/interpreter.hpp"
+
+namespace gm {
+
+void Interpreter::restore_system_parameters(const std::function<double(int)>& par) {
+  int index = static_cast<int>(par(5220) + 0.0001);  // 1 = G54 .. 9 = G59.3
+  if (index < 1 || index > 9) index = 1;
+  state_.coord_system = index - 1;
+  for (int i = 0; i < 9; ++i) {
+    tables_.g28_mm[i] = par(5161 + i);
+    tables_.g30_mm[i] = par(5181 + i);
+    tables_.g92_saved_mm[i] = par(5211 + i);
+    for (int k = 0; k < 9; ++k)
+      tables_.g5x_mm[static_cast<std::size_t>(k)][i] = par(5221 + 20 * k + i);
+  }
+  // #5210: G92 was in effect when the file was written, so its offsets apply again.
+  state_.g92_applied = par(5210) != 0.0;
+  state_.g92_mm = state_.g92_applied ? tables_.g92_saved_mm : Pos9::Zero();
+  ++tables_version_;
+}
+
+}  // namespace gm
