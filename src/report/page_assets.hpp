@@ -28,7 +28,8 @@ button{font-size:12px}
 )css";
 
 /// The page's script: the summary table from the embedded JSON, the time cursor shared by the
-/// time plots (with the source line under it), and zoom and pan on the XY plot.
+/// time plots (with the source line under it; `#t=SECONDS` in the address places it), and zoom
+/// and pan on the XY plot.
 inline constexpr const char* kPageScript = R"js(
 (function () {
   'use strict';
@@ -70,11 +71,11 @@ inline constexpr const char* kPageScript = R"js(
     const line = D.line[i], text = D.src[line];
     info.innerHTML = '';
     const head = document.createElement('div');
-    head.textContent = 't = ' + t.toFixed(4) + ' s   contour error ' + range(D.ce_lo[i], D.ce_hi[i]) +
-      ' BLU   feed override ' + range(D.ov_lo[i], D.ov_hi[i]) + ' %' +
-      (D.width > 1 ? '   (column of ' + D.width + ' samples)' : '');
+    head.textContent = 't = ' + t.toFixed(4) + ' s · contour error ' + range(D.ce_lo[i], D.ce_hi[i]) +
+      ' BLU · feed override ' + range(D.ov_lo[i], D.ov_hi[i]) + ' %' +
+      (D.width > 1 ? ' · (column of ' + D.width + ' samples)' : '');
     const src = document.createElement('div');
-    src.textContent = line > 0 ? D.file + ':' + line + '  ' : '(no source line)';
+    src.textContent = line > 0 ? D.file + ':' + line + ' ' : '(no source line)';
     if (text !== undefined) { const c = document.createElement('code'); c.textContent = text; src.appendChild(c); }
     info.appendChild(head); info.appendChild(src);
   }
@@ -86,6 +87,9 @@ inline constexpr const char* kPageScript = R"js(
       show(+d.t0 + (q.x - d.x0) / (d.x1 - d.x0) * (d.t1 - d.t0));
     });
   }
+  // PAGE.html#t=2.5 opens with the cursor at 2.5 s (links into a report; the browser test).
+  const at_t = /[#&]t=([0-9.eE+-]+)/.exec(location.hash);
+  if (at_t) show(+at_t[1]);
   // XY plot: wheel zooms about the pointer, drag pans, double click (or Reset) shows it all.
   const xy = document.getElementById('xy');
   if (!xy) return;

@@ -33,8 +33,14 @@ std::vector<double> nice_ticks(double lo, double hi, int n) {
   const double mag = std::pow(10.0, std::floor(std::log10(raw)));
   const double r = raw / mag;
   const double step = (r < 1.5 ? 1.0 : r < 3.5 ? 2.0 : r < 7.5 ? 5.0 : 10.0) * mag;
-  for (double v = std::ceil(lo / step) * step; v <= hi + step * 1e-9; v += step)
+  // Counted, not stepped: a step below the resolution of lo (a narrow range far from 0) would
+  // never advance v.
+  const double first = std::ceil(lo / step), last = std::floor(hi / step + 1e-9);
+  if (!(last >= first) || last - first > 100) return t;
+  for (int i = 0; i <= static_cast<int>(last - first); ++i) {
+    const double v = (first + i) * step;
     t.push_back(std::abs(v) < step * 1e-9 ? 0.0 : v);
+  }
   return t;
 }
 

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """The report page in a real browser: headless Chromium renders `gmotion report` of a program to
 a PNG and dumps the DOM after the page's script ran. Passes when the PNG is not blank (many
-colours, the contour-error and path colours present) and the script built the summary table
-with the run's values. Exits 77 (skipped) when chromium is not installed.
+colours, the contour-error and path colours present), the script built the summary table with
+the run's values, and the time cursor (placed by the address's #t=1.8) shows the source line. Exits 77 (skipped) when chromium is not installed.
 
 Usage: render_check.py GMOTION_BIN PROGRAM [PNG_OUT]"""
 import collections
@@ -88,7 +88,7 @@ def main():
             [browser, "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
              "--no-first-run", "--disable-extensions", "--disable-background-networking",
              "--user-data-dir=" + os.path.join(tmp, "profile"), "--window-size=1000,1300",
-             "--screenshot=" + png, "--dump-dom", "file://" + page],
+             "--screenshot=" + png, "--dump-dom", "file://" + page + "#t=1.8"],
             check=True, capture_output=True, text=True, timeout=90, env=env).stdout
         print(f"chromium: {time.monotonic() - t0:.1f} s")
         width, height, pixels = decode_png(open(png, "rb").read())
@@ -111,6 +111,16 @@ def main():
         assert float(cells["contour_err_max_blu.value"]) == values["contour_err_max_blu"]["value"]
         assert float(cells["axes.x.velocity_max_mm_s.value"]) == \
             values["axes"]["x"]["velocity_max_mm_s"]["value"]
+        # The cursor placed at t = 1.8 s by the address: square.nc's interpolator is then in
+        # line 8 ("Y20": line 7's 20 mm at 20 mm/s run from about 0.3 s to 1.3 s, line 8's from
+        # 1.3 s to 2.3 s); the read-out names the file, the line and its text.
+        info = re.search(r'<div id="cursor-info">(.*?)</div></div>', dom, re.S)
+        assert info, "no cursor read-out"
+        text = info.group(1)
+        print("cursor read-out:", re.sub(r"<[^>]+>", " ", text))
+        assert "t = 1.8000 s" in text, text
+        assert program + ":8" in text, text
+        assert "<code>Y20</code>" in text, text
     return 0
 
 
