@@ -163,9 +163,9 @@ FirAccDec::Acc FirAccDec::convolve(int axis) const {
 
 // AVX2 when the CPU has it (one 4-lane operation per tap pair), SSE2 otherwise; the sums are
 // exact integers either way, so the result does not depend on which one runs.
-void FirAccDec::convolve_fast(double (&sums)[4 * kGroups]) const {
+void FirAccDec::convolve_fast(double* sums, int groups) const {
   const bool folded = structure_ == FirStructure::Symmetric;
-  for (int g = 0; g < groups_; ++g) {
+  for (int g = 0; g < groups; ++g) {
     // The oldest sample of group g's window.
     const double* col = window_.data() + 4 * (2 * length_ * g + head_ + 1);
     if (use_avx2_)
@@ -176,16 +176,23 @@ void FirAccDec::convolve_fast(double (&sums)[4 * kGroups]) const {
 }
 
 void FirAccDec::step(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu) {
-  if (in_pos_blu == last_in_) {
+  with_axis_count(axes_, [&](auto n) { step_n<decltype(n)::value>(in_pos_blu, out_pos_blu); });
+}
+
+template <int N>
+void FirAccDec::step_n(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu) {
+  constexpr int axes = N;  // == axes_
+  const auto in = in_pos_blu.head<N>();
+  if (in == last_in_.head<N>()) {
     if (equal_run_ < length_) ++equal_run_;
   } else {
     equal_run_ = 1;
-    last_in_ = in_pos_blu;
+    last_in_.head<N>() = in;
   }
   head_ = head_ + 1 == length_ ? 0 : head_ + 1;  // the oldest slot becomes the newest
   const bool running = structure_ == FirStructure::RunningSum;
-  for (int a = 0; a < axes_; ++a) {
-    const std::size_t idx = static_cast<std::size_t>(head_) * static_cast<std::size_t>(axes_) +
+  for (int a = 0; a < axes; ++a) {
+    const std::size_t idx = static_cast<std::size_t>(head_) * static_cast<std::size_t>(axes) +
                             static_cast<std::size_t>(a);
     const std::int64_t rel = in_pos_blu[a] - start_[a];
     const std::int64_t old = hist_[idx];
@@ -200,9 +207,10 @@ void FirAccDec::step(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu) {
     }
   }
   const bool fast = big_in_window_ == 0;  // every |rel| in the window <= fast_limit_
-  double sums[4 * kGroups] = {};
-  if (fast && !running) convolve_fast(sums);
-  for (int a = 0; a < axes_; ++a) {
+  constexpr int kGroupsN = (N + 3) / 4;
+  double sums[4 * kGroupsN] = {};
+  if (fast && !running) convolve_fast(sums, kGroupsN);
+  for (int a = 0; a < axes; ++a) {
     std::int64_t q;
     if (fast && !running && std::fabs(sums[a]) < kQuotientExact) {
       // |sum| < 2^51: the double quotient lies within 1/(4 b_s) of the exact one, and the
@@ -223,5 +231,10 @@ void FirAccDec::step(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu) {
     out_pos_blu[a] = start_[a] + q;
   }
 }
+
+#define GM_FIR_STEP_N(N) \
+  template void FirAccDec::step_n<N>(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu);
+GM_FOR_EACH_AXIS_COUNT(GM_FIR_STEP_N)
+#undef GM_FIR_STEP_N
 
 }  // namespace gm

@@ -44,7 +44,12 @@ class FirAccDec {
 
   /// One sample: input = the interpolator's commanded position (BLU); output = the smoothed
   /// reference position (BLU).
+  /// Entries past the filter's axis count are neither read nor written.
   void step(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu);
+  /// step() with the axis count N (== the count given to the constructor) known at compile
+  /// time: what the pipeline calls every sample (instantiated for GM_FOR_EACH_AXIS_COUNT).
+  template <int N>
+  void step_n(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu);
 
   /// True when the last N+1 inputs are equal (then output == input exactly).
   bool settled() const { return equal_run_ >= length_; }
@@ -60,8 +65,8 @@ class FirAccDec {
 
   Acc convolve(int axis) const;  // Σ b_i·hist[k-i] for the current head (exact path)
   static constexpr int kGroups = (kMaxAxes + 3) / 4;  // 4-lane groups for the most axes
-  void convolve_fast(
-      double (&sums)[4 * kGroups]) const;  // the same sums (exact integers in double), fast path
+  // The same sums (exact integers in double), fast path: sums[4g .. 4g+3] for groups g < groups.
+  void convolve_fast(double* sums, int groups) const;
 
   std::vector<std::int64_t> taps_;  // integer taps b_0..b_N
   std::int64_t b_s_ = 1;

@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 
 namespace gm {
 
@@ -28,6 +29,27 @@ using AxisVec = Eigen::Matrix<double, kMaxAxes, 1>;
 using AxisBlu = Eigen::Matrix<std::int64_t, kMaxAxes, 1>;
 /// Per-machine-axis real values in the machine's axis order (entries past the count stay 0).
 using MachineVec = Eigen::Matrix<double, kMaxAxes, 1>;
+
+/// The per-sample path (interpolator output, Acc/Dec, servo, the record handed to the second
+/// thread) is compiled once for each axis count 1..kMaxAxes and chosen once, when a run starts,
+/// from the machine's count: inside it every per-axis loop has a compile-time trip count. This
+/// list is the one place those counts are named (explicit instantiations expand it).
+#define GM_FOR_EACH_AXIS_COUNT(X) X(1) X(2) X(3) X(4) X(5) X(6) X(7) X(8) X(9)
+
+/// Calls f(std::integral_constant<int, N>{}) with N = `count` (1..kMaxAxes) and returns its
+/// result: the one run-time dispatch to the per-sample code compiled for N axes.
+template <typename F>
+decltype(auto) with_axis_count(int count, F&& f) {
+  switch (count) {
+#define GM_AXIS_COUNT_CASE(N) \
+  case N:                     \
+    return f(std::integral_constant<int, N>{});
+    GM_FOR_EACH_AXIS_COUNT(GM_AXIS_COUNT_CASE)
+#undef GM_AXIS_COUNT_CASE
+    default:
+      return f(std::integral_constant<int, kMaxAxes>{});  // not reached: counts are 1..9
+  }
+}
 
 /// Index (0..8) of axis `letter` (upper case), or -1.
 constexpr int axis_index(char letter) {

@@ -102,6 +102,41 @@ AxisVec MotionGeometry::at_fraction(double u) const {
   return p;
 }
 
+template <int P>
+void MotionGeometry::at_fraction_head(double u, AxisVec& out) const {
+  static_assert(P >= 3 && P <= kMaxAxes);
+  auto o = out.head<P>();
+  if (u >= 1.0) {
+    o = end_mm.head<P>();
+    return;
+  }
+  if (u <= 0.0) {
+    o = start_mm.head<P>();
+    return;
+  }
+  // The same arithmetic as at_fraction, entry by entry.
+  if (kind != MotionKind::Arc || rest_moves)
+    o = start_mm.head<P>() + u * (end_mm.head<P>() - start_mm.head<P>());
+  else
+    o = start_mm.head<P>();
+  if (kind != MotionKind::Arc) return;
+  const double theta = theta0_rad + u * sweep_rad;
+  const double r = r0_mm + u * (r1_mm - r0_mm);
+  out[ax.a] = center_mm[ax.a] + r * std::cos(theta);
+  out[ax.b] = center_mm[ax.b] + r * std::sin(theta);
+  out[ax.n] = start_mm[ax.n] + u * (end_mm[ax.n] - start_mm[ax.n]);
+}
+#define GM_AT_FRACTION_HEAD(P) \
+  template void MotionGeometry::at_fraction_head<P>(double u, AxisVec& out) const;
+GM_AT_FRACTION_HEAD(3)
+GM_AT_FRACTION_HEAD(4)
+GM_AT_FRACTION_HEAD(5)
+GM_AT_FRACTION_HEAD(6)
+GM_AT_FRACTION_HEAD(7)
+GM_AT_FRACTION_HEAD(8)
+GM_AT_FRACTION_HEAD(9)
+#undef GM_AT_FRACTION_HEAD
+
 AxisVec MotionGeometry::tangent_at_fraction(double u) const {
   // The direction of the tool in X, Y and Z (the contour the tolerance planner bounds).
   AxisVec d = AxisVec::Zero();

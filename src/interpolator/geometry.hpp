@@ -53,6 +53,11 @@ struct MotionGeometry {
   /// Position at path fraction `u` in [0, 1]; u = 1 returns end_mm exactly. On arcs the radius
   /// blends linearly from r0 to r1 (a spiral within the arc tolerance, as LinuxCNC does).
   AxisVec at_fraction(double u) const;
+  /// at_fraction(u) into entries 0..P-1 of `out` only (P >= 3; the rest untouched): the
+  /// interpolator's per-sample call, for the program axes its machine reads. Instantiated for
+  /// P = 3..9.
+  template <int P>
+  void at_fraction_head(double u, AxisVec& out) const;
   /// Position at `s_mm` along the path (clamped to [0, length]).
   AxisVec point_at(double s_mm) const {
     return at_fraction(length_mm > 0.0 ? s_mm / length_mm : 1.0);

@@ -9,15 +9,13 @@
 namespace gm {
 
 Interpolator::Interpolator(const InterpolatorConfig& cfg, CanonSource& source)
-    : cfg_(cfg), source_(source), pos_mm_(cfg.start_mm) {}
-
-AxisBlu Interpolator::to_blu(const AxisVec& p_mm) const {
-  AxisBlu q;
-  // Machine axis a is program axis cfg_.axes.index[a]; entries past the count stay 0.
-  q.setZero();
-  for (int a = 0; a < cfg_.axes.count; ++a)
-    q[a] = round_half_away(p_mm[cfg_.axes.index[static_cast<std::size_t>(a)]] / cfg_.blu_mm[a]);
-  return q;
+    : cfg_(cfg), source_(source), pos_mm_(cfg.start_mm) {
+  bool identity = true;
+  for (int a = 0; a < cfg_.axes.count; ++a) identity = identity && cfg_.axes.program(a) == a;
+  step_ = with_axis_count(cfg_.axes.count, [&](auto n) {
+    constexpr int N = decltype(n)::value;
+    return identity ? &Interpolator::step_n<N, true> : &Interpolator::step_n<N, false>;
+  });
 }
 
 double Interpolator::path_length_mm(const Motion& m) {
@@ -92,7 +90,10 @@ bool Interpolator::pull_next() {
   return false;
 }
 
-InterpStatus Interpolator::step(const OverrideInput& ovr, CommandSample& out) {
+template <int N, bool Identity>
+InterpStatus Interpolator::step_n(const OverrideInput& ovr, CommandSample& out) {
+  // The program axes the machine reads: 0..N-1 in program order, else any of the nine.
+  constexpr int kProgramAxes = Identity ? std::max(N, 3) : kMaxAxes;
   if (finished_) return InterpStatus::Finished;
   std::uint32_t events = 0;
   double dt = cfg_.period_s;  // time of this sample still to spend
@@ -140,7 +141,7 @@ InterpStatus Interpolator::step(const OverrideInput& ovr, CommandSample& out) {
     if (v * dt < left - kLengthEps) {
       s_mm_ += v * dt;
       dt = 0.0;
-      pos_mm_ = geom_.at_fraction(s_mm_ / geom_.length_mm);
+      geom_.at_fraction_head<kProgramAxes>(s_mm_ / geom_.length_mm, pos_mm_);
       moved_or_waited = true;
     } else {
       dt = std::max(0.0, dt - left / v);
@@ -164,7 +165,10 @@ InterpStatus Interpolator::step(const OverrideInput& ovr, CommandSample& out) {
     has_block_ = false;
     return InterpStatus::Finished;
   }
-  out.pos_blu = to_blu(pos_mm_);
+  // Machine axis a is program axis cfg_.axes.index[a].
+  for (int a = 0; a < N; ++a)
+    out.pos_blu[a] = round_half_away(
+        pos_mm_[Identity ? a : cfg_.axes.index[static_cast<std::size_t>(a)]] / cfg_.blu_mm[a]);
   out.line = line_;
   out.block_seq = block_seq_;
   out.events = events;

@@ -56,7 +56,9 @@ class Interpolator {
 
   /// Produces the next sample into `out`. Returns Finished (leaving `out` unchanged) once the
   /// program has ended (M2/M30 or the end of the stream) and the last motion has been output.
-  InterpStatus step(const OverrideInput& ovr, CommandSample& out);
+  InterpStatus step(const OverrideInput& ovr, CommandSample& out) {
+    return (this->*step_)(ovr, out);
+  }
 
   /// The motion block the last sample ended in (nullptr before the first and after the last).
   const Motion* current_motion() const { return has_block_ ? &block_ : nullptr; }
@@ -69,11 +71,17 @@ class Interpolator {
  private:
   bool pull_next();  ///< loads the next motion or dwell; false at the end
   double block_speed_mm_s(const OverrideInput& ovr) const;
-  AxisBlu to_blu(const AxisVec& p_mm) const;
+  /// step() for a machine of N axes; `Identity`: machine axis a is program axis a (XYZ, XYZA,
+  /// ..., all nine), so only program axes 0..max(N, 3)-1 are computed. Writes entries 0..N-1
+  /// of out.pos_blu (machine order; the rest untouched).
+  template <int N, bool Identity>
+  InterpStatus step_n(const OverrideInput& ovr, CommandSample& out);
 
   InterpolatorConfig cfg_;
   CanonSource& source_;
   Canon scratch_;  ///< reused for every pull (no per-block allocation)
+  /// step_n for the machine's axis count and layout, chosen once (with_axis_count).
+  InterpStatus (Interpolator::*step_)(const OverrideInput&, CommandSample&) = nullptr;
 
   Motion block_{};
   BlockGeometry geom_{};

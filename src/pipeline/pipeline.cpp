@@ -50,6 +50,7 @@ Pipeline::Pipeline(const RunConfig& cfg, CanonSource& source)
                                                   cfg_.machine.servo_substeps, 0);
   }
   cmd_.pos_blu = AxisBlu::Zero();
+  step_ = with_axis_count(axes_, [](auto n) { return &Pipeline::step_n<decltype(n)::value>; });
 }
 
 ContourMeter Pipeline::contour_meter() const {
@@ -64,14 +65,15 @@ bool Pipeline::settled() const {
   return quiet_samples_ >= 25;
 }
 
-PipelineStatus Pipeline::step(const OverrideInput& ovr, SampleRecord& out) {
+template <int N>
+PipelineStatus Pipeline::step_n(const OverrideInput& ovr, SampleRecord& out) {
   started_ = nullptr;
   if (!program_done_) {
     if (interp_.step(ovr, cmd_) == InterpStatus::Finished) {
       program_done_ = true;
       done_k_ = k_;
     } else {
-      last_cmd_blu_ = cmd_.pos_blu;
+      last_cmd_blu_.head<N>() = cmd_.pos_blu.head<N>();
       if (cmd_.block_seq != seen_block_) {
         seen_block_ = cmd_.block_seq;
         started_ = interp_.current_motion();
@@ -84,10 +86,10 @@ PipelineStatus Pipeline::step(const OverrideInput& ovr, SampleRecord& out) {
       return PipelineStatus::Unsettled;
   }
 
-  accdec_.step(cmd_.pos_blu, ref_blu_);
+  accdec_.step_n<N>(cmd_.pos_blu, ref_blu_);
   if (cfg_.servo) {
     bool quiet = true;
-    for (int a = 0; a < axes_; ++a) {
+    for (int a = 0; a < N; ++a) {
       ServoAxis& s = *servo_[static_cast<std::size_t>(a)];
       table_blu_[a] = s.table_blu();  // at the start of the period, the instant the count is read
       try {
@@ -103,24 +105,30 @@ PipelineStatus Pipeline::step(const OverrideInput& ovr, SampleRecord& out) {
     }
     quiet_samples_ = quiet ? quiet_samples_ + 1 : 0;
   } else {
-    enc_blu_ = ref_blu_;
-    table_blu_ = ref_blu_.cast<double>();
+    enc_blu_.head<N>() = ref_blu_.head<N>();
+    table_blu_.head<N>() = ref_blu_.head<N>().template cast<double>();
   }
 
   out.k = k_;
   out.t_s = static_cast<double>(k_) * cfg_.machine.period_s;
   out.line = cmd_.line;
-  out.cmd_blu = cmd_.pos_blu;
-  out.ref_blu = ref_blu_;
-  out.enc_blu = enc_blu_;
-  out.ferr_blu = ref_blu_ - enc_blu_;
+  // Only the machine's axes are written (the rest of `out` stays as it was: 0).
+  out.cmd_blu.head<N>() = cmd_.pos_blu.head<N>();
+  out.ref_blu.head<N>() = ref_blu_.head<N>();
+  out.enc_blu.head<N>() = enc_blu_.head<N>();
+  out.ferr_blu.head<N>() = ref_blu_.head<N>() - enc_blu_.head<N>();
+  out.table_blu.head<N>() = table_blu_.head<N>();
   out.feed_scale = cmd_.feed_scale;
   out.events = program_done_ ? 0u : cmd_.events;
   out.settling = program_done_;
-  out.table_blu = table_blu_;
   if (!cfg_.defer_contour) meter_.measure(out, started_);
   ++k_;
   return PipelineStatus::Working;
 }
+
+#define GM_PIPELINE_STEP_N(N) \
+  template PipelineStatus Pipeline::step_n<N>(const OverrideInput& ovr, SampleRecord& out);
+GM_FOR_EACH_AXIS_COUNT(GM_PIPELINE_STEP_N)
+#undef GM_PIPELINE_STEP_N
 
 }  // namespace gm

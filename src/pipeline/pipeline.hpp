@@ -43,7 +43,14 @@ class Pipeline {
 
   /// Advances one interpolation period T with override `ovr` and fills `out`; when the status
   /// is not Working no sample was produced and `out` is left as it was.
-  PipelineStatus step(const OverrideInput& ovr, SampleRecord& out);
+  PipelineStatus step(const OverrideInput& ovr, SampleRecord& out) {
+    return (this->*step_)(ovr, out);
+  }
+  /// step() for a machine of exactly N axes (axis_count()): every per-axis loop has a
+  /// compile-time trip count; only entries 0..N-1 of `out`'s vectors are written (the rest
+  /// keep what they had: 0 in a fresh record). Instantiated for GM_FOR_EACH_AXIS_COUNT.
+  template <int N>
+  PipelineStatus step_n(const OverrideInput& ovr, SampleRecord& out);
 
   const Taps& taps() const { return taps_; }
   const Machine& machine() const { return cfg_.machine; }
@@ -77,6 +84,8 @@ class Pipeline {
   bool program_done_ = false;
   std::int64_t done_k_ = 0;
   int quiet_samples_ = 0;
+  /// step_n for the machine's axis count, chosen once in the constructor.
+  PipelineStatus (Pipeline::*step_)(const OverrideInput&, SampleRecord&) = nullptr;
 };
 
 }  // namespace gm

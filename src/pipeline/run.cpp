@@ -107,6 +107,8 @@ void Run::init() {
     queue_ = std::make_unique<SampleQueue>(
         [this](SampleRecord& r, const Motion* started) { consume(r, started); });
   }
+  step_ = with_axis_count(o.config.machine.axis_count(),
+                          [](auto n) { return &Run::step_n<decltype(n)::value>; });
   t0_ = std::chrono::steady_clock::now();
   next_progress_ = t0_ + std::chrono::seconds(1);
 }
@@ -120,7 +122,8 @@ void Run::consume(SampleRecord& r, const Motion* started) {
   if (trace_) trace_->write(r);
 }
 
-RunStatus Run::step() {
+template <int N>
+RunStatus Run::step_n() {
   const RunOptions& o = options_;
   player_.advance(k_, line_);
   if (live_open_) {
@@ -131,7 +134,7 @@ RunStatus Run::step() {
   ovr_.feed_scale = player_.feed_scale();
   ovr_.rapid_scale = player_.rapid_scale();
   if (recorder_) recorder_->sample(k_, player_.feed_percent(), player_.rapid_percent());
-  const PipelineStatus st = pipeline_.step(ovr_, rec_);
+  const PipelineStatus st = pipeline_.step_n<N>(ovr_, rec_);
   if (st != PipelineStatus::Working) {
     const RunStatus rs =
         st == PipelineStatus::Finished ? RunStatus::Finished : RunStatus::Unsettled;
@@ -156,7 +159,7 @@ RunStatus Run::step() {
         t0_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                   std::chrono::duration<double>(rec_.t_s + o.config.machine.period_s)));
   if (queue_)
-    queue_->push(rec_, pipeline_.started_motion());
+    queue_->push_n<N>(rec_, pipeline_.started_motion());
   else
     consume(rec_, pipeline_.started_motion());  // step() measured the contour itself
   if (o.progress && !realtime(o) && (rec_.k & 0xFFFF) == 0 &&

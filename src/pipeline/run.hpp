@@ -81,7 +81,7 @@ class Run {
   Run& operator=(const Run&) = delete;
 
   /// Advances one interpolation period T.
-  RunStatus step();
+  RunStatus step() { return (this->*step_)(); }
 
   /// The last sample produced. With the consumer thread its contour fields are filled on the
   /// consumer's copy, not here (set consumer_thread = false to read them per step).
@@ -108,6 +108,9 @@ class Run {
 
  private:
   void init();
+  /// step() for a machine of N axes (the pipeline's step_n<N>, the queue's push_n<N>).
+  template <int N>
+  RunStatus step_n();
   void consume(SampleRecord& r, const Motion* started);
   void finish(RunStatus status);
 
@@ -132,6 +135,8 @@ class Run {
   bool live_open_ = false;
   bool progress_shown_ = false;
   std::chrono::steady_clock::time_point t0_, next_progress_;
+  /// step_n for the machine's axis count, chosen once in init().
+  RunStatus (Run::*step_)() = nullptr;
 };
 
 }  // namespace gm

@@ -36,12 +36,18 @@ class SampleQueue {
   /// Appends a record and the motion block that started in it (copied; nullptr: none); hands
   /// the batch over when it is full. Allocates nothing.
   void push(const SampleRecord& r, const Motion* started = nullptr) {
+    push_n<kMaxAxes>(r, started);
+  }
+  /// push() for a machine of N axes: only entries 0..N-1 of the record's vectors are copied
+  /// (the queue's records start at 0, so the consumer sees the same record).
+  template <int N>
+  void push_n(const SampleRecord& r, const Motion* started = nullptr) {
     Batch& b = *fill_;
     if (started != nullptr) {
       b.motions[b.motion_count] = *started;
       b.motion_row[b.motion_count++] = static_cast<std::uint32_t>(b.count);
     }
-    b.records[b.count++] = r;
+    copy_sample<N>(r, b.records[b.count++]);
     if (b.count == kBatchSize) hand_over();
   }
   /// Hands over the last partial batch and waits until the consumer has taken every record.

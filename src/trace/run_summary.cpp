@@ -13,21 +13,28 @@
 namespace gm {
 
 RunSummary::RunSummary(const Machine& machine)
-    : machine_(machine), blu_mm_(machine.blu_mm()), period_s_(machine.period_s) {
+    : machine_(machine),
+      axes_(machine.axis_count()),
+      blu_mm_(machine.blu_mm()),
+      period_s_(machine.period_s) {
   for (int a = 0; a < machine.axis_count(); ++a) {
     const AxisConfig& ac = machine.axes[static_cast<std::size_t>(a)];
     AxisSummary& s = axes[static_cast<std::size_t>(a)];
     s.v_limit.limit = ac.v_max_mm_s;
     s.f_limit.limit = ac.f_max_N;
     s.p_limit.limit = ac.p_max_W;
+    mass_kg_[a] = ac.mass_kg;
+    damping_kg_s_[a] = ac.damping_kg_s;
   }
 }
 
 void RunSummary::add(const SampleRecord& s) {
   const double T = period_s_;
-  for (int a = 0; a < machine_.axis_count(); ++a) {
+  // The count and the plant constants are copied into this object: the loop stores into it,
+  // so reading them through machine_ would reload them every axis.
+  const int n = axes_;
+  for (int a = 0; a < n; ++a) {
     AxisSummary& ax = axes[static_cast<std::size_t>(a)];
-    const AxisConfig& ac = machine_.axes[static_cast<std::size_t>(a)];
     const double v = static_cast<double>(s.ref_blu[a] - prev_ref_[a]) * blu_mm_[a] / T;  // mm/s
     const double acc = (v - prev_v_[a]) / T;
     const double jerk = (acc - prev_a_[a]) / T;
@@ -37,7 +44,7 @@ void RunSummary::add(const SampleRecord& s) {
     ax.jerk_mm_s3.update(std::abs(jerk), s.line);
     // Eq. 26 with the paper's units: F = m·a + c·V in N (m/s, m/s²), P = F·V in W.
     const double v_m_s = v / 1000.0, a_m_s2 = acc / 1000.0;
-    const double force = std::abs(ac.mass_kg * a_m_s2 + ac.damping_kg_s * v_m_s);
+    const double force = std::abs(mass_kg_[a] * a_m_s2 + damping_kg_s_[a] * v_m_s);
     const double power = std::abs(force * v_m_s);
     auto check = [&](LimitCheck& c, double value) {
       c.worst.update(value, s.line);

@@ -69,7 +69,9 @@ class RunSummary {
 
  private:
   const Machine& machine_;
+  int axes_;  ///< the machine's axis count
   MachineVec blu_mm_;
+  MachineVec mass_kg_ = MachineVec::Zero(), damping_kg_s_ = MachineVec::Zero();
   double period_s_;
   double contour_sq_sum_ = 0.0;
   std::int64_t hold_samples_ = 0;
