@@ -36,13 +36,6 @@ double linuxcnc_round(double x) {
   return std::trunc(y);
 }
 
-bool fail(InterpError& err, ErrorCode code, SourceLoc loc, std::string msg) {
-  err.code = code;
-  err.loc = loc;
-  err.message = std::move(msg);
-  return false;
-}
-
 std::string show(double v) {
   return fmt::format("{}", v);
 }

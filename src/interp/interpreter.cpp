@@ -25,13 +25,6 @@ std::string machine_axes_text(const AxisLayout& l) {
   return s;
 }
 
-bool fail(InterpError& err, ErrorCode code, SourceLoc loc, std::string msg) {
-  err.code = code;
-  err.loc = loc;
-  err.message = std::move(msg);
-  return false;
-}
-
 // STEP 1-2: sorts the block's words by letter and modal group; rejects unknown codes and letters,
 // two codes of one group, repeated words.
 bool import_words(const grammar::Block& block, const AxisLayout& axes, BlockWords& w,

@@ -27,6 +27,14 @@ struct InterpError {
   std::string message;
 };
 
+/// Fills `err` and returns false, so that a failing step reads `return fail(err, code, loc, msg);`.
+inline bool fail(InterpError& err, ErrorCode code, SourceLoc loc, std::string msg) {
+  err.code = code;
+  err.loc = loc;
+  err.message = std::move(msg);
+  return false;
+}
+
 /// The modes M70/M73 save and M72 restores (LinuxCNC's saved_g_codes/m_codes/settings of a call
 /// level): modal G codes, F and S in the program units they were set in, spindle, override.
 struct SavedModes {

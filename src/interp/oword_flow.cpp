@@ -12,13 +12,6 @@ namespace {
 
 using grammar::OKind;
 
-bool fail(InterpError& err, ErrorCode code, SourceLoc loc, std::string msg) {
-  err.code = code;
-  err.loc = loc;
-  err.message = std::move(msg);
-  return false;
-}
-
 std::string label_of(const grammar::OWord& o) {
   if (o.kind == OKind::M98 || o.kind == OKind::M99) return std::string(grammar::okind_name(o.kind));
   return o.named ? "o<" + o.label + ">" : "o" + o.label;

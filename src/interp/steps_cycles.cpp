@@ -57,7 +57,7 @@ struct CycleRun {
   }
 };
 
-const char* plane_text(Plane p) {
+const char* plane_letters(Plane p) {
   return p == Plane::XY ? "XY" : p == Plane::XZ ? "XZ" : "YZ";
 }
 
@@ -90,7 +90,7 @@ bool run_cycle(BlockCtx& ctx, const Code& c) {
   if (entering && !w.has(cl))
     return ctx.fail(ErrorCode::MissingWord, loc,
                     fmt::format("{} without {} (the hole bottom) in the {} plane", name, cl,
-                                plane_text(s.plane)));
+                                plane_letters(s.plane)));
   if (entering && !w.has('R'))
     return ctx.fail(ErrorCode::MissingWord, loc,
                     fmt::format("{} without R (the retract plane)", name));

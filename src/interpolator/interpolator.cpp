@@ -93,7 +93,7 @@ bool Interpolator::pull_next() {
 template <int N, bool Identity>
 InterpStatus Interpolator::step_n(const OverrideInput& ovr, CommandSample& out) {
   // The program axes the machine reads: 0..N-1 in program order, else any of the nine.
-  constexpr int kProgramAxes = Identity ? std::max(N, 3) : kMaxAxes;
+  constexpr int kComputedAxes = Identity ? std::max(N, 3) : kMaxAxes;
   if (finished_) return InterpStatus::Finished;
   std::uint32_t events = 0;
   double dt = cfg_.period_s;  // time of this sample still to spend
@@ -141,7 +141,7 @@ InterpStatus Interpolator::step_n(const OverrideInput& ovr, CommandSample& out) 
     if (v * dt < left - kLengthEps) {
       s_mm_ += v * dt;
       dt = 0.0;
-      geom_.at_fraction_head<kProgramAxes>(s_mm_ / geom_.length_mm, pos_mm_);
+      geom_.at_fraction_head<kComputedAxes>(s_mm_ / geom_.length_mm, pos_mm_);
       moved_or_waited = true;
     } else {
       dt = std::max(0.0, dt - left / v);

@@ -153,7 +153,7 @@ std::optional<double> min_of(std::optional<double> a, std::optional<double> b) {
   return a ? a : b;
 }
 
-std::string fmt_double(double v) {
+std::string ini_number(double v) {
   return fmt::format("{}", v);
 }
 
@@ -341,29 +341,29 @@ std::string machine_to_linuxcnc_ini(const Machine& m) {
   s += fmt::format("# LinuxCNC axis sections written by gmotion from machine '{}' ({})\n", m.name,
                    m.source);
   s += fmt::format("# MAX_ACCELERATION = c*V/tau with c = {} ({} taps' peak-to-mean), tau = {} s\n",
-                   fmt_double(c), m.profile, fmt_double(m.tau_s));
+                   ini_number(c), m.profile, ini_number(m.tau_s));
   s += fmt::format("\n[EMCMOT]\nSERVO_PERIOD = {}\n",
                    static_cast<long long>(std::llround(m.period_s * 1e9)));
   std::string coords;
   for (int i = 0; i < m.axis_count(); ++i)
     coords += (i ? " " : "") + std::string(1, m.layout.letter(i));
-  s += fmt::format("\n[DISPLAY]\nMAX_FEED_OVERRIDE = {}\n", fmt_double(m.max_override));
+  s += fmt::format("\n[DISPLAY]\nMAX_FEED_OVERRIDE = {}\n", ini_number(m.max_override));
   s += fmt::format(
       "\n[TRAJ]\nCOORDINATES = {}\nLINEAR_UNITS = mm\nANGULAR_UNITS = degree\n"
       "MAX_LINEAR_VELOCITY = {}\n",
-      coords, fmt_double(m.rapid_mm_min / 60.0));
+      coords, ini_number(m.rapid_mm_min / 60.0));
   s += fmt::format("\n[KINS]\nKINEMATICS = trivkins coordinates={}\nJOINTS = {}\n",
                    m.layout.letters(), m.axis_count());
   for (int i = 0; i < m.axis_count(); ++i) {
     const AxisConfig& a = m.axes[static_cast<std::size_t>(i)];
     const double acc = c * a.v_max_mm_s / m.tau_s;
     s += fmt::format("\n[AXIS_{}]\nMAX_VELOCITY = {}\nMAX_ACCELERATION = {}\n", m.layout.letter(i),
-                     fmt_double(a.v_max_mm_s), fmt_double(acc));
+                     ini_number(a.v_max_mm_s), ini_number(acc));
     s += fmt::format(
         "\n[JOINT_{}]\nTYPE = {}\nMAX_VELOCITY = {}\nMAX_ACCELERATION = {}\nINPUT_SCALE = {}\n"
         "BACKLASH = {}\n",
-        i, axis_is_rotary(m.layout.program(i)) ? "ANGULAR" : "LINEAR", fmt_double(a.v_max_mm_s),
-        fmt_double(acc), fmt_double(1.0 / a.blu_mm), fmt_double(a.backlash_blu * a.blu_mm));
+        i, axis_is_rotary(m.layout.program(i)) ? "ANGULAR" : "LINEAR", ini_number(a.v_max_mm_s),
+        ini_number(acc), ini_number(1.0 / a.blu_mm), ini_number(a.backlash_blu * a.blu_mm));
   }
   return s;
 }

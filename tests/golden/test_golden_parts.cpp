@@ -22,7 +22,7 @@ using namespace gm::golden;
 
 namespace {
 
-fs::path dir() {
+fs::path parts_dir() {
   return gmtest::scratch_dir("golden-parts");
 }
 
@@ -46,7 +46,7 @@ std::string csv_trace(const std::string& name, int rows, int bump_row = 0,
     }
     s += fmt::format("{}\n", fmt::join(v, ","));
   }
-  const fs::path p = dir() / name;
+  const fs::path p = parts_dir() / name;
   write_text(p, s);
   return p.string();
 }
@@ -119,7 +119,7 @@ TEST_CASE("the comparison finds the first divergence, honours pins and tolerance
 }
 
 TEST_CASE("suite.toml: cases, defaults and located mistakes") {
-  const fs::path s = dir() / "suite";
+  const fs::path s = parts_dir() / "suite";
   fs::create_directories(s);
   write_text(s / "a.nc", "G1 X1 F100\nM2\n");
   write_text(s / "suite.toml",

@@ -10,14 +10,11 @@
 
 namespace {
 using gmtest::sh;
-std::string bin() {
-  return GMOTION_BIN;
-}
 }  // namespace
 
 TEST_CASE("gmotion moves prints one JSON object per canonical move (mm, mm/min)") {
   const auto r = sh("printf 'G20 G0 X1\\nG21\\nG1 X10 F600\\nG2 X20 I5\\nG4 P0.5\\nM2\\n' | " +
-                    bin() + " moves -");
+                    gmtest::gmotion_bin() + " moves -");
   CHECK(r.code == 0);
   CHECK(r.out ==
         "{\"line\":1,\"kind\":\"rapid\",\"end\":[25.4,0,0],\"feed\":0}\n"
@@ -29,17 +26,18 @@ TEST_CASE("gmotion moves prints one JSON object per canonical move (mm, mm/min)"
 }
 
 TEST_CASE("gmotion moves prints nothing and exits 1 when any line is bad") {
-  const auto r = sh("printf 'G1 X1 F100\\nG1 X[1/0]\\nM2\\n' | " + bin() + " moves - 2>/dev/null");
+  const auto r = sh("printf 'G1 X1 F100\\nG1 X[1/0]\\nM2\\n' | " + gmtest::gmotion_bin() +
+                    " moves - 2>/dev/null");
   CHECK(r.code == 1);
   CHECK(r.out.empty());
 }
 
 TEST_CASE("gmotion check: summary on success, all errors with caret on failure") {
-  auto r = sh("printf 'G1 X30 Y40 F600\\nM2\\n' | " + bin() + " check - 2>&1");
+  auto r = sh("printf 'G1 X30 Y40 F600\\nM2\\n' | " + gmtest::gmotion_bin() + " check - 2>&1");
   CHECK(r.code == 0);
   // 50 mm at 600 mm/min = 5 s.
   CHECK(r.out.find("2 blocks, 1 moves, path 50.000 mm, 5.000 s") != std::string::npos);
-  r = sh("printf 'G1 X1\\nG0 X1 X2\\n' | " + bin() + " check - 2>&1");
+  r = sh("printf 'G1 X1\\nG0 X1 X2\\n' | " + gmtest::gmotion_bin() + " check - 2>&1");
   CHECK(r.code == 1);
   CHECK(r.out.find("<stdin>:1:1: error: G1 with zero feed") != std::string::npos);
   CHECK(r.out.find("<stdin>:2:7: error: X appears twice") != std::string::npos);
@@ -49,7 +47,7 @@ TEST_CASE("gmotion check: summary on success, all errors with caret on failure")
 
 TEST_CASE("gmotion check --arc-rule selects the tolerance rule") {
   const std::string prog = "printf 'G1 F100\\nG2 X10 Y0 I5.01\\nM2\\n' | ";
-  CHECK(sh(prog + bin() + " check - 2>/dev/null").code == 0);
-  CHECK(sh(prog + bin() + " check - --arc-rule grbl 2>/dev/null").code == 1);
-  CHECK(sh(prog + bin() + " check - --arc-rule nonsense 2>/dev/null").code == 2);
+  CHECK(sh(prog + gmtest::gmotion_bin() + " check - 2>/dev/null").code == 0);
+  CHECK(sh(prog + gmtest::gmotion_bin() + " check - --arc-rule grbl 2>/dev/null").code == 1);
+  CHECK(sh(prog + gmtest::gmotion_bin() + " check - --arc-rule nonsense 2>/dev/null").code == 2);
 }

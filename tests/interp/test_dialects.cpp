@@ -8,16 +8,14 @@
 namespace {
 using gmtest::sh;
 
-std::string bin() {
-  return GMOTION_BIN;
-}
 std::string src(const std::string& rel) {
   return std::string(GMOTION_TESTS_DIR) + "/../" + rel;
 }
 // The moves of `gmotion moves ARGS` without their line numbers (a dialect program and its
 // LinuxCNC equivalent differ in numbering only).
 std::string moves(const std::string& args) {
-  const auto r = sh(bin() + " moves " + args + " 2>/dev/null | sed 's/\"line\":[0-9]*,//'");
+  const auto r =
+      sh(gmtest::gmotion_bin() + " moves " + args + " 2>/dev/null | sed 's/\"line\":[0-9]*,//'");
   return r.code == 0 ? r.out : "exit " + std::to_string(r.code);
 }
 }  // namespace
@@ -35,43 +33,45 @@ TEST_CASE("dialect-cli: the CAM programs run as their LinuxCNC equivalents (chec
   CHECK(moves(src("programs/dialects/estlcam_engrave.nc") + " --dialect grbl") ==
         moves(src("tests/dialects/estlcam_engrave.linuxcnc.ngc")));
   // as LinuxCNC programs they are refused
-  CHECK(sh(bin() + " check " + src("programs/dialects/haas_bracket.nc") + " 2>/dev/null").code ==
-        1);
-  CHECK(sh(bin() + " check " + src("programs/dialects/grbl_pcb_isolation.nc") + " 2>/dev/null")
+  CHECK(sh(gmtest::gmotion_bin() + " check " + src("programs/dialects/haas_bracket.nc") +
+           " 2>/dev/null")
+            .code == 1);
+  CHECK(sh(gmtest::gmotion_bin() + " check " + src("programs/dialects/grbl_pcb_isolation.nc") +
+           " 2>/dev/null")
             .code == 1);
 }
 
 TEST_CASE("dialect-cli: missing end: error, fanuc warning, grbl silent") {
   const std::string prog = "printf 'G0 X1\\nG1 X2 F100\\n' | ";
-  auto r = sh(prog + bin() + " check - 2>&1");
+  auto r = sh(prog + gmtest::gmotion_bin() + " check - 2>&1");
   CHECK(r.code == 1);
   CHECK(r.out.find("<stdin>:2:1: error: missing program end") != std::string::npos);
-  r = sh(prog + bin() + " check - --dialect fanuc 2>&1");
+  r = sh(prog + gmtest::gmotion_bin() + " check - --dialect fanuc 2>&1");
   CHECK(r.code == 0);
   CHECK(r.out.find("<stdin>:2:1: warning: the program ends without M2/M30") != std::string::npos);
-  r = sh(prog + bin() + " check - --dialect grbl 2>&1");
+  r = sh(prog + gmtest::gmotion_bin() + " check - --dialect grbl 2>&1");
   CHECK(r.code == 0);
   CHECK(r.out.find("warning") == std::string::npos);
 }
 
 TEST_CASE("dialect-cli: fanuc machine M codes are passed over once each, M97 refused") {
-  auto r =
-      sh("printf 'M31\\nG0 X1 M88\\nM88\\nM2\\n' | " + bin() + " moves - --dialect fanuc 2>&1");
+  auto r = sh("printf 'M31\\nG0 X1 M88\\nM88\\nM2\\n' | " + gmtest::gmotion_bin() +
+              " moves - --dialect fanuc 2>&1");
   CHECK(r.code == 0);
   CHECK(r.out.find("<stdin>:1:1: warning: M31 is a machine function") != std::string::npos);
   CHECK(r.out.find("<stdin>:2:7: warning: M88") != std::string::npos);
   CHECK(r.out.find("<stdin>:3:") == std::string::npos);  // warned once
   CHECK(r.out.find("{\"line\":2,\"kind\":\"rapid\",\"end\":[1,0,0],\"feed\":0}") !=
         std::string::npos);
-  r = sh("printf 'M88\\nM2\\n' | " + bin() + " check - 2>&1");
+  r = sh("printf 'M88\\nM2\\n' | " + gmtest::gmotion_bin() + " check - 2>&1");
   CHECK(r.code == 1);  // linuxcnc: not supported
-  r = sh("printf 'M97 P100\\nM2\\n' | " + bin() + " check - --dialect fanuc 2>&1");
+  r = sh("printf 'M97 P100\\nM2\\n' | " + gmtest::gmotion_bin() + " check - --dialect fanuc 2>&1");
   CHECK(r.code == 1);
   CHECK(r.out.find("<stdin>:1:1: error: M97 (Haas local subprogram") != std::string::npos);
 }
 
 TEST_CASE("dialect-cli: grbl passes over $ lines, starts in G0, runs '/' lines") {
-  auto r = sh("printf '$H\\n$110=500\\nX3\\n/Y4\\n' | " + bin() +
+  auto r = sh("printf '$H\\n$110=500\\nX3\\n/Y4\\n' | " + gmtest::gmotion_bin() +
               " moves - --dialect grbl --block-delete 2>&1");
   CHECK(r.code == 0);
   CHECK(r.out.find("<stdin>:1:1: warning: grbl '$' setting") != std::string::npos);
@@ -79,13 +79,15 @@ TEST_CASE("dialect-cli: grbl passes over $ lines, starts in G0, runs '/' lines")
   CHECK(r.out.find("{\"line\":3,\"kind\":\"rapid\",\"end\":[3,0,0],\"feed\":0}\n"
                    "{\"line\":4,\"kind\":\"rapid\",\"end\":[3,4,0],\"feed\":0}") !=
         std::string::npos);
-  r = sh("printf 'X3\\nM2\\n' | " + bin() + " check - 2>&1");  // linuxcnc: no motion mode
+  r = sh("printf 'X3\\nM2\\n' | " + gmtest::gmotion_bin() +
+         " check - 2>&1");  // linuxcnc: no motion mode
   CHECK(r.code == 1);
 }
 
 TEST_CASE("dialect-cli: grbl refuses what grbl 1.1 does not have") {
   const auto refused = [](const std::string& line, const std::string& where_what) {
-    const auto r = sh("printf '" + line + "\\n' | " + bin() + " check - --dialect grbl 2>&1");
+    const auto r =
+        sh("printf '" + line + "\\n' | " + gmtest::gmotion_bin() + " check - --dialect grbl 2>&1");
     CHECK(r.code == 1);
     CHECK(r.out.find(where_what) != std::string::npos);
   };
@@ -105,13 +107,15 @@ TEST_CASE("dialect-cli: grbl refuses what grbl 1.1 does not have") {
 }
 
 TEST_CASE("dialect-cli: the machine key dialect, and the flag over it") {
-  const auto r = sh(
-      "d=$(mktemp -d) && sed 's/^\\[accdec\\]/dialect = \"grbl\"\\n[accdec]/' " +
-      src("programs/machines/default.toml") + " > $d/m.toml && printf '$H\\nX1\\n' > $d/p.nc && " +
-      bin() + " check $d/p.nc --machine $d/m.toml 2>/dev/null; echo \" $?\"; " + bin() +
-      " check $d/p.nc --machine $d/m.toml --dialect linuxcnc 2>/dev/null; echo \" "
-      "$?\"; sed -i 's/dialect = \"grbl\"/dialect = \"mach3\"/' $d/m.toml; " +
-      bin() + " check $d/p.nc --machine $d/m.toml 2>&1 | grep -c 'dialect'; rm -r $d");
+  const auto r =
+      sh("d=$(mktemp -d) && sed 's/^\\[accdec\\]/dialect = \"grbl\"\\n[accdec]/' " +
+         src("programs/machines/default.toml") +
+         " > $d/m.toml && printf '$H\\nX1\\n' > $d/p.nc && " + gmtest::gmotion_bin() +
+         " check $d/p.nc --machine $d/m.toml 2>/dev/null; echo \" $?\"; " + gmtest::gmotion_bin() +
+         " check $d/p.nc --machine $d/m.toml --dialect linuxcnc 2>/dev/null; echo \" "
+         "$?\"; sed -i 's/dialect = \"grbl\"/dialect = \"mach3\"/' $d/m.toml; " +
+         gmtest::gmotion_bin() +
+         " check $d/p.nc --machine $d/m.toml 2>&1 | grep -c 'dialect'; rm -r $d");
   CHECK(r.out.find(" 0\n") != std::string::npos);
   CHECK(r.out.find(" 1\n") != std::string::npos);
   CHECK(r.out.find("\n1\n") != std::string::npos);
@@ -119,7 +123,7 @@ TEST_CASE("dialect-cli: the machine key dialect, and the flag over it") {
 
 TEST_CASE("M98/M99: the errors rs274 gives, located") {
   const auto error = [](const std::string& prog, const std::string& where_what) {
-    const auto r = sh("printf '" + prog + "' | " + bin() + " check - 2>&1");
+    const auto r = sh("printf '" + prog + "' | " + gmtest::gmotion_bin() + " check - 2>&1");
     CHECK(r.code == 1);
     CHECK(r.out.find(where_what) != std::string::npos);
   };

@@ -14,10 +14,6 @@ namespace {
 using gmtest::sh;
 namespace fs = std::filesystem;
 
-std::string bin() {
-  return GMOTION_BIN;
-}
-
 std::string slurp(const fs::path& p) {
   std::ifstream in(p);
   std::stringstream ss;
@@ -57,10 +53,12 @@ TEST_CASE("parameter file: offsets set by one run move the next, as LinuxCNC kee
                                       "G0 X1 Y2\n"
                                       "M2\n");
   // check reads the file (none yet) and writes nothing
-  CHECK(sh(bin() + " check " + setup + " --machine " + s.machine() + " 2>&1").code == 0);
+  CHECK(
+      sh(gmtest::gmotion_bin() + " check " + setup + " --machine " + s.machine() + " 2>&1").code ==
+      0);
   CHECK_FALSE(fs::exists(s.var()));
   // moves runs it and writes the file: G54 X is #5221, G55's #5241; M2 selected G54 again
-  auto r = sh(bin() + " moves " + setup + " --machine " + s.machine());
+  auto r = sh(gmtest::gmotion_bin() + " moves " + setup + " --machine " + s.machine());
   REQUIRE(r.code == 0);
   CHECK(r.out == "{\"line\":4,\"kind\":\"rapid\",\"end\":[8,2,0],\"feed\":0}\n");
   const std::string text = slurp(s.var());
@@ -69,7 +67,7 @@ TEST_CASE("parameter file: offsets set by one run move the next, as LinuxCNC kee
   CHECK(text.find("5241\t7.000000\n") != std::string::npos);
   // the next program starts with those offsets: G54 X0 Y0 is machine (100, -20, 5)
   const std::string part = s.program("part.ngc", "G0 X0 Y0 Z0\nG55 G0 X0\nM30\n");
-  r = sh(bin() + " moves " + part + " --machine " + s.machine());
+  r = sh(gmtest::gmotion_bin() + " moves " + part + " --machine " + s.machine());
   REQUIRE(r.code == 0);
   CHECK(r.out ==
         "{\"line\":1,\"kind\":\"rapid\",\"end\":[100,-20,5],\"feed\":0}\n"
@@ -80,7 +78,7 @@ TEST_CASE("parameter file: #5220 selects the coordinate system, #5210 re-applies
   Scratch s;
   std::ofstream(s.var()) << "5210\t1\n5211\t-3\n5220\t3\n5261\t50\n";
   const std::string prog = s.program("p.ngc", "G0 X0 Y0\nG92.2\nG0 X0\nM2\n");
-  const auto r = sh(bin() + " moves " + prog + " --machine " + s.machine());
+  const auto r = sh(gmtest::gmotion_bin() + " moves " + prog + " --machine " + s.machine());
   REQUIRE(r.code == 0);
   // G56 (X 50) with the G92 shift of -3: machine X 47; after G92.2, X 50 (checked with rs274)
   CHECK(r.out ==
@@ -96,7 +94,8 @@ TEST_CASE("parameter file: a corrupt file is a located error and is not overwrit
   const std::string corrupt = "5221\t1.0\n5161\t2.0\n";
   std::ofstream(s.var()) << corrupt;
   const std::string prog = s.program("p.ngc", "G0 X1\nM2\n");
-  const auto r = sh(bin() + " moves " + prog + " --machine " + s.machine() + " 2>&1");
+  const auto r =
+      sh(gmtest::gmotion_bin() + " moves " + prog + " --machine " + s.machine() + " 2>&1");
   CHECK(r.code == 1);
   CHECK(r.out.find("params.var:2:1: error: parameter #5161 out of order") != std::string::npos);
   CHECK(r.out.find("\n  5161\t2.0\n  ^\n") != std::string::npos);

@@ -31,7 +31,7 @@ AxisVec at(std::initializer_list<std::pair<char, double>> values) {
   return v;
 }
 
-gm::Motion line(const AxisVec& a, const AxisVec& b) {
+gm::Motion line_motion(const AxisVec& a, const AxisVec& b) {
   gm::Motion m;
   m.kind = gm::MotionKind::Line;
   m.start_mm = a;
@@ -95,14 +95,14 @@ TEST_CASE("axis layouts: a subsequence of XYZABCUVW, each letter once") {
 
 TEST_CASE("feed length follows LinuxCNC: XYZ when they move, else UVW, else the rotary degrees") {
   // X3 Y4 with A90: the 5 mm XYZ path sets the time; A follows.
-  CHECK(gm::motion_length_mm(line(at({}), at({{'X', 3}, {'Y', 4}, {'A', 90}}))) == 5.0);
+  CHECK(gm::motion_length_mm(line_motion(at({}), at({{'X', 3}, {'Y', 4}, {'A', 90}}))) == 5.0);
   // A and B alone: degrees, sqrt(30² + 40²).
-  CHECK(gm::motion_length_mm(line(at({{'A', 10}}), at({{'A', 40}, {'B', 40}}))) == 50.0);
+  CHECK(gm::motion_length_mm(line_motion(at({{'A', 10}}), at({{'A', 40}, {'B', 40}}))) == 50.0);
   // U V with C: the UVW length.
-  CHECK(gm::motion_length_mm(line(at({}), at({{'U', 6}, {'V', 8}, {'C', 5}}))) == 10.0);
+  CHECK(gm::motion_length_mm(line_motion(at({}), at({{'U', 6}, {'V', 8}, {'C', 5}}))) == 10.0);
   // Part way along a mixed line every axis is in proportion.
   const gm::MotionGeometry g =
-      gm::MotionGeometry::of(line(at({}), at({{'X', 10}, {'A', 90}, {'W', -4}})));
+      gm::MotionGeometry::of(line_motion(at({}), at({{'X', 10}, {'A', 90}, {'W', -4}})));
   const AxisVec p = g.point_at(2.5);
   CHECK(p[0] == 2.5);
   CHECK(p[gm::axis_index('A')] == 22.5);

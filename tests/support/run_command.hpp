@@ -26,6 +26,11 @@ inline CommandResult sh(const std::string& cmd) {
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
 }
 
+/// The built gmotion executable's path.
+inline std::string gmotion_bin() {
+  return GMOTION_BIN;
+}
+
 /// Runs the built gmotion with `args` (shell syntax), stdout and stderr together.
 inline CommandResult run_gmotion(const std::string& args) {
   return sh(std::string(GMOTION_BIN) + " " + args + " 2>&1");

@@ -27,12 +27,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kRepo = fs::path(GMOTION_TESTS_DIR).parent_path().string();
-const std::string kPocket = kRepo + "/programs/pocket.nc";
+const std::string kRepoDir = fs::path(GMOTION_TESTS_DIR).parent_path().string();
+const std::string kPocketNc = kRepoDir + "/programs/pocket.nc";
 constexpr std::size_t kStatusLine = gm::kTraceStatusWidth + 1;  // with its '\n'
 constexpr std::size_t kRecord = 8 + 4 + 4 * 8 * 3 + 8 + 8;      // one binary row
 constexpr std::size_t kCsvColumns = 2 + 4 * 3 + 2;              // t_s, line, ..., override
-fs::path scratch() {
+fs::path partial_scratch() {
   return gmtest::scratch_dir("keep-partial");
 }
 
@@ -112,7 +112,7 @@ double number_after(const std::string& text, const std::string& key) {
 TEST_CASE(
     "run --keep-partial: SIGINT keeps FILE.partial saying 'partial: interrupted ...', whole rows, "
     "no FILE") {
-  const fs::path dir = scratch();
+  const fs::path dir = partial_scratch();
   const std::string prog = (dir / "long.nc").string();
   gmtest::write_long_program(prog);
   for (const bool bin : {false, true}) {
@@ -165,16 +165,16 @@ TEST_CASE(
 TEST_CASE(
     "run --keep-partial: --max-time keeps FILE.partial with that reason and the complete run's "
     "first rows") {
-  const fs::path dir = scratch();
+  const fs::path dir = partial_scratch();
   for (const bool bin : {false, true}) {
     DYNAMIC_SECTION((bin ? "binary" : "CSV")) {
       const std::string fmt_flag = bin ? " --trace-format bin" : "";
       const std::string full = (dir / (bin ? "full.bin" : "full.csv")).string();
       const std::string trace = (dir / (bin ? "max.bin" : "max.csv")).string(),
                         kept = trace + ".partial";
-      REQUIRE(gmtest::run_gmotion("run " + kPocket + " --trace " + full + fmt_flag).code == 0);
+      REQUIRE(gmtest::run_gmotion("run " + kPocketNc + " --trace " + full + fmt_flag).code == 0);
       const auto r = gmtest::run_gmotion(
-          "run " + kPocket + " --max-time 5 --keep-partial --trace " + trace + fmt_flag);
+          "run " + kPocketNc + " --max-time 5 --keep-partial --trace " + trace + fmt_flag);
       INFO(r.out);
       CHECK(r.code == 1);
       CHECK_THAT(r.out, Catch::Contains("gmotion: error: run stopped at --max-time 5 s (line "));
@@ -214,15 +214,15 @@ TEST_CASE(
 TEST_CASE(
     "run --keep-partial: a completed run gives FILE with 'status: complete', else as without the "
     "flag") {
-  const fs::path dir = scratch();
+  const fs::path dir = partial_scratch();
   for (const bool bin : {false, true}) {
     DYNAMIC_SECTION((bin ? "binary" : "CSV")) {
       const std::string fmt_flag = bin ? " --trace-format bin" : "";
       const std::string plain = (dir / (bin ? "plain.bin" : "plain.csv")).string();
       const std::string trace = (dir / (bin ? "done.bin" : "done.csv")).string();
-      const auto a = gmtest::run_gmotion("run " + kPocket + " --trace " + plain + fmt_flag);
+      const auto a = gmtest::run_gmotion("run " + kPocketNc + " --trace " + plain + fmt_flag);
       const auto b =
-          gmtest::run_gmotion("run " + kPocket + " --keep-partial --trace " + trace + fmt_flag);
+          gmtest::run_gmotion("run " + kPocketNc + " --keep-partial --trace " + trace + fmt_flag);
       REQUIRE(a.code == 0);
       CHECK(b.code == 0);
       CHECK(b.out == a.out);  // same summary, no note
@@ -252,14 +252,14 @@ TEST_CASE(
 
 TEST_CASE("run --keep-partial: servo divergence keeps FILE.partial saying why") {
   // The default machine with the x plant gain that made fuzz_machine's loop diverge.
-  const fs::path dir = scratch();
+  const fs::path dir = partial_scratch();
   const std::string machine = (dir / "diverging.toml").string(), trace = (dir / "div.csv").string();
-  std::string toml = gmtest::slurp(kRepo + "/programs/machines/default.toml");
+  std::string toml = gmtest::slurp(kRepoDir + "/programs/machines/default.toml");
   const std::size_t at = toml.find("plant_num = [33.518]");
   REQUIRE(at != std::string::npos);
   toml.replace(at, 20, "plant_num = [3.3e306]");
   std::ofstream(machine) << toml;
-  const auto r = gmtest::run_gmotion("run " + kPocket + " --machine " + machine +
+  const auto r = gmtest::run_gmotion("run " + kPocketNc + " --machine " + machine +
                                      " --keep-partial --trace " + trace);
   INFO(r.out);
   CHECK(r.code == 1);
@@ -280,15 +280,15 @@ TEST_CASE(
     "run --keep-partial: axes that do not settle keep FILE.partial saying so, rows as without the "
     "flag") {
   // Coulomb friction of 3000 N on x: the encoder hunts around the target past the settle timeout.
-  const fs::path dir = scratch();
+  const fs::path dir = partial_scratch();
   const std::string machine = (dir / "sticky.toml").string(), trace = (dir / "uns.csv").string();
   const std::string plain = (dir / "uns-plain.csv").string();
-  std::string toml = gmtest::slurp(kRepo + "/programs/machines/default.toml");
+  std::string toml = gmtest::slurp(kRepoDir + "/programs/machines/default.toml");
   const std::size_t at = toml.find("coulomb_N = 0 ");
   REQUIRE(at != std::string::npos);
   toml.replace(at, 14, "coulomb_N = 3000 ");
   std::ofstream(machine) << toml;
-  const std::string args = "run " + kRepo + "/programs/square.nc --machine " + machine;
+  const std::string args = "run " + kRepoDir + "/programs/square.nc --machine " + machine;
   const auto a = gmtest::run_gmotion(args + " --trace " + plain);
   const auto r = gmtest::run_gmotion(args + " --keep-partial --trace " + trace);
   INFO(r.out);
@@ -307,14 +307,14 @@ TEST_CASE(
 
 TEST_CASE(
     "run --keep-partial: a full file system keeps FILE.partial cut back to its last whole row") {
-  const fs::path mnt = scratch() / "small";
+  const fs::path mnt = partial_scratch() / "small";
   gmtest::SmallTmpfs fs_small(mnt);
   if (!fs_small.mounted()) {
     WARN("cannot mount a small tmpfs here (not root?): case skipped");
     return;
   }
   const std::string trace = (mnt / "t.csv").string();
-  const auto r = gmtest::run_gmotion("run " + kPocket + " --keep-partial --trace " + trace);
+  const auto r = gmtest::run_gmotion("run " + kPocketNc + " --keep-partial --trace " + trace);
   const std::string kept = gmtest::slurp(trace + ".partial");
   const bool whole_exists = fs::exists(trace);
   fs_small.unmount();
@@ -332,23 +332,23 @@ TEST_CASE(
 
 TEST_CASE("run --keep-partial with --trace -, a device or no --trace is a usage error") {
   for (const std::string& path : {std::string("-"), std::string("/dev/null")}) {
-    const auto r = gmtest::run_gmotion("run " + kPocket + " --keep-partial --trace " + path);
+    const auto r = gmtest::run_gmotion("run " + kPocketNc + " --keep-partial --trace " + path);
     INFO(r.out);
     CHECK(r.code == 2);
     CHECK_THAT(r.out, Catch::Contains("--keep-partial: --trace " + path + " is written in place"));
     CHECK_THAT(r.out, !Catch::Contains("samples "));  // nothing ran
   }
-  const auto r = gmtest::run_gmotion("run " + kPocket + " --keep-partial");
+  const auto r = gmtest::run_gmotion("run " + kPocketNc + " --keep-partial");
   CHECK(r.code == 2);
   CHECK_THAT(r.out, Catch::Contains("--keep-partial requires --trace"));
 }
 
 TEST_CASE("gmotion diff warns which trace is partial and why, and compares the rows it has") {
-  const fs::path dir = scratch();
+  const fs::path dir = partial_scratch();
   const std::string full = (dir / "d-full.csv").string(), trace = (dir / "d-max.csv").string();
   const std::string kept = trace + ".partial";
-  REQUIRE(gmtest::run_gmotion("run " + kPocket + " --trace " + full).code == 0);
-  REQUIRE(gmtest::run_gmotion("run " + kPocket + " --max-time 5 --keep-partial --trace " + trace)
+  REQUIRE(gmtest::run_gmotion("run " + kPocketNc + " --trace " + full).code == 0);
+  REQUIRE(gmtest::run_gmotion("run " + kPocketNc + " --max-time 5 --keep-partial --trace " + trace)
               .code == 1);
   const std::size_t rows = whole_csv_rows(split(gmtest::slurp(kept), false).rows).size();
   const auto r = gmtest::run_gmotion("diff " + full + " " + kept);
@@ -372,7 +372,7 @@ TEST_CASE("gmotion diff warns which trace is partial and why, and compares the r
 TEST_CASE(
     "run --keep-partial: a SIGKILLed run leaves FILE.partial whose header says 'partial, run in "
     "progress'") {
-  const fs::path dir = scratch();
+  const fs::path dir = partial_scratch();
   const std::string prog = (dir / "long-kill.nc").string(), trace = (dir / "kill.csv").string();
   const std::string kept = trace + ".partial";
   gmtest::write_long_program(prog);
