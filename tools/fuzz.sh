@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # Fuzzes the G-code program, override-schedule and machine-file readers with libFuzzer, bounded.
 # Usage: tools/fuzz.sh [SECONDS_PER_TARGET]   (default 60)
-# Installs what is missing (tools/install-deps.sh --with-fuzz), builds the 'fuzz' preset (clang-14,
-# ASan+UBSan), seeds build-fuzz/corpus/<target> from tests/fuzz/seeds.txt and
+# Installs what is missing (tools/install-deps.sh --with-fuzz), builds the three targets in the
+# 'asan' preset's folder (clang-14, ASan+UBSan, libFuzzer coverage; the same build the sanitized
+# tests run from, so CI compiles the core once for both), seeds build-asan/corpus/<target> from tests/fuzz/seeds.txt and
 # tests/fuzz/regressions/<target>/, then runs each target for SECONDS_PER_TARGET and prints one
 # line per target: executions, seconds, corpus size, result. Exits 1 on a crash, timeout (> 10 s
 # for one input), out-of-memory (> 2048 MB) or leak, naming the input saved under
-# build-fuzz/artifacts/<target>/ and how to replay it.
+# build-asan/artifacts/<target>/ and how to replay it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -17,7 +18,7 @@ if ! [[ "$secs" =~ ^[1-9][0-9]*$ ]]; then
 fi
 
 tools/install-deps.sh --with-fuzz
-cmake --preset fuzz >/dev/null
+cmake --preset asan >/dev/null
 cmake --build --preset fuzz
 
 targets=(program override machine)
@@ -32,9 +33,9 @@ shopt -s nullglob
 failed=()
 printf 'fuzz: %-9s %12s %8s %7s  %s\n' target executions seconds corpus result
 for t in "${targets[@]}"; do
-  corpus=build-fuzz/corpus/$t
-  artifacts=build-fuzz/artifacts/$t
-  log=build-fuzz/fuzz-$t.log
+  corpus=build-asan/corpus/$t
+  artifacts=build-asan/artifacts/$t
+  log=build-asan/fuzz-$t.log
   mkdir -p "$corpus" "$artifacts"
   # Seeds are named by content, as libFuzzer names what it adds (same basename, different folder).
   # shellcheck disable=SC2086  # the globs must expand
@@ -44,7 +45,7 @@ for t in "${targets[@]}"; do
 
   start=$(date +%s)
   rc=0
-  "build-fuzz/bin/fuzz_$t" "$corpus" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 \
+  "build-asan/bin/fuzz_$t" "$corpus" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 \
     -dict="tests/fuzz/$t.dict" -artifact_prefix="$artifacts/" -print_final_stats=1 >"$log" 2>&1 || rc=$?
   elapsed=$(($(date +%s) - start))
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n1)
@@ -69,7 +70,7 @@ for t in "${targets[@]}"; do
     grep -E -m5 'ERROR:|SUMMARY:|runtime error:' "$log" | sed 's/^/fuzz:   /' >&2 || true
     if [[ -n "$artifact" ]]; then
       echo "fuzz: $t: input saved as $artifact" >&2
-      echo "fuzz: $t: replay it with: build-fuzz/bin/fuzz_$t $artifact" >&2
+      echo "fuzz: $t: replay it with: build-asan/bin/fuzz_$t $artifact" >&2
     fi
   fi
 done

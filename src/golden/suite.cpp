@@ -22,10 +22,11 @@ namespace fs = std::filesystem;
 void check_keys(const fs::path& file, const toml::table& t,
                 std::initializer_list<const char*> known, std::string_view where) {
   for (const auto& [k, v] : t) {
-    if (std::none_of(known.begin(), known.end(), [&](const char* s) { return k.str() == s; }))
-      fail_at(file, v,
-              fmt::format("unknown key '{}' in {} (known: {})", k.str(), where,
-                          fmt::join(known, ", ")));
+    const std::string_view key = k.str();  // clang 14 cannot capture a structured binding
+    if (std::none_of(known.begin(), known.end(), [&](const char* s) { return key == s; }))
+      fail_at(
+          file, v,
+          fmt::format("unknown key '{}' in {} (known: {})", key, where, fmt::join(known, ", ")));
   }
 }
 
