@@ -1,38 +1,13 @@
 // Writes the results of a golden verify as JUnit XML (the Ant/Jenkins schema's common subset).
 #include "golden/junit.hpp"
 
+#include "report/escape.hpp"
+
 #include <fmt/format.h>
 
 #include <iterator>
 
 namespace gm::golden {
-
-std::string xml_escape(std::string_view s) {
-  std::string out;
-  for (char ch : s) {
-    const auto u = static_cast<unsigned char>(ch);
-    switch (ch) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&apos;";
-        break;
-      default:
-        out += (u < 0x20 && ch != '\n' && ch != '\t' && ch != '\r') ? '?' : ch;
-    }
-  }
-  return out;
-}
 
 std::string junit_xml(const std::string& suite_name, const std::vector<CaseResult>& results,
                       double seconds) {
@@ -43,7 +18,7 @@ std::string junit_xml(const std::string& suite_name, const std::vector<CaseResul
   }
   std::string x;
   auto out = std::back_inserter(x);
-  const std::string name = xml_escape(suite_name);
+  const std::string name = report::html_escape(suite_name);
   fmt::format_to(out, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
   fmt::format_to(out,
                  "<testsuites name=\"gmotion golden\" tests=\"{}\" failures=\"{}\" errors=\"{}\" "
@@ -55,7 +30,7 @@ std::string junit_xml(const std::string& suite_name, const std::vector<CaseResul
                  name, results.size(), failures, errors, seconds);
   for (const CaseResult& r : results) {
     fmt::format_to(out, "    <testcase classname=\"golden.{}\" name=\"{}\" time=\"{:.3f}\"", name,
-                   xml_escape(r.name), r.seconds);
+                   report::html_escape(r.name), r.seconds);
     if (!outcome_failed(r.outcome)) {
       x += "/>\n";
       continue;
@@ -64,7 +39,8 @@ std::string junit_xml(const std::string& suite_name, const std::vector<CaseResul
     std::string body = r.headline;
     for (const std::string& d : r.details) body += "\n" + d;
     fmt::format_to(out, ">\n      <{} message=\"{}\" type=\"{}\">{}</{}>\n    </testcase>\n", tag,
-                   xml_escape(r.headline), xml_escape(r.kind), xml_escape(body), tag);
+                   report::html_escape(r.headline), report::html_escape(r.kind),
+                   report::html_escape(body), tag);
   }
   x += "  </testsuite>\n</testsuites>\n";
   return x;

@@ -1,4 +1,4 @@
-// Escaping untrusted text (program names, source lines) for HTML and for JSON inside <script>.
+// Escaping untrusted text (program names, source lines) for HTML/XML and for JSON in <script>.
 #include "report/escape.hpp"
 
 #include <fmt/format.h>
@@ -35,7 +35,8 @@ std::string html_escape(std::string_view s) {
   out.reserve(s.size());
   for (std::size_t i = 0; i < s.size();) {
     const int n = utf8_sequence_length(s.substr(i));
-    if (n == 0) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    if (n == 0 || (c < 0x20 && c != '\t' && c != '\n' && c != '\r')) {
       out += "&#xFFFD;";
       ++i;
       continue;

@@ -1,4 +1,4 @@
-// Escaping untrusted text (program names, source lines) for HTML and for JSON inside <script>.
+// Escaping untrusted text (program names, source lines) for HTML/XML and for JSON in <script>.
 #pragma once
 
 #include <string>
@@ -6,7 +6,9 @@
 
 namespace gm::report {
 
-/// `s` with & < > " ' as character references; invalid UTF-8 bytes become U+FFFD.
+/// `s` for HTML or XML text and attribute values: & < > " ' as character references; invalid
+/// UTF-8 bytes and the control characters XML 1.0 forbids (below U+0020 but tab, LF, CR) become
+/// U+FFFD. The HTML report and the golden suites' JUnit XML both use it.
 std::string html_escape(std::string_view s);
 
 /// `s` as a JSON string literal (with the quotes) that is safe inside a <script> element:

@@ -26,6 +26,12 @@ TEST_CASE("json_string and html_escape: invalid UTF-8 becomes U+FFFD, valid text
   CHECK(utf8_sequence_length("\xF4\x90\x80\x80") == 0);  // past U+10FFFF
 }
 
+TEST_CASE("html_escape: control characters XML 1.0 forbids become U+FFFD, tab LF CR stay",
+          "[report]") {
+  CHECK(html_escape("a\x01"
+                    "b\x1F\tc\nd\re") == "a&#xFFFD;b&#xFFFD;\tc\nd\re");
+}
+
 TEST_CASE("html_escape: the five special characters", "[report]") {
   CHECK(html_escape(R"~(<b a="1">&'</b>)~") == "&lt;b a=&quot;1&quot;&gt;&amp;&#39;&lt;/b&gt;");
 }
