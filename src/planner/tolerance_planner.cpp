@@ -41,7 +41,7 @@ void TolerancePlanner::pull() {
     Block& last = window_.back();
     if (const auto* d = std::get_if<Dwell>(&scratch_)) last.dwell_after_s += d->seconds;
     if (const auto* e = std::get_if<Event>(&scratch_); e != nullptr && e->kind == EventKind::End)
-      last.stop_after = true;
+      mark_stop(last);
     last.after.push_back(scratch_);
     return;
   }
@@ -103,8 +103,31 @@ void TolerancePlanner::pull() {
     e.v100 = b.v100;
     push_element(e);
   }
-  if (m->path_mode != PathMode::Continuous) b.stop_after = true;
   window_.push_back(std::move(b));
+  if (m->path_mode != PathMode::Continuous) mark_stop(window_.back());
+}
+
+void TolerancePlanner::mark_stop(Block& b) {
+  if (b.stop_after) return;
+  b.stop_after = true;
+  // A chain whose step response overshoots (FIR + a type-2 servo, tolerance_on = encoder) runs
+  // past the end of a block it stops at, along the block's end tangent, by up to V·∫(S − 1)⁺:
+  // the stop is planned as a corner from u1 to rest (|Δu| = 1) whose pause is the drain (τ),
+  // where D(τ) is that overshoot area. The FIR alone (S within [0, 1]) needs nothing.
+  if (!(filter_.overshoot_s() > 0.0) || !(b.m.path_tolerance_mm > 0.0) ||
+      b.m.path_mode != PathMode::Continuous)
+    return;
+  Element e;
+  e.stop = true;
+  e.seq = b.seq;
+  e.t0 = e.t1 = b.t1;
+  e.s0 = e.s1 = b.s1;
+  e.tol_mm = b.m.path_tolerance_mm;
+  e.turn = 1.0;
+  e.pause0 = filter_.tau_s();
+  e.vmax = b.vmax;
+  e.v100 = b.v100;
+  push_element(e);
 }
 
 bool TolerancePlanner::lookahead_enough() const {
@@ -274,7 +297,7 @@ void TolerancePlanner::decide(Element& e) {
   const double zt = std::max(filter_.zone_floor_s(), tau - best_p);
   e.z0 = zone_back(e.s0, zt, e.cap);
   e.z1 = zone_fwd(e.s1, zt, e.cap);
-  ++stats_.corners;
+  if (!e.stop) ++stats_.corners;
   if (best_p > e.pause0) {
     ++stats_.paused_corners;
     stats_.pause_total_s += best_p - e.pause0;
@@ -284,7 +307,8 @@ void TolerancePlanner::decide(Element& e) {
 void TolerancePlanner::emit_front() {
   const double tau = filter_.tau_s();
   if (!ended_ && window_.size() >= cfg_.capacity && !window_.back().stop_after) {
-    window_.back().stop_after = window_.back().forced_stop = true;
+    mark_stop(window_.back());
+    window_.back().forced_stop = true;
     ++stats_.forced_stops;
   }
   Block& b = window_.front();

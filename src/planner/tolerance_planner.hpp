@@ -73,6 +73,7 @@ class TolerancePlanner : public CanonSource {
   };
   struct Element {
     bool arc = false;
+    bool stop = false;      ///< a stop of a chain that overshoots (mark_stop): a corner to rest
     std::uint64_t seq = 0;  ///< corner: the block before it; arc: the arc
     double t0 = 0, t1 = 0;  ///< extent in fastest travel time
     double s0 = 0, s1 = 0;  ///< extent in path length
@@ -90,7 +91,8 @@ class TolerancePlanner : public CanonSource {
     double cum = 0;         ///< weights of all elements before it (prefix sum)
   };
 
-  void pull();  ///< one item from upstream into the window
+  void pull();               ///< one item from upstream into the window
+  void mark_stop(Block& b);  ///< the filter drains after b (and the overshoot is planned for)
   bool lookahead_enough() const;
   void decide(Element& e);
   double zone_back(double s_from, double time_s, double cap) const;
