@@ -70,6 +70,15 @@ void TolerancePlanner::pull() {
   b.t1 = b.t0 + L / b.vmax;
   s_end_ = b.s1;
   t_end_ = b.t1;
+  b.cap_all = kInf;
+  if (cfg_.speed_error_s > 0.0 && m->path_tolerance_mm > 0.0) {
+    // The mismatch at a sample of b comes from the speeds within one chain length before it:
+    // b and the blocks the chain still holds when b starts keep to reserve/speed_error.
+    const double v = reserve_of(m->path_tolerance_mm) / cfg_.speed_error_s;
+    b.cap_all = v;
+    for (auto it = window_.rbegin(); it != window_.rend() && it->t1 > b.t0 - tau; ++it)
+      it->cap_all = std::min(it->cap_all, v);
+  }
 
   if (prev != nullptr && !prev->stop_after) {
     const double turn = (b.u0 - prev->u1).norm();
@@ -105,6 +114,17 @@ void TolerancePlanner::pull() {
   }
   window_.push_back(std::move(b));
   if (m->path_mode != PathMode::Continuous) mark_stop(window_.back());
+}
+
+double TolerancePlanner::share_of(double tol) const {
+  return std::max(tol, 2.0 * cfg_.rounding_mm) - cfg_.rounding_mm;  // below the BLU: no hold
+}
+
+double TolerancePlanner::reserve_of(double tol) const {
+  if (!(cfg_.speed_error_s > 0.0)) return 0.0;
+  // share − reserve grows with tol, so the smaller tolerance a decision takes stays safe.
+  const double v_rapid = cfg_.rapid_mm_min / 60.0 * cfg_.max_override;
+  return std::min(0.5 * share_of(tol), v_rapid * cfg_.speed_error_s);
 }
 
 void TolerancePlanner::mark_stop(Block& b) {
@@ -222,8 +242,7 @@ void TolerancePlanner::decide(Element& e) {
   for (const Block& b : window_)
     if (b.t1 >= e.t0 && b.t0 < e.t1 + tau && b.m.path_tolerance_mm > 0.0)
       tol = std::min(tol, b.m.path_tolerance_mm);
-  tol = std::max(tol, 2.0 * cfg_.rounding_mm);  // below the BLU nothing can be held anyway
-  const double share = tol - cfg_.rounding_mm;
+  const double share = share_of(tol) - reserve_of(tol);
 
   // Sharing: an element f whose contribution overlaps e's in time lies in e's zone (the speed
   // is at most e's cap there for the zone's time, and past it e no longer counts). Each element
@@ -335,7 +354,7 @@ void TolerancePlanner::emit_front() {
       pieces.back().c = c;
       continue;
     }
-    double cap = kInf;
+    double cap = b.cap_all;
     for (const Element& e : elems_) {
       if (!e.decided || !(e.cap < kInf)) continue;
       const bool covers =

@@ -19,6 +19,11 @@ struct PlannerConfig {
   /// Kept out of every tolerance for the BLU rounding of the interpolator and of the filter
   /// output (each at most half a BLU per axis): ‖BLU‖₂, mm.
   double rounding_mm = 0.0;
+  /// Table error per unit of path speed that no corner or arc causes, s: the mismatch of X, Y
+  /// and Z servos that differ from the planned chain's (servo_mismatch_s). Every block keeps
+  /// reserve(tol) = min(share/2, V_rapid·this) of its tolerance for it and is capped at
+  /// reserve/this, and so is every block the chain still holds when it starts. 0: none.
+  double speed_error_s = 0.0;
   std::size_t capacity = 4096;  ///< most motion blocks held for look-ahead (memory bound)
 };
 
@@ -65,6 +70,7 @@ class TolerancePlanner : public CanonSource {
     double t0 = 0, t1 = 0;  ///< cumulative fastest travel time, s (pauses included)
     double vmax = 0;        ///< at the largest override, mm/s
     double v100 = 0;        ///< at 100 %, mm/s
+    double cap_all = 0;     ///< cap over the whole block (speed_error_s), mm/s; inf = none
     AxisVec u0 = AxisVec::Zero(), u1 = AxisVec::Zero();  ///< unit tangents at start and end
     std::vector<Canon> after;  ///< what follows until the next block (events, dwells, ...)
     double dwell_after_s = 0;  ///< dwells in `after`
@@ -91,8 +97,12 @@ class TolerancePlanner : public CanonSource {
     double cum = 0;         ///< weights of all elements before it (prefix sum)
   };
 
-  void pull();               ///< one item from upstream into the window
-  void mark_stop(Block& b);  ///< the filter drains after b (and the overshoot is planned for)
+  void pull();  ///< one item from upstream into the window
+  void mark_stop(Block& b);
+  /// Tolerance `tol` less the rounding, and the part of it kept for speed_error_s.
+  double share_of(double tol) const;
+  double reserve_of(
+      double tol) const;  ///< the filter drains after b (and the overshoot is planned for)
   bool lookahead_enough() const;
   void decide(Element& e);
   double zone_back(double s_from, double time_s, double cap) const;
