@@ -293,8 +293,12 @@ void TolerancePlanner::decide(Element& e) {
     // The slowing is shared by the elements in the zone (a run of short segments slows once);
     // the pause is e's alone.
     const double z0 = e.s0 - v * zt, z1 = e.s1 + v * zt;
-    const double slow = std::max(0.0, 1.0 - v / v_ref) / std::max(1.0, zone_count(z0, z1));
-    double cost = (p - e.pause0) + 2.0 * zt * slow;
+    // Each side is at least one sample of travel at the fastest speed (emit_front's shortest
+    // piece): ℓ at v instead of v_ref costs ℓ/v − ℓ/v_ref.
+    const double side = std::max(v * zt, 1.01 * e.vmax * filter_.period_s());
+    const double slow = (v > 0.0 ? std::max(0.0, side / v - side / v_ref) : kInf) /
+                        std::max(1.0, zone_count(z0, z1));
+    double cost = (p - e.pause0) + 2.0 * slow;
     // An arc the zone touches takes the cap whole (arcs are not split): its slowing counts too.
     for (const Element& f : elems_)
       if (f.arc && f.s1 > z0 && f.s0 < z1 && v < f.v100)
@@ -377,6 +381,18 @@ void TolerancePlanner::emit_front() {
     }
     const std::size_t j = i + 1 < pieces.size() ? i + 1 : i - 1;  // the neighbour it joins
     const std::size_t lo = std::min(i, j), hi = std::max(i, j);
+    // A slower short piece takes from its neighbour only what it lacks, when the neighbour
+    // keeps a sample's travel: merging a short capped zone into a whole uncapped leg would
+    // slow the leg (the encoder chain's corner zones are a fraction of a millimetre).
+    const double need = min_piece - (pieces[i].c - pieces[i].a);
+    if (pieces[i].cap < pieces[j].cap && pieces[j].c - pieces[j].a - need >= min_piece) {
+      if (j > i)
+        pieces[i].c = pieces[j].a = pieces[i].c + need;
+      else
+        pieces[i].a = pieces[j].c = pieces[i].a - need;
+      ++i;
+      continue;
+    }
     pieces[lo] = {pieces[lo].a, pieces[hi].c, std::min(pieces[lo].cap, pieces[hi].cap)};
     pieces.erase(pieces.begin() + static_cast<std::ptrdiff_t>(hi));
     i = lo;
