@@ -6,6 +6,7 @@
 #include "interp/canon.hpp"
 #include "interpolator/geometry.hpp"
 #include "planner/filter_moments.hpp"
+#include "planner/naive_cam.hpp"
 
 #include <cstdint>
 #include <deque>
@@ -36,11 +37,12 @@ struct PlannerStats {
   std::int64_t forced_stops = 0;    ///< look-ahead full: a full stop was planned
 };
 
-/// Reads canon from `upstream` and hands on the same program with, for every block whose
-/// path_tolerance_mm is > 0, a speed cap (Motion::speed_cap_mm_s, honoured by the interpolator
-/// whatever the override) on the pieces near corners and arcs, and a short pause (Dwell) at
-/// corners where pausing costs less time than slowing. Blocks with tolerance 0 and everything
-/// else pass unchanged, so a program without a tolerance is the same canon, byte for byte.
+/// Reads canon from `upstream` (through NaiveCamMerger: G64 Q) and hands on the same program with,
+/// for every block whose path_tolerance_mm is > 0, a speed cap (Motion::speed_cap_mm_s, honoured by
+/// the interpolator whatever the override) on the pieces near corners and arcs, and a short pause
+/// (Dwell) at corners where pausing costs less time than slowing. Blocks with tolerance 0 and
+/// everything else pass unchanged, so a program without a tolerance is the same canon, byte for
+/// byte.
 ///
 /// The guarantee (docs/tolerance.md): the filter output is Σ h_i x(s_i); with s̄ = Σ h_i s_i
 /// on the path, its distance from the path is at most
@@ -60,6 +62,8 @@ class TolerancePlanner : public CanonSource {
   TolerancePlanner(const FilterMoments& filter, const PlannerConfig& cfg, CanonSource& upstream);
   bool next(Canon& out) override;
   const PlannerStats& stats() const { return stats_; }
+  /// The G64 Q stage in front of the window (moves read and handed on).
+  const NaiveCamMerger& naive_cam() const { return merger_; }
 
  private:
   struct Block {
@@ -115,6 +119,7 @@ class TolerancePlanner : public CanonSource {
   FilterMoments filter_;
   PlannerConfig cfg_;
   CanonSource& upstream_;
+  NaiveCamMerger merger_;       ///< reads upstream_: G64 Q runs arrive merged
   std::vector<double> grid_d_;  ///< D(k·T/2), k = 0..2N
   std::deque<Block> window_;
   std::deque<Element> elems_;
