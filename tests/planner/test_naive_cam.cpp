@@ -33,7 +33,7 @@ std::vector<gm::Motion> merged_moves(const std::string& text, const gm::Machine&
 }
 
 // Distance from p to the segment a–b in XY (the test paths are planar).
-double seg_dist(double px, double py, double ax, double ay, double bx, double by) {
+double q_seg_dist(double px, double py, double ax, double ay, double bx, double by) {
   const double dx = bx - ax, dy = by - ay, l2 = dx * dx + dy * dy;
   double t = l2 > 0 ? ((px - ax) * dx + (py - ay) * dy) / l2 : 0.0;
   t = std::max(0.0, std::min(1.0, t));
@@ -128,7 +128,7 @@ TEST_CASE(
       std::size_t at = seg;
       for (std::size_t i = lo; i < hi; ++i) {
         const double d =
-            seg_dist(x, y, pts[i].first, pts[i].second, pts[i + 1].first, pts[i + 1].second);
+            q_seg_dist(x, y, pts[i].first, pts[i].second, pts[i + 1].first, pts[i + 1].second);
         if (d < best) best = d, at = i;
       }
       seg = at;
@@ -151,7 +151,7 @@ TEST_CASE(
       const double ex = mo.end_mm[0], ey = mo.end_mm[1];
       for (++v; v < pts.size() && (pts[v].first != ex || pts[v].second != ey); ++v)
         worst = std::max(
-            worst, seg_dist(pts[v].first, pts[v].second, mo.start_mm[0], mo.start_mm[1], ex, ey));
+            worst, q_seg_dist(pts[v].first, pts[v].second, mo.start_mm[0], mo.start_mm[1], ex, ey));
       REQUIRE(v < pts.size());  // ends on an original vertex, in order
     }
     CHECK(v == pts.size() - 1);
