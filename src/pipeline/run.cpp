@@ -46,7 +46,7 @@ std::unique_ptr<TolerancePlanner> make_planner(const Machine& m, bool servo, Can
   c.max_override = m.max_override;
   c.rapid_mm_min = m.rapid_mm_min;
   double truncation_mm = 0.0;
-  const FilterMoments moments(planned_chain(m, servo, truncation_mm), m.period_s);
+  const FilterMoments moments(planned_chain(m, servo, truncation_mm, &c.speed_error_s), m.period_s);
   c.rounding_mm = m.xyz_blu_mm().norm() + truncation_mm;
   return std::make_unique<TolerancePlanner>(moments, c, source);
 }

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace gm {
 
@@ -84,37 +85,71 @@ ChainResponse chain_response(const Taps& taps, const AxisConfig& axis, double pe
   }
 }
 
-std::vector<double> planned_chain(const Machine& m, bool servo, double& extra_margin_mm) {
+namespace {
+
+bool same_servo(const AxisConfig& a, const AxisConfig& b) {
+  return a.plant_num == b.plant_num && a.plant_den == b.plant_den && a.kvp == b.kvp &&
+         a.kvi == b.kvi && a.kp_1_s == b.kp_1_s && a.kv_period_s == b.kv_period_s &&
+         a.kv_form == b.kv_form &&
+         a.plant_blu_s_per_unit * a.blu_mm == b.plant_blu_s_per_unit * b.blu_mm;
+}
+
+}  // namespace
+
+double servo_mismatch_s(const std::vector<const AxisConfig*>& axes, const AxisConfig& ref,
+                        double period_s, int substeps) {
+  constexpr int kLen = 1 << 14;
+  const std::vector<double> sr = servo_step_response(ref, period_s, substeps, kLen);
+  double sum2 = 0.0;
+  for (const AxisConfig* a : axes) {
+    if (same_servo(*a, ref)) continue;
+    const std::vector<double> sa = servo_step_response(*a, period_s, substeps, kLen);
+    double area = 0.0;
+    for (int k = 0; k < kLen; ++k) area += std::abs(sa[k] - sr[k]);
+    // Both must have settled: the part not computed would be missing from the area.
+    if (!(std::abs(sa.back() - 1.0) < 1e-9 && std::abs(sr.back() - 1.0) < 1e-9))
+      throw InputError("tolerance_on = encoder: a servo loop does not settle");
+    sum2 += (period_s * area) * (period_s * area);
+  }
+  return std::sqrt(sum2);
+}
+
+std::vector<double> planned_chain(const Machine& m, bool servo, double& extra_margin_mm,
+                                  double* speed_error_s) {
   const Taps taps = design_taps(m.profile, m.tau_s, m.period_s);
   extra_margin_mm = 0.0;
+  if (speed_error_s != nullptr) *speed_error_s = 0.0;
   if (!servo || m.tolerance_on != ToleranceOn::Encoder) {
     std::vector<double> h;
     for (auto b : taps.integer) h.push_back(static_cast<double>(b) / static_cast<double>(taps.b_s));
     return h;
   }
-  // One servo for the linear axes: compare their linear parameters.
-  const AxisConfig* first = nullptr;
-  for (int i = 0; i < m.layout.count; ++i) {
-    if (m.layout.program(i) >= 3) continue;
-    const AxisConfig& a = m.axes[static_cast<std::size_t>(i)];
-    if (first == nullptr) {
-      first = &a;
-      continue;
-    }
-    if (a.plant_num != first->plant_num || a.plant_den != first->plant_den || a.kvp != first->kvp ||
-        a.kvi != first->kvi || a.kp_1_s != first->kp_1_s || a.kv_period_s != first->kv_period_s ||
-        a.kv_form != first->kv_form ||
-        a.plant_blu_s_per_unit * a.blu_mm != first->plant_blu_s_per_unit * first->blu_mm)
+  std::vector<const AxisConfig*> linear;
+  for (int i = 0; i < m.layout.count; ++i)
+    if (m.layout.program(i) < 3) linear.push_back(&m.axes[static_cast<std::size_t>(i)]);
+  if (linear.empty()) throw InputError("tolerance_on = encoder: the machine has no X, Y or Z");
+  // The reference chain: the linear axis whose servo is closest to the others (smallest
+  // mismatch); one servo for all gives 0 and the chain is exact.
+  const AxisConfig* ref = linear.front();
+  double mismatch = 0.0;
+  const bool all_same = std::all_of(linear.begin(), linear.end(),
+                                    [&](const AxisConfig* a) { return same_servo(*a, *ref); });
+  if (!all_same) {
+    if (speed_error_s == nullptr)
       throw InputError(
-          "tolerance_on = encoder needs the same servo (plant, gains) on X, Y and Z: the "
-          "contour bound needs one linear filter for the whole path");
+          "tolerance_on = encoder needs the same servo (plant, gains) on X, Y and Z here");
+    mismatch = std::numeric_limits<double>::infinity();
+    for (const AxisConfig* cand : linear) {
+      const double mm = servo_mismatch_s(linear, *cand, m.period_s, m.servo_substeps);
+      if (mm < mismatch) mismatch = mm, ref = cand;
+    }
+    *speed_error_s = mismatch;
   }
-  if (first == nullptr) throw InputError("tolerance_on = encoder: the machine has no X, Y or Z");
   // Truncation allowance: 0.05 BLU at 2 m/s (scales with speed; docs/tolerance.md).
   constexpr double kFastMmS = 2000.0;
   const double blu = m.contour_blu_mm();
   const ChainResponse r =
-      chain_response(taps, *first, m.period_s, m.servo_substeps, 0.05 * blu / kFastMmS);
+      chain_response(taps, *ref, m.period_s, m.servo_substeps, 0.05 * blu / kFastMmS);
   extra_margin_mm = kFastMmS * r.tail_area_s;
   return r.weights;
 }

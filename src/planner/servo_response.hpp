@@ -33,11 +33,22 @@ struct ChainResponse {
 ChainResponse chain_response(const Taps& taps, const AxisConfig& axis, double period_s,
                              int substeps, double tail_area_s);
 
+/// T·Σ_k |S^a_k − S^ref_k| of each servo `a` against `ref` (step responses of
+/// servo_step_response, long enough to settle), combined as a Euclidean norm over the axes, s.
+/// With FIR taps ≥ 0 summing to 1 it bounds the same for the FIR + servo chains, so by Abel
+/// summation against path increments ≤ V·T the table differs from the reference chain's output
+/// by at most V·(this) whatever the path (docs/tolerance.md).
+double servo_mismatch_s(const std::vector<const AxisConfig*>& axes, const AxisConfig& ref,
+                        double period_s, int substeps);
+
 /// The chain the planner plans against for `m`: the FIR alone (tolerance_on = acc_dec, or the
-/// servo off), or FIR + servo (tolerance_on = encoder). The linear axes (X, Y, Z) must share
-/// one servo: the contour bound needs one filter for the whole path. `extra_margin_mm` receives
-/// the truncation allowance V_fastest·tail_area. A servo whose step response overshoots is
-/// planned with absolute moments (FilterMoments, docs/tolerance.md).
-std::vector<double> planned_chain(const Machine& m, bool servo, double& extra_margin_mm);
+/// servo off), or FIR + servo (tolerance_on = encoder). `extra_margin_mm` receives the
+/// truncation allowance V_fastest·tail_area. A servo whose step response overshoots is planned
+/// with absolute moments (FilterMoments, docs/tolerance.md). When X, Y and Z have different
+/// servos the chain is that of the reference axis (the one closest to the others) and
+/// `*speed_error_s` receives servo_mismatch_s: the planner keeps V·(that) of each tolerance for
+/// it (PlannerConfig::speed_error_s). Without `speed_error_s` different servos are an error.
+std::vector<double> planned_chain(const Machine& m, bool servo, double& extra_margin_mm,
+                                  double* speed_error_s = nullptr);
 
 }  // namespace gm

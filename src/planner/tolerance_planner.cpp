@@ -20,13 +20,13 @@ double min_positive(double a, double b) {
 
 TolerancePlanner::TolerancePlanner(const FilterMoments& filter, const PlannerConfig& cfg,
                                    CanonSource& upstream)
-    : filter_(filter), cfg_(cfg), upstream_(upstream) {
+    : filter_(filter), cfg_(cfg), upstream_(upstream), merger_(upstream) {
   for (int k = 0; k <= 2 * filter_.order(); ++k)
     grid_d_.push_back(filter_.corner_moment_s(0.5 * k * filter_.period_s()));
 }
 
 void TolerancePlanner::pull() {
-  if (!upstream_.next(scratch_)) {
+  if (!merger_.next(scratch_)) {
     ended_ = true;
     return;
   }
@@ -41,7 +41,7 @@ void TolerancePlanner::pull() {
     Block& last = window_.back();
     if (const auto* d = std::get_if<Dwell>(&scratch_)) last.dwell_after_s += d->seconds;
     if (const auto* e = std::get_if<Event>(&scratch_); e != nullptr && e->kind == EventKind::End)
-      last.stop_after = true;
+      mark_stop(last);
     last.after.push_back(scratch_);
     return;
   }
@@ -70,6 +70,15 @@ void TolerancePlanner::pull() {
   b.t1 = b.t0 + L / b.vmax;
   s_end_ = b.s1;
   t_end_ = b.t1;
+  b.cap_all = kInf;
+  if (cfg_.speed_error_s > 0.0 && m->path_tolerance_mm > 0.0) {
+    // The mismatch at a sample of b comes from the speeds within one chain length before it:
+    // b and the blocks the chain still holds when b starts keep to reserve/speed_error.
+    const double v = reserve_of(m->path_tolerance_mm) / cfg_.speed_error_s;
+    b.cap_all = v;
+    for (auto it = window_.rbegin(); it != window_.rend() && it->t1 > b.t0 - tau; ++it)
+      it->cap_all = std::min(it->cap_all, v);
+  }
 
   if (prev != nullptr && !prev->stop_after) {
     const double turn = (b.u0 - prev->u1).norm();
@@ -103,8 +112,42 @@ void TolerancePlanner::pull() {
     e.v100 = b.v100;
     push_element(e);
   }
-  if (m->path_mode != PathMode::Continuous) b.stop_after = true;
   window_.push_back(std::move(b));
+  if (m->path_mode != PathMode::Continuous) mark_stop(window_.back());
+}
+
+double TolerancePlanner::share_of(double tol) const {
+  return std::max(tol, 2.0 * cfg_.rounding_mm) - cfg_.rounding_mm;  // below the BLU: no hold
+}
+
+double TolerancePlanner::reserve_of(double tol) const {
+  if (!(cfg_.speed_error_s > 0.0)) return 0.0;
+  // share − reserve grows with tol, so the smaller tolerance a decision takes stays safe.
+  const double v_rapid = cfg_.rapid_mm_min / 60.0 * cfg_.max_override;
+  return std::min(0.5 * share_of(tol), v_rapid * cfg_.speed_error_s);
+}
+
+void TolerancePlanner::mark_stop(Block& b) {
+  if (b.stop_after) return;
+  b.stop_after = true;
+  // A chain whose step response overshoots (FIR + a type-2 servo, tolerance_on = encoder) runs
+  // past the end of a block it stops at, along the block's end tangent, by up to V·∫(S − 1)⁺:
+  // the stop is planned as a corner from u1 to rest (|Δu| = 1) whose pause is the drain (τ),
+  // where D(τ) is that overshoot area. The FIR alone (S within [0, 1]) needs nothing.
+  if (!(filter_.overshoot_s() > 0.0) || !(b.m.path_tolerance_mm > 0.0) ||
+      b.m.path_mode != PathMode::Continuous)
+    return;
+  Element e;
+  e.stop = true;
+  e.seq = b.seq;
+  e.t0 = e.t1 = b.t1;
+  e.s0 = e.s1 = b.s1;
+  e.tol_mm = b.m.path_tolerance_mm;
+  e.turn = 1.0;
+  e.pause0 = filter_.tau_s();
+  e.vmax = b.vmax;
+  e.v100 = b.v100;
+  push_element(e);
 }
 
 bool TolerancePlanner::lookahead_enough() const {
@@ -199,8 +242,7 @@ void TolerancePlanner::decide(Element& e) {
   for (const Block& b : window_)
     if (b.t1 >= e.t0 && b.t0 < e.t1 + tau && b.m.path_tolerance_mm > 0.0)
       tol = std::min(tol, b.m.path_tolerance_mm);
-  tol = std::max(tol, 2.0 * cfg_.rounding_mm);  // below the BLU nothing can be held anyway
-  const double share = tol - cfg_.rounding_mm;
+  const double share = share_of(tol) - reserve_of(tol);
 
   // Sharing: an element f whose contribution overlaps e's in time lies in e's zone (the speed
   // is at most e's cap there for the zone's time, and past it e no longer counts). Each element
@@ -251,8 +293,12 @@ void TolerancePlanner::decide(Element& e) {
     // The slowing is shared by the elements in the zone (a run of short segments slows once);
     // the pause is e's alone.
     const double z0 = e.s0 - v * zt, z1 = e.s1 + v * zt;
-    const double slow = std::max(0.0, 1.0 - v / v_ref) / std::max(1.0, zone_count(z0, z1));
-    double cost = (p - e.pause0) + 2.0 * zt * slow;
+    // Each side is at least one sample of travel at the fastest speed (emit_front's shortest
+    // piece): ℓ at v instead of v_ref costs ℓ/v − ℓ/v_ref.
+    const double side = std::max(v * zt, 1.01 * e.vmax * filter_.period_s());
+    const double slow = (v > 0.0 ? std::max(0.0, side / v - side / v_ref) : kInf) /
+                        std::max(1.0, zone_count(z0, z1));
+    double cost = (p - e.pause0) + 2.0 * slow;
     // An arc the zone touches takes the cap whole (arcs are not split): its slowing counts too.
     for (const Element& f : elems_)
       if (f.arc && f.s1 > z0 && f.s0 < z1 && v < f.v100)
@@ -274,7 +320,7 @@ void TolerancePlanner::decide(Element& e) {
   const double zt = std::max(filter_.zone_floor_s(), tau - best_p);
   e.z0 = zone_back(e.s0, zt, e.cap);
   e.z1 = zone_fwd(e.s1, zt, e.cap);
-  ++stats_.corners;
+  if (!e.stop) ++stats_.corners;
   if (best_p > e.pause0) {
     ++stats_.paused_corners;
     stats_.pause_total_s += best_p - e.pause0;
@@ -284,7 +330,8 @@ void TolerancePlanner::decide(Element& e) {
 void TolerancePlanner::emit_front() {
   const double tau = filter_.tau_s();
   if (!ended_ && window_.size() >= cfg_.capacity && !window_.back().stop_after) {
-    window_.back().stop_after = window_.back().forced_stop = true;
+    mark_stop(window_.back());
+    window_.back().forced_stop = true;
     ++stats_.forced_stops;
   }
   Block& b = window_.front();
@@ -311,7 +358,7 @@ void TolerancePlanner::emit_front() {
       pieces.back().c = c;
       continue;
     }
-    double cap = kInf;
+    double cap = b.cap_all;
     for (const Element& e : elems_) {
       if (!e.decided || !(e.cap < kInf)) continue;
       const bool covers =
@@ -334,6 +381,18 @@ void TolerancePlanner::emit_front() {
     }
     const std::size_t j = i + 1 < pieces.size() ? i + 1 : i - 1;  // the neighbour it joins
     const std::size_t lo = std::min(i, j), hi = std::max(i, j);
+    // A slower short piece takes from its neighbour only what it lacks, when the neighbour
+    // keeps a sample's travel: merging a short capped zone into a whole uncapped leg would
+    // slow the leg (the encoder chain's corner zones are a fraction of a millimetre).
+    const double need = min_piece - (pieces[i].c - pieces[i].a);
+    if (pieces[i].cap < pieces[j].cap && pieces[j].c - pieces[j].a - need >= min_piece) {
+      if (j > i)
+        pieces[i].c = pieces[j].a = pieces[i].c + need;
+      else
+        pieces[i].a = pieces[j].c = pieces[i].a - need;
+      ++i;
+      continue;
+    }
     pieces[lo] = {pieces[lo].a, pieces[hi].c, std::min(pieces[lo].cap, pieces[hi].cap)};
     pieces.erase(pieces.begin() + static_cast<std::ptrdiff_t>(hi));
     i = lo;

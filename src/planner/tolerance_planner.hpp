@@ -6,6 +6,7 @@
 #include "interp/canon.hpp"
 #include "interpolator/geometry.hpp"
 #include "planner/filter_moments.hpp"
+#include "planner/naive_cam.hpp"
 
 #include <cstdint>
 #include <deque>
@@ -19,6 +20,11 @@ struct PlannerConfig {
   /// Kept out of every tolerance for the BLU rounding of the interpolator and of the filter
   /// output (each at most half a BLU per axis): ‖BLU‖₂, mm.
   double rounding_mm = 0.0;
+  /// Table error per unit of path speed that no corner or arc causes, s: the mismatch of X, Y
+  /// and Z servos that differ from the planned chain's (servo_mismatch_s). Every block keeps
+  /// reserve(tol) = min(share/2, V_rapid·this) of its tolerance for it and is capped at
+  /// reserve/this, and so is every block the chain still holds when it starts. 0: none.
+  double speed_error_s = 0.0;
   std::size_t capacity = 4096;  ///< most motion blocks held for look-ahead (memory bound)
 };
 
@@ -31,11 +37,12 @@ struct PlannerStats {
   std::int64_t forced_stops = 0;    ///< look-ahead full: a full stop was planned
 };
 
-/// Reads canon from `upstream` and hands on the same program with, for every block whose
-/// path_tolerance_mm is > 0, a speed cap (Motion::speed_cap_mm_s, honoured by the interpolator
-/// whatever the override) on the pieces near corners and arcs, and a short pause (Dwell) at
-/// corners where pausing costs less time than slowing. Blocks with tolerance 0 and everything
-/// else pass unchanged, so a program without a tolerance is the same canon, byte for byte.
+/// Reads canon from `upstream` (through NaiveCamMerger: G64 Q) and hands on the same program with,
+/// for every block whose path_tolerance_mm is > 0, a speed cap (Motion::speed_cap_mm_s, honoured by
+/// the interpolator whatever the override) on the pieces near corners and arcs, and a short pause
+/// (Dwell) at corners where pausing costs less time than slowing. Blocks with tolerance 0 and
+/// everything else pass unchanged, so a program without a tolerance is the same canon, byte for
+/// byte.
 ///
 /// The guarantee (docs/tolerance.md): the filter output is Σ h_i x(s_i); with s̄ = Σ h_i s_i
 /// on the path, its distance from the path is at most
@@ -55,6 +62,8 @@ class TolerancePlanner : public CanonSource {
   TolerancePlanner(const FilterMoments& filter, const PlannerConfig& cfg, CanonSource& upstream);
   bool next(Canon& out) override;
   const PlannerStats& stats() const { return stats_; }
+  /// The G64 Q stage in front of the window (moves read and handed on).
+  const NaiveCamMerger& naive_cam() const { return merger_; }
 
  private:
   struct Block {
@@ -65,6 +74,7 @@ class TolerancePlanner : public CanonSource {
     double t0 = 0, t1 = 0;  ///< cumulative fastest travel time, s (pauses included)
     double vmax = 0;        ///< at the largest override, mm/s
     double v100 = 0;        ///< at 100 %, mm/s
+    double cap_all = 0;     ///< cap over the whole block (speed_error_s), mm/s; inf = none
     AxisVec u0 = AxisVec::Zero(), u1 = AxisVec::Zero();  ///< unit tangents at start and end
     std::vector<Canon> after;  ///< what follows until the next block (events, dwells, ...)
     double dwell_after_s = 0;  ///< dwells in `after`
@@ -73,6 +83,7 @@ class TolerancePlanner : public CanonSource {
   };
   struct Element {
     bool arc = false;
+    bool stop = false;      ///< a stop of a chain that overshoots (mark_stop): a corner to rest
     std::uint64_t seq = 0;  ///< corner: the block before it; arc: the arc
     double t0 = 0, t1 = 0;  ///< extent in fastest travel time
     double s0 = 0, s1 = 0;  ///< extent in path length
@@ -91,6 +102,11 @@ class TolerancePlanner : public CanonSource {
   };
 
   void pull();  ///< one item from upstream into the window
+  void mark_stop(Block& b);
+  /// Tolerance `tol` less the rounding, and the part of it kept for speed_error_s.
+  double share_of(double tol) const;
+  double reserve_of(
+      double tol) const;  ///< the filter drains after b (and the overshoot is planned for)
   bool lookahead_enough() const;
   void decide(Element& e);
   double zone_back(double s_from, double time_s, double cap) const;
@@ -103,6 +119,7 @@ class TolerancePlanner : public CanonSource {
   FilterMoments filter_;
   PlannerConfig cfg_;
   CanonSource& upstream_;
+  NaiveCamMerger merger_;       ///< reads upstream_: G64 Q runs arrive merged
   std::vector<double> grid_d_;  ///< D(k·T/2), k = 0..2N
   std::deque<Block> window_;
   std::deque<Element> elems_;

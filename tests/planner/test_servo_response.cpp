@@ -1,8 +1,10 @@
 // The servo's linear step response against the real ServoAxis, and the FIR + servo chain's
 // corner moment against a simulated corner with the servo on (tolerance_on = encoder).
 #include "accdec/taps.hpp"
+#include "common/status.hpp"
 #include "interp/program.hpp"
 #include "machine/machine.hpp"
+#include "machine/machine_file.hpp"
 #include "pipeline/pipeline.hpp"
 #include "planner/filter_moments.hpp"
 #include "planner/servo_response.hpp"
@@ -98,4 +100,30 @@ TEST_CASE("FIR + servo chain: monotone step, unit sum, corner moment matches a s
   CHECK(worst_mm <= form_mm + 1.0 * m.contour_blu_mm());
   CHECK(worst_mm >= 0.85 * form_mm);
   CHECK(worst_mm > fir_mm * 1.05);
+}
+
+TEST_CASE("different X, Y, Z servos: planned on the closest one plus a speed-proportional error") {
+  const gm::Machine m = [] {
+    gm::Machine d = gm::default_machine();
+    d.tolerance_on = gm::ToleranceOn::Encoder;
+    return d;
+  }();
+  const gm::AxisConfig& x = m.axes[0];
+  const gm::AxisConfig& y = m.axes[1];
+  // Same servo: no mismatch. The built-in Y (the paper's second axis) against X: the area
+  // between their step responses, T·Σ|S_y − S_x| = 2.98·10⁻⁵ s (docs/tolerance.md).
+  CHECK(gm::servo_mismatch_s({&x, &m.axes[2]}, x, m.period_s, m.servo_substeps) == 0.0);
+  const double xy = gm::servo_mismatch_s({&x, &y}, x, m.period_s, m.servo_substeps);
+  CHECK(xy == Approx(2.98e-5).epsilon(0.01));
+  CHECK(gm::servo_mismatch_s({&x, &y}, y, m.period_s, m.servo_substeps) == Approx(xy));
+  // Without a place for that error the planner refuses; with one it plans on X (closest to
+  // the others: X and Z agree) and reports it.
+  double margin = 0, speed_error = -1;
+  CHECK_THROWS_AS(gm::planned_chain(m, true, margin), gm::InputError);
+  const std::vector<double> c = gm::planned_chain(m, true, margin, &speed_error);
+  CHECK(speed_error == Approx(xy));
+  gm::Machine mx = m;
+  for (auto& a : mx.axes) a = x;
+  double margin_x = 0;
+  CHECK(gm::planned_chain(mx, true, margin_x) == c);
 }

@@ -3,6 +3,7 @@
 #include "accdec/taps.hpp"
 #include "interp/program.hpp"
 #include "machine/machine.hpp"
+#include "machine/machine_file.hpp"
 #include "pipeline/pipeline.hpp"
 #include "planner/filter_moments.hpp"
 #include "planner/servo_response.hpp"
@@ -26,7 +27,7 @@ gm::PlannerConfig planner_config(const gm::Machine& m) {
   gm::PlannerConfig c;
   c.max_override = m.max_override;
   c.rapid_mm_min = m.rapid_mm_min;
-  c.rounding_mm = m.blu_mm().norm();
+  c.rounding_mm = m.xyz_blu_mm().norm();
   return c;
 }
 
@@ -50,8 +51,9 @@ Outcome run_program(const std::string& text, const gm::Machine& m, Ovr ovr, bool
   gm::Machine mm = m;
   if (encoder) mm.tolerance_on = gm::ToleranceOn::Encoder;
   double truncation_mm = 0.0;
-  const gm::FilterMoments fm(gm::planned_chain(mm, encoder, truncation_mm), m.period_s);
   gm::PlannerConfig pc = planner_config(m);
+  const gm::FilterMoments fm(gm::planned_chain(mm, encoder, truncation_mm, &pc.speed_error_s),
+                             m.period_s);
   pc.rounding_mm += truncation_mm;
   gm::TolerancePlanner planner(fm, pc, stream);
   gm::RunConfig cfg;
@@ -59,7 +61,7 @@ Outcome run_program(const std::string& text, const gm::Machine& m, Ovr ovr, bool
   cfg.servo = encoder;
   gm::Pipeline p(cfg, planner);
   Outcome o;
-  o.check = gm::ToleranceCheck(m.blu_mm().minCoeff(), encoder ? m.blu_mm().minCoeff() : 0.0);
+  o.check = gm::ToleranceCheck(m.contour_blu_mm(), encoder ? m.contour_blu_mm() : 0.0);
   gm::SampleRecord rec;
   gm::PipelineStatus st;
   std::int64_t k = 0;
@@ -171,7 +173,8 @@ void property(int kPrograms, bool encoder, std::uint64_t seed) {
   std::int64_t samples = 0, rapid_samples = 0, paused = 0, capped = 0;
   double worst_ratio = 0;
   for (int prog = 0; prog < kPrograms; ++prog) {
-    gm::Machine m;
+    // Encoder: the built-in machine, whose Y servo differs from X and Z (speed_error_s).
+    gm::Machine m = encoder ? gm::default_machine() : gm::Machine{};
     const int pi = pick(4);
     m.profile = profiles[pi];
     m.tau_s = taus[pi];
@@ -256,12 +259,23 @@ void property(int kPrograms, bool encoder, std::uint64_t seed) {
 
 }  // namespace
 
+// CI runs a prefix of the issue's sweeps (same seeds); the full 1,000 programs each are hidden
+// test cases, run on demand: `build/bin/test_planner "[property-1000]"` (docs/tolerance.md).
 TEST_CASE("property: random programs hold G64 P on every sample under random overrides") {
-  property(gmtest::scaled(1000), false, 20261123);
+  property(gmtest::scaled(200), false, 20261123);
 }
 
 TEST_CASE("property: with the servo on and tolerance_on = encoder, the table holds G64 P + 1 BLU") {
-  property(gmtest::scaled(200), true, 20261124);
+  property(gmtest::scaled(24), true, 20261124);
+}
+
+TEST_CASE("property-1000: 1,000 random programs, servo off", "[.][property-1000]") {
+  property(1000, false, 20261123);
+}
+
+TEST_CASE("property-1000: 1,000 random programs, servo on, tolerance_on = encoder",
+          "[.][property-1000]") {
+  property(1000, true, 20261124);
 }
 
 TEST_CASE("gmotion run --check-tolerance exits 1 when a sample exceeds the tolerance") {
@@ -272,15 +286,15 @@ TEST_CASE("gmotion run --check-tolerance exits 1 when a sample exceeds the toler
   CHECK(ok.out.find("tolerance cutting (G1/G2/G3): worst contour error") != std::string::npos);
   CHECK(ok.out.find("0 of ") != std::string::npos);
   // Servo on: planned for the Acc/Dec output (the default), the table lags out of it: exit 1;
-  // planning for the whole chain (--tolerance-on encoder) needs one servo on X, Y and Z, and
-  // the built-in machine's Y differs (the paper's two axes): refused.
+  // planned for the whole chain (--tolerance-on encoder) the table holds it + 1 BLU, although
+  // the built-in machine's Y servo differs from X and Z (the paper's two axes): exit 0.
   const auto bad = gmtest::run_gmotion("run " + prog + " --check-tolerance");
   CHECK(bad.code == 1);
   CHECK(bad.out.find("samples exceed the tolerance in force") != std::string::npos);
   const auto enc =
       gmtest::run_gmotion("run " + prog + " --tolerance-on encoder --check-tolerance 2>&1");
-  CHECK(enc.code != 0);
-  CHECK(enc.out.find("same servo") != std::string::npos);
+  CHECK(enc.code == 0);
+  CHECK(enc.out.find("0 of ") != std::string::npos);
   // --tolerance applies to G64 without P; without it the square is unjudged and exits 0.
   const std::string sq = std::string(GMOTION_TESTS_DIR) + "/../programs/square.nc";
   CHECK(gmtest::run_gmotion("run " + sq + " --no-servo --check-tolerance").code == 0);
