@@ -20,7 +20,7 @@ double min_positive(double a, double b) {
 
 TolerancePlanner::TolerancePlanner(const FilterMoments& filter, const PlannerConfig& cfg,
                                    CanonSource& upstream)
-    : filter_(filter), cfg_(cfg), upstream_(upstream), merger_(upstream) {
+    : filter_(filter), cfg_(cfg), merger_(upstream) {
   for (int k = 0; k <= 2 * filter_.order(); ++k)
     grid_d_.push_back(filter_.corner_moment_s(0.5 * k * filter_.period_s()));
 }

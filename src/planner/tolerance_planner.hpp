@@ -118,8 +118,7 @@ class TolerancePlanner : public CanonSource {
 
   FilterMoments filter_;
   PlannerConfig cfg_;
-  CanonSource& upstream_;
-  NaiveCamMerger merger_;       ///< reads upstream_: G64 Q runs arrive merged
+  NaiveCamMerger merger_;       ///< reads the upstream source: G64 Q runs arrive merged
   std::vector<double> grid_d_;  ///< D(k·T/2), k = 0..2N
   std::deque<Block> window_;
   std::deque<Element> elems_;
