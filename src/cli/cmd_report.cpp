@@ -80,7 +80,7 @@ void add_report(CLI::App& app, Context& ctx) {
     RunHooks hooks;
     hooks.sample = [&collector](const Run& run) {
       if (!collector) collector = std::make_unique<report::ReportCollector>(run.config().machine);
-      collector->add(run.last(), run.pipeline().started_motion());
+      collector->add(run.last(), run.pipeline().started_motions());
     };
     hooks.finished = [&](ProgramInput& program, const Run& run) {
       if (!collector) collector = std::make_unique<report::ReportCollector>(run.config().machine);

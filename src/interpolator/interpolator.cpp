@@ -10,6 +10,7 @@ namespace gm {
 
 Interpolator::Interpolator(const InterpolatorConfig& cfg, CanonSource& source)
     : cfg_(cfg), source_(source), pos_mm_(cfg.start_mm) {
+  started_.reserve(16);
   bool identity = true;
   for (int a = 0; a < cfg_.axes.count; ++a) identity = identity && cfg_.axes.program(a) == a;
   step_ = with_axis_count(cfg_.axes.count, [&](auto n) {
@@ -55,6 +56,7 @@ bool Interpolator::pull_next() {
       s_mm_ = 0.0;
       line_ = block_.line;
       ++block_seq_;
+      started_.push_back(block_);
       pending_events_ |= kEventBlockStart;
       return true;
     }

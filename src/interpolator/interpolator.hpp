@@ -7,6 +7,7 @@
 #include "interpolator/geometry.hpp"
 
 #include <cstdint>
+#include <vector>
 
 namespace gm {
 
@@ -57,8 +58,14 @@ class Interpolator {
   /// Produces the next sample into `out`. Returns Finished (leaving `out` unchanged) once the
   /// program has ended (M2/M30 or the end of the stream) and the last motion has been output.
   InterpStatus step(const OverrideInput& ovr, CommandSample& out) {
+    started_.clear();
     return (this->*step_)(ovr, out);
   }
+
+  /// The motion blocks that became current during the last step(), in order: none or one in
+  /// most samples, several when blocks are shorter than a sample's travel (CAM chords at speed).
+  /// The last one is current_motion(). The list's memory is kept from sample to sample.
+  const std::vector<Motion>& started_motions() const { return started_; }
 
   /// The motion block the last sample ended in (nullptr before the first and after the last).
   const Motion* current_motion() const { return has_block_ ? &block_ : nullptr; }
@@ -84,6 +91,7 @@ class Interpolator {
   InterpStatus (Interpolator::*step_)(const OverrideInput&, CommandSample&) = nullptr;
 
   Motion block_{};
+  std::vector<Motion> started_;  ///< blocks loaded during the current step()
   BlockGeometry geom_{};
   bool has_block_ = false;     ///< a motion block is loaded (possibly finished)
   bool in_motion_ = false;     ///< the loaded block still has distance to go

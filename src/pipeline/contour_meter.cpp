@@ -30,11 +30,9 @@ Vec3 ContourMeter::xyz_mm(const MachineVec& v_blu) const {
   return p;
 }
 
-void ContourMeter::measure(SampleRecord& r, const Motion* started) {
-  if (started != nullptr) {
-    window_.push(*started, r.k);
-    block_start_k_ = r.k;
-  }
+void ContourMeter::measure(SampleRecord& r, std::span<const Motion> started) {
+  for (const Motion& m : started) window_.push(m, r.k);
+  if (!started.empty()) block_start_k_ = r.k;
   // Contour error of the table (what a ballbar measures: lost motion and friction show here),
   // not of the motor encoder a semi-closed loop reads.
   const Vec3 table_mm = xyz_mm(r.table_blu);

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 
 namespace gm {
 
@@ -28,10 +29,10 @@ class ContourMeter {
                std::int64_t window_samples, std::int64_t steady_after);
 
   /// Fills r.contour_err_blu, r.arc_ref_dev_blu and r.arc_enc_dev_blu from r.k, r.table_blu,
-  /// r.ref_blu, r.enc_blu, r.events and r.settling. `started` is the motion block that became
-  /// current in this sample (Pipeline::started_motion()), nullptr if none did. Samples must
-  /// come in order, each once.
-  void measure(SampleRecord& r, const Motion* started);
+  /// r.ref_blu, r.enc_blu, r.events and r.settling. `started`: the motion blocks that became
+  /// current in this sample, in order (Pipeline::started_motions()); every one of them is part
+  /// of the path measured against. Samples must come in order, each once.
+  void measure(SampleRecord& r, std::span<const Motion> started);
 
  private:
   Vec3 xyz_mm(const MachineVec& v_blu) const;  ///< X, Y, Z of machine-order BLU, mm (absent: 0)

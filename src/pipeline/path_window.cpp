@@ -12,10 +12,28 @@ constexpr std::int64_t kOngoing = std::numeric_limits<std::int64_t>::max();
 
 }  // namespace
 
+void PathWindow::grow() {
+  std::vector<Entry> bigger(2 * ring_.size());
+  for (int age = 0; age < count_; ++age)
+    bigger[static_cast<std::size_t>(count_ - 1 - age)] = at(age);
+  head_ = count_ - 1;
+  ring_.swap(bigger);
+}
+
 void PathWindow::push(const Motion& m, std::int64_t k) {
   if (count_ > 0) ring_[static_cast<std::size_t>(head_)].last_sample = k;
-  head_ = (head_ + 1) % kCapacity;
-  if (hint_age_ < kCapacity - 1) ++hint_age_;  // every entry is one block older now
+  if (count_ == capacity()) {
+    // The oldest block is about to be overwritten: keep it if it can still be nearest.
+    const Entry& oldest = at(count_ - 1);
+    if (oldest.last_sample == kOngoing || k - oldest.last_sample <= lag_samples_) {
+      if (capacity() < kMaxCapacity)
+        grow();
+      else
+        ++dropped_in_lag_;
+    }
+  }
+  head_ = (head_ + 1) & (capacity() - 1);
+  if (hint_age_ < capacity() - 1) ++hint_age_;  // every entry is one block older now
   Entry& e = ring_[static_cast<std::size_t>(head_)];
   e.geometry = MotionGeometry::of(m);
   e.first_sample = k;
@@ -33,15 +51,11 @@ void PathWindow::push(const Motion& m, std::int64_t k) {
     e.sphere_r_mm = 0.5 * Vec3(m.end_mm.head<3>() - m.start_mm.head<3>()).norm();
   }
   e.margin_mm = 1e-9 + 1e-12 * (std::max(e.sphere_r_mm, 0.0) + e.sphere_c_mm.cwiseAbs().maxCoeff());
-  if (count_ < kCapacity) ++count_;
+  if (count_ < capacity()) ++count_;
 }
 
 double PathWindow::contour_error_mm(const Vec3& p_mm, std::int64_t k) {
   if (count_ == 0) return 0.0;
-  auto at = [&](int age) -> const Entry& {
-    static_assert((kCapacity & (kCapacity - 1)) == 0);
-    return ring_[static_cast<std::size_t>((head_ - age) & (kCapacity - 1))];
-  };
   // Blocks that ended longer than the lag ago are past: the window is ages [0, limit).
   int limit = 1;
   while (limit < count_ &&

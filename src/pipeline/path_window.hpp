@@ -5,14 +5,17 @@
 #include "interp/canon.hpp"
 #include "interpolator/geometry.hpp"
 
-#include <array>
 #include <cstdint>
+#include <vector>
 
 namespace gm {
 
-/// Keeps the last few motion blocks (a fixed ring, no allocation) so the distance from the
-/// actual position — which lags the command by the Acc/Dec and servo delays — to the nearest
-/// point of the programmed path can be measured.
+/// Keeps the recent motion blocks (a ring) so the distance from the actual position — which
+/// lags the command by the Acc/Dec and servo delays — to the nearest point of the programmed
+/// path can be measured. The ring holds every block that can still be nearest: it starts at
+/// kInitialCapacity and doubles (up to kMaxCapacity) when the oldest block would be dropped
+/// within the lag, as happens when many blocks are shorter than a sample's travel (CAM chords).
+/// Memory grows only then; nothing is allocated per sample.
 ///
 /// Per block, push() precomputes what the search needs (its MotionGeometry and a bounding
 /// sphere), so a sample costs one bounding-sphere test per block in the window and the exact
@@ -21,10 +24,17 @@ namespace gm {
 /// newest block (ties go to the newer block).
 class PathWindow {
  public:
-  static constexpr int kCapacity = 64;  // a power of two
+  static constexpr int kInitialCapacity = 64;  // powers of two
+  static constexpr int kMaxCapacity = 1 << 16;
 
   /// `lag_samples`: blocks that ended more than this many samples ago are not searched.
-  explicit PathWindow(std::int64_t lag_samples) : lag_samples_(lag_samples) {}
+  explicit PathWindow(std::int64_t lag_samples)
+      : ring_(kInitialCapacity), lag_samples_(lag_samples) {}
+
+  /// Blocks the ring can hold now.
+  int capacity() const { return static_cast<int>(ring_.size()); }
+  /// Blocks dropped while still within the lag (only past kMaxCapacity blocks in the lag).
+  std::int64_t dropped_in_lag() const { return dropped_in_lag_; }
 
   /// Records that `m` became the current block at sample `k`.
   void push(const Motion& m, std::int64_t k);
@@ -55,7 +65,13 @@ class PathWindow {
     double margin_mm = 0.0;           ///< slack for rounding in the bound test
   };
 
-  std::array<Entry, kCapacity> ring_{};
+  const Entry& at(int age) const {
+    return ring_[static_cast<std::size_t>((head_ - age) & (capacity() - 1))];
+  }
+  void grow();  ///< doubles the ring, keeping the entries in age order
+
+  std::vector<Entry> ring_;
+  std::int64_t dropped_in_lag_ = 0;
   int count_ = 0;
   int head_ = 0;      ///< index of the newest entry
   int hint_age_ = 0;  ///< age (0 = newest) of the entry that was nearest last time

@@ -67,17 +67,14 @@ bool Pipeline::settled() const {
 
 template <int N>
 PipelineStatus Pipeline::step_n(const OverrideInput& ovr, SampleRecord& out) {
-  started_ = nullptr;
+  started_ = {};
   if (!program_done_) {
     if (interp_.step(ovr, cmd_) == InterpStatus::Finished) {
       program_done_ = true;
       done_k_ = k_;
     } else {
       last_cmd_blu_.head<N>() = cmd_.pos_blu.head<N>();
-      if (cmd_.block_seq != seen_block_) {
-        seen_block_ = cmd_.block_seq;
-        started_ = interp_.current_motion();
-      }
+      started_ = interp_.started_motions();
     }
   }
   if (program_done_) {

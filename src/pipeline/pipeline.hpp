@@ -14,6 +14,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <span>
 
 namespace gm {
 
@@ -24,7 +25,7 @@ struct RunConfig {
   double settle_timeout_s = 10.0;  ///< after the program ends, how long the axes may take to settle
   /// false: step() measures the contour error itself. true: step() leaves contour_err_blu and
   /// arc_*_dev_blu for a ContourMeter from contour_meter() fed every record with
-  /// started_motion(), e.g. on another thread (the same values, measured elsewhere).
+  /// started_motions(), e.g. on another thread (the same values, measured elsewhere).
   bool defer_contour = false;
 };
 
@@ -56,11 +57,13 @@ class Pipeline {
   const Machine& machine() const { return cfg_.machine; }
   /// Programmed end point of the last motion block (BLU, rounded once).
   const AxisBlu& program_end_blu() const { return last_cmd_blu_; }
-  /// The motion block that became current in the last step(), nullptr if none did. Valid until
-  /// the next step().
-  const Motion* started_motion() const { return started_; }
+  /// The motion blocks that became current in the last step(), in order (several when blocks
+  /// are shorter than a sample's travel); empty if none did. Valid until the next step().
+  std::span<const Motion> started_motions() const { return started_; }
+  /// The last of them (the block the sample ends in), nullptr if none started.
+  const Motion* started_motion() const { return started_.empty() ? nullptr : &started_.back(); }
   /// A new meter set up for this pipeline's machine, filter and servo lag: with defer_contour,
-  /// feed it every record of step() with started_motion() to complete the records.
+  /// feed it every record of step() with started_motions() to complete the records.
   ContourMeter contour_meter() const;
 
  private:
@@ -79,8 +82,7 @@ class Pipeline {
   MachineVec table_blu_ =
       MachineVec::Zero();  ///< table positions (BLU, continuous) at the sample instant
   std::int64_t k_ = 0;
-  std::uint64_t seen_block_ = 0;
-  const Motion* started_ = nullptr;
+  std::span<const Motion> started_;
   bool program_done_ = false;
   std::int64_t done_k_ = 0;
   int quiet_samples_ = 0;

@@ -105,7 +105,7 @@ void Run::init() {
   if (o.consumer_thread) {
     meter_.emplace(pipeline_.contour_meter());
     queue_ = std::make_unique<SampleQueue>(
-        [this](SampleRecord& r, const Motion* started) { consume(r, started); });
+        [this](SampleRecord& r, std::span<const Motion> started) { consume(r, started); });
   }
   step_ = with_axis_count(o.config.machine.axis_count(),
                           [](auto n) { return &Run::step_n<decltype(n)::value>; });
@@ -115,9 +115,9 @@ void Run::init() {
 
 Run::~Run() = default;
 
-void Run::consume(SampleRecord& r, const Motion* started) {
+void Run::consume(SampleRecord& r, std::span<const Motion> started) {
   if (meter_) meter_->measure(r, started);
-  tolerance_.add(r, started);
+  tolerance_.add(r, started.empty() ? nullptr : &started.back());
   summary_.add(r);
   if (trace_) trace_->write(r);
 }
@@ -159,9 +159,9 @@ RunStatus Run::step_n() {
         t0_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                   std::chrono::duration<double>(rec_.t_s + o.config.machine.period_s)));
   if (queue_)
-    queue_->push_n<N>(rec_, pipeline_.started_motion());
+    queue_->push_n<N>(rec_, pipeline_.started_motions());
   else
-    consume(rec_, pipeline_.started_motion());  // step() measured the contour itself
+    consume(rec_, pipeline_.started_motions());  // step() measured the contour itself
   if (o.progress && !realtime(o) && (rec_.k & 0xFFFF) == 0 &&
       std::chrono::steady_clock::now() > next_progress_) {
     o.progress(rec_);

@@ -111,7 +111,7 @@ class Run {
   /// step() for a machine of N axes (the pipeline's step_n<N>, the queue's push_n<N>).
   template <int N>
   RunStatus step_n();
-  void consume(SampleRecord& r, const Motion* started);
+  void consume(SampleRecord& r, std::span<const Motion> started);
   void finish(RunStatus status);
 
   RunOptions options_;

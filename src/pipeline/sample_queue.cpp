@@ -32,8 +32,9 @@ void SampleQueue::consume_loop() {
     try {
       std::size_t m = 0;
       for (std::size_t j = 0; j < b->count; ++j) {
-        const bool started = m < b->motion_count && b->motion_row[m] == j;
-        consume_(b->records[j], started ? &b->motions[m++] : nullptr);
+        const std::size_t first = m;
+        while (m < b->motion_count && b->motion_row[m] == j) ++m;
+        consume_(b->records[j], std::span<const Motion>(b->motions.data() + first, m - first));
       }
     } catch (...) {
       ring_.fail(std::current_exception());

@@ -9,22 +9,24 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <thread>
 #include <vector>
 
 namespace gm {
 
 /// A bounded single-producer/single-consumer queue of SampleRecord batches with its consumer
-/// thread. The consumer sees every record pushed, in order, exactly once, with the motion block
-/// pushed with it (a copy; nullptr when none was), and may complete the record in place (the
-/// contour error: ContourMeter). Memory is fixed at construction (kBatches × kBatchSize records
-/// and motions); push() blocks while every batch is full. An exception thrown by the consumer
-/// stops it and is rethrown by the next push() or finish().
+/// thread. The consumer sees every record pushed, in order, exactly once, with the motion blocks
+/// pushed with it (copies; often none or one), and may complete the record in place (the
+/// contour error: ContourMeter). Memory is set at construction (kBatches × kBatchSize records
+/// and motions; a batch is handed over early when its motions are full, and a list grows only
+/// for one sample that starts more blocks than that); push() blocks while every batch is full. An
+/// exception thrown by the consumer stops it and is rethrown by the next push() or finish().
 class SampleQueue {
  public:
   static constexpr std::size_t kBatches = 3;
   static constexpr std::size_t kBatchSize = 4096;
-  using Consumer = std::function<void(SampleRecord&, const Motion*)>;
+  using Consumer = std::function<void(SampleRecord&, std::span<const Motion>)>;
 
   /// Starts the consumer thread, which calls `consume` for each record.
   explicit SampleQueue(Consumer consume);
@@ -33,18 +35,24 @@ class SampleQueue {
   SampleQueue(const SampleQueue&) = delete;
   SampleQueue& operator=(const SampleQueue&) = delete;
 
-  /// Appends a record and the motion block that started in it (copied; nullptr: none); hands
-  /// the batch over when it is full. Allocates nothing.
-  void push(const SampleRecord& r, const Motion* started = nullptr) {
+  /// Appends a record and the motion blocks that started in it (copied); hands the batch over
+  /// when it is full.
+  void push(const SampleRecord& r, std::span<const Motion> started = {}) {
     push_n<kMaxAxes>(r, started);
   }
   /// push() for a machine of N axes: only entries 0..N-1 of the record's vectors are copied
   /// (the queue's records start at 0, so the consumer sees the same record).
   template <int N>
-  void push_n(const SampleRecord& r, const Motion* started = nullptr) {
+  void push_n(const SampleRecord& r, std::span<const Motion> started = {}) {
+    // A batch whose motion list cannot take this sample's blocks is handed over early (memory
+    // stays at kBatchSize motions a batch); only one sample starting more blocks than that
+    // grows a list.
+    if (fill_->motion_count + started.size() > fill_->motions.size() && fill_->count > 0)
+      hand_over();
     Batch& b = *fill_;
-    if (started != nullptr) {
-      b.motions[b.motion_count] = *started;
+    while (b.motion_count + started.size() > b.motions.size()) b.grow_motions();
+    for (const Motion& m : started) {
+      b.motions[b.motion_count] = m;
       b.motion_row[b.motion_count++] = static_cast<std::uint32_t>(b.count);
     }
     copy_sample<N>(r, b.records[b.count++]);
@@ -62,6 +70,10 @@ class SampleQueue {
         std::vector<std::uint32_t>(kBatchSize);  ///< record of each motion
     std::size_t count = 0;
     std::size_t motion_count = 0;
+    void grow_motions() {
+      motions.resize(2 * motions.size());
+      motion_row.resize(2 * motion_row.size());
+    }
   };
   void hand_over();
   void consume_loop();

@@ -67,8 +67,8 @@ void ReportCollector::add_motion(const Motion& m) {
   end_rapid_ = rapid;
 }
 
-void ReportCollector::add(const SampleRecord& s, const Motion* started) {
-  if (started != nullptr) add_motion(*started);
+void ReportCollector::add(const SampleRecord& s, std::span<const Motion> started) {
+  for (const Motion& m : started) add_motion(m);
   if (first_) prev_ref_ = s.ref_blu;
   SeriesBin b;
   b.k0 = s.k;

@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -47,7 +48,7 @@ class ReportCollector {
   explicit ReportCollector(const Machine& machine, std::size_t columns = 2048,
                            std::size_t path_columns = 8192, std::size_t path_points = 50000);
 
-  void add(const SampleRecord& s, const Motion* started);
+  void add(const SampleRecord& s, std::span<const Motion> started);
 
   const AdaptiveBins<SeriesBin>& series() const { return series_; }
   const AdaptiveBins<PathBin>& path() const { return path_; }

@@ -10,10 +10,13 @@
 
 #include <catch2/catch.hpp>
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -145,4 +148,65 @@ TEST_CASE("the paper's circle test: Acc/Dec radius loss matches the analysis, Eq
   // test").
   CHECK(servo_alone < 0.0);
   CHECK(servo_alone > -5.0);
+}
+
+TEST_CASE(
+    "a CAM polyline with several chords a sample: the contour error is the distance to every "
+    "chord, in step() and on the consumer thread") {
+  // 1,500 chords of 0.02 mm around a circle of radius 10 mm at F6000 (100 mm/s): 0.4 mm a
+  // sample, so about 20 chords start in each sample. The meter must see each of them: measured
+  // against every fifth chord only, the error would be off by the sag of the skipped ones.
+  std::string text = "G21 G90 G17 G64\nG0 X10 Y0\nG1 F6000\n";
+  std::vector<gm::Vec3> pts{gm::Vec3(0, 0, 0), gm::Vec3(10, 0, 0)};
+  for (int k = 1; k <= 1500; ++k) {
+    const double a = 0.002 * k;
+    const double x = std::round(10.0 * std::cos(a) * 1e5) / 1e5,
+                 y = std::round(10.0 * std::sin(a) * 1e5) / 1e5;
+    text += fmt::format("X{:.5f} Y{:.5f}\n", x, y);
+    pts.emplace_back(x, y, 0.0);
+  }
+  text += "M2\n";
+  auto distance = [&](const gm::Vec3& p) {  // brute force over the whole polyline, mm
+    double best = 1e9;
+    for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
+      const gm::Vec3 d = pts[i + 1] - pts[i];
+      const double t = std::clamp((p - pts[i]).dot(d) / d.squaredNorm(), 0.0, 1.0);
+      best = std::min(best, (p - pts[i] - t * d).norm());
+    }
+    return best;
+  };
+  const gm::Machine m;
+  const double blu = m.contour_blu_mm();
+  double worst_diff = 0.0, worst = 0.0;
+  std::size_t samples = 0;
+  {
+    std::istringstream in(text);
+    gm::RunOptions o;
+    o.config.machine = m;
+    o.config.servo = false;
+    o.program_name = "chords.nc";
+    o.consumer_thread = false;  // step() measures: last() has each sample's contour error
+    gm::Run run(std::move(o), in, gm::InterpreterOptions{});
+    while (run.step() == gm::RunStatus::Working) {
+      const gm::SampleRecord& r = run.last();
+      const gm::Vec3 p(r.table_blu[0] * blu, r.table_blu[1] * blu, r.table_blu[2] * blu);
+      const double d = distance(p);
+      worst = std::max(worst, d);
+      worst_diff = std::max(worst_diff, std::abs(std::abs(r.contour_err_blu) * blu - d));
+      ++samples;
+    }
+  }
+  CHECK(samples > 100);
+  CHECK(worst > 0.3);           // the rapid's 90° corner onto the circle: F·D ≈ 0.89 mm
+  CHECK(worst_diff < 1e-9);     // every sample, to rounding
+  std::istringstream in(text);  // the same run with the meter on the consumer thread
+  gm::RunOptions o;
+  o.config.machine = m;
+  o.config.servo = false;
+  o.program_name = "chords.nc";
+  o.consumer_thread = true;
+  gm::Run run(std::move(o), in, gm::InterpreterOptions{});
+  while (run.step() == gm::RunStatus::Working) {
+  }
+  CHECK(run.summary().contour_err_blu.value * blu == Approx(worst).margin(1e-9));
 }

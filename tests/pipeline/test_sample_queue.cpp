@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <span>
 #include <stdexcept>
 #include <vector>
 
@@ -17,7 +18,7 @@ TEST_CASE("sample queue delivers every record once and in order") {
                          std::int64_t{4097}, std::int64_t{3 * 4096}, std::int64_t{100003}}) {
     std::vector<std::int64_t> seen;
     seen.reserve(static_cast<std::size_t>(n));
-    SampleQueue q([&](SampleRecord& r, const gm::Motion*) { seen.push_back(r.k); });
+    SampleQueue q([&](SampleRecord& r, std::span<const gm::Motion>) { seen.push_back(r.k); });
     SampleRecord r;
     for (std::int64_t k = 0; k < n; ++k) {
       r.k = k;
@@ -40,10 +41,12 @@ TEST_CASE("sample queue hands each motion to the consumer with the record it was
   };
   const std::int64_t n = 5 * static_cast<std::int64_t>(SampleQueue::kBatchSize) + 11;
   std::int64_t seen = 0, with_motion = 0, wrong = 0;
-  SampleQueue q([&](SampleRecord& r, const gm::Motion* m) {
+  SampleQueue q([&](SampleRecord& r, std::span<const gm::Motion> ms) {
     ++seen;
-    if (m != nullptr) ++with_motion;
-    if ((m != nullptr) != has_motion(r.k) || (m != nullptr && m->line != r.k)) ++wrong;
+    const gm::Motion* m = ms.empty() ? nullptr : &ms.back();
+    if (!ms.empty()) ++with_motion;
+    if (ms.size() > 1 || (m != nullptr) != has_motion(r.k) || (m != nullptr && m->line != r.k))
+      ++wrong;
   });
   SampleRecord r;
   gm::Motion motion;
@@ -53,7 +56,7 @@ TEST_CASE("sample queue hands each motion to the consumer with the record it was
     motion.line = static_cast<int>(k);
     const bool with = has_motion(k);
     expected += with ? 1 : 0;
-    q.push(r, with ? &motion : nullptr);
+    q.push(r, with ? std::span<const gm::Motion>(&motion, 1) : std::span<const gm::Motion>());
   }
   q.finish();
   CHECK(seen == n);
@@ -62,7 +65,7 @@ TEST_CASE("sample queue hands each motion to the consumer with the record it was
 }
 
 TEST_CASE("sample queue rethrows the consumer's exception to the producer") {
-  SampleQueue q([](SampleRecord& r, const gm::Motion*) {
+  SampleQueue q([](SampleRecord& r, std::span<const gm::Motion>) {
     if (r.k == 5000) throw std::runtime_error("disk full at 5000");
   });
   SampleRecord r;
@@ -85,11 +88,38 @@ TEST_CASE("sample queue rethrows the consumer's exception to the producer") {
 TEST_CASE("sample queue destroyed mid-run joins its thread") {
   std::atomic<std::int64_t> consumed{0};
   {
-    SampleQueue q([&](SampleRecord&, const gm::Motion*) { ++consumed; });
+    SampleQueue q([&](SampleRecord&, std::span<const gm::Motion>) { ++consumed; });
     SampleRecord r;
     for (std::int64_t k = 0; k < 50000; ++k) q.push(r);
     // no finish(): the producer gave up (an error, SIGINT); the destructor must not hang
   }
   CHECK(consumed.load() <= 50000);
   CHECK(consumed.load() >= 50000 - 3 * static_cast<std::int64_t>(SampleQueue::kBatchSize));
+}
+
+TEST_CASE("sample queue hands several motions per record in order, beyond a batch's worth") {
+  // Record k carries k % 5 motions (lines 1000·k + i): 2 per record on average, so batches are
+  // handed over when their 4,096 motions are full, before their 4,096 records are; one record
+  // then carries 5,000 motions (a list grows for it).
+  const std::int64_t n = 3 * static_cast<std::int64_t>(SampleQueue::kBatchSize) + 7;
+  std::int64_t wrong = 0, motions = 0;
+  SampleQueue q([&](SampleRecord& r, std::span<const gm::Motion> ms) {
+    if (static_cast<std::int64_t>(ms.size()) != (r.k == n / 2 ? 5000 : r.k % 5)) ++wrong;
+    for (std::size_t i = 0; i < ms.size(); ++i, ++motions)
+      if (ms[i].line != static_cast<int>(1000 * r.k + static_cast<std::int64_t>(i))) ++wrong;
+  });
+  SampleRecord r;
+  std::vector<gm::Motion> batch(5000);
+  std::int64_t expected = 0;
+  for (std::int64_t k = 0; k < n; ++k) {
+    r.k = k;
+    const auto count = static_cast<std::size_t>(k == n / 2 ? 5000 : k % 5);
+    for (std::size_t i = 0; i < count; ++i)
+      batch[i].line = static_cast<int>(1000 * k + static_cast<std::int64_t>(i));
+    expected += static_cast<std::int64_t>(count);
+    q.push(r, std::span<const gm::Motion>(batch.data(), count));
+  }
+  q.finish();
+  CHECK(wrong == 0);
+  CHECK(motions == expected);
 }

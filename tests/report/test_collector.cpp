@@ -22,7 +22,7 @@ void feed(ReportCollector& c) {
     s.ref_blu[0] = x;
     s.table_blu[0] = static_cast<double>(x);
     s.contour_err_blu = k == 12 ? -7.5 : 0.25;
-    c.add(s, nullptr);
+    c.add(s, {});
   }
 }
 
