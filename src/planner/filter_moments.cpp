@@ -56,6 +56,7 @@ void FilterMoments::init() {
       d *= period_s_;
     }
     variance_s2_ += std::abs(h_[i]) * d * d;
+    abs_moment_s_ += std::abs(h_[i]) * std::abs(d);
   }
 }
 

@@ -38,6 +38,10 @@ class FilterMoments {
   /// κ·V²·σ²/2 (the steady radius loss of Eq. 13/14 is below it). With negative weights the
   /// bound T²·Σ |c_i|·(Σ_j |c_j|·|i − j|)² instead (|s_i − s̄| ≤ V·T·Σ_j |c_j|·|i − j|).
   double variance_s2() const { return variance_s2_; }
+  /// M₁ = T·Σ h_i·|i − m|, s: the first absolute moment, Σ h_i·|s_i − s̄| ≤ V·M₁ at speeds ≤ V
+  /// (it grows with every path increment when h ≥ 0; = 2·D(0) for symmetric taps). With negative
+  /// weights the bound Σ |c_i|·T·Σ_j |c_j|·|i − j| instead.
+  double abs_moment_s() const { return abs_moment_s_; }
 
   /// Shortest zone (time either side of a corner at the capped speed) whatever the pause: 0 when
   /// the chain's step response stays in [0, 1], else the whole window (the output can run past
@@ -73,6 +77,7 @@ class FilterMoments {
   std::vector<double> h_;
   double centre_ = 0.0;
   double variance_s2_ = 0.0;
+  double abs_moment_s_ = 0.0;
   double over_s_ = 0.0;   ///< ∫ (S − 1)⁺: step response above 1 (overshoot area), s
   double under_s_ = 0.0;  ///< ∫ S⁻: below 0, s
   double zone_floor_s_ = 0.0;

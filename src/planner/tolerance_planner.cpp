@@ -10,6 +10,14 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kMinTurn = 1e-9;
+/// A vertex between two G1 lines joins a run of small turns when it turns by at most this
+/// (|Δu|, about 5.7°), by so little that the run's δ term alone keeps within the tolerance at
+/// 100 % feed (δ·V·M₁ <= tol; larger turns do better corner by corner, where they can pause),
+/// and the line before it is shorter than τ of travel. A run of fewer than kMinRunVertices
+/// vertices is planned corner by corner.
+constexpr double kRunTurn = 0.1;
+constexpr int kMinRunVertices = 3;
+constexpr double kRunDeltaShare = 4.0;
 
 double min_positive(double a, double b) {
   if (a > 0.0 && b > 0.0) return std::min(a, b);
@@ -94,9 +102,20 @@ void TolerancePlanner::pull() {
       e.pause0 = prev->dwell_after_s;
       e.vmax = std::max(prev->vmax, b.vmax);
       e.v100 = std::max(prev->v100, b.v100);
-      push_element(e);
+      const double seg = prev->s1 - prev->s0;
+      if (prev->m.kind == MotionKind::Line && b.m.kind == MotionKind::Line && turn <= kRunTurn &&
+          turn * e.v100 * filter_.abs_moment_s() <= kRunDeltaShare * tol &&
+          seg < prev->vmax * tau) {
+        add_run_vertex(e, seg);
+      } else {
+        end_run();
+        push_element(e);
+      }
+    } else if (turn > kMinTurn) {
+      end_run();  // a turn without a tolerance: the run's bound does not cover it
     }
   }
+  if (m->kind == MotionKind::Arc) end_run();
   if (m->kind == MotionKind::Arc && m->path_tolerance_mm > 0.0) {
     const double r = std::min(g.r0_mm, g.r1_mm);
     Element e;
@@ -127,8 +146,50 @@ double TolerancePlanner::reserve_of(double tol) const {
   return std::min(0.5 * share_of(tol), v_rapid * cfg_.speed_error_s);
 }
 
+void TolerancePlanner::add_run_vertex(const Element& corner, double seg_before_mm) {
+  if (run_.open && corner.t0 > run_.chunk.t0 + filter_.tau_s()) close_run_chunk();
+  if (run_.vertices == 0) run_.id = ++runs_;
+  Element& c = run_.chunk;
+  if (!run_.open) {
+    run_.open = true;
+    c = corner;
+    c.run = true;
+    c.run_id = run_.id;
+    c.kappa = c.delta = c.turn = c.pause0 = 0.0;
+  }
+  c.t1 = corner.t1;
+  c.s1 = corner.s1;
+  c.tol_mm = std::min(c.tol_mm, corner.tol_mm);
+  c.vmax = std::max(c.vmax, corner.vmax);
+  c.v100 = std::max(c.v100, corner.v100);
+  c.delta = std::max(c.delta, corner.turn);
+  // The run's first vertex is charged to δ alone (the line before it may be long); every later
+  // one to the line before it, which lies inside any stretch of path that holds both ends.
+  if (run_.vertices > 0) c.kappa = std::max(c.kappa, corner.turn / seg_before_mm);
+  if (run_.vertices < kMinRunVertices) run_.corners.push_back(corner);
+  ++run_.vertices;
+}
+
+void TolerancePlanner::close_run_chunk() {
+  if (!run_.open) return;
+  run_.open = false;
+  if (run_.vertices < kMinRunVertices) {
+    for (const Element& c : run_.corners) push_element(c);
+  } else {
+    push_element(run_.chunk);
+    ++stats_.run_chunks;
+  }
+  run_.corners.clear();
+}
+
+void TolerancePlanner::end_run() {
+  close_run_chunk();
+  run_.vertices = 0;
+}
+
 void TolerancePlanner::mark_stop(Block& b) {
   if (b.stop_after) return;
+  end_run();
   b.stop_after = true;
   // A chain whose step response overshoots (FIR + a type-2 servo, tolerance_on = encoder) runs
   // past the end of a block it stops at, along the block's end tangent, by up to V·∫(S − 1)⁺:
@@ -157,6 +218,8 @@ bool TolerancePlanner::lookahead_enough() const {
   double need = f.t1 + 2.0 * tau;
   for (const Element& e : elems_)
     if (!e.decided && e.t0 < f.t1 + tau) need = std::max(need, e.t1 + tau);
+  // A chunk being gathered spans at most τ: it is closed before it is needed.
+  if (run_.open && run_.chunk.t0 < f.t1 + tau) need = std::max(need, run_.chunk.t0 + 2.0 * tau);
   return window_.back().t1 >= need;
 }
 
@@ -205,7 +268,14 @@ double TolerancePlanner::zone_fwd(double s_from, double time_s, double cap) cons
 }
 
 void TolerancePlanner::push_element(Element e) {
-  e.weight = e.arc ? 1.0 : e.turn;
+  // Weights: what the element costs at a speed, in a corner's units (V·D(0)·|Δu| for a corner):
+  // a run's (κ·V·σ²/2 + δ·M₁)/D(0) at 100 % feed, so that the corners beside it keep a fair share.
+  if (e.run)
+    e.weight = std::max(kMinTurn, (0.5 * e.kappa * e.v100 * filter_.variance_s2() +
+                                   e.delta * filter_.abs_moment_s()) /
+                                      filter_.corner_moment_s(0.0));
+  else
+    e.weight = e.arc ? 1.0 : e.turn;
   e.cum = weight_total_;
   weight_total_ += e.weight;
   elems_.push_back(e);
@@ -217,6 +287,13 @@ double TolerancePlanner::zone_count(double z0, double z1) const {
   auto last = std::lower_bound(first, elems_.end(), z1 + 1e-9,
                                [](const Element& f, double z) { return f.s0 < z; });
   return static_cast<double>(last - first);
+}
+
+double TolerancePlanner::same_run_weight(const Element& e, double z0, double z1) const {
+  double w = 0.0;
+  for (const Element& f : elems_)
+    if (f.run && f.run_id == e.run_id && f.s1 > z0 - 1e-9 && f.s0 < z1 + 1e-9) w += f.weight;
+  return w;
 }
 
 double TolerancePlanner::zone_weight(double z0, double z1) const {
@@ -268,6 +345,28 @@ void TolerancePlanner::decide(Element& e) {
     auto load = [&](double v) {
       return 0.5 * e.kappa * v * v * filter_.variance_s2() *
              zone_weight(e.s0 - v * tau, e.s1 + v * tau);
+    };
+    const double v = solve(e.vmax, load);
+    if (v < e.vmax) e.cap = v;
+    e.z0 = zone_back(e.s0, tau, e.cap);
+    e.z1 = zone_fwd(e.s1, tau, e.cap);
+    return;
+  }
+  if (e.run) {
+    // (κ·v²·σ²/2 + δ·v·M₁)·W <= share, κ and δ the largest of the run's chunks within reach (a
+    // filter window over two chunks sees both), W counting the run once, by this chunk's weight.
+    double kappa = e.kappa, delta = e.delta;
+    const double w0 = e.s0 - e.vmax * tau, w1 = e.s1 + e.vmax * tau;
+    for (const Element& f : elems_)
+      if (f.run && f.run_id == e.run_id && f.s1 > w0 - 1e-9 && f.s0 < w1 + 1e-9) {
+        kappa = std::max(kappa, f.kappa);
+        delta = std::max(delta, f.delta);
+      }
+    auto load = [&](double v) {
+      const double z0 = e.s0 - v * tau, z1 = e.s1 + v * tau;
+      const double w = zone_weight(z0, z1) - same_run_weight(e, z0, z1) + e.weight;
+      return (0.5 * kappa * v * v * filter_.variance_s2() + delta * v * filter_.abs_moment_s()) *
+             w / e.weight;  // error <= share·w_e/W
     };
     const double v = solve(e.vmax, load);
     if (v < e.vmax) e.cap = v;
@@ -335,6 +434,12 @@ void TolerancePlanner::emit_front() {
     ++stats_.forced_stops;
   }
   Block& b = window_.front();
+  if (run_.open) {  // a chunk some decision can reach is closed first, so that it is counted
+    double horizon = b.t1 + 2.0 * tau;
+    for (const Element& e : elems_)
+      if (!e.decided && e.t0 < b.t1 + tau) horizon = std::max(horizon, e.t1 + tau);
+    if (run_.chunk.t0 < horizon) close_run_chunk();
+  }
   for (Element& e : elems_)
     if (!e.decided && e.t0 < b.t1 + tau) decide(e);
 

@@ -35,6 +35,7 @@ struct PlannerStats {
   double pause_total_s = 0.0;       ///< pauses added in all
   std::int64_t capped_pieces = 0;   ///< motion pieces emitted with a speed cap
   std::int64_t forced_stops = 0;    ///< look-ahead full: a full stop was planned
+  std::int64_t run_chunks = 0;      ///< pieces of runs of small turns planned as one curve
 };
 
 /// Reads canon from `upstream` (through NaiveCamMerger: G64 Q) and hands on the same program with,
@@ -54,6 +55,13 @@ struct PlannerStats {
 /// override at its maximum, no pause); each gets budget (tol − rounding) / n, n the number of
 /// elements within τ of it, so whatever shares a window adds up to at most the tolerance.
 /// Overrides and holds only slow the path, and every bound above only shrinks.
+///
+/// A run of small turns between short G1 lines (a CAM polyline) is planned as one curve instead
+/// of corner by corner: the turning between two path points in the run is at most
+/// κ_eff·(distance) + δ (κ_eff the largest turn over the segment before it, δ the largest turn),
+/// so the run adds at most κ_eff·V²·σ²/2 + δ·V·M₁ (M₁ = abs_moment_s()). It is held in chunks of
+/// at most τ of travel; the chunks of one run count once in each other's sharing and each takes
+/// κ_eff and δ of every chunk of its run within reach.
 ///
 /// One pass over the program; at most `capacity` blocks and the elements within 2τ of travel
 /// are held. If `capacity` blocks fit in 2τ of travel, a full stop is planned at the window end.
@@ -83,13 +91,16 @@ class TolerancePlanner : public CanonSource {
   };
   struct Element {
     bool arc = false;
+    bool run = false;  ///< a chunk of a run of small turns (a curve of κ_eff and δ)
+    std::uint64_t run_id = 0;
+    double delta = 0;       ///< run: the largest turn |Δu|
     bool stop = false;      ///< a stop of a chain that overshoots (mark_stop): a corner to rest
     std::uint64_t seq = 0;  ///< corner: the block before it; arc: the arc
     double t0 = 0, t1 = 0;  ///< extent in fastest travel time
     double s0 = 0, s1 = 0;  ///< extent in path length
     double tol_mm = 0;
     double turn = 0;    ///< corner: |u_after − u_before| = 2 sin(φ/2)
-    double kappa = 0;   ///< arc: curvature bound, 1/mm
+    double kappa = 0;   ///< arc: curvature bound; run: κ_eff, 1/mm
     double pause0 = 0;  ///< corner: pause already there (dwells)
     double vmax = 0;    ///< fastest adjacent speed
     double v100 = 0;    ///< adjacent speed at 100 %
@@ -115,6 +126,22 @@ class TolerancePlanner : public CanonSource {
   double zone_count(double z0, double z1) const;
   void push_element(Element e);
   void emit_front();
+  /// Runs of small turns (CAM polylines): a vertex joins the run being gathered; a chunk is
+  /// closed (pushed as one element, or as its corners while the run is short) when it spans τ,
+  /// when a decision could reach it, and when the run ends.
+  void add_run_vertex(const Element& corner, double seg_before_mm);
+  void close_run_chunk();
+  void end_run();
+  double same_run_weight(const Element& e, double z0, double z1) const;
+
+  struct PendingRun {
+    bool open = false;  ///< a chunk is being gathered
+    Element chunk;
+    std::vector<Element>
+        corners;  ///< the run's first vertices, pushed as corners if it stays short
+    std::uint64_t id = 0;
+    int vertices = 0;  ///< in the run so far
+  };
 
   FilterMoments filter_;
   PlannerConfig cfg_;
@@ -129,6 +156,8 @@ class TolerancePlanner : public CanonSource {
   double s_end_ = 0, t_end_ = 0;  ///< where the last block in the window ends
   PlannerStats stats_;
   double weight_total_ = 0.0;  ///< weights of all elements pushed so far
+  PendingRun run_;
+  std::uint64_t runs_ = 0;
 };
 
 }  // namespace gm

@@ -157,9 +157,9 @@ TEST_CASE("square at F6000: G64 P0.1 before P0.01 before G61, tolerance held, en
 
 namespace {
 
-// Random CAM-like programs (lines, arcs, helices, rapids, feeds, tolerances changed mid-program)
-// under random override schedules; every sample within the tolerance (servo off) or within
-// the tolerance + 1 BLU on the table (servo on, tolerance_on = encoder).
+// Random CAM-like programs (lines, arcs, helices, rapids, chord polylines, feeds, tolerances
+// changed mid-program) under random override schedules; every sample within the tolerance (servo
+// off) or within the tolerance + 1 BLU on the table (servo on, tolerance_on = encoder).
 void property(int kPrograms, bool encoder, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> U(0.0, 1.0);
@@ -169,8 +169,8 @@ void property(int kPrograms, bool encoder, std::uint64_t seed) {
   const char* profiles[] = {"blackman", "linear", "hann", "scurve1"};
   const double taus[] = {0.164, 0.1, 0.08, 0.12};
   const double tols[] = {0.003, 0.005, 0.01, 0.02, 0.05, 0.1, 0.3};
-  int arcs = 0, rapids = 0, lines = 0;
-  std::int64_t samples = 0, rapid_samples = 0, paused = 0, capped = 0;
+  int arcs = 0, rapids = 0, lines = 0, polylines = 0;
+  std::int64_t samples = 0, rapid_samples = 0, paused = 0, capped = 0, run_chunks = 0;
   double worst_ratio = 0;
   for (int prog = 0; prog < kPrograms; ++prog) {
     // Encoder: the built-in machine, whose Y servo differs from X and Z (speed_error_s).
@@ -195,6 +195,20 @@ void property(int kPrograms, bool encoder, std::uint64_t seed) {
         x = r6(x + len * std::cos(a)), y = r6(y + len * std::sin(a));
         text += fmt::format("G1 X{} Y{} F{}\n", g(x), g(y), feed);
         ++lines;
+      } else if (r < 0.7) {  // a CAM polyline: chords along a curve of varying curvature
+        const int n = 10 + pick(300);
+        const double chord = 0.005 + 0.3 * U(rng) * U(rng);
+        const double k0 = (U(rng) - 0.5) * 1.0, k1 = (U(rng) - 0.5) * 1.0;  // 1/mm
+        const double jitter = U(rng) < 0.3 ? 0.002 * U(rng) : 0.0;          // CAM rounding, mm
+        double a = 2 * 3.141592653589793 * U(rng);
+        text += fmt::format("G1 F{}\n", feed);
+        for (int c = 0; c < n; ++c) {
+          a += chord * (k0 + (k1 - k0) * c / n);
+          x = r6(x + chord * std::cos(a) + jitter * (U(rng) - 0.5));
+          y = r6(y + chord * std::sin(a) + jitter * (U(rng) - 0.5));
+          text += fmt::format("X{} Y{}\n", g(x), g(y));
+        }
+        ++polylines;
       } else {  // arc or helix, the end on the circle (to the printed digits)
         const double R = U(rng) < 0.5 ? 0.3 + 2 * U(rng) : 2 + 15 * U(rng);
         const double a0 = 2 * 3.141592653589793 * U(rng);
@@ -239,22 +253,26 @@ void property(int kPrograms, bool encoder, std::uint64_t seed) {
     worst_ratio = std::max({worst_ratio, o.check.cutting().ratio, o.check.rapids().ratio});
     paused += o.stats.paused_corners;
     capped += o.stats.capped_pieces;
+    run_chunks += o.stats.run_chunks;
   }
   // What the run covered (printed with -s; figures in docs/tolerance.md).
   INFO(fmt::format(
-      "{} programs: {} lines, {} arcs, {} rapids; {} cutting + {} rapid samples "
+      "{} programs: {} lines, {} arcs, {} rapids, {} polylines; {} cutting + {} rapid samples "
       "judged; worst error {:.0f} % of the tolerance; {} corners paused, {} pieces "
       "capped",
-      kPrograms, lines, arcs, rapids, samples, rapid_samples, 100 * worst_ratio, paused, capped));
+      kPrograms, lines, arcs, rapids, polylines, samples, rapid_samples, 100 * worst_ratio, paused,
+      capped));
   CHECK(worst_ratio <= (encoder ? 1.0 + 0.001 / 0.003 : 1.0));  // + 1 BLU at the smallest P
   CHECK(samples > 100 * kPrograms);
   CHECK(rapid_samples > kPrograms);
   CHECK(paused > 0);
   CHECK(capped > 0);
-  WARN(
-      fmt::format("{} programs, {} cutting + {} rapid samples, worst {:.1f} % of tolerance, "
-                  "{} paused corners, {} capped pieces",
-                  kPrograms, samples, rapid_samples, 100 * worst_ratio, paused, capped));
+  CHECK(polylines > 0);
+  CHECK(run_chunks > 0);
+  WARN(fmt::format(
+      "{} programs ({} polylines), {} cutting + {} rapid samples, worst {:.1f} % of tolerance, "
+      "{} paused corners, {} capped pieces, {} run chunks",
+      kPrograms, polylines, samples, rapid_samples, 100 * worst_ratio, paused, capped, run_chunks));
 }
 
 }  // namespace
