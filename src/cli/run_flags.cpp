@@ -65,8 +65,11 @@ int run(const RunFlags& f, std::unique_ptr<Run>& run_out, const RunHooks& hooks)
   Run& run = *run_out;
 
   RunStatus st;
-  while ((st = run.step()) == RunStatus::Working)
-    if (hooks.sample) hooks.sample(run);
+  if (hooks.sample)
+    while ((st = run.step()) == RunStatus::Working) hooks.sample(run);
+  else
+    while ((st = run.step()) == RunStatus::Working) {
+    }
   if (run.progress_shown()) fmt::print(stderr, "\n");
   if (hooks.finished) hooks.finished(program, run);
 

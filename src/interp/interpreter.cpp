@@ -214,16 +214,17 @@ Interpreter::Interpreter(const Machine& machine) : machine_(machine) {
 }
 
 AxisVec Interpreter::total_offset_mm() const {
-  return to_machine(tables_.g5x_mm[static_cast<std::size_t>(state_.coord_system)] + state_.g92_mm +
-                        state_.tool_offset_mm,
-                    machine_.layout);
+  const ModalState& st = state();
+  return to_machine(
+      tables_.g5x_mm[static_cast<std::size_t>(st.coord_system)] + st.g92_mm + st.tool_offset_mm,
+      machine_.layout);
 }
 
 bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, InterpError& err) {
   BlockWords w;
   if (!import_words(block, machine_.layout, w, err)) return false;
 
-  ModalState s = state_;
+  ModalState& s = begin_block();
   BlockCtx ctx{machine_, block, w, s, out, err, tables_, nullptr};
   ctx.call_level = call_level_;
   if (!check_block(ctx)) return false;
@@ -242,7 +243,7 @@ bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, 
       return false;
     }
   }
-  state_ = s;  // commit
+  commit_block();
   if (ctx.staged) {
     tables_ = *ctx.staged;
     ++tables_version_;
@@ -264,7 +265,7 @@ bool Interpreter::leave_call(int level, int line, std::vector<Canon>& out, Inter
   grammar::Block block;
   block.line = line;
   BlockWords w;
-  ModalState s = state_;
+  ModalState& s = begin_block();
   BlockCtx ctx{machine_, block, w, s, out, err, tables_, nullptr};
   ctx.call_level = call_level_;
   const std::size_t mark = out.size();
@@ -272,7 +273,7 @@ bool Interpreter::leave_call(int level, int line, std::vector<Canon>& out, Inter
     out.resize(mark);
     return false;
   }
-  state_ = s;
+  commit_block();
   if (ctx.staged) {
     tables_ = *ctx.staged;
     ++tables_version_;

@@ -125,7 +125,7 @@ class Interpreter {
   /// sets `err` and returns false with the state unchanged.
   bool execute(const grammar::Block& block, std::vector<Canon>& out, InterpError& err);
 
-  const ModalState& state() const { return state_; }
+  const ModalState& state() const { return states_[cur_]; }
   /// The subroutine call level the next blocks run at (0 = the program); entering a level
   /// clears its saved modes (LinuxCNC enter_context).
   void enter_call(int level);
@@ -145,7 +145,18 @@ class Interpreter {
 
  private:
   const Machine& machine_;
-  ModalState state_;
+  /// The modal state and the copy a block executes on; a block that succeeds is committed by
+  /// making its copy the state (no second copy), one that fails leaves the state as it was.
+  std::array<ModalState, 2> states_{};
+  int cur_ = 0;
+  ModalState& state_mut() { return states_[cur_]; }
+  /// The scratch copy, set to the state: what execute() and leave_call() work on.
+  ModalState& begin_block() {
+    ModalState& s = states_[1 - cur_];
+    s = states_[cur_];
+    return s;
+  }
+  void commit_block() { cur_ = 1 - cur_; }
   SystemTables tables_;
   int call_level_ = 0;
   std::uint64_t tables_version_ = 1;

@@ -6,7 +6,7 @@ namespace gm {
 void Interpreter::restore_system_parameters(const std::function<double(int)>& par) {
   int index = static_cast<int>(par(5220) + 0.0001);  // 1 = G54 .. 9 = G59.3
   if (index < 1 || index > 9) index = 1;
-  state_.coord_system = index - 1;
+  state_mut().coord_system = index - 1;
   for (int i = 0; i < 9; ++i) {
     tables_.g28_mm[i] = par(5161 + i);
     tables_.g30_mm[i] = par(5181 + i);
@@ -15,8 +15,9 @@ void Interpreter::restore_system_parameters(const std::function<double(int)>& pa
       tables_.g5x_mm[static_cast<std::size_t>(k)][i] = par(5221 + 20 * k + i);
   }
   // #5210: G92 was in effect when the file was written, so its offsets apply again.
-  state_.g92_applied = par(5210) != 0.0;
-  state_.g92_mm = state_.g92_applied ? tables_.g92_saved_mm : Pos9::Zero();
+  ModalState& st = state_mut();
+  st.g92_applied = par(5210) != 0.0;
+  st.g92_mm = st.g92_applied ? tables_.g92_saved_mm : Pos9::Zero();
   ++tables_version_;
 }
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace gm {
 
@@ -28,18 +29,11 @@ AxisVec Interpolator::position_on(const Motion& m, double s_mm) {
   return g.at_fraction(g.length_mm > 0.0 ? s_mm / g.length_mm : 1.0);
 }
 
-double Interpolator::block_speed_mm_s(const OverrideInput& ovr) const {
-  const double feed_scale = override_enabled_ ? ovr.feed_scale : 1.0;
-  double v = 0.0;
-  if (block_.kind == MotionKind::Rapid)
-    v = cfg_.rapid_mm_min / 60.0 * (override_enabled_ ? ovr.rapid_scale : 1.0);
-  else if (block_.inverse_time_s > 0.0)
-    v = geom_.length_mm / block_.inverse_time_s * feed_scale;
-  else
-    v = block_.feed_mm_min / 60.0 * feed_scale;
+inline double Interpolator::block_speed_mm_s(const OverrideInput& ovr) const {
+  const double scale = !override_enabled_ ? 1.0 : rapid_block_ ? ovr.rapid_scale : ovr.feed_scale;
   // The tolerance planner's cap (src/planner/): the override acts before the Acc/Dec filter,
   // so no override may take the block faster than the speed its contour error was planned for.
-  return block_.speed_cap_mm_s > 0.0 ? std::min(v, block_.speed_cap_mm_s) : v;
+  return std::min(speed_100_mm_s_ * scale, speed_cap_mm_s_);
 }
 
 bool Interpolator::pull_next() {
@@ -55,6 +49,14 @@ bool Interpolator::pull_next() {
       in_motion_ = true;
       s_mm_ = 0.0;
       line_ = block_.line;
+      // The block's speed at 100 % (the same operations as before, per block instead of per
+      // sample): the rapid rate, the G93 time's speed or the feed.
+      rapid_block_ = block_.kind == MotionKind::Rapid;
+      speed_100_mm_s_ = rapid_block_                  ? cfg_.rapid_mm_min / 60.0
+                        : block_.inverse_time_s > 0.0 ? geom_.length_mm / block_.inverse_time_s
+                                                      : block_.feed_mm_min / 60.0;
+      speed_cap_mm_s_ = block_.speed_cap_mm_s > 0.0 ? block_.speed_cap_mm_s
+                                                    : std::numeric_limits<double>::infinity();
       ++block_seq_;
       started_.push_back(block_);
       pending_events_ |= kEventBlockStart;

@@ -93,10 +93,13 @@ class Interpolator {
   Motion block_{};
   std::vector<Motion> started_;  ///< blocks loaded during the current step()
   BlockGeometry geom_{};
-  bool has_block_ = false;     ///< a motion block is loaded (possibly finished)
-  bool in_motion_ = false;     ///< the loaded block still has distance to go
-  double s_mm_ = 0.0;          ///< path length done in the current block
-  double dwell_left_s_ = 0.0;  ///< remaining dwell time
+  bool has_block_ = false;       ///< a motion block is loaded (possibly finished)
+  bool in_motion_ = false;       ///< the loaded block still has distance to go
+  bool rapid_block_ = false;     ///< the loaded block is a rapid (the rapid override applies)
+  double speed_100_mm_s_ = 0.0;  ///< its speed at 100 % override
+  double speed_cap_mm_s_ = 0.0;  ///< the planner's cap (infinity: none)
+  double s_mm_ = 0.0;            ///< path length done in the current block
+  double dwell_left_s_ = 0.0;    ///< remaining dwell time
   int dwell_line_ = 0;
   int settle_left_ = 0;  ///< exact-stop hold samples still to emit
   bool override_enabled_ = true;

@@ -74,7 +74,10 @@ PipelineStatus Pipeline::step_n(const OverrideInput& ovr, SampleRecord& out) {
       done_k_ = k_;
     } else {
       last_cmd_blu_.head<N>() = cmd_.pos_blu.head<N>();
-      started_ = interp_.started_motions();
+      if (cmd_.block_seq != seen_block_) {
+        seen_block_ = cmd_.block_seq;
+        started_ = interp_.started_motions();
+      }
     }
   }
   if (program_done_) {

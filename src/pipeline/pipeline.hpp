@@ -82,6 +82,7 @@ class Pipeline {
   MachineVec table_blu_ =
       MachineVec::Zero();  ///< table positions (BLU, continuous) at the sample instant
   std::int64_t k_ = 0;
+  std::uint64_t seen_block_ = 0;
   std::span<const Motion> started_;
   bool program_done_ = false;
   std::int64_t done_k_ = 0;

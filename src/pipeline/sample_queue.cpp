@@ -22,6 +22,16 @@ void SampleQueue::hand_over() {
   fill_->count = fill_->motion_count = 0;
 }
 
+void SampleQueue::add_motions(std::span<const Motion> started) {
+  if (fill_->motion_count + started.size() > fill_->motions.size() && fill_->count > 0) hand_over();
+  Batch& b = *fill_;
+  while (b.motion_count + started.size() > b.motions.size()) b.grow_motions();
+  for (const Motion& m : started) {
+    b.motions[b.motion_count] = m;
+    b.motion_row[b.motion_count++] = static_cast<std::uint32_t>(b.count);
+  }
+}
+
 void SampleQueue::finish() {
   if (fill_->count > 0) hand_over();
   ring_.wait_empty();

@@ -18,14 +18,16 @@ namespace gm {
 /// A bounded single-producer/single-consumer queue of SampleRecord batches with its consumer
 /// thread. The consumer sees every record pushed, in order, exactly once, with the motion blocks
 /// pushed with it (copies; often none or one), and may complete the record in place (the
-/// contour error: ContourMeter). Memory is set at construction (kBatches × kBatchSize records
-/// and motions; a batch is handed over early when its motions are full, and a list grows only
-/// for one sample that starts more blocks than that); push() blocks while every batch is full. An
+/// contour error: ContourMeter). Memory is set at construction (kBatches × (kBatchSize records
+/// and kMotions motions); a batch is handed over early when its motions are full, and a list
+/// grows only for one sample that starts more blocks than that); push() blocks while every
+/// batch is full. An
 /// exception thrown by the consumer stops it and is rethrown by the next push() or finish().
 class SampleQueue {
  public:
   static constexpr std::size_t kBatches = 3;
   static constexpr std::size_t kBatchSize = 4096;
+  static constexpr std::size_t kMotions = 1024;  ///< motions a batch holds before it is handed over
   using Consumer = std::function<void(SampleRecord&, std::span<const Motion>)>;
 
   /// Starts the consumer thread, which calls `consume` for each record.
@@ -44,17 +46,9 @@ class SampleQueue {
   /// (the queue's records start at 0, so the consumer sees the same record).
   template <int N>
   void push_n(const SampleRecord& r, std::span<const Motion> started = {}) {
-    // A batch whose motion list cannot take this sample's blocks is handed over early (memory
-    // stays at kBatchSize motions a batch); only one sample starting more blocks than that
-    // grows a list.
-    if (fill_->motion_count + started.size() > fill_->motions.size() && fill_->count > 0)
-      hand_over();
+    if (!started.empty()) [[unlikely]]
+      add_motions(started);
     Batch& b = *fill_;
-    while (b.motion_count + started.size() > b.motions.size()) b.grow_motions();
-    for (const Motion& m : started) {
-      b.motions[b.motion_count] = m;
-      b.motion_row[b.motion_count++] = static_cast<std::uint32_t>(b.count);
-    }
     copy_sample<N>(r, b.records[b.count++]);
     if (b.count == kBatchSize) hand_over();
   }
@@ -65,9 +59,9 @@ class SampleQueue {
  private:
   struct Batch {
     std::vector<SampleRecord> records = std::vector<SampleRecord>(kBatchSize);
-    std::vector<Motion> motions = std::vector<Motion>(kBatchSize);  ///< in push order
+    std::vector<Motion> motions = std::vector<Motion>(kMotions);  ///< in push order
     std::vector<std::uint32_t> motion_row =
-        std::vector<std::uint32_t>(kBatchSize);  ///< record of each motion
+        std::vector<std::uint32_t>(kMotions);  ///< record of each motion
     std::size_t count = 0;
     std::size_t motion_count = 0;
     void grow_motions() {
@@ -75,6 +69,10 @@ class SampleQueue {
       motion_row.resize(2 * motion_row.size());
     }
   };
+  /// Copies the motions of the record about to be pushed. A batch whose motion list cannot take
+  /// them is handed over early (memory stays at kMotions a batch); only one sample starting
+  /// more blocks than that grows a list.
+  void add_motions(std::span<const Motion> started);
   void hand_over();
   void consume_loop();
 

@@ -49,6 +49,22 @@ void NaiveCamMerger::flush() {
 }
 
 bool NaiveCamMerger::next(Canon& out) {
+  if (ready_.empty() && !active_ && !ended_) {
+    // Nothing held (no G64 Q run open): read straight into `out`, no copy through the queue.
+    if (!upstream_.next(out)) {
+      ended_ = true;
+      return false;
+    }
+    const Motion* m = std::get_if<Motion>(&out);
+    if (m == nullptr) return true;
+    ++moves_in_;
+    if (!mergeable(*m)) {
+      ++moves_out_;
+      return true;
+    }
+    run_ = *m;  // a G64 Q run starts
+    active_ = true;
+  }
   while (ready_.empty() && !ended_) {
     if (!upstream_.next(scratch_)) {
       ended_ = true;

@@ -28,9 +28,14 @@ double min_positive(double a, double b) {
 
 TolerancePlanner::TolerancePlanner(const FilterMoments& filter, const PlannerConfig& cfg,
                                    CanonSource& upstream)
-    : filter_(filter), cfg_(cfg), merger_(upstream) {
-  for (int k = 0; k <= 2 * filter_.order(); ++k)
-    grid_d_.push_back(filter_.corner_moment_s(0.5 * k * filter_.period_s()));
+    : filter_(filter), cfg_(cfg), merger_(upstream) {}
+
+const std::vector<double>& TolerancePlanner::grid_d() {
+  // Built at the first corner: a program without a tolerance never pays for it.
+  if (grid_d_.empty())
+    for (int k = 0; k <= 2 * filter_.order(); ++k)
+      grid_d_.push_back(filter_.corner_moment_s(0.5 * k * filter_.period_s()));
+  return grid_d_;
 }
 
 void TolerancePlanner::pull() {
@@ -410,9 +415,10 @@ void TolerancePlanner::decide(Element& e) {
     return true;
   };
   consider(e.pause0, filter_.corner_moment_s(e.pause0));
-  for (std::size_t k = 0; k < grid_d_.size(); k += 2) {
+  const std::vector<double>& grid = grid_d();
+  for (std::size_t k = 0; k < grid.size(); k += 2) {
     const double p = 0.5 * static_cast<double>(k) * filter_.period_s();
-    if (p > e.pause0 && !consider(p, grid_d_[k])) break;
+    if (p > e.pause0 && !consider(p, grid[k])) break;
   }
   e.pause = best_p;
   if (best_v < e.vmax) e.cap = best_v;

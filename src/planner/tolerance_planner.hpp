@@ -125,6 +125,7 @@ class TolerancePlanner : public CanonSource {
   double zone_weight(double z0, double z1) const;
   double zone_count(double z0, double z1) const;
   void push_element(Element e);
+  const std::vector<double>& grid_d();  ///< grid_d_, built on first use
   void emit_front();
   /// Runs of small turns (CAM polylines): a vertex joins the run being gathered; a chunk is
   /// closed (pushed as one element, or as its corners while the run is short) when it spans τ,

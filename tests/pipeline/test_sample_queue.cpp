@@ -99,7 +99,7 @@ TEST_CASE("sample queue destroyed mid-run joins its thread") {
 
 TEST_CASE("sample queue hands several motions per record in order, beyond a batch's worth") {
   // Record k carries k % 5 motions (lines 1000·k + i): 2 per record on average, so batches are
-  // handed over when their 4,096 motions are full, before their 4,096 records are; one record
+  // handed over when their 1,024 motions are full, before their 4,096 records are; one record
   // then carries 5,000 motions (a list grows for it).
   const std::int64_t n = 3 * static_cast<std::int64_t>(SampleQueue::kBatchSize) + 7;
   std::int64_t wrong = 0, motions = 0;
