@@ -75,9 +75,18 @@ int run(const RunFlags& f, std::unique_ptr<Run>& run_out, const RunHooks& hooks)
 
   const RunConfig& cfg = run.config();
   std::FILE* text_out = f.trace_path == "-" ? stderr : stdout;
-  fmt::print(text_out, "{}: {} on {} ({}, tau {} s, T {} s, {} taps, servo {})\n", program.name(),
+  std::string own;  // axes with their own Acc/Dec ([axes.<l>.accdec])
+  for (int a = 0; a < cfg.machine.axis_count(); ++a) {
+    const AxisConfig& c = cfg.machine.axes[static_cast<std::size_t>(a)];
+    if (!c.accdec_profile.empty() || c.accdec_tau_s > 0.0)
+      own += fmt::format("; {}: {}, tau {} s", cfg.machine.layout.letter(a),
+                         c.accdec_profile.empty() ? cfg.machine.profile : c.accdec_profile,
+                         c.accdec_tau_s > 0.0 ? c.accdec_tau_s : cfg.machine.tau_s);
+  }
+  fmt::print(text_out, "{}: {} on {} ({}, tau {} s, T {} s, {} taps, servo {}{})\n", program.name(),
              "gmotion run", cfg.machine.name, cfg.machine.profile, cfg.machine.tau_s,
-             cfg.machine.period_s, run.pipeline().taps().integer.size(), cfg.servo ? "on" : "off");
+             cfg.machine.period_s, run.pipeline().taps().integer.size(), cfg.servo ? "on" : "off",
+             own);
   fmt::print(text_out, "tool table {} ({} tools)\n", cfg.machine.tool_table.source,
              cfg.machine.tool_table.tools.size());
   fmt::print(text_out, "{}", run.summary().text());

@@ -44,6 +44,11 @@ struct AxisConfig {
   double kp_1_s = 30.0;       ///< position-loop gain, 1/s
   double backlash_blu = 0.0;  ///< lost motion (off by default)
   double coulomb_N = 0.0;     ///< Coulomb friction (off by default)
+  /// The axis's own Acc/Dec ([axes.<letter>.accdec], axes past X, Y and Z only): profile spec and
+  /// τ; "" and 0 take the machine's [accdec]. X, Y and Z share one filter, which the contour
+  /// error and the tolerance planner assume.
+  std::string accdec_profile;
+  double accdec_tau_s = 0.0;
 
   // --- Unit mapping of the servo model (see src/servo/servo_axis.hpp and docs/servo.md). ---
   /// Motor velocity in BLU/s per unit of plant output (the plant's velocity unit is not given by

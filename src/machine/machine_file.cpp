@@ -200,8 +200,20 @@ constexpr double kMinKp = 1e-3;
 auto positive = [](double v) { return v > 0.0 ? "" : "must be > 0"; };
 auto non_negative = [](double v) { return v >= 0.0 ? "" : "must be >= 0"; };
 
-void read_axis(Reader& r, AxisConfig& a, double machine_blu_mm) {
+void read_axis(Reader& r, AxisConfig& a, double machine_blu_mm, double period_s, bool path_axis) {
   a.blu_mm = machine_blu_mm;
+  if (const toml::table* acc = r.table("accdec", false)) {
+    if (path_axis)
+      r.fail_at(acc->source(), r.full("accdec"),
+                "X, Y and Z share the machine's [accdec] (the contour error and the tolerance "
+                "planner assume one filter for the path); only the axes past them may have their "
+                "own");
+    Reader ar(*acc, r.full("accdec."), r.source());
+    ar.string("profile", a.accdec_profile, false);
+    ar.number("tau_s", a.accdec_tau_s, false,
+              [period_s](double v) { return tau_problem(v, period_s); });
+    ar.reject_unknown();
+  }
   r.number("blu_mm", a.blu_mm, false, positive);
   r.number("v_max_mm_s", a.v_max_mm_s, false, positive);
   r.number("f_max_N", a.f_max_N, false, positive);
@@ -340,7 +352,7 @@ Machine parse_machine_toml(std::string_view text, std::string_view source_name) 
     const std::string k(1, letter);
     const toml::table* at = axr.table(k, true);
     Reader ar(*at, "axes." + k + ".", src);
-    read_axis(ar, m.axes[static_cast<std::size_t>(i)], blu_mm);
+    read_axis(ar, m.axes[static_cast<std::size_t>(i)], blu_mm, m.period_s, m.layout.program(i) < 3);
   }
   axr.reject_unknown();
   r.numbers("tools", m.tool_lengths_mm, false, 0, 100000);
@@ -443,6 +455,12 @@ std::string machine_to_toml(const Machine& m) {
         "plant_blu_s_per_unit = {}\nkv_period_s = {}\nkv_form = \"{}\"\ndrive_N_per_unit = {}\n",
         fmt_double(a.plant_blu_s_per_unit), fmt_double(a.kv_period_s),
         a.kv_form == VelocityLoopForm::Ip ? "ip" : "pi", fmt_double(a.drive_N_per_unit));
+    if (!a.accdec_profile.empty() || a.accdec_tau_s > 0.0) {
+      s += fmt::format("\n[axes.{}.accdec]\n", static_cast<char>(m.layout.letter(i) - 'A' + 'a'));
+      if (!a.accdec_profile.empty())
+        s += fmt::format("profile = {}\n", toml_string(a.accdec_profile));
+      if (a.accdec_tau_s > 0.0) s += fmt::format("tau_s = {}\n", fmt_double(a.accdec_tau_s));
+    }
   }
   s += "\n[work_offsets]\n";
   for (int g = 0; g < 6; ++g) {

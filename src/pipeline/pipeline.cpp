@@ -22,6 +22,21 @@ InterpolatorConfig interpolator_config(const Machine& m, int settle_samples) {
   return c;
 }
 
+// The longest Acc/Dec filter of the machine, in samples: the machine's [accdec] and any axis's
+// own (an exact stop waits for the longest to drain).
+int longest_filter(const Machine& m, const Taps& taps) {
+  auto n = static_cast<int>(taps.integer.size());
+  for (int a = 0; a < m.axis_count(); ++a) {
+    const AxisConfig& c = m.axes[static_cast<std::size_t>(a)];
+    if (!c.accdec_profile.empty() || c.accdec_tau_s > 0.0)
+      n = std::max(n, static_cast<int>(
+                          design_taps(c.accdec_profile.empty() ? m.profile : c.accdec_profile,
+                                      c.accdec_tau_s > 0.0 ? c.accdec_tau_s : m.tau_s, m.period_s)
+                              .integer.size()));
+  }
+  return n;
+}
+
 // Samples the servo needs to close most of a step: five position-loop time constants.
 std::int64_t servo_lag_samples(const Machine& m) {
   double kp = std::numeric_limits<double>::infinity();
@@ -34,7 +49,7 @@ std::int64_t servo_lag_samples(const Machine& m) {
 Pipeline::Pipeline(const RunConfig& cfg, CanonSource& source)
     : cfg_(cfg),
       taps_(design_taps(cfg.machine.profile, cfg.machine.tau_s, cfg.machine.period_s)),
-      interp_(interpolator_config(cfg.machine, static_cast<int>(taps_.integer.size())), source),
+      interp_(interpolator_config(cfg.machine, longest_filter(cfg.machine, taps_)), source),
       accdec_(taps_, AxisBlu::Zero(), FirStructure::Auto, cfg.machine.axis_count()),
       axes_(cfg.machine.axis_count()),
       lag_samples_(static_cast<std::int64_t>(taps_.integer.size()) +
@@ -49,6 +64,16 @@ Pipeline::Pipeline(const RunConfig& cfg, CanonSource& source)
                                                   cfg_.machine.period_s,
                                                   cfg_.machine.servo_substeps, 0);
   }
+  // Axes with their own Acc/Dec (past X, Y, Z; machine_file.cpp refuses it for the path axes):
+  // a one-axis filter each, whose output replaces the shared filter's for that axis.
+  for (int a = 0; a < axes_; ++a) {
+    const AxisConfig& c = cfg_.machine.axes[static_cast<std::size_t>(a)];
+    if (c.accdec_profile.empty() && !(c.accdec_tau_s > 0.0)) continue;
+    const Taps t = design_taps(c.accdec_profile.empty() ? cfg_.machine.profile : c.accdec_profile,
+                               c.accdec_tau_s > 0.0 ? c.accdec_tau_s : cfg_.machine.tau_s,
+                               cfg_.machine.period_s);
+    own_accdec_.push_back({a, FirAccDec(t, AxisBlu::Zero(), FirStructure::Auto, 1)});
+  }
   cmd_.pos_blu = AxisBlu::Zero();
   step_ = with_axis_count(axes_, [](auto n) { return &Pipeline::step_n<decltype(n)::value>; });
 }
@@ -61,6 +86,8 @@ ContourMeter Pipeline::contour_meter() const {
 
 bool Pipeline::settled() const {
   if (!accdec_.settled()) return false;
+  for (const OwnAccDec& o : own_accdec_)
+    if (!o.fir.settled()) return false;
   if (!cfg_.servo) return true;
   return quiet_samples_ >= 25;
 }
@@ -87,6 +114,11 @@ PipelineStatus Pipeline::step_n(const OverrideInput& ovr, SampleRecord& out) {
   }
 
   accdec_.step_n<N>(cmd_.pos_blu, ref_blu_);
+  for (OwnAccDec& o : own_accdec_) {  // empty unless an axis has its own Acc/Dec
+    one_in_blu_[0] = cmd_.pos_blu[o.axis];
+    o.fir.step_n<1>(one_in_blu_, one_out_blu_);
+    ref_blu_[o.axis] = one_out_blu_[0];
+  }
   if (cfg_.servo) {
     bool quiet = true;
     for (int a = 0; a < N; ++a) {

@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <vector>
 
 namespace gm {
 
@@ -73,6 +74,13 @@ class Pipeline {
   Taps taps_;
   Interpolator interp_;
   FirAccDec accdec_;
+  /// An axis with its own Acc/Dec (AxisConfig::accdec_profile / accdec_tau_s) and its filter.
+  struct OwnAccDec {
+    int axis;
+    FirAccDec fir;
+  };
+  std::vector<OwnAccDec> own_accdec_;
+  AxisBlu one_in_blu_ = AxisBlu::Zero(), one_out_blu_ = AxisBlu::Zero();
   int axes_;  ///< the machine's axis count (entries 0..axes_-1 of the per-axis vectors)
   std::array<std::optional<ServoAxis>, kMaxAxes> servo_;
   std::int64_t lag_samples_;  ///< Acc/Dec length + servo lag: how long a past block can be nearest

@@ -211,3 +211,50 @@ TEST_CASE("nine axes: each ends exactly on its programmed end, rotary in its own
   CHECK(a_max <= 18000);
   CHECK(a_max >= 18000 - 39);
 }
+
+TEST_CASE("an axis past X, Y, Z may have its own Acc/Dec: A's output is its own moving average") {
+  // X keeps the machine's Blackman filter (41 taps); A gets a linear profile of τ = 0.2 s, 50
+  // equal taps, so A's Acc/Dec output is the mean of its last 50 commands, rounded half away
+  // from zero (the exact integer FIR), computed here from the trace's own a_cmd column.
+  gm::Machine m = with_axes("XYZA");
+  m.axes[3].accdec_profile = "linear";
+  m.axes[3].accdec_tau_s = 0.2;
+  std::istringstream in("G21 G90 G64\nG1 X10 A90 F1200\nG0 X0 A0\nM2\n");
+  gm::RunOptions o;
+  o.config.machine = m;
+  o.config.servo = false;
+  o.program_name = "own-accdec.nc";
+  o.consumer_thread = false;
+  gm::Run run(std::move(o), in, gm::InterpreterOptions{});
+  std::vector<gm::SampleRecord> recs;
+  while (run.step() == gm::RunStatus::Working) recs.push_back(run.last());
+  REQUIRE(recs.size() > 100);
+  std::int64_t worst = 0, x_differs = 0;
+  for (std::size_t k = 0; k < recs.size(); ++k) {
+    std::int64_t sum = 0;
+    for (std::size_t i = 0; i < 50; ++i) sum += k >= i ? recs[k - i].cmd_blu[3] : 0;
+    const std::int64_t mean = sum >= 0 ? (2 * sum + 50) / 100 : -((-2 * sum + 50) / 100);
+    worst = std::max<std::int64_t>(worst, std::llabs(recs[k].ref_blu[3] - mean));
+    std::int64_t xs = 0;  // X through a 50-tap average would differ from its Blackman output
+    for (std::size_t i = 0; i < 50; ++i) xs += k >= i ? recs[k - i].cmd_blu[0] : 0;
+    x_differs += recs[k].ref_blu[0] != (xs >= 0 ? (2 * xs + 50) / 100 : -((-2 * xs + 50) / 100));
+  }
+  CHECK(worst == 0);
+  CHECK(x_differs > 50);
+  CHECK(recs.back().ref_blu[0] == 0);  // both end exactly
+  CHECK(recs.back().ref_blu[3] == 0);
+
+  // The machine file: [axes.a.accdec] is read and written back; X, Y and Z may not have one.
+  const gm::Machine f = gm::parse_machine_toml(gm::machine_to_toml(m), "own.toml");
+  CHECK(f.axes[3].accdec_profile == "linear");
+  CHECK(f.axes[3].accdec_tau_s == 0.2);
+  CHECK(f.axes[0].accdec_profile.empty());
+  std::string text = gm::machine_to_toml(m);
+  text.insert(text.find("[axes.y]"), "[axes.x.accdec]\ntau_s = 0.1\n\n");
+  try {
+    gm::parse_machine_toml(text, "bad.toml");
+    FAIL("no error for [axes.x.accdec]");
+  } catch (const gm::InputError& e) {
+    CHECK_THAT(e.what(), Catch::Contains("key 'axes.x.accdec': X, Y and Z share the machine's"));
+  }
+}
