@@ -78,6 +78,14 @@ Pipeline::Pipeline(const RunConfig& cfg, CanonSource& source)
   step_ = with_axis_count(axes_, [](auto n) { return &Pipeline::step_n<decltype(n)::value>; });
 }
 
+void Pipeline::step_own_accdec() {
+  for (OwnAccDec& o : own_accdec_) {
+    one_in_blu_[0] = cmd_.pos_blu[o.axis];
+    o.fir.step_n<1>(one_in_blu_, one_out_blu_);
+    ref_blu_[o.axis] = one_out_blu_[0];
+  }
+}
+
 ContourMeter Pipeline::contour_meter() const {
   // A block counts as steady, and a past block stops being a candidate, after the same delay.
   return ContourMeter(cfg_.machine.blu_mm(), cfg_.machine.layout, cfg_.machine.contour_blu_mm(),
@@ -114,11 +122,8 @@ PipelineStatus Pipeline::step_n(const OverrideInput& ovr, SampleRecord& out) {
   }
 
   accdec_.step_n<N>(cmd_.pos_blu, ref_blu_);
-  for (OwnAccDec& o : own_accdec_) {  // empty unless an axis has its own Acc/Dec
-    one_in_blu_[0] = cmd_.pos_blu[o.axis];
-    o.fir.step_n<1>(one_in_blu_, one_out_blu_);
-    ref_blu_[o.axis] = one_out_blu_[0];
-  }
+  if (!own_accdec_.empty()) [[unlikely]]
+    step_own_accdec();
   if (cfg_.servo) {
     bool quiet = true;
     for (int a = 0; a < N; ++a) {

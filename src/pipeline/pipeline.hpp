@@ -69,6 +69,9 @@ class Pipeline {
 
  private:
   bool settled() const;
+  /// The axes with their own Acc/Dec: their filters' outputs replace the shared one's (out of
+  /// line, so that the common path stays as it was).
+  [[gnu::noinline]] void step_own_accdec();
 
   RunConfig cfg_;
   Taps taps_;
