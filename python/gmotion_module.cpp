@@ -2,6 +2,7 @@
 #include "accdec/analysis.hpp"
 #include "accdec/design_procedure.hpp"
 #include "accdec/profile_spec.hpp"
+#include "cli/language_flags.hpp"
 #include "cli/run_setup.hpp"
 #include "common/diagnostic.hpp"
 #include "common/status.hpp"
@@ -31,15 +32,45 @@ namespace py = pybind11;
 namespace {
 
 /// The keyword arguments of gmotion.run(), named as the `run` flags are (dashes as underscores).
-const std::set<std::string> kRunOptions = {
-    "profile",  "tau",           "period",         "blu",      "servo",    "block_delete",
-    "override", "tool_table",    "rapid_override", "schedule", "decimate", "tolerance",
-    "max_time", "max_iterations"};
+const std::set<std::string> kRunOptions = {"profile",         "tau",
+                                           "period",          "blu",
+                                           "servo",           "block_delete",
+                                           "override",        "tool_table",
+                                           "rapid_override",  "schedule",
+                                           "decimate",        "tolerance",
+                                           "max_time",        "max_iterations",
+                                           "subroutine_path", "dialect",
+                                           "parameter_file",  "no_parameter_file"};
 
 template <typename T>
 std::optional<T> option(const py::dict& d, const char* key) {
   if (!d.contains(key) || d[key].is_none()) return std::nullopt;
   return d[key].cast<T>();
+}
+
+/// The language flags (`--subroutine-path`, `--dialect`, `--parameter-file`,
+/// `--no-parameter-file`, `--max-iterations`, `--block-delete`) from keyword options, applied
+/// as the commands apply them: the flags first, then the machine's keys.
+gm::InterpreterOptions language_options(const py::dict& kw, const gm::Machine& machine) {
+  gm::cli::LanguageFlags f;
+  f.subroutine_path = option<std::string>(kw, "subroutine_path").value_or("");
+  f.dialect = option<std::string>(kw, "dialect").value_or("");
+  if (!f.dialect.empty() && f.dialect != "linuxcnc" && f.dialect != "fanuc" && f.dialect != "grbl")
+    throw gm::InputError(
+        fmt::format("dialect '{}' is not one of linuxcnc, fanuc, grbl", f.dialect));
+  f.parameter_file = option<std::string>(kw, "parameter_file").value_or("");
+  f.no_parameter_file = option<bool>(kw, "no_parameter_file").value_or(false);
+  if (f.no_parameter_file && !f.parameter_file.empty())
+    throw gm::InputError("parameter_file and no_parameter_file exclude each other");
+  if (auto n = option<std::int64_t>(kw, "max_iterations")) {
+    if (*n <= 0) throw gm::InputError(fmt::format("max_iterations {} is not positive", *n));
+    f.max_iterations = *n;
+  }
+  gm::InterpreterOptions opts;
+  opts.machine = &machine;
+  opts.block_delete = option<bool>(kw, "block_delete").value_or(false);
+  gm::cli::apply_language_flags(f, machine, opts);
+  return opts;
 }
 
 py::dict diagnostic_dict(const std::string& file, const gm::Diagnostic& d) {
@@ -135,10 +166,7 @@ py::dict run(const std::string& path, const std::string& machine, const py::dict
   if (o.decimate < 1) throw gm::InputError(fmt::format("decimate {} is below 1", o.decimate));
   o.max_time_s = option<double>(kw, "max_time").value_or(0.0);
 
-  gm::InterpreterOptions opts;
-  opts.machine = &o.config.machine;
-  opts.block_delete = flags.block_delete;
-  if (auto n = option<std::int64_t>(kw, "max_iterations")) opts.max_iterations = *n;
+  gm::InterpreterOptions opts = language_options(kw, o.config.machine);
 
   py::dict out;
   const py::dict checked = check(path, opts);
@@ -146,6 +174,7 @@ py::dict run(const std::string& path, const std::string& machine, const py::dict
     out["diagnostics"] = checked["diagnostics"];
     return out;
   }
+  opts.save_parameters = true;  // as `gmotion run`: written once, after the run
 
   gm::cli::ProgramInput program(path);
   ScratchTrace scratch;
@@ -208,13 +237,12 @@ py::list xyz(const gm::AxisVec& v) {
 /// The canonical moves as `gmotion moves` prints them (one dict per JSON Lines record, the same
 /// keys; tests/python compares the two).
 py::list moves(const std::string& path, const std::string& machine_file, const std::string& axes,
-               bool messages) {
+               bool messages, const py::dict& kw) {
   gm::cli::MachineFlags flags;
   flags.machine_file = machine_file;
   flags.axes = axes;
   const gm::Machine machine = gm::cli::resolve_machine(flags);
-  gm::InterpreterOptions io{&machine, false};
-  io.subroutine_path = machine.subroutine_path;
+  gm::InterpreterOptions io = language_options(kw, machine);
   gm::cli::ProgramInput program(path);
   std::vector<gm::Canon> all;
   {
@@ -228,6 +256,7 @@ py::list moves(const std::string& path, const std::string& machine_file, const s
         if (d.severity == gm::Severity::Error) text += gm::format_diagnostic(program.name(), d);
       throw gm::InputError(text);
     }
+    io.save_parameters = true;  // as `gmotion moves`
     gm::ProgramStream stream(program.rewind(), program.name(), io);
     gm::Canon c;
     while (stream.next(c)) all.push_back(c);
@@ -389,16 +418,15 @@ PYBIND11_MODULE(_core, m) {
   m.def("run", &run, py::arg("program"), py::arg("machine"), py::arg("options"));
   m.def(
       "check",
-      [](const std::string& path, bool block_delete, std::int64_t max_iterations) {
-        gm::InterpreterOptions opts;
-        opts.block_delete = block_delete;
-        opts.max_iterations = max_iterations;
-        return check(path, opts);
+      [](const std::string& path, const std::string& machine_file, const py::dict& kw) {
+        gm::cli::MachineFlags flags;
+        flags.machine_file = machine_file;
+        const gm::Machine machine = gm::cli::resolve_machine(flags);
+        return check(path, language_options(kw, machine));
       },
-      py::arg("program"), py::arg("block_delete") = false,
-      py::arg("max_iterations") = gm::InterpreterOptions{}.max_iterations);
+      py::arg("program"), py::arg("machine"), py::arg("options"));
   m.def("moves", &moves, py::arg("program"), py::arg("machine"), py::arg("axes"),
-        py::arg("messages"));
+        py::arg("messages"), py::arg("options"));
   m.def(
       "design",
       [](const std::string& profile, double tau, double period, double v_max, double mass,

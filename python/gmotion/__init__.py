@@ -93,13 +93,27 @@ class RunResult:
         return f"RunResult({n} rows x {len(self.columns)} columns, finished={self.finished})"
 
 
-def check(program, block_delete=False, max_iterations=None):
-    """Checks `program` (a path) as `gmotion check` does. Returns a CheckResult; raises
-    ProgramError at the first error."""
-    kw = {"block_delete": block_delete}
-    if max_iterations is not None:
-        kw["max_iterations"] = max_iterations
-    d = _core.check(os.fspath(program), **kw)
+_LANGUAGE_OPTIONS = ("block_delete", "max_iterations", "subroutine_path", "dialect",
+                     "parameter_file", "no_parameter_file")
+
+
+def _language(options, what):
+    """The language flags among `options` (paths made strings); a TypeError names any other."""
+    for k in options:
+        if k not in _LANGUAGE_OPTIONS:
+            raise TypeError(f"{what}() got an unknown option '{k}' "
+                            f"(the options: {', '.join(_LANGUAGE_OPTIONS)})")
+    return {k: (os.fspath(v) if k in ("subroutine_path", "parameter_file") and v is not None
+                else v) for k, v in options.items()}
+
+
+def check(program, machine=None, **options):
+    """Checks `program` (a path) as `gmotion check` does, on `machine` (a machine file path;
+    None = the built-in machine). Options: block_delete, max_iterations, subroutine_path
+    ("DIR[:DIR...]"), dialect ("linuxcnc", "fanuc", "grbl"), parameter_file, no_parameter_file.
+    Returns a CheckResult; raises ProgramError at the first error."""
+    d = _core.check(os.fspath(program), "" if machine is None else os.fspath(machine),
+                    _language(options, "check"))
     err = _first_error(d["diagnostics"])
     if err is not None:
         raise err
@@ -113,21 +127,23 @@ def run(program, machine=None, **options):
     rule."""
     if "schedule" in options and options["schedule"] is not None:
         options["schedule"] = os.fspath(options["schedule"])
-    if "tool_table" in options and options["tool_table"] is not None:
-        options["tool_table"] = os.fspath(options["tool_table"])
+    for k in ("tool_table", "subroutine_path", "parameter_file"):
+        if k in options and options[k] is not None:
+            options[k] = os.fspath(options[k])
     d = _core.run(os.fspath(program), "" if machine is None else os.fspath(machine), options)
     if "diagnostics" in d:
         raise _first_error(d["diagnostics"])
     return RunResult(d)
 
 
-def moves(program, machine=None, axes="", messages=False):
+def moves(program, machine=None, axes="", messages=False, **options):
     """The canonical moves of `program` as `gmotion moves` prints them: a list of dicts with the
     same keys ("line", "kind" rapid|line|arc|dwell, "end" [x, y, z] mm, "feed" mm/min, "axes"
     {letter: value} past XYZ, "center"/"dir"/"turns"/"plane" for arcs, "seconds" for dwells;
-    with messages=True also "message" records). Raises InputError if the program has an error."""
+    with messages=True also "message" records). Options as check(). Raises InputError if the
+    program has an error."""
     return _core.moves(os.fspath(program), "" if machine is None else os.fspath(machine), axes,
-                       messages)
+                       messages, _language(options, "moves"))
 
 
 class _Record:

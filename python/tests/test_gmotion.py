@@ -135,5 +135,69 @@ class Errors(unittest.TestCase):
             gmotion.run(os.path.join(SRC, "no-such-program.nc"))
 
 
+class LanguageOptions(unittest.TestCase):
+    """The `--subroutine-path`, `--dialect` and parameter-file flags, as keyword options."""
+
+    LIB = os.path.join(SRC, "tests", "diff", "subfiles", "lib")
+
+    def program(self, d, text):
+        path = os.path.join(d, "p.ngc")
+        with open(path, "w") as f:
+            f.write(text)
+        return path
+
+    def test_subroutine_path_finds_a_sub_file(self):
+        with tempfile.TemporaryDirectory() as d:
+            prog = self.program(d, "G0 X0 Y0\no<frame> call [40] [30] [5]\nM2\n")
+            with self.assertRaises(gmotion.ProgramError):
+                gmotion.check(prog)  # no path: frame.ngc is not found
+            c = gmotion.check(prog, subroutine_path=self.LIB)
+            # In from X0 to X5, then 40 x 30 with r = 5 corners: 2 (40 - 10) + 2 (30 - 10) + 2 pi 5.
+            self.assertAlmostEqual(c.path_length_mm, 105 + 10 * np.pi, places=9)
+            ends = [m["end"][:2] for m in gmotion.moves(prog, subroutine_path=self.LIB)]
+            self.assertEqual(ends[-1], [5.0, 0.0])
+            self.assertTrue(gmotion.run(prog, subroutine_path=self.LIB, servo=False).finished)
+
+    def test_dialect(self):
+        with tempfile.TemporaryDirectory() as d:
+            prog = self.program(d, "O1234 (PART)\nG0 X1\nM31 (parts counter)\nM30\n")
+            with self.assertRaises(gmotion.ProgramError):
+                gmotion.check(prog)
+            self.assertEqual(gmotion.check(prog, dialect="fanuc").moves, 1)
+            with self.assertRaises(gmotion.InputError):
+                gmotion.check(prog, dialect="haas")
+
+    def test_parameter_file_read_and_written_or_not(self):
+        with tempfile.TemporaryDirectory() as d:
+            prog = self.program(d, "G0 X1\nG10 L2 P1 X3\nM2\n")
+            var = os.path.join(d, "p.var")
+            with open(var, "w") as f:
+                f.write("5221\t10\n")  # G54 X = 10
+            self.assertEqual(gmotion.moves(prog, parameter_file=var)[0]["end"], [11.0, 0.0, 0.0])
+            with open(var) as f:
+                self.assertIn("5221\t3.000000\n", f.read())  # written after the program
+            r = gmotion.run(prog, parameter_file=var, servo=False)
+            self.assertEqual(r.trace["x_cmd"][-1], 4000.0)  # G54 X3 + 1 mm, in 1 um counts
+            with open(var, "w") as f:
+                f.write("5221\t10\n")
+            self.assertEqual(gmotion.moves(prog, no_parameter_file=True)[0]["end"], [1.0, 0.0, 0.0])
+            with open(var) as f:
+                self.assertEqual(f.read(), "5221\t10\n")
+            with self.assertRaises(TypeError):
+                gmotion.check(prog, parameter_flie=var)
+            with self.assertRaises(gmotion.InputError):
+                gmotion.check(prog, parameter_file=var, no_parameter_file=True)
+
+    def test_an_inch_configuration_starts_in_g20(self):
+        with tempfile.TemporaryDirectory() as d:
+            ini = os.path.join(d, "inch.ini")
+            with open(ini, "w") as f:
+                f.write("[TRAJ]\nCOORDINATES = X Y Z\nLINEAR_UNITS = inch\n"
+                        "[AXIS_X]\nMAX_VELOCITY = 1\nMAX_ACCELERATION = 10\n")
+            prog = self.program(d, "G0 X1\nM2\n")
+            self.assertEqual(gmotion.moves(prog, machine=ini)[0]["end"], [25.4, 0.0, 0.0])
+            self.assertEqual(gmotion.moves(prog)[0]["end"], [1.0, 0.0, 0.0])
+
+
 if __name__ == "__main__":
     unittest.main()

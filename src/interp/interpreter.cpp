@@ -200,6 +200,7 @@ double ModalState::mm_per_unit() const {
 }
 
 Interpreter::Interpreter(const Machine& machine) : machine_(machine) {
+  for (ModalState& s : states_) s.inch = machine.program_inch;  // LinuxCNC: [TRAJ]LINEAR_UNITS
   for (std::size_t i = 0; i < machine.work_offsets_mm.size(); ++i)
     tables_.g5x_mm[i] = machine.work_offsets_mm[i];
   tables_.tools = machine.tool_table;

@@ -323,10 +323,14 @@ IniImport load_linuxcnc_ini(const std::filesystem::path& path) {
   if (const IniValue* u = ini.find("RS274NGC", "USER_M_PATH"))
     warn.push_back(
         fmt::format("[RS274NGC]USER_M_PATH = {}: M100-M199 are recorded, never run", u->value));
-  if (lin != 1.0)
+  // LinuxCNC's INIT_CANON: units within 1e-3 of 1/25.4 per mm are inches, 1 per mm is mm, and
+  // anything else starts the interpreter in mm with an error message; a program starts in them.
+  m.program_inch = std::abs(1.0 / lin - 1.0 / 25.4) < 1e-3;
+  if (!m.program_inch && std::abs(1.0 / lin - 1.0) >= 1e-3)
     warn.push_back(
-        fmt::format("[TRAJ]LINEAR_UNITS = {}: limits and tool table converted to mm; "
-                    "LinuxCNC starts a program in G20, gmotion in G21 (write G20)",
+        fmt::format("[TRAJ]LINEAR_UNITS = {}: neither mm nor inch; converted to mm, and programs "
+                    "start in G21 (LinuxCNC: \"non-standard length units, setting interpreter "
+                    "to mm\")",
                     ini.find("TRAJ", "LINEAR_UNITS")->value));
   if (const IniValue* r = ini.find("EMCIO", "TOOL_CHANGE_POSITION"))
     warn.push_back(
@@ -342,6 +346,8 @@ std::string machine_to_linuxcnc_ini(const Machine& m) {
                    m.source);
   s += fmt::format("# MAX_ACCELERATION = c*V/tau with c = {} ({} taps' peak-to-mean), tau = {} s\n",
                    ini_number(c), m.profile, ini_number(m.tau_s));
+  if (m.program_inch)
+    s += "# program_units = inch: this INI is in mm, so LinuxCNC starts its programs in G21\n";
   s += fmt::format("\n[EMCMOT]\nSERVO_PERIOD = {}\n",
                    static_cast<long long>(std::llround(m.period_s * 1e9)));
   std::string coords;

@@ -101,6 +101,9 @@ struct Machine {
   /// Where M100..M199 are looked up (a file named M101 makes M101 known; it is recorded, never
   /// run): key `user_mcode_dir` or --user-mcode-dir; empty: every user M code is an error.
   std::string user_mcode_dir;
+  /// The units a program starts in (key `program_units` "mm" or "inch"): false = G21, true = G20.
+  /// LinuxCNC starts in its configuration's [TRAJ]LINEAR_UNITS; M2/M30 do not change them.
+  bool program_inch = false;
   /// How long an M0/M1 program stop holds the run, s (key `pause_s`, CLI --pause-s); 0: none.
   double pause_s = 0.0;
   /// G54..G59 on the nine program axes (XYZABCUVW order), mm (degrees for A, B, C).

@@ -379,6 +379,13 @@ Machine parse_machine_toml(std::string_view text, std::string_view source_name) 
                 fmt::format("must be \"linuxcnc\", \"fanuc\" or \"grbl\" (got \"{}\")", d));
   }
   if (std::string ud; r.string("user_mcode_dir", ud, false)) m.user_mcode_dir = beside(ud);
+  if (std::string u; r.string("program_units", u, false)) {
+    if (u == "mm" || u == "inch")
+      m.program_inch = u == "inch";
+    else
+      r.fail_at(root.get("program_units")->source(), "program_units",
+                fmt::format("must be \"mm\" or \"inch\" (got \"{}\")", u));
+  }
   r.number("pause_s", m.pause_s, false,
            [](double v) { return v >= 0.0 && v <= 1e6 ? "" : "must be 0..1e6 s"; });
   if (const toml::table* wo = r.table("work_offsets", false)) {
@@ -435,6 +442,7 @@ std::string machine_to_toml(const Machine& m) {
   if (!m.user_mcode_dir.empty())
     s += fmt::format("user_mcode_dir = {}\n", toml_string(m.user_mcode_dir));
   if (m.pause_s > 0.0) s += fmt::format("pause_s = {}\n", fmt_double(m.pause_s));
+  if (m.program_inch) s += "program_units = \"inch\"\n";
   s += "tools = " + list(m.tool_lengths_mm) + "\n\n";
   s += fmt::format("[accdec]\nprofile = {}\ntau_s = {}\n", toml_string(m.profile),
                    fmt_double(m.tau_s));

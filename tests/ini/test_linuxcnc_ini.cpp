@@ -3,6 +3,7 @@
 
 #include "accdec/taps.hpp"
 #include "common/status.hpp"
+#include "interp/program.hpp"
 #include "machine/machine_file.hpp"
 #include "pipeline/run.hpp"
 #include "support/scratch_dir.hpp"
@@ -14,6 +15,8 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace fs = std::filesystem;
 using Catch::Detail::Approx;
@@ -168,10 +171,53 @@ TEST_CASE("ini: a gantry router in inches maps onto mm, the tightest joint and t
   CHECK(has_warning(imp, "USER_M_PATH = mcodes"));
   CHECK(has_warning(imp, "shared-subs is not a directory"));
   CHECK(has_warning(imp, "soft limits"));
-  CHECK(has_warning(imp, "G20"));
+  CHECK(m.program_inch);                        // LINEAR_UNITS = inch: programs start in G20
   CHECK_FALSE(has_warning(imp, "KINEMATICS"));  // trivkins with parameters is trivkins
   // load_machine_file reads an .ini the same way (check, moves and the bindings use it).
   CHECK(gm::load_machine_file(d / "router.ini").layout.letters() == "XYZA");
+}
+
+namespace {
+
+// The X and Y ends of the program's motions on machine `m`, mm.
+std::vector<std::pair<double, double>> ends_xy(const gm::Machine& m, const std::string& text) {
+  std::istringstream in(text);
+  gm::InterpreterOptions opts;
+  opts.machine = &m;
+  gm::ProgramStream stream(in, "units.ngc", opts);
+  std::vector<std::pair<double, double>> ends;
+  gm::Canon c;
+  while (stream.next(c))
+    if (const auto* mo = std::get_if<gm::Motion>(&c))
+      ends.emplace_back(mo->end_mm[0], mo->end_mm[1]);
+  return ends;
+}
+
+}  // namespace
+
+TEST_CASE("ini: a program starts in the configuration's units, as LinuxCNC's INIT_CANON sets") {
+  const fs::path d = gmtest::scratch_dir("ini") / "units";
+  fs::create_directories(d);
+  const auto machine = [&](const std::string& units) {
+    write(d / "u.ini", "[TRAJ]\nCOORDINATES = X Y Z\nLINEAR_UNITS = " + units +
+                           "\n[AXIS_X]\nMAX_VELOCITY = 1\nMAX_ACCELERATION = 10\n");
+    return gm::load_linuxcnc_ini(d / "u.ini");
+  };
+  // No G20/G21 in the program: X1 is an inch on an inch machine until G21; M2 keeps the units.
+  const std::string prog = "G0 X1 Y2\nG21 G0 X1\nG20\nM2\n";
+  const auto inch = machine("inch");
+  CHECK(inch.machine.program_inch);
+  CHECK(ends_xy(inch.machine, prog) ==
+        std::vector<std::pair<double, double>>{{25.4, 50.8}, {1.0, 50.8}});
+  CHECK(machine("0.03937").machine.program_inch);  // units per mm within 1e-3 of 1/25.4
+  const auto mm = machine("mm");
+  CHECK_FALSE(mm.machine.program_inch);
+  CHECK(ends_xy(mm.machine, prog) == std::vector<std::pair<double, double>>{{1.0, 2.0}});
+  // cm: neither; LinuxCNC starts the interpreter in mm and says so, and so does gmotion.
+  const auto cm = machine("cm");
+  CHECK_FALSE(cm.machine.program_inch);
+  CHECK(has_warning(cm, "neither mm nor inch"));
+  CHECK_FALSE(has_warning(inch, "neither"));
 }
 
 TEST_CASE("ini: tau is the time a velocity step takes at the tightest V/A, by the profile's peak") {

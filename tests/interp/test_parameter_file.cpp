@@ -101,3 +101,29 @@ TEST_CASE("parameter file: a corrupt file is a located error and is not overwrit
   CHECK(r.out.find("\n  5161\t2.0\n  ^\n") != std::string::npos);
   CHECK(slurp(s.var()) == corrupt);
 }
+
+TEST_CASE("parameter file: --parameter-file replaces the machine's, --no-parameter-file opts out") {
+  Scratch s;
+  std::ofstream(s.var()) << "5221\t10\n";  // the machine's file: G54 X = 10
+  const std::string prog = s.program("p.ngc", "G0 X1\nG10 L2 P1 X3\nM2\n");
+  const std::string base = gmtest::gmotion_bin() + " moves " + prog + " --machine " + s.machine();
+  // --no-parameter-file: G54 starts at 0 and nothing is written, the machine's file untouched
+  auto r = sh(base + " --no-parameter-file");
+  REQUIRE(r.code == 0);
+  CHECK(r.out == "{\"line\":1,\"kind\":\"rapid\",\"end\":[1,0,0],\"feed\":0}\n");
+  CHECK(slurp(s.var()) == "5221\t10\n");
+  // --parameter-file FILE: that file is read (a missing one is not an error) and written instead
+  const fs::path other = s.dir / "other.var";
+  r = sh(base + " --parameter-file " + other.string());
+  REQUIRE(r.code == 0);
+  CHECK(r.out == "{\"line\":1,\"kind\":\"rapid\",\"end\":[1,0,0],\"feed\":0}\n");
+  CHECK(slurp(other).find("5221\t3.000000\n") != std::string::npos);
+  CHECK(slurp(s.var()) == "5221\t10\n");
+  r = sh(base + " --parameter-file " + other.string());
+  CHECK(r.out == "{\"line\":1,\"kind\":\"rapid\",\"end\":[4,0,0],\"feed\":0}\n");
+  // the machine's file still applies without a flag
+  r = sh(base);
+  CHECK(r.out == "{\"line\":1,\"kind\":\"rapid\",\"end\":[11,0,0],\"feed\":0}\n");
+  // the two flags exclude each other (a usage error)
+  CHECK(sh(base + " --no-parameter-file --parameter-file " + other.string() + " 2>&1").code == 2);
+}

@@ -27,6 +27,7 @@ void require_equal(const Machine& a, const Machine& b) {
   CHECK(a.tool_lengths_mm == b.tool_lengths_mm);
   for (std::size_t g = 0; g < 6; ++g) CHECK(a.work_offsets_mm[g] == b.work_offsets_mm[g]);
   CHECK(a.layout.letters() == b.layout.letters());
+  CHECK(a.program_inch == b.program_inch);
   REQUIRE(a.axes.size() == b.axes.size());
   for (std::size_t i = 0; i < a.axes.size(); ++i) {
     INFO("axis " << i);
@@ -149,6 +150,7 @@ TEST_CASE("machine_to_toml round-trips the default and a modified machine", "[ma
   m.axes[2].plant_num = {2.0};
   m.axes[2].plant_den = {1.0, 3.0, 2.0};
   m.axes[2].drive_N_per_unit = 123.0;
+  m.program_inch = true;
   require_equal(gm::parse_machine_toml(gm::machine_to_toml(m), "rt.toml"), m);
   // Names with TOML's special characters (found by fuzz_machine: backslashes did not survive).
   for (const char* name :
@@ -169,6 +171,11 @@ TEST_CASE("minimal file: optional keys take the documented defaults", "[machine]
   CHECK(m.axes[0].blu_mm == 0.001);
   CHECK(m.axes[0].plant_blu_s_per_unit == 34000.0);
   CHECK(m.axes[0].kv_form == gm::VelocityLoopForm::Ip);
+  CHECK_FALSE(m.program_inch);  // programs start in G21
+  CHECK(gm::parse_machine_toml(
+            replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\nprogram_units = \"inch\"\n"),
+            "t.toml")
+            .program_inch);
   // The machine-level blu_mm is the axes' default; an axis may override it.
   const Machine b = gm::parse_machine_toml(
       replace(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\nblu_mm = 0.0005\n"),
@@ -208,6 +215,9 @@ TEST_CASE("out-of-range value: exact message with key, file and line", "[machine
   CHECK(error_of(replace(kMinimal, "period_s = 0.004\n",
                          "period_s = 0.004\nmax_override_percent = 50\n")) ==
         "t.toml:3: key 'max_override_percent': must be in 100..1000 (got 50)");
+  CHECK(error_of(replace(kMinimal, "period_s = 0.004\n",
+                         "period_s = 0.004\nprogram_units = \"in\"\n")) ==
+        "t.toml:3: key 'program_units': must be \"mm\" or \"inch\" (got \"in\")");
   CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\nblu_mm = nan\n")) ==
         "t.toml:3: key 'blu_mm': must be finite (got nan)");
 }
