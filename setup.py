@@ -37,4 +37,10 @@ class CMakeBuild(build_ext):
         shutil.copyfile(built, target)
 
 
-setup(ext_modules=[CMakeExtension("gmotion._core")], cmdclass={"build_ext": CMakeBuild})
+# setuptools' own scratch (build/lib.*, bdist.*) goes beside the CMake build, not into the
+# source tree's build/ (the default preset's build directory).
+_scratch = os.path.join(os.environ.get("GMOTION_PIP_BUILD_DIR", os.path.join(HERE, "build", "pip")),
+                        "setuptools")
+os.makedirs(_scratch, exist_ok=True)
+setup(ext_modules=[CMakeExtension("gmotion._core")], cmdclass={"build_ext": CMakeBuild},
+      options={"build": {"build_base": _scratch}, "egg_info": {"egg_base": _scratch}})

@@ -13,6 +13,7 @@ packages=(
   libeigen3-dev libboost-dev libfmt-dev catch2 libcli11-dev libtomlplusplus-dev libbenchmark-dev
   libzstd-dev zlib1g-dev
   python3 python3-matplotlib clang-format python3-dev python3-numpy pybind11-dev
+  python3-venv python3-pip python3-setuptools python3-wheel
 )
 for flag in "$@"; do
   case "$flag" in
