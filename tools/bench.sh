@@ -3,6 +3,8 @@
 # mixing G1 and G2/G3 (IJK and R) with tools/gen_bench_program.py, and measures
 #   - parse+interpret: `gmotion check` MB/s and blocks/s, and `rs274 -g PROGRAM /dev/null`
 #     on the same program with the ratio (when rs274 is installed: install-deps --with-oracle);
+#   - the same for a 10^6-iteration O-word `while` loop of arithmetic, SIN and a G1
+#     (tests/diff/lang/loop_arith.ngc with its count raised; rs274 once, it takes minutes);
 #   - `gmotion run` without a trace (default machine: 3 axes, blackman, tau 0.164 s, T 4 ms,
 #     servo on): samples/s and peak RSS;
 #   - `gmotion run` on the same program with A, B, C moving on a six-axis machine (--axes XYZABC);
@@ -70,6 +72,16 @@ if command -v rs274 >/dev/null; then
   rows+=("| \`rs274 -g PROGRAM /dev/null\` (LinuxCNC) | $(calc "%.1f" "$bytes / 1e6 / $secs") MB/s | $secs s: gmotion check is $(calc "%.1f" "$secs / $check_s")x faster |")
 else
   rows+=("| \`rs274\` | not installed (tools/install-deps.sh --with-oracle) | |")
+fi
+
+loop=$work/loop-1e6.ngc
+sed 's/LT 300\]/LT 1000000]/' tests/diff/lang/loop_arith.ngc >"$loop"
+measure 3 "$bin/gmotion" check "$loop"
+loop_s=$secs
+rows+=("| 10⁶-iteration \`while\` loop (arithmetic, SIN, G1), \`gmotion check\` | $(calc "%.2f" "1 / $secs") M iterations/s | $secs s, peak RSS $((rss_kb / 1024)) MB |")
+if command -v rs274 >/dev/null; then
+  measure 1 rs274 -g "$loop" /dev/null
+  rows+=("| the same loop, \`rs274 -g\` | $(calc "%.3f" "1 / $secs") M iterations/s | $secs s, peak RSS $((rss_kb / 1024)) MB: gmotion check is $(calc "%.1f" "$secs / $loop_s")x faster |")
 fi
 
 measure 3 "$bin/gmotion" run "$prog" --summary-json "$work/summary.json"

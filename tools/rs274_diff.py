@@ -699,12 +699,15 @@ _GM_ERR = re.compile(r":(\d+):(\d+): error: (.*)$")
 
 
 def rs274_error_line(error_text: str) -> int | None:
-    """rs274 prints the message, then the offending block (renumbered: N<file line> first)."""
+    """rs274 prints the message, then the offending block (renumbered: N<file line> first). O-word
+    lines are not renumbered; their messages begin with the file line ("9: duplicate O-word
+    label ...")."""
     for line in reversed(error_text.splitlines()):
         m = _ERR_LINE.match(line)
         if m:
             return int(m.group(1))
-    return None
+    m = re.match(r"^\s*(\d+): ", error_text)
+    return int(m.group(1)) if m else None
 
 
 def gmotion_first_error(gmotion: str, path: str, tool_table_path: str | None) -> tuple[int | None, str]:

@@ -62,6 +62,32 @@ int OwordFlow::find_loop(const std::string& label) const {
   return -1;
 }
 
+bool OwordFlow::note_label(const grammar::OWord& o, Frame kind, const LinePos& pos,
+                           InterpError& err) {
+  label_key_.clear();
+  for (auto f = stack_.rbegin(); f != stack_.rend(); ++f)
+    if (f->kind == Frame::Call) {
+      label_key_ = f->label;
+      break;
+    }
+  label_key_ += '#';
+  label_key_ += o.label;
+  const auto it = labels_.find(label_key_);
+  if (it == labels_.end()) {
+    if (labels_.size() < kMaxLabels) labels_.emplace(label_key_, LabelUse{kind, pos.line});
+    return true;
+  }
+  // rs274 compares line numbers only; a while may close a do of the same label.
+  if (kind == Frame::Do || it->second.line == pos.line ||
+      (kind == Frame::While && it->second.kind == Frame::Do))
+    return true;
+  constexpr const char* kNames[] = {"call", "if", "while", "do", "repeat"};
+  return fail(err, ErrorCode::ControlMismatch, o.loc,
+              fmt::format("duplicate O-word label {}: line {} already used it for a {} (LinuxCNC "
+                          "needs its own label for each if, while, do and repeat)",
+                          label_of(o), it->second.line, kNames[static_cast<int>(it->second.kind)]));
+}
+
 bool OwordFlow::handle(const grammar::Block& b, const LinePos& pos, FlowJump& jump,
                        InterpError& err) {
   return skipping() ? skipped(b, pos, jump, err) : normal(b, pos, jump, err);
@@ -267,6 +293,7 @@ bool OwordFlow::normal(const grammar::Block& b, const LinePos& pos, FlowJump& ju
       return true;
     }
     case OKind::If:
+      if (!note_label(o, Frame::If, pos, err)) return false;
       if (!evaluate_arg(b, 0, v, err)) return false;
       stack_.push_back(Open{Frame::If, o.label, pos});
       if (v == 0.0) skip(Skip::IfBranch, o.label, b, pos.file);
@@ -281,21 +308,25 @@ bool OwordFlow::normal(const grammar::Block& b, const LinePos& pos, FlowJump& ju
       stack_.pop_back();
       return true;
     case OKind::Do:
+      if (!note_label(o, Frame::Do, pos, err)) return false;
       stack_.push_back(Open{Frame::Do, o.label, pos});
       return true;
     case OKind::While:
       if (top_is(Frame::Do)) {  // the end of a do ... while loop
         if (!evaluate_arg(b, 0, v, err)) return false;
-        if (v != 0.0) {
+        if (v != 0.0 && !break_pending_) {
           if (!count_iteration(o.loc, err)) return false;
           seek_to(jump, stack_.back().pos, true);
         } else {
           stack_.pop_back();
+          break_pending_ = false;
         }
         return true;
       }
-      if (!(top_is(Frame::While) && stack_.back().pos.offset == pos.offset))
+      if (!(top_is(Frame::While) && stack_.back().pos.offset == pos.offset)) {
+        if (!note_label(o, Frame::While, pos, err)) return false;
         stack_.push_back(Open{Frame::While, o.label, pos});
+      }
       if (!evaluate_arg(b, 0, v, err)) return false;
       if (v == 0.0) {
         stack_.pop_back();
@@ -308,6 +339,7 @@ bool OwordFlow::normal(const grammar::Block& b, const LinePos& pos, FlowJump& ju
       seek_to(jump, stack_.back().pos, false);  // re-evaluate
       return true;
     case OKind::Repeat:
+      if (!note_label(o, Frame::Repeat, pos, err)) return false;
       if (!evaluate_arg(b, 0, v, err)) return false;
       if (v >= 1.0) {
         stack_.push_back(Open{Frame::Repeat, o.label, pos, v});
@@ -333,6 +365,7 @@ bool OwordFlow::normal(const grammar::Block& b, const LinePos& pos, FlowJump& ju
       if (at < 0) return mismatch("while or do");
       const Open loop = stack_[static_cast<std::size_t>(at)];
       if (o.kind == OKind::Break) {
+        break_pending_ = true;
         stack_.resize(static_cast<std::size_t>(at));
         skip(Skip::LoopEnd, o.label, b, pos.file);
         return true;
@@ -398,6 +431,7 @@ bool OwordFlow::skipped(const grammar::Block& b, const LinePos& pos, FlowJump& j
     case Skip::LoopEnd:
       if (o.kind == OKind::EndWhile || o.kind == OKind::EndRepeat || o.kind == OKind::While)
         skip_.mode = Skip::None;
+      if (o.kind == OKind::While) break_pending_ = false;  // the while ending a do: rs274 runs it
       return true;
     case Skip::ToLoopEnd:
       if (o.kind == OKind::EndRepeat || o.kind == OKind::While) {

@@ -116,6 +116,10 @@ class OwordFlow {
   void skip(Skip mode, const std::string& label, const grammar::Block& b, int file);
   /// Index of the innermost open loop labelled `label`, or -1.
   int find_loop(const std::string& label) const;
+  /// rs274's one label per construct: records where an if/while/do/repeat label is first run
+  /// (per subroutine being run, as LinuxCNC's offset_map keys "sub#label"); false with `err`
+  /// when the label was run before at another line (LinuxCNC: "duplicate O-word label").
+  bool note_label(const grammar::OWord& o, Frame kind, const LinePos& pos, InterpError& err);
 
   ParameterStore& params_;
   SubroutineFinder* finder_;
@@ -124,6 +128,19 @@ class OwordFlow {
   std::int64_t iterations_ = 0;
   std::vector<Open> stack_;
   std::unordered_map<std::string, SubDef> subs_;  ///< label -> the `sub` (or `O1234`) line
+  struct LabelUse {
+    Frame kind;
+    int line;
+  };
+  /// "sub#label" -> the first if/while/do/repeat run with it (note_label). At most
+  /// kMaxLabels are kept, so that a program of endless distinct labels keeps memory flat.
+  std::unordered_map<std::string, LabelUse> labels_;
+  static constexpr std::size_t kMaxLabels = std::size_t{1} << 20;
+  std::string label_key_;  ///< note_label's scratch key
+  /// rs274 2.9's doing_break: set by any `break`, cleared by the `while` line ending a do loop,
+  /// which then does not loop back. So after a break out of a while loop, the next do ... while
+  /// loop runs once (LinuxCNC's behaviour, reproduced).
+  bool break_pending_ = false;
   SkipState skip_;
   std::vector<double> pending_args_;  ///< FindSub: the arguments of the call
   LinePos pending_return_;            ///< FindSub: the call line

@@ -29,6 +29,9 @@
 
 namespace gm {
 
+/// rs274's LINELEN (255) less one: fgets filling this many bytes is LinuxCNC's "Command too long".
+inline constexpr std::uint64_t kRs274LineBytes = 254;
+
 /// One line as read and parsed: what the front half (reader + grammar) hands to the back half
 /// (program rules + interpreter). Reused from line to line.
 struct ParsedLine {
@@ -317,6 +320,19 @@ class ProgramRunner {
     const std::string& text = p.text;
     const int line = p.number;
     remember(text);
+    // rs274 reads a line with fgets into 255 bytes and refuses one that fills 254 of them (line
+    // end included), even on lines it passes over: "Command too long".
+    if (dialect_ == Dialect::LinuxCNC && !p.truncated &&
+        p.next_offset - p.offset >= kRs274LineBytes) {
+      diags.push_back(Diagnostic{
+          Severity::Error, static_cast<int>(ErrorCode::LineTooLong),
+          SourceLoc{line, static_cast<int>(kRs274LineBytes) - 1},
+          fmt::format("command too long: {} bytes with the line end, LinuxCNC reads at most {} "
+                      "(--dialect fanuc has no such limit)",
+                      p.next_offset - p.offset, kRs274LineBytes - 1),
+          source_for(text)});
+      return true;
+    }
     if (flow_.skipping()) {  // passing over lines: only O-words matter, nothing else is checked
       if (p.truncated || p.block.oword.kind == grammar::OKind::None) return true;
       return control(p, out, diags, jump);

@@ -1,4 +1,5 @@
-// Runs every tests/bad/*.nc: its first line "; expect LINE:COL CODE" names the first diagnostic.
+// Runs every tests/bad/*.nc: its first line "; expect LINE:COL CODE [fanuc]" names the first
+// diagnostic (and the dialect, when not linuxcnc).
 #include "gcode_helpers.hpp"
 
 #include <catch2/catch.hpp>
@@ -19,15 +20,16 @@ TEST_CASE("bad-input corpus: each file fails with its stated code at its stated 
     std::string first;
     std::getline(f, first);
     std::smatch m;
-    const std::regex re(R"(; expect (\d+):(\d+) (\d+))");
+    const std::regex re(R"(; expect (\d+):(\d+) (\d+)( fanuc)?)");
     INFO(entry.path().filename().string() << ": " << first);
     REQUIRE(std::regex_search(first, m, re));
     f.clear();
     f.seekg(0);
     std::vector<gm::Diagnostic> d;
     gm::Machine machine;
-    const auto sum = gm::check_program_diagnostics(f, entry.path().string(),
-                                                   gm::InterpreterOptions{&machine, false}, d);
+    gm::InterpreterOptions opts{&machine, false};
+    if (m[4].matched) opts.dialect = gm::Dialect::Fanuc;
+    const auto sum = gm::check_program_diagnostics(f, entry.path().string(), opts, d);
     REQUIRE(sum.errors >= 1);
     REQUIRE(!d.empty());
     CHECK(d[0].loc.line == std::stoi(m[1]));

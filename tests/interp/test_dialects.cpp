@@ -2,7 +2,9 @@
 #include <catch2/catch.hpp>
 
 #include "support/run_command.hpp"
+#include "support/scratch_dir.hpp"
 
+#include <fstream>
 #include <string>
 
 namespace {
@@ -138,4 +140,33 @@ TEST_CASE("M98/M99: the errors rs274 gives, located") {
   error("M98 P100\\nM30\\nO100\\no100 endsub\\n",
         "<stdin>:4:1: error: subprogram O100 was called "
         "with M98: it must end with M99");
+}
+
+TEST_CASE("dialect-cli: LinuxCNC line limit is 253 bytes with the line end, fanuc has none") {
+  // rs274 (checked by hand and by diff:rs274-lang-errors): fgets into 255 bytes, refused when
+  // 254 fill up, so 252 characters and '\n' pass and 253 do not; '\r' counts; a last line
+  // without '\n' may have 253.
+  const auto dir = gmtest::scratch_dir("line-limit");
+  const auto check = [&](const std::string& text, const std::string& flags = "") {
+    const auto path = (dir / "p.ngc").string();
+    std::ofstream(path, std::ios::binary) << text;
+    return sh(gmtest::gmotion_bin() + " check " + path + " " + flags + " 2>&1");
+  };
+  const auto line = [](std::size_t n) {  // a G1 with a comment, n characters in all
+    const std::string g1 = "G1 X10 F300 (";
+    return g1 + std::string(n - g1.size() - 1, 'c') + ")";
+  };
+  CHECK(check("G21\n" + line(252) + "\nM2\n").code == 0);
+  auto r = check("G21\n" + line(253) + "\nM2\n");
+  CHECK(r.code == 1);
+  CHECK(r.out.find("p.ngc:2:253: error: command too long: 254 bytes with the line end, LinuxCNC "
+                   "reads at most 253") != std::string::npos);
+  CHECK(check("G21\r\n" + line(252) + "\r\nM2\r\n").code == 1);
+  CHECK(check("G21\r\n" + line(251) + "\r\nM2\r\n").code == 0);
+  const auto last = [](std::size_t n) { return "M2 (" + std::string(n - 5, 'c') + ")"; };
+  CHECK(check("G21\n" + last(253)).code == 0);  // the last line, no '\n': 253 bytes
+  CHECK(check("G21\n" + last(254)).code == 1);
+  // also on a line passed over (a false if), as rs274 reads every line
+  CHECK(check("o1 if [0]\n" + line(300) + "\no1 endif\nM2\n").code == 1);
+  CHECK(check("G21\n" + line(5000) + "\nM2\n", "--dialect fanuc").code == 0);
 }

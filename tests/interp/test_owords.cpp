@@ -88,6 +88,11 @@ TEST_CASE("control-flow errors are located and name the O-word") {
        "nested subroutine calls"},
       {"o1 bogus\nM2\n", gm::ErrorCode::BadOWord, 1, "unknown O-word keyword 'BOGUS'"},
       {"o1 if\nM2\n", gm::ErrorCode::BadOWord, 1, "needs a [value]"},
+      // rs274: one label per if/while/do/repeat (per subroutine), "duplicate O-word label"
+      {"o5 if [1]\no5 endif\no5 if [1]\no5 endif\nM2\n", gm::ErrorCode::ControlMismatch, 3,
+       "duplicate O-word label o5: line 1 already used it for a if"},
+      {"o5 repeat [1]\no5 endrepeat\no5 while [0]\no5 endwhile\nM2\n",
+       gm::ErrorCode::ControlMismatch, 3, "line 1 already used it for a repeat"},
   };
   for (const auto& c : cases) {
     INFO(c.program);
@@ -97,6 +102,29 @@ TEST_CASE("control-flow errors are located and name the O-word") {
     CHECK(d[0].loc.line == c.line);
     CHECK_THAT(d[0].message, Catch::Contains(c.says));
   }
+}
+
+TEST_CASE("labels: reused across subroutines and re-run loops, but not within one scope") {
+  // The same if inside a loop, the same label at top level and in a sub, a do closed by its
+  // while, a sub called twice: all one label per construct and scope, so accepted.
+  CHECK(xs("#1=0\no1 while [#1 LT 2]\n#1=[#1+1]\no2 if [1]\nG0 X#1\no2 endif\no1 endwhile\n"
+           "o<s> sub\no2 if [1]\nG0 Y1\no2 endif\no<s> endsub\no<s> call\no<s> call\n"
+           "o3 do\nG0 X9\no3 while [0]\nM2\n") == std::vector<double>{1, 2, 2, 9});
+  // An if whose condition is false at its first line is still recorded (rs274 records on run).
+  CHECK(diagnose("o4 if [0]\no4 endif\no4 if [1]\no4 endif\nM2\n").at(0).loc.line == 3);
+  // A label in a branch that never runs is not recorded.
+  CHECK(diagnose("o4 if [0]\no6 if [1]\no6 endif\no4 endif\no6 if [1]\no6 endif\nM2\n").empty());
+}
+
+TEST_CASE("rs274 2.9: after a break, the next do ... while loop runs once") {
+  // The break leaves LinuxCNC's doing_break set; the next do loop's while line clears it
+  // without looping back. A do loop after that loops normally.
+  CHECK(xs("#1=0\no1 while [1]\no1 break\no1 endwhile\n"
+           "o2 do\n#1=[#1+1]\nG0 X#1\no2 while [#1 LT 3]\n"
+           "o3 do\n#1=[#1+1]\nG0 X#1\no3 while [#1 LT 3]\nM2\n") == std::vector<double>{1, 2, 3});
+  // A break out of a do loop is cleared by that loop's own while line.
+  CHECK(xs("#1=0\no2 do\no2 break\no2 while [1]\n"
+           "o3 do\n#1=[#1+1]\nG0 X#1\no3 while [#1 LT 3]\nM2\n") == std::vector<double>{1, 2, 3});
 }
 
 TEST_CASE("an endless loop stops at --max-iterations with a located error") {
