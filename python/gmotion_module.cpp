@@ -129,7 +129,10 @@ py::dict run(const std::string& path, const std::string& machine, const py::dict
     const auto key = item.first.cast<std::string>();
     if (kRunOptions.count(key) == 0) {
       std::string known;
-      for (const auto& k : kRunOptions) known += (known.empty() ? "" : ", ") + k;
+      for (const auto& k : kRunOptions) {
+        if (!known.empty()) known += ", ";
+        known += k;
+      }
       throw py::type_error(
           fmt::format("run() got an unknown option '{}' (the options: {})", key, known));
     }

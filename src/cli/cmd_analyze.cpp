@@ -124,8 +124,10 @@ void run_response(const ResponseOptions& o) {
   fmt::print("# profile={} N={} tau={} period={} cutoff={} b_s={}\n", t.profile, t.N, o.tau_s,
              o.period_s, t.cutoff, t.b_s);
   std::string taps = "# taps=";
-  for (std::size_t i = 0; i < t.real.size(); ++i)
-    taps += (i ? " " : "") + fmt::format("{:.10g}", t.real[i]);
+  for (std::size_t i = 0; i < t.real.size(); ++i) {
+    if (i) taps += ' ';  // appended in two steps: g++ 12 -O3 warns falsely on `a + b`
+    taps += fmt::format("{:.10g}", t.real[i]);
+  }
   fmt::print("{}\n# taps_int=", taps);
   for (std::size_t i = 0; i < t.integer.size(); ++i) fmt::print("{}{}", i ? " " : "", t.integer[i]);
   fmt::print("\nf_norm,f_hz,omega_T,amplitude,amplitude_int\n");

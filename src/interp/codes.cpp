@@ -193,7 +193,9 @@ std::string group_name(Group g) {
   bool first = true;
   for (const Code& c : kCodes) {
     if (c.group != g) continue;
-    s += (first ? "" : " ") + code_name(c);
+    if (!first)
+      s += ' ';  // appended in two steps: g++ 12 -O3 warns falsely (-Wrestrict) on `a + b`
+    s += code_name(c);
     first = false;
   }
   return s + ")";

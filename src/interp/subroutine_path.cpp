@@ -51,7 +51,10 @@ std::string SubroutinePath::describe_miss(std::string_view label) const {
         "the name is not looked up on the subroutine path (only letters, digits, "
         "'_', '-' and '.' not first)");
   std::string dirs;
-  for (const std::string& d : dirs_) dirs += (dirs.empty() ? "" : ":") + d;
+  for (const std::string& d : dirs_) {
+    if (!dirs.empty()) dirs += ':';  // appended in two steps: g++ 12 -O3 warns on `a + b`
+    dirs += d;
+  }
   return fmt::format("no file '{}.ngc' in {}", label, dirs);
 }
 

@@ -351,8 +351,10 @@ std::string machine_to_linuxcnc_ini(const Machine& m) {
   s += fmt::format("\n[EMCMOT]\nSERVO_PERIOD = {}\n",
                    static_cast<long long>(std::llround(m.period_s * 1e9)));
   std::string coords;
-  for (int i = 0; i < m.axis_count(); ++i)
-    coords += (i ? " " : "") + std::string(1, m.layout.letter(i));
+  for (int i = 0; i < m.axis_count(); ++i) {
+    if (i) coords += ' ';  // not `(i ? " " : "") + ...`: g++ 12 -O3 warns falsely (-Wrestrict)
+    coords += m.layout.letter(i);
+  }
   s += fmt::format("\n[DISPLAY]\nMAX_FEED_OVERRIDE = {}\n", ini_number(m.max_override));
   s += fmt::format(
       "\n[TRAJ]\nCOORDINATES = {}\nLINEAR_UNITS = mm\nANGULAR_UNITS = degree\n"

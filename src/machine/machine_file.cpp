@@ -415,8 +415,10 @@ Machine load_machine_file(const std::filesystem::path& path) {
 std::string machine_to_toml(const Machine& m) {
   auto list = [](const auto& v) {
     std::string s = "[";
-    for (std::size_t i = 0; i < static_cast<std::size_t>(v.size()); ++i)
-      s += (i ? ", " : "") + fmt_double(v[i]);
+    for (std::size_t i = 0; i < static_cast<std::size_t>(v.size()); ++i) {
+      if (i) s += ", ";  // appended in two steps: g++ 12 -O3 warns falsely on `a + b`
+      s += fmt_double(v[i]);
+    }
     return s + "]";
   };
   const char* rule = m.arc_rule == ArcRule::Grbl     ? "grbl"
@@ -433,7 +435,10 @@ std::string machine_to_toml(const Machine& m) {
   if (m.tolerance_on == ToleranceOn::Encoder) s += "tolerance_on = \"encoder\"\n";
   if (!m.subroutine_path.empty()) {
     std::string dirs;
-    for (const std::string& d : m.subroutine_path) dirs += (dirs.empty() ? "" : ":") + d;
+    for (const std::string& d : m.subroutine_path) {
+      if (!dirs.empty()) dirs += ':';
+      dirs += d;
+    }
     s += fmt::format("subroutine_path = {}\n", toml_string(dirs));
   }
   if (!m.parameter_file.empty())
