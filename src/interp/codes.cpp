@@ -91,6 +91,9 @@ constexpr std::array kCodes{
     Code{'G',  610, G::PathControl, S::PathControl, run_path_control},
     Code{'G',  611, G::PathControl, S::PathControl, run_path_control},
     Code{'G',  640, G::PathControl, S::PathControl, run_path_control, "PQ"},
+    // Lathe diameter/radius mode (group 15): X words are diameters under G7
+    Code{'G',   70, G::LatheMode,   S::Distance,    run_lathe_mode},
+    Code{'G',   80, G::LatheMode,   S::Distance,    run_lathe_mode},
     // Exact stop for one block
     Code{'G',   90, G::ExactStop,   S::Motion,      run_nothing},
     // M codes
@@ -135,16 +138,27 @@ constexpr std::array<Code, kUserMCount> make_user_codes() {
 constexpr auto kUserCodes = make_user_codes();
 // clang-format on
 
-constexpr std::array<const char*, kGroupCount> kGroupTitles{"non-modal",    "motion",
-                                                            "plane",        "distance",
-                                                            "arc distance", "feed mode",
-                                                            "units",        "cutter compensation",
-                                                            "tool length",  "canned cycle return",
-                                                            "work offset",  "path control",
-                                                            "exact stop",   "stop",
-                                                            "tool change",  "spindle",
-                                                            "coolant",      "override",
-                                                            "I/O",          "user M code"};
+constexpr std::array<const char*, kGroupCount> kGroupTitles{"non-modal",
+                                                            "motion",
+                                                            "plane",
+                                                            "distance",
+                                                            "arc distance",
+                                                            "feed mode",
+                                                            "units",
+                                                            "cutter compensation",
+                                                            "tool length",
+                                                            "canned cycle return",
+                                                            "work offset",
+                                                            "path control",
+                                                            "lathe diameter mode",
+                                                            "exact stop",
+                                                            "stop",
+                                                            "tool change",
+                                                            "spindle",
+                                                            "coolant",
+                                                            "override",
+                                                            "I/O",
+                                                            "user M code"};
 
 // Lookup by number (G and M numbers x 10 below 2000) and by value word, built at compile time.
 constexpr int kMaxNumber10 = 2000;

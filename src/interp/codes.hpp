@@ -22,6 +22,7 @@ enum class Group : std::uint8_t {
   ReturnMode,   // G group 10: G98 G99
   CoordSystem,  // G group 12
   PathControl,  // G group 13
+  LatheMode,    // G group 15: G7 G8
   ExactStop,    // G9
   MStop,        // M group 4
   MToolChange,  // M group 6

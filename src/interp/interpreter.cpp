@@ -224,6 +224,14 @@ AxisVec Interpreter::total_offset_mm() const {
 bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, InterpError& err) {
   BlockWords w;
   if (!import_words(block, machine_.layout, w, err)) return false;
+  // LinuxCNC reads X as a diameter in G7 (read_x halves it; a G7/G8 in the same block rescales
+  // it), so the X word is halved when the block ends in diameter mode: X, G92 X, G10 X alike.
+  const Code* lathe = w.in(Group::LatheMode);
+  if (w.has('X') && (lathe ? lathe->number10 == 70 : state().lathe_diameter)) {
+    w.x_radius = *w['X'];
+    w.x_radius.value /= 2.0;
+    w.value['X' - 'A'] = &w.x_radius;
+  }
 
   ModalState& s = begin_block();
   BlockCtx ctx{machine_, block, w, s, out, err, tables_, nullptr};

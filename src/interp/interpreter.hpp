@@ -77,10 +77,11 @@ struct SystemTables {
 struct ModalState {
   int motion = -1;  ///< motion code x 10 in effect (G0 = 0, G1 = 10, ...); -1 none yet
   Plane plane = Plane::XY;
-  bool inch = false;          ///< G20
-  bool incremental = false;   ///< G91
-  bool ijk_absolute = false;  ///< G90.1 (default G91.1)
-  bool inverse_time = false;  ///< G93
+  bool inch = false;            ///< G20
+  bool incremental = false;     ///< G91
+  bool ijk_absolute = false;    ///< G90.1 (default G91.1)
+  bool lathe_diameter = false;  ///< G7: X words are diameters (default G8, radius)
+  bool inverse_time = false;    ///< G93
   PathMode path_mode = PathMode::Continuous;
   double path_tolerance_mm = -1.0;       ///< G64 P in mm; < 0: G64 without P (the machine's)
   double naive_cam_tolerance_mm = 0.0;   ///< G64 Q in mm

@@ -24,6 +24,7 @@ struct BlockWords {
   std::size_t code_count = 0;
   const grammar::Word* first_axis = nullptr;
   PolarWords polar;  ///< `@` and `^` (lang's interp/polar.hpp): axis words in place of X and Y
+  grammar::Word x_radius;  ///< G7: the X word halved (value['X'] points here then)
 
   const grammar::Word* operator[](char c) const { return value[static_cast<std::size_t>(c - 'A')]; }
   bool has(char c) const { return (*this)[c] != nullptr; }
@@ -109,6 +110,7 @@ bool run_coord_system(BlockCtx&, const Code&);
 bool run_path_control(BlockCtx&, const Code&);
 bool run_distance(BlockCtx&, const Code&);
 bool run_arc_distance(BlockCtx&, const Code&);
+bool run_lathe_mode(BlockCtx&, const Code&);
 bool run_g92(BlockCtx&, const Code&);
 bool run_g92_x(BlockCtx&, const Code&);  ///< G92.1 G92.2 G92.3
 bool run_g52(BlockCtx&, const Code&);

@@ -108,6 +108,12 @@ bool run_arc_distance(BlockCtx& ctx, const Code& c) {
   return true;
 }
 
+// G7/G8: the mode only; the block's X word was already read as a diameter (Interpreter::execute).
+bool run_lathe_mode(BlockCtx& ctx, const Code& c) {
+  ctx.s.lathe_diameter = c.number10 == 70;
+  return true;
+}
+
 bool run_stop(BlockCtx& ctx, const Code& c) {
   const EventKind k = c.number10 == 0 || c.number10 == 600 ? EventKind::Pause
                       : c.number10 == 10                   ? EventKind::OptionalPause

@@ -32,6 +32,24 @@ TEST_CASE("G20 converts lengths and feed to mm once, G21 back") {
   CHECK(n[0].feed_mm_min == Approx(254.0));
 }
 
+TEST_CASE("G7 reads X words as diameters (incremental too, G92 X alike), G8 as radii") {
+  // Worked by hand; tests/diff/machine/lathe-diameter.ngc checks the same against rs274.
+  const auto m =
+      motions("G18 G7\nG0 X30 Z2\nG91 G1 X-4 F100\nG90 G8 G0 X20\nG7 X50\nG92 X0\nG0 X10\nM2\n");
+  REQUIRE(m.size() == 5);
+  CHECK(m[0].end_mm[0] == 15.0);  // diameter 30
+  CHECK(m[1].end_mm[0] == 13.0);  // 4 off the diameter is 2 off the radius
+  CHECK(m[2].end_mm[0] == 20.0);  // G8 on the line: X20 is a radius
+  CHECK(m[3].end_mm[0] == 25.0);
+  CHECK(m[4].end_mm[0] == 30.0);  // G92 X0 at radius 25, then diameter 10 = 5 more
+  // An arc: the end X in diameter, I K (the centre offset) in radius, as LinuxCNC.
+  const auto a = motions("G18 G7 G0 X26 Z-21\nG3 X30 Z-23 I0 K-2 F100\nM2\n");
+  REQUIRE(a.size() == 2);
+  CHECK(a[1].end_mm[0] == 15.0);
+  CHECK(a[1].center_mm[0] == 13.0);
+  CHECK(a[1].center_mm[2] == -23.0);
+}
+
 TEST_CASE("G91 incremental and G90 absolute") {
   const auto m = motions("G91 G1 X1 Y1 F100\nX1\nG90 X0\nM2\n");
   REQUIRE(m.size() == 3);
