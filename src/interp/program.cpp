@@ -64,18 +64,52 @@ class LineParser {
     p.offset = reader_.line_offset();
     p.next_offset = reader_.next_offset();
     p.truncated = reader_.truncated();
-    if (!p.truncated) parser_.parse(p.text, p.number, p.block);
+    if (p.truncated) return true;
+    if (!looped_) {  // a straight program: every line is parsed once
+      parser_.parse(p.text, p.number, p.block);
+      return true;
+    }
+    // Loops re-read their lines: a line parsed before (same offset, number and text) is copied
+    // from the cache instead of being parsed again (the copy reuses p.block's storage).
+    Cached& c = cache_[(p.offset * 0x9E3779B97F4A7C15ull) >> (64 - kCacheBits)];
+    if (c.offset == p.offset && c.number == p.number && c.text == p.text) {
+      p.block = c.block;
+      return true;
+    }
+    parser_.parse(p.text, p.number, p.block);
+    if (p.text.size() <= kCacheLineBytes) {
+      c.offset = p.offset;
+      c.number = p.number;
+      c.text = p.text;
+      c.block = p.block;
+    }
     return true;
   }
   /// Number of the last line read (0 before the first).
   int last_number() const { return reader_.number(); }
   /// Continues at byte `offset`, the line there being numbered `line`. False if the input
-  /// cannot seek.
-  bool seek(std::uint64_t offset, int line) { return reader_.restart(offset, line - 1); }
+  /// cannot seek. From then on parsed lines are cached.
+  bool seek(std::uint64_t offset, int line) {
+    if (!looped_) cache_.resize(std::size_t{1} << kCacheBits);
+    looped_ = true;
+    return reader_.restart(offset, line - 1);
+  }
 
  private:
+  /// 256 lines of at most 256 bytes each (LinuxCNC's own limit is 253): loop bodies fit, and a
+  /// hostile program cannot make the cache hold more than about 256 × a parsed line.
+  static constexpr int kCacheBits = 8;
+  static constexpr std::size_t kCacheLineBytes = 256;
+  struct Cached {
+    std::uint64_t offset = ~std::uint64_t{0};
+    int number = 0;
+    std::string text;
+    grammar::Block block;
+  };
   LineReader reader_;
   grammar::BlockParser parser_;
+  bool looped_ = false;
+  std::vector<Cached> cache_;  ///< direct-mapped by offset; empty until the first seek
 };
 
 /// The subroutine files a program has called (`o<name> call` -> `name.ngc` on the path), each
