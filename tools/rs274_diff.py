@@ -213,6 +213,8 @@ def parse_rs274_output(text: str) -> list[Move]:
     g92_rot = [0.0, 0.0, 0.0]
     held = False             # inside a cutter compensation section
     selected = [0]           # --io: the tool SELECT_TOOL named
+    spindle_rpm = 0.0        # SET_SPINDLE_SPEED
+    sync_k = None            # START_SPEED_FEED_SYNC: mm per revolution (G33), until STOP_...
 
     def rot_ends(vals):
         return {"ABC"[i]: vals[i] + g5x_rot[i] + g92_rot[i] for i in range(3)}
@@ -258,6 +260,12 @@ def parse_rs274_output(text: str) -> list[Move]:
                 raise ValueError(f"XY rotation is not modelled by rs274_diff: {raw}")
         elif name == "SELECT_PLANE":
             plane = args.strip().replace("CANON_PLANE_", "")
+        elif name == "SET_SPINDLE_SPEED":
+            spindle_rpm = _floats(args)[-1]
+        elif name == "START_SPEED_FEED_SYNC":
+            sync_k = abs(_floats(args)[0]) * factor
+        elif name == "STOP_SPEED_FEED_SYNCH":
+            sync_k = None
         elif name == "SET_FEED_RATE":
             feed_mm_min = _floats(args)[0] * factor
             feed_tol = RS274_PRINT_HALF_ULP * factor
@@ -268,7 +276,12 @@ def parse_rs274_output(text: str) -> list[Move]:
                       end=[mach(v[i], i) for i in range(3)],
                       tol_mm=RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol + tool_tol,
                       rot=rot_ends(v[3:6]) if len(v) >= 6 else None)
-            if mv.kind == "line":
+            if mv.kind == "line" and sync_k is not None:
+                # G33: gmotion feeds K x S (its spindle runs at S); rs274 prints K to 6 decimals
+                mv.feed = sync_k * spindle_rpm
+                mv.feed_tol = 5e-7 * factor * spindle_rpm + sync_k * RS274_PRINT_HALF_ULP
+                mv.note = "G33: K x S"
+            elif mv.kind == "line":
                 mv.feed = feed_mm_min
                 mv.feed_tol = feed_tol
                 mv.note = feed_units_note

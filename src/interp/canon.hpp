@@ -41,6 +41,9 @@ struct Motion {
   /// mm; 0 = unbounded (the filter blends freely). Only meaningful when path_mode is Continuous.
   double path_tolerance_mm = 0.0;
   double naive_cam_tolerance_mm = 0.0;  ///< G64 Q, mm; 0 = none (carried, not yet applied)
+  /// G33: the move advances this far along its path per spindle revolution (K, mm); 0 = not
+  /// synchronised. Its feed_mm_min is K x the spindle speed, and the feed override does not act.
+  double sync_mm_per_rev = 0.0;
   // Set by the tolerance planner (src/planner/) ----------------------------------------------
   /// Largest path speed the interpolator may use in this block, mm/s, whatever the override;
   /// 0 = no cap.

@@ -34,6 +34,7 @@ constexpr std::array kCodes{
     Code{'G',   10, G::Motion,      S::Motion,      run_straight},
     Code{'G',   20, G::Motion,      S::Motion,      run_arc,          "IJKRP"},
     Code{'G',   30, G::Motion,      S::Motion,      run_arc,          "IJKRP"},
+    Code{'G',  330, G::Motion,      S::Motion,      run_spindle_sync, "K"},
     Code{'G',  382, G::Motion,      S::Motion,      run_probe},
     Code{'G',  383, G::Motion,      S::Motion,      run_probe},
     Code{'G',  384, G::Motion,      S::Motion,      run_probe},

@@ -110,6 +110,7 @@ bool run_coord_system(BlockCtx&, const Code&);
 bool run_path_control(BlockCtx&, const Code&);
 bool run_distance(BlockCtx&, const Code&);
 bool run_arc_distance(BlockCtx&, const Code&);
+bool run_spindle_sync(BlockCtx&, const Code&);
 bool run_lathe_mode(BlockCtx&, const Code&);
 bool run_g92(BlockCtx&, const Code&);
 bool run_g92_x(BlockCtx&, const Code&);  ///< G92.1 G92.2 G92.3

@@ -174,6 +174,44 @@ bool run_straight(BlockCtx& ctx, const Code& c) {
   return emit_straight(ctx, kind, target, loc);
 }
 
+// G33: a straight move synchronised with the spindle, K program units per revolution (LinuxCNC's
+// convert_straight for G_33: K required, the spindle turning). gmotion's spindle runs at its
+// programmed S from M3/M4 on (no spin-up), so the move is fed at K x S and ignores the feed
+// override, as LinuxCNC's synchronised moves do.
+bool run_spindle_sync(BlockCtx& ctx, const Code& c) {
+  const SourceLoc loc = motion_loc(ctx);
+  if (!ctx.w.has('K'))
+    return ctx.fail(ErrorCode::MissingWord, loc,
+                    "G33 without K (the distance per spindle revolution)");
+  if (ctx.s.spindle_dir == 0)
+    return ctx.fail(ErrorCode::CycleMisused, loc, "G33 with the spindle not turning (M3/M4 first)");
+  const double k_mm = ctx.w.get('K') * ctx.scale();
+  const double feed = std::fabs(k_mm) * ctx.s.spindle_rpm;
+  if (!(feed > 0.0))
+    return ctx.fail(ErrorCode::ZeroFeed, ctx.w['K']->loc,
+                    fmt::format("G33 at K{:g} x S{:g} would never end (zero feed)", ctx.w.get('K'),
+                                ctx.s.spindle_rpm));
+  if (!within(feed, kMaxFeedMmMin))
+    return ctx.fail(ErrorCode::ValueOutOfRange, ctx.w['K']->loc,
+                    fmt::format("G33 K{:g} x S{:g} is {:g} mm/min, beyond {:g} mm/min",
+                                ctx.w.get('K'), ctx.s.spindle_rpm, feed, kMaxFeedMmMin));
+  if (ctx.s.comp.active())
+    return ctx.fail(ErrorCode::CutterCompMisused, loc,
+                    fmt::format("{} with cutter radius compensation on", code_name(c)));
+  ctx.s.comp.arc_not_allowed = false;
+  Pos9 target;
+  if (!axis_target(ctx, motion_start(ctx), target)) return false;
+  Motion mo = motion_template(ctx, MotionKind::Line);
+  mo.start_mm = to_machine(motion_start(ctx), ctx.machine.layout);
+  mo.end_mm = to_machine(target, ctx.machine.layout);
+  mo.feed_mm_min = feed;
+  mo.sync_mm_per_rev = std::fabs(k_mm);
+  if (mo.end_mm != mo.start_mm) ctx.out.emplace_back(mo);
+  ctx.s.position_mm = target;
+  ctx.s.comp.detached = false;
+  return true;
+}
+
 bool arc_centre(BlockCtx& ctx, const Code& c, const Pos9& start, const Pos9& end, Pos9& centre) {
   const BlockWords& w = ctx.w;
   const Pos9 off = ctx.offset();

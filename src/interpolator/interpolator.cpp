@@ -30,7 +30,9 @@ AxisVec Interpolator::position_on(const Motion& m, double s_mm) {
 }
 
 inline double Interpolator::block_speed_mm_s(const OverrideInput& ovr) const {
-  const double scale = !override_enabled_ ? 1.0 : rapid_block_ ? ovr.rapid_scale : ovr.feed_scale;
+  const double scale = !override_enabled_ || synced_block_ ? 1.0
+                       : rapid_block_                      ? ovr.rapid_scale
+                                                           : ovr.feed_scale;
   // The tolerance planner's cap (src/planner/): the override acts before the Acc/Dec filter,
   // so no override may take the block faster than the speed its contour error was planned for.
   return std::min(speed_100_mm_s_ * scale, speed_cap_mm_s_);
@@ -52,6 +54,7 @@ bool Interpolator::pull_next() {
       // The block's speed at 100 % (the same operations as before, per block instead of per
       // sample): the rapid rate, the G93 time's speed or the feed.
       rapid_block_ = block_.kind == MotionKind::Rapid;
+      synced_block_ = block_.sync_mm_per_rev > 0.0;  // G33: the feed override does not act
       speed_100_mm_s_ = rapid_block_                  ? cfg_.rapid_mm_min / 60.0
                         : block_.inverse_time_s > 0.0 ? geom_.length_mm / block_.inverse_time_s
                                                       : block_.feed_mm_min / 60.0;
@@ -176,7 +179,7 @@ InterpStatus Interpolator::step_n(const OverrideInput& ovr, CommandSample& out) 
   out.line = line_;
   out.block_seq = block_seq_;
   out.events = events;
-  out.feed_scale = override_enabled_ ? ovr.feed_scale : 1.0;
+  out.feed_scale = override_enabled_ && !synced_block_ ? ovr.feed_scale : 1.0;
   return InterpStatus::Working;
 }
 

@@ -96,6 +96,7 @@ class Interpolator {
   bool has_block_ = false;       ///< a motion block is loaded (possibly finished)
   bool in_motion_ = false;       ///< the loaded block still has distance to go
   bool rapid_block_ = false;     ///< the loaded block is a rapid (the rapid override applies)
+  bool synced_block_ = false;    ///< the loaded block is spindle-synchronised (G33: no override)
   double speed_100_mm_s_ = 0.0;  ///< its speed at 100 % override
   double speed_cap_mm_s_ = 0.0;  ///< the planner's cap (infinity: none)
   double s_mm_ = 0.0;            ///< path length done in the current block

@@ -250,6 +250,17 @@ TEST_CASE(
   CHECK(s.size() == 25);  // nothing after M2 runs
 }
 
+TEST_CASE("a G33 move ignores the feed override (LinuxCNC's synchronised moves)") {
+  gm::Motion g33 = line(AxisVec::Zero(), xyz(1, 0, 0), 600);  // K 1.5 mm x S 400 rpm
+  g33.sync_mm_per_rev = 1.5;
+  auto s = samples({g33, line(xyz(1, 0, 0), xyz(2, 0, 0), 600)}, config(),
+                   [](std::int64_t) { return 0.5; });
+  // 1 mm at 600 mm/min is 25 samples whatever the override; the next 1 mm at 50 % takes 50
+  REQUIRE(s.size() == 75);
+  CHECK(s[10].feed_scale == 1.0);
+  CHECK(s[40].feed_scale == 0.5);
+}
+
 TEST_CASE("property: random chains end every block exactly and never outrun the feed") {
   const char* env = std::getenv("GMOTION_SEED");
   const std::uint64_t seed0 = env ? std::strtoull(env, nullptr, 10) : 42u;
