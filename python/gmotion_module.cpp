@@ -282,7 +282,7 @@ py::list moves(const std::string& path, const std::string& machine_file, const s
             more[py::str(std::string(1, l.letter(a)))] = m->end_mm[l.program(a)] + 0.0;
         if (!more.empty()) d["axes"] = more;
       }
-      if (m->sync_mm_per_rev > 0.0) d["mm_per_rev"] = m->sync_mm_per_rev;
+      if (m->mm_per_rev > 0.0) d["mm_per_rev"] = m->mm_per_rev;
       if (m->kind == gm::MotionKind::Arc) {
         d["center"] = xyz(m->center_mm);
         d["dir"] = m->ccw ? "ccw" : "cw";

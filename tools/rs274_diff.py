@@ -215,6 +215,25 @@ def parse_rs274_output(text: str) -> list[Move]:
     selected = [0]           # --io: the tool SELECT_TOOL named
     spindle_rpm = 0.0        # SET_SPINDLE_SPEED
     sync_k = None            # START_SPEED_FEED_SYNC: mm per revolution (G33), until STOP_...
+    per_rev = False          # SET_FEED_MODE(s, 1): G95, the feed rate is per revolution
+    css_max = 0.0            # SET_SPINDLE_MODE(s D): G96's cap (0: G97)
+    css_surface = 0.0        # G96: the surface speed in mm/min, from S and the units at S
+
+    def start_x_prog():      # program X where the next move starts (the radius under G96)
+        prev = next((m.end for m in reversed(moves) if m.end is not None), None)
+        x = prev[0] if prev is not None else 0.0
+        return x - g5x[0] - g92[0] - tool[0]
+
+    def spindle_rpm_now():
+        if css_max <= 0.0:
+            return spindle_rpm
+        r = abs(start_x_prog())
+        return min(css_max, css_surface / (2 * math.pi * r)) if r > 0 else css_max
+
+    def per_rev_feed(mm_per_rev):  # gmotion's feed for a spindle-fed move, where it starts
+        rpm = spindle_rpm_now()
+        return mm_per_rev * rpm, 5e-7 * factor * rpm + mm_per_rev * RS274_PRINT_HALF_ULP + \
+            (mm_per_rev * rpm * 1e-6 if css_max > 0 else 0.0)
 
     def rot_ends(vals):
         return {"ABC"[i]: vals[i] + g5x_rot[i] + g92_rot[i] for i in range(3)}
@@ -262,6 +281,12 @@ def parse_rs274_output(text: str) -> list[Move]:
             plane = args.strip().replace("CANON_PLANE_", "")
         elif name == "SET_SPINDLE_SPEED":
             spindle_rpm = _floats(args)[-1]
+            css_surface = spindle_rpm * (12 * MM_PER_INCH if factor != 1.0 else 1000.0)
+        elif name == "SET_SPINDLE_MODE":
+            css_max = _floats(args)[-1]
+            css_surface = spindle_rpm * (12 * MM_PER_INCH if factor != 1.0 else 1000.0)
+        elif name == "SET_FEED_MODE":
+            per_rev = _floats(args)[-1] == 1
         elif name == "START_SPEED_FEED_SYNC":
             sync_k = abs(_floats(args)[0]) * factor
         elif name == "STOP_SPEED_FEED_SYNCH":
@@ -276,11 +301,11 @@ def parse_rs274_output(text: str) -> list[Move]:
                       end=[mach(v[i], i) for i in range(3)],
                       tol_mm=RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol + tool_tol,
                       rot=rot_ends(v[3:6]) if len(v) >= 6 else None)
-            if mv.kind == "line" and sync_k is not None:
-                # G33: gmotion feeds K x S (its spindle runs at S); rs274 prints K to 6 decimals
-                mv.feed = sync_k * spindle_rpm
-                mv.feed_tol = 5e-7 * factor * spindle_rpm + sync_k * RS274_PRINT_HALF_ULP
-                mv.note = "G33: K x S"
+            if mv.kind == "line" and (sync_k is not None or per_rev):
+                # G33 / G95: gmotion feeds K or F x the spindle speed where the move starts (its
+                # spindle runs at S, or under G96 at surface / 2 pi r, at most D)
+                mv.feed, mv.feed_tol = per_rev_feed(sync_k if sync_k is not None else feed_mm_min)
+                mv.note = "G33: K x rpm" if sync_k is not None else "G95: F x rpm"
             elif mv.kind == "line":
                 mv.feed = feed_mm_min
                 mv.feed_tol = feed_tol
@@ -319,7 +344,9 @@ def parse_rs274_output(text: str) -> list[Move]:
                               end=[mach(end[i], i) for i in range(3)],
                               center=[mach(cen[i], i) for i in range(3)],
                               dir="cw" if rot < 0 else "ccw", turns=abs(rot), plane=plane,
-                              feed=feed_mm_min, note=feed_units_note, feed_tol=feed_tol,
+                              feed=per_rev_feed(feed_mm_min)[0] if per_rev else feed_mm_min,
+                              note=feed_units_note,
+                              feed_tol=per_rev_feed(feed_mm_min)[1] if per_rev else feed_tol,
                               rot=rot_ends(v[6:9]) if len(v) >= 9 else None,
                               held=held, tol_mm=RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol + tool_tol))
         elif name == "DWELL":

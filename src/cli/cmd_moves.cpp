@@ -44,8 +44,8 @@ void print_move(std::FILE* f, const Canon& c, const AxisLayout& axes) {
       fmt::print(f, ",\"center\":[{},{},{}],\"dir\":\"{}\",\"turns\":{},\"plane\":\"{}\"",
                  m->center_mm[0] + 0.0, m->center_mm[1] + 0.0, m->center_mm[2] + 0.0,
                  m->ccw ? "ccw" : "cw", m->turns, plane_name(m->plane));
-    if (m->sync_mm_per_rev > 0.0)  // G33: "feed" is K x S
-      fmt::print(f, ",\"mm_per_rev\":{}", m->sync_mm_per_rev);
+    if (m->mm_per_rev > 0.0)  // G95/G33: "feed" is mm_per_rev x the spindle speed at the start
+      fmt::print(f, ",\"mm_per_rev\":{}", m->mm_per_rev);
     fmt::print(f, "}}\n");
   } else if (const auto* d = std::get_if<Dwell>(&c)) {
     fmt::print(f, "{{\"line\":{},\"kind\":\"{}\",\"seconds\":{}}}\n", d->line,

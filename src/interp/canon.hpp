@@ -41,9 +41,28 @@ struct Motion {
   /// mm; 0 = unbounded (the filter blends freely). Only meaningful when path_mode is Continuous.
   double path_tolerance_mm = 0.0;
   double naive_cam_tolerance_mm = 0.0;  ///< G64 Q, mm; 0 = none (carried, not yet applied)
-  /// G33: the move advances this far along its path per spindle revolution (K, mm); 0 = not
-  /// synchronised. Its feed_mm_min is K x the spindle speed, and the feed override does not act.
-  double sync_mm_per_rev = 0.0;
+  // Fed by the spindle (G95 feed per revolution, G33 synchronised) ---------------------------
+  /// mm along the path per spindle revolution (G95 F, G33 K); 0 = fed in mm/min (or G93). The
+  /// spindle runs at `spindle_rpm`, or under G96 at SpindleFeed::rpm_at(x); feed_mm_min is
+  /// the feed where the move starts.
+  double mm_per_rev = 0.0;
+  bool spindle_synced = false;  ///< G33: the feed override does not act (LinuxCNC)
+  double spindle_rpm = 0.0;     ///< G97: the programmed S
+  /// G96 constant surface speed (mm/min of surface; 0 = G97), its D cap (rpm) and the machine X
+  /// of the spindle axis (program X = 0: LinuxCNC's xoffset, work and tool offsets).
+  double css_surface_mm_min = 0.0;
+  double css_max_rpm = 0.0;
+  double css_axis_x_mm = 0.0;
+
+  /// The spindle speed with the tool at machine X `x_mm`, rpm (LinuxCNC motion's CSS rule:
+  /// surface / (2 pi r), at most D; on the axis itself, D).
+  double spindle_rpm_at(double x_mm) const {
+    if (css_surface_mm_min <= 0.0) return spindle_rpm;
+    const double r = x_mm > css_axis_x_mm ? x_mm - css_axis_x_mm : css_axis_x_mm - x_mm;
+    const double rpm =
+        r > 0.0 ? css_surface_mm_min / (2.0 * 3.14159265358979323846 * r) : css_max_rpm;
+    return rpm < css_max_rpm ? rpm : css_max_rpm;
+  }
   // Set by the tolerance planner (src/planner/) ----------------------------------------------
   /// Largest path speed the interpolator may use in this block, mm/s, whatever the override;
   /// 0 = no cap.

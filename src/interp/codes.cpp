@@ -61,6 +61,10 @@ constexpr std::array kCodes{
     // Feed mode (group 5)
     Code{'G',  930, G::FeedMode,    S::FeedMode,    run_feed_mode},
     Code{'G',  940, G::FeedMode,    S::FeedMode,    run_feed_mode},
+    Code{'G',  950, G::FeedMode,    S::FeedMode,    run_feed_mode},
+    // Spindle mode (group 14): constant surface speed, constant rpm
+    Code{'G',  960, G::SpindleMode, S::SpindleMode, run_spindle_mode, "D"},
+    Code{'G',  970, G::SpindleMode, S::SpindleMode, run_spindle_mode},
     // Units (group 6)
     Code{'G',  200, G::Units,       S::Units,       run_units},
     Code{'G',  210, G::Units,       S::Units,       run_units},
@@ -152,6 +156,7 @@ constexpr std::array<const char*, kGroupCount> kGroupTitles{"non-modal",
                                                             "work offset",
                                                             "path control",
                                                             "lathe diameter mode",
+                                                            "spindle mode",
                                                             "exact stop",
                                                             "stop",
                                                             "tool change",

@@ -23,6 +23,7 @@ enum class Group : std::uint8_t {
   CoordSystem,  // G group 12
   PathControl,  // G group 13
   LatheMode,    // G group 15: G7 G8
+  SpindleMode,  // G group 14: G96 G97
   ExactStop,    // G9
   MStop,        // M group 4
   MToolChange,  // M group 6
@@ -39,6 +40,7 @@ inline constexpr std::size_t kGroupCount = static_cast<std::size_t>(Group::Count
 /// order of execution). Steps with no code of the block are skipped.
 enum class Step : std::uint8_t {
   Comment,      // messages
+  SpindleMode,  // G96 G97
   FeedMode,     // G93 G94
   Feed,         // F
   Speed,        // S

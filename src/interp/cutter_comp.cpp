@@ -109,6 +109,8 @@ void dequeue(BlockCtx& ctx) {
     }
     cc.emitted_mm = end;
     if (mo.kind != MotionKind::Arc && mo.end_mm == mo.start_mm) continue;  // as emit_straight
+    if (mo.mm_per_rev > 0.0)  // G95: the feed where this (compensated) move starts
+      mo.feed_mm_min = mo.mm_per_rev * mo.spindle_rpm_at(mo.start_mm[0]);
     if (q.inverse_time && mo.feed_mm_min > 0.0)
       mo.inverse_time_s = units::kSecondsPerMinute * motion_length_mm(mo) / mo.feed_mm_min;
     ctx.out.emplace_back(mo);
@@ -182,6 +184,7 @@ CompQueued straight_item(const BlockCtx& ctx, MotionKind kind, const Pos9& end, 
   CompQueued q;
   q.mo = motion_template(ctx, kind);
   q.mo.feed_mm_min = kind == MotionKind::Rapid ? 0.0 : feed;
+  if (kind != MotionKind::Rapid && ctx.s.per_rev) set_spindle_feed(ctx, q.mo, ctx.s.feed_mm_min);
   q.inverse_time = kind != MotionKind::Rapid && ctx.s.inverse_time;
   q.end_mm = end;
   q.dir_a = dir_a;
@@ -194,6 +197,7 @@ CompQueued arc_item(const BlockCtx& ctx, const Pos9& end, const Pos9& centre, in
   CompQueued q;
   q.mo = motion_template(ctx, MotionKind::Arc);
   q.mo.feed_mm_min = feed;
+  if (ctx.s.per_rev) set_spindle_feed(ctx, q.mo, ctx.s.feed_mm_min);
   q.mo.ccw = turn > 0;
   q.mo.turns = std::abs(turn);
   q.inverse_time = ctx.s.inverse_time;

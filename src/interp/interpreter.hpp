@@ -42,6 +42,7 @@ struct SavedModes {
   bool restore_on_return = false;  ///< M73: restored when the subroutine returns
   bool inch = false;
   bool incremental = false, ijk_absolute = false, inverse_time = false, retract_to_r = true;
+  bool per_rev = false;
   Plane plane = Plane::XY;
   int comp_code = 400;         ///< G40 G41 G42 (x 10)
   int tool_length_code = 490;  ///< G43 G43.1 G43.2 G49 (x 10)
@@ -77,11 +78,15 @@ struct SystemTables {
 struct ModalState {
   int motion = -1;  ///< motion code x 10 in effect (G0 = 0, G1 = 10, ...); -1 none yet
   Plane plane = Plane::XY;
-  bool inch = false;            ///< G20
-  bool incremental = false;     ///< G91
-  bool ijk_absolute = false;    ///< G90.1 (default G91.1)
-  bool lathe_diameter = false;  ///< G7: X words are diameters (default G8, radius)
-  bool inverse_time = false;    ///< G93
+  bool inch = false;                ///< G20
+  bool incremental = false;         ///< G91
+  bool ijk_absolute = false;        ///< G90.1 (default G91.1)
+  bool lathe_diameter = false;      ///< G7: X words are diameters (default G8, radius)
+  bool inverse_time = false;        ///< G93
+  bool per_rev = false;             ///< G95: feed_mm_min holds the F in mm per spindle revolution
+  bool css = false;                 ///< G96: S is a surface speed
+  double css_surface_mm_min = 0.0;  ///< G96: the surface speed S, mm/min (m/min or ft/min x S)
+  double css_max_rpm = 0.0;         ///< G96 D: the spindle's cap, rpm (no D: 1e30, as LinuxCNC)
   PathMode path_mode = PathMode::Continuous;
   double path_tolerance_mm = -1.0;       ///< G64 P in mm; < 0: G64 without P (the machine's)
   double naive_cam_tolerance_mm = 0.0;   ///< G64 Q in mm

@@ -15,6 +15,7 @@ SavedModes save(const ModalState& s) {
   m.incremental = s.incremental;
   m.ijk_absolute = s.ijk_absolute;
   m.inverse_time = s.inverse_time;
+  m.per_rev = s.per_rev;
   m.retract_to_r = s.retract_to_r;
   m.plane = s.plane;
   m.comp_code = s.comp.side > 0 ? 410 : s.comp.side < 0 ? 420 : 400;
@@ -57,7 +58,11 @@ bool restore_modes(BlockCtx& ctx, const SavedModes& m) {
   if (s.inch != m.inch && !run(ctx, 'G', m.inch ? 200 : 210)) return false;
   // One block "F.. S.. G.." in the order of execution: feed mode, F, S, plane, compensation,
   // tool length, coordinate system, path control, distance, retract mode.
-  if (s.inverse_time != m.inverse_time && !run(ctx, 'G', m.inverse_time ? 930 : 940)) return false;
+  if ((s.inverse_time != m.inverse_time || s.per_rev != m.per_rev) && !run(ctx, 'G',
+                                                                           m.inverse_time ? 930
+                                                                           : m.per_rev    ? 950
+                                                                                          : 940))
+    return false;
   if (!s.inverse_time) s.feed_mm_min = printed(m.feed_units, 1) * s.mm_per_unit();
   // S: rs274 2.9 prints SET_SPINDLE_SPEED only when the speed changes.
   if (const double rpm = printed(m.speed_rpm, 0); rpm != s.spindle_rpm) {

@@ -111,6 +111,11 @@ bool run_path_control(BlockCtx&, const Code&);
 bool run_distance(BlockCtx&, const Code&);
 bool run_arc_distance(BlockCtx&, const Code&);
 bool run_spindle_sync(BlockCtx&, const Code&);
+bool run_spindle_mode(BlockCtx&, const Code&);
+/// G95 and G33: `mo` is fed by the spindle, `mm_per_rev` along its path per revolution, at the
+/// block's spindle speed (G97) or surface speed (G96); its feed_mm_min is the feed at its start
+/// (mo.start_mm must be set; the compensation queue sets it again when it emits the move).
+void set_spindle_feed(const BlockCtx& ctx, Motion& mo, double mm_per_rev);
 bool run_lathe_mode(BlockCtx&, const Code&);
 bool run_g92(BlockCtx&, const Code&);
 bool run_g92_x(BlockCtx&, const Code&);  ///< G92.1 G92.2 G92.3

@@ -2,6 +2,9 @@
 // each emitting the canonical command LinuxCNC 2.9's interpreter gives (nothing is executed).
 #include "interp/steps.hpp"
 
+#include "common/units.hpp"
+
+#include <cmath>
 #include <filesystem>
 #include <system_error>
 
@@ -16,8 +19,22 @@ void emit_io(BlockCtx& ctx, EventKind kind, int index, double value) {
   emit_in_order(ctx, Canon(std::in_place_type<Event>, std::move(e)));
 }
 
+// The surface speed of G96 S in mm/min: S m/min (G21) or ft/min (G20), in the units in force when
+// it is set (LinuxCNC's SPINDLE_SPEED_: css_factor from the canon's length units then).
+static double surface_mm_min(const ModalState& s) {
+  return s.spindle_rpm * (s.inch ? 12.0 * units::kMmPerInch : 1000.0);
+}
+
+bool run_spindle_mode(BlockCtx& ctx, const Code& c) {
+  ctx.s.css = c.number10 == 960;
+  ctx.s.css_max_rpm = !ctx.s.css ? 0.0 : ctx.w.has('D') ? std::fabs(ctx.w.get('D')) : 1e30;
+  ctx.s.css_surface_mm_min = ctx.s.css ? surface_mm_min(ctx.s) : 0.0;
+  return true;
+}
+
 bool step_speed(BlockCtx& ctx) {
   ctx.s.spindle_rpm = ctx.w['S']->value;  // negative S is refused when the block is checked
+  if (ctx.s.css) ctx.s.css_surface_mm_min = surface_mm_min(ctx.s);
   emit_io(ctx, EventKind::SpindleSpeed, 0, ctx.s.spindle_rpm);
   return true;
 }

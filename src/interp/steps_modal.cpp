@@ -16,9 +16,11 @@ bool step_comment(BlockCtx& ctx) {
 }
 
 bool run_feed_mode(BlockCtx& ctx, const Code& c) {
-  const bool to_inverse = c.number10 == 930;
-  if (!to_inverse && ctx.s.inverse_time) ctx.s.feed_mm_min = 0.0;  // LinuxCNC: SET_FEED_RATE(0)
-  ctx.s.inverse_time = to_inverse;
+  // LinuxCNC's convert_feed_mode: G94 and G95 set the feed to 0 (SET_FEED_RATE(0)) every time,
+  // even in the mode already in force, so a G94 line needs an F before the next G1; G93 keeps it.
+  if (c.number10 != 930) ctx.s.feed_mm_min = 0.0;
+  ctx.s.inverse_time = c.number10 == 930;
+  ctx.s.per_rev = c.number10 == 950;
   return true;
 }
 

@@ -37,6 +37,10 @@ void set_path_mode(const BlockCtx& ctx, Motion& mo) {
 // Feed of a feed move (G94 modal feed, or G93: LinuxCNC interp_inverse.cc,
 // rate = MAX(0.1, length x F) in program units/min).
 bool set_feed(BlockCtx& ctx, Motion& mo) {
+  if (ctx.s.per_rev) {
+    set_spindle_feed(ctx, mo, ctx.s.feed_mm_min);
+    return true;
+  }
   if (!ctx.s.inverse_time) {
     mo.feed_mm_min = ctx.s.feed_mm_min;
     return true;
@@ -53,8 +57,35 @@ bool set_feed(BlockCtx& ctx, Motion& mo) {
 
 }  // namespace
 
+void set_spindle_feed(const BlockCtx& ctx, Motion& mo, double mm_per_rev) {
+  const ModalState& s = ctx.s;
+  mo.mm_per_rev = mm_per_rev;
+  mo.spindle_rpm = s.spindle_rpm;
+  mo.css_surface_mm_min = s.css ? s.css_surface_mm_min : 0.0;
+  mo.css_max_rpm = s.css ? s.css_max_rpm : 0.0;
+  mo.css_axis_x_mm = ctx.offset()[0];
+  mo.feed_mm_min = mm_per_rev * mo.spindle_rpm_at(mo.start_mm[0]);
+}
+
 bool check_feed(BlockCtx& ctx, int code10, SourceLoc loc) {
   auto name = [code10] { return code_name('G', code10); };
+  if (ctx.s.per_rev) {
+    // rs274: zero F, zero S ("Cannot feed with zero spindle speed in feed per rev mode"); a
+    // stopped spindle rs274 lets through, but the move would never end, so it is refused here.
+    if (ctx.s.feed_mm_min <= 0.0)
+      return ctx.fail(ErrorCode::ZeroFeed, loc,
+                      fmt::format("{} with zero feed rate (no F since G95, or F0)", name()));
+    if (ctx.s.spindle_rpm <= 0.0)
+      return ctx.fail(
+          ErrorCode::ZeroFeed, loc,
+          fmt::format("{} with zero spindle speed in feed per revolution (G95)", name()));
+    if (ctx.s.spindle_dir == 0)
+      return ctx.fail(ErrorCode::ZeroFeed, loc,
+                      fmt::format("{} in feed per revolution (G95) with the spindle stopped: the "
+                                  "move would never end (M3/M4 first)",
+                                  name()));
+    return true;
+  }
   if (ctx.s.inverse_time) {
     if (!ctx.w.has('F'))
       return ctx.fail(ErrorCode::InverseTimeFeedMissing, loc,
@@ -185,16 +216,11 @@ bool run_spindle_sync(BlockCtx& ctx, const Code& c) {
                     "G33 without K (the distance per spindle revolution)");
   if (ctx.s.spindle_dir == 0)
     return ctx.fail(ErrorCode::CycleMisused, loc, "G33 with the spindle not turning (M3/M4 first)");
-  const double k_mm = ctx.w.get('K') * ctx.scale();
-  const double feed = std::fabs(k_mm) * ctx.s.spindle_rpm;
-  if (!(feed > 0.0))
+  const double k_mm = std::fabs(ctx.w.get('K') * ctx.scale());
+  if (!(k_mm > 0.0 && ctx.s.spindle_rpm > 0.0))
     return ctx.fail(ErrorCode::ZeroFeed, ctx.w['K']->loc,
-                    fmt::format("G33 at K{:g} x S{:g} would never end (zero feed)", ctx.w.get('K'),
-                                ctx.s.spindle_rpm));
-  if (!within(feed, kMaxFeedMmMin))
-    return ctx.fail(ErrorCode::ValueOutOfRange, ctx.w['K']->loc,
-                    fmt::format("G33 K{:g} x S{:g} is {:g} mm/min, beyond {:g} mm/min",
-                                ctx.w.get('K'), ctx.s.spindle_rpm, feed, kMaxFeedMmMin));
+                    fmt::format("G33 at K{:g} and S{:g} would never end (zero feed)",
+                                ctx.w.get('K'), ctx.s.spindle_rpm));
   if (ctx.s.comp.active())
     return ctx.fail(ErrorCode::CutterCompMisused, loc,
                     fmt::format("{} with cutter radius compensation on", code_name(c)));
@@ -204,8 +230,13 @@ bool run_spindle_sync(BlockCtx& ctx, const Code& c) {
   Motion mo = motion_template(ctx, MotionKind::Line);
   mo.start_mm = to_machine(motion_start(ctx), ctx.machine.layout);
   mo.end_mm = to_machine(target, ctx.machine.layout);
-  mo.feed_mm_min = feed;
-  mo.sync_mm_per_rev = std::fabs(k_mm);
+  set_spindle_feed(ctx, mo, k_mm);
+  mo.spindle_synced = true;
+  if (!within(mo.feed_mm_min, kMaxFeedMmMin))
+    return ctx.fail(
+        ErrorCode::ValueOutOfRange, ctx.w['K']->loc,
+        fmt::format("G33 K{:g} at {:g} rpm is {:g} mm/min, beyond {:g} mm/min", ctx.w.get('K'),
+                    mo.feed_mm_min / k_mm, mo.feed_mm_min, kMaxFeedMmMin));
   if (mo.end_mm != mo.start_mm) ctx.out.emplace_back(mo);
   ctx.s.position_mm = target;
   ctx.s.comp.detached = false;

@@ -35,7 +35,10 @@ inline double Interpolator::block_speed_mm_s(const OverrideInput& ovr) const {
                                                            : ovr.feed_scale;
   // The tolerance planner's cap (src/planner/): the override acts before the Acc/Dec filter,
   // so no override may take the block faster than the speed its contour error was planned for.
-  return std::min(speed_100_mm_s_ * scale, speed_cap_mm_s_);
+  // G95 under G96: the spindle speeds up as the tool nears the axis, and the feed with it.
+  const double v100 =
+      css_block_ ? block_.mm_per_rev * block_.spindle_rpm_at(pos_mm_[0]) / 60.0 : speed_100_mm_s_;
+  return std::min(v100 * scale, speed_cap_mm_s_);
 }
 
 bool Interpolator::pull_next() {
@@ -54,7 +57,8 @@ bool Interpolator::pull_next() {
       // The block's speed at 100 % (the same operations as before, per block instead of per
       // sample): the rapid rate, the G93 time's speed or the feed.
       rapid_block_ = block_.kind == MotionKind::Rapid;
-      synced_block_ = block_.sync_mm_per_rev > 0.0;  // G33: the feed override does not act
+      synced_block_ = block_.spindle_synced;  // G33: the feed override does not act
+      css_block_ = block_.mm_per_rev > 0.0 && block_.css_surface_mm_min > 0.0;
       speed_100_mm_s_ = rapid_block_                  ? cfg_.rapid_mm_min / 60.0
                         : block_.inverse_time_s > 0.0 ? geom_.length_mm / block_.inverse_time_s
                                                       : block_.feed_mm_min / 60.0;

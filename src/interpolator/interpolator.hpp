@@ -97,6 +97,7 @@ class Interpolator {
   bool in_motion_ = false;       ///< the loaded block still has distance to go
   bool rapid_block_ = false;     ///< the loaded block is a rapid (the rapid override applies)
   bool synced_block_ = false;    ///< the loaded block is spindle-synchronised (G33: no override)
+  bool css_block_ = false;       ///< fed per revolution under G96: the speed follows the radius
   double speed_100_mm_s_ = 0.0;  ///< its speed at 100 % override
   double speed_cap_mm_s_ = 0.0;  ///< the planner's cap (infinity: none)
   double s_mm_ = 0.0;            ///< path length done in the current block

@@ -252,13 +252,39 @@ TEST_CASE(
 
 TEST_CASE("a G33 move ignores the feed override (LinuxCNC's synchronised moves)") {
   gm::Motion g33 = line(AxisVec::Zero(), xyz(1, 0, 0), 600);  // K 1.5 mm x S 400 rpm
-  g33.sync_mm_per_rev = 1.5;
+  g33.mm_per_rev = 1.5;
+  g33.spindle_rpm = 400.0;
+  g33.spindle_synced = true;
   auto s = samples({g33, line(xyz(1, 0, 0), xyz(2, 0, 0), 600)}, config(),
                    [](std::int64_t) { return 0.5; });
   // 1 mm at 600 mm/min is 25 samples whatever the override; the next 1 mm at 50 % takes 50
   REQUIRE(s.size() == 75);
   CHECK(s[10].feed_scale == 1.0);
   CHECK(s[40].feed_scale == 0.5);
+}
+
+TEST_CASE("G95 under G96: the feed follows the radius, capped at D (closed form)") {
+  // Facing from X10 to X0 at 0.1 mm/rev, 100 m/min, D3000: v(r) = 0.1 rpm(r) / 60 mm/s with
+  // rpm = min(3000, 100000 / (2 pi r)). The time is the integral of dr / v: r dr / c above the
+  // radius where the cap starts, r / v_max below it.
+  gm::Motion face = line(xyz(10, 0, 0), xyz(0, 0, 0), 0);
+  face.mm_per_rev = 0.1;
+  face.css_surface_mm_min = 100000.0;
+  face.css_max_rpm = 3000.0;
+  face.feed_mm_min = face.mm_per_rev * face.spindle_rpm_at(10.0);
+  const double pi = 3.14159265358979323846;
+  const double r_cap = 100000.0 / (2 * pi * 3000.0);
+  const double c = 0.1 * 100000.0 / (2 * pi * 60.0);  // v(r) = c / r above r_cap, mm/s
+  const double t = (100.0 - r_cap * r_cap) / (2 * c) + r_cap / (0.1 * 3000.0 / 60.0);
+  const auto s = samples({face});
+  CHECK(std::abs(static_cast<double>(s.size()) * 0.004 - t) < 0.008);  // within two samples
+  // The speed at the start is the feed at r = 10 and at the end the capped one.
+  // (over 10 samples: one sample is ~10 BLU, so its rounding alone is 10 %)
+  const double v0 = static_cast<double>(s[1].pos_blu[0] - s[11].pos_blu[0]) * 0.001 / 0.04;
+  CHECK(v0 == Approx(c / 10.0).epsilon(0.02));
+  const std::size_t e = s.size() - 2;
+  const double v1 = static_cast<double>(s[e - 10].pos_blu[0] - s[e].pos_blu[0]) * 0.001 / 0.04;
+  CHECK(v1 == Approx(5.0).epsilon(0.01));
 }
 
 TEST_CASE("property: random chains end every block exactly and never outrun the feed") {
