@@ -40,6 +40,7 @@ constexpr std::array kCodes{
     Code{'G',  384, G::Motion,      S::Motion,      run_probe},
     Code{'G',  385, G::Motion,      S::Motion,      run_probe},
     Code{'G',  730, G::Motion,      S::Motion,      run_cycle,        "RLQ"},
+    Code{'G',  760, G::Motion,      S::Motion,      run_threading,    "PIJKRQHEL"},
     Code{'G',  740, G::Motion,      S::Motion,      run_cycle,        "RLP"},
     Code{'G',  800, G::Motion,      S::Motion,      run_nothing},
     Code{'G',  810, G::Motion,      S::Motion,      run_cycle,        "RL"},

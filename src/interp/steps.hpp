@@ -52,6 +52,8 @@ struct BlockCtx {
   int motion_to_be = -1;                 ///< the motion code x 10 this block executes, -1 none
   int call_level = 0;                    ///< subroutine call level (M70..M73 contexts)
   double inverse_f = 0.0;                ///< G93: this block's F (1/min)
+  /// G76's I J K scale from a G7/G8 switch in this block (LinuxCNC rescales them then too).
+  double lathe_ijk_switch = 1.0;
 
   /// Sets the error; returns false so a step can `return ctx.fail(...)`.
   bool fail(ErrorCode code, SourceLoc loc, std::string msg) {
@@ -112,6 +114,7 @@ bool run_distance(BlockCtx&, const Code&);
 bool run_arc_distance(BlockCtx&, const Code&);
 bool run_spindle_sync(BlockCtx&, const Code&);
 bool run_spindle_mode(BlockCtx&, const Code&);
+bool run_threading(BlockCtx&, const Code&);  ///< G76 (steps_threading.cpp)
 /// G95 and G33: `mo` is fed by the spindle, `mm_per_rev` along its path per revolution, at the
 /// block's spindle speed (G97) or surface speed (G96); its feed_mm_min is the feed at its start
 /// (mo.start_mm must be set; the compensation queue sets it again when it emits the move).

@@ -112,7 +112,9 @@ bool run_arc_distance(BlockCtx& ctx, const Code& c) {
 
 // G7/G8: the mode only; the block's X word was already read as a diameter (Interpreter::execute).
 bool run_lathe_mode(BlockCtx& ctx, const Code& c) {
-  ctx.s.lathe_diameter = c.number10 == 70;
+  const bool diameter = c.number10 == 70;
+  if (diameter != ctx.s.lathe_diameter) ctx.lathe_ijk_switch = diameter ? 0.5 : 2.0;
+  ctx.s.lathe_diameter = diameter;
   return true;
 }
 
