@@ -312,6 +312,18 @@ def parse_rs274_output(text: str) -> list[Move]:
                 mv.note = feed_units_note
             mv.held = held
             moves.append(mv)
+        elif name == "RIGID_TAP":
+            # G33.1: in to the point synchronised, the spindle reverses, out to the start at I x
+            # the speed (I is not printed: the return's feed is not compared)
+            v = _floats(args)
+            prev = next((m.end for m in reversed(moves) if m.end is not None),
+                        [mach(0.0, i) for i in range(3)])
+            tol = RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol + tool_tol
+            feed, ftol = per_rev_feed(sync_k if sync_k is not None else 0.0)
+            moves.append(Move(kind="line", line=line, end=[mach(v[i], i) for i in range(3)],
+                              feed=feed, feed_tol=ftol, tol_mm=tol, note="G33.1 in", held=held))
+            moves.append(Move(kind="line", line=line, end=list(prev), feed=feed,
+                              feed_tol=float("inf"), tol_mm=tol, note="G33.1 out", held=held))
         elif name == "STRAIGHT_PROBE":
             v = _floats(args)
             end = [mach(v[i], i) for i in range(3)]

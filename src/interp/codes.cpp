@@ -35,6 +35,7 @@ constexpr std::array kCodes{
     Code{'G',   20, G::Motion,      S::Motion,      run_arc,          "IJKRP"},
     Code{'G',   30, G::Motion,      S::Motion,      run_arc,          "IJKRP"},
     Code{'G',  330, G::Motion,      S::Motion,      run_spindle_sync, "K"},
+    Code{'G',  331, G::Motion,      S::Motion,      run_rigid_tap,    "KI"},
     Code{'G',  382, G::Motion,      S::Motion,      run_probe},
     Code{'G',  383, G::Motion,      S::Motion,      run_probe},
     Code{'G',  384, G::Motion,      S::Motion,      run_probe},
@@ -49,6 +50,7 @@ constexpr std::array kCodes{
     Code{'G',  840, G::Motion,      S::Motion,      run_cycle,        "RLP"},
     Code{'G',  850, G::Motion,      S::Motion,      run_cycle,        "RL"},
     Code{'G',  860, G::Motion,      S::Motion,      run_cycle,        "RLP"},
+    Code{'G',  870, G::Motion,      S::Motion,      run_cycle,        "RLIJK"},
     Code{'G',  890, G::Motion,      S::Motion,      run_cycle,        "RLP"},
     // Plane (group 2)
     Code{'G',  170, G::Plane,       S::Plane,       run_plane},

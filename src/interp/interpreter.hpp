@@ -112,6 +112,7 @@ struct ModalState {
   bool cycle_il_set = false;  ///< the initial level of this run of cycle blocks is known
   double cycle_il = 0.0;      ///< initial level (cycle axis, program units)
   double cycle_r = 0.0, cycle_bottom = 0.0, cycle_p = 0.0, cycle_q = 0.0;  ///< sticky R Z P Q
+  std::array<double, 3> cycle_ijk{};                                       ///< G87's sticky I J K
   CutterComp comp;     ///< G40/G41/G42: side, radius, the held-back moves
   bool ended = false;  ///< M2/M30 or closing % seen
 

@@ -115,6 +115,7 @@ bool run_arc_distance(BlockCtx&, const Code&);
 bool run_spindle_sync(BlockCtx&, const Code&);
 bool run_spindle_mode(BlockCtx&, const Code&);
 bool run_threading(BlockCtx&, const Code&);  ///< G76 (steps_threading.cpp)
+bool run_rigid_tap(BlockCtx&, const Code&);  ///< G33.1
 /// G95 and G33: `mo` is fed by the spindle, `mm_per_rev` along its path per revolution, at the
 /// block's spindle speed (G97) or surface speed (G96); its feed_mm_min is the feed at its start
 /// (mo.start_mm must be set; the compensation queue sets it again when it emits the move).

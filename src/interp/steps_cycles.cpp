@@ -116,7 +116,17 @@ bool run_cycle(BlockCtx& ctx, const Code& c) {
     return ctx.fail(ErrorCode::MissingWord, loc, fmt::format("{} without P (dwell seconds)", name));
   if (entering && needs_q && !w.has('Q'))
     return ctx.fail(ErrorCode::MissingWord, loc, fmt::format("{} without Q (peck depth)", name));
-  if ((g == 740 || g == 840 || g == 860) && s.spindle_dir == 0)
+  // G87 (back boring): the offset to clear the bore (the plane's two letters of I J K) and the
+  // back bore's top (the cycle axis's letter), sticky like R.
+  const char off_a = "IJK"[ax.a], off_b = "IJK"[ax.b], top = "IJK"[ax.c];
+  if (g == 870 && entering)
+    for (const char l : {'I', 'J', 'K'})
+      if (!w.has(l))
+        return ctx.fail(ErrorCode::MissingWord, loc,
+                        fmt::format("G87 without {} (I J: the offset to pass the bore, K: the "
+                                    "back bore's top, in the {} plane's order)",
+                                    l, plane_letters(s.plane)));
+  if ((g == 740 || g == 840 || g == 860 || g == 870) && s.spindle_dir == 0)
     return ctx.fail(ErrorCode::CycleMisused, loc,
                     fmt::format("{} with the spindle not turning (M3/M4 first)", name));
   if (g == 840 && s.spindle_dir < 0)
@@ -176,7 +186,15 @@ bool run_cycle(BlockCtx& ctx, const Code& c) {
 
   CycleRun run{ctx, ax, loc};
   double cc = prog(ax.c);  // where the cycle axis is now
-  if (old_cc < r) {        // the initial level is below the R plane: straight up to it first
+  if (g == 870) {
+    for (const char l : {'I', 'J', 'K'})
+      if (w.has(l)) s.cycle_ijk[static_cast<std::size_t>(l - 'I')] = w[l]->value;
+  }
+  const double bore_da = s.cycle_ijk[static_cast<std::size_t>(off_a - 'I')];
+  const double bore_db = s.cycle_ijk[static_cast<std::size_t>(off_b - 'I')];
+  const double bore_top = s.cycle_ijk[static_cast<std::size_t>(top - 'I')] +
+                          (s.incremental ? bottom : 0.0);  // G91: from the hole bottom
+  if (old_cc < r) {  // the initial level is below the R plane: straight up to it first
     if (!run.traverse(prog(ax.a), prog(ax.b), r)) return false;
     old_cc = cc = r;
   }
@@ -220,6 +238,24 @@ bool run_cycle(BlockCtx& ctx, const Code& c) {
         ok = ok && run.traverse(a, b, clear);
         if (ok && g == 860) emit_io(ctx, EventKind::SpindleStart, s.spindle_dir, s.spindle_rpm);
         break;
+      case 870: {  // back boring: down beside the bore with the spindle oriented, centre, cut
+                   // up to the top and back, orient again, out beside the bore, centre at clear
+        const double oa = a + bore_da, ob = b + bore_db;
+        const auto orient = [&] {
+          run.spindle(0);
+          emit_io(ctx, EventKind::SpindleOrient, s.spindle_dir > 0 ? 2 : 3, 0.0);
+        };
+        ok = run.traverse(oa, ob, r);
+        if (ok) orient();
+        ok = ok && run.traverse(oa, ob, bottom) && run.traverse(a, b, bottom);
+        if (ok) emit_io(ctx, EventKind::SpindleStart, s.spindle_dir, s.spindle_rpm);
+        ok = ok && run.feed(a, b, bore_top) && run.feed(a, b, bottom);
+        if (ok) orient();
+        ok = ok && run.traverse(oa, ob, bottom) && run.traverse(oa, ob, clear) &&
+             run.traverse(a, b, clear);
+        if (ok) emit_io(ctx, EventKind::SpindleStart, s.spindle_dir, s.spindle_rpm);
+        break;
+      }
       case 850:  // feed in, feed out to R, rapid to clear
         ok = run.feed(a, b, bottom) && run.feed(a, b, r) && run.traverse(a, b, clear);
         break;

@@ -243,6 +243,46 @@ bool run_spindle_sync(BlockCtx& ctx, const Code& c) {
   return true;
 }
 
+// G33.1: rigid tapping (LinuxCNC's RIGID_TAP): in to the axis words' point synchronised at K per
+// revolution, the spindle reverses, and out to where it started at I x that speed (I < 1: 1).
+// The tool ends where it began. The spindle's reversal is instant in gmotion's model.
+bool run_rigid_tap(BlockCtx& ctx, const Code& c) {
+  const SourceLoc loc = motion_loc(ctx);
+  if (!ctx.w.has('K'))
+    return ctx.fail(ErrorCode::MissingWord, loc,
+                    "G33.1 without K (the distance per spindle revolution)");
+  if (ctx.s.spindle_dir == 0)
+    return ctx.fail(ErrorCode::CycleMisused, loc,
+                    "G33.1 with the spindle not turning (M3/M4 first)");
+  const double k_mm = std::fabs(ctx.w.get('K') * ctx.scale());
+  if (!(k_mm > 0.0 && ctx.s.spindle_rpm > 0.0))
+    return ctx.fail(ErrorCode::ZeroFeed, ctx.w['K']->loc,
+                    fmt::format("G33.1 at K{:g} and S{:g} would never end (zero feed)",
+                                ctx.w.get('K'), ctx.s.spindle_rpm));
+  if (!comp_forbids(ctx, loc, code_name(c))) return false;
+  const double scale = std::max(1.0, ctx.w.get('I', 1.0));
+  Pos9 target;
+  if (!axis_target(ctx, ctx.s.position_mm, target)) return false;
+  const AxisVec start = to_machine(ctx.s.position_mm, ctx.machine.layout);
+  const AxisVec end = to_machine(target, ctx.machine.layout);
+  if (end == start) return true;
+  Motion in = motion_template(ctx, MotionKind::Line);
+  in.start_mm = start;
+  in.end_mm = end;
+  set_spindle_feed(ctx, in, k_mm);
+  in.spindle_synced = true;
+  Motion out = in;
+  out.start_mm = end;
+  out.end_mm = start;
+  out.spindle_rpm *= scale;
+  out.css_max_rpm *= scale;
+  out.css_surface_mm_min *= scale;
+  out.feed_mm_min = k_mm * out.spindle_rpm_at(out.start_mm[0]);
+  ctx.out.emplace_back(in);
+  ctx.out.emplace_back(out);
+  return true;
+}
+
 bool arc_centre(BlockCtx& ctx, const Code& c, const Pos9& start, const Pos9& end, Pos9& centre) {
   const BlockWords& w = ctx.w;
   const Pos9 off = ctx.offset();

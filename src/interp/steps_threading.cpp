@@ -124,8 +124,8 @@ bool run_threading(BlockCtx& ctx, const Code& c) {
   t.pitch = w.get('P') * ctx.scale();
   double q = w.get('Q');
   if (q == -1.0) q = 0.0;
-  t.tan_angle = std::tan(toward * static_cast<double>(q * 3.14159265358979323846264338327950288L /
-                                                      180.0L));
+  t.tan_angle =
+      std::tan(toward * static_cast<double>(q * 3.14159265358979323846264338327950288L / 180.0L));
   t.degression = w.has('R') && w.get('R') >= 1.0 ? w.get('R') : 1.0;
   const double e = w.has('E') ? std::max(0.0, w.get('E') * ctx.scale()) : 0.0;
   t.taper_pitch = e > 0.0 ? t.pitch * std::hypot(e, t.height) / e : t.pitch;
