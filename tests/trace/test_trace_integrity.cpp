@@ -98,9 +98,15 @@ TEST_CASE("SIGINT stops the run with a message and removes the partial trace") {
   const fs::path dir = scratch();
   const std::string prog = (dir / "long.nc").string(), trace = (dir / "t.csv").string();
   gmtest::write_long_program(prog);
-  const auto r =
-      gmtest::sh("(" + std::string(GMOTION_BIN) + " run " + prog + " --trace " + trace +
-                 " 2>&1 & pid=$!; sleep 0.5; kill -INT $pid; wait $pid; echo \"exit=$?\")");
+  fs::remove(trace);  // left by an earlier run, it would send the signal too soon
+  fs::remove(trace + ".partial");
+  // SIGINT once the trace is being written (FILE.partial until it is complete): the handler is
+  // in place by then. A fixed sleep raced a slow start under the sanitizers, and a background
+  // job's SIGINT is ignored until the handler is installed.
+  const auto r = gmtest::sh("(" + std::string(GMOTION_BIN) + " run " + prog + " --trace " + trace +
+                            " 2>&1 & pid=$!; i=0; while [ ! -s " + trace +
+                            ".partial ] && [ $i -lt 600 ]; do sleep 0.05; i=$((i+1)); done; kill "
+                            "-INT $pid; wait $pid; echo \"exit=$?\")");
   CHECK_THAT(r.out, Catch::Contains("interrupted at t = "));
   CHECK_THAT(r.out, Catch::Contains("; no trace was kept"));
   CHECK_THAT(r.out, !Catch::Contains("partial trace kept"));
