@@ -35,9 +35,11 @@ inline double Interpolator::block_speed_mm_s(const OverrideInput& ovr) const {
                                                            : ovr.feed_scale;
   // The tolerance planner's cap (src/planner/): the override acts before the Acc/Dec filter,
   // so no override may take the block faster than the speed its contour error was planned for.
-  // G95 under G96: the spindle speeds up as the tool nears the axis, and the feed with it.
-  const double v100 =
-      css_block_ ? block_.mm_per_rev * block_.spindle_rpm_at(pos_mm_[0]) / 60.0 : speed_100_mm_s_;
+  // G95 under G96: the spindle speeds up as the tool nears the axis, and the feed with it. A
+  // spindle with a ramp feeds at the speed it has reached (G97).
+  const double v100 = css_block_ ? block_.mm_per_rev * block_.spindle_rpm_at(pos_mm_[0]) / 60.0
+                      : spindle_ramp_block_ ? block_.mm_per_rev * spindle_rpm_ / 60.0
+                                            : speed_100_mm_s_;
   return std::min(v100 * scale, speed_cap_mm_s_);
 }
 
@@ -59,6 +61,8 @@ bool Interpolator::pull_next() {
       rapid_block_ = block_.kind == MotionKind::Rapid;
       synced_block_ = block_.spindle_synced;  // G33: the feed override does not act
       css_block_ = block_.mm_per_rev > 0.0 && block_.css_surface_mm_min > 0.0;
+      spindle_ramp_block_ =
+          block_.mm_per_rev > 0.0 && !css_block_ && cfg_.spindle_accel_rpm_s > 0.0;
       speed_100_mm_s_ = rapid_block_                  ? cfg_.rapid_mm_min / 60.0
                         : block_.inverse_time_s > 0.0 ? geom_.length_mm / block_.inverse_time_s
                                                       : block_.feed_mm_min / 60.0;
@@ -94,6 +98,15 @@ bool Interpolator::pull_next() {
       case EventKind::End:
         ended_ = true;
         break;
+      case EventKind::SpindleSpeed:
+        spindle_cmd_rpm_ = e.value;
+        break;
+      case EventKind::SpindleStart:
+        spindle_on_ = true;
+        break;
+      case EventKind::SpindleStop:
+        spindle_on_ = false;
+        break;
       default:  // spindle, coolant, tools, I/O (interp/canon.hpp): no effect on the motion
         break;
     }
@@ -114,6 +127,12 @@ InterpStatus Interpolator::step_n(const OverrideInput& ovr, CommandSample& out) 
   constexpr double kLengthEps = 1e-9;
   bool moved_or_waited = false;
 
+  // The spindle ramps towards its commanded speed, one sample's acceleration at a time.
+  if (cfg_.spindle_accel_rpm_s > 0.0) {
+    const double target = spindle_target_rpm(), step = cfg_.spindle_accel_rpm_s * cfg_.period_s;
+    spindle_rpm_ = spindle_rpm_ < target ? std::min(target, spindle_rpm_ + step)
+                                         : std::max(target, spindle_rpm_ - step);
+  }
   if (settle_left_ > 0) {
     // Exact stop: the axes hold at the block end while the Acc/Dec output settles.
     --settle_left_;
@@ -137,6 +156,15 @@ InterpStatus Interpolator::step_n(const OverrideInput& ovr, CommandSample& out) 
       events |= pending_events_;
       pending_events_ = 0;
       continue;
+    }
+    // LinuxCNC waits for the spindle at speed before a synchronised move; a feed per
+    // revolution waits while the spindle has not started turning (not a 0 % feed hold).
+    if (spindle_ramp_block_ &&
+        (block_.spindle_synced ? std::abs(spindle_rpm_ - spindle_target_rpm()) > 1e-9
+                               : spindle_rpm_ <= 0.0)) {
+      events |= kEventSpindleWait;
+      moved_or_waited = true;
+      break;
     }
     const double v = block_speed_mm_s(ovr);
     if (!(v > 0.0)) {

@@ -18,6 +18,10 @@ struct InterpolatorConfig {
   double rapid_mm_min = 6000;                       ///< G0 path speed at 100 % rapid override
   int settle_samples = 0;  ///< zero-velocity samples after an exact-stop block
   AxisVec start_mm = AxisVec::Zero();
+  /// The spindle's acceleration, rpm/s (machine key spindle_accel_rpm_s); 0: it is at its
+  /// commanded speed at once. With a ramp, feeds per revolution (G95) follow the speed it has
+  /// reached and a synchronised move (G33, G76, G33.1) waits until it is at speed.
+  double spindle_accel_rpm_s = 0.0;
 };
 
 /// Overrides for one sample; 1.0 = 100 %. Ignored (taken as 1.0) while the program has
@@ -29,12 +33,13 @@ struct OverrideInput {
 
 enum SampleEvent : std::uint32_t {
   kEventNone = 0,
-  kEventPause = 1,       ///< M0/M1 passed in this sample
-  kEventMessage = 2,     ///< (MSG, ...) passed in this sample
-  kEventBlockStart = 4,  ///< a motion block started in this sample
-  kEventDwell = 8,       ///< the sample is (partly) a dwell
-  kEventHold = 16,       ///< the sample made no progress because the override is 0 %
-  kEventSettle = 32,     ///< exact stop: the axes wait at a block end for the Acc/Dec to settle
+  kEventPause = 1,         ///< M0/M1 passed in this sample
+  kEventMessage = 2,       ///< (MSG, ...) passed in this sample
+  kEventBlockStart = 4,    ///< a motion block started in this sample
+  kEventDwell = 8,         ///< the sample is (partly) a dwell
+  kEventHold = 16,         ///< the sample made no progress because the override is 0 %
+  kEventSettle = 32,       ///< exact stop: the axes wait at a block end for the Acc/Dec to settle
+  kEventSpindleWait = 64,  ///< a G33 move waits for the spindle to reach its speed
 };
 
 struct CommandSample {
@@ -93,11 +98,17 @@ class Interpolator {
   Motion block_{};
   std::vector<Motion> started_;  ///< blocks loaded during the current step()
   BlockGeometry geom_{};
-  bool has_block_ = false;       ///< a motion block is loaded (possibly finished)
-  bool in_motion_ = false;       ///< the loaded block still has distance to go
-  bool rapid_block_ = false;     ///< the loaded block is a rapid (the rapid override applies)
-  bool synced_block_ = false;    ///< the loaded block is spindle-synchronised (G33: no override)
-  bool css_block_ = false;       ///< fed per revolution under G96: the speed follows the radius
+  bool has_block_ = false;     ///< a motion block is loaded (possibly finished)
+  bool in_motion_ = false;     ///< the loaded block still has distance to go
+  bool rapid_block_ = false;   ///< the loaded block is a rapid (the rapid override applies)
+  bool synced_block_ = false;  ///< the loaded block is spindle-synchronised (G33: no override)
+  bool css_block_ = false;     ///< fed per revolution under G96: the speed follows the radius
+  // The spindle (from the spindle events), for feeds per revolution when it has a ramp.
+  double spindle_cmd_rpm_ = 0.0;     ///< the last S
+  bool spindle_on_ = false;          ///< M3/M4 .. M5
+  double spindle_rpm_ = 0.0;         ///< the speed it has reached
+  bool spindle_ramp_block_ = false;  ///< the loaded block is fed by a spindle with a ramp
+  double spindle_target_rpm() const { return spindle_on_ ? spindle_cmd_rpm_ : 0.0; }
   double speed_100_mm_s_ = 0.0;  ///< its speed at 100 % override
   double speed_cap_mm_s_ = 0.0;  ///< the planner's cap (infinity: none)
   double s_mm_ = 0.0;            ///< path length done in the current block

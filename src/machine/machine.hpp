@@ -104,6 +104,9 @@ struct Machine {
   /// The units a program starts in (key `program_units` "mm" or "inch"): false = G21, true = G20.
   /// LinuxCNC starts in its configuration's [TRAJ]LINEAR_UNITS; M2/M30 do not change them.
   bool program_inch = false;
+  /// The spindle's acceleration, rpm/s (key `spindle_accel_rpm_s`); 0: at its commanded speed
+  /// at once. Feeds per revolution follow the speed reached; G33/G76/G33.1 wait for it.
+  double spindle_accel_rpm_s = 0.0;
   /// How long an M0/M1 program stop holds the run, s (key `pause_s`, CLI --pause-s); 0: none.
   double pause_s = 0.0;
   /// G54..G59 on the nine program axes (XYZABCUVW order), mm (degrees for A, B, C).

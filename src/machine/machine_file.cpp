@@ -386,6 +386,8 @@ Machine parse_machine_toml(std::string_view text, std::string_view source_name) 
       r.fail_at(root.get("program_units")->source(), "program_units",
                 fmt::format("must be \"mm\" or \"inch\" (got \"{}\")", u));
   }
+  r.number("spindle_accel_rpm_s", m.spindle_accel_rpm_s, false,
+           [](double v) { return v >= 0.0 && v <= 1e7 ? "" : "must be 0..1e7 rpm/s"; });
   r.number("pause_s", m.pause_s, false,
            [](double v) { return v >= 0.0 && v <= 1e6 ? "" : "must be 0..1e6 s"; });
   if (const toml::table* wo = r.table("work_offsets", false)) {
@@ -448,6 +450,8 @@ std::string machine_to_toml(const Machine& m) {
     s += fmt::format("user_mcode_dir = {}\n", toml_string(m.user_mcode_dir));
   if (m.pause_s > 0.0) s += fmt::format("pause_s = {}\n", fmt_double(m.pause_s));
   if (m.program_inch) s += "program_units = \"inch\"\n";
+  if (m.spindle_accel_rpm_s > 0.0)
+    s += fmt::format("spindle_accel_rpm_s = {}\n", fmt_double(m.spindle_accel_rpm_s));
   s += "tools = " + list(m.tool_lengths_mm) + "\n\n";
   s += fmt::format("[accdec]\nprofile = {}\ntau_s = {}\n", toml_string(m.profile),
                    fmt_double(m.tau_s));

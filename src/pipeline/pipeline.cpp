@@ -18,6 +18,7 @@ InterpolatorConfig interpolator_config(const Machine& m, int settle_samples) {
   c.blu_mm = m.blu_mm();
   c.rapid_mm_min = m.rapid_mm_min;
   c.settle_samples = settle_samples;
+  c.spindle_accel_rpm_s = m.spindle_accel_rpm_s;
   c.start_mm = AxisVec::Zero();
   return c;
 }

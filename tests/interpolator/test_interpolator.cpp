@@ -287,6 +287,29 @@ TEST_CASE("G95 under G96: the feed follows the radius, capped at D (closed form)
   CHECK(v1 == Approx(5.0).epsilon(0.01));
 }
 
+TEST_CASE("a spindle with a ramp: G95 feeds follow its speed, G33 waits until it is at speed") {
+  // M3 S600 with 300 rpm/s: at speed after 2 s. 10 mm at 0.1 mm/rev: during the ramp the feed
+  // is 0.1 x 300 t / 60 mm/s, 1 mm in 2 s; the other 9 mm at 1 mm/s take 9 s: 11 s in all.
+  gm::InterpolatorConfig cfg = config();
+  cfg.spindle_accel_rpm_s = 300.0;
+  gm::Motion g95 = line(AxisVec::Zero(), xyz(0, 0, -10), 60.0);
+  g95.mm_per_rev = 0.1;
+  g95.spindle_rpm = 600.0;
+  const gm::Event speed{1, gm::EventKind::SpindleSpeed, {}, 0, 600.0};
+  const gm::Event start{1, gm::EventKind::SpindleStart, {}, 1, 600.0};
+  auto s = samples({speed, start, g95}, cfg);
+  CHECK(std::abs(static_cast<double>(s.size()) * 0.004 - 11.0) < 0.012);
+  // G33: no cut until the spindle is at speed (2 s), then 10 mm at 1 mm/s.
+  gm::Motion g33 = g95;
+  g33.spindle_synced = true;
+  s = samples({speed, start, g33}, cfg);
+  CHECK(std::abs(static_cast<double>(s.size()) * 0.004 - 12.0) < 0.012);
+  CHECK((s[100].events & gm::kEventSpindleWait) != 0);
+  CHECK(s[100].pos_blu[2] == 0);
+  // Without a ramp (the default) both take 10 s.
+  CHECK(samples({speed, start, g95}).size() == 2500);
+}
+
 TEST_CASE("property: random chains end every block exactly and never outrun the feed") {
   const char* env = std::getenv("GMOTION_SEED");
   const std::uint64_t seed0 = env ? std::strtoull(env, nullptr, 10) : 42u;

@@ -28,6 +28,7 @@ void require_equal(const Machine& a, const Machine& b) {
   for (std::size_t g = 0; g < 6; ++g) CHECK(a.work_offsets_mm[g] == b.work_offsets_mm[g]);
   CHECK(a.layout.letters() == b.layout.letters());
   CHECK(a.program_inch == b.program_inch);
+  CHECK(a.spindle_accel_rpm_s == b.spindle_accel_rpm_s);
   REQUIRE(a.axes.size() == b.axes.size());
   for (std::size_t i = 0; i < a.axes.size(); ++i) {
     INFO("axis " << i);
@@ -151,6 +152,7 @@ TEST_CASE("machine_to_toml round-trips the default and a modified machine", "[ma
   m.axes[2].plant_den = {1.0, 3.0, 2.0};
   m.axes[2].drive_N_per_unit = 123.0;
   m.program_inch = true;
+  m.spindle_accel_rpm_s = 250.0;
   require_equal(gm::parse_machine_toml(gm::machine_to_toml(m), "rt.toml"), m);
   // Names with TOML's special characters (found by fuzz_machine: backslashes did not survive).
   for (const char* name :
@@ -218,6 +220,9 @@ TEST_CASE("out-of-range value: exact message with key, file and line", "[machine
   CHECK(error_of(replace(kMinimal, "period_s = 0.004\n",
                          "period_s = 0.004\nprogram_units = \"in\"\n")) ==
         "t.toml:3: key 'program_units': must be \"mm\" or \"inch\" (got \"in\")");
+  CHECK(error_of(replace(kMinimal, "period_s = 0.004\n",
+                         "period_s = 0.004\nspindle_accel_rpm_s = -1\n")) ==
+        "t.toml:3: key 'spindle_accel_rpm_s': must be 0..1e7 rpm/s (got -1)");
   CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\nblu_mm = nan\n")) ==
         "t.toml:3: key 'blu_mm': must be finite (got nan)");
 }
