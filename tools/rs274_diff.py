@@ -28,7 +28,9 @@ How rs274 is read (each claim checked against rs274 2.9 output, see --self-test)
   * Move coordinates are printed in the program's coordinate system; the canon adds the work
     offsets. SET_G5X_OFFSET(index, x, y, z, ...) and SET_G92_OFFSET(x, y, z, ...) are converted
     with the units in force when emitted (as emccanon does) and added to ends and centres, giving
-    machine coordinates like `gmotion moves`. A non-zero SET_XY_ROTATION is not modelled (error).
+    machine coordinates like `gmotion moves`. SET_XY_ROTATION(deg) turns X and Y after G92 and
+    before G5x and the tool offset, as emccanon's rotate_and_offset_pos does; its angle is printed
+    to 1e-4 degrees, so rotated programs are compared with the tolerance that rounding allows.
   * Only N words are echoed, so the program is fed to rs274 with every line renumbered
     N<file line>, which makes rs274 report source line numbers.
   * STRAIGHT_PROBE (G38.x): rs274's canon (saicanon.cc) moves to the end point without tripping
@@ -211,6 +213,7 @@ def parse_rs274_output(text: str) -> list[Move]:
     tool_tol = 0.0
     g5x_rot = [0.0, 0.0, 0.0]
     g92_rot = [0.0, 0.0, 0.0]
+    xy_rot = 0.0             # SET_XY_ROTATION, degrees
     held = False             # inside a cutter compensation section
     selected = [0]           # --io: the tool SELECT_TOOL named
     spindle_rpm = 0.0        # SET_SPINDLE_SPEED
@@ -240,6 +243,23 @@ def parse_rs274_output(text: str) -> list[Move]:
 
     def mach(v, i):
         return None if v is None else v * factor + g5x[i] + g92[i] + tool[i]
+
+    def mach3(v):  # program X Y Z (None: not given) -> machine, with the XY rotation
+        if xy_rot == 0.0 or v[0] is None or v[1] is None:
+            if xy_rot != 0.0 and (v[0] is not None or v[1] is not None):
+                raise ValueError("an arc outside the XY plane in a rotated system is not "
+                                 "modelled by rs274_diff")
+            return [mach(v[i], i) for i in range(3)]
+        t = math.radians(xy_rot)
+        x, y = v[0] * factor + g92[0], v[1] * factor + g92[1]
+        x, y = x * math.cos(t) - y * math.sin(t), x * math.sin(t) + y * math.cos(t)
+        return [x + g5x[0] + tool[0], y + g5x[1] + tool[1], mach(v[2], 2)]
+
+    def rot_tol(xy):  # the rotation's print rounding (0.5e-4 degrees) at that point, mm
+        if xy_rot == 0.0 or xy[0] is None or xy[1] is None:
+            return 0.0
+        return 2.0 * RS274_PRINT_HALF_ULP * factor + math.radians(0.5e-4) * math.hypot(
+            xy[0] - g5x[0] - tool[0], xy[1] - g5x[1] - tool[1])
 
     for raw in text.splitlines():
         m = _CALL.match(raw)
@@ -275,8 +295,7 @@ def parse_rs274_output(text: str) -> list[Move]:
         elif name == "USE_TOOL_LENGTH_OFFSET":
             tool, tool_tol = _tool_offsets_mm(args, factor)
         elif name == "SET_XY_ROTATION":
-            if _floats(args)[0] != 0.0:
-                raise ValueError(f"XY rotation is not modelled by rs274_diff: {raw}")
+            xy_rot = _floats(args)[0]
         elif name == "SELECT_PLANE":
             plane = args.strip().replace("CANON_PLANE_", "")
         elif name == "SET_SPINDLE_SPEED":
@@ -297,9 +316,10 @@ def parse_rs274_output(text: str) -> list[Move]:
             feed_units_note = ""
         elif name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED"):
             v = _floats(args)
+            end = mach3(v[0:3])
             mv = Move(kind="rapid" if name == "STRAIGHT_TRAVERSE" else "line", line=line,
-                      end=[mach(v[i], i) for i in range(3)],
-                      tol_mm=RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol + tool_tol,
+                      end=end, tol_mm=RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol +
+                      tool_tol + rot_tol(end),
                       rot=rot_ends(v[3:6]) if len(v) >= 6 else None)
             if mv.kind == "line" and (sync_k is not None or per_rev):
                 # G33 / G95: gmotion feeds K or F x the spindle speed where the move starts (its
@@ -320,16 +340,16 @@ def parse_rs274_output(text: str) -> list[Move]:
                         [mach(0.0, i) for i in range(3)])
             tol = RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol + tool_tol
             feed, ftol = per_rev_feed(sync_k if sync_k is not None else 0.0)
-            moves.append(Move(kind="line", line=line, end=[mach(v[i], i) for i in range(3)],
+            moves.append(Move(kind="line", line=line, end=mach3(v[0:3]),
                               feed=feed, feed_tol=ftol, tol_mm=tol, note="G33.1 in", held=held))
             moves.append(Move(kind="line", line=line, end=list(prev), feed=feed,
                               feed_tol=float("inf"), tol_mm=tol, note="G33.1 out", held=held))
         elif name == "STRAIGHT_PROBE":
             v = _floats(args)
-            end = [mach(v[i], i) for i in range(3)]
+            end = mach3(v[0:3])
             prev = next((m.end for m in reversed(moves) if m.end is not None),
                         [mach(0.0, i) for i in range(3)])
-            tol = RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol + tool_tol
+            tol = RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol + tool_tol + rot_tol(end)
             moves.append(Move(kind="line", line=line, end=end, feed=feed_mm_min,
                               feed_tol=feed_tol, tol_mm=tol, note="probe"))
             d = [prev[i] - end[i] for i in range(3)]
@@ -352,15 +372,15 @@ def parse_rs274_output(text: str) -> list[Move]:
                 cen = [None, fc, sc]
             else:
                 raise ValueError(f"ARC_FEED in unknown plane {plane!r}: {raw}")
-            moves.append(Move(kind="arc", line=line,
-                              end=[mach(end[i], i) for i in range(3)],
-                              center=[mach(cen[i], i) for i in range(3)],
+            end, cen = mach3(end), mach3(cen)
+            moves.append(Move(kind="arc", line=line, end=end, center=cen,
                               dir="cw" if rot < 0 else "ccw", turns=abs(rot), plane=plane,
                               feed=per_rev_feed(feed_mm_min)[0] if per_rev else feed_mm_min,
                               note=feed_units_note,
                               feed_tol=per_rev_feed(feed_mm_min)[1] if per_rev else feed_tol,
                               rot=rot_ends(v[6:9]) if len(v) >= 9 else None,
-                              held=held, tol_mm=RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol + tool_tol))
+                              held=held, tol_mm=RS274_PRINT_HALF_ULP * factor + g5x_tol +
+                              g92_tol + tool_tol + max(rot_tol(end), rot_tol(cen))))
         elif name == "DWELL":
             moves.append(Move(kind="dwell", line=line, seconds=_floats(args)[0], held=held))
         elif name == "MESSAGE":

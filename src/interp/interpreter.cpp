@@ -214,13 +214,6 @@ Interpreter::Interpreter(const Machine& machine) : machine_(machine) {
   }
 }
 
-AxisVec Interpreter::total_offset_mm() const {
-  const ModalState& st = state();
-  return to_machine(
-      tables_.g5x_mm[static_cast<std::size_t>(st.coord_system)] + st.g92_mm + st.tool_offset_mm,
-      machine_.layout);
-}
-
 bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, InterpError& err) {
   BlockWords w;
   if (!import_words(block, machine_.layout, w, err)) return false;

@@ -61,11 +61,12 @@ inline constexpr int kCallLevels = 10;  ///< call levels 0 (the program) .. 9 (k
 /// positions, coordinate systems). Kept here until the parameter store holds them; a block that
 /// changes them works on a copy (BlockCtx::tables_w) that is committed with the block.
 struct SystemTables {
-  std::array<Pos9, 9> g5x_mm{};      ///< work offsets of G54..G59, G59.1..G59.3 (machine units, mm)
-  Pos9 g28_mm = Pos9::Zero();        ///< G28.1 position, machine coordinates
-  Pos9 g30_mm = Pos9::Zero();        ///< G30.1 position, machine coordinates
-  Pos9 g92_saved_mm = Pos9::Zero();  ///< G92 offsets as stored: G92.2 keeps, G92.3 restores
-  ToolTable tools;                   ///< the tool table (G10 L1/L10/L11 change it)
+  std::array<Pos9, 9> g5x_mm{};  ///< work offsets of G54..G59, G59.1..G59.3 (machine units, mm)
+  std::array<double, 9> g5x_rotation_deg{};  ///< their XY rotations (G10 L2 R), degrees ccw
+  Pos9 g28_mm = Pos9::Zero();                ///< G28.1 position, machine coordinates
+  Pos9 g30_mm = Pos9::Zero();                ///< G30.1 position, machine coordinates
+  Pos9 g92_saved_mm = Pos9::Zero();          ///< G92 offsets as stored: G92.2 keeps, G92.3 restores
+  ToolTable tools;                           ///< the tool table (G10 L1/L10/L11 change it)
   std::array<SavedModes, kCallLevels> saved_modes{};  ///< M70/M73 contexts by call level
 
   SystemTables() {
@@ -147,8 +148,6 @@ class Interpreter {
   void restore_system_parameters(const std::function<double(int)>& par);
   /// Changes whenever a block changed the tables (so their parameters need writing again).
   std::uint64_t tables_version() const { return tables_version_; }
-  /// Sum of all offsets from program to machine coordinates under the current state, mm.
-  AxisVec total_offset_mm() const;
 
  private:
   const Machine& machine_;

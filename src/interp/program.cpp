@@ -1,6 +1,7 @@
 // The program driver: line reader -> grammar -> interpreter, with program-level rules
 // (% delimiters, block delete, missing end) and diagnostics rendering.
 #include "interp/program.hpp"
+#include "interp/frame.hpp"
 
 #include "common/batch_ring.hpp"
 
@@ -284,10 +285,7 @@ class StateParameters : public ParameterProvider {
   // Current position in the program's coordinate system and units (axis `i` in X..W order).
   double program_position(int i) const {
     const ModalState& s = interp_.state();
-    const SystemTables& t = interp_.tables();
-    const Pos9 offset =
-        t.g5x_mm[static_cast<std::size_t>(s.coord_system)] + s.g92_mm + s.tool_offset_mm;
-    return (s.position_mm[i] - offset[i]) / (s.inch ? 25.4 : 1.0);
+    return Frame(s, interp_.tables()).to_program(s.position_mm)[i] / (s.inch ? 25.4 : 1.0);
   }
   const Interpreter& interp_;
   int line_ = 0;
@@ -631,6 +629,8 @@ class ProgramRunner {
       for (int k = 0; k < 9; ++k)
         params_.set_system(5221 + 20 * k + i, t.g5x_mm[static_cast<std::size_t>(k)][i]);
     }
+    for (int k = 0; k < 9; ++k)
+      params_.set_system(5230 + 20 * k, t.g5x_rotation_deg[static_cast<std::size_t>(k)]);
   }
   bool first_content_seen_ = false;
   std::int64_t blocks_ = 0;

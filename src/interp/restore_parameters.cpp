@@ -14,6 +14,8 @@ void Interpreter::restore_system_parameters(const std::function<double(int)>& pa
     for (int k = 0; k < 9; ++k)
       tables_.g5x_mm[static_cast<std::size_t>(k)][i] = par(5221 + 20 * k + i);
   }
+  for (int k = 0; k < 9; ++k)
+    tables_.g5x_rotation_deg[static_cast<std::size_t>(k)] = par(5230 + 20 * k);
   // #5210: G92 was in effect when the file was written, so its offsets apply again.
   ModalState& st = state_mut();
   st.g92_applied = par(5210) != 0.0;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "interp/codes.hpp"
+#include "interp/frame.hpp"
 #include "interp/interpreter.hpp"
 #include "interp/polar.hpp"
 
@@ -74,10 +75,10 @@ struct BlockCtx {
     if (!staged) staged = std::make_unique<SystemTables>(committed);
     return *staged;
   }
+  /// Program and machine coordinates under the block's state (offsets, XY rotation).
+  Frame frame() const { return Frame(s, tables()); }
   /// Sum of the offsets from program to machine coordinates under the block's state, mm.
-  Pos9 offset() const {
-    return tables().g5x_mm[static_cast<std::size_t>(s.coord_system)] + s.g92_mm + s.tool_offset_mm;
-  }
+  Pos9 offset() const { return frame().offset(); }
 };
 
 // Limits beyond which a run's integer positions (BLU) and counts would overflow.

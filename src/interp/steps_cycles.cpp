@@ -35,13 +35,12 @@ struct CycleRun {
   SourceLoc loc;
 
   Pos9 machine(double a, double b, double c) const {
-    Pos9 p = ctx.s.position_mm;
-    const Pos9 off = ctx.offset();
     const double u = ctx.scale();
-    p[ax.a] = a * u + off[ax.a];
-    p[ax.b] = b * u + off[ax.b];
-    p[ax.c] = c * u + off[ax.c];
-    return p;
+    Pos9 p = Pos9::Zero();
+    p[ax.a] = a * u;
+    p[ax.b] = b * u;
+    p[ax.c] = c * u;
+    return ctx.frame().to_machine(ctx.s.position_mm, p, (1u << ax.a) | (1u << ax.b) | (1u << ax.c));
   }
   bool traverse(double a, double b, double c) {
     return emit_straight(ctx, MotionKind::Rapid, machine(a, b, c), loc);
@@ -135,8 +134,8 @@ bool run_cycle(BlockCtx& ctx, const Code& c) {
     return ctx.fail(ErrorCode::CycleMisused, loc, "G74 with the spindle turning clockwise");
 
   const double u = ctx.scale();
-  const Pos9 off = ctx.offset();
-  auto prog = [&](int i) { return (s.position_mm[i] - off[i]) / u; };
+  const Pos9 here = ctx.frame().to_program(s.position_mm);
+  auto prog = [&](int i) { return here[i] / u; };
   const double r_word = w.has('R') ? w['R']->value : s.cycle_r;
   const double z_word = w.has(cl) ? w[cl]->value : s.cycle_bottom;
   const double p = w.has('P') ? w['P']->value : s.cycle_p;

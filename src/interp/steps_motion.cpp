@@ -102,44 +102,55 @@ bool check_feed(BlockCtx& ctx, int code10, SourceLoc loc) {
 
 bool axis_target(BlockCtx& ctx, const Pos9& from_mm, Pos9& target_mm) {
   const double scale = ctx.scale();
+  const Frame frame = ctx.frame();
   target_mm = from_mm;
-  Pos9 off;
-  bool have_off = false;
+  Pos9 words = Pos9::Zero();  // the axis words in mm (absolute: program coordinates)
+  unsigned given = 0;
   for (int i = 0; i < kProgramAxes; ++i) {
-    const char letter = kProgramAxisLetters[static_cast<std::size_t>(i)];
-    const auto* aw = ctx.w[letter];
+    const auto* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]];
     if (!aw) continue;
     const double unit = axis_is_rotary(i) ? 1.0 : scale;  // A, B, C: degrees in G20 and G21
-    if (ctx.s.incremental) {
-      target_mm[i] = from_mm[i] + aw->value * unit;
-    } else {
-      if (!have_off) off = ctx.offset();
-      have_off = true;
-      target_mm[i] = aw->value * unit + off[i];
-    }
-    if (!within(target_mm[i], kMaxPositionMm))
-      return ctx.fail(
-          ErrorCode::ValueOutOfRange, aw->loc,
-          fmt::format("{} would move to {:g} mm (offsets included), outside -{:g}..{:g} mm", letter,
-                      target_mm[i], kMaxPositionMm, kMaxPositionMm));
+    words[i] = aw->value * unit;
+    given |= 1u << i;
   }
   if (ctx.w.polar.any()) {  // @ radius, ^ angle in place of X, Y (lang's interp/polar.cpp)
     const grammar::Word* pw = ctx.w.polar.first();
     if (ctx.w.has('X') || ctx.w.has('Y'))
       return ctx.fail(ErrorCode::PolarMisused, pw->loc,
                       "polar coordinates (@, ^) cannot be given with X or Y words");
-    const Pos9 o = ctx.offset();
-    double x = (from_mm[0] - o[0]) / scale, y = (from_mm[1] - o[1]) / scale;
+    const Pos9 from_program = frame.to_program(from_mm);
+    double x = from_program[0] / scale, y = from_program[1] / scale;
     std::string why;
     if (!polar_end(ctx.w.polar, ctx.s.incremental, x, y, why))
       return ctx.fail(ErrorCode::PolarMisused, pw->loc, why);
-    target_mm[0] = x * scale + o[0];
-    target_mm[1] = y * scale + o[1];
-    for (int i = 0; i < 2; ++i)
-      if (!within(target_mm[i], kMaxPositionMm))
-        return ctx.fail(ErrorCode::ValueOutOfRange, pw->loc,
-                        fmt::format("polar move to {:g} mm, outside -{:g}..{:g} mm", target_mm[i],
-                                    kMaxPositionMm, kMaxPositionMm));
+    words[0] = x * scale;  // absolute, whatever G90/G91
+    words[1] = y * scale;
+    target_mm = frame.to_machine(from_mm, words, 3u);
+    given &= ~3u;
+  }
+  if (ctx.s.incremental) {
+    double dx = words[0], dy = words[1];
+    frame.turn(dx, dy);  // G91 steps are along the program's axes
+    words[0] = dx;
+    words[1] = dy;
+    for (int i = 0; i < kProgramAxes; ++i)
+      if (given & (1u << i)) target_mm[i] = from_mm[i] + words[i];
+    if (frame.rotated() && (given & 3u)) {  // a step in X alone moves machine X and Y
+      target_mm[0] = from_mm[0] + words[0];
+      target_mm[1] = from_mm[1] + words[1];
+    }
+  } else if (given != 0) {
+    target_mm = frame.to_machine(target_mm, words, given);
+  }
+  for (int i = 0; i < kProgramAxes; ++i) {
+    const char letter = kProgramAxisLetters[static_cast<std::size_t>(i)];
+    if (within(target_mm[i], kMaxPositionMm)) continue;
+    const grammar::Word* aw = ctx.w[letter] ? ctx.w[letter] : ctx.w.polar.first();
+    if (aw == nullptr) aw = ctx.w.first_axis;
+    return ctx.fail(
+        ErrorCode::ValueOutOfRange, aw ? aw->loc : SourceLoc{ctx.block.line, 1},
+        fmt::format("{} would move to {:g} mm (offsets included), outside -{:g}..{:g} mm", letter,
+                    target_mm[i], kMaxPositionMm, kMaxPositionMm));
   }
   return true;
 }
@@ -285,15 +296,22 @@ bool run_rigid_tap(BlockCtx& ctx, const Code& c) {
 
 bool arc_centre(BlockCtx& ctx, const Code& c, const Pos9& start, const Pos9& end, Pos9& centre) {
   const BlockWords& w = ctx.w;
-  const Pos9 off = ctx.offset();
+  const Frame frame = ctx.frame();
   const double scale = ctx.scale();
   const PlaneAxes ax = plane_axes(ctx.s.plane);
   const char la = "IJK"[ax.a], lb = "IJK"[ax.b];
+  if (frame.rotated() && ctx.s.plane != Plane::XY)
+    return ctx.fail(
+        ErrorCode::UnknownGCode, motion_loc(ctx),
+        fmt::format("{} in the {} plane of a rotated coordinate system (G10 L2 R{:g}): "
+                    "gmotion's arcs lie in the XY, XZ or YZ plane",
+                    code_name(c), ctx.s.plane == Plane::XZ ? "XZ" : "YZ", frame.rotation_deg()));
+  const Pos9 start_p = frame.to_program(start), end_p = frame.to_program(end);
   ArcInput in;
-  in.start_a = (start[ax.a] - off[ax.a]) / scale;
-  in.start_b = (start[ax.b] - off[ax.b]) / scale;
-  in.end_a = (end[ax.a] - off[ax.a]) / scale;
-  in.end_b = (end[ax.b] - off[ax.b]) / scale;
+  in.start_a = start_p[ax.a] / scale;
+  in.start_b = start_p[ax.b] / scale;
+  in.end_a = end_p[ax.a] / scale;
+  in.end_b = end_p[ax.b] / scale;
   in.use_r = w.has('R');
   in.r = w.get('R');
   in.off_a = w.get(la);
@@ -305,9 +323,11 @@ bool arc_centre(BlockCtx& ctx, const Code& c, const Pos9& start, const Pos9& end
   ArcResult ar = compute_arc(in);
   const SourceLoc aloc = in.use_r ? w['R']->loc : w.has(la) ? w[la]->loc : w[lb]->loc;
   if (ar.error != ErrorCode::None) return ctx.fail(ar.error, aloc, std::move(ar.message));
+  double rel_a = ar.rel_a * scale, rel_b = ar.rel_b * scale;
+  frame.turn(rel_a, rel_b);  // rotated: the XY plane, (a, b) = (x, y)
   centre = start;
-  centre[ax.a] = start[ax.a] + ar.rel_a * scale;
-  centre[ax.b] = start[ax.b] + ar.rel_b * scale;
+  centre[ax.a] = start[ax.a] + rel_a;
+  centre[ax.b] = start[ax.b] + rel_b;
   for (const int i : {ax.a, ax.b}) {
     if (within(centre[i], kMaxPositionMm)) continue;
     return ctx.fail(ErrorCode::ValueOutOfRange, aloc,

@@ -28,15 +28,29 @@ bool run_g10(BlockCtx& ctx, const Code&) {
   if (!near_integer(pw->value, p) || p < 0 || p > 9)
     return ctx.fail(ErrorCode::BadCoordSystem, pw->loc,
                     fmt::format("G10 L{:g} P{:g}: P must be 0 (current) to 9", l, pw->value));
-  if (const auto* rw = ctx.w['R']; rw && rw->value != 0.0)
-    return ctx.fail(ErrorCode::UnknownGCode, rw->loc,
-                    "G10 R (XY rotation of a coordinate system) is not supported yet");
+  if (ctx.w.has('I') || ctx.w.has('J'))
+    return ctx.fail(ErrorCode::UnusedWord, ctx.w.has('I') ? ctx.w['I']->loc : ctx.w['J']->loc,
+                    fmt::format("G10 L{:g}: I and J words are not allowed", l));
+  const auto* rw = ctx.w['R'];
+  if (rw && l == 20)
+    return ctx.fail(ErrorCode::UnusedWord, rw->loc,
+                    "G10 L20 with R: the rotation is set with G10 L2");
   const std::size_t cs =
       p == 0 ? static_cast<std::size_t>(ctx.s.coord_system) : static_cast<std::size_t>(p) - 1;
   if (cs == static_cast<std::size_t>(ctx.s.coord_system) &&
       !comp_forbids(ctx, loc, "change the active coordinate system"))
     return false;
-  Pos9& g5x = ctx.tables_w().g5x_mm[cs];
+  // L20 needs the current point in system `cs` before anything changes (LinuxCNC's
+  // find_current_in_system): in that system's old offsets and rotation.
+  ModalState in_cs = ctx.s;
+  in_cs.coord_system = static_cast<int>(cs);
+  const Pos9 here = Frame(in_cs, ctx.tables()).to_program(ctx.s.position_mm);
+  const double rotation = rw ? rw->value : ctx.tables().g5x_rotation_deg[cs];
+  if (rw && !within(rotation, 1e9))
+    return ctx.fail(ErrorCode::ValueOutOfRange, rw->loc, fmt::format("G10 L2 R{:g}", rotation));
+  SystemTables& t = ctx.tables_w();
+  Pos9& g5x = t.g5x_mm[cs];
+  t.g5x_rotation_deg[cs] = rotation;
   for (int i = 0; i < kProgramAxes; ++i) {
     const auto* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]];
     if (!aw) continue;
@@ -47,6 +61,16 @@ bool run_g10(BlockCtx& ctx, const Code&) {
     else  // L20: the current point gets coordinate v in that system
       g5x[i] = ctx.s.position_mm[i] - ctx.s.g92_mm[i] - ctx.s.tool_offset_mm[i] - v;
   }
+  if (l == 20 && rotation != 0.0 && (ctx.w.has('X') || ctx.w.has('Y'))) {
+    // Rotated: the new origin is the old one moved by the turned difference between the
+    // current point and the point wanted (both in the rotated system).
+    double dx = here[0] - (ctx.w.has('X') ? ctx.w['X']->value * ctx.scale() : here[0]);
+    double dy = here[1] - (ctx.w.has('Y') ? ctx.w['Y']->value * ctx.scale() : here[1]);
+    rotate_xy(dx, dy, rotation);
+    const Pos9& old = ctx.committed.g5x_mm[cs];
+    g5x[0] = old[0] + dx;
+    g5x[1] = old[1] + dy;
+  }
   return true;
 }
 
@@ -55,15 +79,21 @@ bool run_g92(BlockCtx& ctx, const Code&) {
   if (!ctx.w.first_axis)
     return ctx.fail(ErrorCode::G92WithoutAxes, ctx.loc_of(Group::NonModal),
                     "G92 without axis words");
+  // The current point gets the coordinates given: G92 is added before the rotation, so the
+  // offset is the current point's in the rotated system (with no G92) minus the value.
+  const Pos9 here = ctx.frame().to_program(ctx.s.position_mm) + ctx.s.g92_mm;
   Pos9& g92 = ctx.s.g92_mm;
   ctx.s.g92_applied = true;
   for (int i = 0; i < kProgramAxes; ++i) {
     const auto* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]];
     if (!aw) continue;
-    // The current point gets coordinate value: machine = program + work + g92 + tool.
+    const double v = aw->value * (axis_is_rotary(i) ? 1.0 : ctx.scale());
+    if (ctx.frame().rotated() && i < 2) {
+      g92[i] = here[i] - v;
+      continue;
+    }
     g92[i] = 0.0;
-    g92[i] = ctx.s.position_mm[i] - ctx.offset()[i] -
-             aw->value * (axis_is_rotary(i) ? 1.0 : ctx.scale());
+    g92[i] = ctx.s.position_mm[i] - ctx.offset()[i] - v;
   }
   ctx.tables_w().g92_saved_mm = g92;
   return true;

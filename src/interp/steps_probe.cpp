@@ -32,9 +32,9 @@ bool run_probe(BlockCtx& ctx, const Code& c) {
                     fmt::format("{}: the start point is the probe point", name));
   if (!emit_straight(ctx, MotionKind::Line, target, loc)) return false;
   // The probe result, in the program's coordinates and units at this block.
-  const Pos9 off = ctx.offset();
+  const Pos9 at = ctx.frame().to_program(target);
   for (int i = 0; i < kProgramAxes; ++i)
-    ctx.s.probe_result[static_cast<std::size_t>(i)] = (target[i] - off[i]) / ctx.scale();
+    ctx.s.probe_result[static_cast<std::size_t>(i)] = at[i] / ctx.scale();
   ++ctx.s.probes;
   const Eigen::Vector3d d = (start - target).head<3>();
   const double dist = d.norm();

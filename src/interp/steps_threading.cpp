@@ -39,10 +39,10 @@ struct ThreadRun {
   Pos9 base;  ///< the machine position with X and Z replaced per move
 
   Pos9 at(double x, double z) const {
-    Pos9 p = base;
-    p[0] = x + ctx.offset()[0];
-    p[2] = z + ctx.offset()[2];
-    return p;
+    Pos9 p = Pos9::Zero();
+    p[0] = x;
+    p[2] = z;
+    return ctx.frame().to_machine(base, p, 0b101u);
   }
   bool rapid(double x, double z) {
     return emit_straight(ctx, MotionKind::Rapid, at(x, z), SourceLoc{ctx.block.line, 1});
@@ -111,11 +111,12 @@ bool run_threading(BlockCtx& ctx, const Code& c) {
 
   Pos9 end;
   if (!axis_target(ctx, ctx.s.position_mm, end)) return false;
-  const Pos9 off = ctx.offset();
+  const Frame frame = ctx.frame();
+  const Pos9 here = frame.to_program(ctx.s.position_mm);
   Thread t;
-  t.drive_x = ctx.s.position_mm[0] - off[0];
-  t.start_z = ctx.s.position_mm[2] - off[2];
-  const double end_z = end[2] - off[2];
+  t.drive_x = here[0];
+  t.start_z = here[2];
+  const double end_z = frame.to_program(end)[2];
   const double toward = end_z > t.start_z ? -1.0 : 1.0;  // a thread cut towards +Z mirrors
   t.side = i > 0.0 ? 1.0 : -1.0;
   t.first_depth = std::fabs(i);

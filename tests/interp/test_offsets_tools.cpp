@@ -194,3 +194,56 @@ TEST_CASE("system parameters: G28/G30, G92, coordinate systems and tool data in 
   CHECK(texts[1] == "25.400000 0.000000 1.000000");  // G92.2 keeps the stored values
   CHECK(texts[2] == "1.000000 50.000000 6.000000");
 }
+
+TEST_CASE("G10 L2 R turns the system's XY about its origin: machine = R(p + G92) + G54 + tool") {
+  // Hand-worked with R90 (x, y) -> (-y, x) about G54 = (100, 50): the program point (10, 0)
+  // is machine (100, 60); G91 X5 steps along program X, i.e. machine +Y; G92 X0 at program
+  // (10, 5) (machine (95, 60)) makes G92 X = 10, so program X2 Y0 is R(12, 5) = (-5, 12) ->
+  // machine (95, 62); G10 L20 X0 Y0 at machine (95, 62) keeps R90 and moves the origin there.
+  const auto canon =
+      run("G21 G90 G10 L2 P1 X100 Y50 R90\n"
+          "G54 G0 X10 Y0\n"  // (100, 60)
+          "G91 G0 X0 Y5\n"   // program (10, 5): machine (95, 60)
+          "G90 G92 X0\n"     // G92 X = 10
+          "G0 X2 Y0\n"       // program (2, 0) + G92 (10, 0) -> R(12, 0) = (0, 12)
+          "(DEBUG,#5420 #5421 #5211 #5230)\n"
+          "G92.1\n"
+          "G10 L20 P1 X0 Y0\n"  // origin = here
+          "(DEBUG,#5221 #5222 #5230 #5420 #5421)\n"
+          "G1 X0 Y10 F100\n"  // program +Y is machine -X
+          "G2 X10 Y0 R10\n"   // centre program (0, 0)
+          "M2\n");
+  std::vector<gm::Motion> m;
+  std::vector<std::string> texts;
+  for (const auto& c : canon) {
+    if (const auto* mo = std::get_if<gm::Motion>(&c)) m.push_back(*mo);
+    if (const auto* e = std::get_if<gm::Event>(&c); e && e->kind == gm::EventKind::Message)
+      texts.push_back(e->text);
+  }
+  REQUIRE(m.size() == 5);
+  CHECK(m[0].end_mm[0] == Approx(100));
+  CHECK(m[0].end_mm[1] == Approx(60));
+  CHECK(m[1].end_mm[0] == Approx(95));
+  CHECK(m[1].end_mm[1] == Approx(60));
+  // G92 X0 at program X10: G92 = (10, 0). Program (2, 0) -> R(12, 0) = (0, 12) -> (100, 62).
+  CHECK(m[2].end_mm[0] == Approx(100).margin(1e-9));
+  CHECK(m[2].end_mm[1] == Approx(62));
+  REQUIRE(texts.size() == 2);
+  CHECK(texts[0] == "2.000000 0.000000 10.000000 90.000000");
+  // L20 at machine (100, 62): the origin moves there, R stays 90; the point reads (0, 0).
+  CHECK(texts[1] == "100.000000 62.000000 90.000000 0.000000 0.000000");
+  CHECK(m[3].end_mm[0] == Approx(90));  // program (0, 10) -> R = (-10, 0)
+  CHECK(m[3].end_mm[1] == Approx(62));
+  CHECK(m[4].end_mm[0] == Approx(100).margin(1e-9));  // program (10, 0) -> (0, 10)
+  CHECK(m[4].end_mm[1] == Approx(72));
+  CHECK(m[4].center_mm[0] == Approx(100).margin(1e-9));
+  CHECK(m[4].center_mm[1] == Approx(62));
+}
+
+TEST_CASE("G10 L2 R: the errors LinuxCNC gives, and arcs out of the XY plane refused") {
+  CHECK(diagnose("G21 G10 L20 P1 X0 R10\nM2\n").at(0).code == code(ErrorCode::UnusedWord));
+  CHECK(diagnose("G21 G10 L2 P1 X0 I1\nM2\n").at(0).code == code(ErrorCode::UnusedWord));
+  const auto d = diagnose("G21 G10 L2 P1 R30\nG54 G18 F100\nG2 X10 Z0 I5 K0\nM2\n");
+  REQUIRE(!d.empty());
+  CHECK(d[0].loc.line == 3);
+}
