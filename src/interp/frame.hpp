@@ -13,7 +13,8 @@ void rotate_xy(double& x, double& y, double deg);
 class Frame {
  public:
   Frame(const ModalState& s, const SystemTables& t)
-      : s_(s), g5x_(t.g5x_mm[static_cast<std::size_t>(s.coord_system)]),
+      : s_(s),
+        g5x_(t.g5x_mm[static_cast<std::size_t>(s.coord_system)]),
         rotation_deg_(t.g5x_rotation_deg[static_cast<std::size_t>(s.coord_system)]) {}
 
   /// True when the active system is rotated (the XY axes then mix).

@@ -229,6 +229,8 @@ bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, 
   ModalState& s = begin_block();
   BlockCtx ctx{machine_, block, w, s, out, err, tables_, nullptr};
   ctx.call_level = call_level_;
+  ctx.motion_before = s.motion;
+  ctx.nurbs = &nurbs_;
   if (!check_block(ctx)) return false;
 
   // STEP 4: execute on the copy, step by step in LinuxCNC's order ------------------------------
@@ -250,6 +252,10 @@ bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, 
     tables_ = *ctx.staged;
     ++tables_version_;
   }
+  const NurbsEdit& e = ctx.nurbs_edit;
+  if (e.clear) nurbs_.points.clear();
+  if (e.order > 0) nurbs_.order = e.order;
+  for (int i = 0; i < e.added; ++i) nurbs_.points.push_back(e.add[static_cast<std::size_t>(i)]);
   return true;
 }
 

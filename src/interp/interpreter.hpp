@@ -8,6 +8,7 @@
 #include "interp/canon.hpp"
 #include "interp/cutter_comp.hpp"
 #include "interp/program_axes.hpp"
+#include "interp/spline.hpp"
 #include "interpolator/geometry.hpp"  // motion_length_mm, arc_sweep_rad, plane_axes
 #include "machine/machine.hpp"
 #include "machine/tool_table.hpp"
@@ -155,6 +156,7 @@ class Interpreter {
   /// making its copy the state (no second copy), one that fails leaves the state as it was.
   std::array<ModalState, 2> states_{};
   int cur_ = 0;
+  NurbsCurve nurbs_;  ///< the G5.2 control points so far (kept apart: a curve may be long)
   ModalState& state_mut() { return states_[cur_]; }
   /// The scratch copy, set to the state: what execute() and leave_call() work on.
   ModalState& begin_block() {

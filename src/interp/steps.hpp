@@ -6,6 +6,7 @@
 #include "interp/frame.hpp"
 #include "interp/interpreter.hpp"
 #include "interp/polar.hpp"
+#include "interp/spline.hpp"
 
 #include <fmt/format.h>
 
@@ -55,6 +56,9 @@ struct BlockCtx {
   double inverse_f = 0.0;                ///< G93: this block's F (1/min)
   /// G76's I J K scale from a G7/G8 switch in this block (LinuxCNC rescales them then too).
   double lathe_ijk_switch = 1.0;
+  int motion_before = -1;  ///< the motion mode before this block (G5.2 starts a new curve)
+  const NurbsCurve* nurbs = nullptr;  ///< the G5.2 curve collected by earlier blocks
+  NurbsEdit nurbs_edit{};             ///< this block's change to it (applied on commit)
 
   /// Sets the error; returns false so a step can `return ctx.fail(...)`.
   bool fail(ErrorCode code, SourceLoc loc, std::string msg) {
@@ -135,6 +139,9 @@ bool run_cycle(BlockCtx&, const Code&);         ///< G73 G74 G81..G86 G89
 bool run_g10_tool(BlockCtx&, int l);            ///< G10 L1/L10/L11 (from run_g10)
 bool run_straight(BlockCtx&, const Code&);      ///< G0 G1
 bool run_arc(BlockCtx&, const Code&);           ///< G2 G3
+bool run_spline(BlockCtx&, const Code&);        ///< G5 G5.1 (steps_spline.cpp)
+bool run_nurbs_point(BlockCtx&, const Code&);   ///< G5.2: one control point
+bool run_nurbs_end(BlockCtx&, const Code&);     ///< G5.3: the curve collected since G5.2
 bool run_stop(BlockCtx&, const Code&);
 bool run_coolant(BlockCtx&, const Code&);      ///< M7 M8 M9
 bool run_probe(BlockCtx&, const Code&);        ///< G38.2 G38.3 G38.4 G38.5
@@ -159,6 +166,9 @@ bool machine_target(BlockCtx& ctx, Pos9& target_mm);
 /// Emits a straight move (rapid or feed) from the current position to `target_mm` and moves
 /// there; zero-length moves are not emitted.
 bool emit_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target_mm, SourceLoc loc);
+/// Emits a one-turn arc in the active plane from the current position to `target_mm` about
+/// `centre_mm` (machine coordinates) at the block's feed, and moves there.
+bool emit_arc(BlockCtx& ctx, const Pos9& target_mm, const Pos9& centre_mm, bool ccw);
 /// A motion of this block's kind, line, plane and path mode (ends, feed and arc data unset).
 Motion motion_template(const BlockCtx& ctx, MotionKind kind);
 /// The centre of the block's arc (R or I/J/K words, G90.1/G91.1) from `start_mm` to `end_mm`,

@@ -198,6 +198,19 @@ bool emit_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target_mm, Source
   return true;
 }
 
+bool emit_arc(BlockCtx& ctx, const Pos9& target_mm, const Pos9& centre_mm, bool ccw) {
+  Motion mo = motion_template(ctx, MotionKind::Arc);
+  mo.start_mm = to_machine(ctx.s.position_mm, ctx.machine.layout);
+  mo.end_mm = to_machine(target_mm, ctx.machine.layout);
+  mo.center_mm = to_machine(centre_mm, ctx.machine.layout);
+  mo.ccw = ccw;
+  mo.turns = 1;
+  if (!set_feed(ctx, mo)) return false;
+  ctx.out.emplace_back(mo);
+  ctx.s.position_mm = target_mm;
+  return true;
+}
+
 bool run_straight(BlockCtx& ctx, const Code& c) {
   const SourceLoc loc = motion_loc(ctx);
   if (c.number10 != 0 && !check_feed(ctx, c.number10, loc)) return false;
