@@ -9,13 +9,17 @@ namespace gm {
 /// Turns (x, y) counterclockwise by `deg` degrees (LinuxCNC's rotate()).
 void rotate_xy(double& x, double& y, double deg);
 
+/// Makes `cs` (0..8 = G54..G59.3) the active system with its offsets and rotation from `t`.
+inline void select_coord_system(ModalState& s, const SystemTables& t, int cs) {
+  s.coord_system = cs;
+  s.g5x_mm = t.g5x_mm[static_cast<std::size_t>(cs)];
+  s.g5x_rotation_deg = t.g5x_rotation_deg[static_cast<std::size_t>(cs)];
+}
+
 /// The coordinate transform of one state: the active system's offsets and rotation.
 class Frame {
  public:
-  Frame(const ModalState& s, const SystemTables& t)
-      : s_(s),
-        g5x_(t.g5x_mm[static_cast<std::size_t>(s.coord_system)]),
-        rotation_deg_(t.g5x_rotation_deg[static_cast<std::size_t>(s.coord_system)]) {}
+  explicit Frame(const ModalState& s) : s_(s), g5x_(s.g5x_mm), rotation_deg_(s.g5x_rotation_deg) {}
 
   /// True when the active system is rotated (the XY axes then mix).
   bool rotated() const { return rotation_deg_ != 0.0; }

@@ -2,6 +2,8 @@
 // modal state, run the block's steps in LinuxCNC's order of execution on the copy, commit.
 #include "interp/interpreter.hpp"
 
+#include "interp/frame.hpp"
+
 #include "common/units.hpp"
 #include "interp/steps.hpp"
 
@@ -203,6 +205,7 @@ Interpreter::Interpreter(const Machine& machine) : machine_(machine) {
   for (ModalState& s : states_) s.inch = machine.program_inch;  // LinuxCNC: [TRAJ]LINEAR_UNITS
   for (std::size_t i = 0; i < machine.work_offsets_mm.size(); ++i)
     tables_.g5x_mm[i] = machine.work_offsets_mm[i];
+  for (ModalState& s : states_) select_coord_system(s, tables_, 0);
   tables_.tools = machine.tool_table;
   // The machine file's `tools = [...]` lengths: tool i gets Z offset tools[i] (i >= 1).
   for (std::size_t i = 1; i < machine.tool_lengths_mm.size(); ++i) {

@@ -90,14 +90,18 @@ struct ModalState {
   double css_surface_mm_min = 0.0;  ///< G96: the surface speed S, mm/min (m/min or ft/min x S)
   double css_max_rpm = 0.0;         ///< G96 D: the spindle's cap, rpm (no D: 1e30, as LinuxCNC)
   PathMode path_mode = PathMode::Continuous;
-  double path_tolerance_mm = -1.0;       ///< G64 P in mm; < 0: G64 without P (the machine's)
-  double naive_cam_tolerance_mm = 0.0;   ///< G64 Q in mm
-  double feed_mm_min = 0.0;              ///< G94 feed; 0 = none yet
-  int tool_selected = 0;                 ///< T
-  int tool_in_spindle = 0;               ///< after M6 or M61
-  int spindle_slot_tool = 0;             ///< the tool whose data M6 loaded (G43 without H uses it)
-  Pos9 position_mm = Pos9::Zero();       ///< machine coordinates
-  int coord_system = 0;                  ///< 0..8 = G54..G59, G59.1..G59.3
+  double path_tolerance_mm = -1.0;      ///< G64 P in mm; < 0: G64 without P (the machine's)
+  double naive_cam_tolerance_mm = 0.0;  ///< G64 Q in mm
+  double feed_mm_min = 0.0;             ///< G94 feed; 0 = none yet
+  int tool_selected = 0;                ///< T
+  int tool_in_spindle = 0;              ///< after M6 or M61
+  int spindle_slot_tool = 0;            ///< the tool whose data M6 loaded (G43 without H uses it)
+  Pos9 position_mm = Pos9::Zero();      ///< machine coordinates
+  int coord_system = 0;                 ///< 0..8 = G54..G59, G59.1..G59.3
+  /// The active system's offsets and XY rotation as they were when it was selected (LinuxCNC
+  /// copies them then: a program writing #5221.. changes them at the next selection or G10).
+  Pos9 g5x_mm = Pos9::Zero();
+  double g5x_rotation_deg = 0.0;
   Pos9 g92_mm = Pos9::Zero();            ///< G92/G52 axis offsets
   bool g92_applied = false;              ///< #5210: G92/G52/G92.3 on, G92.1/G92.2 off
   Pos9 tool_offset_mm = Pos9::Zero();    ///< G43 tool length offset
@@ -147,6 +151,10 @@ class Interpreter {
   /// offsets, the coordinate system #5220 (1-9, else G54) and G92's offsets, applied if #5210
   /// is set. `par(n)` is #n (mm, degrees).
   void restore_system_parameters(const std::function<double(int)>& par);
+  /// A program wrote system parameter #n (G28 #5161.., G30 #5181.., G92 #5211.., G54-G59.3
+  /// #5221..#5390, mm and degrees): the tables take it as LinuxCNC's parameters do; the active
+  /// system's offsets follow at its next selection or G10. False if #n is none of those.
+  bool write_system_parameter(int n, double v);
   /// Changes whenever a block changed the tables (so their parameters need writing again).
   std::uint64_t tables_version() const { return tables_version_; }
 

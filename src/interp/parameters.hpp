@@ -10,6 +10,7 @@
 #include <string>
 #include <string_view>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace gm {
@@ -37,7 +38,8 @@ class ParameterStore {
  public:
   static constexpr int kFirst = 1;
   static constexpr int kLast = 5601;
-  static constexpr int kArgs = 30;  ///< #1-#30: subroutine arguments
+  static constexpr int kArgs = 30;                      ///< #1-#30: subroutine arguments
+  static constexpr std::size_t kMaxSystemWrites = 256;  ///< per line (a line holds fewer)
 
   ParameterStore();
 
@@ -55,8 +57,16 @@ class ParameterStore {
 
   /// The value of #n (`n` must be valid): live values come from the provider.
   double get(int n) const;
-  /// Sets #n from a program (`n` valid and not read-only: checked by the caller).
-  void set(int n, double v) { numbered_[static_cast<std::size_t>(n)] = v; }
+  /// Sets #n from a program (`n` valid and not read-only: checked by the caller). Settings of
+  /// #5161-#5390 (offsets, G28/G30, G92) are also kept for the interpreter (system_writes).
+  void set(int n, double v) {
+    numbered_[static_cast<std::size_t>(n)] = v;
+    if (n >= 5161 && n <= 5390 && system_writes_.size() < kMaxSystemWrites)
+      system_writes_.emplace_back(n, v);
+  }
+  /// The settings of #5161-#5390 since clear_system_writes(), in order.
+  const std::vector<std::pair<int, double>>& system_writes() const { return system_writes_; }
+  void clear_system_writes() { system_writes_.clear(); }
   /// Sets #n from the interpreter (read-only ones included).
   void set_system(int n, double v) { numbered_[static_cast<std::size_t>(n)] = v; }
 
@@ -108,6 +118,7 @@ class ParameterStore {
   };
 
   std::vector<double> numbered_;
+  std::vector<std::pair<int, double>> system_writes_;
   std::vector<bool> from_file_;
   NameMap globals_;
   std::vector<Frame> frames_;

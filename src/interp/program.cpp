@@ -285,7 +285,7 @@ class StateParameters : public ParameterProvider {
   // Current position in the program's coordinate system and units (axis `i` in X..W order).
   double program_position(int i) const {
     const ModalState& s = interp_.state();
-    return Frame(s, interp_.tables()).to_program(s.position_mm)[i] / (s.inch ? 25.4 : 1.0);
+    return Frame(s).to_program(s.position_mm)[i] / (s.inch ? 25.4 : 1.0);
   }
   const Interpreter& interp_;
   int line_ = 0;
@@ -438,6 +438,9 @@ class ProgramRunner {
                                    err.message, source_for(text)});
         return true;
       }
+      // A program that writes the offsets' parameters changes the interpreter's tables.
+      for (const auto& [n, v] : params_.system_writes()) interp_.write_system_parameter(n, v);
+      params_.clear_system_writes();
       for (std::size_t i = 0; i < block.directive_count; ++i)
         if (!directive(block.directives[i], text, diags)) return false;
       if (block.words.empty() && block.message_count == 0) return true;

@@ -80,7 +80,7 @@ struct BlockCtx {
     return *staged;
   }
   /// Program and machine coordinates under the block's state (offsets, XY rotation).
-  Frame frame() const { return Frame(s, tables()); }
+  Frame frame() const { return Frame(s); }
   /// Sum of the offsets from program to machine coordinates under the block's state, mm.
   Pos9 offset() const { return frame().offset(); }
 };

@@ -143,7 +143,7 @@ bool run_stop(BlockCtx& ctx, const Code& c) {
     ctx.s.ended = true;
     ctx.s.comp.side = 0;  // M2/M30 turn compensation off (LinuxCNC)
     ctx.s.comp.first_move = true;
-    ctx.s.coord_system = 0;  // and select G54 (#5220 = 1 in the parameter file)
+    select_coord_system(ctx.s, ctx.tables(), 0);  // and G54 (#5220 = 1 in the parameter file)
   }
   return true;
 }

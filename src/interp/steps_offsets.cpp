@@ -7,7 +7,10 @@ namespace gm {
 bool run_coord_system(BlockCtx& ctx, const Code& c) {
   if (!comp_forbids(ctx, ctx.loc_of(Group::CoordSystem), "change coordinate systems")) return false;
   // G54..G59 = 0..5, G59.1..G59.3 = 6..8.
-  ctx.s.coord_system = c.number10 <= 590 ? (c.number10 - 540) / 10 : 5 + (c.number10 - 590);
+  const int cs = c.number10 <= 590 ? (c.number10 - 540) / 10 : 5 + (c.number10 - 590);
+  // The same system again changes nothing: its offsets stay as they were taken (LinuxCNC:
+  // "continuing to use same coordinate system"), whatever its parameters hold now.
+  if (cs != ctx.s.coord_system) select_coord_system(ctx.s, ctx.tables(), cs);
   return true;
 }
 
@@ -43,8 +46,8 @@ bool run_g10(BlockCtx& ctx, const Code&) {
   // L20 needs the current point in system `cs` before anything changes (LinuxCNC's
   // find_current_in_system): in that system's old offsets and rotation.
   ModalState in_cs = ctx.s;
-  in_cs.coord_system = static_cast<int>(cs);
-  const Pos9 here = Frame(in_cs, ctx.tables()).to_program(ctx.s.position_mm);
+  select_coord_system(in_cs, ctx.tables(), static_cast<int>(cs));
+  const Pos9 here = Frame(in_cs).to_program(ctx.s.position_mm);
   const double rotation = rw ? rw->value : ctx.tables().g5x_rotation_deg[cs];
   if (rw && !within(rotation, 1e9))
     return ctx.fail(ErrorCode::ValueOutOfRange, rw->loc, fmt::format("G10 L2 R{:g}", rotation));
@@ -71,6 +74,9 @@ bool run_g10(BlockCtx& ctx, const Code&) {
     g5x[0] = old[0] + dx;
     g5x[1] = old[1] + dy;
   }
+  // The active system takes its new values at once (LinuxCNC: p_int == origin_index).
+  if (cs == static_cast<std::size_t>(ctx.s.coord_system))
+    select_coord_system(ctx.s, ctx.tables(), ctx.s.coord_system);
   return true;
 }
 

@@ -69,8 +69,8 @@ const grammar::Word* first_of(const BlockWords& w, std::string_view letters) {
 
 bool run_spline(BlockCtx& ctx, const Code& c) {
   const BlockWords& w = ctx.w;
-  const SourceLoc loc = w.word_of(Group::Motion) ? w.word_of(Group::Motion)->loc
-                                                 : SourceLoc{ctx.block.line, 1};
+  const SourceLoc loc =
+      w.word_of(Group::Motion) ? w.word_of(Group::Motion)->loc : SourceLoc{ctx.block.line, 1};
   const bool cubic = c.number10 == 50;
   if (!spline_allowed(ctx, c, loc)) return false;
   if (!check_feed(ctx, c.number10, loc)) return false;
@@ -118,8 +118,8 @@ bool run_spline(BlockCtx& ctx, const Code& c) {
 bool run_nurbs_point(BlockCtx& ctx, const Code& c) {
   const BlockWords& w = ctx.w;
   const SourceLoc loc = w.word_of(Group::Motion) ? w.word_of(Group::Motion)->loc
-                        : w.first_axis              ? w.first_axis->loc
-                                                    : SourceLoc{ctx.block.line, 1};
+                        : w.first_axis           ? w.first_axis->loc
+                                                 : SourceLoc{ctx.block.line, 1};
   if (!spline_allowed(ctx, c, loc)) return false;
   const bool fresh = ctx.motion_before != 52;  // a new curve (LinuxCNC clears its list)
   NurbsEdit& e = ctx.nurbs_edit;
@@ -127,8 +127,7 @@ bool run_nurbs_point(BlockCtx& ctx, const Code& c) {
   const std::size_t have = fresh ? 0 : ctx.nurbs->points.size();
   const bool xy = w.has('X') && w.has('Y');
   if (w.has('X') != w.has('Y'))
-    return ctx.fail(ErrorCode::MissingWord, loc,
-                    "G5.2: a control point needs both X and Y");
+    return ctx.fail(ErrorCode::MissingWord, loc, "G5.2: a control point needs both X and Y");
   const double p = w.has('P') ? w['P']->value : -1.0;
   if (!xy && w.has('P') && p > 0.0 && have > 0)
     return ctx.fail(ErrorCode::MissingWord, w['P']->loc,

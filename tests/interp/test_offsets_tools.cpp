@@ -247,3 +247,29 @@ TEST_CASE("G10 L2 R: the errors LinuxCNC gives, and arcs out of the XY plane ref
   REQUIRE(!d.empty());
   CHECK(d[0].loc.line == 3);
 }
+
+TEST_CASE("a program writing #5161-#5390: G28 and G10 read them, the active system waits") {
+  // G54 = (10, 0) selected; #5221 = 50 leaves the active offset at 10 until G55 then G54
+  // select it again; #5161/#5162 are G28's position at once; G10 L2 P2 X5 takes G55's Y from
+  // #5242 = 7.
+  const auto n = motions(
+      "G21 G90 G10 L2 P1 X10\n"
+      "G54 G0 X0 Y0\n"  // (10, 0)
+      "#5221 = 50\n"
+      "G0 X1\n"           // (11, 0): still 10
+      "G54 G0 X2\n"       // the same system again: still 10 -> (12, 0)
+      "G55\nG54 G0 X0\n"  // selected again: 50
+      "#5161 = 3 #5162 = 4\n"
+      "G28\n"  // (3, 4)
+      "#5242 = 7\n"
+      "G10 L2 P2 X5\nG55 G0 X0 Y0\n"  // (5, 7)
+      "M2\n");
+  REQUIRE(n.size() == 6);
+  CHECK(n[1].end_mm[0] == Approx(11));
+  CHECK(n[2].end_mm[0] == Approx(12));
+  CHECK(n[3].end_mm[0] == Approx(50));
+  CHECK(n[4].end_mm[0] == Approx(3));
+  CHECK(n[4].end_mm[1] == Approx(4));
+  CHECK(n[5].end_mm[0] == Approx(5));
+  CHECK(n[5].end_mm[1] == Approx(7));
+}

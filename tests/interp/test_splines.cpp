@@ -42,7 +42,8 @@ TEST_CASE("NURBS points: Bezier closed forms and a knot of a quadratic B-spline"
   CHECK(nurbs_at(b, 3, 0.0).y == Approx(0).margin(1e-12));
 }
 
-TEST_CASE("a rational quadratic quarter circle stays on the circle, and its biarcs are the circle") {
+TEST_CASE(
+    "a rational quadratic quarter circle stays on the circle, and its biarcs are the circle") {
   // Weights 1, sqrt(2)/2, 1 on (R, 0), (R, R), (0, R): every point has radius R.
   const double R = 25.0, w = std::sqrt(0.5);
   const ControlPoint arc[] = {{R, 0, 1}, {R, R, w}, {0, R, 1}};
