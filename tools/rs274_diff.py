@@ -511,6 +511,8 @@ def parse_gmotion_output(text: str) -> list[Move]:
             if io is not None:
                 moves.append(Move(kind="io", line=d.get("line"), text=io))
             continue
+        if d.get("operator"):  # G88's retract by hand: not one of the program's moves
+            continue
         moves.append(Move(kind=d.get("kind"), line=d.get("line"), end=d.get("end"),
                           feed=d.get("feed"), center=d.get("center"), dir=d.get("dir"),
                           turns=d.get("turns"), plane=d.get("plane"), seconds=d.get("seconds"),

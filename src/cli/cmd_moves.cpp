@@ -46,6 +46,7 @@ void print_move(std::FILE* f, const Canon& c, const AxisLayout& axes) {
                  m->ccw ? "ccw" : "cw", m->turns, plane_name(m->plane));
     if (m->mm_per_rev > 0.0)  // G95/G33: "feed" is mm_per_rev x the spindle speed at the start
       fmt::print(f, ",\"mm_per_rev\":{}", m->mm_per_rev);
+    if (m->by_operator) fmt::print(f, ",\"operator\":true");
     fmt::print(f, "}}\n");
   } else if (const auto* d = std::get_if<Dwell>(&c)) {
     fmt::print(f, "{{\"line\":{},\"kind\":\"{}\",\"seconds\":{}}}\n", d->line,

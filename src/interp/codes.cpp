@@ -55,6 +55,7 @@ constexpr std::array kCodes{
     Code{'G',  850, G::Motion,      S::Motion,      run_cycle,        "RL"},
     Code{'G',  860, G::Motion,      S::Motion,      run_cycle,        "RLP"},
     Code{'G',  870, G::Motion,      S::Motion,      run_cycle,        "RLIJK"},
+    Code{'G',  880, G::Motion,      S::Motion,      run_cycle,        "RLP"},
     Code{'G',  890, G::Motion,      S::Motion,      run_cycle,        "RLP"},
     // Plane (group 2)
     Code{'G',  170, G::Plane,       S::Plane,       run_plane},

@@ -49,6 +49,24 @@ struct CycleRun {
     return emit_straight(ctx, MotionKind::Line, machine(a, b, c), loc);
   }
   void dwell(double s) { emit_in_order(ctx, Dwell{ctx.block.line, s}); }
+  /// G88's retract by hand during its program stop: a rapid marked as the operator's.
+  bool operator_retract(double a, double b, double c) {
+    const std::size_t n = ctx.out.size();
+    if (!traverse(a, b, c)) return false;
+    if (ctx.out.size() > n)
+      if (auto* m = std::get_if<Motion>(&ctx.out.back())) m->by_operator = true;
+    return true;
+  }
+  /// G88's program stop (M0): the operator retracts by hand, the run holds for the pause time.
+  void program_stop() {
+    Event e;
+    e.line = ctx.block.line;
+    e.kind = EventKind::Pause;
+    e.index = 0;
+    emit_in_order(ctx, Canon(std::in_place_type<Event>, std::move(e)));
+    if (ctx.machine.pause_s > 0.0)
+      emit_in_order(ctx, Dwell{ctx.block.line, ctx.machine.pause_s, true});
+  }
   /// The spindle's canon within a cycle: stop, then turn `dir` (+1 cw, -1 ccw; 0 stays stopped).
   void spindle(int dir) {
     emit_io(ctx, EventKind::SpindleStop, 0, 0.0);
@@ -109,7 +127,7 @@ bool run_cycle(BlockCtx& ctx, const Code& c) {
         ErrorCode::ZeroFeed, loc,
         fmt::format("{} with zero feed rate ({})", name,
                     s.inverse_time ? "G93 gives no feed to a cycle" : "no F yet, or F0"));
-  const bool needs_p = g == 820 || g == 860 || g == 890;
+  const bool needs_p = g == 820 || g == 860 || g == 880 || g == 890;
   const bool needs_q = g == 730 || g == 830;
   if (entering && needs_p && !w.has('P'))
     return ctx.fail(ErrorCode::MissingWord, loc, fmt::format("{} without P (dwell seconds)", name));
@@ -125,7 +143,7 @@ bool run_cycle(BlockCtx& ctx, const Code& c) {
                         fmt::format("G87 without {} (I J: the offset to pass the bore, K: the "
                                     "back bore's top, in the {} plane's order)",
                                     l, plane_letters(s.plane)));
-  if ((g == 740 || g == 840 || g == 860 || g == 870) && s.spindle_dir == 0)
+  if ((g == 740 || g == 840 || g == 860 || g == 870 || g == 880) && s.spindle_dir == 0)
     return ctx.fail(ErrorCode::CycleMisused, loc,
                     fmt::format("{} with the spindle not turning (M3/M4 first)", name));
   if (g == 840 && s.spindle_dir < 0)
@@ -255,6 +273,18 @@ bool run_cycle(BlockCtx& ctx, const Code& c) {
         if (ok) emit_io(ctx, EventKind::SpindleStart, s.spindle_dir, s.spindle_rpm);
         break;
       }
+      case 880:  // feed in, dwell, spindle off, program stop: the operator retracts by hand to
+                 // the clearance height (where LinuxCNC's interpreter then takes the tool to
+                 // be), spindle on again
+        ok = run.feed(a, b, bottom);
+        if (ok) {
+          run.dwell(p);
+          run.spindle(0);
+          run.program_stop();
+        }
+        ok = ok && run.operator_retract(a, b, clear);
+        if (ok) emit_io(ctx, EventKind::SpindleStart, s.spindle_dir, s.spindle_rpm);
+        break;
       case 850:  // feed in, feed out to R, rapid to clear
         ok = run.feed(a, b, bottom) && run.feed(a, b, r) && run.traverse(a, b, clear);
         break;

@@ -273,3 +273,29 @@ TEST_CASE("a program writing #5161-#5390: G28 and G10 read them, the active syst
   CHECK(n[5].end_mm[0] == Approx(5));
   CHECK(n[5].end_mm[1] == Approx(7));
 }
+
+TEST_CASE("G88: feed in, dwell, spindle off, program stop, the operator's retract, spindle on") {
+  const auto canon =
+      run("G21 G90 S300 M3 F60\nG0 X0 Y0 Z10\n"
+          "G98 G88 X5 Y5 Z-4 R2 P0.5\n"  // initial level 10: the operator retracts to Z10
+          "G80 M2\n");
+  std::vector<std::string> seq;
+  for (const auto& c : canon) {
+    if (const auto* m = std::get_if<gm::Motion>(&c))
+      seq.push_back(fmt::format("{}{} {:g} {:g} {:g}", m->by_operator ? "hand " : "",
+                                m->kind == gm::MotionKind::Rapid ? "rapid" : "feed", m->end_mm[0],
+                                m->end_mm[1], m->end_mm[2]));
+    else if (const auto* d = std::get_if<gm::Dwell>(&c))
+      seq.push_back(fmt::format("dwell {:g}", d->seconds));
+    else if (const auto* e = std::get_if<gm::Event>(&c); e && e->kind == gm::EventKind::Pause)
+      seq.push_back("stop");
+    else if (e && e->kind == gm::EventKind::SpindleStop)
+      seq.push_back("spindle off");
+    else if (e && e->kind == gm::EventKind::SpindleStart)
+      seq.push_back("spindle on");
+  }
+  const std::vector<std::string> want = {
+      "spindle on",  "rapid 0 0 10", "rapid 5 5 10",      "rapid 5 5 2", "feed 5 5 -4", "dwell 0.5",
+      "spindle off", "stop",         "hand rapid 5 5 10", "spindle on",  "spindle off"};
+  CHECK(seq == want);
+}
