@@ -108,6 +108,8 @@ struct ModalState {
   int spindle_dir = 0;                   ///< M3 = 1, M4 = -1, M5 = 0
   double spindle_rpm = 0.0;              ///< S
   int probes = 0;                        ///< G38.x blocks run (#5061-#5070 hold the last result)
+  int input_waits = 0;                   ///< M66 blocks run (#5399 holds the last result)
+  double input_result = 0.0;             ///< M66's #5399: the input read, -1 on a timeout
   std::array<double, 9> probe_result{};  ///< probe end point, program coordinates and units
   int tool_length_code = 490;            ///< G43/G43.1/G43.2/G49 in effect (x 10)
   bool feed_override = true;             ///< M48 (M50 P1) vs M49 (M50 P0)

@@ -452,6 +452,10 @@ class ProgramRunner {
       return true;
     }
     export_system_parameters();
+    if (interp_.state().input_waits != input_waits_seen_) {  // M66: #5399
+      input_waits_seen_ = interp_.state().input_waits;
+      params_.set_system(5399, interp_.state().input_result);
+    }
     if (interp_.state().probes != probes_seen_) {  // G38.x: #5061-#5069 result, #5070 tripped
       probes_seen_ = interp_.state().probes;
       for (int i = 0; i < 9; ++i)
@@ -613,6 +617,7 @@ class ProgramRunner {
   bool done_ = false;
   bool opened_percent_ = false;
   int probes_seen_ = 0;
+  int input_waits_seen_ = 0;
   std::uint64_t tables_seen_ = 1;  // the tables as the interpreter starts: left to the store
 
   // The interpreter's system parameters in machine units (mm): G28 #5161-#5169, G30

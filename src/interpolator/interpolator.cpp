@@ -76,6 +76,7 @@ bool Interpolator::pull_next() {
     if (auto* d = std::get_if<Dwell>(&scratch_)) {
       dwell_left_s_ = d->seconds;
       dwell_line_ = d->line;
+      dwell_event_ = kEventDwell;
       line_ = d->line;
       if (dwell_left_s_ > 0.0) return true;
       continue;
@@ -97,6 +98,17 @@ bool Interpolator::pull_next() {
         break;
       case EventKind::End:
         ended_ = true;
+        break;
+      case EventKind::WaitInput:
+        // A simulation's inputs stay low: waiting for a rise, a fall or a high level runs to
+        // the timeout Q (LinuxCNC's motion then gives #5399 = -1); low and immediate pass.
+        if (e.mode >= 1 && e.mode <= 3 && e.value > 0.0) {
+          dwell_left_s_ = e.value;
+          dwell_line_ = e.line;
+          line_ = e.line;
+          dwell_event_ = kEventInputWait;
+          return true;
+        }
         break;
       case EventKind::SpindleSpeed:
         spindle_cmd_rpm_ = e.value;
@@ -142,7 +154,7 @@ InterpStatus Interpolator::step_n(const OverrideInput& ovr, CommandSample& out) 
   }
   while (dt > dt_eps) {
     if (dwell_left_s_ > 0.0) {
-      events |= kEventDwell;
+      events |= dwell_event_;
       line_ = dwell_line_;
       const double used = std::min(dt, dwell_left_s_);
       dwell_left_s_ -= used;

@@ -40,6 +40,7 @@ enum SampleEvent : std::uint32_t {
   kEventHold = 16,         ///< the sample made no progress because the override is 0 %
   kEventSettle = 32,       ///< exact stop: the axes wait at a block end for the Acc/Dec to settle
   kEventSpindleWait = 64,  ///< a G33 move waits for the spindle to reach its speed
+  kEventInputWait = 128,   ///< M66 waits for an input (a simulation's inputs stay low)
 };
 
 struct CommandSample {
@@ -114,7 +115,8 @@ class Interpolator {
   double s_mm_ = 0.0;            ///< path length done in the current block
   double dwell_left_s_ = 0.0;    ///< remaining dwell time
   int dwell_line_ = 0;
-  int settle_left_ = 0;  ///< exact-stop hold samples still to emit
+  std::uint32_t dwell_event_ = kEventDwell;  ///< what the wait is: a dwell or an M66 wait
+  int settle_left_ = 0;                      ///< exact-stop hold samples still to emit
   bool override_enabled_ = true;
   bool ended_ = false;  ///< End seen or the stream ran out
   bool finished_ = false;

@@ -42,7 +42,8 @@ void ContourMeter::measure(SampleRecord& r, std::span<const Motion> started) {
   const MotionGeometry* m = r.settling ? nullptr : window_.newest();
   // Steady: the interpolator has been moving on this arc for longer than the filter and servo
   // delays, and is not waiting at its end (exact stop), in a dwell or in a hold.
-  constexpr std::uint32_t kNotMoving = kEventSettle | kEventDwell | kEventHold | kEventSpindleWait;
+  constexpr std::uint32_t kNotMoving =
+      kEventSettle | kEventDwell | kEventHold | kEventSpindleWait | kEventInputWait;
   if ((r.events & kNotMoving) != 0) last_pause_k_ = r.k;
   if (m != nullptr && m->kind == MotionKind::Arc &&
       r.k - std::max(block_start_k_, last_pause_k_) >= steady_after_) {

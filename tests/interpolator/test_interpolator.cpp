@@ -198,6 +198,28 @@ TEST_CASE("a dwell holds for exactly its time, exact stop holds settle_samples")
   CHECK(s[33].pos_blu == blu3(1050, 0, 0));  // the next block starts on a fresh sample
 }
 
+TEST_CASE("M66: a wait for a rise, fall or high level runs to its timeout, low and L0 pass") {
+  // 1 mm at 600 mm/min = 25 samples; the inputs of a simulation stay low, so L3 Q0.1 waits
+  // 0.1 s = 25 samples and L4 (low) and L0 none: 75 samples in all.
+  auto wait = [](int mode, double q) {
+    gm::Event e;
+    e.kind = gm::EventKind::WaitInput;
+    e.mode = mode;
+    e.value = q;
+    e.line = 2;
+    return Canon(std::in_place_type<gm::Event>, e);
+  };
+  auto s = samples({line(AxisVec::Zero(), xyz(1, 0, 0), 600), wait(3, 0.1), wait(4, 5.0),
+                    wait(0, 0.0), line(xyz(1, 0, 0), xyz(2, 0, 0), 600, 3)});
+  REQUIRE(s.size() == 75);
+  for (std::size_t k = 25; k < 50; ++k) {
+    CHECK(s[k].pos_blu == blu3(1000, 0, 0));
+    CHECK((s[k].events & gm::kEventInputWait) != 0);
+    CHECK((s[k].events & gm::kEventDwell) == 0);
+  }
+  CHECK((s[50].events & gm::kEventInputWait) == 0);
+}
+
 TEST_CASE("an override step changes V[k] at the next sample, 0 % holds without losing position") {
   auto s = samples({line(AxisVec::Zero(), xyz(20, 0, 0), 600)}, config(), [](std::int64_t k) {
     return k < 10 ? 1.0 : k < 20 ? 2.0 : k < 30 ? 0.0 : 1.0;
