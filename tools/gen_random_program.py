@@ -32,6 +32,8 @@ MM_PER_INCH = 25.4
 #   g93        inverse-time feed blocks (G93 ... G94)                      [opt-in]
 #   offsets    G10 L2 work offsets, G54..G59.3, tool changes from the default table (T M6, then
 #              G43/G43 H/G43.1/G49 on the next line), G53 moves, G28.1/G28 [opt-in]
+#   rotation   with offsets: G10 L2 ... R turns a coordinate system's XY (arcs stay in G17
+#              while the active system is turned: LinuxCNC tilts G18/G19 arcs)     [opt-in]
 #   unit_feed  F in the same block as G20/G21, and feed carried across a
 #              unit change without a new F (LinuxCNC: F is executed before G20/G21, and the
 #              canon keeps the physical rate)                              [opt-in]
@@ -47,6 +49,7 @@ DEFAULT_FEATURES = {
     "g93": False,
     "unit_feed": False,
     "offsets": False,
+    "rotation": False,
 }
 
 # gmotion's built-in default tool table (tools/rs274_diff.py gives it to both sides): Z, mm.
@@ -99,6 +102,7 @@ class _Gen:
         self.lines: list[str] = []
         # offsets feature: offsets in mm (so unit switches need no conversion)
         self.g5x_mm = [[0.0, 0.0, 0.0] for _ in range(9)]
+        self.g5x_rot = [0.0] * 9  # rotation feature: G10 L2 R, degrees
         self.cs = 0
         self.tool_mm = [0.0, 0.0, 0.0]
         self.spindle_tool = 0
@@ -200,6 +204,9 @@ class _Gen:
 
     def arc(self) -> None:
         rng = self.rng
+        if self.g5x_rot[self.cs] and self.plane != 17:
+            self.straight(rapid=False)  # turned G18/G19 arcs: LinuxCNC tilts their plane
+            return
         first, second, normal = PLANES[self.plane]
         s = self.unit()
         cw = rng.random() < 0.5
@@ -306,7 +313,35 @@ class _Gen:
 
     def _machine_mm(self) -> list[float]:
         u = MM_PER_INCH if self.inch else 1.0
-        return [(p + g) * u + o for p, g, o in zip(self.pos, self.g92, self._offset_mm())]
+        q = [(p + g) * u for p, g in zip(self.pos, self.g92)]
+        th = math.radians(self.g5x_rot[self.cs])
+        if th:  # LinuxCNC: machine = R (program + G92) + G5x + tool, in X and Y
+            q[0], q[1] = (q[0] * math.cos(th) - q[1] * math.sin(th),
+                          q[0] * math.sin(th) + q[1] * math.cos(th))
+        return [a + o for a, o in zip(q, self._offset_mm())]
+
+    def _program_of(self, m: list[float]) -> list[float]:
+        """Program coordinates (program units) of machine point m (mm)."""
+        u = MM_PER_INCH if self.inch else 1.0
+        q = [a - o for a, o in zip(m, self._offset_mm())]
+        th = math.radians(self.g5x_rot[self.cs])
+        if th:
+            q[0], q[1] = (q[0] * math.cos(-th) - q[1] * math.sin(-th),
+                          q[0] * math.sin(-th) + q[1] * math.cos(-th))
+        return [v / u - g for v, g in zip(q, self.g92)]
+
+    def _set_program_from(self, m: list[float], axes) -> None:
+        """Program position of machine point m (mm) on `axes` (X and Y together if turned)."""
+        u = MM_PER_INCH if self.inch else 1.0
+        q = [a - o for a, o in zip(m, self._offset_mm())]
+        th = math.radians(self.g5x_rot[self.cs])
+        if th:
+            q[0], q[1] = (q[0] * math.cos(-th) - q[1] * math.sin(-th),
+                          q[0] * math.sin(-th) + q[1] * math.cos(-th))
+            axes = sorted(set(axes) | {0, 1})
+        for a in axes:
+            self.pos[a] = q[a] / u - self.g92[a]
+            self.exact[a] = False
 
     def _shift(self, old_off_mm: list[float]) -> None:
         """The offsets changed: the machine position stays, the program position moves."""
@@ -320,6 +355,8 @@ class _Gen:
         rng = self.rng
         u = MM_PER_INCH if self.inch else 1.0
         old = self._offset_mm()
+        old_rot = self.g5x_rot[self.cs]
+        old_m = self._machine_mm()
         r = rng.random()
         if r < 0.25:
             p = rng.randint(0, 9)
@@ -330,6 +367,12 @@ class _Gen:
                 v = self.rounded(rng.uniform(-60, 60) / u)
                 words.append(self.word(AXIS_LETTERS[a], v))
                 self.g5x_mm[idx][a] = v * u
+            # (not on the active system under G92: LinuxCNC then turns its current point without
+            # the G92 offset, and its next relative move starts from a point off the tool's)
+            if self.f["rotation"] and rng.random() < 0.5 and not (idx == self.cs and any(self.g92)):
+                rot = rng.choice([0.0, 15.0, 30.0, 45.0, 90.0, -30.0, 12.5, 180.0])
+                words.append(self.word("R", rot))
+                self.g5x_rot[idx] = rot
             self.emit(words)
         elif r < 0.5:
             self.cs = rng.randrange(9)
@@ -376,10 +419,8 @@ class _Gen:
                 words.append(self.word(AXIS_LETTERS[a], v))
                 m[a] = v * u
             self.emit(words)
-            for a in axes:
-                self.pos[a] = (m[a] - self._offset_mm()[a]) / u - self.g92[a]
-                self.exact[a] = False
-        elif r < 0.94:
+            self._set_program_from(m, axes)
+        elif r < 0.94 and tool_ok:  # (G28.1 reads the same stale tool offset)
             self.emit([self.gcode("28.1")])
             self.g28_mm = self._machine_mm()
         elif not self.incremental and tool_ok:
@@ -388,9 +429,15 @@ class _Gen:
             p = self.random_point()
             words = [self.gcode("28")] + self.target(p, axes)
             self.emit(words)
+            # the words name program axes: the stored point in program coordinates on those
+            home = self._program_of(self.g28_mm)
             for a in axes:
-                self.pos[a] = (self.g28_mm[a] - self._offset_mm()[a]) / u - self.g92[a]
+                self.pos[a] = home[a]
                 self.exact[a] = False
+        if old_rot or self.g5x_rot[self.cs]:
+            if r < 0.5:  # offsets or the system changed, the machine stayed
+                self._set_program_from(old_m, [0, 1, 2])
+            return
         self._shift(old)
 
     def straight_all_axes(self) -> None:

@@ -148,8 +148,16 @@ bool run_home(BlockCtx& ctx, const Code& c) {
   const Pos9& home = c.number10 == 280 ? ctx.tables().g28_mm : ctx.tables().g30_mm;
   Pos9 target = ctx.s.position_mm;
   const bool all = ctx.w.first_axis == nullptr;
+  unsigned mask = 0;
   for (int i = 0; i < kProgramAxes; ++i)
-    if (all || ctx.w.has(kProgramAxisLetters[static_cast<std::size_t>(i)])) target[i] = home[i];
+    if (all || ctx.w.has(kProgramAxisLetters[static_cast<std::size_t>(i)])) {
+      target[i] = home[i];
+      mask |= 1u << i;
+    }
+  // The words name program axes (LinuxCNC's find_relative of the stored point): in a turned
+  // system, homing Y alone moves along program Y, which mixes machine X and Y.
+  if (const Frame f = ctx.frame(); f.rotated() && (mask & 3u))
+    target = f.to_machine(ctx.s.position_mm, f.to_program(home), mask);
   return emit_straight(ctx, MotionKind::Rapid, target, loc);
 }
 
