@@ -33,11 +33,11 @@ struct Motion {
   // Arcs only -------------------------------------------------------------------------------
   AxisVec center_mm = AxisVec::Zero();  ///< centre; its normal-axis component equals start's
   bool ccw = false;                     ///< G3 (counter-clockwise seen from +normal) vs G2
+  /// A move the operator makes by hand (G88's retract during its program stop), not one of the
+  /// program's canonical moves. (Here, in the padding after `ccw`, to keep Motion's size.)
+  bool by_operator = false;
   int turns = 1;                        ///< LinuxCNC P: 1 = the ordinary arc, K adds K-1 full turns
   Plane plane = Plane::XY;
-  /// A move the operator makes by hand (G88's retract during its program stop), not one of the
-  /// program's canonical moves.
-  bool by_operator = false;
   // Block end -------------------------------------------------------------------------------
   PathMode path_mode = PathMode::Continuous;  ///< G9 in the block forces ExactStop
   /// Contour tolerance in force (G64 P, or the machine's path_tolerance_mm under G64 without P),

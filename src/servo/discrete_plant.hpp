@@ -30,8 +30,10 @@ class DiscretePlant {
   /// Advances one period with drive command u held constant (ZOH).
   /// z ← Ad z + Bd u, each row summed in column order (the order Eigen's product uses).
   /// Plants of order 1 and 2 (the usual ones) run a loop the compiler unrolls; the sums are the
-  /// same, term by term, as the general loop's.
-  void step(double u) {
+  /// same, term by term, as the general loop's. Always inlined into the servo's sample (whether
+  /// the compiler inlines it otherwise depends on which files a unity batch holds: 8 M
+  /// instructions in 10,000 blocks when it did not).
+  [[gnu::always_inline]] inline void step(double u) {
     switch (n_) {
       case 1:
         step_sized<2>(u);
