@@ -36,7 +36,7 @@ struct Motion {
   /// A move the operator makes by hand (G88's retract during its program stop), not one of the
   /// program's canonical moves. (Here, in the padding after `ccw`, to keep Motion's size.)
   bool by_operator = false;
-  int turns = 1;                        ///< LinuxCNC P: 1 = the ordinary arc, K adds K-1 full turns
+  int turns = 1;  ///< LinuxCNC P: 1 = the ordinary arc, K adds K-1 full turns
   Plane plane = Plane::XY;
   // Block end -------------------------------------------------------------------------------
   PathMode path_mode = PathMode::Continuous;  ///< G9 in the block forces ExactStop
