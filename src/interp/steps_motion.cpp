@@ -182,6 +182,12 @@ Motion motion_template(const BlockCtx& ctx, MotionKind kind) {
   mo.kind = kind;
   mo.plane = ctx.s.plane;
   set_path_mode(ctx, mo);
+  if (ctx.s.css) {  // G96 on every move: a spindle with a ramp follows the radius all the time
+    mo.spindle_rpm = ctx.s.spindle_rpm;
+    mo.css_surface_mm_min = ctx.s.css_surface_mm_min;
+    mo.css_max_rpm = ctx.s.css_max_rpm;
+    mo.css_axis_x_mm = ctx.offset()[0];
+  }
   return mo;
 }
 

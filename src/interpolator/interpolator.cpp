@@ -37,9 +37,9 @@ inline double Interpolator::block_speed_mm_s(const OverrideInput& ovr) const {
   // so no override may take the block faster than the speed its contour error was planned for.
   // G95 under G96: the spindle speeds up as the tool nears the axis, and the feed with it. A
   // spindle with a ramp feeds at the speed it has reached (G97).
-  const double v100 = css_block_ ? block_.mm_per_rev * block_.spindle_rpm_at(pos_mm_[0]) / 60.0
-                      : spindle_ramp_block_ ? block_.mm_per_rev * spindle_rpm_ / 60.0
-                                            : speed_100_mm_s_;
+  const double v100 = spindle_ramp_block_ ? block_.mm_per_rev * spindle_rpm_ / 60.0
+                      : css_block_ ? block_.mm_per_rev * block_.spindle_rpm_at(pos_mm_[0]) / 60.0
+                                   : speed_100_mm_s_;
   return std::min(v100 * scale, speed_cap_mm_s_);
 }
 
@@ -61,8 +61,7 @@ bool Interpolator::pull_next() {
       rapid_block_ = block_.kind == MotionKind::Rapid;
       synced_block_ = block_.spindle_synced;  // G33: the feed override does not act
       css_block_ = block_.mm_per_rev > 0.0 && block_.css_surface_mm_min > 0.0;
-      spindle_ramp_block_ =
-          block_.mm_per_rev > 0.0 && !css_block_ && cfg_.spindle_accel_rpm_s > 0.0;
+      spindle_ramp_block_ = block_.mm_per_rev > 0.0 && cfg_.spindle_accel_rpm_s > 0.0;
       speed_100_mm_s_ = rapid_block_                  ? cfg_.rapid_mm_min / 60.0
                         : block_.inverse_time_s > 0.0 ? geom_.length_mm / block_.inverse_time_s
                                                       : block_.feed_mm_min / 60.0;
@@ -172,8 +171,9 @@ InterpStatus Interpolator::step_n(const OverrideInput& ovr, CommandSample& out) 
     // LinuxCNC waits for the spindle at speed before a synchronised move; a feed per
     // revolution waits while the spindle has not started turning (not a 0 % feed hold).
     if (spindle_ramp_block_ &&
-        (block_.spindle_synced ? std::abs(spindle_rpm_ - spindle_target_rpm()) > 1e-9
-                               : spindle_rpm_ <= 0.0)) {
+        (block_.spindle_synced
+             ? s_mm_ == 0.0 && std::abs(spindle_rpm_ - spindle_target_rpm()) > 1e-9
+             : spindle_rpm_ <= 0.0)) {
       events |= kEventSpindleWait;
       moved_or_waited = true;
       break;

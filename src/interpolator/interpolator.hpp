@@ -109,7 +109,13 @@ class Interpolator {
   bool spindle_on_ = false;          ///< M3/M4 .. M5
   double spindle_rpm_ = 0.0;         ///< the speed it has reached
   bool spindle_ramp_block_ = false;  ///< the loaded block is fed by a spindle with a ramp
-  double spindle_target_rpm() const { return spindle_on_ ? spindle_cmd_rpm_ : 0.0; }
+  /// What the spindle is ramping towards: S, or under G96 (the last block's surface speed) the
+  /// speed for the tool's radius now, at most D (LinuxCNC motion's CSS rule).
+  double spindle_target_rpm() const {
+    if (!spindle_on_) return 0.0;
+    return has_block_ && block_.css_surface_mm_min > 0.0 ? block_.spindle_rpm_at(pos_mm_[0])
+                                                         : spindle_cmd_rpm_;
+  }
   double speed_100_mm_s_ = 0.0;  ///< its speed at 100 % override
   double speed_cap_mm_s_ = 0.0;  ///< the planner's cap (infinity: none)
   double s_mm_ = 0.0;            ///< path length done in the current block

@@ -332,6 +332,34 @@ TEST_CASE("a spindle with a ramp: G95 feeds follow its speed, G33 waits until it
   CHECK(samples({speed, start, g95}).size() == 2500);
 }
 
+TEST_CASE(
+    "a spindle with a ramp under G96: it ramps towards the radius's speed, the feed follows") {
+  // Turning along Z at r = 50 mm: G96 100 m/min gives 100000 / (2 pi 50) = 318.31 rpm. With
+  // 100 rpm/s the spindle is there after t1 = 3.1831 s, having fed 0.2 x 318.31 x t1 / 120 =
+  // 1.6887 mm at 0.2 mm/rev; the other 18.3113 mm at 0.2 x 318.31 / 60 = 1.06103 mm/s take
+  // 17.2580 s: 20.4411 s in all (the same steps in the code below).
+  gm::InterpolatorConfig cfg = config();
+  cfg.start_mm = xyz(50, 0, 0);  // the tool is at r = 50 from the first sample on
+  gm::InterpolatorConfig no_ramp = cfg;
+  cfg.spindle_accel_rpm_s = 100.0;
+  gm::Motion cut = line(xyz(50, 0, 0), xyz(50, 0, -20), 0.0);
+  cut.mm_per_rev = 0.2;
+  cut.css_surface_mm_min = 100000.0;
+  cut.css_max_rpm = 2000.0;
+  const double pi = 3.14159265358979323846;
+  const double rpm = 100000.0 / (2 * pi * 50.0);
+  const double t1 = rpm / 100.0;
+  const double ramp_mm = 0.2 * rpm * t1 / 120.0;
+  const double t = t1 + (20.0 - ramp_mm) / (0.2 * rpm / 60.0);
+  const gm::Event speed{1, gm::EventKind::SpindleSpeed, {}, 0, 100.0};  // S100 (m/min): not rpm
+  const gm::Event start{1, gm::EventKind::SpindleStart, {}, 1, 100.0};
+  const auto s = samples({speed, start, cut}, cfg);
+  CHECK(std::abs(static_cast<double>(s.size()) * 0.004 - t) < 0.012);
+  // Without the ramp: 20 mm at 1.06103 mm/s.
+  CHECK(std::abs(static_cast<double>(samples({speed, start, cut}, no_ramp).size()) * 0.004 -
+                 20.0 / (0.2 * rpm / 60.0)) < 0.008);
+}
+
 TEST_CASE("property: random chains end every block exactly and never outrun the feed") {
   const char* env = std::getenv("GMOTION_SEED");
   const std::uint64_t seed0 = env ? std::strtoull(env, nullptr, 10) : 42u;
