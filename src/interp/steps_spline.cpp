@@ -2,7 +2,9 @@
 // convert_spline and convert_nurbs), drawn with the biarcs its canon fits (interp/spline.cpp).
 #include "interp/steps.hpp"
 
+#include <cmath>
 #include <span>
+#include <string_view>
 
 namespace gm {
 
@@ -11,6 +13,17 @@ namespace {
 constexpr std::size_t kMaxNurbsPoints = 10000;  // 80,000 arcs from one G5.3
 constexpr int kMaxNurbsOrder = 32;
 constexpr double kStraightTol = 1e-6;  // LinuxCNC draws an arc straight below this (units)
+constexpr double kMinWeight = 1e-6, kMaxWeight = 1e6;  // beyond: overflow, not a curve
+
+// A control point (program units) is within the machine's range: the curve stays inside the
+// hull of its points, so its pieces do too.
+bool point_in_range(BlockCtx& ctx, const ControlPoint& p, SourceLoc loc, std::string_view what) {
+  const double u = ctx.scale();
+  if (within(p.x * u, kMaxPositionMm) && within(p.y * u, kMaxPositionMm)) return true;
+  return ctx.fail(ErrorCode::ValueOutOfRange, loc,
+                  fmt::format("{} at ({:g}, {:g}) mm, outside -{:g}..{:g} mm", what, p.x * u,
+                              p.y * u, kMaxPositionMm, kMaxPositionMm));
+}
 
 // The current point in program units.
 ControlPoint here(const BlockCtx& ctx) {
@@ -42,11 +55,15 @@ bool emit_pieces(BlockCtx& ctx, std::span<const CurvePiece> pieces, const Pos9& 
   const Frame f = ctx.frame();
   for (std::size_t i = 0; i < pieces.size(); ++i) {
     const CurvePiece& p = pieces[i];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y))
+      return ctx.fail(ErrorCode::NotANumber, loc, "the spline's points are not finite numbers");
     Pos9 prog = Pos9::Zero();
     prog[0] = p.x * u;
     prog[1] = p.y * u;
     const Pos9 target = i + 1 == pieces.size() ? end_mm : f.to_machine(ctx.s.position_mm, prog, 3u);
-    if (!p.arc) {
+    // A nearly straight piece can have its centre far away: beyond the machine's range (a
+    // sagitta below chord^2 / 8e12 mm) it is drawn straight.
+    if (!p.arc || !within(p.cx * u, kMaxPositionMm) || !within(p.cy * u, kMaxPositionMm)) {
       if (!emit_straight(ctx, MotionKind::Line, target, loc)) return false;
       continue;
     }
@@ -109,6 +126,9 @@ bool run_spline(BlockCtx& ctx, const Code& c) {
   } else {
     pts[2] = p3;
   }
+  for (std::size_t k = 1; k + 1 < n; ++k)
+    if (!point_in_range(ctx, pts[k], loc, fmt::format("{}'s control point", code_name(c))))
+      return false;
   std::vector<CurvePiece> pieces;
   nurbs_biarcs(std::span<const ControlPoint>(pts.data(), n), static_cast<int>(n), kStraightTol,
                pieces);
@@ -138,6 +158,10 @@ bool run_nurbs_point(BlockCtx& ctx, const Code& c) {
   if (xy && p <= 0.0)  // LinuxCNC would give this first point the weight -1 (P's default)
     return ctx.fail(ErrorCode::MissingWord, w.has('P') ? w['P']->loc : loc,
                     "G5.2: the control point needs a positive weight P");
+  if (w.has('P') && p > 0.0 && !(p >= kMinWeight && p <= kMaxWeight))
+    return ctx.fail(ErrorCode::ValueOutOfRange, w['P']->loc,
+                    fmt::format("G5.2 P{:g}: a weight must be between {:g} and {:g}", p, kMinWeight,
+                                kMaxWeight));
   if (!ctx.s.per_rev && ctx.s.feed_mm_min <= 0.0)
     return ctx.fail(ErrorCode::ZeroFeed, loc, "G5.2: cannot make a NURBS with zero feed rate");
   if (have + 2 > kMaxNurbsPoints)

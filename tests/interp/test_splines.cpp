@@ -118,3 +118,21 @@ TEST_CASE("G5.2/G5.3: points collected across blocks, errors where LinuxCNC give
   CHECK(diagnose("G21 F600\nG18 G5 I1 J1 P1 Q1 X1 Y1\nM2\n").at(0).loc.line == 2);
   CHECK(diagnose("G21\nG5.1 I1 J1 X2 Y0\nM2\n").at(0).code == code(gm::ErrorCode::ZeroFeed));
 }
+
+TEST_CASE("hostile splines: far control points and extreme weights are located errors") {
+  // I J put the G5's control point at 1e300 mm: the curve would run for ever.
+  auto d = diagnose("G21 G90 F100\nG0 X0 Y0\nG5 I[10**300] J0 P-1 Q0 X10 Y10\nM2\n");
+  REQUIRE(!d.empty());
+  CHECK(d[0].code == code(gm::ErrorCode::ValueOutOfRange));
+  CHECK(d[0].loc.line == 3);
+  // A weight of 1e300 overflows w x to infinity.
+  d = diagnose("G21 G90 F100\nG0 X0 Y0\nG5.2 X1 Y1 P[10**300]\nX2 Y0 P1\nX3 Y1 P1\nG5.3\nM2\n");
+  REQUIRE(!d.empty());
+  CHECK(d[0].loc.line == 3);
+  // Weights within 1e-6..1e6 draw a finite curve ending on its last point.
+  const auto m =
+      motions("G21 G90 F100\nG0 X0 Y0\nG5.2 X1 Y1 P1000000\nX2 Y0 P0.000001\nX3 Y1 P1\nG5.3\nM2\n");
+  REQUIRE(!m.empty());
+  for (const auto& mo : m) CHECK(std::isfinite(mo.end_mm[0] + mo.end_mm[1] + mo.center_mm[0]));
+  CHECK(m.back().end_mm[0] == 3.0);
+}
