@@ -311,36 +311,33 @@ class _Gen:
         """Work offset + tool offset (mm); G92 is tracked apart in program units."""
         return [g + t for g, t in zip(self.g5x_mm[self.cs], self.tool_mm)]
 
+    def _turn(self, q: list[float], sign: float) -> None:
+        """Turns q's X and Y by the active system's rotation (sign -1: back)."""
+        th = sign * math.radians(self.g5x_rot[self.cs])
+        if th:
+            q[0], q[1] = (q[0] * math.cos(th) - q[1] * math.sin(th),
+                          q[0] * math.sin(th) + q[1] * math.cos(th))
+
     def _machine_mm(self) -> list[float]:
         u = MM_PER_INCH if self.inch else 1.0
         q = [(p + g) * u for p, g in zip(self.pos, self.g92)]
-        th = math.radians(self.g5x_rot[self.cs])
-        if th:  # LinuxCNC: machine = R (program + G92) + G5x + tool, in X and Y
-            q[0], q[1] = (q[0] * math.cos(th) - q[1] * math.sin(th),
-                          q[0] * math.sin(th) + q[1] * math.cos(th))
+        self._turn(q, 1.0)  # LinuxCNC: machine = R (program + G92) + G5x + tool, in X and Y
         return [a + o for a, o in zip(q, self._offset_mm())]
 
     def _program_of(self, m: list[float]) -> list[float]:
         """Program coordinates (program units) of machine point m (mm)."""
         u = MM_PER_INCH if self.inch else 1.0
         q = [a - o for a, o in zip(m, self._offset_mm())]
-        th = math.radians(self.g5x_rot[self.cs])
-        if th:
-            q[0], q[1] = (q[0] * math.cos(-th) - q[1] * math.sin(-th),
-                          q[0] * math.sin(-th) + q[1] * math.cos(-th))
+        self._turn(q, -1.0)
         return [v / u - g for v, g in zip(q, self.g92)]
 
     def _set_program_from(self, m: list[float], axes) -> None:
         """Program position of machine point m (mm) on `axes` (X and Y together if turned)."""
-        u = MM_PER_INCH if self.inch else 1.0
-        q = [a - o for a, o in zip(m, self._offset_mm())]
-        th = math.radians(self.g5x_rot[self.cs])
-        if th:
-            q[0], q[1] = (q[0] * math.cos(-th) - q[1] * math.sin(-th),
-                          q[0] * math.sin(-th) + q[1] * math.cos(-th))
+        p = self._program_of(m)
+        if self.g5x_rot[self.cs]:
             axes = sorted(set(axes) | {0, 1})
         for a in axes:
-            self.pos[a] = q[a] / u - self.g92[a]
+            self.pos[a] = p[a]
             self.exact[a] = False
 
     def _shift(self, old_off_mm: list[float]) -> None:

@@ -8,7 +8,7 @@
 
 namespace gm {
 
-/// A NURBS control point in the program's XY plane (mm) with its weight.
+/// A NURBS control point in the program's XY plane (program units) with its weight.
 struct ControlPoint {
   double x = 0.0, y = 0.0, w = 1.0;
 };

@@ -22,6 +22,15 @@ inline std::vector<gm::Canon> run(const std::string& program,
   return out;
 }
 
+/// The text of every message event ((MSG,...), (DEBUG,...)) of `program`.
+inline std::vector<std::string> messages(const std::string& program) {
+  std::vector<std::string> out;
+  for (const auto& c : run(program))
+    if (const auto* e = std::get_if<gm::Event>(&c); e && e->kind == gm::EventKind::Message)
+      out.push_back(e->text);
+  return out;
+}
+
 /// The motions only.
 inline std::vector<gm::Motion> motions(const std::string& program,
                                        const gm::Machine& m = gm::Machine{}) {

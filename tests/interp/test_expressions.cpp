@@ -16,15 +16,6 @@ using namespace gmtest;
 
 namespace {
 
-// The text of every message event of `program`.
-std::vector<std::string> messages(const std::string& program) {
-  std::vector<std::string> out;
-  for (const auto& c : run(program))
-    if (const auto* e = std::get_if<gm::Event>(&c); e && e->kind == gm::EventKind::Message)
-      out.push_back(e->text);
-  return out;
-}
-
 // (DEBUG, #1) after `#1=expr`: the value rs274 prints (%f).
 std::string debug_value(const std::string& expr) {
   const auto m = messages("#1=" + expr + "\n(DEBUG,#1)\nM2\n");

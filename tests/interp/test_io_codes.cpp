@@ -119,10 +119,8 @@ TEST_CASE("M6 stops the spindle: a tapping cycle after a tool change is rs274's 
 }
 
 TEST_CASE("M66: #5399 is -1 after a wait that times out, 0 after L0 and L4 (inputs stay low)") {
-  std::vector<std::string> texts;
-  for (const auto& c : gmtest::run("G21\nM66 P0 L3 Q2\n(DEBUG,#5399)\nM66 P1 L4 Q1\n(DEBUG,#5399)\n"
-                                   "M66 P0 L1 Q1\nM66 E0 L0\n(DEBUG,#5399)\nM2\n"))
-    if (const auto* e = std::get_if<gm::Event>(&c); e && e->kind == gm::EventKind::Message)
-      texts.push_back(e->text);
+  const auto texts = gmtest::messages(
+      "G21\nM66 P0 L3 Q2\n(DEBUG,#5399)\nM66 P1 L4 Q1\n(DEBUG,#5399)\n"
+      "M66 P0 L1 Q1\nM66 E0 L0\n(DEBUG,#5399)\nM2\n");
   CHECK(texts == std::vector<std::string>{"-1.000000", "0.000000", "0.000000"});
 }

@@ -171,22 +171,18 @@ TEST_CASE("G81 and G83 expand as LinuxCNC: across, down to R, pecks, retract") {
 TEST_CASE("system parameters: G28/G30, G92, coordinate systems and tool data in mm") {
   // Hand-worked: G55 = (10, 20, -5); the point G55 (1, 2, 3) is machine (11, 22, -2); G92 X0 Y0
   // there makes the G92 offsets (1, 2); the spindle's tool is T1 (Z50 D6 in the default table).
-  const auto canon =
-      run("G21 G10 L2 P2 X10 Y20 Z-5\n"
-          "G55 G0 X1 Y2 Z3\n"
-          "G28.1\n"
-          "G92 X0 Y0\n"
-          "(DEBUG,#5220 #5241 #5242 #5243 #5161 #5162 #5163 #5210 #5211 #5212)\n"
-          "G20 G10 L2 P2 X1\n"
-          "G92.2\n"
-          "(DEBUG,#5241 #5210 #5211)\n"
-          "G21 T1 M6\n"
-          "(DEBUG,#5400 #5403 #5410)\n"
-          "M2\n");
-  std::vector<std::string> texts;
-  for (const auto& c : canon)
-    if (const auto* e = std::get_if<gm::Event>(&c); e && e->kind == gm::EventKind::Message)
-      texts.push_back(e->text);
+  const auto texts = messages(
+      "G21 G10 L2 P2 X10 Y20 Z-5\n"
+      "G55 G0 X1 Y2 Z3\n"
+      "G28.1\n"
+      "G92 X0 Y0\n"
+      "(DEBUG,#5220 #5241 #5242 #5243 #5161 #5162 #5163 #5210 #5211 #5212)\n"
+      "G20 G10 L2 P2 X1\n"
+      "G92.2\n"
+      "(DEBUG,#5241 #5210 #5211)\n"
+      "G21 T1 M6\n"
+      "(DEBUG,#5400 #5403 #5410)\n"
+      "M2\n");
   REQUIRE(texts.size() == 3);
   CHECK(texts[0] ==
         "2.000000 10.000000 20.000000 -5.000000 11.000000 22.000000 -2.000000 1.000000 1.000000 "
