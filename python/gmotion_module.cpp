@@ -193,7 +193,7 @@ py::dict run(const std::string& path, const std::string& machine, const py::dict
   {
     py::gil_scoped_release unlocked;
     gm::Run r(std::move(o), program.rewind(), opts);
-    while ((st = r.step()) == gm::RunStatus::Working) {
+    while ((st = r.advance()) == gm::RunStatus::Working) {
     }
     summary_json = r.summary().json();
     tolerance_text = r.tolerance().text();

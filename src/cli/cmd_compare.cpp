@@ -48,7 +48,7 @@ RunSummary run_once(const RunConfig& cfg, ProgramInput& program, const Interpret
   o.program_name = program.name();
   o.consumer_thread = false;
   Run run(std::move(o), program.rewind(), opts);
-  while (run.step() == RunStatus::Working) {
+  while (run.advance() == RunStatus::Working) {
   }
   if (taps) *taps = run.pipeline().taps().integer.size();
   if (real_taps) *real_taps = run.pipeline().taps().real;

@@ -68,7 +68,7 @@ int run(const RunFlags& f, std::unique_ptr<Run>& run_out, const RunHooks& hooks)
   if (hooks.sample)
     while ((st = run.step()) == RunStatus::Working) hooks.sample(run);
   else
-    while ((st = run.step()) == RunStatus::Working) {
+    while ((st = run.advance()) == RunStatus::Working) {
     }
   if (run.progress_shown()) fmt::print(stderr, "\n");
   if (hooks.finished) hooks.finished(program, run);

@@ -119,7 +119,7 @@ CaseOutput run_case(const Suite& s, const GoldenCase& c, const std::string& trac
     o.consumer_thread = false;  // the cases themselves fill the cores
     Run run(std::move(o), program.rewind(), opts);
     RunStatus st;
-    while ((st = run.step()) == RunStatus::Working) {
+    while ((st = run.advance()) == RunStatus::Working) {
     }
     if (st != RunStatus::Finished) throw InputError(run.unsettled_reason());
     if (f.check_tolerance && run.tolerance().exceeded())

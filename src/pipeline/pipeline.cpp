@@ -1,4 +1,4 @@
-// Joins interpolator, Acc/Dec, servo and contour measurement into one per-sample step.
+// Joins interpolator, Acc/Dec, servo and contour measurement: rows commanded, then staged.
 #include "pipeline/pipeline.hpp"
 
 #include "common/status.hpp"
@@ -56,6 +56,7 @@ Pipeline::Pipeline(const RunConfig& cfg, CanonSource& source)
       lag_samples_(static_cast<std::int64_t>(taps_.integer.size()) +
                    (cfg.servo ? servo_lag_samples(cfg.machine) : 0)),
       meter_(contour_meter()),
+      in_blu_(AxisBlu::Zero()),
       ref_blu_(AxisBlu::Zero()),
       enc_blu_(AxisBlu::Zero()),
       last_cmd_blu_(AxisBlu::Zero()) {
@@ -81,7 +82,7 @@ Pipeline::Pipeline(const RunConfig& cfg, CanonSource& source)
 
 void Pipeline::step_own_accdec() {
   for (OwnAccDec& o : own_accdec_) {
-    one_in_blu_[0] = cmd_.pos_blu[o.axis];
+    one_in_blu_[0] = in_blu_[o.axis];
     o.fir.step_n<1>(one_in_blu_, one_out_blu_);
     ref_blu_[o.axis] = one_out_blu_[0];
   }
@@ -102,7 +103,7 @@ bool Pipeline::settled() const {
 }
 
 template <int N>
-PipelineStatus Pipeline::step_n(const OverrideInput& ovr, SampleRecord& out) {
+PipelineStatus Pipeline::command_n(const OverrideInput& ovr, SampleBlock& b) {
   started_ = {};
   if (!program_done_) {
     if (interp_.step(ovr, cmd_) == InterpStatus::Finished) {
@@ -117,12 +118,32 @@ PipelineStatus Pipeline::step_n(const OverrideInput& ovr, SampleRecord& out) {
     }
   }
   if (program_done_) {
+    if (unstaged_ > 0) return PipelineStatus::Flush;
     if (settled()) return PipelineStatus::Finished;
     if (static_cast<double>(k_ - done_k_) * cfg_.machine.period_s > cfg_.settle_timeout_s)
       return PipelineStatus::Unsettled;
   }
+  // After the end the command stays where the last sample left it.
+  const int i = b.count;
+  for (int a = 0; a < N; ++a) b.cmd_blu.v[a][i] = cmd_.pos_blu[a];
+  b.line[i] = cmd_.line;
+  b.events[i] = program_done_ ? 0u : cmd_.events;
+  b.feed_scale[i] = cmd_.feed_scale;
+  b.settling[i] = program_done_;
+  for (const Motion& m : started_) {
+    b.motions.push_back(m);
+    b.motion_row.push_back(i);
+  }
+  ++b.count;
+  ++unstaged_;
+  ++k_;
+  return PipelineStatus::Working;
+}
 
-  accdec_.step_n<N>(cmd_.pos_blu, ref_blu_);
+template <int N>
+inline void Pipeline::stage_row(SampleBlock& b, int i) {
+  for (int a = 0; a < N; ++a) in_blu_[a] = b.cmd_blu.v[a][i];
+  accdec_.step_n<N>(in_blu_, ref_blu_);
   if (!own_accdec_.empty()) [[unlikely]]
     step_own_accdec();
   if (cfg_.servo) {
@@ -133,9 +154,10 @@ PipelineStatus Pipeline::step_n(const OverrideInput& ovr, SampleRecord& out) {
       try {
         enc_blu_[a] = s.step(ref_blu_[a]);
       } catch (const InputError& e) {
-        throw InputError(
-            fmt::format("axis {} at t = {:.3f} s (line {}): {}", cfg_.machine.layout.letter(a),
-                        static_cast<double>(k_) * cfg_.machine.period_s, cmd_.line, e.what()));
+        b.count = i;
+        throw InputError(fmt::format(
+            "axis {} at t = {:.3f} s (line {}): {}", cfg_.machine.layout.letter(a),
+            static_cast<double>(b.k0 + i) * cfg_.machine.period_s, b.line[i], e.what()));
       }
       // The motor hunts inside one count at standstill (quantised feedback), so settling is
       // judged on the encoder alone: within ±1 count of the reference.
@@ -146,26 +168,37 @@ PipelineStatus Pipeline::step_n(const OverrideInput& ovr, SampleRecord& out) {
     enc_blu_.head<N>() = ref_blu_.head<N>();
     table_blu_.head<N>() = ref_blu_.head<N>().template cast<double>();
   }
+  for (int a = 0; a < N; ++a) {
+    b.ref_blu.v[a][i] = ref_blu_[a];
+    b.enc_blu.v[a][i] = enc_blu_[a];
+    b.table_blu.v[a][i] = table_blu_[a];
+  }
+}
 
-  out.k = k_;
-  out.t_s = static_cast<double>(k_) * cfg_.machine.period_s;
-  out.line = cmd_.line;
-  // Only the machine's axes are written (the rest of `out` stays as it was: 0).
-  out.cmd_blu.head<N>() = cmd_.pos_blu.head<N>();
-  out.ref_blu.head<N>() = ref_blu_.head<N>();
-  out.enc_blu.head<N>() = enc_blu_.head<N>();
-  out.ferr_blu.head<N>() = ref_blu_.head<N>() - enc_blu_.head<N>();
-  out.table_blu.head<N>() = table_blu_.head<N>();
-  out.feed_scale = cmd_.feed_scale;
-  out.events = program_done_ ? 0u : cmd_.events;
-  out.settling = program_done_;
+template <int N>
+void Pipeline::stages_n(SampleBlock& b, int first, int count) {
+  for (int i = first; i < first + count; ++i) {
+    stage_row<N>(b, i);
+    --unstaged_;
+  }
+}
+
+template <int N>
+PipelineStatus Pipeline::step_n(const OverrideInput& ovr, SampleRecord& out) {
+  one_.reset(k_);
+  PipelineStatus st = command_n<N>(ovr, one_);
+  if (st == PipelineStatus::Flush) st = command_n<N>(ovr, one_);  // not reached: one row a call
+  if (st != PipelineStatus::Working) return st;
+  stages_n<N>(one_, 0, 1);
+  one_.record<N>(0, cfg_.machine.period_s, out);
   if (!cfg_.defer_contour) meter_.measure(out, started_);
-  ++k_;
   return PipelineStatus::Working;
 }
 
-#define GM_PIPELINE_STEP_N(N) \
-  template PipelineStatus Pipeline::step_n<N>(const OverrideInput& ovr, SampleRecord& out);
+#define GM_PIPELINE_STEP_N(N)                                                               \
+  template PipelineStatus Pipeline::step_n<N>(const OverrideInput& ovr, SampleRecord& out); \
+  template PipelineStatus Pipeline::command_n<N>(const OverrideInput& ovr, SampleBlock& b); \
+  template void Pipeline::stages_n<N>(SampleBlock & b, int first, int count);
 GM_FOR_EACH_AXIS_COUNT(GM_PIPELINE_STEP_N)
 #undef GM_PIPELINE_STEP_N
 

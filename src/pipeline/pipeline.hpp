@@ -1,4 +1,4 @@
-// The whole pipeline, one sample at a time: interpolator -> Acc/Dec -> servo -> encoder.
+// The whole pipeline, block by block: interpolator -> Acc/Dec -> servo -> encoder.
 #pragma once
 
 #include "accdec/fir_filter.hpp"
@@ -8,6 +8,7 @@
 #include "interpolator/interpolator.hpp"
 #include "machine/machine.hpp"
 #include "pipeline/contour_meter.hpp"
+#include "pipeline/sample_block.hpp"
 #include "pipeline/sample_record.hpp"
 #include "servo/servo_axis.hpp"
 
@@ -31,12 +32,24 @@ struct RunConfig {
 };
 
 enum class PipelineStatus {
-  Working,   ///< a sample was produced
-  Finished,  ///< program ended and every axis settled; no sample produced
-  Unsettled  ///< program ended but the axes did not settle within settle_timeout_s
+  Working,    ///< a sample was produced
+  Finished,   ///< program ended and every axis settled; no sample produced
+  Unsettled,  ///< program ended but the axes did not settle within settle_timeout_s
+  /// command_n only: the program has ended and whether the axes have settled depends on the
+  /// rows commanded but not staged yet. Run stages_n over them, then call command_n again.
+  Flush
 };
 
-/// Owns the stages and steps them together. Nothing is allocated per sample.
+/// Owns the stages and runs them over blocks of samples. Nothing is allocated per sample.
+///
+/// The block engine, two calls (gmotion run's loop is src/pipeline/run.cpp):
+///   - command_n(ovr, block) interpolates one more row of `block` (the override may change from
+///     sample to sample, and the schedule can depend on the previous row's line);
+///   - stages_n(block, first, count) runs Acc/Dec and servo over rows first .. first+count-1,
+///     stage after stage.
+/// Once the program has ended, each settling row needs the stages of the rows before it
+/// (whether the axes have settled), so command_n asks for them (Flush) and the caller then takes
+/// one row at a time. step() is both calls for one sample.
 class Pipeline {
  public:
   /// `source` is pulled as the interpolator needs blocks. Throws gm::InputError on a bad
@@ -48,11 +61,24 @@ class Pipeline {
   PipelineStatus step(const OverrideInput& ovr, SampleRecord& out) {
     return (this->*step_)(ovr, out);
   }
-  /// step() for a machine of exactly N axes (axis_count()): every per-axis loop has a
-  /// compile-time trip count; only entries 0..N-1 of `out`'s vectors are written (the rest
-  /// keep what they had: 0 in a fresh record). Instantiated for GM_FOR_EACH_AXIS_COUNT.
+  /// step() for a machine of exactly N axes (axis_count()): only entries 0..N-1 of `out`'s
+  /// vectors are written (the rest keep what they had: 0 in a fresh record). Instantiated for
+  /// GM_FOR_EACH_AXIS_COUNT.
   template <int N>
   PipelineStatus step_n(const OverrideInput& ovr, SampleRecord& out);
+
+  /// Interpolates row b.count of `b` (sample index k0 + count) with override `ovr` and counts it
+  /// (Working); or, once the program has ended, a settling row, Finished, Unsettled, or Flush
+  /// (nothing done). `b` must not be full; the rows before it are the previous samples.
+  template <int N>
+  PipelineStatus command_n(const OverrideInput& ovr, SampleBlock& b);
+  /// Acc/Dec and servo over rows first .. first+count-1 of `b`, commanded by command_n and not
+  /// staged yet, in order. Throws gm::InputError when the servo diverges, after setting b.count
+  /// to the row it diverged in (the rows before it are complete).
+  template <int N>
+  void stages_n(SampleBlock& b, int first, int count);
+  /// The program has ended: the rows from now on are settling rows.
+  bool program_done() const { return program_done_; }
 
   const Taps& taps() const { return taps_; }
   const Machine& machine() const { return cfg_.machine; }
@@ -69,6 +95,9 @@ class Pipeline {
 
  private:
   bool settled() const;
+  /// Acc/Dec and servo for one row (the per-sample form of stages_n).
+  template <int N>
+  void stage_row(SampleBlock& b, int i);
   /// The axes with their own Acc/Dec: their filters' outputs replace the shared one's (out of
   /// line, so that the common path stays as it was).
   [[gnu::noinline]] void step_own_accdec();
@@ -89,7 +118,9 @@ class Pipeline {
   std::int64_t lag_samples_;  ///< Acc/Dec length + servo lag: how long a past block can be nearest
   ContourMeter meter_;        ///< used unless defer_contour
   CommandSample cmd_{};
-  AxisBlu ref_blu_, enc_blu_, last_cmd_blu_;
+  AxisBlu in_blu_, ref_blu_, enc_blu_, last_cmd_blu_;
+  int unstaged_ = 0;  ///< rows commanded and not yet staged
+  SampleBlock one_;   ///< step()'s block of one row
   MachineVec table_blu_ =
       MachineVec::Zero();  ///< table positions (BLU, continuous) at the sample instant
   std::int64_t k_ = 0;

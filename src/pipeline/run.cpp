@@ -9,7 +9,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <exception>
+#include <string>
 #include <thread>
 
 namespace gm {
@@ -29,7 +31,7 @@ bool realtime(const RunOptions& o) {
 // The consumer thread is worth it only with a second core, and never paces a real-time run.
 RunOptions with_thread_choice(RunOptions o) {
   o.consumer_thread = o.consumer_thread && !realtime(o) && std::thread::hardware_concurrency() >= 2;
-  o.config.defer_contour = o.consumer_thread;
+  o.config.defer_contour = true;  // Run measures the contour with the outputs (consume())
   return o;
 }
 
@@ -102,13 +104,18 @@ void Run::init() {
   if (!o.record_override_path.empty())
     recorder_ =
         std::make_unique<OverrideRecorder>(o.record_override_path, o.config.machine.period_s);
-  if (o.consumer_thread) {
-    meter_.emplace(pipeline_.contour_meter());
-    queue_ = std::make_unique<SampleQueue>(
-        [this](SampleRecord& r, std::span<const Motion> started) { consume(r, started); });
-  }
-  step_ = with_axis_count(o.config.machine.axis_count(),
-                          [](auto n) { return &Run::step_n<decltype(n)::value>; });
+  realtime_ = realtime(o);
+  // The contour is measured with the outputs, on the consumer's copy of each sample.
+  meter_.emplace(pipeline_.contour_meter());
+  fill_ = with_axis_count(o.config.machine.axis_count(),
+                          [](auto n) { return &Run::fill_n<decltype(n)::value>; });
+  consume_block_ = with_axis_count(o.config.machine.axis_count(),
+                                   [](auto n) { return &Run::consume_rows<decltype(n)::value>; });
+  if (o.consumer_thread)
+    queue_ =
+        std::make_unique<SampleQueue>([this](SampleBlock& b) { (this->*consume_block_)(b, 0); }, 0);
+  else
+    block_ = std::make_unique<SampleBlock>();
   t0_ = std::chrono::steady_clock::now();
   next_progress_ = t0_ + std::chrono::seconds(1);
 }
@@ -123,46 +130,98 @@ void Run::consume(SampleRecord& r, std::span<const Motion> started) {
 }
 
 template <int N>
-RunStatus Run::step_n() {
-  const RunOptions& o = options_;
-  player_.advance(k_, line_);
-  if (live_open_) {
-    double feed = player_.feed_percent(), rapid = player_.rapid_percent();
-    live_open_ = live_->poll(feed, rapid);
-    player_.set(feed, rapid);
+void Run::consume_rows(SampleBlock& b, int first) {
+  const double period_s = options_.config.machine.period_s;
+  std::size_t m = 0;
+  while (m < b.motions.size() && b.motion_row[m] < first) ++m;
+  SampleRecord& r = queue_ ? crec_ : rec_;
+  for (int i = first; i < b.count; ++i) {
+    const std::size_t m0 = m;
+    while (m < b.motions.size() && b.motion_row[m] == i) ++m;
+    b.record<N>(i, period_s, r);
+    consume(r, std::span<const Motion>(b.motions.data() + m0, m - m0));
   }
-  ovr_.feed_scale = player_.feed_scale();
-  ovr_.rapid_scale = player_.rapid_scale();
-  if (recorder_) recorder_->sample(k_, player_.feed_percent(), player_.rapid_percent());
-  const PipelineStatus st = pipeline_.step_n<N>(ovr_, rec_);
-  if (st != PipelineStatus::Working) {
+}
+
+template <int N>
+void Run::stage_rows(SampleBlock& b, int first) {
+  try {
+    pipeline_.stages_n<N>(b, first, b.count - first);
+  } catch (const InputError&) {
+    // The rows before the divergence (b.count now) are complete: they reach the outputs.
+    if (!queue_) consume_rows<N>(b, first);
+    throw;
+  }
+}
+
+template <int N>
+RunStatus Run::fill_n(int max_rows) {
+  const RunOptions& o = options_;
+  SampleBlock& b = queue_ ? queue_->block() : *block_;
+  const int first = b.count;
+  const int limit = std::min(kBlockSamples, first + max_rows);
+  int staged = first;
+  PipelineStatus st = PipelineStatus::Working;
+  std::string stop;  // a stop rule's message: the row that broke it is not handed on
+  while (b.count < limit) {
+    player_.advance(k_, line_);
+    if (live_open_) {
+      double feed = player_.feed_percent(), rapid = player_.rapid_percent();
+      live_open_ = live_->poll(feed, rapid);
+      player_.set(feed, rapid);
+    }
+    ovr_.feed_scale = player_.feed_scale();
+    ovr_.rapid_scale = player_.rapid_scale();
+    if (recorder_) recorder_->sample(k_, player_.feed_percent(), player_.rapid_percent());
+    st = pipeline_.command_n<N>(ovr_, b);
+    if (st == PipelineStatus::Flush) {  // the program has ended: settling needs the stages
+      stage_rows<N>(b, staged);
+      staged = b.count;
+      st = pipeline_.command_n<N>(ovr_, b);
+    }
+    if (st != PipelineStatus::Working) break;
+    const int row = b.count - 1;
+    ++k_;
+    line_ = b.line[row];
+    const double t_s = static_cast<double>(b.k0 + row) * o.config.machine.period_s;
+    if (o.interrupted != nullptr && *o.interrupted != 0)
+      stop = fmt::format("interrupted at t = {:.3f} s (line {}){}", t_s, line_,
+                         o.keep_partial ? "" : "; no trace was kept");
+    else if (o.max_time_s > 0 && t_s > o.max_time_s)
+      stop = fmt::format("run stopped at --max-time {} s (line {}, feed override {} %)",
+                         o.max_time_s, line_, player_.feed_percent());
+    else if ((b.events[row] & kEventHold) != 0 && !live_open_ && !player_.may_change())
+      stop = fmt::format(
+          "feed held at 0 % override at line {} (t = {:.3f} s) and nothing in the override "
+          "schedule resumes it",
+          line_, t_s);
+    if (!stop.empty()) break;
+    if (realtime_)
+      std::this_thread::sleep_until(
+          t0_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                    std::chrono::duration<double>(t_s + o.config.machine.period_s)));
+    if (pipeline_.program_done()) break;  // one settling row at a time
+  }
+  if (b.count > staged) stage_rows<N>(b, staged);
+  if (b.count > first) b.record<N>(b.count - 1, o.config.machine.period_s, rec_);
+  if (!stop.empty()) {
+    --b.count;  // the row that broke the rule is not handed on
+    if (!queue_) consume_rows<N>(b, first);
+    throw InputError(stop);
+  }
+  if (queue_) {
+    if (b.full()) queue_->next_block(k_);
+  } else {
+    consume_rows<N>(b, first);
+    if (b.full()) b.reset(k_);
+  }
+  if (st != PipelineStatus::Working && st != PipelineStatus::Flush) {
     const RunStatus rs =
         st == PipelineStatus::Finished ? RunStatus::Finished : RunStatus::Unsettled;
     finish(rs);
     return rs;
   }
-  ++k_;
-  line_ = rec_.line;
-  if (o.interrupted != nullptr && *o.interrupted != 0)
-    throw InputError(fmt::format("interrupted at t = {:.3f} s (line {}){}", rec_.t_s, rec_.line,
-                                 o.keep_partial ? "" : "; no trace was kept"));
-  if (o.max_time_s > 0 && rec_.t_s > o.max_time_s)
-    throw InputError(fmt::format("run stopped at --max-time {} s (line {}, feed override {} %)",
-                                 o.max_time_s, rec_.line, player_.feed_percent()));
-  if ((rec_.events & kEventHold) != 0 && !live_open_ && !player_.may_change())
-    throw InputError(
-        fmt::format("feed held at 0 % override at line {} (t = {:.3f} s) and nothing in the "
-                    "override schedule resumes it",
-                    rec_.line, rec_.t_s));
-  if (realtime(o))
-    std::this_thread::sleep_until(
-        t0_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                  std::chrono::duration<double>(rec_.t_s + o.config.machine.period_s)));
-  if (queue_)
-    queue_->push_n<N>(rec_, pipeline_.started_motions());
-  else
-    consume(rec_, pipeline_.started_motions());  // step() measured the contour itself
-  if (o.progress && !realtime(o) && (rec_.k & 0xFFFF) == 0 &&
+  if (o.progress && !realtime_ && ((b.k0 + first) >> 16) != (k_ >> 16) &&
       std::chrono::steady_clock::now() > next_progress_) {
     o.progress(rec_);
     progress_shown_ = true;

@@ -1,5 +1,5 @@
 // A run: the pipeline with its overrides, outputs (trace, summary, override record, progress)
-// and stop rules, advanced one sample per step() (as ruckig's update()).
+// and stop rules, advanced a block of samples per advance() or one per step() (ruckig's update()).
 #pragma once
 
 #include "interp/canon.hpp"
@@ -64,11 +64,13 @@ enum class RunStatus {
 /// Owns the pipeline, the override player, the outputs and the stop rules:
 ///
 ///     Run run(options, program, interpreter_options);
-///     while (run.step() == RunStatus::Working) {}
+///     while (run.advance() == RunStatus::Working) {}
 ///     print(run.summary());
 ///
-/// Nothing is allocated per sample. A failed step (stop rule, servo divergence, a write error)
-/// throws gm::InputError; with options.keep_partial call keep_partial(reason) then.
+/// advance() produces up to a block of samples (kBlockSamples; one in real time), step() one;
+/// both give the same samples and outputs. Nothing is allocated per sample. A failed step (stop
+/// rule, servo divergence, a write error) throws gm::InputError; with options.keep_partial call
+/// keep_partial(reason) then.
 class Run {
  public:
   /// Pulls the canonical moves from `source`. Throws gm::InputError on a bad set-up (machine,
@@ -81,7 +83,10 @@ class Run {
   Run& operator=(const Run&) = delete;
 
   /// Advances one interpolation period T.
-  RunStatus step() { return (this->*step_)(); }
+  RunStatus step() { return (this->*fill_)(1); }
+  /// Advances up to a block of periods (one in real time): Working while the program runs, then
+  /// Finished or Unsettled once (the samples of that call are in the outputs).
+  RunStatus advance() { return (this->*fill_)(realtime_ ? 1 : kBlockSamples); }
 
   /// The last sample produced. With the consumer thread its contour fields are filled on the
   /// consumer's copy, not here (set consumer_thread = false to read them per step).
@@ -108,9 +113,17 @@ class Run {
 
  private:
   void init();
-  /// step() for a machine of N axes (the pipeline's step_n<N>, the queue's push_n<N>).
+  /// Produces up to `max_rows` samples (at most to the end of the current block) for a machine
+  /// of N axes: the pipeline's command_n<N> row by row, then its stages_n<N> over them.
   template <int N>
-  RunStatus step_n();
+  RunStatus fill_n(int max_rows);
+  /// stages_n over rows first.. of `b`; on a servo divergence the rows before it reach the
+  /// outputs before the error is rethrown.
+  template <int N>
+  void stage_rows(SampleBlock& b, int first);
+  /// Hands rows first.. of `b` to the outputs (on this thread: no consumer thread).
+  template <int N>
+  void consume_rows(SampleBlock& b, int first);
   void consume(SampleRecord& r, std::span<const Motion> started);
   void finish(RunStatus status);
 
@@ -128,15 +141,20 @@ class Run {
   std::unique_ptr<TraceWriter> trace_;
   std::optional<ContourMeter> meter_;   ///< with the consumer thread
   std::unique_ptr<SampleQueue> queue_;  ///< last: its thread uses the members above
+  std::unique_ptr<SampleBlock> block_;  ///< the block filled without the consumer thread
   OverrideInput ovr_;
-  SampleRecord rec_;
+  SampleRecord rec_;   ///< the last sample produced
+  SampleRecord crec_;  ///< the consumer's record
   std::int64_t k_ = 0;
   int line_ = 0;
   bool live_open_ = false;
   bool progress_shown_ = false;
+  bool realtime_ = false;
   std::chrono::steady_clock::time_point t0_, next_progress_;
-  /// step_n for the machine's axis count, chosen once in init().
-  RunStatus (Run::*step_)() = nullptr;
+  /// fill_n for the machine's axis count, chosen once in init().
+  RunStatus (Run::*fill_)(int) = nullptr;
+  /// Hands a block to the outputs on the consumer thread (consume_rows for the axis count).
+  void (Run::*consume_block_)(SampleBlock&, int) = nullptr;
 };
 
 }  // namespace gm

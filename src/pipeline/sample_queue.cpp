@@ -1,4 +1,4 @@
-// SampleQueue: batches of samples handed to a consumer thread, in order, bounded memory.
+// SampleQueue: batches of sample blocks handed to a consumer thread, in order, bounded memory.
 #include "pipeline/sample_queue.hpp"
 
 #include <exception>
@@ -6,10 +6,14 @@
 
 namespace gm {
 
-SampleQueue::SampleQueue(Consumer consume)
+SampleQueue::SampleQueue(Consumer consume, std::int64_t first_k)
     : consume_(std::move(consume)),
       fill_(ring_.begin_fill()),
-      thread_([this] { consume_loop(); }) {}
+      block_(&fill_->blocks[0]),
+      thread_([this] { consume_loop(); }) {
+  fill_->used = 0;
+  block_->reset(first_k);
+}
 
 SampleQueue::~SampleQueue() {
   ring_.stop();
@@ -19,33 +23,34 @@ SampleQueue::~SampleQueue() {
 void SampleQueue::hand_over() {
   ring_.end_fill();
   fill_ = ring_.begin_fill();  // waits for a free batch; rethrows the consumer's exception
-  fill_->count = fill_->motion_count = 0;
+  fill_->used = 0;
 }
 
-void SampleQueue::add_motions(std::span<const Motion> started) {
-  if (fill_->motion_count + started.size() > fill_->motions.size() && fill_->count > 0) hand_over();
-  Batch& b = *fill_;
-  while (b.motion_count + started.size() > b.motions.size()) b.grow_motions();
-  for (const Motion& m : started) {
-    b.motions[b.motion_count] = m;
-    b.motion_row[b.motion_count++] = static_cast<std::uint32_t>(b.count);
-  }
+void SampleQueue::next_block(std::int64_t first_k) {
+  if (++fill_->used == kBlocks) hand_over();
+  block_ = &fill_->blocks[fill_->used];
+  block_->reset(first_k);
 }
 
 void SampleQueue::finish() {
-  if (fill_->count > 0) hand_over();
+  const std::int64_t next_k = block_->k0 + block_->count;
+  if (block_->count > 0) {
+    ++fill_->used;
+    hand_over();
+    block_ = &fill_->blocks[0];
+    block_->reset(next_k);
+  } else if (fill_->used > 0) {
+    hand_over();
+    block_ = &fill_->blocks[0];
+    block_->reset(next_k);
+  }
   ring_.wait_empty();
 }
 
 void SampleQueue::consume_loop() {
   while (Batch* b = ring_.begin_take()) {
     try {
-      std::size_t m = 0;
-      for (std::size_t j = 0; j < b->count; ++j) {
-        const std::size_t first = m;
-        while (m < b->motion_count && b->motion_row[m] == j) ++m;
-        consume_(b->records[j], std::span<const Motion>(b->motions.data() + first, m - first));
-      }
+      for (std::size_t j = 0; j < b->used; ++j) consume_(b->blocks[j]);
     } catch (...) {
       ring_.fail(std::current_exception());
       return;

@@ -56,7 +56,7 @@ SweepRow run_one(const SweepSpec& s, const RunPoint& r) {
     o.consumer_thread = false;  // the runs themselves fill the cores
     Run run(std::move(o), program.rewind(), opts);
     RunStatus st;
-    while ((st = run.step()) == RunStatus::Working) {
+    while ((st = run.advance()) == RunStatus::Working) {
     }
     fill_from_summary_json(row, run.summary().json(), m);
     if (st != RunStatus::Finished) row.status = "unsettled", row.error = run.unsettled_reason();

@@ -1,86 +1,111 @@
-// SampleQueue: every record reaches the consumer once, in order; the consumer's exception
-// reaches the producer; destruction mid-run neither hangs nor loses the thread.
+// SampleQueue: every row reaches the consumer once, in order, with its motions; the consumer's
+// exception reaches the producer; destruction mid-run neither hangs nor loses the thread.
 #include "pipeline/sample_queue.hpp"
 
 #include <catch2/catch.hpp>
 
 #include <atomic>
 #include <cstdint>
-#include <span>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
+using gm::SampleBlock;
 using gm::SampleQueue;
-using gm::SampleRecord;
 
-TEST_CASE("sample queue delivers every record once and in order") {
-  for (std::int64_t n : {std::int64_t{0}, std::int64_t{1}, std::int64_t{4095}, std::int64_t{4096},
-                         std::int64_t{4097}, std::int64_t{3 * 4096}, std::int64_t{100003}}) {
+namespace {
+
+constexpr std::int64_t kBatchRows =
+    static_cast<std::int64_t>(SampleQueue::kBlocks) * gm::kBlockSamples;
+
+// Writes row k (line = k % 1000, X command = k) with `motions` motions of lines 1000·k + i, as
+// the pipeline does, and moves on when the block is full.
+void write_row(SampleQueue& q, std::int64_t k, std::size_t motions = 0) {
+  SampleBlock& b = q.block();
+  const int i = b.count;
+  b.line[i] = static_cast<int>(k % 1000);
+  b.cmd_blu.v[0][i] = k;
+  for (std::size_t j = 0; j < motions; ++j) {
+    gm::Motion m;
+    m.line = static_cast<int>(1000 * k + static_cast<std::int64_t>(j));
+    b.motions.push_back(m);
+    b.motion_row.push_back(i);
+  }
+  ++b.count;
+  if (b.full()) q.next_block(k + 1);
+}
+
+}  // namespace
+
+TEST_CASE("sample queue delivers every row once and in order") {
+  for (std::int64_t n :
+       {std::int64_t{0}, std::int64_t{1}, std::int64_t{255}, std::int64_t{256}, std::int64_t{257},
+        kBatchRows - 1, kBatchRows, kBatchRows + 1, 3 * kBatchRows, std::int64_t{100003}}) {
     std::vector<std::int64_t> seen;
     seen.reserve(static_cast<std::size_t>(n));
-    SampleQueue q([&](SampleRecord& r, std::span<const gm::Motion>) { seen.push_back(r.k); });
-    SampleRecord r;
-    for (std::int64_t k = 0; k < n; ++k) {
-      r.k = k;
-      r.line = static_cast<int>(k % 1000);
-      q.push(r);
-    }
+    std::int64_t wrong_k = 0;
+    SampleQueue q(
+        [&](SampleBlock& b) {
+          for (int i = 0; i < b.count; ++i) {
+            seen.push_back(b.cmd_blu.v[0][i]);
+            if (b.k0 + i != b.cmd_blu.v[0][i]) ++wrong_k;  // the block's k0 numbers its rows
+          }
+        },
+        0);
+    for (std::int64_t k = 0; k < n; ++k) write_row(q, k);
     q.finish();  // after finish() the consumer has taken everything
     INFO("n " << n);
     REQUIRE(seen.size() == static_cast<std::size_t>(n));
     for (std::int64_t k = 0; k < n; ++k) REQUIRE(seen[static_cast<std::size_t>(k)] == k);
+    CHECK(wrong_k == 0);
   }
 }
 
-TEST_CASE("sample queue hands each motion to the consumer with the record it was pushed with") {
-  // Motions on every 7th record and on both sides of each batch boundary; line = k marks them.
-  auto has_motion = [](std::int64_t k) {
-    const auto in_batch = k % static_cast<std::int64_t>(SampleQueue::kBatchSize);
-    return k % 7 == 0 || in_batch == 0 ||
-           in_batch == static_cast<std::int64_t>(SampleQueue::kBatchSize) - 1;
-  };
-  const std::int64_t n = 5 * static_cast<std::int64_t>(SampleQueue::kBatchSize) + 11;
-  std::int64_t seen = 0, with_motion = 0, wrong = 0;
-  SampleQueue q([&](SampleRecord& r, std::span<const gm::Motion> ms) {
-    ++seen;
-    const gm::Motion* m = ms.empty() ? nullptr : &ms.back();
-    if (!ms.empty()) ++with_motion;
-    if (ms.size() > 1 || (m != nullptr) != has_motion(r.k) || (m != nullptr && m->line != r.k))
-      ++wrong;
-  });
-  SampleRecord r;
-  gm::Motion motion;
+TEST_CASE("sample queue hands each motion to the consumer with the row it was written with") {
+  // Row k carries k % 5 motions (lines 1000·k + i), and one row 5,000 (the list grows for it).
+  const std::int64_t n = 3 * kBatchRows + 7;
+  std::int64_t wrong = 0, motions = 0, rows = 0;
+  SampleQueue q(
+      [&](SampleBlock& b) {
+        std::size_t m = 0;
+        for (int i = 0; i < b.count; ++i, ++rows) {
+          const std::int64_t k = b.k0 + i;
+          std::size_t here = 0;
+          for (; m < b.motions.size() && b.motion_row[m] == i; ++m, ++here, ++motions)
+            if (b.motions[m].line != static_cast<int>(1000 * k + static_cast<std::int64_t>(here)))
+              ++wrong;
+          if (static_cast<std::int64_t>(here) != (k == n / 2 ? 5000 : k % 5)) ++wrong;
+        }
+        if (m != b.motions.size()) ++wrong;
+      },
+      0);
   std::int64_t expected = 0;
   for (std::int64_t k = 0; k < n; ++k) {
-    r.k = k;
-    motion.line = static_cast<int>(k);
-    const bool with = has_motion(k);
-    expected += with ? 1 : 0;
-    q.push(r, with ? std::span<const gm::Motion>(&motion, 1) : std::span<const gm::Motion>());
+    const auto count = static_cast<std::size_t>(k == n / 2 ? 5000 : k % 5);
+    expected += static_cast<std::int64_t>(count);
+    write_row(q, k, count);
   }
   q.finish();
-  CHECK(seen == n);
-  CHECK(with_motion == expected);
+  CHECK(rows == n);
   CHECK(wrong == 0);
+  CHECK(motions == expected);
 }
 
 TEST_CASE("sample queue rethrows the consumer's exception to the producer") {
-  SampleQueue q([](SampleRecord& r, std::span<const gm::Motion>) {
-    if (r.k == 5000) throw std::runtime_error("disk full at 5000");
-  });
-  SampleRecord r;
+  SampleQueue q(
+      [](SampleBlock& b) {
+        if (b.k0 <= 5000 && 5000 < b.k0 + b.count) throw std::runtime_error("disk full at 5000");
+      },
+      0);
   bool thrown = false;
+  std::int64_t k = 0;
   try {
-    for (std::int64_t k = 0; k < 1000000; ++k) {
-      r.k = k;
-      q.push(r);
-    }
+    for (; k < 1000000; ++k) write_row(q, k);
     q.finish();
   } catch (const std::runtime_error& e) {
     thrown = true;
     CHECK(std::string(e.what()) == "disk full at 5000");
-    CHECK(r.k <
-          5000 + 3 * static_cast<std::int64_t>(SampleQueue::kBatchSize) + 1);  // stopped soon after
+    CHECK(k < 5000 + 3 * kBatchRows + 1);  // stopped soon after
   }
   CHECK(thrown);
 }
@@ -88,38 +113,10 @@ TEST_CASE("sample queue rethrows the consumer's exception to the producer") {
 TEST_CASE("sample queue destroyed mid-run joins its thread") {
   std::atomic<std::int64_t> consumed{0};
   {
-    SampleQueue q([&](SampleRecord&, std::span<const gm::Motion>) { ++consumed; });
-    SampleRecord r;
-    for (std::int64_t k = 0; k < 50000; ++k) q.push(r);
+    SampleQueue q([&](SampleBlock& b) { consumed += b.count; }, 0);
+    for (std::int64_t k = 0; k < 50000; ++k) write_row(q, k);
     // no finish(): the producer gave up (an error, SIGINT); the destructor must not hang
   }
   CHECK(consumed.load() <= 50000);
-  CHECK(consumed.load() >= 50000 - 3 * static_cast<std::int64_t>(SampleQueue::kBatchSize));
-}
-
-TEST_CASE("sample queue hands several motions per record in order, beyond a batch's worth") {
-  // Record k carries k % 5 motions (lines 1000·k + i): 2 per record on average, so batches are
-  // handed over when their 1,024 motions are full, before their 4,096 records are; one record
-  // then carries 5,000 motions (a list grows for it).
-  const std::int64_t n = 3 * static_cast<std::int64_t>(SampleQueue::kBatchSize) + 7;
-  std::int64_t wrong = 0, motions = 0;
-  SampleQueue q([&](SampleRecord& r, std::span<const gm::Motion> ms) {
-    if (static_cast<std::int64_t>(ms.size()) != (r.k == n / 2 ? 5000 : r.k % 5)) ++wrong;
-    for (std::size_t i = 0; i < ms.size(); ++i, ++motions)
-      if (ms[i].line != static_cast<int>(1000 * r.k + static_cast<std::int64_t>(i))) ++wrong;
-  });
-  SampleRecord r;
-  std::vector<gm::Motion> batch(5000);
-  std::int64_t expected = 0;
-  for (std::int64_t k = 0; k < n; ++k) {
-    r.k = k;
-    const auto count = static_cast<std::size_t>(k == n / 2 ? 5000 : k % 5);
-    for (std::size_t i = 0; i < count; ++i)
-      batch[i].line = static_cast<int>(1000 * k + static_cast<std::int64_t>(i));
-    expected += static_cast<std::int64_t>(count);
-    q.push(r, std::span<const gm::Motion>(batch.data(), count));
-  }
-  q.finish();
-  CHECK(wrong == 0);
-  CHECK(motions == expected);
+  CHECK(consumed.load() >= 50000 - 3 * kBatchRows);
 }
