@@ -18,6 +18,10 @@ Interpolator::Interpolator(const InterpolatorConfig& cfg, CanonSource& source)
     constexpr int N = decltype(n)::value;
     return identity ? &Interpolator::step_n<N, true> : &Interpolator::step_n<N, false>;
   });
+  span_ = with_axis_count(cfg_.axes.count, [&](auto n) {
+    constexpr int N = decltype(n)::value;
+    return identity ? &Interpolator::span_n<N, true> : &Interpolator::span_n<N, false>;
+  });
 }
 
 double Interpolator::path_length_mm(const Motion& m) {
@@ -225,6 +229,46 @@ InterpStatus Interpolator::step_n(const OverrideInput& ovr, CommandSample& out) 
   out.events = events;
   out.feed_scale = override_enabled_ && !synced_block_ ? ovr.feed_scale : 1.0;
   return InterpStatus::Working;
+}
+
+template <int N, bool Identity>
+int Interpolator::span_n(const OverrideInput& ovr, int max, BluColumns& out, int row0,
+                         CommandSample& last) {
+  constexpr int kComputedAxes = Identity ? std::max(N, 3) : kMaxAxes;
+  // What step_n does in a sample that starts and ends inside the current motion: nothing waits,
+  // nothing is pulled, the speed does not depend on the position or on the spindle's ramp.
+  if (finished_ || settle_left_ > 0 || dwell_left_s_ > 0.0 || !in_motion_ || pending_events_ != 0 ||
+      spindle_ramp_block_ || css_block_)
+    return 0;
+  if (cfg_.spindle_accel_rpm_s > 0.0 &&
+      (spindle_rpm_ != spindle_target_rpm() || block_.css_surface_mm_min > 0.0))
+    return 0;  // the spindle is still ramping (a change per sample)
+  const double v = block_speed_mm_s(ovr);
+  if (!(v > 0.0)) return 0;
+  const double dt = cfg_.period_s;
+  constexpr double kLengthEps = 1e-9;  // as step_n
+  double blu_mm[N];
+  int program_axis[N];
+  for (int a = 0; a < N; ++a) {
+    blu_mm[a] = cfg_.blu_mm[a];
+    program_axis[a] = Identity ? a : cfg_.axes.index[static_cast<std::size_t>(a)];
+  }
+  int n = 0;
+  for (; n < max; ++n) {
+    if (!(v * dt < geom_.length_mm - s_mm_ - kLengthEps)) break;  // the block ends in this sample
+    s_mm_ += v * dt;
+    geom_.at_fraction_head<kComputedAxes>(s_mm_ / geom_.length_mm, pos_mm_);
+    for (int a = 0; a < N; ++a)
+      out.v[a][row0 + n] = round_half_away(pos_mm_[program_axis[a]] / blu_mm[a]);
+  }
+  if (n > 0) {
+    for (int a = 0; a < N; ++a) last.pos_blu[a] = out.v[a][row0 + n - 1];
+    last.line = line_;
+    last.block_seq = block_seq_;
+    last.events = 0;
+    last.feed_scale = override_enabled_ && !synced_block_ ? ovr.feed_scale : 1.0;
+  }
+  return n;
 }
 
 }  // namespace gm

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "common/axis.hpp"
+#include "common/block_columns.hpp"
 #include "interp/canon.hpp"
 #include "interpolator/geometry.hpp"
 
@@ -68,6 +69,17 @@ class Interpolator {
     return (this->*step_)(ovr, out);
   }
 
+  /// Produces up to `max` samples while only the position changes: the current motion keeps
+  /// moving at one speed for the whole of each sample (no dwell, exact-stop wait, spindle-fed
+  /// speed, block end or event), writing entries 0..N-1 of rows row0.. of `out` (the same
+  /// arithmetic as step(), sample by sample; N is the machine's axis count). Returns the number
+  /// of rows written; 0 when the next sample needs step(). Afterwards `last` holds what step()
+  /// would have left in its CommandSample for the last row. started_motions() is empty.
+  int span(const OverrideInput& ovr, int max, BluColumns& out, int row0, CommandSample& last) {
+    started_.clear();
+    return (this->*span_)(ovr, max, out, row0, last);
+  }
+
   /// The motion blocks that became current during the last step(), in order: none or one in
   /// most samples, several when blocks are shorter than a sample's travel (CAM chords at speed).
   /// The last one is current_motion(). The list's memory is kept from sample to sample.
@@ -89,12 +101,16 @@ class Interpolator {
   /// of out.pos_blu (machine order; the rest untouched).
   template <int N, bool Identity>
   InterpStatus step_n(const OverrideInput& ovr, CommandSample& out);
+  /// span() for a machine of N axes (Identity as for step_n).
+  template <int N, bool Identity>
+  int span_n(const OverrideInput& ovr, int max, BluColumns& out, int row0, CommandSample& last);
 
   InterpolatorConfig cfg_;
   CanonSource& source_;
   Canon scratch_;  ///< reused for every pull (no per-block allocation)
   /// step_n for the machine's axis count and layout, chosen once (with_axis_count).
   InterpStatus (Interpolator::*step_)(const OverrideInput&, CommandSample&) = nullptr;
+  int (Interpolator::*span_)(const OverrideInput&, int, BluColumns&, int, CommandSample&) = nullptr;
 
   Motion block_{};
   std::vector<Motion> started_;  ///< blocks loaded during the current step()

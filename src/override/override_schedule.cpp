@@ -114,4 +114,13 @@ void OverridePlayer::advance(std::int64_t k, int current_line) {
   }
 }
 
+int OverridePlayer::steady_samples(std::int64_t k, int current_line, int max) const {
+  if (current_line != last_line_) return 0;
+  if (next_time_ >= time_changes_.size()) return max;
+  const double t = time_changes_[next_time_].t_s - 1e-9 * period_s_;  // advance()'s test
+  int n = 0;
+  while (n < max && !(static_cast<double>(k + n) * period_s_ >= t)) ++n;
+  return n;
+}
+
 }  // namespace gm

@@ -52,6 +52,11 @@ class OverridePlayer {
   /// the previous sample (a line change takes effect at the next sample, like any change).
   void advance(std::int64_t k, int current_line);
 
+  /// How many samples from k on (at most `max`) advance(k', current_line) would leave unchanged
+  /// while the line stays `current_line`: none when that is not the line advance() saw last,
+  /// else the samples before the next change in time.
+  int steady_samples(std::int64_t k, int current_line, int max) const;
+
   double feed_scale() const { return feed_percent_ / 100.0; }
   double feed_percent() const { return feed_percent_; }
   double rapid_percent() const { return rapid_percent_; }

@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -138,6 +139,25 @@ PipelineStatus Pipeline::command_n(const OverrideInput& ovr, SampleBlock& b) {
   ++unstaged_;
   ++k_;
   return PipelineStatus::Working;
+}
+
+template <int N>
+int Pipeline::command_span_n(const OverrideInput& ovr, SampleBlock& b, int max) {
+  if (program_done_) return 0;
+  const int i0 = b.count;
+  const int n = interp_.span(ovr, std::min(max, kBlockSamples - i0), b.cmd_blu, i0, cmd_);
+  started_ = {};
+  for (int i = i0; i < i0 + n; ++i) {
+    b.line[i] = cmd_.line;
+    b.events[i] = 0u;
+    b.feed_scale[i] = cmd_.feed_scale;
+    b.settling[i] = false;
+  }
+  if (n > 0) last_cmd_blu_.head<N>() = cmd_.pos_blu.head<N>();
+  b.count += n;
+  unstaged_ += n;
+  k_ += n;
+  return n;
 }
 
 template <int N>

@@ -72,6 +72,11 @@ class Pipeline {
   /// (nothing done). `b` must not be full; the rows before it are the previous samples.
   template <int N>
   PipelineStatus command_n(const OverrideInput& ovr, SampleBlock& b);
+  /// Interpolates up to `max` more rows of `b` (from row b.count) with override `ovr` while
+  /// nothing but the position changes (Interpolator::span); returns how many (0: use
+  /// command_n). The caller guarantees the override stays `ovr` for those samples.
+  template <int N>
+  int command_span_n(const OverrideInput& ovr, SampleBlock& b, int max);
   /// Acc/Dec and servo over rows first .. first+count-1 of `b`, commanded by command_n and not
   /// staged yet, in order. Throws gm::InputError when the servo diverges, after setting b.count
   /// to the row it diverged in (the rows before it are complete).

@@ -201,6 +201,31 @@ RunStatus Run::fill_n(int max_rows) {
           t0_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                     std::chrono::duration<double>(t_s + o.config.machine.period_s)));
     if (pipeline_.program_done()) break;  // one settling row at a time
+    // Inside a move, while the override stays as it is, the rows that follow need none of the
+    // above per row: the interpolator runs them as one span. (The player has seen the line the
+    // span stays on, so no line change can fire in it; the time changes bound it.)
+    if (realtime_ || b.count == limit) continue;
+    const int room = player_.steady_samples(k_, line_, limit - b.count);
+    const int span = room > 0 ? pipeline_.command_span_n<N>(ovr_, b, room) : 0;
+    if (span == 0) continue;
+    const int r0 = b.count - span;
+    k_ += span;
+    if (o.interrupted != nullptr && *o.interrupted != 0) {
+      b.count = r0 + 1;  // as if the signal came before the span's first row
+      stop = fmt::format("interrupted at t = {:.3f} s (line {}){}",
+                         static_cast<double>(b.k0 + r0) * o.config.machine.period_s, line_,
+                         o.keep_partial ? "" : "; no trace was kept");
+      break;
+    }
+    if (o.max_time_s > 0 &&
+        static_cast<double>(b.k0 + b.count - 1) * o.config.machine.period_s > o.max_time_s) {
+      int r = r0;
+      while (!(static_cast<double>(b.k0 + r) * o.config.machine.period_s > o.max_time_s)) ++r;
+      b.count = r + 1;
+      stop = fmt::format("run stopped at --max-time {} s (line {}, feed override {} %)",
+                         o.max_time_s, line_, player_.feed_percent());
+      break;
+    }
   }
   if (b.count > staged) stage_rows<N>(b, staged);
   if (b.count > first) b.record<N>(b.count - 1, o.config.machine.period_s, rec_);

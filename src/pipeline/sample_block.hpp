@@ -16,11 +16,11 @@ namespace gm {
 /// the machine's axis order; only axes 0..N-1 are written. The contour fields of a SampleRecord
 /// are not here: the consumer measures them.
 struct SampleBlock {
-  std::int64_t k0 = 0;  ///< sample index of row 0
-  int count = 0;        ///< rows filled
-  BluColumns cmd_blu;   ///< interpolator output
-  BluColumns ref_blu;   ///< Acc/Dec output
-  BluColumns enc_blu;   ///< encoder counts
+  std::int64_t k0 = 0;    ///< sample index of row 0
+  int count = 0;          ///< rows filled
+  BluColumns cmd_blu;     ///< interpolator output
+  BluColumns ref_blu;     ///< Acc/Dec output
+  BluColumns enc_blu;     ///< encoder counts
   RealColumns table_blu;  ///< table position at the sample instant (BLU, continuous)
   int line[kBlockSamples];
   std::uint32_t events[kBlockSamples];
