@@ -6,9 +6,13 @@
 #   - the same for a 10^6-iteration O-word `while` loop of arithmetic, SIN and a G1
 #     (tests/diff/lang/loop_arith.ngc with its count raised; rs274 once, it takes minutes);
 #   - `gmotion run` without a trace (default machine: 3 axes, blackman, tau 0.164 s, T 4 ms,
-#     servo on): samples/s and peak RSS;
+#     servo on and off): samples/s and peak RSS, on the short-move program and on a long-move one
+#     (gen_bench_program.py --long: every move >= 100 samples), and per profile family on the
+#     long-move program;
 #   - `gmotion run` on the same program with A, B, C moving on a six-axis machine (--axes XYZABC);
-#   - `gmotion run --trace FILE.csv`: rows/s, trace size;
+#   - `gmotion run --trace`: CSV rows/s to /dev/null and to a file, binary rows/s to a file;
+#   - with --instructions: callgrind's instructions per sample on each thread of the long-move
+#     run, and the per-stage breakdown of the main thread (valgrind; slow: about a minute);
 #   - per-sample step latency (tests/bench/latency.cpp) on the first 100,000 blocks;
 #   - with --big: peak RSS of check and run on a 10 MB and a 1 GB program (the 10 MB body
 #     repeated; each copy starts with a rapid back to the origin), to show it stays flat;
@@ -17,17 +21,18 @@
 # the 1 GB ones (this machine's speed varies by tens of percent from minute to minute).
 # Prints a Markdown table at the end. Work files go to build-bench/e2e/ (ignored by git).
 #
-# Usage: tools/bench.sh [--blocks N] [--big] [--micro]
+# Usage: tools/bench.sh [--blocks N] [--big] [--micro] [--instructions]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-blocks=1000000 big=0 micro=0
+blocks=1000000 big=0 micro=0 instructions=0
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --blocks) blocks=$2; shift 2 ;;
     --big) big=1; shift ;;
     --micro) micro=1; shift ;;
-    *) echo "usage: tools/bench.sh [--blocks N] [--big] [--micro]" >&2; exit 2 ;;
+    --instructions) instructions=1; shift ;;
+    *) echo "usage: tools/bench.sh [--blocks N] [--big] [--micro] [--instructions]" >&2; exit 2 ;;
   esac
 done
 
@@ -99,10 +104,53 @@ measure 3 "$bin/gmotion" run "$prog6" --axes XYZABC --summary-json "$work/summar
 samples6=$(samples_of "$work/summary6.json")
 rows+=("| \`gmotion run --axes XYZABC\`, six axes moving, no trace | $(calc "%.2f" "$samples6 / 1e6 / $secs") M samples/s | $samples6 samples in $secs s, peak RSS $((rss_kb / 1024)) MB |")
 
+# Long moves: every move takes at least 100 samples (what the block engine's headline is on).
+long=$work/long-20000.nc
+[[ -s "$long" ]] || python3 tools/gen_bench_program.py --blocks 20000 --long -o "$long"
+measure 3 "$bin/gmotion" run "$long" --summary-json "$work/summary-long.json"
+lsamples=$(samples_of "$work/summary-long.json")
+rows+=("| long moves, \`gmotion run\`, no trace, servo on | $(calc "%.2f" "$lsamples / 1e6 / $secs") M samples/s | $lsamples samples in $secs s, peak RSS $((rss_kb / 1024)) MB |")
+measure 3 "$bin/gmotion" run "$long" --no-servo
+rows+=("| long moves, \`gmotion run --no-servo\` | $(calc "%.2f" "$lsamples / 1e6 / $secs") M samples/s | $secs s |")
+for prof in linear scurve2 hann cascade:11,11,11; do
+  measure 3 "$bin/gmotion" run "$long" --profile "$prof" --summary-json "$work/summary-prof.json"
+  ps=$(samples_of "$work/summary-prof.json")
+  rows+=("| long moves, \`--profile $prof\`, servo on | $(calc "%.2f" "$ps / 1e6 / $secs") M samples/s | $ps samples in $secs s |")
+done
+measure 3 "$bin/gmotion" run "$long" --trace /dev/null
+rows+=("| long moves, \`--trace /dev/null\` (CSV) | $(calc "%.2f" "$lsamples / 1e6 / $secs") M rows/s | $secs s |")
+measure 1 "$bin/gmotion" run "$long" --trace "$work/trace.csv"
+trace_mb=$(calc "%.0f" "$(stat -c %s "$work/trace.csv") / 1e6")
+rm -f "$work/trace.csv"
+rows+=("| long moves, \`--trace FILE.csv\` | $(calc "%.2f" "$lsamples / 1e6 / $secs") M rows/s | $secs s, $trace_mb MB of CSV |")
+measure 1 "$bin/gmotion" run "$long" --trace "$work/trace.bin" --trace-format bin
+trace_mb=$(calc "%.0f" "$(stat -c %s "$work/trace.bin") / 1e6")
+rm -f "$work/trace.bin"
+rows+=("| long moves, \`--trace FILE --trace-format bin\` | $(calc "%.2f" "$lsamples / 1e6 / $secs") M rows/s | $secs s, $trace_mb MB |")
+
 measure 1 "$bin/gmotion" run "$prog" --trace "$work/trace.csv"
 trace_mb=$(calc "%.0f" "$(stat -c %s "$work/trace.csv") / 1e6")
 rm -f "$work/trace.csv"
 rows+=("| \`gmotion run --trace FILE.csv\` | $(calc "%.2f" "$samples / 1e6 / $secs") M rows/s | $secs s, $trace_mb MB of CSV, peak RSS $((rss_kb / 1024)) MB |")
+
+if ((instructions)) && command -v valgrind >/dev/null; then
+  # Instructions per sample, per thread, on 1,000 long moves; the main thread's stages.
+  small_long=$work/long-1000.nc
+  [[ -s "$small_long" ]] || python3 tools/gen_bench_program.py --blocks 1000 --long -o "$small_long"
+  rm -f "$work"/callgrind.out.*
+  (cd "$work" && valgrind --tool=callgrind --separate-threads=yes "../bin/gmotion" run \
+    "$(basename "$small_long")" --summary-json summary-cg.json >/dev/null 2>&1)
+  cs=$(samples_of "$work/summary-cg.json")
+  for f in "$work"/callgrind.out.*-0[12]; do
+    total=$(callgrind_annotate "$f" 2>/dev/null | awk '/PROGRAM TOTALS/{gsub(",","",$1); print $1}')
+    rows+=("| instructions a sample, thread ${f##*-} (callgrind, 1,000 long moves) | $(calc "%.0f" "$total / $cs") | $cs samples |")
+  done
+  while read -r ir _ fn; do
+    fn=${fn#???:}
+    rows+=("| main thread: \`${fn%%(*}\` | $(calc "%.0f" "${ir//,/} / $cs") instructions a sample | inclusive |")
+  done < <(callgrind_annotate --inclusive=yes "$work"/callgrind.out.*-01 2>/dev/null |
+    grep -E 'stages_n|stage_row|step_block|command_n|command_span|Interpolator::span|FirAccDec|ServoBank|ServoAxis::step')
+fi
 
 lat_prog=$work/bench-100000.nc
 gen 100000 "$lat_prog"
