@@ -254,12 +254,36 @@ int Interpolator::span_n(const OverrideInput& ovr, int max, BluColumns& out, int
     program_axis[a] = Identity ? a : cfg_.axes.index[static_cast<std::size_t>(a)];
   }
   int n = 0;
-  for (; n < max; ++n) {
-    if (!(v * dt < geom_.length_mm - s_mm_ - kLengthEps)) break;  // the block ends in this sample
-    s_mm_ += v * dt;
-    geom_.at_fraction_head<kComputedAxes>(s_mm_ / geom_.length_mm, pos_mm_);
-    for (int a = 0; a < N; ++a)
-      out.v[a][row0 + n] = round_half_away(pos_mm_[program_axis[a]] / blu_mm[a]);
+  if (geom_.kind == MotionKind::Arc) {
+    for (; n < max; ++n) {
+      if (!(v * dt < geom_.length_mm - s_mm_ - kLengthEps)) break;  // the block ends in it
+      s_mm_ += v * dt;
+      geom_.at_fraction_head<kComputedAxes>(s_mm_ / geom_.length_mm, pos_mm_);
+      for (int a = 0; a < N; ++a)
+        out.v[a][row0 + n] = round_half_away(pos_mm_[program_axis[a]] / blu_mm[a]);
+    }
+  } else {
+    // Lines and rapids: the path lengths first (a running sum, as step_n adds them), then each
+    // axis over the span at_fraction_head's way, start + u·(end − start), column by column.
+    double s_at[kBlockSamples];
+    const double L = geom_.length_mm;
+    for (; n < max; ++n) {
+      if (!(v * dt < L - s_mm_ - kLengthEps)) break;  // the block ends in this sample
+      s_mm_ += v * dt;
+      s_at[n] = s_mm_;
+    }
+    for (int a = 0; a < N; ++a) {
+      const int pa = program_axis[a];
+      const double p0 = geom_.start_mm[pa], p1 = geom_.end_mm[pa], d = p1 - p0, blu = blu_mm[a];
+      std::int64_t* col = out.v[a] + row0;
+      for (int i = 0; i < n; ++i) {
+        const double u = s_at[i] / L;
+        const double x = u >= 1.0 ? p1 : u <= 0.0 ? p0 : p0 + u * d;
+        col[i] = round_half_away(x / blu);
+      }
+    }
+    // The interpolator's position, as after the last sample.
+    if (n > 0) geom_.at_fraction_head<kComputedAxes>(s_mm_ / L, pos_mm_);
   }
   if (n > 0) {
     for (int a = 0; a < N; ++a) last.pos_blu[a] = out.v[a][row0 + n - 1];
