@@ -150,11 +150,11 @@ void TraceWriter::write_csv(const SampleRecord& s) {
   char* p = buf_.data() + at;
   visit_trace_row(s, axes_, [&](auto kind, auto value) {
     if constexpr (kind() == TraceKind::Time) {
-      p = put_fixed(p, value, 6);
+      p = put_fixed_n<6>(p, value);
     } else if constexpr (kind() == TraceKind::Line || kind() == TraceKind::Count) {
       p = put_int(p, value);
     } else if constexpr (kind() == TraceKind::Fixed3) {
-      p = put_fixed(p, value, 3);
+      p = put_fixed_n<3>(p, value);
     } else {
       static_assert(kind() == TraceKind::Percent);
       const double pct = value;

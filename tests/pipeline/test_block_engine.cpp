@@ -47,8 +47,7 @@ Outcome run(const std::string& program, const std::string& schedule, Drive drive
   o.keep_partial = max_time_s > 0.0;
   o.max_time_s = max_time_s;
   o.consumer_thread = drive == Drive::AdvanceThreaded;
-  if (!schedule.empty())
-    o.schedule = gm::OverrideSchedule::parse(schedule, "schedule.csv", 200.0);
+  if (!schedule.empty()) o.schedule = gm::OverrideSchedule::parse(schedule, "schedule.csv", 200.0);
   Outcome out;
   std::istringstream in(program);
   {
@@ -75,8 +74,8 @@ Outcome run(const std::string& program, const std::string& schedule, Drive drive
   return out;
 }
 
-void require_same(const std::string& program, const std::string& schedule,
-                  double max_time_s = 0.0, bool servo = true) {
+void require_same(const std::string& program, const std::string& schedule, double max_time_s = 0.0,
+                  bool servo = true) {
   const Outcome a = run(program, schedule, Drive::Step, max_time_s, servo);
   const Outcome b = run(program, schedule, Drive::Advance, max_time_s, servo);
   const Outcome c = run(program, schedule, Drive::AdvanceThreaded, max_time_s, servo);

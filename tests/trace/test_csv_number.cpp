@@ -9,6 +9,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -83,4 +84,30 @@ TEST_CASE("put_int writes what fmt {} writes") {
        {std::int64_t{0}, std::int64_t{-1}, std::int64_t{7},
         std::numeric_limits<std::int64_t>::min(), std::numeric_limits<std::int64_t>::max()})
     CHECK(fast_int(v) == fmt::format("{}", v));
+}
+
+TEST_CASE("put_int: every digit count, its edges, and a seeded sweep") {
+  // The digit count comes from the bit width; the edges 10^d − 1, 10^d and 2^b ± 1 are where
+  // an off-by-one in it would show.
+  std::vector<std::int64_t> values;
+  std::int64_t p = 1;
+  for (int d = 0; d <= 18; ++d, p *= 10)
+    for (std::int64_t v : {p - 1, p, p + 1}) values.insert(values.end(), {v, -v});
+  for (int b = 0; b < 63; ++b) {
+    const std::int64_t v = std::int64_t{1} << b;
+    values.insert(values.end(), {v - 1, v, v + 1, -(v - 1), -v, -(v + 1)});
+  }
+  std::mt19937_64 rng(20261126);
+  for (int i = 0; i < 100000; ++i) {
+    const auto digits = static_cast<int>(rng() % 19);
+    std::int64_t bound = 1;
+    for (int d = 0; d < digits; ++d) bound *= 10;
+    const auto v = static_cast<std::int64_t>(rng() % static_cast<std::uint64_t>(bound * 9 + 1));
+    values.push_back(rng() % 2 == 0 ? v : -v);
+  }
+  std::size_t wrong = 0;
+  for (std::int64_t v : values)
+    if (fast_int(v) != fmt::format("{}", v)) ++wrong;
+  CHECK(wrong == 0);
+  CHECK(values.size() > 100000);
 }
