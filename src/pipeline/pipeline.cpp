@@ -59,14 +59,9 @@ Pipeline::Pipeline(const RunConfig& cfg, CanonSource& source)
       meter_(contour_meter()),
       in_blu_(AxisBlu::Zero()),
       ref_blu_(AxisBlu::Zero()),
-      enc_blu_(AxisBlu::Zero()),
       last_cmd_blu_(AxisBlu::Zero()) {
-  if (cfg_.servo) {
-    for (int a = 0; a < axes_; ++a)
-      servo_[static_cast<std::size_t>(a)].emplace(cfg_.machine.axes[static_cast<std::size_t>(a)],
-                                                  cfg_.machine.period_s,
-                                                  cfg_.machine.servo_substeps, 0);
-  }
+  if (cfg_.servo)
+    servo_.emplace(cfg_.machine, axes_, cfg_.machine.period_s, cfg_.machine.servo_substeps);
   // Axes with their own Acc/Dec (past X, Y, Z; machine_file.cpp refuses it for the path axes):
   // a one-axis filter each, whose output replaces the shared filter's for that axis.
   for (int a = 0; a < axes_; ++a) {
@@ -161,46 +156,40 @@ int Pipeline::command_span_n(const OverrideInput& ovr, SampleBlock& b, int max) 
 }
 
 template <int N>
-inline void Pipeline::stage_row(SampleBlock& b, int i) {
+inline void Pipeline::accdec_row(SampleBlock& b, int i) {
   for (int a = 0; a < N; ++a) in_blu_[a] = b.cmd_blu.v[a][i];
   accdec_.step_n<N>(in_blu_, ref_blu_);
   if (!own_accdec_.empty()) [[unlikely]]
     step_own_accdec();
-  if (cfg_.servo) {
-    bool quiet = true;
-    for (int a = 0; a < N; ++a) {
-      ServoAxis& s = *servo_[static_cast<std::size_t>(a)];
-      table_blu_[a] = s.table_blu();  // at the start of the period, the instant the count is read
-      try {
-        enc_blu_[a] = s.step(ref_blu_[a]);
-      } catch (const InputError& e) {
-        b.count = i;
-        throw InputError(fmt::format(
-            "axis {} at t = {:.3f} s (line {}): {}", cfg_.machine.layout.letter(a),
-            static_cast<double>(b.k0 + i) * cfg_.machine.period_s, b.line[i], e.what()));
-      }
-      // The motor hunts inside one count at standstill (quantised feedback), so settling is
-      // judged on the encoder alone: within ±1 count of the reference.
-      quiet = quiet && std::llabs(enc_blu_[a] - ref_blu_[a]) <= 1;
-    }
-    quiet_samples_ = quiet ? quiet_samples_ + 1 : 0;
-  } else {
-    enc_blu_.head<N>() = ref_blu_.head<N>();
-    table_blu_.head<N>() = ref_blu_.head<N>().template cast<double>();
-  }
-  for (int a = 0; a < N; ++a) {
-    b.ref_blu.v[a][i] = ref_blu_[a];
-    b.enc_blu.v[a][i] = enc_blu_[a];
-    b.table_blu.v[a][i] = table_blu_[a];
-  }
+  for (int a = 0; a < N; ++a) b.ref_blu.v[a][i] = ref_blu_[a];
 }
 
 template <int N>
 void Pipeline::stages_n(SampleBlock& b, int first, int count) {
-  for (int i = first; i < first + count; ++i) {
-    stage_row<N>(b, i);
-    --unstaged_;
+  // Acc/Dec over the rows, then the servo over them.
+  for (int i = first; i < first + count; ++i) accdec_row<N>(b, i);
+  if (cfg_.servo) {
+    const int done = servo_->step_block<N>(b.ref_blu, b.enc_blu, b.table_blu, first, count);
+    if (done < count) {
+      const int i = first + done;
+      b.count = i;  // the rows before the divergence are complete
+      unstaged_ = 0;
+      throw InputError(fmt::format("axis {} at t = {:.3f} s (line {}): {}",
+                                   cfg_.machine.layout.letter(servo_->diverged_axis()),
+                                   static_cast<double>(b.k0 + i) * cfg_.machine.period_s, b.line[i],
+                                   servo_->divergence()));
+    }
+    // The motor hunts inside one count at standstill (quantised feedback), so settling is
+    // judged on the encoder alone: within ±1 count of the reference.
+    quiet_samples_ = servo_->quiet_run();
+  } else {
+    for (int a = 0; a < N; ++a)
+      for (int i = first; i < first + count; ++i) {
+        b.enc_blu.v[a][i] = b.ref_blu.v[a][i];
+        b.table_blu.v[a][i] = static_cast<double>(b.ref_blu.v[a][i]);
+      }
   }
+  unstaged_ -= count;
 }
 
 template <int N>

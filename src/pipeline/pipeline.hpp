@@ -10,7 +10,7 @@
 #include "pipeline/contour_meter.hpp"
 #include "pipeline/sample_block.hpp"
 #include "pipeline/sample_record.hpp"
-#include "servo/servo_axis.hpp"
+#include "servo/servo_bank.hpp"
 
 #include <array>
 #include <cstdint>
@@ -100,9 +100,9 @@ class Pipeline {
 
  private:
   bool settled() const;
-  /// Acc/Dec and servo for one row (the per-sample form of stages_n).
+  /// Acc/Dec for one row.
   template <int N>
-  void stage_row(SampleBlock& b, int i);
+  void accdec_row(SampleBlock& b, int i);
   /// The axes with their own Acc/Dec: their filters' outputs replace the shared one's (out of
   /// line, so that the common path stays as it was).
   [[gnu::noinline]] void step_own_accdec();
@@ -119,15 +119,14 @@ class Pipeline {
   std::vector<OwnAccDec> own_accdec_;
   AxisBlu one_in_blu_ = AxisBlu::Zero(), one_out_blu_ = AxisBlu::Zero();
   int axes_;  ///< the machine's axis count (entries 0..axes_-1 of the per-axis vectors)
-  std::array<std::optional<ServoAxis>, kMaxAxes> servo_;
+  std::optional<ServoBank> servo_;  ///< every axis's servo (with cfg_.servo)
   std::int64_t lag_samples_;  ///< Acc/Dec length + servo lag: how long a past block can be nearest
   ContourMeter meter_;        ///< used unless defer_contour
   CommandSample cmd_{};
-  AxisBlu in_blu_, ref_blu_, enc_blu_, last_cmd_blu_;
+  AxisBlu in_blu_, ref_blu_, last_cmd_blu_;
   int unstaged_ = 0;  ///< rows commanded and not yet staged
   SampleBlock one_;   ///< step()'s block of one row
-  MachineVec table_blu_ =
-      MachineVec::Zero();  ///< table positions (BLU, continuous) at the sample instant
+                      ///< table positions (BLU, continuous) at the sample instant
   std::int64_t k_ = 0;
   std::uint64_t seen_block_ = 0;
   std::span<const Motion> started_;

@@ -60,6 +60,9 @@ class DiscretePlant {
 
   const Matrix& ad() const { return ad_; }
   const State& bd() const { return bd_; }
+  /// The state z = [x; p] (length order() + 1), for ServoBank, which steps it in SIMD lanes.
+  const State& state() const { return z_; }
+  void set_state(const State& z) { z_ = z; }
 
  private:
   template <int M>

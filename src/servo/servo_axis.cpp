@@ -70,11 +70,15 @@ std::int64_t ServoAxis::step(std::int64_t ref_blu) {
   // An unstable loop (plant, gains or period) sends the motor off without bound; stop before
   // the counts leave the range where they are exact and ref - count cannot overflow.
   if (!(std::fabs(plant_.position_blu()) < kMaxPositionBlu))
-    throw InputError(fmt::format(
-        "servo diverged: the motor is at {:.3g} BLU after following a reference of {} BLU; "
-        "the loop is unstable with this plant, these gains and this period",
-        plant_.position_blu(), ref_blu));
+    throw InputError(divergence_message(plant_.position_blu(), ref_blu));
   return count0;
+}
+
+std::string ServoAxis::divergence_message(double position_blu, std::int64_t ref_blu) {
+  return fmt::format(
+      "servo diverged: the motor is at {:.3g} BLU after following a reference of {} BLU; "
+      "the loop is unstable with this plant, these gains and this period",
+      position_blu, ref_blu);
 }
 
 void ServoAxis::step_velocity(double v_ref_blu_s) {

@@ -5,6 +5,7 @@
 #include "servo/discrete_plant.hpp"
 
 #include <cstdint>
+#include <string>
 
 namespace gm {
 
@@ -39,6 +40,9 @@ class ServoAxis {
   /// instant the reference ref_blu belongs to (what a controller logs next to its reference).
   /// Throws gm::InputError when the loop has diverged (see kMaxPositionBlu).
   std::int64_t step(std::int64_t ref_blu);
+  /// The message step() throws when the motor is at `position_blu` (relative to its start)
+  /// after following `ref_blu`.
+  static std::string divergence_message(double position_blu, std::int64_t ref_blu);
 
   /// One period T with the position loop open: the velocity loop follows v_ref_blu_s (BLU/s).
   /// For velocity step responses and diagnostics; do not mix with step() on the same object.
@@ -53,6 +57,40 @@ class ServoAxis {
   /// Equal to motor_blu() when backlash_blu = 0. A DBB/linear scale would measure this.
   double table_blu() const { return static_cast<double>(start_blu_) + table_rel_; }
   double drive_limit() const { return u_max_; }  ///< saturation level of the drive command
+  /// Everything step() changes, for ServoBank (the axes in SIMD lanes): it copies an axis's
+  /// state out to its lanes and back when a sample must run here instead.
+  struct Dynamic {
+    DiscretePlant::State z;
+    std::int64_t prev_count = 0, prev_ref = 0;
+    bool have_ref = false;
+    double integ = 0.0, u = 0.0, table_rel = 0.0;
+    bool saturated = false;
+  };
+  Dynamic dynamic() const {
+    return {plant_.state(), prev_count_, prev_ref_, have_ref_, integ_, u_, table_rel_, saturated_};
+  }
+  void set_dynamic(const Dynamic& d) {
+    plant_.set_state(d.z);
+    prev_count_ = d.prev_count;
+    prev_ref_ = d.prev_ref;
+    have_ref_ = d.have_ref;
+    integ_ = d.integ;
+    u_ = d.u;
+    table_rel_ = d.table_rel;
+    saturated_ = d.saturated;
+  }
+  const DiscretePlant& plant() const { return plant_; }
+  VelocityLoopForm form() const { return form_; }
+  double kvp() const { return kvp_; }
+  double kvi() const { return kvi_; }
+  double kp() const { return kp_; }
+  double kv_period_s() const { return kv_period_s_; }
+  double kv_over_h() const { return kv_over_h_; }
+  double h_over_kv() const { return h_over_kv_; }
+  int substeps() const { return substeps_; }
+  double half_backlash_blu() const { return half_backlash_; }
+  double coulomb_drive() const { return u_coulomb_; }
+  std::int64_t start_blu() const { return start_blu_; }
   double drive_N_per_unit() const { return n_per_unit_; }  ///< force per drive unit, N
 
  private:

@@ -1,0 +1,80 @@
+// The servo of every axis of a machine over a block of samples, the axes as SIMD lanes.
+#pragma once
+
+#include "common/block_columns.hpp"
+#include "common/isa.hpp"
+#include "machine/machine.hpp"
+#include "servo/servo_axis.hpp"
+
+#include <string>
+#include <vector>
+
+namespace gm {
+
+/// The machine's axes' servos (ServoAxis each) stepped together over rows of a block: what N
+/// ServoAxis objects stepped sample by sample give, bit for bit. When every axis has a plant of
+/// the same order (1 or 2) and no Coulomb friction, and there are at most eight, the axes are
+/// the lanes of one vector (four lanes up to four axes, eight up to eight) and every lane does
+/// ServoAxis's operations in its order (no fused multiply-add: the kernel's file is compiled
+/// with -ffp-contract=off); otherwise, and for a sample in which a lane's position leaves the
+/// range the vector rounding is exact in (|p| ≥ 9.2e18, a loop long diverged), the ServoAxis
+/// objects themselves run. Allocates only in the constructor.
+class ServoBank {
+ public:
+  /// The servos of the first `axes` axes of `m` at period T = period_s with `substeps`
+  /// (Machine::servo_substeps). Throws gm::InputError as ServoAxis does.
+  ServoBank(const Machine& m, int axes, double period_s, int substeps);
+
+  /// Rows first .. first+n-1 (first + n ≤ kBlockSamples): for each row and axis, table = the
+  /// table position at the start of the period, enc = the count ServoAxis::step(ref) returns.
+  /// Returns n, or the number of rows done before the row in which an axis diverged (see
+  /// divergence()); the bank is not to be stepped again after that.
+  template <int N>
+  int step_block(const BluColumns& ref, BluColumns& enc, RealColumns& table, int first, int n);
+
+  /// Samples in a row, up to the last one stepped, in which every axis read within one count of
+  /// its reference (the pipeline's settling rule).
+  int quiet_run() const { return quiet_run_; }
+  /// After step_block stopped early: the axis and ServoAxis's message.
+  int diverged_axis() const { return diverged_axis_; }
+  const std::string& divergence() const { return divergence_; }
+  /// The axes run as SIMD lanes (else as ServoAxis objects).
+  bool lanes() const { return lanes_ > 0; }
+  /// Tests only: run the lane kernel compiled for `isa` (at most active_isa()).
+  void set_isa_for_testing(Isa isa);
+
+  /// The lanes' state; public only for the kernel (servo_bank.cpp).
+  struct alignas(64) LaneState {
+    double z[3][8];
+    double integ[8], u[8], table_rel[8];
+    std::int64_t prev_count[8], prev_ref[8], start[8];
+  };
+  /// The lanes' parameters (unused lanes copy lane 0's and stay at rest).
+  struct alignas(64) LaneParams {
+    double a[9][8];   ///< Ad, column-major a[j·M + i]
+    double bd[3][8];  ///< Bd
+    double kp[8], kvp[8], kvi[8], kv_period[8], kv_over_h[8], h_over_kv[8], u_max[8], hb[8];
+    std::int64_t ip[8];  ///< -1: Ip form, 0: Pi form
+  };
+
+ private:
+  template <int N>
+  int step_axes(const BluColumns& ref, BluColumns& enc, RealColumns& table, int first, int n);
+  void to_axes(const LaneState& s);    ///< lanes -> ServoAxis objects
+  void from_axes(LaneState& s) const;  ///< ServoAxis objects -> lanes
+
+  std::vector<ServoAxis> axes_;
+  int count_ = 0;
+  int lanes_ = 0;  ///< 4 or 8 when the lanes run, 0 otherwise
+  int order_ = 0;  ///< plant order of every axis (lanes)
+  int substeps_ = 1;
+  Isa isa_ = Isa::Portable;
+  bool have_ref_ = false;
+  int quiet_run_ = 0;
+  int diverged_axis_ = -1;
+  std::string divergence_;
+  LaneState state_{};
+  LaneParams params_{};
+};
+
+}  // namespace gm
