@@ -138,6 +138,18 @@ FirAccDec::FirAccDec(const Taps& taps, const AxisBlu& start_pos_blu, FirStructur
   taps_oldest_first_.assign(taps_.rbegin(), taps_.rend());
   fast_limit_ = ((std::int64_t{1} << 53) - 1) / b_s_;
   use_avx2_ = cpu_has_avx2();
+  isa_ = active_isa();
+  // step_block skips zero end taps (b_0 = 0 in many profiles); symmetric taps stay symmetric.
+  k0_ = static_cast<int>(std::find_if(taps_oldest_first_.begin(), taps_oldest_first_.end(),
+                                      [](double b) { return b != 0.0; }) -
+                         taps_oldest_first_.begin());
+  k1_ = length_ - 1 -
+        static_cast<int>(std::find_if(taps_oldest_first_.rbegin(), taps_oldest_first_.rend(),
+                                      [](double b) { return b != 0.0; }) -
+                         taps_oldest_first_.rbegin());
+  block_rel_.assign(static_cast<std::size_t>(length_ + kBlockSamples), 0);
+  block_rel_real_.assign(static_cast<std::size_t>(length_ - 1 + kBlockSamples), 0.0);
+  block_sums_.assign(static_cast<std::size_t>(kBlockSamples), 0.0);
 }
 
 FirAccDec::Acc FirAccDec::convolve(int axis) const {

@@ -3,6 +3,8 @@
 
 #include "accdec/taps.hpp"
 #include "common/axis.hpp"
+#include "common/block_columns.hpp"
+#include "common/isa.hpp"
 
 #include <Eigen/Core>
 
@@ -50,6 +52,15 @@ class FirAccDec {
   /// time: what the pipeline calls every sample (instantiated for GM_FOR_EACH_AXIS_COUNT).
   template <int N>
   void step_n(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu);
+  /// n consecutive samples (1..kBlockSamples) at once: out.v[a][i] for a < N, i < n is what n
+  /// calls of step_n<N> on in.v[.][i] give, bit for bit, and the filter is left as they leave
+  /// it (any mix of step_n and step_block calls gives step_n's outputs). Per axis the outputs
+  /// are computed vectorised over time (8 or 4 samples a vector, see isa()) while every relative
+  /// position of the window (the last N+1 samples before the block and the block) is within
+  /// exact_limit(); otherwise this block runs step_n sample by sample. Allocates nothing;
+  /// nothing of `out` past sample n or axis N is written. Instantiated for GM_FOR_EACH_AXIS_COUNT.
+  template <int N>
+  void step_block(const BluColumns& in, BluColumns& out, int n);
 
   /// True when the last N+1 inputs are equal (then output == input exactly).
   bool settled() const { return equal_run_ >= length_; }
@@ -59,6 +70,12 @@ class FirAccDec {
   FirStructure structure() const { return structure_; }
   /// Largest |in - start| (BLU) the fast double evaluation handles exactly.
   std::int64_t exact_limit() const { return fast_limit_; }
+  /// The instruction set step_block's kernel runs: gm::active_isa() unless lowered for a test.
+  Isa isa() const { return isa_; }
+  /// Tests only: run step_block's kernel with `isa`, capped at gm::active_isa() (a higher set
+  /// could fault on this CPU). Every set gives the same outputs; this is how the tests check it
+  /// in one process.
+  void set_isa_for_testing(Isa isa);
 
  private:
   __extension__ using Acc = __int128;
@@ -90,6 +107,15 @@ class FirAccDec {
   std::int64_t fast_limit_ = 0;            // (2^53 - 1) / b_s
   int big_in_window_ = 0;                  // samples in the window with |rel| > fast_limit_
   bool use_avx2_ = false;                  // the CPU runs the AVX2 version of the fast path
+  // step_block: the kernel's instruction set; the non-zero taps k0_..k1_ of taps_oldest_first_
+  // (many profiles have b_0 = b_N = 0); one axis's scratch, reused axis after axis: the last
+  // N+1 relative positions (oldest first) then the block's, in int64 and (from the second on)
+  // in double, and the block's exact sums. Sized in the constructor.
+  Isa isa_ = Isa::Portable;
+  int k0_ = 0, k1_ = 0;
+  std::vector<std::int64_t> block_rel_;
+  std::vector<double> block_rel_real_;
+  std::vector<double> block_sums_;
 };
 
 }  // namespace gm
