@@ -76,12 +76,13 @@ Pipeline::Pipeline(const RunConfig& cfg, CanonSource& source)
   step_ = with_axis_count(axes_, [](auto n) { return &Pipeline::step_n<decltype(n)::value>; });
 }
 
-void Pipeline::step_own_accdec() {
-  for (OwnAccDec& o : own_accdec_) {
-    one_in_blu_[0] = in_blu_[o.axis];
-    o.fir.step_n<1>(one_in_blu_, one_out_blu_);
-    ref_blu_[o.axis] = one_out_blu_[0];
-  }
+void Pipeline::own_accdec_rows(SampleBlock& b, int first, int count) {
+  for (OwnAccDec& o : own_accdec_)
+    for (int i = first; i < first + count; ++i) {
+      one_in_blu_[0] = b.cmd_blu.v[o.axis][i];
+      o.fir.step_n<1>(one_in_blu_, one_out_blu_);
+      b.ref_blu.v[o.axis][i] = one_out_blu_[0];
+    }
 }
 
 ContourMeter Pipeline::contour_meter() const {
@@ -159,15 +160,19 @@ template <int N>
 inline void Pipeline::accdec_row(SampleBlock& b, int i) {
   for (int a = 0; a < N; ++a) in_blu_[a] = b.cmd_blu.v[a][i];
   accdec_.step_n<N>(in_blu_, ref_blu_);
-  if (!own_accdec_.empty()) [[unlikely]]
-    step_own_accdec();
   for (int a = 0; a < N; ++a) b.ref_blu.v[a][i] = ref_blu_[a];
 }
 
 template <int N>
 void Pipeline::stages_n(SampleBlock& b, int first, int count) {
-  // Acc/Dec over the rows, then the servo over them.
-  for (int i = first; i < first + count; ++i) accdec_row<N>(b, i);
+  // Acc/Dec over the rows, then the servo over them. A block from its first row runs the
+  // filter's block kernel; rows after a partial block (settling, step()) one at a time.
+  if (first == 0)
+    accdec_.step_block<N>(b.cmd_blu, b.ref_blu, count);
+  else
+    for (int i = first; i < first + count; ++i) accdec_row<N>(b, i);
+  if (!own_accdec_.empty()) [[unlikely]]
+    own_accdec_rows(b, first, count);
   if (cfg_.servo) {
     const int done = servo_->step_block<N>(b.ref_blu, b.enc_blu, b.table_blu, first, count);
     if (done < count) {

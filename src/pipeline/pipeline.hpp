@@ -103,9 +103,9 @@ class Pipeline {
   /// Acc/Dec for one row.
   template <int N>
   void accdec_row(SampleBlock& b, int i);
-  /// The axes with their own Acc/Dec: their filters' outputs replace the shared one's (out of
-  /// line, so that the common path stays as it was).
-  [[gnu::noinline]] void step_own_accdec();
+  /// The axes with their own Acc/Dec, rows first.. of `b`: their filters' outputs replace the
+  /// shared one's (out of line, so that the common path stays as it was).
+  [[gnu::noinline]] void own_accdec_rows(SampleBlock& b, int first, int count);
 
   RunConfig cfg_;
   Taps taps_;

@@ -198,7 +198,7 @@ GM_INLINE int lane_rows(ServoBank::LaneState& st, const ServoBank::LaneParams& p
 // One kernel per instruction set: the whole row loop is inside the attributed function.
 #define GM_SERVO_KERNEL(NAME, TARGET)                                                           \
   template <int N, int L, int M>                                                                \
-  TARGET int NAME(ServoBank::LaneState& st, const ServoBank::LaneParams& pa, int substeps,     \
+  TARGET int NAME(ServoBank::LaneState& st, const ServoBank::LaneParams& pa, int substeps,      \
                   const BluColumns& ref, BluColumns& enc, RealColumns& table, int first, int n, \
                   int& quiet_run, int& bad_row, int& diverged) {                                \
     return lane_rows<N, L, M>(st, pa, substeps, ref, enc, table, first, n, quiet_run, bad_row,  \
@@ -310,19 +310,19 @@ int ServoBank::step_block(const BluColumns& ref, BluColumns& enc, RealColumns& t
     for (int a = 0; a < N; ++a) state_.prev_ref[a] = ref.v[a][first];
     have_ref_ = true;
   }
-  constexpr int kMaxN = N > 8 ? 8 : N;           // (N > 8 never reaches here)
-  constexpr int kLanes = kMaxN <= 4 ? 4 : 8;     // = lanes_
+  constexpr int kMaxN = N > 8 ? 8 : N;        // (N > 8 never reaches here)
+  constexpr int kLanes = kMaxN <= 4 ? 4 : 8;  // = lanes_
   int done = 0;
   while (done < n) {
     int bad_row = -1, diverged = -1, rows = 0;
     const int at = first + done, left = n - done;
-#define GM_SERVO_CALL(KERNEL, L, M)                                                               \
+#define GM_SERVO_CALL(KERNEL, L, M)                                                             \
   rows = KERNEL<kMaxN, L, M>(state_, params_, substeps_, ref, enc, table, at, left, quiet_run_, \
                              bad_row, diverged)
-#define GM_SERVO_BY_SHAPE(KERNEL) \
-  if (order_ == 1)                \
+#define GM_SERVO_BY_SHAPE(KERNEL)     \
+  if (order_ == 1)                    \
     GM_SERVO_CALL(KERNEL, kLanes, 2); \
-  else                            \
+  else                                \
     GM_SERVO_CALL(KERNEL, kLanes, 3)
 #if defined(__x86_64__)
     if (isa_ == Isa::Avx512) {
@@ -341,8 +341,8 @@ int ServoBank::step_block(const BluColumns& ref, BluColumns& enc, RealColumns& t
     if (diverged >= 0) {
       // The lanes stopped after the sample in which the axis diverged: ServoAxis's message.
       diverged_axis_ = diverged;
-      divergence_ = ServoAxis::divergence_message(state_.z[order_][diverged],
-                                                  ref.v[diverged][first + done]);
+      divergence_ =
+          ServoAxis::divergence_message(state_.z[order_][diverged], ref.v[diverged][first + done]);
       return done;
     }
     if (bad_row >= 0) {  // a sample the lanes cannot round exactly: ServoAxis runs it
@@ -356,9 +356,9 @@ int ServoBank::step_block(const BluColumns& ref, BluColumns& enc, RealColumns& t
   return n;
 }
 
-#define GM_SERVO_BANK_STEP(N)                                                                   \
-  template int ServoBank::step_block<N>(const BluColumns& ref, BluColumns& enc, RealColumns& table, \
-                                        int first, int n);
+#define GM_SERVO_BANK_STEP(N)                                                   \
+  template int ServoBank::step_block<N>(const BluColumns& ref, BluColumns& enc, \
+                                        RealColumns& table, int first, int n);
 GM_FOR_EACH_AXIS_COUNT(GM_SERVO_BANK_STEP)
 #undef GM_SERVO_BANK_STEP
 
