@@ -14,7 +14,9 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;  // as geometry.cpp
 
 }  // namespace
 
-void PathWindow::distance(const Entry& e, const Vec3& p_mm, double& dist_mm, double& signed_mm) {
+__attribute__((always_inline)) inline void PathWindow::distance(const Entry& e, const Vec3& p_mm,
+                                                                double& dist_mm,
+                                                                double& signed_mm) {
   const MotionGeometry& g = e.geometry;
   if (g.kind != MotionKind::Arc) {
     // segment_distance_mm(start, end, p) with d, |d|² formed once per block.
@@ -99,21 +101,23 @@ void PathWindow::push(const Motion& m, std::int64_t k) {
   limit_ = std::min(limit_ + 1, count_);
 }
 
-double PathWindow::contour_error_mm(const Vec3& p_mm, std::int64_t k) {
+double PathWindow::only_block(const Vec3& p_mm) {
+  double dist = 0.0, signed_dist = 0.0;
+  distance(at(0), p_mm, dist, signed_dist);
+  // As search(): a NaN or infinite distance is never taken (0, and no hint).
+  const bool taken = dist < std::numeric_limits<double>::infinity();
+  hint_age_ = taken ? 0 : -1;
+  return taken ? signed_dist : 0.0;
+}
+
+double PathWindow::search(const Vec3& p_mm, std::int64_t k) {
   if (count_ == 0) return 0.0;
   // Blocks that ended longer than the lag ago are past: the window is ages [0, limit).
   // Ends recede with age (a block ends where the next starts), so the expired blocks are the
   // oldest ones: drop them from the old end of the window.
   while (limit_ > 1 && k - at(limit_ - 1).last_sample > lag_samples_) --limit_;
   const int limit = limit_;
-  if (limit == 1) {  // one block: nothing to compare (the common case on long moves)
-    double dist = 0.0, signed_dist = 0.0;
-    distance(at(0), p_mm, dist, signed_dist);
-    // As the search below: a NaN or infinite distance is never taken (0, and no hint).
-    const bool taken = dist < std::numeric_limits<double>::infinity();
-    hint_age_ = taken ? 0 : -1;
-    return taken ? signed_dist : 0.0;
-  }
+  if (limit == 1) return only_block(p_mm);
 
   double best = std::numeric_limits<double>::infinity();
   double best_signed = 0.0;

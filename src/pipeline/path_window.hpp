@@ -45,7 +45,12 @@ class PathWindow {
   /// arc's plane; negative = inside) when the nearest block is an arc, else the unsigned
   /// distance to the nearest line segment. 0 when no block has been seen.
   /// Not const: remembers where the nearest block was, to start the next search there.
-  double contour_error_mm(const Vec3& p_mm, std::int64_t k);
+  double contour_error_mm(const Vec3& p_mm, std::int64_t k) {
+    // One block in the window (the common case on long moves): nothing expires, nothing to
+    // compare; inline, so such a sample costs the distance alone.
+    if (limit_ == 1) return only_block(p_mm);
+    return search(p_mm, k);
+  }
 
   /// The geometry of the block pushed last (the current one), nullptr before the first.
   const MotionGeometry* newest() const {
@@ -75,6 +80,8 @@ class PathWindow {
   /// MotionGeometry::distance with the entry's precomputed parts: the same operations in the
   /// same order, so the same results (only hypot(x, 0), which is |x| exactly, is not called).
   static void distance(const Entry& e, const Vec3& p_mm, double& dist_mm, double& signed_mm);
+  double only_block(const Vec3& p_mm);              ///< contour_error_mm, a window of one
+  double search(const Vec3& p_mm, std::int64_t k);  ///< contour_error_mm, any window
   void grow();  ///< doubles the ring, keeping the entries in age order
 
   std::vector<Entry> ring_;
