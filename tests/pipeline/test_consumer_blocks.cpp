@@ -1,7 +1,8 @@
-// The consumer's block forms (measure_block, add_block) give the per-record forms' values bit for bit.
+// The consumer's block forms (measure_block, add_block) give the per-record forms' values bit for
+// bit.
+#include "interp/program.hpp"
 #include "machine/machine_file.hpp"
 #include "pipeline/contour_meter.hpp"
-#include "interp/program.hpp"
 #include "pipeline/pipeline.hpp"
 #include "planner/tolerance_check.hpp"
 #include "trace/run_summary.hpp"
