@@ -4,9 +4,19 @@
 #include "interpolator/interpolator.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace gm {
+namespace {
+
+// MotionGeometry::radial_deviation_mm's expression, inlined into the row loop.
+inline double arc_radial_dev_mm(const MotionGeometry& g, const Vec3& p_mm) {
+  return std::hypot(p_mm[g.ax.a] - g.center_mm[g.ax.a], p_mm[g.ax.b] - g.center_mm[g.ax.b]) -
+         g.r0_mm;
+}
+
+}  // namespace
 
 ContourMeter::ContourMeter(const MachineVec& blu_mm, const AxisLayout& axes, double contour_blu_mm,
                            std::int64_t window_samples, std::int64_t steady_after)
@@ -52,8 +62,8 @@ inline void ContourMeter::measure_row(std::int64_t k, const Vec3& table_mm, std:
       k - std::max(block_start_k_, last_pause_k_) >= steady_after_) {
     Vec3 ref_mm, enc_mm;
     ref_enc(ref_mm, enc_mm);
-    arc_ref_dev = m->radial_deviation_mm(ref_mm) / contour_blu_mm_;
-    arc_enc_dev = m->radial_deviation_mm(enc_mm) / contour_blu_mm_;
+    arc_ref_dev = arc_radial_dev_mm(*m, ref_mm) / contour_blu_mm_;
+    arc_enc_dev = arc_radial_dev_mm(*m, enc_mm) / contour_blu_mm_;
   }
 }
 

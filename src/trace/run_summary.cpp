@@ -76,12 +76,16 @@ namespace {
 
 __extension__ typedef double Lanes __attribute__((vector_size(32)));
 __extension__ typedef std::int64_t Mask __attribute__((vector_size(32)));
+__extension__ typedef std::uint64_t Bits __attribute__((vector_size(32)));
 
 /// One axis's rows of a block as add_block() derives them: column j is row i0 + j. v[0] and a[0]
 /// hold the previous sample's velocity and acceleration, so v[j + 1], a[j + 1] are row j's.
 struct AxisRows {
-  double dref[kBlockSamples];  ///< ref − previous ref, as a double
-  double ferr[kBlockSamples];  ///< |ref − enc|
+  std::int64_t refp[kBlockSamples + 1];  ///< the previous sample's ref, then the rows'
+  const std::int64_t* enc;               ///< the rows' encoder counts
+  int moved;                             ///< the last row whose ref changed (−1: none)
+  double dref[kBlockSamples];            ///< ref − previous ref, as a double
+  double ferr[kBlockSamples];            ///< |ref − enc|
   double v[kBlockSamples + 4], a[kBlockSamples + 4];
   double vel[kBlockSamples], accel[kBlockSamples], jerk[kBlockSamples];
   double force[kBlockSamples], power[kBlockSamples];
@@ -120,6 +124,42 @@ __attribute__((always_inline)) inline double hmax(const Lanes& m, double s) {
 __attribute__((always_inline)) inline void axis_rows(AxisRows& r, int n, const AxisConsts& c,
                                                      AxisPeaks& pk) {
   const int n4 = n & ~3;
+  // The integers: ref differences and |ref − enc| to doubles, and the last row that moved. An
+  // integer x in [−2^51, 2^51) is exactly the double with bits 0x4338000000000000 + x, less
+  // 1.5·2^52 (static_cast's value); a block with any other falls back to static_cast.
+  const Bits magic = Bits{} + 0x4338000000000000u, half = Bits{} + (std::uint64_t{1} << 51);
+  const Lanes magic_value = Lanes{} + 0x1.8p52;
+  Bits out_of_range = {};
+  Mask last_moved = Mask{} - 1;
+  const Mask lane = {0, 1, 2, 3};
+  for (int j = 0; j < n4; j += 4) {
+    Bits cur, prev, enc;
+    std::memcpy(&cur, r.refp + j + 1, sizeof cur);
+    std::memcpy(&prev, r.refp + j, sizeof prev);
+    std::memcpy(&enc, r.enc + j, sizeof enc);
+    const Bits d = cur - prev;  // unsigned: wraps, as the int64 difference's bits
+    const Bits e = cur - enc;
+    const Bits sign = (Bits)((Mask)e >> 63);
+    const Bits e_abs = (e ^ sign) - sign;
+    out_of_range |= ((d + half) >> 52) | (e_abs >> 51);
+    Lanes x = (Lanes)(d + magic) - magic_value;
+    store(r.dref + j, x);
+    x = (Lanes)(e_abs + magic) - magic_value;
+    store(r.ferr + j, x);
+    const Mask moved = (Mask)(d != 0);
+    last_moved = (moved & (lane + j)) | (~moved & last_moved);
+  }
+  bool exact = true;
+  for (int l = 0; l < 4; ++l) {
+    exact = exact && out_of_range[l] == 0;
+    r.moved = std::max(r.moved, static_cast<int>(last_moved[l]));
+  }
+  for (int j = exact ? n4 : 0; j < n; ++j) {
+    const std::int64_t d = r.refp[j + 1] - r.refp[j];
+    r.dref[j] = static_cast<double>(d);
+    r.ferr[j] = static_cast<double>(std::llabs(r.refp[j + 1] - r.enc[j]));
+    if (d != 0) r.moved = std::max(r.moved, j);
+  }
   const Lanes zero = {};
   const Lanes blu = zero + c.blu, T = zero + c.T, k1000 = zero + 1000.0;
   Lanes x, y;
@@ -228,15 +268,10 @@ void RunSummary::add_block(const SampleBlock& b, int first) {
     AxisSummary& ax = axes[static_cast<std::size_t>(a)];
     const std::int64_t* ref = b.ref_blu.v[a] + i0;
     const std::int64_t* enc = b.enc_blu.v[a] + i0;
-    std::int64_t prev_ref = prev_ref_[a];
-    int moved = -1;
-    for (int j = 0; j < n; ++j) {
-      const std::int64_t d = ref[j] - prev_ref;
-      r.dref[j] = static_cast<double>(d);
-      r.ferr[j] = static_cast<double>(std::llabs(ref[j] - enc[j]));
-      moved = d != 0 ? j : moved;
-      prev_ref = ref[j];
-    }
+    r.refp[0] = prev_ref_[a];
+    std::memcpy(r.refp + 1, ref, static_cast<std::size_t>(n) * sizeof *ref);
+    r.enc = enc;
+    r.moved = -1;
     r.v[0] = prev_v_[a];
     r.a[0] = prev_a_[a];
     const AxisConsts c{blu_mm_[a],
@@ -263,10 +298,10 @@ void RunSummary::add_block(const SampleBlock& b, int first) {
     ax.v_limit.violations += pk.n_v;
     ax.f_limit.violations += pk.n_f;
     ax.p_limit.violations += pk.n_p;
-    prev_ref_[a] = prev_ref;
+    prev_ref_[a] = ref[n - 1];
     prev_v_[a] = r.v[n];
     prev_a_[a] = r.a[n];
-    if (moved >= 0) last_motion_k = std::max(last_motion_k, b.k0 + i0 + moved);
+    if (r.moved >= 0) last_motion_k = std::max(last_motion_k, b.k0 + i0 + r.moved);
   }
   last_motion_k_ = last_motion_k;
   // The sums run in row order, as add() adds them.

@@ -1,6 +1,7 @@
 // The consumer's block forms (measure_block, add_block) give the per-record forms' values bit for
 // bit.
 #include "interp/program.hpp"
+#include "interpolator/interpolator.hpp"
 #include "machine/machine_file.hpp"
 #include "pipeline/contour_meter.hpp"
 #include "pipeline/pipeline.hpp"
@@ -239,4 +240,58 @@ TEST_CASE("consumer blocks: the comparison sees a one-ulp or one-line difference
     if (std::abs(a.contour[i]) > std::abs(a.contour[worst])) worst = i;
   t.recs[worst].line += 1000;
   CHECK(per_block(t, *s.meter, 3).summary_json != a.summary_json);
+}
+
+TEST_CASE("consumer blocks: add_block equals add on synthetic rows: ties, huge counts, any split") {
+  // Small random steps give many equal values (peaks must keep the first row's line); counts
+  // beyond 2^51 take add_block's exact-conversion fallback.
+  const gm::Machine machine = gm::default_machine();
+  const int n = machine.axis_count();
+  for (const std::int64_t scale : {std::int64_t{3}, std::int64_t{1} << 40, std::int64_t{1} << 60}) {
+    INFO("scale " << scale);
+    std::mt19937_64 rng(static_cast<std::uint64_t>(scale));
+    std::uniform_int_distribution<std::int64_t> step(-3, 3);
+    gm::RunSummary a(machine), b(machine);
+    auto block = std::make_unique<gm::SampleBlock>();
+    gm::SampleRecord r;
+    for (int blk = 0; blk < 6; ++blk) {
+      block->reset(blk * gm::kBlockSamples);
+      for (int i = 0; i < gm::kBlockSamples; ++i) {
+        for (int ax = 0; ax < n; ++ax) {
+          const std::int64_t prev = i > 0 ? block->ref_blu.v[ax][i - 1] : 0;
+          block->ref_blu.v[ax][i] =
+              scale > 3 && rng() % 50 == 0 ? step(rng) * scale : prev + step(rng);
+          block->enc_blu.v[ax][i] = block->ref_blu.v[ax][i] - step(rng) * (rng() % 3 ? 1 : scale);
+          block->cmd_blu.v[ax][i] = block->ref_blu.v[ax][i];
+          block->table_blu.v[ax][i] = static_cast<double>(block->enc_blu.v[ax][i]);
+        }
+        block->line[i] = 1 + i;
+        block->events[i] = rng() % 7 == 0 ? gm::kEventHold : 0u;
+        block->feed_scale[i] = 1.0;
+        block->settling[i] = false;
+        block->contour_err_blu[i] = static_cast<double>(step(rng));
+        block->arc_ref_dev_blu[i] = rng() % 2 ? std::nan("") : static_cast<double>(step(rng));
+        block->arc_enc_dev_blu[i] = static_cast<double>(step(rng));
+      }
+      block->count = gm::kBlockSamples;
+      for (int first = 0; first < gm::kBlockSamples;) {
+        const int count =
+            std::min<int>(gm::kBlockSamples, first + 1 + static_cast<int>(rng() % 90));
+        block->count = count;
+        b.add_block(*block, first);
+        for (int i = first; i < count; ++i) {
+          block->record<3>(i, machine.period_s, r);
+          r.contour_err_blu = block->contour_err_blu[i];
+          r.arc_ref_dev_blu = block->arc_ref_dev_blu[i];
+          r.arc_enc_dev_blu = block->arc_enc_dev_blu[i];
+          a.add(r);
+        }
+        first = count;
+      }
+    }
+    a.finish(r, gm::AxisBlu::Zero(), true);
+    b.finish(r, gm::AxisBlu::Zero(), true);
+    CHECK(a.json() == b.json());
+    CHECK(a.text() == b.text());
+  }
 }
