@@ -4,6 +4,7 @@
 #include "common/axis.hpp"
 #include "interp/canon.hpp"
 #include "pipeline/path_window.hpp"
+#include "pipeline/sample_block.hpp"
 #include "pipeline/sample_record.hpp"
 
 #include <array>
@@ -33,12 +34,22 @@ class ContourMeter {
   /// current in this sample, in order (Pipeline::started_motions()); every one of them is part
   /// of the path measured against. Samples must come in order, each once.
   void measure(SampleRecord& r, std::span<const Motion> started);
+  /// measure() of rows first..count-1 of `b`, into its contour_err_blu, arc_ref_dev_blu and
+  /// arc_enc_dev_blu columns, with the motions b.motions started in each row: the same values,
+  /// bit for bit, as measure() of b.record() row by row. Rows must come in order, each once.
+  void measure_block(SampleBlock& b, int first);
 
  private:
   Vec3 xyz_mm(const MachineVec& v_blu) const;  ///< X, Y, Z of machine-order BLU, mm (absent: 0)
+  /// The contour error and steady-arc deviations of sample k once its motions are pushed;
+  /// `ref_enc(ref_mm, enc_mm)` gives the XYZ of ref and encoder, asked only on a steady arc.
+  template <typename RefEnc>
+  void measure_row(std::int64_t k, const Vec3& table_mm, std::uint32_t events, bool settling,
+                   RefEnc&& ref_enc, double& contour_err, double& arc_ref_dev, double& arc_enc_dev);
 
   MachineVec blu_mm_;
   std::array<int, 3> xyz_slot_{};  ///< machine axis of X, Y, Z (kMaxAxes - 1: absent, reads 0)
+  std::array<bool, 3> present_{};  ///< the machine has X, Y, Z (a block's column is written)
   double contour_blu_mm_;          ///< the BLU the errors are expressed in (smallest axis BLU)
   PathWindow window_;
   std::int64_t steady_after_;

@@ -4,13 +4,53 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 namespace gm {
 namespace {
 
 constexpr std::int64_t kOngoing = std::numeric_limits<std::int64_t>::max();
+constexpr double kTwoPi = 2.0 * std::numbers::pi;  // as geometry.cpp
 
 }  // namespace
+
+__attribute__((always_inline)) inline void PathWindow::distance(const Entry& e, const Vec3& p_mm,
+                                                                double& dist_mm,
+                                                                double& signed_mm) {
+  const MotionGeometry& g = e.geometry;
+  if (g.kind != MotionKind::Arc) {
+    // segment_distance_mm(start, end, p) with d, |d|² formed once per block.
+    double t = e.seg_len2 > 0 ? (p_mm - e.seg_a).dot(e.seg_d) / e.seg_len2 : 0.0;
+    t = std::clamp(t, 0.0, 1.0);
+    dist_mm = signed_mm = (e.seg_a + t * e.seg_d - p_mm).norm();
+    return;
+  }
+  const double dca = p_mm[g.ax.a] - g.center_mm[g.ax.a];
+  const double dcb = p_mm[g.ax.b] - g.center_mm[g.ax.b];
+  const double turn = std::fabs(g.sweep_rad);
+  if (turn < kTwoPi) {
+    const double sign = g.sweep_rad > 0.0 ? 1.0 : -1.0;
+    const double to_p = sign * (g.s_a * dcb - g.s_b * dca);
+    const double p_to_end = sign * (dca * g.e_b - dcb * g.e_a);
+    const bool inside = turn > std::numbers::pi ? !(to_p < 0.0 && p_to_end < 0.0)
+                                                : (to_p >= 0.0 && p_to_end >= 0.0);
+    if (!inside) {
+      dist_mm = signed_mm =
+          std::min((p_mm - g.start_mm.head<3>()).norm(), (p_mm - g.end_mm.head<3>()).norm());
+      return;
+    }
+  }
+  const double radial = std::hypot(dca, dcb) - g.r0_mm;
+  const double axial = g.planar ? p_mm[g.ax.n] - g.start_mm[g.ax.n] : 0.0;
+  if (axial == 0.0) {
+    // hypot(x, ±0) is |x| exactly (C Annex F.10.4.3): the call is skipped, not approximated.
+    dist_mm = std::fabs(radial);
+    signed_mm = radial;
+    return;
+  }
+  dist_mm = std::hypot(radial, axial);
+  signed_mm = std::copysign(dist_mm, radial);
+}
 
 void PathWindow::grow() {
   std::vector<Entry> bigger(2 * ring_.size());
@@ -18,6 +58,7 @@ void PathWindow::grow() {
     bigger[static_cast<std::size_t>(count_ - 1 - age)] = at(age);
   head_ = count_ - 1;
   ring_.swap(bigger);
+  mask_ = capacity() - 1;
 }
 
 void PathWindow::push(const Motion& m, std::int64_t k) {
@@ -49,25 +90,41 @@ void PathWindow::push(const Motion& m, std::int64_t k) {
   } else {
     e.sphere_c_mm = 0.5 * (m.start_mm.head<3>() + m.end_mm.head<3>());
     e.sphere_r_mm = 0.5 * Vec3(m.end_mm.head<3>() - m.start_mm.head<3>()).norm();
+    // As segment_distance_mm forms them from MotionGeometry's start and end.
+    e.seg_a = e.geometry.start_mm.head<3>();
+    e.seg_d = Vec3(e.geometry.end_mm.head<3>()) - e.seg_a;
+    e.seg_len2 = e.seg_d.squaredNorm();
   }
   e.margin_mm = 1e-9 + 1e-12 * (std::max(e.sphere_r_mm, 0.0) + e.sphere_c_mm.cwiseAbs().maxCoeff());
   if (count_ < capacity()) ++count_;
+  // Every block is one older; the one just overwritten (a full ring) was the oldest.
+  limit_ = std::min(limit_ + 1, count_);
 }
 
-double PathWindow::contour_error_mm(const Vec3& p_mm, std::int64_t k) {
+double PathWindow::only_block(const Vec3& p_mm) {
+  double dist = 0.0, signed_dist = 0.0;
+  distance(at(0), p_mm, dist, signed_dist);
+  // As search(): a NaN or infinite distance is never taken (0, and no hint).
+  const bool taken = dist < std::numeric_limits<double>::infinity();
+  hint_age_ = taken ? 0 : -1;
+  return taken ? signed_dist : 0.0;
+}
+
+double PathWindow::search(const Vec3& p_mm, std::int64_t k) {
   if (count_ == 0) return 0.0;
   // Blocks that ended longer than the lag ago are past: the window is ages [0, limit).
-  int limit = 1;
-  while (limit < count_ &&
-         !(at(limit).last_sample != kOngoing && k - at(limit).last_sample > lag_samples_))
-    ++limit;
+  // Ends recede with age (a block ends where the next starts), so the expired blocks are the
+  // oldest ones: drop them from the old end of the window.
+  while (limit_ > 1 && k - at(limit_ - 1).last_sample > lag_samples_) --limit_;
+  const int limit = limit_;
+  if (limit == 1) return only_block(p_mm);
 
   double best = std::numeric_limits<double>::infinity();
   double best_signed = 0.0;
   int best_age = -1;
   auto consider = [&](int age) {
     double dist = 0.0, signed_dist = 0.0;
-    at(age).geometry.distance(p_mm, dist, signed_dist);
+    distance(at(age), p_mm, dist, signed_dist);
     if (dist < best || (dist == best && age < best_age)) {
       best = dist;
       best_signed = signed_dist;

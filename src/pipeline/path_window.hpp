@@ -17,11 +17,13 @@ namespace gm {
 /// within the lag, as happens when many blocks are shorter than a sample's travel (CAM chords).
 /// Memory grows only then; nothing is allocated per sample.
 ///
-/// Per block, push() precomputes what the search needs (its MotionGeometry and a bounding
-/// sphere), so a sample costs one bounding-sphere test per block in the window and the exact
-/// distance only for the blocks that can still be the nearest. The search starts at the block
-/// that was nearest for the previous sample; the result is the same as a plain scan from the
-/// newest block (ties go to the newer block).
+/// Per block, push() precomputes what the search needs (its MotionGeometry, the segment of a
+/// line and a bounding sphere), so a sample costs one bounding-sphere test per other block in
+/// the window and the exact distance only for the blocks that can still be the nearest. The
+/// window's end (blocks past the lag) is kept from sample to sample, not rescanned. The search
+/// starts at the block that was nearest for the previous sample; the result is the same as a
+/// plain scan from the newest block (ties go to the newer block) with
+/// MotionGeometry::distance, bit for bit.
 class PathWindow {
  public:
   static constexpr int kInitialCapacity = 64;  // powers of two
@@ -29,7 +31,7 @@ class PathWindow {
 
   /// `lag_samples`: blocks that ended more than this many samples ago are not searched.
   explicit PathWindow(std::int64_t lag_samples)
-      : ring_(kInitialCapacity), lag_samples_(lag_samples) {}
+      : ring_(kInitialCapacity), mask_(kInitialCapacity - 1), lag_samples_(lag_samples) {}
 
   /// Blocks the ring can hold now.
   int capacity() const { return static_cast<int>(ring_.size()); }
@@ -43,7 +45,12 @@ class PathWindow {
   /// arc's plane; negative = inside) when the nearest block is an arc, else the unsigned
   /// distance to the nearest line segment. 0 when no block has been seen.
   /// Not const: remembers where the nearest block was, to start the next search there.
-  double contour_error_mm(const Vec3& p_mm, std::int64_t k);
+  double contour_error_mm(const Vec3& p_mm, std::int64_t k) {
+    // One block in the window (the common case on long moves): nothing expires, nothing to
+    // compare; inline, so such a sample costs the distance alone.
+    if (limit_ == 1) return only_block(p_mm);
+    return search(p_mm, k);
+  }
 
   /// The geometry of the block pushed last (the current one), nullptr before the first.
   const MotionGeometry* newest() const {
@@ -63,17 +70,28 @@ class PathWindow {
     Vec3 sphere_c_mm = Vec3::Zero();  ///< a sphere holding every point the distance is to
     double sphere_r_mm = -1.0;        ///< < 0: no bound (helix: the distance is radial only)
     double margin_mm = 0.0;           ///< slack for rounding in the bound test
+    // Lines and rapids: the segment as segment_distance_mm (geometry.cpp) forms it per call.
+    Vec3 seg_a = Vec3::Zero();  ///< start (X, Y, Z)
+    Vec3 seg_d = Vec3::Zero();  ///< end − start
+    double seg_len2 = 0.0;      ///< |end − start|²
   };
 
-  const Entry& at(int age) const {
-    return ring_[static_cast<std::size_t>((head_ - age) & (capacity() - 1))];
-  }
+  const Entry& at(int age) const { return ring_[static_cast<std::size_t>((head_ - age) & mask_)]; }
+  /// MotionGeometry::distance with the entry's precomputed parts: the same operations in the
+  /// same order, so the same results (only hypot(x, 0), which is |x| exactly, is not called).
+  static void distance(const Entry& e, const Vec3& p_mm, double& dist_mm, double& signed_mm);
+  double only_block(const Vec3& p_mm);              ///< contour_error_mm, a window of one
+  double search(const Vec3& p_mm, std::int64_t k);  ///< contour_error_mm, any window
   void grow();  ///< doubles the ring, keeping the entries in age order
 
   std::vector<Entry> ring_;
   std::int64_t dropped_in_lag_ = 0;
   int count_ = 0;
-  int head_ = 0;      ///< index of the newest entry
+  int mask_;      ///< capacity − 1
+  int head_ = 0;  ///< index of the newest entry
+  /// Ages [0, limit_) are the window: the blocks that ended at most the lag ago (the newest
+  /// is ongoing). Ends only recede, so it is kept: push() adds one, a search drops the expired.
+  int limit_ = 0;
   int hint_age_ = 0;  ///< age (0 = newest) of the entry that was nearest last time
   std::int64_t lag_samples_;
 };

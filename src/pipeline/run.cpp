@@ -123,7 +123,7 @@ void Run::init() {
 Run::~Run() = default;
 
 void Run::consume(SampleRecord& r, std::span<const Motion> started) {
-  if (meter_) meter_->measure(r, started);
+  meter_->measure(r, started);
   tolerance_.add(r, started.empty() ? nullptr : &started.back());
   summary_.add(r);
   if (trace_) trace_->write(r);
@@ -131,16 +131,29 @@ void Run::consume(SampleRecord& r, std::span<const Motion> started) {
 
 template <int N>
 void Run::consume_rows(SampleBlock& b, int first) {
+  if (first >= b.count) return;
+  // Column by column: the contour of every row, then the tolerance and the summary over them;
+  // a record is formed only for the trace's rows.
+  meter_->measure_block(b, first);
   const double period_s = options_.config.machine.period_s;
-  std::size_t m = 0;
-  while (m < b.motions.size() && b.motion_row[m] < first) ++m;
-  SampleRecord& r = queue_ ? crec_ : rec_;
-  for (int i = first; i < b.count; ++i) {
-    const std::size_t m0 = m;
-    while (m < b.motions.size() && b.motion_row[m] == i) ++m;
+  tolerance_.add_block(b, first, period_s);
+  summary_.add_block(b, first);
+  auto record = [&](int i, SampleRecord& r) {
     b.record<N>(i, period_s, r);
-    consume(r, std::span<const Motion>(b.motions.data() + m0, m - m0));
+    r.contour_err_blu = b.contour_err_blu[i];
+    r.arc_ref_dev_blu = b.arc_ref_dev_blu[i];
+    r.arc_enc_dev_blu = b.arc_enc_dev_blu[i];
+  };
+  if (trace_) {
+    const int decimate = trace_->decimate();
+    for (int i = first; i < b.count; ++i) {
+      if ((b.k0 + i) % decimate != 0) continue;  // TraceWriter::write's grid
+      record(i, crec_);
+      trace_->write(crec_);
+    }
   }
+  // Without the consumer thread last() is the consumed row, contour fields included.
+  if (!queue_) record(b.count - 1, rec_);
 }
 
 template <int N>

@@ -13,8 +13,8 @@ namespace gm {
 /// Samples k0 .. k0+count-1 of every stage, structure of arrays. The pipeline fills it stage by
 /// stage (Pipeline::command_n per sample, then Pipeline::stages_n over a range); the consumer
 /// reads it column by column or, through record<N>(), sample by sample. Per-axis columns are in
-/// the machine's axis order; only axes 0..N-1 are written. The contour fields of a SampleRecord
-/// are not here: the consumer measures them.
+/// the machine's axis order; only axes 0..N-1 are written. The contour columns at the end are
+/// the consumer's: ContourMeter::measure_block fills them, record() leaves them out.
 struct SampleBlock {
   std::int64_t k0 = 0;    ///< sample index of row 0
   int count = 0;          ///< rows filled
@@ -31,6 +31,11 @@ struct SampleBlock {
   /// Capacity is kept from block to block.
   std::vector<Motion> motions;
   std::vector<int> motion_row;
+  // Filled by the consumer (ContourMeter::measure_block): the SampleRecord fields of the same
+  // names, per row.
+  double contour_err_blu[kBlockSamples];
+  double arc_ref_dev_blu[kBlockSamples];
+  double arc_enc_dev_blu[kBlockSamples];
 
   SampleBlock() {
     motions.reserve(64);

@@ -3,18 +3,15 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace gm {
 
-void ToleranceCheck::add(const SampleRecord& r, const Motion* started) {
-  if (started != nullptr) {
-    tol_mm_ = started->path_mode == PathMode::Continuous ? started->path_tolerance_mm : 0.0;
-    rapid_block_ = started->kind == MotionKind::Rapid;
-  }
-  if (!(tol_mm_ > 0.0)) return;
+template <typename Time>
+inline void ToleranceCheck::judge(double contour_err_blu, int line, Time&& t_s) {
   Worst& w = rapid_block_ ? rapid_ : cut_;
-  const double err = std::abs(r.contour_err_blu) * blu_mm_;
+  const double err = std::abs(contour_err_blu) * blu_mm_;
   ++w.samples;
   // A nanometre of slack for the BLU-to-mm products (the bound itself is planned with margin).
   if (err > tol_mm_ + allowance_mm_ + 1e-9) ++w.over;
@@ -23,8 +20,33 @@ void ToleranceCheck::add(const SampleRecord& r, const Motion* started) {
     w.ratio = ratio;
     w.err_mm = err;
     w.tol_mm = tol_mm_;
-    w.line = r.line;
-    w.t_s = r.t_s;
+    w.line = line;
+    w.t_s = t_s();
+  }
+}
+
+void ToleranceCheck::add(const SampleRecord& r, const Motion* started) {
+  if (started != nullptr) start(*started);
+  if (!(tol_mm_ > 0.0)) return;
+  judge(r.contour_err_blu, r.line, [&] { return r.t_s; });
+}
+
+void ToleranceCheck::add_block(const SampleBlock& b, int first, double period_s) {
+  const std::size_t motions = b.motions.size();
+  std::size_t m = 0;
+  while (m < motions && b.motion_row[m] < first) ++m;
+  int i = first;
+  while (i < b.count) {
+    // The last motion started in row i sets the tolerance up to the next row that starts one.
+    while (m < motions && b.motion_row[m] == i) start(b.motions[m++]);
+    const int end = m < motions ? std::min(b.motion_row[m], b.count) : b.count;
+    if (!(tol_mm_ > 0.0)) {
+      i = end;  // nothing judged until the next motion
+      continue;
+    }
+    for (; i < end; ++i)
+      judge(b.contour_err_blu[i], b.line[i],
+            [&] { return static_cast<double>(b.k0 + i) * period_s; });
   }
 }
 

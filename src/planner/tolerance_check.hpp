@@ -4,6 +4,7 @@
 
 #include "common/axis.hpp"
 #include "interp/canon.hpp"
+#include "pipeline/sample_block.hpp"
 #include "pipeline/sample_record.hpp"
 
 #include <cstdint>
@@ -23,6 +24,9 @@ class ToleranceCheck {
       : blu_mm_(contour_blu_mm), allowance_mm_(allowance_mm) {}
 
   void add(const SampleRecord& r, const Motion* started);
+  /// add() of rows first..count-1 of `b` (contour column filled), each with the last motion
+  /// b.motions started in it; `period_s`: the sample period (t = k·T, as SampleBlock::record).
+  void add_block(const SampleBlock& b, int first, double period_s);
 
   struct Worst {
     std::int64_t samples = 0;  ///< samples judged (a tolerance was in force)
@@ -44,6 +48,15 @@ class ToleranceCheck {
   std::string json_member() const;
 
  private:
+  void start(const Motion& m) {
+    tol_mm_ = m.path_mode == PathMode::Continuous ? m.path_tolerance_mm : 0.0;
+    rapid_block_ = m.kind == MotionKind::Rapid;
+  }
+  /// Judges one sample against the tolerance in force (> 0); `t_s()` its time, asked only when
+  /// it is the worst so far.
+  template <typename Time>
+  void judge(double contour_err_blu, int line, Time&& t_s);
+
   double blu_mm_;
   double allowance_mm_ = 0.0;
   double tol_mm_ = 0.0;

@@ -1,12 +1,15 @@
 // Running statistics of a pipeline run and their text/JSON rendering.
 #include "trace/run_summary.hpp"
 
+#include "common/isa.hpp"
 #include "interpolator/interpolator.hpp"
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <iterator>
 #include <limits>
 
@@ -67,6 +70,264 @@ void RunSummary::add(const SampleRecord& s) {
   }
   if ((s.events & kEventHold) != 0) ++hold_samples_;
   ++samples;
+}
+
+namespace {
+
+__extension__ typedef double Lanes __attribute__((vector_size(32)));
+__extension__ typedef std::int64_t Mask __attribute__((vector_size(32)));
+__extension__ typedef std::uint64_t Bits __attribute__((vector_size(32)));
+
+/// One axis's rows of a block as add_block() derives them: column j is row i0 + j. v[0] and a[0]
+/// hold the previous sample's velocity and acceleration, so v[j + 1], a[j + 1] are row j's.
+struct AxisRows {
+  std::int64_t refp[kBlockSamples + 1];  ///< the previous sample's ref, then the rows'
+  const std::int64_t* enc;               ///< the rows' encoder counts
+  int moved;                             ///< the last row whose ref changed (−1: none)
+  double dref[kBlockSamples];            ///< ref − previous ref, as a double
+  double ferr[kBlockSamples];            ///< |ref − enc|
+  double v[kBlockSamples + 4], a[kBlockSamples + 4];
+  double vel[kBlockSamples], accel[kBlockSamples], jerk[kBlockSamples];
+  double force[kBlockSamples], power[kBlockSamples];
+};
+
+/// The running maxima (peak values at the start) and limit counts of one axis.
+struct AxisPeaks {
+  double ferr, v, vl, a, j, f, p;
+  std::int64_t n_v = 0, n_f = 0, n_p = 0;
+};
+
+struct AxisConsts {
+  double blu, T, mass, damping, v_lim, f_lim, p_lim;
+};
+
+// Vectors pass by reference: a 32-byte vector by value changes the psABI without AVX.
+__attribute__((always_inline)) inline void load(Lanes& x, const double* p) {
+  std::memcpy(&x, p, sizeof x);
+}
+__attribute__((always_inline)) inline void store(double* p, const Lanes& x) {
+  std::memcpy(p, &x, sizeof x);
+}
+__attribute__((always_inline)) inline void vabs(Lanes& x) {
+  x = (Lanes)((Mask)x & (Mask{} + INT64_MAX));  // fabs: the sign bit cleared
+}
+__attribute__((always_inline)) inline void vmax(Lanes& m, const Lanes& x) {
+  m = m < x ? x : m;  // std::max(m, x) per lane
+}
+__attribute__((always_inline)) inline double hmax(const Lanes& m, double s) {
+  for (int l = 0; l < 4; ++l) s = std::max(s, m[l]);
+  return s;
+}
+
+// RunSummary::add()'s arithmetic, element-wise over the n rows in `r`: four rows a vector, the
+// rest one at a time with the same expressions (IEEE operations round the same either way).
+__attribute__((always_inline)) inline void axis_rows(AxisRows& r, int n, const AxisConsts& c,
+                                                     AxisPeaks& pk) {
+  const int n4 = n & ~3;
+  // The integers: ref differences and |ref − enc| to doubles, and the last row that moved. An
+  // integer x in [−2^51, 2^51) is exactly the double with bits 0x4338000000000000 + x, less
+  // 1.5·2^52 (static_cast's value); a block with any other falls back to static_cast.
+  const Bits magic = Bits{} + 0x4338000000000000u, half = Bits{} + (std::uint64_t{1} << 51);
+  const Lanes magic_value = Lanes{} + 0x1.8p52;
+  Bits out_of_range = {};
+  Mask last_moved = Mask{} - 1;
+  const Mask lane = {0, 1, 2, 3};
+  for (int j = 0; j < n4; j += 4) {
+    Bits cur, prev, enc;
+    std::memcpy(&cur, r.refp + j + 1, sizeof cur);
+    std::memcpy(&prev, r.refp + j, sizeof prev);
+    std::memcpy(&enc, r.enc + j, sizeof enc);
+    const Bits d = cur - prev;  // unsigned: wraps, as the int64 difference's bits
+    const Bits e = cur - enc;
+    const Bits sign = (Bits)((Mask)e >> 63);
+    const Bits e_abs = (e ^ sign) - sign;
+    out_of_range |= ((d + half) >> 52) | (e_abs >> 51);
+    Lanes x = (Lanes)(d + magic) - magic_value;
+    store(r.dref + j, x);
+    x = (Lanes)(e_abs + magic) - magic_value;
+    store(r.ferr + j, x);
+    const Mask moved = (Mask)(d != 0);
+    last_moved = (moved & (lane + j)) | (~moved & last_moved);
+  }
+  bool exact = true;
+  for (int l = 0; l < 4; ++l) {
+    exact = exact && out_of_range[l] == 0;
+    r.moved = std::max(r.moved, static_cast<int>(last_moved[l]));
+  }
+  for (int j = exact ? n4 : 0; j < n; ++j) {
+    const std::int64_t d = r.refp[j + 1] - r.refp[j];
+    r.dref[j] = static_cast<double>(d);
+    r.ferr[j] = static_cast<double>(std::llabs(r.refp[j + 1] - r.enc[j]));
+    if (d != 0) r.moved = std::max(r.moved, j);
+  }
+  const Lanes zero = {};
+  const Lanes blu = zero + c.blu, T = zero + c.T, k1000 = zero + 1000.0;
+  Lanes x, y;
+  for (int j = 0; j < n4; j += 4) {
+    load(x, r.dref + j);
+    store(r.v + j + 1, x * blu / T);  // mm/s
+  }
+  for (int j = n4; j < n; ++j) r.v[j + 1] = r.dref[j] * c.blu / c.T;
+  for (int j = 0; j < n4; j += 4) {
+    load(x, r.v + j + 1);
+    load(y, r.v + j);
+    store(r.a + j + 1, (x - y) / T);
+  }
+  for (int j = n4; j < n; ++j) r.a[j + 1] = (r.v[j + 1] - r.v[j]) / c.T;
+  Lanes m_ferr = zero + pk.ferr, m_v = zero + pk.v, m_vl = zero + pk.vl, m_a = zero + pk.a,
+        m_j = zero + pk.j, m_f = zero + pk.f, m_p = zero + pk.p;
+  Mask n_v = {}, n_f = {}, n_p = {};
+  const Lanes mass = zero + c.mass, damping = zero + c.damping, v_lim = zero + c.v_lim,
+              f_lim = zero + c.f_lim, p_lim = zero + c.p_lim;
+  for (int j = 0; j < n4; j += 4) {
+    Lanes v, acc, acc_prev, ferr;
+    load(v, r.v + j + 1);
+    load(acc, r.a + j + 1);
+    load(acc_prev, r.a + j);
+    load(ferr, r.ferr + j);
+    Lanes jerk = (acc - acc_prev) / T;
+    Lanes vel = v, accel = acc;
+    vabs(vel);
+    vabs(accel);
+    vabs(jerk);
+    const Lanes v_m_s = v / k1000, a_m_s2 = acc / k1000;
+    Lanes force = mass * a_m_s2 + damping * v_m_s;
+    vabs(force);
+    Lanes power = force * v_m_s;
+    vabs(power);
+    store(r.vel + j, vel);
+    store(r.accel + j, accel);
+    store(r.jerk + j, jerk);
+    store(r.force + j, force);
+    store(r.power + j, power);
+    vmax(m_ferr, ferr);
+    vmax(m_v, vel);
+    vmax(m_vl, vel);
+    vmax(m_a, accel);
+    vmax(m_j, jerk);
+    vmax(m_f, force);
+    vmax(m_p, power);
+    n_v -= vel > v_lim;
+    n_f -= force > f_lim;
+    n_p -= power > p_lim;
+  }
+  for (int j = n4; j < n; ++j) {
+    const double v = r.v[j + 1], acc = r.a[j + 1];
+    const double jerk = (acc - r.a[j]) / c.T;
+    r.vel[j] = std::abs(v);
+    r.accel[j] = std::abs(acc);
+    r.jerk[j] = std::abs(jerk);
+    const double v_m_s = v / 1000.0, a_m_s2 = acc / 1000.0;
+    r.force[j] = std::abs(c.mass * a_m_s2 + c.damping * v_m_s);
+    r.power[j] = std::abs(r.force[j] * v_m_s);
+    pk.ferr = std::max(pk.ferr, r.ferr[j]);
+    pk.v = std::max(pk.v, r.vel[j]);
+    pk.vl = std::max(pk.vl, r.vel[j]);
+    pk.a = std::max(pk.a, r.accel[j]);
+    pk.j = std::max(pk.j, r.jerk[j]);
+    pk.f = std::max(pk.f, r.force[j]);
+    pk.p = std::max(pk.p, r.power[j]);
+    pk.n_v += r.vel[j] > c.v_lim;
+    pk.n_f += r.force[j] > c.f_lim;
+    pk.n_p += r.power[j] > c.p_lim;
+  }
+  // The maxima are of the same values whatever the grouping (a NaN never becomes one).
+  pk.ferr = hmax(m_ferr, pk.ferr);
+  pk.v = hmax(m_v, pk.v);
+  pk.vl = hmax(m_vl, pk.vl);
+  pk.a = hmax(m_a, pk.a);
+  pk.j = hmax(m_j, pk.j);
+  pk.f = hmax(m_f, pk.f);
+  pk.p = hmax(m_p, pk.p);
+  for (int l = 0; l < 4; ++l) pk.n_v += n_v[l], pk.n_f += n_f[l], pk.n_p += n_p[l];
+}
+
+__attribute__((target("avx2"))) void axis_rows_avx2(AxisRows& r, int n, const AxisConsts& c,
+                                                    AxisPeaks& pk) {
+  axis_rows(r, n, c, pk);
+}
+void axis_rows_portable(AxisRows& r, int n, const AxisConsts& c, AxisPeaks& pk) {
+  axis_rows(r, n, c, pk);
+}
+
+}  // namespace
+
+void RunSummary::add_block(const SampleBlock& b, int first) {
+  const int i0 = first, i1 = b.count;
+  if (i1 <= i0) return;
+  const int n = i1 - i0;
+  const int* line = b.line + i0;
+  std::int64_t last_motion_k = last_motion_k_;
+  static const bool avx2 = active_isa() != Isa::Portable;
+  // Per axis: the differences and following errors row by row (integers), then add()'s
+  // floating-point expressions a column at a time. The peaks keep running maxima and look for
+  // the first row reaching a maximum only when it beats the peak, which is where update()
+  // row by row would have stopped (it keeps the first occurrence).
+  AxisRows r;  // 25 kB of stack, not initialised: each pass writes what the next reads
+  for (int a = 0; a < axes_; ++a) {
+    AxisSummary& ax = axes[static_cast<std::size_t>(a)];
+    const std::int64_t* ref = b.ref_blu.v[a] + i0;
+    const std::int64_t* enc = b.enc_blu.v[a] + i0;
+    r.refp[0] = prev_ref_[a];
+    std::memcpy(r.refp + 1, ref, static_cast<std::size_t>(n) * sizeof *ref);
+    r.enc = enc;
+    r.moved = -1;
+    r.v[0] = prev_v_[a];
+    r.a[0] = prev_a_[a];
+    const AxisConsts c{blu_mm_[a],
+                       period_s_,
+                       mass_kg_[a],
+                       damping_kg_s_[a],
+                       ax.v_limit.limit * (1 + 1e-9),
+                       ax.f_limit.limit * (1 + 1e-9),
+                       ax.p_limit.limit * (1 + 1e-9)};
+    AxisPeaks pk{ax.following_err_blu.value, ax.velocity_mm_s.value, ax.v_limit.worst.value,
+                 ax.accel_mm_s2.value,       ax.jerk_mm_s3.value,    ax.f_limit.worst.value,
+                 ax.p_limit.worst.value};
+    if (avx2)
+      axis_rows_avx2(r, n, c, pk);
+    else
+      axis_rows_portable(r, n, c, pk);
+    ax.following_err_blu.update_block(pk.ferr, r.ferr, line, 0, n);
+    ax.velocity_mm_s.update_block(pk.v, r.vel, line, 0, n);
+    ax.accel_mm_s2.update_block(pk.a, r.accel, line, 0, n);
+    ax.jerk_mm_s3.update_block(pk.j, r.jerk, line, 0, n);
+    ax.v_limit.worst.update_block(pk.vl, r.vel, line, 0, n);
+    ax.f_limit.worst.update_block(pk.f, r.force, line, 0, n);
+    ax.p_limit.worst.update_block(pk.p, r.power, line, 0, n);
+    ax.v_limit.violations += pk.n_v;
+    ax.f_limit.violations += pk.n_f;
+    ax.p_limit.violations += pk.n_p;
+    prev_ref_[a] = ref[n - 1];
+    prev_v_[a] = r.v[n];
+    prev_a_[a] = r.a[n];
+    if (r.moved >= 0) last_motion_k = std::max(last_motion_k, b.k0 + i0 + r.moved);
+  }
+  last_motion_k_ = last_motion_k;
+  // The sums run in row order, as add() adds them.
+  double m_c = contour_err_blu.value;
+  double* cabs = r.vel;  // free again
+  double sq = contour_sq_sum_, ref_sum = arc_ref_sum_, enc_sum = arc_enc_sum_;
+  std::int64_t arcs = 0, holds = 0;
+  for (int i = i0; i < i1; ++i) {
+    const double c = b.contour_err_blu[i];
+    cabs[i - i0] = std::abs(c);
+    m_c = std::max(m_c, cabs[i - i0]);
+    sq += c * c;
+    if (!std::isnan(b.arc_ref_dev_blu[i])) {
+      ref_sum += b.arc_ref_dev_blu[i];
+      enc_sum += b.arc_enc_dev_blu[i];
+      ++arcs;
+    }
+    holds += (b.events[i] & kEventHold) != 0;
+  }
+  contour_err_blu.update_block(m_c, cabs, line, 0, n);
+  contour_sq_sum_ = sq;
+  arc_ref_sum_ = ref_sum;
+  arc_enc_sum_ = enc_sum;
+  arc_samples += arcs;
+  hold_samples_ += holds;
+  samples += n;
 }
 
 void RunSummary::finish(const SampleRecord& last, const AxisBlu& program_end_blu, bool is_settled) {

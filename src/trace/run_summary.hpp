@@ -3,6 +3,7 @@
 
 #include "common/axis.hpp"
 #include "machine/machine.hpp"
+#include "pipeline/sample_block.hpp"
 #include "pipeline/sample_record.hpp"
 
 #include <array>
@@ -17,6 +18,14 @@ struct Peak {
   int line = 0;
   void update(double v, int at_line) {
     if (v > value) value = v, line = at_line;
+  }
+  /// update() of x[i], line[i] for i in [i0, i1) in order, given mx = max(value, x[i0..i1)) as
+  /// std::max forms it: the first x equal to a larger maximum is where update() would stop.
+  void update_block(double mx, const double* x, const int* line_of, int i0, int i1) {
+    if (!(mx > value)) return;
+    int i = i0;
+    while (i + 1 < i1 && !(x[i] == mx)) ++i;
+    value = mx, line = line_of[i];
   }
 };
 
@@ -44,6 +53,9 @@ class RunSummary {
 
   /// Adds one sample (every sample, not only the decimated trace rows).
   void add(const SampleRecord& s);
+  /// add() of rows first..count-1 of `b` (contour columns filled by ContourMeter::measure_block):
+  /// the same statistics, bit for bit, as add() of b.record() row by row, a column at a time.
+  void add_block(const SampleBlock& b, int first);
   /// Records the end: the last sample, the programmed end point and whether the axes settled.
   void finish(const SampleRecord& last, const AxisBlu& program_end_blu, bool settled);
 

@@ -74,6 +74,8 @@ class TraceWriter {
   bool open() const { return file_ != nullptr; }
 
   std::int64_t rows() const { return rows_; }
+  /// Samples k with k % decimate() == 0 are written.
+  int decimate() const { return decimate_; }
 
   /// True when `path` would be written in place, so cannot be kept partial: "-" (stdout) or an
   /// existing device or FIFO. False for a directory (the constructor refuses it on its own).
