@@ -64,9 +64,9 @@ std::vector<std::int64_t> reference(int samples, std::mt19937_64& rng) {
   for (int i = 0; i < samples; ++i) {
     const auto phase = (i / 300) % 4;
     if (phase == 0) v += std::uniform_real_distribution<double>(-3.0, 3.0)(rng);
-    if (phase == 1) v = 0.0;                                         // standstill: hunting
+    if (phase == 1) v = 0.0;                                                 // standstill: hunting
     if (phase == 2 && i % 300 == 0) x += (rng() % 2 ? 1.0 : -1.0) * 4000.0;  // a step
-    if (phase == 3) v = -v * 0.99;                                   // reversals
+    if (phase == 3) v = -v * 0.99;                                           // reversals
     x += v;
     r[static_cast<std::size_t>(i)] = std::llround(x);
   }
@@ -83,9 +83,11 @@ struct Outcome {
 
 // The reference: one ServoAxis per axis, stepped sample by sample as the pipeline did.
 template <int N>
-Outcome per_axis(const gm::Machine& m, int substeps, const std::vector<std::vector<std::int64_t>>& ref) {
+Outcome per_axis(const gm::Machine& m, int substeps,
+                 const std::vector<std::vector<std::int64_t>>& ref) {
   std::vector<gm::ServoAxis> axes;
-  for (int a = 0; a < N; ++a) axes.emplace_back(m.axes[static_cast<std::size_t>(a)], kBankT, substeps, 0);
+  for (int a = 0; a < N; ++a)
+    axes.emplace_back(m.axes[static_cast<std::size_t>(a)], kBankT, substeps, 0);
   Outcome o;
   int quiet = 0;
   for (std::size_t i = 0; i < ref[0].size(); ++i, ++o.rows) {
@@ -112,8 +114,9 @@ Outcome per_axis(const gm::Machine& m, int substeps, const std::vector<std::vect
 
 // The bank over blocks of random sizes (1..256, from random first rows).
 template <int N>
-Outcome banked(const gm::Machine& m, int substeps, const std::vector<std::vector<std::int64_t>>& ref,
-               Isa isa, std::mt19937_64& rng, bool* used_lanes = nullptr) {
+Outcome banked(const gm::Machine& m, int substeps,
+               const std::vector<std::vector<std::int64_t>>& ref, Isa isa, std::mt19937_64& rng,
+               bool* used_lanes = nullptr) {
   gm::ServoBank bank(m, N, kBankT, substeps);
   bank.set_isa_for_testing(isa);
   if (used_lanes != nullptr) *used_lanes = bank.lanes();
