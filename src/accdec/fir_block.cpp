@@ -6,6 +6,9 @@
 #include "accdec/fir_filter.hpp"
 
 #include "common/rounding.hpp"
+#include "common/status.hpp"
+
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
@@ -298,6 +301,8 @@ void FirAccDec::set_isa_for_testing(Isa isa) {
 
 template <int N>
 void FirAccDec::step_block(const BluColumns& in, BluColumns& out, int n) {
+  if (n < 1 || n > kBlockSamples)  // the scratch holds one block
+    throw InputError(fmt::format("FIR Acc/Dec: a block of {} samples (1..{})", n, kBlockSamples));
   const int L = length_;
   const bool running = structure_ == FirStructure::RunningSum;
   // Fast only if the window before the block is (big_in_window_ counts its last N+1 samples;
