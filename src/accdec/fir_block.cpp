@@ -6,10 +6,15 @@
 #include "accdec/fir_filter.hpp"
 
 #include "common/rounding.hpp"
+#include "common/status.hpp"
+
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+
+#include <immintrin.h>
 
 namespace gm {
 
@@ -72,11 +77,11 @@ __attribute__((always_inline)) inline void store(void* p, const V& v) {
   std::memcpy(p, &v, sizeof v);
 }
 
-// The whole block of one axis, W doubles a vector (GCC vector extensions: the caller's target
-// decides the instructions). Returns false, having changed nothing but the job's scratch and
-// `out`, when a relative position of the block is beyond the exact limit.
+// The block's exact sums of one axis, W doubles a vector (GCC vector extensions: the caller's
+// target decides the instructions). Returns false, having changed nothing but the job's
+// scratch, when a relative position of the block is beyond the exact limit.
 template <int W>
-__attribute__((always_inline)) inline bool axis_kernel(AxisJob& j) {
+__attribute__((always_inline)) inline bool axis_sums(AxisJob& j) {
   using D = typename BlockLanes<W>::D;
   using I = typename BlockLanes<W>::I;
   const int L = j.length, n = j.n;
@@ -84,13 +89,24 @@ __attribute__((always_inline)) inline bool axis_kernel(AxisJob& j) {
   std::int64_t* const rel = j.rel;
   double* const s = j.sums;
 
-  // The block's relative positions, and whether all are within the limit (one OR a sample).
-  std::int64_t beyond = 0;
-  for (int i = 0; i < n; ++i) {
-    const std::int64_t r = j.in[i] - j.start;
-    rel[L + i] = r;
-    beyond |= static_cast<std::int64_t>(r > j.limit) | static_cast<std::int64_t>(r < -j.limit);
+  // The block's relative positions, and whether all are within the limit: r > limit or
+  // r < -limit sets the sign bit of (limit - r) | (r + limit) (|r| < 2^62: no overflow), so the
+  // check is adds and ORs, W samples at once, no comparison.
+  I beyond_v = {};
+  int i0 = 0;
+  for (; i0 + W <= n; i0 += W) {
+    const I r = load<I>(j.in + i0) - j.start;
+    store(rel + L + i0, r);
+    beyond_v |= (j.limit - r) | (r + j.limit);
   }
+  std::int64_t beyond = 0;
+  for (int l = 0; l < W; ++l) beyond |= beyond_v[l];
+  for (; i0 < n; ++i0) {
+    const std::int64_t r = j.in[i0] - j.start;
+    rel[L + i0] = r;
+    beyond |= (j.limit - r) | (r + j.limit);
+  }
+  beyond = beyond < 0;
   if (beyond != 0) return false;
 
   if (j.running) {
@@ -108,8 +124,10 @@ __attribute__((always_inline)) inline bool axis_kernel(AxisJob& j) {
     // so output i reads rel_real[i + k] for tap k (oldest first).
     double* const x = j.rel_real;
     const int m = L - 1 + n;
-    for (int k = 0; k < m; ++k) x[k] = static_cast<double>(rel[k + 1]);
-    for (int k = m; k < L - 1 + padded; ++k) x[k] = 0.0;
+    int e = 0;
+    for (; e + W <= m; e += W) store(x + e, __builtin_convertvector(load<I>(rel + e + 1), D));
+    for (; e < m; ++e) x[e] = static_cast<double>(rel[e + 1]);
+    for (; e < L - 1 + padded; ++e) x[e] = 0.0;
     // Σ_k taps[k]·x[i+k] for W outputs at once, four vectors a tap (one broadcast, four
     // independent sums). Every product and partial sum is an integer below 2^53 (the caller
     // checked every |rel| <= limit), so these sums equal step_n's whatever the order.
@@ -176,21 +194,30 @@ __attribute__((always_inline)) inline bool axis_kernel(AxisJob& j) {
     }
   }
 
-  // The quotient, as step_n: |sum| < 2^51 -> round_half_away(sum / b_s) on the correctly
-  // rounded double quotient x (|x| < 2^51). round_half_away(x) is a function of x alone; here
-  // it is computed without a conversion instruction: y = x + 1.5·2^52 lies in [2^52, 2^53),
-  // where doubles are the integers, so y = 1.5·2^52 + rne(x) exactly (rne: nearest, ties to
-  // even, the current rounding mode), t = y - 1.5·2^52 = rne(x) and f = x - t in [-1/2, 1/2]
-  // are exact, and the integer rne(x) is y's bit pattern minus 1.5·2^52's. rne and
-  // round-half-away differ only at halves: +1 when f = 1/2 and x > 0, -1 when f = -1/2 and
-  // x < 0. Lanes with |sum| >= 2^51 take step_n's int64 division afterwards.
+  return true;
+}
+
+// The quotient, as step_n: |sum| < 2^51 -> round_half_away(sum / b_s) on the correctly
+// rounded double quotient x (|x| < 2^51, so x - trunc(x) is exact and round_half_away(x) is
+// a function of x alone, whichever instructions compute it). Writes q[0 .. padded) and
+// returns whether a lane had |sum| >= 2^51: those take step_n's int64 division (finish()).
+//
+// Portable and AVX2 (no double -> int64 conversion instruction): y = x + 1.5·2^52 lies in
+// [2^52, 2^53), where doubles are the integers, so y = 1.5·2^52 + rne(x) exactly (rne: nearest,
+// ties to even, the rounding mode), t = y - 1.5·2^52 = rne(x) and f = x - t in [-1/2, 1/2] are
+// exact, and the integer rne(x) is y's bit pattern minus 1.5·2^52's. rne and round-half-away
+// differ only at halves: +1 when f = 1/2 and x > 0, -1 when f = -1/2 and x < 0.
+template <int W>
+__attribute__((always_inline)) inline bool quotient_generic(const AxisJob& j, std::int64_t* q) {
+  using D = typename BlockLanes<W>::D;
+  using I = typename BlockLanes<W>::I;
+  const int padded = (j.n + W - 1) / W * W;
   const D magic = D{} + kRoundMagic;
   const I magic_bits = load<I>(&magic);
   const double b_s = j.b_s_real;
   I wide = {};
-  std::int64_t q[kBlockSamples];
   for (int i = 0; i < padded; i += W) {
-    const D sum = load<D>(s + i);
+    const D sum = load<D>(j.sums + i);
     wide |= (sum >= kQuotientExact) | (sum <= -kQuotientExact);
     const D x = sum / b_s;
     const D y = x + kRoundMagic;
@@ -202,27 +229,68 @@ __attribute__((always_inline)) inline bool axis_kernel(AxisJob& j) {
   }
   std::int64_t any_wide = 0;
   for (int l = 0; l < W; ++l) any_wide |= wide[l];
-  if (any_wide != 0) [[unlikely]] {
-    // |sum| <= b_s·limit < 2^53: the double holds the exact integer, int64 arithmetic is exact.
-    for (int i = 0; i < n; ++i)
-      if (!(std::fabs(s[i]) < kQuotientExact))
-        q[i] = div_round_half_away(static_cast<std::int64_t>(s[i]), j.b_s);
+  return any_wide != 0;
+}
+
+// AVX-512DQ: round_half_away's own steps, eight lanes at once: i = trunc(x) (vcvttpd2qq),
+// f = x - i exact, i + (f >= 1/2) - (f <= -1/2) with mask registers (GCC 12 scalarises the
+// generic version's 512-bit comparisons).
+__attribute__((target("avx512f,avx512dq,avx512vl,avx512bw"), always_inline)) inline bool
+quotient_avx512(const AxisJob& j, std::int64_t* q) {
+  const int padded = (j.n + 7) / 8 * 8;
+  const __m512d b_s = _mm512_set1_pd(j.b_s_real);
+  const __m512d limit = _mm512_set1_pd(kQuotientExact);
+  const __m512d half = _mm512_set1_pd(0.5), minus_half = _mm512_set1_pd(-0.5);
+  const __m512i one = _mm512_set1_epi64(1);
+  __mmask8 wide = 0;
+  for (int i = 0; i < padded; i += 8) {
+    const __m512d sum = _mm512_loadu_pd(j.sums + i);
+    wide |= _mm512_cmp_pd_mask(_mm512_abs_pd(sum), limit, _CMP_GE_OQ);
+    const __m512d x = _mm512_div_pd(sum, b_s);
+    __m512i r = _mm512_cvttpd_epi64(x);
+    const __m512d f = _mm512_sub_pd(x, _mm512_cvtepi64_pd(r));
+    r = _mm512_mask_add_epi64(r, _mm512_cmp_pd_mask(f, half, _CMP_GE_OQ), r, one);
+    r = _mm512_mask_sub_epi64(r, _mm512_cmp_pd_mask(f, minus_half, _CMP_LE_OQ), r, one);
+    _mm512_storeu_si512(q + i, r);
   }
-  for (int i = 0; i < n; ++i) j.out[i] = j.start + q[i];
-  return true;
+  return wide != 0;
+}
+
+// The lanes with |sum| >= 2^51, then out = start + q.
+template <int W>
+__attribute__((always_inline)) inline void finish(const AxisJob& j, std::int64_t* q, bool wide) {
+  if (wide) [[unlikely]] {
+    // |sum| <= b_s·limit < 2^53: the double holds the exact integer, int64 arithmetic is exact.
+    for (int i = 0; i < j.n; ++i)
+      if (!(std::fabs(j.sums[i]) < kQuotientExact))
+        q[i] = div_round_half_away(static_cast<std::int64_t>(j.sums[i]), j.b_s);
+  }
+  using I = typename BlockLanes<W>::I;
+  int i = 0;
+  for (; i + W <= j.n; i += W) store(j.out + i, load<I>(q + i) + j.start);
+  for (; i < j.n; ++i) j.out[i] = j.start + q[i];
 }
 
 #pragma GCC diagnostic pop
 
 // One function per instruction set holding the whole loop (one call per axis and block).
 __attribute__((target("avx512f,avx512dq,avx512vl,avx512bw"))) bool axis_kernel_avx512(AxisJob& j) {
-  return axis_kernel<8>(j);
+  if (!axis_sums<8>(j)) return false;
+  std::int64_t q[kBlockSamples];
+  finish<8>(j, q, quotient_avx512(j, q));
+  return true;
 }
 __attribute__((target("avx2"))) bool axis_kernel_avx2(AxisJob& j) {
-  return axis_kernel<4>(j);
+  if (!axis_sums<4>(j)) return false;
+  std::int64_t q[kBlockSamples];
+  finish<4>(j, q, quotient_generic<4>(j, q));
+  return true;
 }
 bool axis_kernel_portable(AxisJob& j) {
-  return axis_kernel<2>(j);
+  if (!axis_sums<2>(j)) return false;
+  std::int64_t q[kBlockSamples];
+  finish<2>(j, q, quotient_generic<2>(j, q));
+  return true;
 }
 
 }  // namespace
@@ -233,6 +301,8 @@ void FirAccDec::set_isa_for_testing(Isa isa) {
 
 template <int N>
 void FirAccDec::step_block(const BluColumns& in, BluColumns& out, int n) {
+  if (n < 1 || n > kBlockSamples)  // the scratch holds one block
+    throw InputError(fmt::format("FIR Acc/Dec: a block of {} samples (1..{})", n, kBlockSamples));
   const int L = length_;
   const bool running = structure_ == FirStructure::RunningSum;
   // Fast only if the window before the block is (big_in_window_ counts its last N+1 samples;

@@ -58,7 +58,8 @@ class FirAccDec {
   /// are computed vectorised over time (8 or 4 samples a vector, see isa()) while every relative
   /// position of the window (the last N+1 samples before the block and the block) is within
   /// exact_limit(); otherwise this block runs step_n sample by sample. Allocates nothing;
-  /// nothing of `out` past sample n or axis N is written. Instantiated for GM_FOR_EACH_AXIS_COUNT.
+  /// nothing of `out` past sample n or axis N is written; n outside 1..kBlockSamples throws
+  /// gm::InputError. Instantiated for GM_FOR_EACH_AXIS_COUNT.
   template <int N>
   void step_block(const BluColumns& in, BluColumns& out, int n);
 

@@ -5,6 +5,7 @@
 #include "accdec/taps.hpp"
 #include "common/block_columns.hpp"
 #include "common/isa.hpp"
+#include "common/status.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -229,6 +230,13 @@ TEST_CASE("step_block alone over long runs: blackman 41 and linear 11, three axe
       CAPTURE(seed, spec, gm::isa_name(isa));
       compare(taps, FirStructure::Auto, 3, isa, seed, 60000, true);
     }
+}
+
+TEST_CASE("step_block refuses a block size outside 1..kBlockSamples") {
+  FirAccDec f(gm::design_taps("blackman", 0.164, 0.004), AxisBlu::Zero());
+  auto in = std::make_unique<BluColumns>(), out = std::make_unique<BluColumns>();
+  CHECK_THROWS_AS(f.step_block<3>(*in, *out, 0), gm::InputError);
+  CHECK_THROWS_AS(f.step_block<3>(*in, *out, gm::kBlockSamples + 1), gm::InputError);
 }
 
 TEST_CASE("set_isa_for_testing never raises the instruction set above the CPU's") {

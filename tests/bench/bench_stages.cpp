@@ -2,6 +2,8 @@
 // count, servo, CSV trace rows and the whole pipeline, in samples (or bytes) per second.
 #include "accdec/fir_filter.hpp"
 #include "accdec/taps.hpp"
+#include "common/block_columns.hpp"
+#include "common/isa.hpp"
 #include "grammar/parse.hpp"
 #include "interp/program.hpp"
 #include "interpolator/interpolator.hpp"
@@ -100,6 +102,57 @@ void BM_Fir(benchmark::State& state, const char* profile) {
 BENCHMARK_CAPTURE(BM_Fir, linear, "linear")->Arg(11)->Arg(41)->Arg(161);
 BENCHMARK_CAPTURE(BM_Fir, blackman, "blackman")->Arg(11)->Arg(41)->Arg(161);
 BENCHMARK_CAPTURE(BM_Fir, scurve2, "scurve2")->Arg(41);
+
+// Per-sample step_n<3> against step_block<3> on the same input: eight blocks of three axes
+// moving on a circle (radius 4000 BLU, one turn every 2,048 samples), replayed; Arg(0): step_n,
+// Arg(1): step_block; the second argument is the instruction set (0 portable, 1 AVX2,
+// 2 AVX-512; a set the CPU lacks is skipped). Samples per second count three axes each.
+void BM_FirBlock(benchmark::State& state, const char* profile) {
+  const gm::Taps taps = gm::design_taps(profile, 0.164, 0.004);  // 41 taps
+  gm::FirAccDec fir(taps, gm::AxisBlu::Zero());
+  const auto isa = static_cast<gm::Isa>(state.range(1));
+  if (static_cast<int>(isa) > static_cast<int>(gm::active_isa())) {
+    state.SkipWithError("instruction set not available");
+    return;
+  }
+  fir.set_isa_for_testing(isa);
+  constexpr int kBlocks = 8;
+  std::vector<gm::BluColumns> in(kBlocks), out(kBlocks);
+  for (int b = 0; b < kBlocks; ++b)
+    for (int i = 0; i < gm::kBlockSamples; ++i) {
+      const double u =
+          2 * 3.141592653589793 * (b * gm::kBlockSamples + i) / (kBlocks * gm::kBlockSamples);
+      in[static_cast<std::size_t>(b)].v[0][i] = std::llround(4000 * std::cos(u));
+      in[static_cast<std::size_t>(b)].v[1][i] = std::llround(4000 * std::sin(u));
+      in[static_cast<std::size_t>(b)].v[2][i] = i / 16;
+    }
+  const bool block = state.range(0) != 0;
+  gm::AxisBlu x = gm::AxisBlu::Zero(), y = gm::AxisBlu::Zero();
+  std::size_t b = 0;
+  for (auto _ : state) {
+    const gm::BluColumns& c = in[b];
+    gm::BluColumns& o = out[b];
+    if (block) {
+      fir.step_block<3>(c, o, gm::kBlockSamples);
+    } else {
+      for (int i = 0; i < gm::kBlockSamples; ++i) {
+        x[0] = c.v[0][i], x[1] = c.v[1][i], x[2] = c.v[2][i];
+        fir.step_n<3>(x, y);
+        o.v[0][i] = y[0], o.v[1][i] = y[1], o.v[2][i] = y[2];
+      }
+    }
+    benchmark::DoNotOptimize(o);
+    b = b + 1 == kBlocks ? 0 : b + 1;
+  }
+  state.SetItemsProcessed(state.iterations() * gm::kBlockSamples);  // samples (3 axes each)
+  state.SetLabel(gm::isa_name(isa));
+}
+BENCHMARK_CAPTURE(BM_FirBlock, blackman, "blackman")
+    ->ArgsProduct({{0, 1}, {0, 1, 2}})
+    ->ArgNames({"block", "isa"});
+BENCHMARK_CAPTURE(BM_FirBlock, linear, "linear")
+    ->ArgsProduct({{0, 1}, {0, 1, 2}})
+    ->ArgNames({"block", "isa"});
 
 void BM_Servo(benchmark::State& state) {
   const gm::Machine m = gm::default_machine();
