@@ -249,6 +249,24 @@ GM_SERVO_KERNEL(lanes_avx2, __attribute__((target("avx2"))))
 GM_SERVO_KERNEL(lanes_portable, )
 #undef GM_SERVO_KERNEL
 
+// The lanes' rounding alone, for the test of its ties (which servo runs almost never hit).
+#define GM_ROUND_KERNEL(NAME, TARGET, W)                              \
+  TARGET void NAME(const double* x, double* out, std::int64_t* bad) { \
+    using K = Lanes<W, 2>;                                            \
+    typename K::V v, r;                                               \
+    typename K::I b = typename K::I{} + 0;                            \
+    std::memcpy(&v, x, sizeof v);                                     \
+    K::round(v, r, b);                                                \
+    std::memcpy(out, &r, sizeof r);                                   \
+    std::memcpy(bad, &b, sizeof b);                                   \
+  }
+#if defined(__x86_64__)
+GM_ROUND_KERNEL(round_avx512, __attribute__((target("avx512f,avx512dq,avx512vl"))), 8)
+GM_ROUND_KERNEL(round_avx2, __attribute__((target("avx2"))), 4)
+#endif
+GM_ROUND_KERNEL(round_portable, , 2)
+#undef GM_ROUND_KERNEL
+
 }  // namespace
 
 ServoBank::ServoBank(const Machine& m, int axes, double period_s, int substeps)
@@ -281,6 +299,22 @@ ServoBank::ServoBank(const Machine& m, int axes, double period_s, int substeps)
     params_.ip[l] = s.form() == VelocityLoopForm::Ip ? -1 : 0;
   }
   from_axes(state_);
+}
+
+int ServoBank::round_for_testing(Isa isa, const double* x, double* out, std::int64_t* bad) {
+#if defined(__x86_64__)
+  if (isa == Isa::Avx512 && active_isa() == Isa::Avx512) {
+    round_avx512(x, out, bad);
+    return 8;
+  }
+  if (isa != Isa::Portable && active_isa() != Isa::Portable) {
+    round_avx2(x, out, bad);
+    return 4;
+  }
+#endif
+  (void)isa;
+  round_portable(x, out, bad);
+  return 2;
 }
 
 void ServoBank::set_isa_for_testing(Isa isa) {

@@ -43,6 +43,10 @@ class ServoBank {
   bool lanes() const { return lanes_ > 0; }
   /// Tests only: run the lane kernel compiled for `isa` (at most active_isa()).
   void set_isa_for_testing(Isa isa);
+  /// Tests only: the lanes' round_half_away on x[0..w) with the kernel of `isa` (at most
+  /// active_isa()); w, the lanes rounded (2, 4 or 8), is returned. bad[l] != 0: lane l is out
+  /// of the exact range (|x| ≥ 2^51 or NaN) and out[l] means nothing.
+  static int round_for_testing(Isa isa, const double* x, double* out, std::int64_t* bad);
 
   /// Lanes of the widest shape (nine axes: two vectors of 8 on AVX-512, 3 of 4, 5 of 2).
   static constexpr int kMaxLanes = 16;

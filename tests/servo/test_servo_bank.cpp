@@ -2,6 +2,7 @@
 // every instruction set, block size, plant order, loop form, substep count and axis count; and
 // the fallbacks (Coulomb friction, third-order plants, mixed orders, references beyond 2^51,
 // a divergence) agree too.
+#include "common/rounding.hpp"
 #include "common/status.hpp"
 #include "machine/machine_file.hpp"
 #include "servo/servo_bank.hpp"
@@ -265,6 +266,68 @@ TEST_CASE("servo bank: a diverging loop stops at the same sample with ServoAxis'
       CHECK(got.rows == want.rows);
       CHECK(got.error == want.error);
       CHECK(got.enc == want.enc);
+    }
+  }
+}
+
+TEST_CASE("servo bank: the lanes' rounding is round_half_away, ties and signed zeros included") {
+  std::vector<double> xs = {0.0,
+                            -0.0,
+                            0.5,
+                            -0.5,
+                            1.5,
+                            -1.5,
+                            2.5,
+                            -2.5,
+                            0.49999999999999994,
+                            -0.49999999999999994,
+                            1e15 + 0.5,
+                            -1e15 - 0.5,
+                            2251799813685247.5,
+                            -2251799813685247.5,
+                            2251799813685247.0,
+                            3.5,
+                            -3.5,
+                            1e-300,
+                            -1e-300};
+  std::mt19937_64 rng(3);
+  for (int i = 0; i < 20000; ++i) {
+    const double scale = std::ldexp(1.0, static_cast<int>(rng() % 52));
+    xs.push_back(std::uniform_real_distribution<double>(-scale, scale)(rng));
+    xs.push_back(std::floor(xs.back()) + 0.5);  // a tie
+  }
+  for (Isa isa : {Isa::Portable, Isa::Avx2, Isa::Avx512}) {
+    INFO("isa " << gm::isa_name(isa));
+    std::size_t wrong = 0, flagged = 0;
+    for (std::size_t k = 0; k + 8 <= xs.size(); k += 8) {
+      double out[8];
+      std::int64_t bad[8];
+      const int w = gm::ServoBank::round_for_testing(isa, &xs[k], out, bad);
+      for (int l = 0; l < w; ++l) {
+        if (bad[l] != 0) {
+          ++flagged;
+          continue;
+        }
+        const double want =
+            static_cast<double>(gm::round_half_away(xs[k + static_cast<std::size_t>(l)]));
+        if (std::memcmp(&out[l], &want, sizeof want) != 0) ++wrong;  // +0.0, never -0.0
+      }
+    }
+    CHECK(wrong == 0);
+    CHECK(flagged == 0);  // everything here is below 2^51
+  }
+  double far[8] = {
+      2251799813685248.0, -2251799813685248.0, std::nan(""), 1e300, 0.0, 1.0, -1.0, 2.0};
+  for (Isa isa : {Isa::Portable, Isa::Avx2, Isa::Avx512}) {
+    for (int o = 0; o < 8; o += 2) {
+      double out[8];
+      std::int64_t bad[8];
+      double x[8] = {};
+      x[0] = far[o];
+      x[1] = far[o + 1];
+      gm::ServoBank::round_for_testing(isa, x, out, bad);
+      CHECK((bad[0] != 0) == (o < 4));
+      CHECK((bad[1] != 0) == (o < 4));
     }
   }
 }
