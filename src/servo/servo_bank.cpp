@@ -11,8 +11,16 @@ namespace gm {
 
 namespace {
 
-template <int L>
+// One native vector of W doubles (SSE2: 2, AVX2: 4, AVX-512: 8; 4 on AVX-512 too when four
+// lanes suffice). More axes take several such pieces, stepped side by side: a generic vector
+// wider than the hardware's had its selects lowered lane by lane (7x slower).
+template <int W>
 struct LaneTypes;
+template <>
+struct LaneTypes<2> {
+  typedef double V __attribute__((vector_size(16)));
+  typedef std::int64_t I __attribute__((vector_size(16)));
+};
 template <>
 struct LaneTypes<4> {
   typedef double V __attribute__((vector_size(32)));
@@ -24,18 +32,25 @@ struct LaneTypes<8> {
   typedef std::int64_t I __attribute__((vector_size(64)));
 };
 
+// Counts and references are carried as doubles in the lanes: integers of magnitude below 2^51
+// are exact, and so are their differences, so every lane computes what ServoAxis computes from
+// its int64 counts; x86 has no int64 <-> double conversion before AVX-512DQ, and on AVX2 and
+// SSE2 the compiler's scalar conversions sat in the middle of the dependency chain. A lane
+// whose position or reference leaves that range runs its row in ServoAxis instead.
+constexpr double kExactBlu = 2251799813685248.0;  // 2^51 (> ServoAxis::kMaxPositionBlu)
+
 #define GM_INLINE __attribute__((always_inline)) inline
 
-// The lanes of one sample: the state as vectors (in registers) and the parameters. Everything
-// by reference: no vector crosses a call (the kernel is one inlined function per instruction set).
-template <int L, int M>
+// W lanes (lanes o .. o+W-1 of LaneState/LaneParams) of one sample: the state as vectors (in
+// registers) and the parameters. Everything by reference: no vector crosses a call (the kernel
+// is one inlined function per instruction set).
+template <int W, int M>
 struct Lanes {
-  using V = typename LaneTypes<L>::V;
-  using I = typename LaneTypes<L>::I;
+  using V = typename LaneTypes<W>::V;
+  using I = typename LaneTypes<W>::I;
 
   struct State {
-    V z[M], integ, u, table_rel;
-    I prev_count, prev_ref, start;
+    V z[M], integ, u, table_rel, prev_count, prev_ref;
   };
   State s;  // what a sample changes (saved before a row, to take it back)
   V a[M * M], bd[M];
@@ -51,66 +66,73 @@ struct Lanes {
     std::memcpy(p, &v, sizeof v);
   }
 
-  GM_INLINE void load_state(const ServoBank::LaneState& from) {
-    for (int k = 0; k < M; ++k) load(s.z[k], from.z[k]);
-    load(s.integ, from.integ);
-    load(s.u, from.u);
-    load(s.table_rel, from.table_rel);
-    load(s.prev_count, from.prev_count);
-    load(s.prev_ref, from.prev_ref);
-    load(s.start, from.start);
+  GM_INLINE void load_state(const ServoBank::LaneState& from, int o) {
+    for (int k = 0; k < M; ++k) load(s.z[k], from.z[k] + o);
+    load(s.integ, from.integ + o);
+    load(s.u, from.u + o);
+    load(s.table_rel, from.table_rel + o);
+    load(s.prev_count, from.prev_count + o);
+    load(s.prev_ref, from.prev_ref + o);
   }
-  GM_INLINE void store_state(ServoBank::LaneState& to) const {
-    for (int k = 0; k < M; ++k) store(to.z[k], s.z[k]);
-    store(to.integ, s.integ);
-    store(to.u, s.u);
-    store(to.table_rel, s.table_rel);
-    store(to.prev_count, s.prev_count);
-    store(to.prev_ref, s.prev_ref);
-    store(to.start, s.start);
+  GM_INLINE void store_state(ServoBank::LaneState& to, int o) const {
+    for (int k = 0; k < M; ++k) store(to.z[k] + o, s.z[k]);
+    store(to.integ + o, s.integ);
+    store(to.u + o, s.u);
+    store(to.table_rel + o, s.table_rel);
+    store(to.prev_count + o, s.prev_count);
+    store(to.prev_ref + o, s.prev_ref);
   }
-  GM_INLINE void load_params(const ServoBank::LaneParams& p) {
-    for (int k = 0; k < M * M; ++k) load(a[k], p.a[k]);
-    for (int k = 0; k < M; ++k) load(bd[k], p.bd[k]);
-    load(kp, p.kp);
-    load(kvp, p.kvp);
-    load(kvi, p.kvi);
-    load(kv_period, p.kv_period);
-    load(kv_over_h, p.kv_over_h);
-    load(h_over_kv, p.h_over_kv);
-    load(u_max, p.u_max);
-    load(hb, p.hb);
-    load(ip, p.ip);
+  GM_INLINE void load_params(const ServoBank::LaneParams& p, int o) {
+    for (int k = 0; k < M * M; ++k) load(a[k], p.a[k] + o);
+    for (int k = 0; k < M; ++k) load(bd[k], p.bd[k] + o);
+    load(kp, p.kp + o);
+    load(kvp, p.kvp + o);
+    load(kvi, p.kvi + o);
+    load(kv_period, p.kv_period + o);
+    load(kv_over_h, p.kv_over_h + o);
+    load(h_over_kv, p.h_over_kv + o);
+    load(u_max, p.u_max + o);
+    load(hb, p.hb + o);
+    load(ip, p.ip + o);
   }
 
-  // round_half_away (common/rounding.hpp) for lanes with |x| < 9.2e18; the others are marked
-  // in `bad` (their sample then runs in ServoAxis, whose rounding handles them).
-  static GM_INLINE void round(const V& x, I& out, I& bad) {
-    const V ax = x < 0.0 ? -x : x;
-    bad |= ~(ax < 9.2e18);
-    const V safe = ax < 9.2e18 ? x : 0.0;
-    const I i = __builtin_convertvector(safe, I);  // truncated toward zero
-    const V frac = safe - __builtin_convertvector(i, V);
-    out = i - (frac >= 0.5) + (frac <= -0.5);  // masks are -1 where true
+  // m ? a : b lane by lane for a mask m of all-ones / all-zeros lanes, in bit operations: SSE2
+  // has no 64-bit integer compare for the vector select's m != 0.
+  static GM_INLINE void sel(V& out, const I& m, const V& a, const V& b) {
+    out = (V)(((I)a & m) | ((I)b & ~m));
+  }
+
+  // round_half_away (common/rounding.hpp) as a double, for lanes with |x| < 2^51; the others
+  // (and NaN) are marked in `bad`: their row then runs in ServoAxis. With a = |x|,
+  // (a + 2^52) - 2^52 is a rounded to the nearest integer, ties to even; a tie rounded down
+  // (a - r = 0.5) goes up instead, which is ties away from zero. The sign comes back as 0 - r,
+  // not -r, so a count of zero is +0.0 like ServoAxis's static_cast<double>(int64 0).
+  static GM_INLINE void round(const V& x, V& out, I& bad) {
+    const V a = (V)((I)x & (I{} + 0x7fffffffffffffff));  // |x|
+    bad |= ~(a < kExactBlu);
+    const V big = V{} + 4503599627370496.0;  // 2^52
+    V r = (a + big) - big;
+    r = a - r == 0.5 ? r + 1.0 : r;
+    out = x < 0.0 ? 0.0 - r : r;
   }
 
   // ServoAxis::servo_sample, lane by lane in its order.
-  GM_INLINE void sample(const I& count, const V& pos_ref) {
-    const V y = __builtin_convertvector(count - s.prev_count, V) * kv_over_h;
+  GM_INLINE void sample(const V& count, const V& pos_ref) {
+    const V y = (count - s.prev_count) * kv_over_h;
     s.prev_count = count;
-    const V vref = kp * (pos_ref - __builtin_convertvector(count, V));
+    const V vref = kp * (pos_ref - count);
     const V r_v = vref * kv_period;
     const V e = r_v - y;
     const V di = e * h_over_kv;
     V in = s.integ + di;
     const V u_ip = kvi * in - kvp * y;
     const V u_pi = kvp * e + kvi * in;
-    V uu = ip != 0 ? u_ip : u_pi;
+    V uu;
+    sel(uu, ip, u_ip, u_pi);
     const I over = uu > u_max, under = uu < -u_max;
-    const V sat = over != 0 ? u_max : under != 0 ? -u_max : uu;  // std::clamp
-    const I keep = (over & (di > 0.0)) | (under & (di < 0.0));   // conditional integration
-    in = keep != 0 ? s.integ : in;
-    uu = (over | under) != 0 ? sat : uu;
+    const I keep = (over & (di > 0.0)) | (under & (di < 0.0));  // conditional integration
+    sel(in, keep, s.integ, in);
+    uu = uu > u_max ? u_max : uu < -u_max ? -u_max : uu;  // std::clamp when saturated
     s.integ = in;
     s.u = uu;
     // DiscretePlant::step_sized<M>: each row summed in column order, then + Bd·u.
@@ -128,80 +150,96 @@ struct Lanes {
   }
 };
 
-// Rows first.. of the block with the lanes; stops before a row in which a lane left the exact
-// rounding range (`bad_row` = that row, the state as before it) or diverged (`diverged` = its
-// lane, rows done before it returned). Returns the rows done.
-template <int N, int L, int M>
+// Rows first.. of the block with the lanes, N axes in pieces of W lanes; stops before a row in
+// which a lane left the exact range (`bad_row` = that row, the state as before it) or diverged
+// (`diverged` = its lane, rows done before it returned). Returns the rows done.
+template <int N, int W, int M>
 GM_INLINE int lane_rows(ServoBank::LaneState& st, const ServoBank::LaneParams& pa, int substeps,
                         const BluColumns& ref, BluColumns& enc, RealColumns& table, int first,
                         int n, int& quiet_run, int& bad_row, int& diverged) {
-  using K = Lanes<L, M>;
+  using K = Lanes<W, M>;
   using V = typename K::V;
   using I = typename K::I;
-  K k;
-  k.load_params(pa);
-  k.load_state(st);
+  constexpr int P = (N + W - 1) / W;  // pieces
+  constexpr int L = P * W;            // lanes
+  static_assert(L <= ServoBank::kMaxLanes);
+  K k[P];
+  for (int q = 0; q < P; ++q) {
+    k[q].load_params(pa, q * W);
+    k[q].load_state(st, q * W);
+  }
   const V sub = V{} + static_cast<double>(substeps);
   int done = 0;
   for (int i = first; i < first + n; ++i, ++done) {
-    const typename K::State before = k.s;
-    std::int64_t r[L] = {};
-    for (int a = 0; a < N; ++a) r[a] = ref.v[a][i];
-    I refi;
-    std::memcpy(&refi, r, sizeof refi);
-    double tab[L];
-    const V table_now = __builtin_convertvector(k.s.start, V) + k.s.table_rel;
-    std::memcpy(tab, &table_now, sizeof tab);
-    for (int a = 0; a < N; ++a) table.v[a][i] = tab[a];
-    I bad = I{} + 0;
-    I count0, count;
-    K::round(k.s.z[M - 1], count0, bad);
-    count0 += k.s.start;
-    const V refd = __builtin_convertvector(refi, V);
-    const V delta = __builtin_convertvector(refi - k.s.prev_ref, V);
-    k.sample(count0, refd);
-    for (int j = 1; j < substeps; ++j) {
-      K::round(k.s.z[M - 1], count, bad);
-      k.sample(count + k.s.start, refd + delta * static_cast<double>(j) / sub);
+    typename K::State before[P];
+    for (int q = 0; q < P; ++q) before[q] = k[q].s;
+    // The row's references, a lane each (unused lanes stay at 0, at rest).
+    double r[L] = {};
+    bool ref_far = false;
+    for (int a = 0; a < N; ++a) {
+      const std::int64_t x = ref.v[a][i];
+      r[a] = static_cast<double>(x);
+      ref_far = ref_far || x >= static_cast<std::int64_t>(kExactBlu) ||
+                x <= -static_cast<std::int64_t>(kExactBlu);
     }
-    k.s.prev_ref = refi;
-    std::int64_t badl[L];
+    V refd[P], delta[P], count0[P], count[P];
+    double tab[L];
+    I bad = I{} + 0;
+    for (int q = 0; q < P; ++q) {
+      std::memcpy(&refd[q], r + q * W, sizeof(V));
+      // The table position at the start of the period (ServoAxis::table_blu(): start 0 + rel).
+      const V table_now = V{} + k[q].s.table_rel;
+      std::memcpy(tab + q * W, &table_now, sizeof(V));
+      K::round(k[q].s.z[M - 1], count0[q], bad);
+      delta[q] = refd[q] - k[q].s.prev_ref;  // exact: both below 2^51, as ref - prev_ref in int64
+      k[q].sample(count0[q], refd[q]);
+    }
+    for (int a = 0; a < N; ++a) table.v[a][i] = tab[a];
+    for (int j = 1; j < substeps; ++j)
+      for (int q = 0; q < P; ++q) {
+        K::round(k[q].s.z[M - 1], count[q], bad);
+        k[q].sample(count[q], refd[q] + delta[q] * static_cast<double>(j) / sub);
+      }
+    std::int64_t badl[W];
     std::memcpy(badl, &bad, sizeof badl);
-    double pos[L];
-    std::memcpy(pos, &k.s.z[M - 1], sizeof pos);
-    bool any_bad = false;
-    for (int a = 0; a < N; ++a) any_bad = any_bad || badl[a] != 0;
+    double pos[L], c0[L];
+    for (int q = 0; q < P; ++q) {
+      k[q].s.prev_ref = refd[q];
+      std::memcpy(pos + q * W, &k[q].s.z[M - 1], sizeof(V));
+      std::memcpy(c0 + q * W, &count0[q], sizeof(V));
+    }
+    bool any_bad = ref_far;
+    for (int a = 0; a < W; ++a) any_bad = any_bad || badl[a] != 0;  // unused lanes: at rest
     if (any_bad) {
-      k.s = before;
+      for (int q = 0; q < P; ++q) k[q].s = before[q];
       bad_row = i;
       break;
     }
     for (int a = 0; a < N; ++a)
       if (!(std::fabs(pos[a]) < ServoAxis::kMaxPositionBlu)) {
         diverged = a;
-        k.store_state(st);
+        for (int q = 0; q < P; ++q) k[q].store_state(st, q * W);
         return done;
       }
-    std::int64_t c0[L];
-    std::memcpy(c0, &count0, sizeof c0);
     bool quiet = true;
     for (int a = 0; a < N; ++a) {
-      enc.v[a][i] = c0[a];
-      quiet = quiet && std::llabs(c0[a] - r[a]) <= 1;
+      const auto c = static_cast<std::int64_t>(c0[a]);
+      enc.v[a][i] = c;
+      quiet = quiet && std::llabs(c - ref.v[a][i]) <= 1;
     }
     quiet_run = quiet ? quiet_run + 1 : 0;
   }
-  k.store_state(st);
+  for (int q = 0; q < P; ++q) k[q].store_state(st, q * W);
   return done;
 }
 
 // One kernel per instruction set: the whole row loop is inside the attributed function.
 #define GM_SERVO_KERNEL(NAME, TARGET)                                                           \
-  template <int N, int L, int M>                                                                \
+  template <int N, int W, int M>                                                                \
   TARGET int NAME(ServoBank::LaneState& st, const ServoBank::LaneParams& pa, int substeps,      \
                   const BluColumns& ref, BluColumns& enc, RealColumns& table, int first, int n, \
                   int& quiet_run, int& bad_row, int& diverged) {                                \
-    return lane_rows<N, L, M>(st, pa, substeps, ref, enc, table, first, n, quiet_run, bad_row,  \
+    return lane_rows<N, W, M>(st, pa, substeps, ref, enc, table, first, n, quiet_run, bad_row,  \
                               diverged);                                                        \
   }
 #if defined(__x86_64__)
@@ -210,6 +248,24 @@ GM_SERVO_KERNEL(lanes_avx2, __attribute__((target("avx2"))))
 #endif
 GM_SERVO_KERNEL(lanes_portable, )
 #undef GM_SERVO_KERNEL
+
+// The lanes' rounding alone, for the test of its ties (which servo runs almost never hit).
+#define GM_ROUND_KERNEL(NAME, TARGET, W)                              \
+  TARGET void NAME(const double* x, double* out, std::int64_t* bad) { \
+    using K = Lanes<W, 2>;                                            \
+    typename K::V v, r;                                               \
+    typename K::I b = typename K::I{} + 0;                            \
+    std::memcpy(&v, x, sizeof v);                                     \
+    K::round(v, r, b);                                                \
+    std::memcpy(out, &r, sizeof r);                                   \
+    std::memcpy(bad, &b, sizeof b);                                   \
+  }
+#if defined(__x86_64__)
+GM_ROUND_KERNEL(round_avx512, __attribute__((target("avx512f,avx512dq,avx512vl"))), 8)
+GM_ROUND_KERNEL(round_avx2, __attribute__((target("avx2"))), 4)
+#endif
+GM_ROUND_KERNEL(round_portable, , 2)
+#undef GM_ROUND_KERNEL
 
 }  // namespace
 
@@ -220,13 +276,13 @@ ServoBank::ServoBank(const Machine& m, int axes, double period_s, int substeps)
     axes_.emplace_back(m.axes[static_cast<std::size_t>(a)], period_s, substeps, 0);
   // Lanes when every axis is alike in structure: plant order 1 or 2, no Coulomb friction.
   order_ = axes_.empty() ? 0 : axes_[0].plant().order();
-  bool alike = axes >= 1 && axes <= 8 && (order_ == 1 || order_ == 2);
+  bool alike = axes >= 1 && axes <= kMaxLanes && (order_ == 1 || order_ == 2);
   for (const ServoAxis& s : axes_)
     alike = alike && s.plant().order() == order_ && !(s.coulomb_drive() > 0.0);
   if (!alike) return;
-  lanes_ = axes <= 4 ? 4 : 8;
+  lanes_ = 1;
   const int m_size = order_ + 1;
-  for (int l = 0; l < 8; ++l) {
+  for (int l = 0; l < kMaxLanes; ++l) {
     const ServoAxis& s = axes_[static_cast<std::size_t>(l < axes ? l : 0)];
     const auto& ad = s.plant().ad();
     for (int j = 0; j < m_size; ++j)
@@ -245,6 +301,22 @@ ServoBank::ServoBank(const Machine& m, int axes, double period_s, int substeps)
   from_axes(state_);
 }
 
+int ServoBank::round_for_testing(Isa isa, const double* x, double* out, std::int64_t* bad) {
+#if defined(__x86_64__)
+  if (isa == Isa::Avx512 && active_isa() == Isa::Avx512) {
+    round_avx512(x, out, bad);
+    return 8;
+  }
+  if (isa != Isa::Portable && active_isa() != Isa::Portable) {
+    round_avx2(x, out, bad);
+    return 4;
+  }
+#endif
+  (void)isa;
+  round_portable(x, out, bad);
+  return 2;
+}
+
 void ServoBank::set_isa_for_testing(Isa isa) {
   isa_ = static_cast<int>(isa) < static_cast<int>(active_isa()) ? isa : active_isa();
 }
@@ -254,8 +326,8 @@ void ServoBank::to_axes(const LaneState& s) {
     ServoAxis& x = axes_[static_cast<std::size_t>(a)];
     ServoAxis::Dynamic d = x.dynamic();
     for (int k = 0; k <= order_; ++k) d.z[k] = s.z[k][a];
-    d.prev_count = s.prev_count[a];
-    d.prev_ref = s.prev_ref[a];
+    d.prev_count = static_cast<std::int64_t>(s.prev_count[a]);
+    d.prev_ref = static_cast<std::int64_t>(s.prev_ref[a]);
     d.have_ref = have_ref_;
     d.integ = s.integ[a];
     d.u = s.u[a];
@@ -265,14 +337,13 @@ void ServoBank::to_axes(const LaneState& s) {
 }
 
 void ServoBank::from_axes(LaneState& s) const {
-  for (int l = 0; l < 8; ++l) {
+  for (int l = 0; l < kMaxLanes; ++l) {
     const bool used = l < count_;
     const ServoAxis& x = axes_[static_cast<std::size_t>(used ? l : 0)];
     const ServoAxis::Dynamic d = x.dynamic();
     for (int k = 0; k <= order_; ++k) s.z[k][l] = used ? d.z[k] : 0.0;
-    s.prev_count[l] = used ? d.prev_count : 0;
-    s.prev_ref[l] = used ? d.prev_ref : 0;
-    s.start[l] = used ? x.start_blu() : 0;
+    s.prev_count[l] = used ? static_cast<double>(d.prev_count) : 0.0;
+    s.prev_ref[l] = used ? static_cast<double>(d.prev_ref) : 0.0;
     s.integ[l] = used ? d.integ : 0.0;
     s.u[l] = used ? d.u : 0.0;
     s.table_rel[l] = used ? d.table_rel : 0.0;
@@ -305,35 +376,37 @@ int ServoBank::step_axes(const BluColumns& ref, BluColumns& enc, RealColumns& ta
 template <int N>
 int ServoBank::step_block(const BluColumns& ref, BluColumns& enc, RealColumns& table, int first,
                           int n) {
-  if (lanes_ == 0 || N > 8) return step_axes<N>(ref, enc, table, first, n);
+  if (lanes_ == 0) return step_axes<N>(ref, enc, table, first, n);
   if (!have_ref_ && n > 0) {  // ServoAxis::step's first call: the reference has no past yet
-    for (int a = 0; a < N; ++a) state_.prev_ref[a] = ref.v[a][first];
+    // (Converted like every reference; a first reference of 2^51 or more makes that row run
+    // in ServoAxis, which then finds prev_ref inexact: the range check below turns the lanes off.)
+    for (int a = 0; a < N; ++a) state_.prev_ref[a] = static_cast<double>(ref.v[a][first]);
     have_ref_ = true;
   }
-  constexpr int kMaxN = N > 8 ? 8 : N;        // (N > 8 never reaches here)
-  constexpr int kLanes = kMaxN <= 4 ? 4 : 8;  // = lanes_
+  // Vector width W per instruction set: AVX-512 takes 4 lanes (ymm) up to four axes, else 8.
+  constexpr int kW512 = N <= 4 ? 4 : 8;
   int done = 0;
   while (done < n) {
     int bad_row = -1, diverged = -1, rows = 0;
     const int at = first + done, left = n - done;
-#define GM_SERVO_CALL(KERNEL, L, M)                                                             \
-  rows = KERNEL<kMaxN, L, M>(state_, params_, substeps_, ref, enc, table, at, left, quiet_run_, \
-                             bad_row, diverged)
-#define GM_SERVO_BY_SHAPE(KERNEL)     \
-  if (order_ == 1)                    \
-    GM_SERVO_CALL(KERNEL, kLanes, 2); \
-  else                                \
-    GM_SERVO_CALL(KERNEL, kLanes, 3)
+#define GM_SERVO_CALL(KERNEL, W, M)                                                         \
+  rows = KERNEL<N, W, M>(state_, params_, substeps_, ref, enc, table, at, left, quiet_run_, \
+                         bad_row, diverged)
+#define GM_SERVO_BY_SHAPE(KERNEL, W) \
+  if (order_ == 1)                   \
+    GM_SERVO_CALL(KERNEL, W, 2);     \
+  else                               \
+    GM_SERVO_CALL(KERNEL, W, 3)
 #if defined(__x86_64__)
     if (isa_ == Isa::Avx512) {
-      GM_SERVO_BY_SHAPE(lanes_avx512);
+      GM_SERVO_BY_SHAPE(lanes_avx512, kW512);
     } else if (isa_ == Isa::Avx2) {
-      GM_SERVO_BY_SHAPE(lanes_avx2);
+      GM_SERVO_BY_SHAPE(lanes_avx2, 4);
     } else {
-      GM_SERVO_BY_SHAPE(lanes_portable);
+      GM_SERVO_BY_SHAPE(lanes_portable, 2);
     }
 #else
-    GM_SERVO_BY_SHAPE(lanes_portable);
+    GM_SERVO_BY_SHAPE(lanes_portable, 2);
 #endif
 #undef GM_SERVO_BY_SHAPE
 #undef GM_SERVO_CALL
@@ -347,10 +420,23 @@ int ServoBank::step_block(const BluColumns& ref, BluColumns& enc, RealColumns& t
     }
     if (bad_row >= 0) {  // a sample the lanes cannot round exactly: ServoAxis runs it
       to_axes(state_);
-      const int one = step_axes<kMaxN>(ref, enc, table, bad_row, 1);
+      const int one = step_axes<N>(ref, enc, table, bad_row, 1);
       if (one == 0) return done;
-      from_axes(state_);
       ++done;
+      // The lanes carry counts as doubles, exact below 2^51: if this row left a count or a
+      // reference beyond that, the axes stay in ServoAxis from now on (a loop this far out has
+      // all but diverged; the next rows are theirs).
+      bool exact = true;
+      for (const ServoAxis& x : axes_) {
+        const ServoAxis::Dynamic d = x.dynamic();
+        exact = exact && std::llabs(d.prev_count) < static_cast<std::int64_t>(kExactBlu) &&
+                std::llabs(d.prev_ref) < static_cast<std::int64_t>(kExactBlu);
+      }
+      if (!exact) {
+        lanes_ = 0;
+        return done + step_axes<N>(ref, enc, table, first + done, n - done);
+      }
+      from_axes(state_);
     }
   }
   return n;

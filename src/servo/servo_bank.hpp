@@ -13,12 +13,13 @@ namespace gm {
 
 /// The machine's axes' servos (ServoAxis each) stepped together over rows of a block: what N
 /// ServoAxis objects stepped sample by sample give, bit for bit. When every axis has a plant of
-/// the same order (1 or 2) and no Coulomb friction, and there are at most eight, the axes are
-/// the lanes of one vector (four lanes up to four axes, eight up to eight) and every lane does
+/// the same order (1 or 2) and no Coulomb friction, the axes are the lanes of vectors of the
+/// instruction set's width (AVX-512: one of 4 up to four axes, else pieces of 8; AVX2: pieces
+/// of 4; portable SSE2: pieces of 2; nine axes are two pieces on AVX-512) and every lane does
 /// ServoAxis's operations in its order (no fused multiply-add: the kernel's file is compiled
-/// with -ffp-contract=off); otherwise, and for a sample in which a lane's position leaves the
-/// range the vector rounding is exact in (|p| ≥ 9.2e18, a loop long diverged), the ServoAxis
-/// objects themselves run. Allocates only in the constructor.
+/// with -ffp-contract=off); otherwise, and for a sample in which a lane's position or reference
+/// leaves the range the lanes are exact in (|x| ≥ 2^51 BLU, a loop that has diverged), the
+/// ServoAxis objects themselves run. Allocates only in the constructor.
 class ServoBank {
  public:
   /// The servos of the first `axes` axes of `m` at period T = period_s with `substeps`
@@ -42,19 +43,27 @@ class ServoBank {
   bool lanes() const { return lanes_ > 0; }
   /// Tests only: run the lane kernel compiled for `isa` (at most active_isa()).
   void set_isa_for_testing(Isa isa);
+  /// Tests only: the lanes' round_half_away on x[0..w) with the kernel of `isa` (at most
+  /// active_isa()); w, the lanes rounded (2, 4 or 8), is returned. bad[l] != 0: lane l is out
+  /// of the exact range (|x| ≥ 2^51 or NaN) and out[l] means nothing.
+  static int round_for_testing(Isa isa, const double* x, double* out, std::int64_t* bad);
 
-  /// The lanes' state; public only for the kernel (servo_bank.cpp).
+  /// Lanes of the widest shape (nine axes: two vectors of 8 on AVX-512, 3 of 4, 5 of 2).
+  static constexpr int kMaxLanes = 16;
+  /// The lanes' state; public only for the kernel (servo_bank.cpp). Counts and references are
+  /// doubles there (exact integers below 2^51; the axes all start at count 0).
   struct alignas(64) LaneState {
-    double z[3][8];
-    double integ[8], u[8], table_rel[8];
-    std::int64_t prev_count[8], prev_ref[8], start[8];
+    double z[3][kMaxLanes];
+    double integ[kMaxLanes], u[kMaxLanes], table_rel[kMaxLanes];
+    double prev_count[kMaxLanes], prev_ref[kMaxLanes];
   };
   /// The lanes' parameters (unused lanes copy lane 0's and stay at rest).
   struct alignas(64) LaneParams {
-    double a[9][8];   ///< Ad, column-major a[j·M + i]
-    double bd[3][8];  ///< Bd
-    double kp[8], kvp[8], kvi[8], kv_period[8], kv_over_h[8], h_over_kv[8], u_max[8], hb[8];
-    std::int64_t ip[8];  ///< -1: Ip form, 0: Pi form
+    double a[9][kMaxLanes];   ///< Ad, column-major a[j·M + i]
+    double bd[3][kMaxLanes];  ///< Bd
+    double kp[kMaxLanes], kvp[kMaxLanes], kvi[kMaxLanes], kv_period[kMaxLanes];
+    double kv_over_h[kMaxLanes], h_over_kv[kMaxLanes], u_max[kMaxLanes], hb[kMaxLanes];
+    std::int64_t ip[kMaxLanes];  ///< -1: Ip form, 0: Pi form
   };
 
  private:
@@ -65,7 +74,7 @@ class ServoBank {
 
   std::vector<ServoAxis> axes_;
   int count_ = 0;
-  int lanes_ = 0;  ///< 4 or 8 when the lanes run, 0 otherwise
+  int lanes_ = 0;  ///< 1 when the lanes run, 0 otherwise
   int order_ = 0;  ///< plant order of every axis (lanes)
   int substeps_ = 1;
   Isa isa_ = Isa::Portable;

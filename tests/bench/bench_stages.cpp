@@ -10,12 +10,14 @@
 #include "machine/machine_file.hpp"
 #include "pipeline/pipeline.hpp"
 #include "servo/servo_axis.hpp"
+#include "servo/servo_bank.hpp"
 #include "trace/trace_writer.hpp"
 
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 
 #include <cmath>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -165,6 +167,79 @@ void BM_Servo(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations());  // samples of one axis
 }
 BENCHMARK(BM_Servo);
+
+// The servo references of `axes` axes over a block: sines of different phases (axis a lags
+// by a), 4000 BLU amplitude, so the loop moves, reverses and sometimes saturates.
+void servo_refs(gm::BluColumns& ref, int axes, std::int64_t k0) {
+  for (int a = 0; a < axes; ++a)
+    for (int i = 0; i < gm::kBlockSamples; ++i)
+      ref.v[a][i] =
+          static_cast<std::int64_t>(4000 * std::sin(0.015 * static_cast<double>(k0 + i) + 0.7 * a));
+}
+
+// Three ServoAxis objects stepped sample by sample (the pipeline's servo before ServoBank),
+// on the built-in machine; items = samples (of all three axes).
+void BM_ServoAxes3(benchmark::State& state) {
+  const gm::Machine m = gm::default_machine();
+  std::vector<gm::ServoAxis> s;
+  for (int a = 0; a < 3; ++a)
+    s.emplace_back(m.axes[static_cast<std::size_t>(a)], m.period_s, m.servo_substeps, 0);
+  auto ref = std::make_unique<gm::BluColumns>();
+  auto enc = std::make_unique<gm::BluColumns>();
+  auto table = std::make_unique<gm::RealColumns>();
+  std::int64_t k = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    servo_refs(*ref, 3, k);
+    state.ResumeTiming();
+    for (int i = 0; i < gm::kBlockSamples; ++i)
+      for (int a = 0; a < 3; ++a) {
+        auto& x = s[static_cast<std::size_t>(a)];
+        table->v[a][i] = x.table_blu();
+        enc->v[a][i] = x.step(ref->v[a][i]);
+      }
+    benchmark::DoNotOptimize(enc->v[0][gm::kBlockSamples - 1]);
+    k += gm::kBlockSamples;
+  }
+  state.SetItemsProcessed(state.iterations() * gm::kBlockSamples);
+}
+BENCHMARK(BM_ServoAxes3);
+
+// ServoBank::step_block<N> on the built-in machine's axes (copied to N axes), on instruction
+// set Arg(0) (0 portable, 1 AVX2, 2 AVX-512; skipped when the CPU lacks it), Arg(1) rows per
+// call (256: whole blocks; 1: the pipeline's single-sample path). Items = samples (N axes each).
+template <int N>
+void BM_ServoBank(benchmark::State& state) {
+  const auto isa = static_cast<gm::Isa>(state.range(0));
+  if (static_cast<int>(isa) > static_cast<int>(gm::active_isa())) {
+    state.SkipWithError("the CPU lacks this instruction set");
+    return;
+  }
+  const int rows = static_cast<int>(state.range(1));
+  gm::Machine m = gm::default_machine();
+  if (N > m.axis_count())
+    m.set_axes(*gm::AxisLayout::of(std::string("XYZABCUVW").substr(0, N)), m.axes[0]);
+  gm::ServoBank bank(m, N, m.period_s, m.servo_substeps);
+  bank.set_isa_for_testing(isa);
+  auto ref = std::make_unique<gm::BluColumns>();
+  auto enc = std::make_unique<gm::BluColumns>();
+  auto table = std::make_unique<gm::RealColumns>();
+  std::int64_t k = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    servo_refs(*ref, N, k);
+    state.ResumeTiming();
+    for (int first = 0; first < gm::kBlockSamples; first += rows)
+      benchmark::DoNotOptimize(bank.step_block<N>(*ref, *enc, *table, first, rows));
+    benchmark::DoNotOptimize(enc->v[0][gm::kBlockSamples - 1]);
+    k += gm::kBlockSamples;
+  }
+  state.SetLabel(std::string(gm::isa_name(isa)) + (bank.lanes() ? ", lanes" : ", ServoAxis"));
+  state.SetItemsProcessed(state.iterations() * gm::kBlockSamples);
+}
+BENCHMARK_TEMPLATE(BM_ServoBank, 3)->ArgsProduct({{0, 1, 2}, {256, 1}});
+BENCHMARK_TEMPLATE(BM_ServoBank, 6)->ArgsProduct({{0, 1, 2}, {256, 1}});
+BENCHMARK_TEMPLATE(BM_ServoBank, 9)->ArgsProduct({{0, 1, 2}, {256, 1}});
 
 class TextSource : public gm::CanonSource {
  public:

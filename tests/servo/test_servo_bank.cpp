@@ -1,6 +1,8 @@
 // ServoBank: the axes in SIMD lanes give what ServoAxis gives sample by sample, bit for bit, on
 // every instruction set, block size, plant order, loop form, substep count and axis count; and
-// the fallbacks (Coulomb friction, third-order plants, nine axes, a divergence) agree too.
+// the fallbacks (Coulomb friction, third-order plants, mixed orders, references beyond 2^51,
+// a divergence) agree too.
+#include "common/rounding.hpp"
 #include "common/status.hpp"
 #include "machine/machine_file.hpp"
 #include "servo/servo_bank.hpp"
@@ -175,7 +177,7 @@ void require_same(const gm::Machine& m, int substeps, std::mt19937_64& rng, int 
 
 }  // namespace
 
-TEST_CASE("servo bank: lanes equal ServoAxis, plant order 1 and 2, 1 to 8 axes") {
+TEST_CASE("servo bank: lanes equal ServoAxis, plant order 1 and 2, 1 to 9 axes") {
   std::mt19937_64 rng(20261126);
   for (int order : {1, 2})
     for (int substeps : {1, 4}) {
@@ -186,14 +188,45 @@ TEST_CASE("servo bank: lanes equal ServoAxis, plant order 1 and 2, 1 to 8 axes")
       require_same<4>(varied_machine(4, order, rng), substeps, rng);
       require_same<6>(varied_machine(6, order, rng), substeps, rng);
       require_same<8>(varied_machine(8, order, rng), substeps, rng);
+      require_same<9>(varied_machine(9, order, rng), substeps, rng);
     }
-  bool lanes = false;
-  std::vector<std::vector<std::int64_t>> ref(3, std::vector<std::int64_t>(10, 0));
-  banked<3>(varied_machine(3, 1, rng), 1, ref, Isa::Portable, rng, &lanes);
-  CHECK(lanes);  // this suite runs the lanes, not the fallback
+  require_same<5>(varied_machine(5, 2, rng), 2, rng);  // odd pieces: 2+2+1, 4+1 lanes
+  require_same<7>(varied_machine(7, 1, rng), 3, rng);
+  for (Isa isa : {Isa::Portable, Isa::Avx2, Isa::Avx512}) {
+    bool lanes = false;
+    std::vector<std::vector<std::int64_t>> ref(9, std::vector<std::int64_t>(10, 0));
+    banked<3>(varied_machine(3, 1, rng), 1, ref, isa, rng, &lanes);
+    CHECK(lanes);  // this suite runs the lanes, not the fallback
+    banked<9>(varied_machine(9, 2, rng), 1, ref, isa, rng, &lanes);
+    CHECK(lanes);
+  }
 }
 
-TEST_CASE("servo bank: the fallbacks (Coulomb, third order, nine axes) equal ServoAxis") {
+TEST_CASE("servo bank: a reference beyond 2^51 BLU runs in ServoAxis, the same") {
+  // The lanes carry counts and references as doubles, exact below 2^51: a row with a reference
+  // beyond runs in ServoAxis, and the bank stays there once a count or reference is that far.
+  std::mt19937_64 rng(5);
+  for (std::int64_t far :
+       {std::int64_t{1} << 51, (std::int64_t{1} << 51) - 1, -(std::int64_t{1} << 52) - 3}) {
+    INFO("far " << far);
+    const gm::Machine m = varied_machine(3, 2, rng);
+    std::vector<std::vector<std::int64_t>> ref;
+    for (int a = 0; a < 3; ++a) ref.push_back(reference(1200, rng));
+    for (std::size_t i = 500; i < 1200; ++i) ref[2][i] = far;
+    const Outcome want = per_axis<3>(m, 2, ref);
+    for (Isa isa : {Isa::Portable, Isa::Avx2, Isa::Avx512}) {
+      const Outcome got = banked<3>(m, 2, ref, isa, rng);
+      CHECK(got.rows == want.rows);
+      CHECK(got.error == want.error);
+      CHECK(got.enc == want.enc);
+      REQUIRE(got.table.size() == want.table.size());
+      CHECK(std::memcmp(got.table.data(), want.table.data(), got.table.size() * sizeof(double)) ==
+            0);
+    }
+  }
+}
+
+TEST_CASE("servo bank: the fallbacks (Coulomb, third order, mixed orders) equal ServoAxis") {
   std::mt19937_64 rng(7);
   bool lanes = true;
   std::vector<std::vector<std::int64_t>> ref(9, std::vector<std::int64_t>(10, 0));
@@ -205,7 +238,12 @@ TEST_CASE("servo bank: the fallbacks (Coulomb, third order, nine axes) equal Ser
   banked<3>(third, 1, ref, Isa::Portable, rng, &lanes);
   CHECK_FALSE(lanes);
   require_same<3>(third, 2, rng, 1500);
-  require_same<9>(varied_machine(9, 1, rng), 1, rng, 1500);
+  gm::Machine mixed = varied_machine(4, 1, rng);
+  mixed.axes[3] = varied_machine(4, 2, rng).axes[3];
+  banked<4>(mixed, 1, ref, Isa::Portable, rng, &lanes);
+  CHECK_FALSE(lanes);
+  require_same<4>(mixed, 4, rng, 1500);
+  require_same<9>(varied_machine(9, 1, rng, true), 1, rng, 1500);  // nine axes, one Coulomb
 }
 
 TEST_CASE("servo bank: a diverging loop stops at the same sample with ServoAxis's message") {
@@ -228,6 +266,68 @@ TEST_CASE("servo bank: a diverging loop stops at the same sample with ServoAxis'
       CHECK(got.rows == want.rows);
       CHECK(got.error == want.error);
       CHECK(got.enc == want.enc);
+    }
+  }
+}
+
+TEST_CASE("servo bank: the lanes' rounding is round_half_away, ties and signed zeros included") {
+  std::vector<double> xs = {0.0,
+                            -0.0,
+                            0.5,
+                            -0.5,
+                            1.5,
+                            -1.5,
+                            2.5,
+                            -2.5,
+                            0.49999999999999994,
+                            -0.49999999999999994,
+                            1e15 + 0.5,
+                            -1e15 - 0.5,
+                            2251799813685247.5,
+                            -2251799813685247.5,
+                            2251799813685247.0,
+                            3.5,
+                            -3.5,
+                            1e-300,
+                            -1e-300};
+  std::mt19937_64 rng(3);
+  for (int i = 0; i < 20000; ++i) {
+    const double scale = std::ldexp(1.0, static_cast<int>(rng() % 52));
+    xs.push_back(std::uniform_real_distribution<double>(-scale, scale)(rng));
+    xs.push_back(std::floor(xs.back()) + 0.5);  // a tie
+  }
+  for (Isa isa : {Isa::Portable, Isa::Avx2, Isa::Avx512}) {
+    INFO("isa " << gm::isa_name(isa));
+    std::size_t wrong = 0, flagged = 0;
+    for (std::size_t k = 0; k + 8 <= xs.size(); k += 8) {
+      double out[8];
+      std::int64_t bad[8];
+      const int w = gm::ServoBank::round_for_testing(isa, &xs[k], out, bad);
+      for (int l = 0; l < w; ++l) {
+        if (bad[l] != 0) {
+          ++flagged;
+          continue;
+        }
+        const double want =
+            static_cast<double>(gm::round_half_away(xs[k + static_cast<std::size_t>(l)]));
+        if (std::memcmp(&out[l], &want, sizeof want) != 0) ++wrong;  // +0.0, never -0.0
+      }
+    }
+    CHECK(wrong == 0);
+    CHECK(flagged == 0);  // everything here is below 2^51
+  }
+  double far[8] = {
+      2251799813685248.0, -2251799813685248.0, std::nan(""), 1e300, 0.0, 1.0, -1.0, 2.0};
+  for (Isa isa : {Isa::Portable, Isa::Avx2, Isa::Avx512}) {
+    for (int o = 0; o < 8; o += 2) {
+      double out[8];
+      std::int64_t bad[8];
+      double x[8] = {};
+      x[0] = far[o];
+      x[1] = far[o + 1];
+      gm::ServoBank::round_for_testing(isa, x, out, bad);
+      CHECK((bad[0] != 0) == (o < 4));
+      CHECK((bad[1] != 0) == (o < 4));
     }
   }
 }
