@@ -60,6 +60,7 @@ template <int W>
 struct BlockLanes {
   __extension__ typedef double D __attribute__((vector_size(8 * W)));
   __extension__ typedef std::int64_t I __attribute__((vector_size(8 * W)));
+  __extension__ typedef std::uint64_t U __attribute__((vector_size(8 * W)));
 };
 
 // The helpers below take and return vectors wider than the baseline's registers; they are
@@ -212,8 +213,10 @@ __attribute__((always_inline)) inline bool quotient_generic(const AxisJob& j, st
   using D = typename BlockLanes<W>::D;
   using I = typename BlockLanes<W>::I;
   const int padded = (j.n + W - 1) / W * W;
+  // Unsigned integer lanes: the lanes of a sum >= 2^51, whose results are replaced, may wrap.
+  using U = typename BlockLanes<W>::U;
   const D magic = D{} + kRoundMagic;
-  const I magic_bits = load<I>(&magic);
+  const U magic_bits = load<U>(&magic);
   const double b_s = j.b_s_real;
   I wide = {};
   for (int i = 0; i < padded; i += W) {
@@ -222,9 +225,9 @@ __attribute__((always_inline)) inline bool quotient_generic(const AxisJob& j, st
     const D x = sum / b_s;
     const D y = x + kRoundMagic;
     const D f = x - (y - kRoundMagic);
-    I r = load<I>(&y) - magic_bits;
-    r -= (f == 0.5) & (x > 0.0);  // comparisons give -1 (true) or 0
-    r += (f == -0.5) & (x < 0.0);
+    U r = load<U>(&y) - magic_bits;
+    r -= __builtin_convertvector((f == 0.5) & (x > 0.0), U);  // comparisons give -1 (true) or 0
+    r += __builtin_convertvector((f == -0.5) & (x < 0.0), U);
     store(q + i, r);
   }
   std::int64_t any_wide = 0;
