@@ -801,16 +801,25 @@ _ERR_LINE = re.compile(r"^\s*/?\s*N(\d+)\b")
 _GM_ERR = re.compile(r":(\d+):(\d+): error: (.*)$")
 
 
-def rs274_error_line(error_text: str) -> int | None:
+def rs274_error_line(error_text: str, program_text: str | None = None) -> int | None:
     """rs274 prints the message, then the offending block (renumbered: N<file line> first). O-word
     lines are not renumbered; their messages begin with the file line ("9: duplicate O-word
-    label ...")."""
+    label ..."), or (G70-G72 errors, found when the profile subroutine returns) the message is
+    followed by the O-word line as written: its line in the program, when exactly one line has
+    that text."""
     for line in reversed(error_text.splitlines()):
         m = _ERR_LINE.match(line)
         if m:
             return int(m.group(1))
     m = re.match(r"^\s*(\d+): ", error_text)
-    return int(m.group(1)) if m else None
+    if m:
+        return int(m.group(1))
+    lines = [ln.strip() for ln in error_text.splitlines() if ln.strip()]
+    if program_text is not None and len(lines) >= 2 and re.match(r"^[oO]\S+\s", lines[-1]):
+        hits = [i + 1 for i, ln in enumerate(program_text.splitlines()) if ln.strip() == lines[-1]]
+        if len(hits) == 1:
+            return hits[0]
+    return None
 
 
 def gmotion_first_error(gmotion: str, path: str, tool_table_path: str | None) -> tuple[int | None, str]:
@@ -836,7 +845,7 @@ def main_errors(args) -> int:
             print(f"FAIL {f}: rs274 accepts it (the program is not an error case)")
             bad += 1
             continue
-        rl = rs274_error_line(rs.error)
+        rl = rs274_error_line(rs.error, text)
         first = rs.error.splitlines()[0] if rs.error else ""
         if gl is None or gl != rl:
             print(f"FAIL {f}: rs274 line {rl} ({first}) vs gmotion line {gl} ({gmsg})")
