@@ -194,8 +194,8 @@ class TurnedSink : public PathSink {
   void count() {
     if (++moves_ > kMaxCycleMoves)
       throw Failure{
-          fmt::format("more than {} moves: the depth of cut I is too small for the "
-                      "profile",
+          fmt::format("more than {} moves in one cycle (a depth of cut I too small, or too "
+                      "many passes P)",
                       kMaxCycleMoves)};
   }
   PathSink& out_;
@@ -206,7 +206,8 @@ class TurnedSink : public PathSink {
 class Profile {
  public:
   std::vector<Seg> s;
-  int state = 0;  // 1: Z mirrored, 2: X mirrored, 4: rotated a quarter turn
+  int state = 0;                 // 1: Z mirrored, 2: X mirrored, 4: rotated a quarter turn
+  std::int64_t* work = nullptr;  // element offsets so far in this cycle (kMaxOffsetWork)
 
   void rotate() {
     for (Seg& g : s) {
@@ -270,12 +271,11 @@ void Profile::offset(double distance) {
   const Seg lead = s.front();
   s.erase(s.begin());
   double done = 0;
-  std::int64_t steps = 0;
   while (done != distance) {
-    if (++steps > kMaxOffsetSteps || s.empty())
-      throw Failure{s.empty() ? "the profile vanished when offset"
-                              : fmt::format("offset by D{:g} needs more than {} steps", distance,
-                                            kMaxOffsetSteps)};
+    if (s.empty()) throw Failure{"the profile vanished when offset"};
+    *work += static_cast<std::int64_t>(s.size());
+    if (*work > kMaxOffsetWork)
+      throw Failure{fmt::format("offsetting the profile by D{:g} takes too many steps", distance)};
     double step = 1e9;
     for (const Seg& g : s) step = std::min(step, size_of(g) / 2);
     step = std::min(step, std::abs(distance - done));
@@ -514,11 +514,12 @@ void Profile::rough(int cycle, PathSink& out, double delta, Pt escape) {
   }
 }
 
-Profile turned(std::vector<Seg>&& profile) {
+Profile turned(std::vector<Seg>&& profile, std::int64_t& work) {
   if (profile.size() > kMaxProfileSegments)
     throw Failure{fmt::format("the profile has more than {} elements", kMaxProfileSegments)};
   Profile pr;
   pr.s = std::move(profile);
+  pr.work = &work;
   return pr;
 }
 
@@ -526,7 +527,8 @@ Profile turned(std::vector<Seg>&& profile) {
 
 bool offset_profile(std::vector<Seg>& profile, double distance, std::string& error) {
   try {
-    Profile pr = turned(std::move(profile));
+    std::int64_t work = 0;
+    Profile pr = turned(std::move(profile), work);
     pr.offset(distance);
     profile = std::move(pr.s);
     return true;
@@ -539,7 +541,8 @@ bool offset_profile(std::vector<Seg>& profile, double distance, std::string& err
 bool rough(std::vector<Seg> profile, const RoughParams& p, PathSink& out, std::string& error) {
   try {
     if (profile.size() < 2) return true;
-    Profile pr = turned(std::move(profile));
+    std::int64_t work = 0;
+    Profile pr = turned(std::move(profile), work);
     pr.s.front().a = Pt(p.z, p.x);
     if (p.facing) pr.rotate();
     pr.normalise();
@@ -571,7 +574,8 @@ bool rough(std::vector<Seg> profile, const RoughParams& p, PathSink& out, std::s
 bool finish(std::vector<Seg> profile, const FinishParams& p, PathSink& out, std::string& error) {
   try {
     if (profile.size() < 2) return true;
-    Profile pr = turned(std::move(profile));
+    std::int64_t work = 0;
+    Profile pr = turned(std::move(profile), work);
     pr.s.front().a = Pt(p.z, p.x);
     {  // which way the profile is monotonic: as given, or turned a quarter (a facing profile)
       Profile probe = pr;

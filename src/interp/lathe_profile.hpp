@@ -56,9 +56,11 @@ struct FinishParams {
   double d = 0, e = 0, p = 1;
 };
 
-/// Limits that keep a hostile program from running long: moves and offset steps.
-inline constexpr std::int64_t kMaxCycleMoves = 2'000'000;
-inline constexpr std::int64_t kMaxOffsetSteps = 200'000;
+/// Limits that keep a hostile program from running long or filling memory: the moves of one
+/// cycle (all held as one block's canon), and the element offsets of one cycle (G70 offsets the
+/// profile again for every pass).
+inline constexpr std::int64_t kMaxCycleMoves = 200'000;
+inline constexpr std::int64_t kMaxOffsetWork = 5'000'000;
 inline constexpr std::size_t kMaxProfileSegments = 100'000;
 
 /// G71/G72 over `profile` (its first element runs from the cycle's start to the profile). False
