@@ -1,5 +1,6 @@
 // The lathe cycles G70 (finishing), G71/G71.1/G71.2 (roughing along Z) and G72/G72.1/G72.2
 // (facing along X) of LinuxCNC 2.9: the profile subroutine Q is read, not run, then cut.
+#include "interp/arc.hpp"
 #include "interp/lathe_profile.hpp"
 #include "interp/steps.hpp"
 
@@ -26,6 +27,25 @@ class CanonSink : public lathe::PathSink {
     if (std::fabs(prog_now[0] / u - e.imag()) < 1e-7 &&
         std::fabs(prog_now[2] / u - e.real()) < 1e-7)
       return;
+    // LinuxCNC's convert_arc checks the arc as for a G2/G3 with absolute I K: the radius to
+    // the end must agree with the radius to the start.
+    ArcInput in;
+    in.start_a = prog_now[2] / u;
+    in.start_b = prog_now[0] / u;
+    in.end_a = e.real();
+    in.end_b = e.imag();
+    in.off_a = c.real();
+    in.off_b = c.imag();
+    in.offsets_absolute = true;
+    in.ccw = ccw;
+    in.mm_per_unit = u;
+    in.rule = ctx_.machine.arc_rule;
+    const ArcResult r = compute_arc(in);
+    if (r.error != ErrorCode::None) {
+      ctx_.err.code = r.error;
+      ctx_.err.message = r.message;
+      throw lathe_error();
+    }
     if (!emit_arc(ctx_, end, at(c), ccw)) throw lathe_error();
   }
   struct lathe_error {};
