@@ -447,6 +447,9 @@ def tool_table_inches(text_mm: str) -> str:
     return "\n".join(out) + "\n"
 
 
+RS274_TIMEOUT: float | None = None  # --rs274-timeout
+
+
 def run_rs274(rs274: str, program_text: str, timeout: float = 120.0,
               tool_table_mm: str | None = None, subroutine_path: str | None = None) -> Rs274Result:
     """Run `rs274 -g` on the text (renumbered) in a scratch directory that is also its HOME (it
@@ -484,8 +487,14 @@ def run_rs274(rs274: str, program_text: str, timeout: float = 120.0,
         os.mkdir(home)
         env = dict(os.environ, HOME=home)
         for _attempt in range(3):
-            p = subprocess.run(cmd, cwd=tmp, stdin=subprocess.DEVNULL,
-                               capture_output=True, text=True, timeout=timeout, env=env)
+            try:
+                p = subprocess.run(cmd, cwd=tmp, stdin=subprocess.DEVNULL, capture_output=True,
+                                   text=True, timeout=RS274_TIMEOUT or timeout, env=env)
+            except subprocess.TimeoutExpired:
+                # rs274 never returns on some programs (2.9.0~pre1's G7x pocket walk can loop
+                # for ever): counted as refused, so gmotion must refuse them too.
+                return Rs274Result(False, error=f"rs274 did not finish within "
+                                                f"{RS274_TIMEOUT or timeout:g} s (killed)")
             if p.returncode >= 0:
                 break
     err = "\n".join(l for l in p.stderr.splitlines() if l.strip() != "executing")
@@ -1159,6 +1168,9 @@ def main(argv=None) -> int:
     ap.add_argument("--blocks", type=int, default=40, help="blocks per generated program")
     ap.add_argument("--features", default=None, help="generator features, e.g. +g93,-syntax")
     ap.add_argument("--tol-mm", type=float, default=1e-4)
+    ap.add_argument("--rs274-timeout", type=float, default=None,
+                    help="seconds before an rs274 run is killed and counted as a refusal "
+                         "(default 120)")
     ap.add_argument("--tol-feed-rel", type=float, default=1e-4)
     ap.add_argument("--max-failures", type=int, default=5, help="stop random runs after this many")
     ap.add_argument("--keep", help="copy failing generated programs into this directory")
@@ -1191,8 +1203,9 @@ def main(argv=None) -> int:
                          "files written compared at the end ('-': start without one)")
     ap.add_argument("-v", "--verbose", action="store_true")
     args = ap.parse_args(argv)
-    global GMOTION_AXES, SUBROUTINE_PATH, VAR_STATE, IO_RECORDS
+    global GMOTION_AXES, SUBROUTINE_PATH, VAR_STATE, IO_RECORDS, RS274_TIMEOUT
     GMOTION_AXES = args.axes
+    RS274_TIMEOUT = args.rs274_timeout
     IO_RECORDS = args.io
     SUBROUTINE_PATH = args.subroutine_path
     if args.var_file:
