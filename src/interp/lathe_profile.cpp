@@ -194,8 +194,8 @@ class TurnedSink : public PathSink {
   void count() {
     if (++moves_ > kMaxCycleMoves)
       throw Failure{
-          fmt::format("more than {} moves in one cycle (a depth of cut I too small, or too "
-                      "many passes P)",
+          fmt::format("more than {} moves in one cycle (a depth of cut I too small, too "
+                      "many passes P, or a profile whose pocket walk never ends in LinuxCNC)",
                       kMaxCycleMoves)};
   }
   PathSink& out_;
