@@ -447,6 +447,9 @@ def tool_table_inches(text_mm: str) -> str:
     return "\n".join(out) + "\n"
 
 
+RS274_TIMEOUT: float | None = None  # --rs274-timeout
+
+
 def run_rs274(rs274: str, program_text: str, timeout: float = 120.0,
               tool_table_mm: str | None = None, subroutine_path: str | None = None) -> Rs274Result:
     """Run `rs274 -g` on the text (renumbered) in a scratch directory that is also its HOME (it
@@ -484,8 +487,14 @@ def run_rs274(rs274: str, program_text: str, timeout: float = 120.0,
         os.mkdir(home)
         env = dict(os.environ, HOME=home)
         for _attempt in range(3):
-            p = subprocess.run(cmd, cwd=tmp, stdin=subprocess.DEVNULL,
-                               capture_output=True, text=True, timeout=timeout, env=env)
+            try:
+                p = subprocess.run(cmd, cwd=tmp, stdin=subprocess.DEVNULL, capture_output=True,
+                                   text=True, timeout=RS274_TIMEOUT or timeout, env=env)
+            except subprocess.TimeoutExpired:
+                # rs274 never returns on some programs (2.9.0~pre1's G7x pocket walk can loop
+                # for ever): counted as refused, so gmotion must refuse them too.
+                return Rs274Result(False, error=f"rs274 did not finish within "
+                                                f"{RS274_TIMEOUT or timeout:g} s (killed)")
             if p.returncode >= 0:
                 break
     err = "\n".join(l for l in p.stderr.splitlines() if l.strip() != "executing")
@@ -801,16 +810,25 @@ _ERR_LINE = re.compile(r"^\s*/?\s*N(\d+)\b")
 _GM_ERR = re.compile(r":(\d+):(\d+): error: (.*)$")
 
 
-def rs274_error_line(error_text: str) -> int | None:
+def rs274_error_line(error_text: str, program_text: str | None = None) -> int | None:
     """rs274 prints the message, then the offending block (renumbered: N<file line> first). O-word
     lines are not renumbered; their messages begin with the file line ("9: duplicate O-word
-    label ...")."""
+    label ..."), or (G70-G72 errors, found when the profile subroutine returns) the message is
+    followed by the O-word line as written: its line in the program, when exactly one line has
+    that text."""
     for line in reversed(error_text.splitlines()):
         m = _ERR_LINE.match(line)
         if m:
             return int(m.group(1))
     m = re.match(r"^\s*(\d+): ", error_text)
-    return int(m.group(1)) if m else None
+    if m:
+        return int(m.group(1))
+    lines = [ln.strip() for ln in error_text.splitlines() if ln.strip()]
+    if program_text is not None and len(lines) >= 2 and re.match(r"^[oO]\S+\s", lines[-1]):
+        hits = [i + 1 for i, ln in enumerate(program_text.splitlines()) if ln.strip() == lines[-1]]
+        if len(hits) == 1:
+            return hits[0]
+    return None
 
 
 def gmotion_first_error(gmotion: str, path: str, tool_table_path: str | None) -> tuple[int | None, str]:
@@ -836,7 +854,7 @@ def main_errors(args) -> int:
             print(f"FAIL {f}: rs274 accepts it (the program is not an error case)")
             bad += 1
             continue
-        rl = rs274_error_line(rs.error)
+        rl = rs274_error_line(rs.error, text)
         first = rs.error.splitlines()[0] if rs.error else ""
         if gl is None or gl != rl:
             print(f"FAIL {f}: rs274 line {rl} ({first}) vs gmotion line {gl} ({gmsg})")
@@ -1150,6 +1168,9 @@ def main(argv=None) -> int:
     ap.add_argument("--blocks", type=int, default=40, help="blocks per generated program")
     ap.add_argument("--features", default=None, help="generator features, e.g. +g93,-syntax")
     ap.add_argument("--tol-mm", type=float, default=1e-4)
+    ap.add_argument("--rs274-timeout", type=float, default=None,
+                    help="seconds before an rs274 run is killed and counted as a refusal "
+                         "(default 120)")
     ap.add_argument("--tol-feed-rel", type=float, default=1e-4)
     ap.add_argument("--max-failures", type=int, default=5, help="stop random runs after this many")
     ap.add_argument("--keep", help="copy failing generated programs into this directory")
@@ -1182,8 +1203,9 @@ def main(argv=None) -> int:
                          "files written compared at the end ('-': start without one)")
     ap.add_argument("-v", "--verbose", action="store_true")
     args = ap.parse_args(argv)
-    global GMOTION_AXES, SUBROUTINE_PATH, VAR_STATE, IO_RECORDS
+    global GMOTION_AXES, SUBROUTINE_PATH, VAR_STATE, IO_RECORDS, RS274_TIMEOUT
     GMOTION_AXES = args.axes
+    RS274_TIMEOUT = args.rs274_timeout
     IO_RECORDS = args.io
     SUBROUTINE_PATH = args.subroutine_path
     if args.var_file:

@@ -234,6 +234,8 @@ bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, 
   ctx.call_level = call_level_;
   ctx.motion_before = s.motion;
   ctx.nurbs = &nurbs_;
+  G7xCycle g7x;
+  ctx.g7x = &g7x;
   if (!check_block(ctx)) return false;
 
   // STEP 4: execute on the copy, step by step in LinuxCNC's order ------------------------------
@@ -259,6 +261,7 @@ bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, 
   if (e.clear) nurbs_.points.clear();
   if (e.order > 0) nurbs_.order = e.order;
   for (int i = 0; i < e.added; ++i) nurbs_.points.push_back(e.add[static_cast<std::size_t>(i)]);
+  if (g7x.pending) g7x_ = std::move(g7x);
   return true;
 }
 

@@ -7,6 +7,7 @@
 #include "grammar/parse.hpp"
 #include "interp/canon.hpp"
 #include "interp/cutter_comp.hpp"
+#include "interp/lathe_profile.hpp"
 #include "interp/program_axes.hpp"
 #include "interp/spline.hpp"
 #include "interpolator/geometry.hpp"  // motion_length_mm, arc_sweep_rad, plane_axes
@@ -128,6 +129,21 @@ struct ModalState {
   double mm_per_unit() const;
 };
 
+/// A lathe cycle G70-G72 between its line and the end of its profile subroutine (program
+/// units, X as a radius).
+struct G7xCycle {
+  bool pending = false;  ///< the cycle's line ran: the driver calls the subroutine `label`
+  int code10 = 0;
+  SourceLoc loc;
+  std::string label;
+  double x = 0, z = 0, d = 0, e = 0, i = 1, p = 1, r = 0.5;
+  bool incremental = false, ijk_absolute = false, diameter = false;
+  int motion = -1;  ///< the profile's motion mode
+  lathe::Pt at, start;
+  Pos9 position_mm = Pos9::Zero();  ///< where the tool is when the profile is read
+  std::vector<lathe::Seg> profile;
+};
+
 /// Interprets blocks one at a time (grbl gcode.c STEP 1-4): copy the state, import the words,
 /// check everything, then commit. A block with an error changes nothing.
 class Interpreter {
@@ -157,6 +173,15 @@ class Interpreter {
   /// #5221..#5390, mm and degrees): the tables take it as LinuxCNC's parameters do; the active
   /// system's offsets follow at its next selection or G10. False if #n is none of those.
   bool write_system_parameter(int n, double v);
+  /// G70-G72: true after the cycle's line ran; the driver then calls its subroutine and hands
+  /// the subroutine's blocks to g7x_collect, then calls g7x_finish at its end.
+  bool g7x_pending() const { return g7x_.pending; }
+  const G7xCycle& g7x() const { return g7x_; }
+  void g7x_started() { g7x_.pending = false; }
+  /// One block of the profile subroutine: its motion is recorded, nothing is run.
+  bool g7x_collect(const grammar::Block& block, InterpError& err);
+  /// The subroutine returned at `line`: the cycle's moves; errors are located at `line`.
+  bool g7x_finish(int line, std::vector<Canon>& out, InterpError& err);
   /// Changes whenever a block changed the tables (so their parameters need writing again).
   std::uint64_t tables_version() const { return tables_version_; }
 
@@ -167,6 +192,7 @@ class Interpreter {
   std::array<ModalState, 2> states_{};
   int cur_ = 0;
   NurbsCurve nurbs_;  ///< the G5.2 control points so far (kept apart: a curve may be long)
+  G7xCycle g7x_;      ///< the lathe cycle being read
   ModalState& state_mut() { return states_[cur_]; }
   /// The scratch copy, set to the state: what execute() and leave_call() work on.
   ModalState& begin_block() {

@@ -446,12 +446,19 @@ class ProgramRunner {
       if (block.words.empty() && block.message_count == 0) return true;
     }
     if (dialect_ == Dialect::Fanuc && !fanuc_machine_codes(block, text, diags)) return true;
+    if (g7x_base_ >= 0 && flow_.call_depth() > g7x_base_) {  // a G7x profile: read, not run
+      if (!interp_.g7x_collect(block, err))
+        diags.push_back(Diagnostic{Severity::Error, static_cast<int>(err.code), err.loc,
+                                   err.message, source_for(text)});
+      return true;
+    }
     if (!interp_.execute(block, out, err)) {
       diags.push_back(Diagnostic{Severity::Error, static_cast<int>(err.code), err.loc, err.message,
                                  source_for(text)});
       return true;
     }
     export_system_parameters();
+    if (interp_.g7x_pending() && !start_g7x(p, out, diags, jump)) return false;
     if (interp_.state().input_waits != input_waits_seen_) {  // M66: #5399
       input_waits_seen_ = interp_.state().input_waits;
       params_.set_system(5399, interp_.state().input_result);
@@ -548,7 +555,42 @@ class ProgramRunner {
     // The interpreter keeps M70/M73 modes per call level (machine's, interp/saved_modes.cpp).
     if (ok && flow_.call_depth() > depth) interp_.enter_call(flow_.call_depth());
     if (ok && flow_.call_depth() < depth) ok = interp_.leave_call(depth, p.number, out, err);
+    if (ok && g7x_base_ >= 0 && flow_.call_depth() == g7x_base_ && depth > g7x_base_) {
+      g7x_base_ = -1;  // the profile subroutine returned: the cycle runs
+      if (!interp_.g7x_finish(p.number, out, err)) {
+        diags.push_back(Diagnostic{Severity::Error, static_cast<int>(err.code), err.loc,
+                                   err.message, source_for(p.text)});
+        return true;
+      }
+    }
     if (!ok) {
+      diags.push_back(Diagnostic{Severity::Error, static_cast<int>(err.code), err.loc, err.message,
+                                 source_for(p.text)});
+      done_ = true;
+      jump.seek = false;
+      return false;
+    }
+    return true;
+  }
+
+  // A G70-G72 line ran: its profile subroutine is called as `O<q> call` from that line, and its
+  // blocks are read (process_line) until it returns (control).
+  bool start_g7x(ParsedLine& p, std::vector<Canon>& out, std::vector<Diagnostic>& diags,
+                 FlowJump& jump) {
+    grammar::Block call;
+    call.line = p.number;
+    call.oword.kind = grammar::OKind::Call;
+    call.oword.label = interp_.g7x().label;
+    call.oword.loc = interp_.g7x().loc;
+    interp_.g7x_started();
+    const int depth = flow_.call_depth();
+    g7x_base_ = depth;
+    InterpError err;
+    bool ok = flow_.handle(call, LinePos{p.offset, p.next_offset, p.number, p.file}, jump, err);
+    if (ok && flow_.call_depth() > depth) interp_.enter_call(flow_.call_depth());
+    (void)out;
+    if (!ok) {
+      g7x_base_ = -1;
       diags.push_back(Diagnostic{Severity::Error, static_cast<int>(err.code), err.loc, err.message,
                                  source_for(p.text)});
       done_ = true;
@@ -617,6 +659,7 @@ class ProgramRunner {
   bool done_ = false;
   bool opened_percent_ = false;
   int probes_seen_ = 0;
+  int g7x_base_ = -1;  ///< G70-G72: the call depth of the cycle's line while its profile is read
   int input_waits_seen_ = 0;
   std::uint64_t tables_seen_ = 1;  // the tables as the interpreter starts: left to the store
 

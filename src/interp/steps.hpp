@@ -59,6 +59,7 @@ struct BlockCtx {
   int motion_before = -1;  ///< the motion mode before this block (G5.2 starts a new curve)
   const NurbsCurve* nurbs = nullptr;  ///< the G5.2 curve collected by earlier blocks
   NurbsEdit nurbs_edit{};             ///< this block's change to it (applied on commit)
+  G7xCycle* g7x = nullptr;            ///< G70-G72: the cycle this block starts
 
   /// Sets the error; returns false so a step can `return ctx.fail(...)`.
   bool fail(ErrorCode code, SourceLoc loc, std::string msg) {
@@ -120,6 +121,7 @@ bool run_arc_distance(BlockCtx&, const Code&);
 bool run_spindle_sync(BlockCtx&, const Code&);
 bool run_spindle_mode(BlockCtx&, const Code&);
 bool run_threading(BlockCtx&, const Code&);  ///< G76 (steps_threading.cpp)
+bool run_g7x(BlockCtx&, const Code&);        ///< G70 G71 G71.1 G71.2 G72 G72.1 G72.2
 bool run_rigid_tap(BlockCtx&, const Code&);  ///< G33.1
 /// G95 and G33: `mo` is fed by the spindle, `mm_per_rev` along its path per revolution, at the
 /// block's spindle speed (G97) or surface speed (G96); its feed_mm_min is the feed at its start
