@@ -13,6 +13,8 @@
 #include <sstream>
 #include <string>
 
+#include <unistd.h>
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -35,9 +37,11 @@ enum class Drive { Step, Advance, AdvanceThreaded };
 // Runs `program` with `schedule` (override file text, may be empty) driven as `drive`.
 Outcome run(const std::string& program, const std::string& schedule, Drive drive,
             double max_time_s = 0.0, bool servo = true) {
+  // ctest runs the test cases as parallel processes: the process id keeps their files apart.
   static int serial = 0;
   const fs::path trace =
-      fs::temp_directory_path() / ("gm_block_engine_" + std::to_string(serial++) + ".bin");
+      fs::temp_directory_path() /
+      ("gm_block_engine_" + std::to_string(::getpid()) + "_" + std::to_string(serial++) + ".bin");
   gm::RunOptions o;
   o.config.machine = gm::default_machine();
   o.config.servo = servo;
