@@ -11,9 +11,9 @@ namespace gm {
 
 namespace {
 
-// One native vector of W doubles (SSE2: 2, AVX2: 4, AVX-512: 8; 4 on AVX-512 too when four
-// lanes suffice). More axes take several such pieces, stepped side by side: a generic vector
-// wider than the hardware's had its selects lowered lane by lane (7x slower).
+// One native vector of W doubles (SSE2: 2, AVX2 and AVX-512: 4; 8, a zmm, was slower on this
+// AMD EPYC, see step_block). More axes take several such pieces, stepped side by side: a generic
+// vector wider than the hardware's had its selects lowered lane by lane (7x slower).
 template <int W>
 struct LaneTypes;
 template <>
@@ -267,7 +267,7 @@ GM_SERVO_KERNEL(lanes_portable, )
     std::memcpy(bad, &b, sizeof b);                                   \
   }
 #if defined(__x86_64__)
-GM_ROUND_KERNEL(round_avx512, __attribute__((target("avx512f,avx512dq,avx512vl"))), 8)
+GM_ROUND_KERNEL(round_avx512, __attribute__((target("avx512f,avx512dq,avx512vl"))), 4)
 GM_ROUND_KERNEL(round_avx2, __attribute__((target("avx2"))), 4)
 #endif
 GM_ROUND_KERNEL(round_portable, , 2)
@@ -311,7 +311,7 @@ int ServoBank::round_for_testing(Isa isa, const double* x, double* out, std::int
 #if defined(__x86_64__)
   if (isa == Isa::Avx512 && active_isa() == Isa::Avx512) {
     round_avx512(x, out, bad);
-    return 8;
+    return 4;
   }
   if (isa != Isa::Portable && active_isa() != Isa::Portable) {
     round_avx2(x, out, bad);
@@ -389,8 +389,10 @@ int ServoBank::step_block(const BluColumns& ref, BluColumns& enc, RealColumns& t
     for (int a = 0; a < N; ++a) state_.prev_ref[a] = static_cast<double>(ref.v[a][first]);
     have_ref_ = true;
   }
-  // Vector width W per instruction set: AVX-512 takes 4 lanes (ymm) up to four axes, else 8.
-  constexpr int kW512 = N <= 4 ? 4 : 8;
+  // Vector width W per instruction set. AVX-512 steps 4-lane (ymm, AVX-512VL) vectors too:
+  // measured on this AMD EPYC (256-bit datapath), 8-lane zmm ran 6 axes at 15 M samples/s and
+  // 9 at 7.7, two or three ymm at 31 and 24.
+  constexpr int kW512 = 4;
   int done = 0;
   while (done < n) {
     int bad_row = -1, diverged = -1, rows = 0;
