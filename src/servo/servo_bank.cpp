@@ -11,9 +11,9 @@ namespace gm {
 
 namespace {
 
-// One native vector of W doubles (SSE2: 2, AVX2: 4, AVX-512: 8; 4 on AVX-512 too when four
-// lanes suffice). More axes take several such pieces, stepped side by side: a generic vector
-// wider than the hardware's had its selects lowered lane by lane (7x slower).
+// One native vector of W doubles (SSE2: 2, AVX2 and AVX-512: 4; 8, a zmm, was slower on this
+// AMD EPYC, see step_block). More axes take several such pieces, stepped side by side: a generic
+// vector wider than the hardware's had its selects lowered lane by lane (7x slower).
 template <int W>
 struct LaneTypes;
 template <>
@@ -40,6 +40,9 @@ struct LaneTypes<8> {
 constexpr double kExactBlu = 2251799813685248.0;  // 2^51 (> ServoAxis::kMaxPositionBlu)
 
 #define GM_INLINE __attribute__((always_inline)) inline
+// |x| of a vector x of type V (its integer twin I): the sign bits cleared. A macro: a function
+// returning a vector would cross a call boundary without the kernel's instruction set (psabi).
+#define GM_ABS(x) ((V)((I)(x) & (I{} + 0x7fffffffffffffff)))
 
 // W lanes (lanes o .. o+W-1 of LaneState/LaneParams) of one sample: the state as vectors (in
 // registers) and the parameters. Everything by reference: no vector crosses a call (the kernel
@@ -102,13 +105,22 @@ struct Lanes {
     out = (V)(((I)a & m) | ((I)b & ~m));
   }
 
+  // Whether any lane of the mask is set.
+  static GM_INLINE bool any(const I& m) {
+    std::int64_t l[W];
+    std::memcpy(l, &m, sizeof l);
+    std::int64_t o = 0;
+    for (int k = 0; k < W; ++k) o |= l[k];
+    return o != 0;
+  }
+
   // round_half_away (common/rounding.hpp) as a double, for lanes with |x| < 2^51; the others
   // (and NaN) are marked in `bad`: their row then runs in ServoAxis. With a = |x|,
   // (a + 2^52) - 2^52 is a rounded to the nearest integer, ties to even; a tie rounded down
   // (a - r = 0.5) goes up instead, which is ties away from zero. The sign comes back as 0 - r,
   // not -r, so a count of zero is +0.0 like ServoAxis's static_cast<double>(int64 0).
   static GM_INLINE void round(const V& x, V& out, I& bad) {
-    const V a = (V)((I)x & (I{} + 0x7fffffffffffffff));  // |x|
+    const V a = GM_ABS(x);
     bad |= ~(a < kExactBlu);
     const V big = V{} + 4503599627370496.0;  // 2^52
     V r = (a + big) - big;
@@ -175,18 +187,14 @@ GM_INLINE int lane_rows(ServoBank::LaneState& st, const ServoBank::LaneParams& p
     for (int q = 0; q < P; ++q) before[q] = k[q].s;
     // The row's references, a lane each (unused lanes stay at 0, at rest).
     double r[L] = {};
-    bool ref_far = false;
-    for (int a = 0; a < N; ++a) {
-      const std::int64_t x = ref.v[a][i];
-      r[a] = static_cast<double>(x);
-      ref_far = ref_far || x >= static_cast<std::int64_t>(kExactBlu) ||
-                x <= -static_cast<std::int64_t>(kExactBlu);
-    }
+    for (int a = 0; a < N; ++a) r[a] = static_cast<double>(ref.v[a][i]);
     V refd[P], delta[P], count0[P], count[P];
     double tab[L];
     I bad = I{} + 0;
     for (int q = 0; q < P; ++q) {
       std::memcpy(&refd[q], r + q * W, sizeof(V));
+      // A reference at 2^51 or beyond converts to a double at 2^51 or beyond (2^51 is one).
+      bad |= ~(GM_ABS(refd[q]) < kExactBlu);
       // The table position at the start of the period (ServoAxis::table_blu(): start 0 + rel).
       const V table_now = V{} + k[q].s.table_rel;
       std::memcpy(tab + q * W, &table_now, sizeof(V));
@@ -200,34 +208,32 @@ GM_INLINE int lane_rows(ServoBank::LaneState& st, const ServoBank::LaneParams& p
         K::round(k[q].s.z[M - 1], count[q], bad);
         k[q].sample(count[q], refd[q] + delta[q] * static_cast<double>(j) / sub);
       }
-    std::int64_t badl[W];
-    std::memcpy(badl, &bad, sizeof badl);
-    double pos[L], c0[L];
+    // The row's tests as lane masks, one reduction each (unused lanes are at rest: 0 in all).
+    I far = I{} + 0, loud = I{} + 0;
     for (int q = 0; q < P; ++q) {
       k[q].s.prev_ref = refd[q];
-      std::memcpy(pos + q * W, &k[q].s.z[M - 1], sizeof(V));
-      std::memcpy(c0 + q * W, &count0[q], sizeof(V));
+      far |= ~(GM_ABS(k[q].s.z[M - 1]) < ServoAxis::kMaxPositionBlu);  // NaN too
+      loud |= ~(GM_ABS(count0[q] - refd[q]) <= 1.0);                   // exact: both below 2^51
     }
-    bool any_bad = ref_far;
-    for (int a = 0; a < W; ++a) any_bad = any_bad || badl[a] != 0;  // unused lanes: at rest
-    if (any_bad) {
+    if (K::any(bad)) {
       for (int q = 0; q < P; ++q) k[q].s = before[q];
       bad_row = i;
       break;
     }
-    for (int a = 0; a < N; ++a)
-      if (!(std::fabs(pos[a]) < ServoAxis::kMaxPositionBlu)) {
-        diverged = a;
-        for (int q = 0; q < P; ++q) k[q].store_state(st, q * W);
-        return done;
-      }
-    bool quiet = true;
-    for (int a = 0; a < N; ++a) {
-      const auto c = static_cast<std::int64_t>(c0[a]);
-      enc.v[a][i] = c;
-      quiet = quiet && std::llabs(c - ref.v[a][i]) <= 1;
+    if (K::any(far)) {  // ServoAxis throws for the first axis in this row that diverged
+      double pos[L];
+      for (int q = 0; q < P; ++q) std::memcpy(pos + q * W, &k[q].s.z[M - 1], sizeof(V));
+      for (int a = 0; a < N; ++a)
+        if (!(std::fabs(pos[a]) < ServoAxis::kMaxPositionBlu)) {
+          diverged = a;
+          for (int q2 = 0; q2 < P; ++q2) k[q2].store_state(st, q2 * W);
+          return done;
+        }
     }
-    quiet_run = quiet ? quiet_run + 1 : 0;
+    double c0[L];
+    for (int q = 0; q < P; ++q) std::memcpy(c0 + q * W, &count0[q], sizeof(V));
+    for (int a = 0; a < N; ++a) enc.v[a][i] = static_cast<std::int64_t>(c0[a]);
+    quiet_run = K::any(loud) ? 0 : quiet_run + 1;  // |enc - ref| <= 1 on every axis
   }
   for (int q = 0; q < P; ++q) k[q].store_state(st, q * W);
   return done;
@@ -261,7 +267,7 @@ GM_SERVO_KERNEL(lanes_portable, )
     std::memcpy(bad, &b, sizeof b);                                   \
   }
 #if defined(__x86_64__)
-GM_ROUND_KERNEL(round_avx512, __attribute__((target("avx512f,avx512dq,avx512vl"))), 8)
+GM_ROUND_KERNEL(round_avx512, __attribute__((target("avx512f,avx512dq,avx512vl"))), 4)
 GM_ROUND_KERNEL(round_avx2, __attribute__((target("avx2"))), 4)
 #endif
 GM_ROUND_KERNEL(round_portable, , 2)
@@ -305,7 +311,7 @@ int ServoBank::round_for_testing(Isa isa, const double* x, double* out, std::int
 #if defined(__x86_64__)
   if (isa == Isa::Avx512 && active_isa() == Isa::Avx512) {
     round_avx512(x, out, bad);
-    return 8;
+    return 4;
   }
   if (isa != Isa::Portable && active_isa() != Isa::Portable) {
     round_avx2(x, out, bad);
@@ -383,8 +389,10 @@ int ServoBank::step_block(const BluColumns& ref, BluColumns& enc, RealColumns& t
     for (int a = 0; a < N; ++a) state_.prev_ref[a] = static_cast<double>(ref.v[a][first]);
     have_ref_ = true;
   }
-  // Vector width W per instruction set: AVX-512 takes 4 lanes (ymm) up to four axes, else 8.
-  constexpr int kW512 = N <= 4 ? 4 : 8;
+  // Vector width W per instruction set. AVX-512 steps 4-lane (ymm, AVX-512VL) vectors too:
+  // measured on this AMD EPYC (256-bit datapath), 8-lane zmm ran 6 axes at 15 M samples/s and
+  // 9 at 7.7, two or three ymm at 31 and 24.
+  constexpr int kW512 = 4;
   int done = 0;
   while (done < n) {
     int bad_row = -1, diverged = -1, rows = 0;

@@ -14,8 +14,8 @@ namespace gm {
 /// The machine's axes' servos (ServoAxis each) stepped together over rows of a block: what N
 /// ServoAxis objects stepped sample by sample give, bit for bit. When every axis has a plant of
 /// the same order (1 or 2) and no Coulomb friction, the axes are the lanes of vectors of the
-/// instruction set's width (AVX-512: one of 4 up to four axes, else pieces of 8; AVX2: pieces
-/// of 4; portable SSE2: pieces of 2; nine axes are two pieces on AVX-512) and every lane does
+/// instruction set's width (AVX-512 (VL) and AVX2: pieces of 4; portable SSE2: pieces of 2;
+/// nine axes are three pieces of 4) and every lane does
 /// ServoAxis's operations in its order (no fused multiply-add: the kernel's file is compiled
 /// with -ffp-contract=off); otherwise, and for a sample in which a lane's position or reference
 /// leaves the range the lanes are exact in (|x| ≥ 2^51 BLU, a loop that has diverged), the
@@ -44,11 +44,11 @@ class ServoBank {
   /// Tests only: run the lane kernel compiled for `isa` (at most active_isa()).
   void set_isa_for_testing(Isa isa);
   /// Tests only: the lanes' round_half_away on x[0..w) with the kernel of `isa` (at most
-  /// active_isa()); w, the lanes rounded (2, 4 or 8), is returned. bad[l] != 0: lane l is out
+  /// active_isa()); w, the lanes rounded (2 or 4), is returned. bad[l] != 0: lane l is out
   /// of the exact range (|x| ≥ 2^51 or NaN) and out[l] means nothing.
   static int round_for_testing(Isa isa, const double* x, double* out, std::int64_t* bad);
 
-  /// Lanes of the widest shape (nine axes: two vectors of 8 on AVX-512, 3 of 4, 5 of 2).
+  /// Lanes of the widest shape (nine axes: 3 vectors of 4, or 5 of 2; 16 leaves room for 8).
   static constexpr int kMaxLanes = 16;
   /// The lanes' state; public only for the kernel (servo_bank.cpp). Counts and references are
   /// doubles there (exact integers below 2^51; the axes all start at count 0).
