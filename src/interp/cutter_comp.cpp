@@ -453,7 +453,8 @@ bool comp_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target) {
   return true;
 }
 
-bool comp_arc(BlockCtx& ctx, const Code& code, const Pos9& target, int turns) {
+bool comp_arc(BlockCtx& ctx, const Code& code, const Pos9& target, int turns,
+              const Pos9* centre_mm) {
   CutterComp& cc = ctx.s.comp;
   ModalState& s = ctx.s;
   const PlaneAxes ax = plane_axes(s.plane);
@@ -469,7 +470,10 @@ bool comp_arc(BlockCtx& ctx, const Code& code, const Pos9& target, int turns) {
     if (ctx.w.has('R') && tool_inside && std::fabs(ctx.w['R']->value) * ctx.scale() <= r)
       return tool_too_large(ctx, "the arc radius", std::fabs(ctx.w['R']->value) * ctx.scale());
     Pos9 centre9;
-    if (!arc_centre(ctx, code, s.position_mm, target, centre9)) return false;
+    if (centre_mm != nullptr)
+      centre9 = *centre_mm;
+    else if (!arc_centre(ctx, code, s.position_mm, target, centre9))
+      return false;
     const P2 centre = in_plane(centre9, ax);
     if (!ctx.w.has('R') && tool_inside && dist(centre, c) <= r)
       return tool_too_large(ctx, "the arc radius", dist(centre, c));
@@ -511,7 +515,10 @@ bool comp_arc(BlockCtx& ctx, const Code& code, const Pos9& target, int turns) {
   const P2 o{cc.prog_a, cc.prog_b};
   const Pos9 o9 = comp_program_point(ctx);
   Pos9 centre9;
-  if (!arc_centre(ctx, code, o9, target, centre9)) return false;
+  if (centre_mm != nullptr)
+    centre9 = *centre_mm;
+  else if (!arc_centre(ctx, code, o9, target, centre9))
+    return false;
   const P2 centre = in_plane(centre9, ax);
   Motion prog = motion_template(ctx, MotionKind::Arc);
   prog.start_mm = to_machine(o9, ctx.machine.layout);

@@ -52,8 +52,10 @@ struct CutterComp {
 bool run_cutter_comp(BlockCtx& ctx, const Code& c);
 /// A straight move (G0/G1) to the programmed `target_mm` under active compensation.
 bool comp_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target_mm);
-/// An arc (G2/G3) to the programmed `target_mm` under active compensation (XY or XZ plane).
-bool comp_arc(BlockCtx& ctx, const Code& c, const Pos9& target_mm, int turns);
+/// An arc (G2/G3) to the programmed `target_mm` under active compensation (XY or XZ plane);
+/// its centre from the block's words, or `centre_mm` when given (G70's profile arcs).
+bool comp_arc(BlockCtx& ctx, const Code& c, const Pos9& target_mm, int turns,
+              const Pos9* centre_mm = nullptr);
 /// Sends every held-back command on with the last move ending where the tool is (M0/M1/M2/M30).
 bool comp_flush(BlockCtx& ctx);
 /// Appends a non-motion command behind the held-back moves, or to the output if none is held.

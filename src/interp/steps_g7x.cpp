@@ -1,6 +1,7 @@
 // The lathe cycles G70 (finishing), G71/G71.1/G71.2 (roughing along Z) and G72/G72.1/G72.2
 // (facing along X) of LinuxCNC 2.9: the profile subroutine Q is read, not run, then cut.
 #include "interp/arc.hpp"
+#include "interp/cutter_comp.hpp"
 #include "interp/lathe_profile.hpp"
 #include "interp/steps.hpp"
 
@@ -21,7 +22,7 @@ class CanonSink : public lathe::PathSink {
   void rapid(Pt e) override { straight(MotionKind::Rapid, e); }
   void arc(bool ccw, Pt c, Pt e) override {
     const Pos9 end = at(e);
-    const Pos9 prog_now = ctx_.frame().to_program(ctx_.s.position_mm);
+    const Pos9 prog_now = ctx_.frame().to_program(comp_program_point(ctx_));
     const double u = ctx_.scale();
     // LinuxCNC draws no arc to where the tool is (its equal(): within 1e-7 units).
     if (std::fabs(prog_now[0] / u - e.imag()) < 1e-7 &&
@@ -46,7 +47,12 @@ class CanonSink : public lathe::PathSink {
       ctx_.err.message = r.message;
       throw lathe_error();
     }
-    if (!emit_arc(ctx_, end, at(c), ccw)) throw lathe_error();
+    const Pos9 centre = at(c);
+    if (ctx_.s.comp.active()) {  // G70 under G41/G42: the arc is compensated as a G2/G3 is
+      if (!comp_arc(ctx_, *find_code('G', ccw ? 30 : 20), end, 1, &centre)) throw lathe_error();
+    } else if (!emit_arc(ctx_, end, centre, ccw)) {
+      throw lathe_error();
+    }
   }
   struct lathe_error {};
 
@@ -58,10 +64,12 @@ class CanonSink : public lathe::PathSink {
     Pos9 prog = Pos9::Zero();
     prog[0] = p.imag() * u;
     prog[2] = p.real() * u;
-    return ctx_.frame().to_machine(ctx_.s.position_mm, prog, 5u);
+    return ctx_.frame().to_machine(comp_program_point(ctx_), prog, 5u);
   }
   void straight(MotionKind k, Pt e) {
-    if (!emit_straight(ctx_, k, at(e), loc_)) throw lathe_error();
+    if (ctx_.s.comp.active() ? !comp_straight(ctx_, k, at(e))
+                             : !emit_straight(ctx_, k, at(e), loc_))
+      throw lathe_error();
   }
 
  public:
@@ -86,9 +94,6 @@ bool run_g7x(BlockCtx& ctx, const Code& c) {
   if (ctx.s.plane != Plane::XZ)
     return ctx.fail(ErrorCode::UnknownGCode, loc,
                     fmt::format("G{}.{} can only be used in XZ plane (G18)", cycle, sub));
-  if (ctx.s.comp.active())  // G70 with G41/G42: LinuxCNC compensates the profile; not done here
-    return ctx.fail(ErrorCode::CutterCompMisused, loc,
-                    "G70 with cutter compensation on is not supported by gmotion (use G40)");
   for (const char a : {'A', 'B', 'C', 'U', 'V', 'W', 'Y'})
     if (w.has(a))
       return ctx.fail(
@@ -102,7 +107,7 @@ bool run_g7x(BlockCtx& ctx, const Code& c) {
   // The start: X and Z (absolute, whatever G90/G91 says: LinuxCNC switches to G90 for the
   // cycle's first rapid), else where the tool is.
   const double u = ctx.scale();
-  const Pos9 here = ctx.frame().to_program(ctx.s.position_mm);
+  const Pos9 here = ctx.frame().to_program(comp_program_point(ctx));  // G70 under comp
   G7xCycle& g = *ctx.g7x;
   g = G7xCycle{};
   g.code10 = c.number10;
@@ -132,10 +137,12 @@ bool run_g7x(BlockCtx& ctx, const Code& c) {
     const bool inc = ctx.s.incremental;
     ctx.s.incremental = false;
     Pos9 target;
-    const bool ok = axis_target(ctx, ctx.s.position_mm, target);
+    const bool ok = axis_target(ctx, comp_program_point(ctx), target);
     ctx.s.incremental = inc;
     if (!ok) return false;
-    if (!emit_straight(ctx, MotionKind::Rapid, target, loc)) return false;
+    if (ctx.s.comp.active() ? !comp_straight(ctx, MotionKind::Rapid, target)
+                            : !emit_straight(ctx, MotionKind::Rapid, target, loc))
+      return false;
   }
   g.position_mm = ctx.s.position_mm;
   g.pending = true;
@@ -247,7 +254,10 @@ bool Interpreter::g7x_finish(int line, std::vector<Canon>& out, InterpError& err
   BlockCtx ctx{machine_, block, w, s, out, err, tables_, nullptr};
   ctx.call_level = call_level_;
   const SourceLoc loc{line, 1};
-  s.position_mm = g.position_mm;
+  // The rs274 checked against (2.9.0~pre1) leaves its current point at the profile's end after
+  // reading it; only under compensation (G70) does a move start from there (the first move is a
+  // rapid, which prints only its end).
+  if (!s.comp.active()) s.position_mm = g.position_mm;
   s.motion = g.motion;  // LinuxCNC leaves the profile's last motion mode in force
   const std::size_t mark = out.size();
   auto failed = [&](ErrorCode code, std::string msg) {
