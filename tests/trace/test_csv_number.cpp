@@ -90,9 +90,11 @@ TEST_CASE("put_int: every digit count, its edges, and a seeded sweep") {
   // The digit count comes from the bit width; the edges 10^d − 1, 10^d and 2^b ± 1 are where
   // an off-by-one in it would show.
   std::vector<std::int64_t> values;
-  std::int64_t p = 1;
-  for (int d = 0; d <= 18; ++d, p *= 10)
+  std::int64_t p = 1;  // 10^d; 10^18 is the last that fits
+  for (int d = 0; d <= 18; ++d) {
     for (std::int64_t v : {p - 1, p, p + 1}) values.insert(values.end(), {v, -v});
+    if (d < 18) p *= 10;
+  }
   for (int b = 0; b < 63; ++b) {
     const std::int64_t v = std::int64_t{1} << b;
     values.insert(values.end(), {v - 1, v, v + 1, -(v - 1), -v, -(v + 1)});
