@@ -434,8 +434,7 @@ class ProgramRunner {
     if (block.needs_evaluation()) {
       state_params_.set_line(line);
       if (!evaluator_.run(block, params_, err)) {
-        diags.push_back(Diagnostic{Severity::Error, static_cast<int>(err.code), err.loc,
-                                   err.message, source_for(text)});
+        diags.push_back(error_diagnostic(err, text));
         return true;
       }
       // A program that writes the offsets' parameters changes the interpreter's tables.
@@ -447,18 +446,15 @@ class ProgramRunner {
     }
     if (dialect_ == Dialect::Fanuc && !fanuc_machine_codes(block, text, diags)) return true;
     if (g7x_base_ >= 0 && flow_.call_depth() > g7x_base_) {  // a G7x profile: read, not run
-      if (!interp_.g7x_collect(block, err))
-        diags.push_back(Diagnostic{Severity::Error, static_cast<int>(err.code), err.loc,
-                                   err.message, source_for(text)});
+      if (!interp_.g7x_collect(block, err)) diags.push_back(error_diagnostic(err, text));
       return true;
     }
     if (!interp_.execute(block, out, err)) {
-      diags.push_back(Diagnostic{Severity::Error, static_cast<int>(err.code), err.loc, err.message,
-                                 source_for(text)});
+      diags.push_back(error_diagnostic(err, text));
       return true;
     }
     export_system_parameters();
-    if (interp_.g7x_pending() && !start_g7x(p, out, diags, jump)) return false;
+    if (interp_.g7x_pending() && !start_g7x(p, diags, jump)) return false;
     if (interp_.state().input_waits != input_waits_seen_) {  // M66: #5399
       input_waits_seen_ = interp_.state().input_waits;
       params_.set_system(5399, interp_.state().input_result);
@@ -532,6 +528,11 @@ class ProgramRunner {
   std::int64_t blocks() const { return blocks_; }
 
  private:
+  /// An interpreter error on the line whose text is `text`, as a diagnostic.
+  static Diagnostic error_diagnostic(const InterpError& err, const std::string& text) {
+    return Diagnostic{Severity::Error, static_cast<int>(err.code), err.loc, err.message,
+                      source_for(text)};
+  }
   static std::string source_for(const std::string& text) {
     // Very long lines are not echoed under the message (the location is still exact).
     return text.size() <= 512 ? text : std::string();
@@ -545,8 +546,7 @@ class ProgramRunner {
     const grammar::OKind kind = p.block.oword.kind;
     if ((kind == grammar::OKind::M98 || kind == grammar::OKind::M99) && !flow_.skipping() &&
         p.block.needs_evaluation() && !evaluator_.run(p.block, params_, err)) {
-      diags.push_back(Diagnostic{Severity::Error, static_cast<int>(err.code), err.loc, err.message,
-                                 source_for(p.text)});
+      diags.push_back(error_diagnostic(err, p.text));
       done_ = true;
       jump.seek = false;
       return false;
@@ -558,14 +558,12 @@ class ProgramRunner {
     if (ok && g7x_base_ >= 0 && flow_.call_depth() == g7x_base_ && depth > g7x_base_) {
       g7x_base_ = -1;  // the profile subroutine returned: the cycle runs
       if (!interp_.g7x_finish(p.number, out, err)) {
-        diags.push_back(Diagnostic{Severity::Error, static_cast<int>(err.code), err.loc,
-                                   err.message, source_for(p.text)});
+        diags.push_back(error_diagnostic(err, p.text));
         return true;
       }
     }
     if (!ok) {
-      diags.push_back(Diagnostic{Severity::Error, static_cast<int>(err.code), err.loc, err.message,
-                                 source_for(p.text)});
+      diags.push_back(error_diagnostic(err, p.text));
       done_ = true;
       jump.seek = false;
       return false;
@@ -575,8 +573,7 @@ class ProgramRunner {
 
   // A G70-G72 line ran: its profile subroutine is called as `O<q> call` from that line, and its
   // blocks are read (process_line) until it returns (control).
-  bool start_g7x(ParsedLine& p, std::vector<Canon>& out, std::vector<Diagnostic>& diags,
-                 FlowJump& jump) {
+  bool start_g7x(ParsedLine& p, std::vector<Diagnostic>& diags, FlowJump& jump) {
     grammar::Block call;
     call.line = p.number;
     call.oword.kind = grammar::OKind::Call;
@@ -588,11 +585,9 @@ class ProgramRunner {
     InterpError err;
     bool ok = flow_.handle(call, LinePos{p.offset, p.next_offset, p.number, p.file}, jump, err);
     if (ok && flow_.call_depth() > depth) interp_.enter_call(flow_.call_depth());
-    (void)out;
     if (!ok) {
       g7x_base_ = -1;
-      diags.push_back(Diagnostic{Severity::Error, static_cast<int>(err.code), err.loc, err.message,
-                                 source_for(p.text)});
+      diags.push_back(error_diagnostic(err, p.text));
       done_ = true;
       jump.seek = false;
       return false;

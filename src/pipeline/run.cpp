@@ -31,7 +31,7 @@ bool realtime(const RunOptions& o) {
 // The consumer thread is worth it only with a second core, and never paces a real-time run.
 RunOptions with_thread_choice(RunOptions o) {
   o.consumer_thread = o.consumer_thread && !realtime(o) && std::thread::hardware_concurrency() >= 2;
-  o.config.defer_contour = true;  // Run measures the contour with the outputs (consume())
+  o.config.defer_contour = true;  // Run measures the contour with the outputs (consume_rows)
   return o;
 }
 
@@ -121,13 +121,6 @@ void Run::init() {
 }
 
 Run::~Run() = default;
-
-void Run::consume(SampleRecord& r, std::span<const Motion> started) {
-  meter_->measure(r, started);
-  tolerance_.add(r, started.empty() ? nullptr : &started.back());
-  summary_.add(r);
-  if (trace_) trace_->write(r);
-}
 
 template <int N>
 void Run::consume_rows(SampleBlock& b, int first) {

@@ -124,7 +124,6 @@ class Run {
   /// Hands rows first.. of `b` to the outputs (on this thread: no consumer thread).
   template <int N>
   void consume_rows(SampleBlock& b, int first);
-  void consume(SampleRecord& r, std::span<const Motion> started);
   void finish(RunStatus status);
 
   RunOptions options_;
@@ -139,7 +138,7 @@ class Run {
   std::unique_ptr<LiveOverride> live_;
   std::unique_ptr<OverrideRecorder> recorder_;
   std::unique_ptr<TraceWriter> trace_;
-  std::optional<ContourMeter> meter_;   ///< with the consumer thread
+  std::optional<ContourMeter> meter_;   ///< measures the contour of every row (consume_rows)
   std::unique_ptr<SampleQueue> queue_;  ///< last: its thread uses the members above
   std::unique_ptr<SampleBlock> block_;  ///< the block filled without the consumer thread
   OverrideInput ovr_;

@@ -87,10 +87,8 @@ class ServoAxis {
   double kv_period_s() const { return kv_period_s_; }
   double kv_over_h() const { return kv_over_h_; }
   double h_over_kv() const { return h_over_kv_; }
-  int substeps() const { return substeps_; }
   double half_backlash_blu() const { return half_backlash_; }
   double coulomb_drive() const { return u_coulomb_; }
-  std::int64_t start_blu() const { return start_blu_; }
   double drive_N_per_unit() const { return n_per_unit_; }  ///< force per drive unit, N
 
  private:
