@@ -112,7 +112,8 @@ lsamples=$(samples_of "$work/summary-long.json")
 rows+=("| long moves, \`gmotion run\`, no trace, servo on | $(calc "%.2f" "$lsamples / 1e6 / $secs") M samples/s | $lsamples samples in $secs s, peak RSS $((rss_kb / 1024)) MB |")
 measure 3 "$bin/gmotion" run "$long" --no-servo
 rows+=("| long moves, \`gmotion run --no-servo\` | $(calc "%.2f" "$lsamples / 1e6 / $secs") M samples/s | $secs s |")
-for prof in linear scurve2 hann cascade:11,11,11; do
+# cascade:14,14,15 has 14 + 14 + 15 - 2 = 41 taps, the default tau (0.164 s at T = 4 ms).
+for prof in linear scurve2 hann cascade:14,14,15; do
   measure 3 "$bin/gmotion" run "$long" --profile "$prof" --summary-json "$work/summary-prof.json"
   ps=$(samples_of "$work/summary-prof.json")
   rows+=("| long moves, \`--profile $prof\`, servo on | $(calc "%.2f" "$ps / 1e6 / $secs") M samples/s | $ps samples in $secs s |")
