@@ -303,9 +303,21 @@ void FirAccDec::set_isa_for_testing(Isa isa) {
 }
 
 template <int N>
-void FirAccDec::step_block(const BluColumns& in, BluColumns& out, int n) {
-  if (n < 1 || n > kBlockSamples)  // the scratch holds one block
-    throw InputError(fmt::format("FIR Acc/Dec: a block of {} samples (1..{})", n, kBlockSamples));
+void FirAccDec::step_block(const BluColumns& in_cols, BluColumns& out_cols, int first, int n) {
+  if (first < 0 || n < 1 || first + n > kBlockSamples)  // the scratch holds one block
+    throw InputError(fmt::format("FIR Acc/Dec: rows {}..{} of a block (0..{})", first,
+                                 first + n - 1, kBlockSamples - 1));
+  // Rows first .. first+n-1 of every column, as columns of their own.
+  struct Rows {
+    const std::int64_t* v[kMaxAxes];
+  } in{};
+  struct OutRows {
+    std::int64_t* v[kMaxAxes];
+  } out{};
+  for (int a = 0; a < N; ++a) {
+    in.v[a] = in_cols.v[a] + first;
+    out.v[a] = out_cols.v[a] + first;
+  }
   const int L = length_;
   const bool running = structure_ == FirStructure::RunningSum;
   // Fast only if the window before the block is (big_in_window_ counts its last N+1 samples;
@@ -376,12 +388,12 @@ void FirAccDec::step_block(const BluColumns& in, BluColumns& out, int n) {
   for (int a = 0; a < N; ++a) last_in_[a] = in.v[a][n - 1];
   // The ring: the block's last min(n, L) samples in the slots after head_, as step_n writes
   // them; every one is within the limit, so big_in_window_ stays 0.
-  const int first = std::max(0, n - L);
-  const int slot0 = static_cast<int>((static_cast<long>(head_) + 1 + first) % L);
+  const int first_kept = std::max(0, n - L);
+  const int slot0 = static_cast<int>((static_cast<long>(head_) + 1 + first_kept) % L);
   for (int a = 0; a < N; ++a) {
     int slot = slot0;
     double* const col = window_.data() + 4 * 2 * L * (a >> 2) + (a & 3);
-    for (int i = first; i < n; ++i) {
+    for (int i = first_kept; i < n; ++i) {
       const std::int64_t r = in.v[a][i] - start_[a];
       hist_[static_cast<std::size_t>(slot) * N + static_cast<std::size_t>(a)] = r;
       if (!running) col[4 * slot] = col[4 * (slot + L)] = static_cast<double>(r);
@@ -393,7 +405,7 @@ void FirAccDec::step_block(const BluColumns& in, BluColumns& out, int n) {
 }
 
 #define GM_FIR_STEP_BLOCK(N) \
-  template void FirAccDec::step_block<N>(const BluColumns& in, BluColumns& out, int n);
+  template void FirAccDec::step_block<N>(const BluColumns& in, BluColumns& out, int first, int n);
 GM_FOR_EACH_AXIS_COUNT(GM_FIR_STEP_BLOCK)
 #undef GM_FIR_STEP_BLOCK
 

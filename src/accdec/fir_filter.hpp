@@ -61,7 +61,13 @@ class FirAccDec {
   /// nothing of `out` past sample n or axis N is written; n outside 1..kBlockSamples throws
   /// gm::InputError. Instantiated for GM_FOR_EACH_AXIS_COUNT.
   template <int N>
-  void step_block(const BluColumns& in, BluColumns& out, int n);
+  void step_block(const BluColumns& in, BluColumns& out, int n) {
+    step_block<N>(in, out, 0, n);
+  }
+  /// The same over rows first .. first+n-1 of the columns (first + n <= kBlockSamples): the
+  /// filter sees those rows as its next n samples.
+  template <int N>
+  void step_block(const BluColumns& in, BluColumns& out, int first, int n);
 
   /// True when the last N+1 inputs are equal (then output == input exactly).
   bool settled() const { return equal_run_ >= length_; }

@@ -156,11 +156,15 @@ void compare(const gm::Taps& taps, FirStructure s, int axes, Isa isa, std::uint6
     const int r = static_cast<int>(uni(0, 9));
     const int n = r < 4 ? gm::kBlockSamples : static_cast<int>(uni(1, gm::kBlockSamples));
     const bool per_sample = !blocks_only && uni(0, 4) == 0;
+    // A shorter block sometimes sits further down the columns (step_block's `first`).
+    const int first = n < gm::kBlockSamples && uni(0, 1) == 1
+                          ? static_cast<int>(uni(0, gm::kBlockSamples - n))
+                          : 0;
     for (auto& col : out->v) std::fill(std::begin(col), std::end(col), kSentinel);
     std::vector<AxisBlu> expected;
     for (int i = 0; i < n; ++i) {
       x = src.next();
-      for (int a = 0; a < gm::kMaxAxes; ++a) in->v[a][i] = a < axes ? x[a] : kSentinel;
+      for (int a = 0; a < gm::kMaxAxes; ++a) in->v[a][first + i] = a < axes ? x[a] : kSentinel;
       gm::with_axis_count(axes, [&](auto c) { ref.step_n<decltype(c)::value>(x, y_ref); });
       expected.push_back(y_ref);
       if (per_sample) {
@@ -170,17 +174,19 @@ void compare(const gm::Taps& taps, FirStructure s, int axes, Isa isa, std::uint6
       }
     }
     if (!per_sample) {
-      gm::with_axis_count(axes, [&](auto c) { blk.step_block<decltype(c)::value>(*in, *out, n); });
+      gm::with_axis_count(axes,
+                          [&](auto c) { blk.step_block<decltype(c)::value>(*in, *out, first, n); });
       for (int i = 0; i < n; ++i)
         for (int a = 0; a < axes; ++a) {
-          INFO("sample " << done + i << " of block [" << done << ", " << done + n << ") axis " << a
-                         << " in " << in->v[a][i] << " start " << start[a]);
-          REQUIRE(out->v[a][i] == expected[static_cast<std::size_t>(i)][a]);
+          INFO("sample " << done + i << " of block [" << done << ", " << done + n << ") at row "
+                         << first << " axis " << a << " in " << in->v[a][first + i] << " start "
+                         << start[a]);
+          REQUIRE(out->v[a][first + i] == expected[static_cast<std::size_t>(i)][a]);
         }
-      // Nothing past the block or the axis count is written.
+      // Nothing outside the block's rows or past the axis count is written.
       for (int a = 0; a < gm::kMaxAxes; ++a)
-        for (int i = a < axes ? n : 0; i < gm::kBlockSamples; ++i)
-          REQUIRE(out->v[a][i] == kSentinel);
+        for (int i = 0; i < gm::kBlockSamples; ++i)
+          if (a >= axes || i < first || i >= first + n) REQUIRE(out->v[a][i] == kSentinel);
     }
     REQUIRE(blk.settled() == ref.settled());
     done += n;
@@ -232,11 +238,14 @@ TEST_CASE("step_block alone over long runs: blackman 41 and linear 11, three axe
     }
 }
 
-TEST_CASE("step_block refuses a block size outside 1..kBlockSamples") {
+TEST_CASE("step_block refuses rows outside the block") {
   FirAccDec f(gm::design_taps("blackman", 0.164, 0.004), AxisBlu::Zero());
   auto in = std::make_unique<BluColumns>(), out = std::make_unique<BluColumns>();
   CHECK_THROWS_AS(f.step_block<3>(*in, *out, 0), gm::InputError);
   CHECK_THROWS_AS(f.step_block<3>(*in, *out, gm::kBlockSamples + 1), gm::InputError);
+  CHECK_THROWS_AS(f.step_block<3>(*in, *out, -1, 2), gm::InputError);
+  CHECK_THROWS_AS(f.step_block<3>(*in, *out, gm::kBlockSamples - 1, 2), gm::InputError);
+  CHECK_NOTHROW(f.step_block<3>(*in, *out, gm::kBlockSamples - 2, 2));
 }
 
 TEST_CASE("set_isa_for_testing never raises the instruction set above the CPU's") {

@@ -241,6 +241,50 @@ BENCHMARK_TEMPLATE(BM_ServoBank, 3)->ArgsProduct({{0, 1, 2}, {256, 1}});
 BENCHMARK_TEMPLATE(BM_ServoBank, 6)->ArgsProduct({{0, 1, 2}, {256, 1}});
 BENCHMARK_TEMPLATE(BM_ServoBank, 9)->ArgsProduct({{0, 1, 2}, {256, 1}});
 
+// The FIR (Blackman, 41 taps) then the servo lanes over a block, three axes, the pipeline's
+// order, on the circle of BM_FirBlock scaled up (radius 40,000 BLU). Arg(0) = 0: the whole
+// block through the FIR, then through the servo (stage after stage). Arg(0) = C: chunks of C
+// rows, the FIR one chunk ahead of the servo, so the FIR's independent work can run in the
+// servo's dependency chain. Items = samples (three axes each).
+void BM_FirServo(benchmark::State& state) {
+  const int chunk = static_cast<int>(state.range(0));
+  const gm::Machine m = gm::default_machine();
+  gm::FirAccDec fir(gm::design_taps("blackman", 0.164, m.period_s), gm::AxisBlu::Zero());
+  gm::ServoBank bank(m, 3, m.period_s, m.servo_substeps);
+  constexpr int kBlocks = 8;
+  std::vector<gm::BluColumns> in(kBlocks);
+  for (int b = 0; b < kBlocks; ++b)
+    for (int i = 0; i < gm::kBlockSamples; ++i) {
+      const double u =
+          2 * 3.141592653589793 * (b * gm::kBlockSamples + i) / (kBlocks * gm::kBlockSamples);
+      in[static_cast<std::size_t>(b)].v[0][i] = std::llround(40000 * std::cos(u));
+      in[static_cast<std::size_t>(b)].v[1][i] = std::llround(40000 * std::sin(u));
+      in[static_cast<std::size_t>(b)].v[2][i] = i / 16;
+    }
+  auto ref = std::make_unique<gm::BluColumns>();
+  auto enc = std::make_unique<gm::BluColumns>();
+  auto table = std::make_unique<gm::RealColumns>();
+  std::size_t b = 0;
+  constexpr int n = gm::kBlockSamples;
+  for (auto _ : state) {
+    const gm::BluColumns& c = in[b];
+    if (chunk == 0) {
+      fir.step_block<3>(c, *ref, 0, n);
+      benchmark::DoNotOptimize(bank.step_block<3>(*ref, *enc, *table, 0, n));
+    } else {
+      fir.step_block<3>(c, *ref, 0, chunk);
+      for (int f = 0; f < n; f += chunk) {
+        if (f + chunk < n) fir.step_block<3>(c, *ref, f + chunk, std::min(chunk, n - f - chunk));
+        benchmark::DoNotOptimize(bank.step_block<3>(*ref, *enc, *table, f, std::min(chunk, n - f)));
+      }
+    }
+    benchmark::DoNotOptimize(enc->v[0][n - 1]);
+    b = b + 1 == kBlocks ? 0 : b + 1;
+  }
+  state.SetItemsProcessed(state.iterations() * n);
+}
+BENCHMARK(BM_FirServo)->Arg(0)->Arg(8)->Arg(16)->Arg(32)->Arg(64)->Arg(128);
+
 class TextSource : public gm::CanonSource {
  public:
   explicit TextSource(const std::string& text, const gm::Machine& m)
