@@ -79,14 +79,24 @@ void PathWindow::push(const Motion& m, std::int64_t k) {
   e.geometry = MotionGeometry::of(m);
   e.first_sample = k;
   e.last_sample = kOngoing;
-  if (m.kind == MotionKind::Arc) {
+  const MotionGeometry& g = e.geometry;
+  if (m.kind == MotionKind::Arc && g.planar && std::fabs(g.sweep_rad) <= std::numbers::pi) {
+    // Planar arc of at most half a turn (most CAM arcs): every point the distance is measured
+    // to is an end point, or on the start radius's circle between the directions of start S and
+    // end E, i.e. on an arc from S to E' = E moved radially onto that circle. Such an arc lies
+    // within half its chord of the chord's midpoint M' (sweep <= pi), and M' is within
+    // |E − E'|/2 = |r1 − r0|/2 of S and E's midpoint: a sphere there of radius
+    // |S − E|/2 + |r1 − r0| holds them all, far smaller than the circle's for a short arc.
+    const Vec3 s_mm = g.start_mm.head<3>(), e_mm = g.end_mm.head<3>();
+    e.sphere_c_mm = 0.5 * (s_mm + e_mm);
+    e.sphere_r_mm = 0.5 * (e_mm - s_mm).norm() + std::fabs(g.r1_mm - g.r0_mm);
+  } else if (m.kind == MotionKind::Arc) {
     // Planar arc: every point the distance is measured to (the circle's nearest point inside the
     // sweep, or an end point) lies within the larger of the start and end radii of the centre.
     e.sphere_c_mm = m.center_mm.head<3>();
-    e.sphere_r_mm =
-        e.geometry.planar
-            ? std::max(e.geometry.r0_mm, Vec3(m.end_mm.head<3>() - m.center_mm.head<3>()).norm())
-            : -1.0;
+    e.sphere_r_mm = g.planar
+                        ? std::max(g.r0_mm, Vec3(m.end_mm.head<3>() - m.center_mm.head<3>()).norm())
+                        : -1.0;
   } else {
     e.sphere_c_mm = 0.5 * (m.start_mm.head<3>() + m.end_mm.head<3>());
     e.sphere_r_mm = 0.5 * Vec3(m.end_mm.head<3>() - m.start_mm.head<3>()).norm();

@@ -3,7 +3,12 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <vector>
 
 using gm::AxisVec;
 using gm::Motion;
@@ -71,4 +76,86 @@ TEST_CASE("radial deviation in the XZ and YZ planes uses the in-plane axes") {
   m.plane = gm::Plane::YZ;
   m.start_mm = xyz(0, 2, 0);
   CHECK(gm::PathWindow::radial_deviation_mm(m, p3(9, 0, 3)) == Approx(1.0));  // X is normal
+}
+
+// The window's search (hint first, bounding spheres, expiry) against a brute-force scan with
+// MotionGeometry::distance: the nearest block of those that ended at most the lag ago (ties to
+// the newer one), bit for bit. Short and long arcs in the three planes, clockwise and not,
+// with a slightly different end radius, helices, full turns and lines, chained as a program
+// chains them; points near the path and far from it.
+TEST_CASE("the window's search equals a brute-force scan, arcs in every plane") {
+  std::mt19937_64 rng(20261126);
+  auto uni = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
+  const std::int64_t lag = 40;
+  gm::PathWindow w(lag);
+  std::vector<Motion> blocks;
+  std::vector<std::int64_t> starts;
+  AxisVec at = xyz(0, 0, 0);
+  std::int64_t k = 0;
+  int checked = 0, arcs_nearest = 0;
+  for (int b = 0; b < 3000; ++b) {
+    Motion m;
+    m.start_mm = at;
+    if (uni(0, 1) < 0.4) {
+      m.kind = MotionKind::Line;
+      m.end_mm = at + xyz(uni(-2, 2), uni(-2, 2), uni(-0.3, 0.3));
+    } else {
+      m.kind = MotionKind::Arc;
+      const int plane = static_cast<int>(uni(0, 3));
+      m.plane = plane == 0 ? gm::Plane::XY : plane == 1 ? gm::Plane::XZ : gm::Plane::YZ;
+      const int a = plane == 2 ? 1 : 0, bb = plane == 0 ? 1 : 2, n = 3 - a - bb;
+      m.ccw = uni(0, 1) < 0.5;
+      const double r = uni(0.2, 20), phi0 = uni(0, 6.283);
+      // Mostly short sweeps (CAM arcs), some past half a turn; once in a while a full turn.
+      const double sweep = uni(0, 1) < 0.8 ? uni(0.01, 3.1) : uni(3.2, 6.2);
+      const double phi1 = phi0 + (m.ccw ? sweep : -sweep);
+      const double r1 = r * (1 + uni(-1e-4, 1e-4));
+      m.center_mm = at;
+      m.center_mm[a] -= r * std::cos(phi0);
+      m.center_mm[bb] -= r * std::sin(phi0);
+      m.end_mm = m.center_mm;
+      m.end_mm[a] += r1 * std::cos(phi1);
+      m.end_mm[bb] += r1 * std::sin(phi1);
+      m.end_mm[n] = at[n] + (uni(0, 1) < 0.2 ? uni(-1, 1) : 0.0);  // a helix now and then
+      if (uni(0, 1) < 0.03) {
+        m.end_mm = m.start_mm;  // a full circle
+        m.turns = 1;
+      }
+    }
+    at = m.end_mm;
+    blocks.push_back(m);
+    starts.push_back(k);
+    w.push(m, k);
+    const int samples = 1 + static_cast<int>(uni(0, 12));
+    for (int i = 0; i < samples; ++i, ++k) {
+      // Near a recent block's path, or anywhere around.
+      const Motion& near =
+          blocks[blocks.size() - 1 -
+                 static_cast<std::size_t>(uni(0, std::min<double>(blocks.size(), 6)))];
+      const gm::MotionGeometry g = gm::MotionGeometry::of(near);
+      const double off = uni(0, 1) < 0.7 ? 0.01 : 2.0;
+      const AxisVec q = g.at_fraction(uni(0, 1));
+      const gm::Vec3 p = p3(q[0] + uni(-off, off), q[1] + uni(-off, off), q[2] + uni(-off, off));
+      double best = std::numeric_limits<double>::infinity(), best_signed = 0.0;
+      bool best_arc = false;
+      for (std::size_t j = blocks.size(); j-- > 0;) {  // newest first: ties go to the newer
+        const std::int64_t end = j + 1 < blocks.size() ? starts[j + 1] : k + 1;
+        if (j + 1 < blocks.size() && k - end > lag) break;
+        double d = 0.0, s = 0.0;
+        gm::MotionGeometry::of(blocks[j]).distance(p, d, s);
+        if (d < best) {
+          best = d;
+          best_signed = s;
+          best_arc = blocks[j].kind == MotionKind::Arc;
+        }
+      }
+      const double got = w.contour_error_mm(p, k);
+      INFO("block " << b << " sample " << k);
+      REQUIRE(got == best_signed);
+      ++checked;
+      arcs_nearest += best_arc;
+    }
+  }
+  CHECK(checked > 15000);
+  CHECK(arcs_nearest > checked / 4);  // the arcs' bounds are exercised, not only the lines'
 }
