@@ -451,7 +451,8 @@ void TolerancePlanner::emit_front() {
 
   // Pieces of the block between zone boundaries, each with the smallest cap over it.
   const bool is_arc = b.m.kind == MotionKind::Arc;
-  std::vector<double> cuts{b.s0, b.s1};
+  std::vector<double>& cuts = cuts_;
+  cuts.assign({b.s0, b.s1});
   if (!is_arc)
     for (const Element& e : elems_)
       if (e.decided && e.cap < kInf)
@@ -459,10 +460,8 @@ void TolerancePlanner::emit_front() {
           if (z > b.s0 && z < b.s1) cuts.push_back(z);
   std::sort(cuts.begin(), cuts.end());
   cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
-  struct Piece {
-    double a, c, cap;
-  };
-  std::vector<Piece> pieces;
+  std::vector<Piece>& pieces = pieces_;
+  pieces.clear();
   for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
     const double a = cuts[i], c = cuts[i + 1];
     if (c - a < 1e-9 && !pieces.empty()) {  // a sliver: joins the piece before
@@ -521,7 +520,7 @@ void TolerancePlanner::emit_front() {
       p.speed_cap_mm_s = q.cap;
       ++stats_.capped_pieces;
     }
-    ready_.push_back(p);
+    ready_.push_back(std::move(p));
   }
   for (const Element& e : elems_)
     if (!e.arc && e.seq == b.seq && e.pause > e.pause0 + 1e-12)

@@ -3,13 +3,13 @@
 #pragma once
 
 #include "common/axis.hpp"
+#include "common/ring_deque.hpp"
 #include "interp/canon.hpp"
 #include "interpolator/geometry.hpp"
 #include "planner/filter_moments.hpp"
 #include "planner/naive_cam.hpp"
 
 #include <cstdint>
-#include <deque>
 #include <vector>
 
 namespace gm {
@@ -148,9 +148,17 @@ class TolerancePlanner : public CanonSource {
   PlannerConfig cfg_;
   NaiveCamMerger merger_;       ///< reads the upstream source: G64 Q runs arrive merged
   std::vector<double> grid_d_;  ///< D(k·T/2), k = 0..2N
-  std::deque<Block> window_;
-  std::deque<Element> elems_;
-  std::deque<Canon> ready_;
+  // Rings of reused slots, not std::deque: a deque allocates a node per Block and per Canon.
+  RingDeque<Block> window_;
+  RingDeque<Element> elems_;
+  RingDeque<Canon> ready_;
+  /// emit_front's scratch (kept, so a block allocates nothing): the cuts of the front block
+  /// and its pieces between them.
+  struct Piece {
+    double a, c, cap;
+  };
+  std::vector<double> cuts_;
+  std::vector<Piece> pieces_;
   Canon scratch_;
   bool ended_ = false;
   std::uint64_t seq_ = 0;
