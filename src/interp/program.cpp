@@ -910,7 +910,9 @@ class ParallelFront {
   std::thread thread_;      ///< last: starts once everything above is constructed
 };
 
-template <typename Sink>
+/// `Summarise`: the moves, path length and time are added up (check); otherwise only the
+/// diagnostics and the errors are counted (what a run needs before it starts).
+template <bool Summarise = true, typename Sink>
 CheckSummary run_check(std::istream& in, std::string_view filename, const InterpreterOptions& opts,
                        CheckThreads threads, Sink&& sink) {
   CheckSummary sum;
@@ -921,7 +923,7 @@ CheckSummary run_check(std::istream& in, std::string_view filename, const Interp
       sink(d);
       if (d.severity == Severity::Error) ++sum.errors;
     }
-    account(out, machine, sum);
+    if constexpr (Summarise) account(out, machine, sum);
     out.clear();
     diags.clear();
   };
@@ -984,6 +986,13 @@ CheckSummary check_program(std::istream& in, std::string_view filename,
                            CheckThreads threads) {
   return run_check(in, filename, opts, threads,
                    [&](const Diagnostic& d) { diag_out << format_diagnostic(filename, d); });
+}
+
+int count_program_errors(std::istream& in, std::string_view filename,
+                         const InterpreterOptions& opts, std::ostream& diag_out) {
+  return run_check<false>(in, filename, opts, CheckThreads::Auto,
+                          [&](const Diagnostic& d) { diag_out << format_diagnostic(filename, d); })
+      .errors;
 }
 
 CheckSummary check_program_diagnostics(std::istream& in, std::string_view filename,

@@ -54,6 +54,11 @@ CheckSummary check_program(std::istream& in, std::string_view filename,
                            const InterpreterOptions& opts, std::ostream& diag_out,
                            CheckThreads threads = CheckThreads::Auto);
 
+/// As check_program, but returns only the number of errors: the moves are not added up (what
+/// `gmotion run` checks before it starts). The same diagnostics, in the same order.
+int count_program_errors(std::istream& in, std::string_view filename,
+                         const InterpreterOptions& opts, std::ostream& diag_out);
+
 /// As check_program, but hands back the diagnostics (with their ErrorCode in `code`) instead of
 /// printing them (tests, tools).
 CheckSummary check_program_diagnostics(std::istream& in, std::string_view filename,
