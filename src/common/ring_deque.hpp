@@ -31,7 +31,9 @@ class RingDeque {
     operator Iter<true>() const { return Iter<true>(q_, i_); }  // NOLINT: as std's iterators
     reference operator*() const { return (*q_)[i_]; }
     pointer operator->() const { return &(*q_)[i_]; }
-    reference operator[](difference_type n) const { return (*q_)[i_ + static_cast<std::size_t>(n)]; }
+    reference operator[](difference_type n) const {
+      return (*q_)[i_ + static_cast<std::size_t>(n)];
+    }
     Iter& operator++() { return ++i_, *this; }
     Iter& operator--() { return --i_, *this; }
     Iter operator++(int) { return Iter(q_, i_++); }
@@ -72,6 +74,12 @@ class RingDeque {
     if (size_ == slots_.size()) grow();
     slots_[(head_ + size_) & mask_] = std::forward<U>(v);
     ++size_;
+  }
+  /// Appends an element and returns its slot, to be assigned in place (it still holds whatever
+  /// was last there): what push_back does without a temporary.
+  T& push_back_slot() {
+    if (size_ == slots_.size()) grow();
+    return slots_[(head_ + size_++) & mask_];
   }
   void pop_front() {
     head_ = (head_ + 1) & mask_;

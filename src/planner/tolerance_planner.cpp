@@ -48,7 +48,7 @@ void TolerancePlanner::pull() {
   if (m != nullptr) g = BlockGeometry::of(*m);
   if (m == nullptr || !(g.length_mm > 0.0)) {  // not a block of the path
     if (window_.empty()) {
-      ready_.push_back(scratch_);
+      make_ready(Canon(scratch_));
       return;
     }
     Block& last = window_.back();
@@ -520,13 +520,13 @@ void TolerancePlanner::emit_front() {
       p.speed_cap_mm_s = q.cap;
       ++stats_.capped_pieces;
     }
-    ready_.push_back(std::move(p));
+    make_ready(std::move(p), pieces.size() == 1 ? &b.g : nullptr);  // one piece: b's geometry
   }
   for (const Element& e : elems_)
     if (!e.arc && e.seq == b.seq && e.pause > e.pause0 + 1e-12)
-      ready_.push_back(Dwell{b.m.line, e.pause - e.pause0});
-  if (b.forced_stop) ready_.push_back(Dwell{b.m.line, tau});
-  for (Canon& c : b.after) ready_.push_back(std::move(c));
+      make_ready(Dwell{b.m.line, e.pause - e.pause0});
+  if (b.forced_stop) make_ready(Dwell{b.m.line, tau});
+  for (Canon& c : b.after) make_ready(std::move(c));
   window_.pop_front();
   // Elements that can no longer reach a block still to come, nor be counted by one.
   const double keep_from = window_.empty() ? kInf : window_.front().t0 - 2.0 * tau;
@@ -547,9 +547,18 @@ bool TolerancePlanner::next(Canon& out) {
     }
     emit_front();
   }
-  out = std::move(ready_.front());
+  Ready& r = ready_.front();
+  out = std::move(r.canon);
+  out_geometry_ = r.has_geometry ? &r.g : nullptr;  // the slot stays until the next push
   ready_.pop_front();
   return true;
+}
+
+void TolerancePlanner::make_ready(Canon&& c, const BlockGeometry* g) {
+  Ready& r = ready_.push_back_slot();
+  r.canon = std::move(c);
+  r.has_geometry = g != nullptr;
+  if (g != nullptr) r.g = *g;
 }
 
 }  // namespace gm

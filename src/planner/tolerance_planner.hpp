@@ -69,6 +69,8 @@ class TolerancePlanner : public CanonSource {
  public:
   TolerancePlanner(const FilterMoments& filter, const PlannerConfig& cfg, CanonSource& upstream);
   bool next(Canon& out) override;
+  /// A block handed on whole (one piece) comes with the geometry the planner built for it.
+  const MotionGeometry* geometry() const override { return out_geometry_; }
   const PlannerStats& stats() const { return stats_; }
   /// The G64 Q stage in front of the window (moves read and handed on).
   const NaiveCamMerger& naive_cam() const { return merger_; }
@@ -151,7 +153,15 @@ class TolerancePlanner : public CanonSource {
   // Rings of reused slots, not std::deque: a deque allocates a node per Block and per Canon.
   RingDeque<Block> window_;
   RingDeque<Element> elems_;
-  RingDeque<Canon> ready_;
+  /// What is ready to hand on, with the block's geometry when the item is a whole block.
+  struct Ready {
+    Canon canon;
+    bool has_geometry = false;
+    BlockGeometry g;
+  };
+  RingDeque<Ready> ready_;
+  const BlockGeometry* out_geometry_ = nullptr;  ///< geometry(): in ready_'s popped front slot
+  void make_ready(Canon&& c, const BlockGeometry* g = nullptr);
   /// emit_front's scratch (kept, so a block allocates nothing): the cuts of the front block
   /// and its pieces between them.
   struct Piece {
