@@ -367,8 +367,10 @@ TEST_CASE("the planner hands on each whole block's geometry, equal to MotionGeom
       REQUIRE(g->rest_moves == e.rest_moves);
     }
     REQUIRE(motions >= 8);
-    if (!tolerance) REQUIRE(with_geometry == motions);  // every block whole
-    else REQUIRE(with_geometry > 0);
+    if (!tolerance)
+      REQUIRE(with_geometry == motions);  // every block whole
+    else
+      REQUIRE(with_geometry > 0);
     if (tolerance) REQUIRE(with_geometry < motions);  // and some cut into pieces
   }
 }
