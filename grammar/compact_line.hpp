@@ -42,7 +42,8 @@ inline void compact_plain_line(std::string_view text, char*& cp, int*& colp) {
     const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(text.data() + i));
     // Signed compares: bytes >= 0x80 are negative, never a lower-case letter.
     const __m128i lower = _mm_and_si128(_mm_cmpgt_epi8(v, below_a), _mm_cmplt_epi8(v, above_z));
-    _mm_store_si128(reinterpret_cast<__m128i*>(up), _mm_sub_epi8(v, _mm_and_si128(lower, case_bit)));
+    _mm_store_si128(reinterpret_cast<__m128i*>(up),
+                    _mm_sub_epi8(v, _mm_and_si128(lower, case_bit)));
     const __m128i blank = _mm_or_si128(_mm_cmpeq_epi8(v, space), _mm_cmpeq_epi8(v, tab));
     unsigned keep = ~static_cast<unsigned>(_mm_movemask_epi8(blank)) & 0xFFFFu;
     while (keep != 0) {

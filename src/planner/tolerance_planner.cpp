@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 
 namespace gm {
@@ -44,9 +45,8 @@ void TolerancePlanner::pull() {
     return;
   }
   const Motion* m = std::get_if<Motion>(&scratch_);
-  BlockGeometry g;
-  if (m != nullptr) g = BlockGeometry::of(*m);
-  if (m == nullptr || !(g.length_mm > 0.0)) {  // not a block of the path
+  if (m != nullptr) pulled_g_ = BlockGeometry::of(*m);
+  if (m == nullptr || !(pulled_g_.length_mm > 0.0)) {  // not a block of the path
     if (window_.empty()) {
       make_ready(Canon(scratch_));
       return;
@@ -59,10 +59,18 @@ void TolerancePlanner::pull() {
     return;
   }
   const double tau = filter_.tau_s();
-  Block b;
+  // The block is built in its slot at the window's end (no Block copied); every field is set
+  // here, since the slot holds an earlier block.
+  Block& b = window_.push_back_slot();
+  const Block* prev = window_.size() >= 2 ? &window_[window_.size() - 2] : nullptr;
+  const BlockGeometry& g = pulled_g_;
   b.m = *m;
   b.g = g;
   b.seq = ++seq_;
+  b.after.clear();
+  b.dwell_after_s = 0.0;
+  b.stop_after = false;
+  b.forced_stop = false;
   const double L = g.length_mm;
   if (m->kind == MotionKind::Rapid)
     b.v100 = cfg_.rapid_mm_min / 60.0;
@@ -77,7 +85,6 @@ void TolerancePlanner::pull() {
   b.s0 = s_end_;
   b.s1 = s_end_ + L;
   double gap_s = 0.0;
-  const Block* prev = window_.empty() ? nullptr : &window_.back();
   if (prev != nullptr) gap_s = prev->dwell_after_s + (prev->stop_after ? tau : 0.0);
   b.t0 = t_end_ + gap_s;
   b.t1 = b.t0 + L / b.vmax;
@@ -89,7 +96,8 @@ void TolerancePlanner::pull() {
     // b and the blocks the chain still holds when b starts keep to reserve/speed_error.
     const double v = reserve_of(m->path_tolerance_mm) / cfg_.speed_error_s;
     b.cap_all = v;
-    for (auto it = window_.rbegin(); it != window_.rend() && it->t1 > b.t0 - tau; ++it)
+    for (auto it = std::next(window_.rbegin());  // the blocks before b
+         it != window_.rend() && it->t1 > b.t0 - tau; ++it)
       it->cap_all = std::min(it->cap_all, v);
   }
 
@@ -136,8 +144,7 @@ void TolerancePlanner::pull() {
     e.v100 = b.v100;
     push_element(e);
   }
-  window_.push_back(std::move(b));
-  if (m->path_mode != PathMode::Continuous) mark_stop(window_.back());
+  if (m->path_mode != PathMode::Continuous) mark_stop(b);
 }
 
 double TolerancePlanner::share_of(double tol) const {
@@ -509,7 +516,11 @@ void TolerancePlanner::emit_front() {
   }
   const double L = b.s1 - b.s0;
   for (std::size_t i = 0; i < pieces.size(); ++i) {
-    Motion p = b.m;
+    Ready& r = ready_.push_back_slot();  // the piece is written in its slot
+    r.canon = b.m;
+    Motion& p = std::get<Motion>(r.canon);
+    r.has_geometry = pieces.size() == 1;  // one piece: the block whole, b's geometry
+    if (r.has_geometry) r.g = b.g;
     const Piece& q = pieces[i];
     if (pieces.size() > 1) {
       p.start_mm = i == 0 ? b.m.start_mm : b.g.at_fraction((q.a - b.s0) / L);
@@ -520,7 +531,6 @@ void TolerancePlanner::emit_front() {
       p.speed_cap_mm_s = q.cap;
       ++stats_.capped_pieces;
     }
-    make_ready(std::move(p), pieces.size() == 1 ? &b.g : nullptr);  // one piece: b's geometry
   }
   for (const Element& e : elems_)
     if (!e.arc && e.seq == b.seq && e.pause > e.pause0 + 1e-12)

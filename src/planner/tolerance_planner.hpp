@@ -152,6 +152,7 @@ class TolerancePlanner : public CanonSource {
   std::vector<double> grid_d_;  ///< D(k·T/2), k = 0..2N
   // Rings of reused slots, not std::deque: a deque allocates a node per Block and per Canon.
   RingDeque<Block> window_;
+  BlockGeometry pulled_g_;  ///< pull()'s geometry of the item read
   RingDeque<Element> elems_;
   /// What is ready to hand on, with the block's geometry when the item is a whole block.
   struct Ready {

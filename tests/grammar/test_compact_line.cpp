@@ -23,7 +23,8 @@ Compacted run(const std::string& line, F&& f) {
   f(line, cp, colp);
   const auto n = static_cast<std::size_t>(cp - buf.data());
   REQUIRE(colp - cols.data() == cp - buf.data());
-  return {std::string(buf.data(), n), std::vector<int>(cols.begin(), cols.begin() + colp - cols.data())};
+  return {std::string(buf.data(), n),
+          std::vector<int>(cols.data(), cols.data() + (colp - cols.data()))};
 }
 
 void require_same(const std::string& line) {
@@ -41,16 +42,17 @@ void require_same(const std::string& line) {
 }  // namespace
 
 TEST_CASE("compact_plain_line: known lines") {
-  const Compacted c = run("g1 x0.905  Y-1.2888\tz3 f1200 ", [](std::string_view t, char*& cp,
-                                                                 int*& colp) {
-    gm::grammar::compact_plain_line(t, cp, colp);
-  });
+  const Compacted c =
+      run("g1 x0.905  Y-1.2888\tz3 f1200 ", [](std::string_view t, char*& cp, int*& colp) {
+        gm::grammar::compact_plain_line(t, cp, colp);
+      });
   REQUIRE(c.text == "G1X0.905Y-1.2888Z3F1200");
   REQUIRE(c.columns == std::vector<int>{1,  2,  4,  5,  6,  7,  8,  9,  12, 13, 14, 15,
                                         16, 17, 18, 19, 21, 22, 24, 25, 26, 27, 28});
-  for (const char* l : {"", " ", "G1", "                                ", "G1X0.905Y-1.2888Z3F1200Q",
-                        "abcdefghijklmnopqrstuvwxyz{|}~`@ABCDEFGHIJKLMNOPQRSTUVWXYZ[",
-                        "\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\tx", "x               y               z"})
+  for (const char* l :
+       {"", " ", "G1", "                                ", "G1X0.905Y-1.2888Z3F1200Q",
+        "abcdefghijklmnopqrstuvwxyz{|}~`@ABCDEFGHIJKLMNOPQRSTUVWXYZ[",
+        "\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\tx", "x               y               z"})
     require_same(l);
 }
 
