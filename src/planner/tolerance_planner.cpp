@@ -80,8 +80,6 @@ void TolerancePlanner::pull() {
     b.v100 = m->feed_mm_min / 60.0;
   b.v100 = std::max(b.v100, 1e-9);
   b.vmax = b.v100 * cfg_.max_override;
-  b.u0 = g.tangent_at_fraction(0.0);
-  b.u1 = g.tangent_at_fraction(1.0);
   b.s0 = s_end_;
   b.s1 = s_end_ + L;
   double gap_s = 0.0;
@@ -101,9 +99,14 @@ void TolerancePlanner::pull() {
       it->cap_all = std::min(it->cap_all, v);
   }
 
-  if (prev != nullptr && !prev->stop_after) {
-    const double turn = (b.u0 - prev->u1).norm();
-    const double tol = min_positive(prev->m.path_tolerance_mm, b.m.path_tolerance_mm);
+  const double corner_tol =
+      prev != nullptr ? min_positive(prev->m.path_tolerance_mm, b.m.path_tolerance_mm) : 0.0;
+  // The turn matters to a corner with a tolerance, and without one only to a run of small turns
+  // being gathered (it ends the run); otherwise its tangents are not computed.
+  if (prev != nullptr && !prev->stop_after &&
+      (corner_tol > 0.0 || run_.open || run_.vertices > 0)) {
+    const double turn = (g.tangent_at_fraction(0.0) - prev->g.tangent_at_fraction(1.0)).norm();
+    const double tol = corner_tol;
     if (turn > kMinTurn && tol > 0.0) {
       Element e;
       e.seq = prev->seq;

@@ -80,12 +80,11 @@ class TolerancePlanner : public CanonSource {
     Motion m;
     BlockGeometry g;
     std::uint64_t seq = 0;
-    double s0 = 0, s1 = 0;  ///< cumulative path length, mm
-    double t0 = 0, t1 = 0;  ///< cumulative fastest travel time, s (pauses included)
-    double vmax = 0;        ///< at the largest override, mm/s
-    double v100 = 0;        ///< at 100 %, mm/s
-    double cap_all = 0;     ///< cap over the whole block (speed_error_s), mm/s; inf = none
-    AxisVec u0 = AxisVec::Zero(), u1 = AxisVec::Zero();  ///< unit tangents at start and end
+    double s0 = 0, s1 = 0;     ///< cumulative path length, mm
+    double t0 = 0, t1 = 0;     ///< cumulative fastest travel time, s (pauses included)
+    double vmax = 0;           ///< at the largest override, mm/s
+    double v100 = 0;           ///< at 100 %, mm/s
+    double cap_all = 0;        ///< cap over the whole block (speed_error_s), mm/s; inf = none
     std::vector<Canon> after;  ///< what follows until the next block (events, dwells, ...)
     double dwell_after_s = 0;  ///< dwells in `after`
     bool stop_after = false;   ///< the filter drains after it (exact stop, forced stop)
