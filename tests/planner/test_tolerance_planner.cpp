@@ -326,8 +326,8 @@ TEST_CASE("the planner hands on each whole block's geometry, equal to MotionGeom
   gm::Machine m;
   m.path_tolerance_mm = 0.01;  // corners are planned: some blocks are cut into pieces
   const std::string text =
-      "G21 G90 G64\nG0 X1 Y2 Z3\nG1 X20 F1200\nG1 X20.5 Y0.3\nG2 X30 Y12 I5 J5\n"
-      "G3 X20 Y2 R8 Z1\nG18 G2 X25 Z-1 I2.5 K-1\nG17 G1 X0 Y0 F6000\nG61 G1 X5 F300\nM2\n";
+      "G21 G90 G64\nG0 X1 Y2 Z3\nG1 X20 F1200\nG2 X30 Y12 I5 J5\nG3 X20 Y2 R8 Z1\n"
+      "G18 G2 X25 Z-1 I2.5 K-1\nG17 G1 X0 Y0 F6000\nG1 X-10 Y0.2\nG61 G1 X5 F300\nM2\n";
   for (const bool tolerance : {false, true}) {
     CAPTURE(tolerance);
     gm::Machine mm = m;
