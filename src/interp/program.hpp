@@ -30,6 +30,10 @@ struct InterpreterOptions {
   /// (ended, stopped at an error, or the stream destroyed), as rs274 does at exit. check_program
   /// never writes.
   bool save_parameters = false;
+  /// ProgramStream: lines are read and parsed on a second thread ahead of the interpreter (until
+  /// the program first jumps); the same canon and diagnostics. check_program ignores it (it
+  /// chooses with CheckThreads).
+  bool read_ahead = false;
   /// What the program is written for (docs/dialects.md); LinuxCNC: rs274's rules exactly.
   Dialect dialect = Dialect::LinuxCNC;
 };
