@@ -18,11 +18,11 @@ namespace {
 // Every field the later stages read, doubles in hexadecimal (exact).
 std::string describe_canon(const gm::Canon& c) {
   if (const auto* m = std::get_if<gm::Motion>(&c)) {
-    std::string s = fmt::format("M {} {} f{:a} it{:a} ccw{} t{} p{} pm{} tol{:a} q{:a} cap{:a}",
-                                m->line, static_cast<int>(m->kind), m->feed_mm_min,
-                                m->inverse_time_s, m->ccw, m->turns, static_cast<int>(m->plane),
-                                static_cast<int>(m->path_mode), m->path_tolerance_mm,
-                                m->naive_cam_tolerance_mm, m->speed_cap_mm_s);
+    std::string s =
+        fmt::format("M {} {} f{:a} it{:a} ccw{} t{} p{} pm{} tol{:a} q{:a} cap{:a}", m->line,
+                    static_cast<int>(m->kind), m->feed_mm_min, m->inverse_time_s, m->ccw, m->turns,
+                    static_cast<int>(m->plane), static_cast<int>(m->path_mode),
+                    m->path_tolerance_mm, m->naive_cam_tolerance_mm, m->speed_cap_mm_s);
     for (int a = 0; a < 9; ++a)
       s += fmt::format(" {:a},{:a},{:a}", m->start_mm[a], m->end_mm[a], m->center_mm[a]);
     return s;
@@ -30,8 +30,8 @@ std::string describe_canon(const gm::Canon& c) {
   if (const auto* d = std::get_if<gm::Dwell>(&c))
     return fmt::format("D {} {:a} {}", d->line, d->seconds, d->pause);
   const auto& e = std::get<gm::Event>(c);
-  return fmt::format("E {} {} {} {} {:a} {:a} {}", e.line, static_cast<int>(e.kind), e.text, e.index,
-                     e.value, e.value2, e.mode);
+  return fmt::format("E {} {} {} {} {:a} {:a} {}", e.line, static_cast<int>(e.kind), e.text,
+                     e.index, e.value, e.value2, e.mode);
 }
 
 struct StreamedCanon {
@@ -98,8 +98,9 @@ TEST_CASE("read-ahead across batches: a long program, a loop after 3000 lines, e
   require_same_stream(straight + "M2\nG1 X(junk after the end\n");
   require_same_stream(straight + "G2 X1 Y1 R0.01\nM2\n");  // an error after the batches
   // A loop after the reader has read ahead: the reader stops, the rest is read here.
-  require_same_stream(straight + "#1=0\no100 while [#1 LT 30]\nG1 X[#1] Y1\n#1=[#1+1]\no100 endwhile\n" +
-               straight + "M2\n");
+  require_same_stream(straight +
+                      "#1=0\no100 while [#1 LT 30]\nG1 X[#1] Y1\n#1=[#1+1]\no100 endwhile\n" +
+                      straight + "M2\n");
   const StreamedCanon r = stream_canon(straight + "M2\n", true);
   REQUIRE(r.error.empty());
   REQUIRE(r.canon.size() >= 5000);
