@@ -2,6 +2,7 @@
 // converts numbers, and turns every failure into a located SyntaxError with resynchronisation.
 #include "grammar/parse.hpp"
 
+#include "grammar/compact_line.hpp"
 #include "grammar/parse_items.hpp"
 
 #include <algorithm>
@@ -233,21 +234,15 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
   // 1. Compact: drop spaces/tabs outside comments, upper-case letters outside comments.
   // Written through pointers into buffers sized once for the line (the hot loop of a check).
   // The buffers only grow (a resize down and up again would zero-fill them on every line).
-  if (compact_.size() < text.size()) compact_.resize(text.size());
-  if (columns_.size() < text.size() + 1) columns_.resize(text.size() + 1);
+  // kCompactSlack to spare: the plain lines' compaction stores 16 characters at a time.
+  if (compact_.size() < text.size() + kCompactSlack) compact_.resize(text.size() + kCompactSlack);
+  if (columns_.size() < text.size() + 1 + kCompactSlack)
+    columns_.resize(text.size() + 1 + kCompactSlack);
   char* cp = compact_.data();
   int* colp = columns_.data();
   const bool plain = std::memchr(text.data(), '(', text.size()) == nullptr &&
                      std::memchr(text.data(), ';', text.size()) == nullptr;
-  if (plain) {  // no comment: every character is code (most lines)
-    for (std::size_t i = 0; i < text.size(); ++i) {
-      char c = text[i];
-      if (c == ' ' || c == '\t') continue;
-      if (static_cast<unsigned char>(c - 'a') < 26u) c = static_cast<char>(c - 'a' + 'A');
-      *cp++ = c;
-      *colp++ = static_cast<int>(i) + 1;
-    }
-  }
+  if (plain) compact_plain_line(text, cp, colp);  // no comment: every character is code
   enum class State { Code, Paren, Rest } state = State::Code;
   for (std::size_t i = 0; !plain && i < text.size(); ++i) {
     char c = text[i];

@@ -158,9 +158,9 @@ std::istream& ProgramInput::rewind() {
 }
 
 bool validate_program(ProgramInput& program, const InterpreterOptions& opts) {
-  const CheckSummary s = check_program(program.rewind(), program.name(), opts, std::cerr);
-  if (s.errors > 0) {
-    fmt::print(stderr, "{}: {} error{}\n", program.name(), s.errors, s.errors == 1 ? "" : "s");
+  const int errors = count_program_errors(program.rewind(), program.name(), opts, std::cerr);
+  if (errors > 0) {
+    fmt::print(stderr, "{}: {} error{}\n", program.name(), errors, errors == 1 ? "" : "s");
     return false;
   }
   return true;

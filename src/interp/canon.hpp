@@ -119,12 +119,18 @@ struct Event {
 
 using Canon = std::variant<Motion, Dwell, Event>;
 
+struct MotionGeometry;  // interpolator/geometry.hpp
+
 /// A pull source of canonical commands (the interpreter over a program stream, or a list in tests).
 class CanonSource {
  public:
   virtual ~CanonSource() = default;
   /// Writes the next command into `out`; false when the stream has ended.
   virtual bool next(Canon& out) = 0;
+  /// When the last next() wrote a Motion whose geometry the source built on the way, that
+  /// geometry (equal to MotionGeometry::of(the motion)), so the reader need not build it again;
+  /// else nullptr. Valid until the next call of next().
+  virtual const MotionGeometry* geometry() const { return nullptr; }
 };
 
 }  // namespace gm

@@ -786,57 +786,6 @@ class LineSource {
   int file_ = 0;
 };
 
-/// Both halves on one thread: what ProgramStream pulls, a line at a time.
-class SerialRunner {
- public:
-  SerialRunner(std::istream& in, std::string filename, const InterpreterOptions& opts)
-      : front_(in), back_(std::move(filename), opts), source_(front_, back_) {}
-  /// Reads, parses and interprets one line; false when the program is over.
-  bool step(std::vector<Canon>& out, std::vector<Diagnostic>& diags) {
-    if (back_.done()) return false;
-    if (!source_.next(line_)) {
-      back_.end_of_input(source_.last_number(), diags, source_.file());
-      return false;
-    }
-    FlowJump jump;
-    const bool more = back_.process(line_, out, diags, jump);
-    const int number = line_.number;
-    line_.trim();
-    if (more && jump.seek && !source_.go(jump, number, diags)) return false;
-    return more;
-  }
-  const ProgramRunner& back() const { return back_; }
-  /// The program is over: writes the parameter file (once).
-  void finish(std::vector<Diagnostic>& diags) { back_.save_parameters(diags); }
-
- private:
-  LineParser front_;
-  ProgramRunner back_;
-  LineSource source_;
-  ParsedLine line_;
-};
-
-namespace {
-
-// Adds what `out` holds to the summary's counts.
-void account(const std::vector<Canon>& out, const Machine& machine, CheckSummary& sum) {
-  for (const auto& c : out) {
-    if (const auto* m = std::get_if<Motion>(&c)) {
-      ++sum.moves;
-      const double len = motion_length_mm(*m);
-      sum.path_length_mm += len;
-      if (m->kind == MotionKind::Rapid)
-        sum.time_at_feed_s += machine.rapid_mm_min > 0 ? len / machine.rapid_mm_min * 60.0 : 0.0;
-      else if (m->inverse_time_s > 0)
-        sum.time_at_feed_s += m->inverse_time_s;
-      else if (m->feed_mm_min > 0)
-        sum.time_at_feed_s += len / m->feed_mm_min * 60.0;
-    } else if (const auto* d = std::get_if<Dwell>(&c)) {
-      sum.time_at_feed_s += d->seconds;
-    }
-  }
-}
-
 /// Reading and parsing on a second thread, in batches, ahead of the interpreter on this one.
 /// Same diagnostics, in the same order, and the same summary as the serial check: the front
 /// half has no state the back half changes. A batch closes at kBatchLines lines or kBatchBytes
@@ -910,7 +859,97 @@ class ParallelFront {
   std::thread thread_;      ///< last: starts once everything above is constructed
 };
 
-template <typename Sink>
+/// Both halves, what ProgramStream pulls a line at a time: on one thread, or with read-ahead
+/// (InterpreterOptions::read_ahead) the lines read and parsed on a second thread (ParallelFront)
+/// until the program first jumps (a loop or a call re-reads it: the reader stops and the rest is
+/// read here, seeking as asked). The same lines reach the interpreter either way.
+class SerialRunner {
+ public:
+  SerialRunner(std::istream& in, std::string filename, const InterpreterOptions& opts)
+      : front_(in), back_(std::move(filename), opts), source_(front_, back_) {
+    if (opts.read_ahead) ahead_ = std::make_unique<ParallelFront>(in);  // front_ reads nothing yet
+  }
+  /// Reads, parses and interprets one line; false when the program is over.
+  bool step(std::vector<Canon>& out, std::vector<Diagnostic>& diags) {
+    if (back_.done()) return false;
+    if (ahead_) return step_ahead(out, diags);
+    if (!source_.next(line_)) {
+      back_.end_of_input(source_.last_number(), diags, source_.file());
+      return false;
+    }
+    FlowJump jump;
+    const bool more = back_.process(line_, out, diags, jump);
+    const int number = line_.number;
+    line_.trim();
+    if (more && jump.seek && !source_.go(jump, number, diags)) return false;
+    return more;
+  }
+  const ProgramRunner& back() const { return back_; }
+  /// The program is over: writes the parameter file (once).
+  void finish(std::vector<Diagnostic>& diags) { back_.save_parameters(diags); }
+
+ private:
+  /// step() on the reader thread's lines (file 0, the program).
+  bool step_ahead(std::vector<Canon>& out, std::vector<Diagnostic>& diags) {
+    if (batch_ == nullptr || next_ == batch_->count) {
+      if (batch_ == nullptr || !batch_->eof) {  // (a released batch is the reader's again)
+        if (batch_ != nullptr) ahead_->release();
+        batch_ = &ahead_->acquire();
+        next_ = 0;
+      }
+      if (next_ == batch_->count) {  // the input ended after the lines handed out
+        const int last = batch_->last_number;
+        batch_ = nullptr;
+        ahead_.reset();
+        back_.end_of_input(last, diags);
+        return false;
+      }
+    }
+    ParsedLine& p = batch_->lines[next_++];
+    FlowJump jump;
+    const bool more = back_.process(p, out, diags, jump);
+    if (more && jump.seek) {
+      const int number = p.number;
+      batch_ = nullptr;
+      ahead_.reset();  // the reader stops; its batches are dropped
+      return source_.go(jump, number, diags);
+    }
+    return more;
+  }
+
+  LineParser front_;
+  ProgramRunner back_;
+  LineSource source_;
+  ParsedLine line_;
+  std::unique_ptr<ParallelFront> ahead_;   ///< read-ahead until the first jump, else null
+  ParallelFront::Batch* batch_ = nullptr;  ///< the batch being interpreted
+  std::size_t next_ = 0;                   ///< its next line
+};
+
+namespace {
+
+// Adds what `out` holds to the summary's counts.
+void account(const std::vector<Canon>& out, const Machine& machine, CheckSummary& sum) {
+  for (const auto& c : out) {
+    if (const auto* m = std::get_if<Motion>(&c)) {
+      ++sum.moves;
+      const double len = motion_length_mm(*m);
+      sum.path_length_mm += len;
+      if (m->kind == MotionKind::Rapid)
+        sum.time_at_feed_s += machine.rapid_mm_min > 0 ? len / machine.rapid_mm_min * 60.0 : 0.0;
+      else if (m->inverse_time_s > 0)
+        sum.time_at_feed_s += m->inverse_time_s;
+      else if (m->feed_mm_min > 0)
+        sum.time_at_feed_s += len / m->feed_mm_min * 60.0;
+    } else if (const auto* d = std::get_if<Dwell>(&c)) {
+      sum.time_at_feed_s += d->seconds;
+    }
+  }
+}
+
+/// `Summarise`: the moves, path length and time are added up (check); otherwise only the
+/// diagnostics and the errors are counted (what a run needs before it starts).
+template <bool Summarise = true, typename Sink>
 CheckSummary run_check(std::istream& in, std::string_view filename, const InterpreterOptions& opts,
                        CheckThreads threads, Sink&& sink) {
   CheckSummary sum;
@@ -921,7 +960,7 @@ CheckSummary run_check(std::istream& in, std::string_view filename, const Interp
       sink(d);
       if (d.severity == Severity::Error) ++sum.errors;
     }
-    account(out, machine, sum);
+    if constexpr (Summarise) account(out, machine, sum);
     out.clear();
     diags.clear();
   };
@@ -984,6 +1023,13 @@ CheckSummary check_program(std::istream& in, std::string_view filename,
                            CheckThreads threads) {
   return run_check(in, filename, opts, threads,
                    [&](const Diagnostic& d) { diag_out << format_diagnostic(filename, d); });
+}
+
+int count_program_errors(std::istream& in, std::string_view filename,
+                         const InterpreterOptions& opts, std::ostream& diag_out) {
+  return run_check<false>(in, filename, opts, CheckThreads::Auto,
+                          [&](const Diagnostic& d) { diag_out << format_diagnostic(filename, d); })
+      .errors;
 }
 
 CheckSummary check_program_diagnostics(std::istream& in, std::string_view filename,

@@ -30,6 +30,10 @@ struct InterpreterOptions {
   /// (ended, stopped at an error, or the stream destroyed), as rs274 does at exit. check_program
   /// never writes.
   bool save_parameters = false;
+  /// ProgramStream: lines are read and parsed on a second thread ahead of the interpreter (until
+  /// the program first jumps); the same canon and diagnostics. check_program ignores it (it
+  /// chooses with CheckThreads).
+  bool read_ahead = false;
   /// What the program is written for (docs/dialects.md); LinuxCNC: rs274's rules exactly.
   Dialect dialect = Dialect::LinuxCNC;
 };
@@ -53,6 +57,11 @@ enum class CheckThreads { Auto, Single };
 CheckSummary check_program(std::istream& in, std::string_view filename,
                            const InterpreterOptions& opts, std::ostream& diag_out,
                            CheckThreads threads = CheckThreads::Auto);
+
+/// As check_program, but returns only the number of errors: the moves are not added up (what
+/// `gmotion run` checks before it starts). The same diagnostics, in the same order.
+int count_program_errors(std::istream& in, std::string_view filename,
+                         const InterpreterOptions& opts, std::ostream& diag_out);
 
 /// As check_program, but hands back the diagnostics (with their ErrorCode in `code`) instead of
 /// printing them (tests, tools).

@@ -55,7 +55,8 @@ bool Interpolator::pull_next() {
     }
     if (auto* m = std::get_if<Motion>(&scratch_)) {
       block_ = *m;
-      geom_ = BlockGeometry::of(block_);
+      const BlockGeometry* g = source_.geometry();  // the planner built it for a whole block
+      geom_ = g != nullptr ? *g : BlockGeometry::of(block_);
       has_block_ = true;
       in_motion_ = true;
       s_mm_ = 0.0;

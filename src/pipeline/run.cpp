@@ -18,9 +18,12 @@ namespace gm {
 
 namespace {
 
-// The interpreter options with the run's machine (which outlives the stream).
-InterpreterOptions with_machine(InterpreterOptions opts, const Machine& m) {
-  opts.machine = &m;
+// The interpreter options for the run's stream: the run's machine (which outlives the stream),
+// and the lines read ahead on a thread of their own when the run has its consumer thread (two
+// cores, not in real time: a real-time step still reads and parses its own block).
+InterpreterOptions stream_options(InterpreterOptions opts, const RunOptions& o) {
+  opts.machine = &o.config.machine;
+  opts.read_ahead = o.consumer_thread;
   return opts;
 }
 
@@ -69,7 +72,7 @@ Run::Run(RunOptions options, CanonSource& source)
 Run::Run(RunOptions options, std::istream& program, InterpreterOptions opts)
     : options_(with_thread_choice(std::move(options))),
       stream_(std::make_unique<ProgramStream>(program, options_.program_name,
-                                              with_machine(opts, options_.config.machine))),
+                                              stream_options(opts, options_))),
       planner_(make_planner(options_.config.machine, options_.config.servo, *stream_)),
       pipeline_(options_.config, *planner_),
       summary_(options_.config.machine),

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 
 namespace gm {
@@ -44,11 +45,10 @@ void TolerancePlanner::pull() {
     return;
   }
   const Motion* m = std::get_if<Motion>(&scratch_);
-  BlockGeometry g;
-  if (m != nullptr) g = BlockGeometry::of(*m);
-  if (m == nullptr || !(g.length_mm > 0.0)) {  // not a block of the path
+  if (m != nullptr) pulled_g_ = BlockGeometry::of(*m);
+  if (m == nullptr || !(pulled_g_.length_mm > 0.0)) {  // not a block of the path
     if (window_.empty()) {
-      ready_.push_back(scratch_);
+      make_ready(Canon(scratch_));
       return;
     }
     Block& last = window_.back();
@@ -59,10 +59,18 @@ void TolerancePlanner::pull() {
     return;
   }
   const double tau = filter_.tau_s();
-  Block b;
+  // The block is built in its slot at the window's end (no Block copied); every field is set
+  // here, since the slot holds an earlier block.
+  Block& b = window_.push_back_slot();
+  const Block* prev = window_.size() >= 2 ? &window_[window_.size() - 2] : nullptr;
+  const BlockGeometry& g = pulled_g_;
   b.m = *m;
   b.g = g;
   b.seq = ++seq_;
+  b.after.clear();
+  b.dwell_after_s = 0.0;
+  b.stop_after = false;
+  b.forced_stop = false;
   const double L = g.length_mm;
   if (m->kind == MotionKind::Rapid)
     b.v100 = cfg_.rapid_mm_min / 60.0;
@@ -72,12 +80,9 @@ void TolerancePlanner::pull() {
     b.v100 = m->feed_mm_min / 60.0;
   b.v100 = std::max(b.v100, 1e-9);
   b.vmax = b.v100 * cfg_.max_override;
-  b.u0 = g.tangent_at_fraction(0.0);
-  b.u1 = g.tangent_at_fraction(1.0);
   b.s0 = s_end_;
   b.s1 = s_end_ + L;
   double gap_s = 0.0;
-  const Block* prev = window_.empty() ? nullptr : &window_.back();
   if (prev != nullptr) gap_s = prev->dwell_after_s + (prev->stop_after ? tau : 0.0);
   b.t0 = t_end_ + gap_s;
   b.t1 = b.t0 + L / b.vmax;
@@ -89,13 +94,19 @@ void TolerancePlanner::pull() {
     // b and the blocks the chain still holds when b starts keep to reserve/speed_error.
     const double v = reserve_of(m->path_tolerance_mm) / cfg_.speed_error_s;
     b.cap_all = v;
-    for (auto it = window_.rbegin(); it != window_.rend() && it->t1 > b.t0 - tau; ++it)
+    for (auto it = std::next(window_.rbegin());  // the blocks before b
+         it != window_.rend() && it->t1 > b.t0 - tau; ++it)
       it->cap_all = std::min(it->cap_all, v);
   }
 
-  if (prev != nullptr && !prev->stop_after) {
-    const double turn = (b.u0 - prev->u1).norm();
-    const double tol = min_positive(prev->m.path_tolerance_mm, b.m.path_tolerance_mm);
+  const double corner_tol =
+      prev != nullptr ? min_positive(prev->m.path_tolerance_mm, b.m.path_tolerance_mm) : 0.0;
+  // The turn matters to a corner with a tolerance, and without one only to a run of small turns
+  // being gathered (it ends the run); otherwise its tangents are not computed.
+  if (prev != nullptr && !prev->stop_after &&
+      (corner_tol > 0.0 || run_.open || run_.vertices > 0)) {
+    const double turn = (g.tangent_at_fraction(0.0) - prev->g.tangent_at_fraction(1.0)).norm();
+    const double tol = corner_tol;
     if (turn > kMinTurn && tol > 0.0) {
       Element e;
       e.seq = prev->seq;
@@ -136,8 +147,7 @@ void TolerancePlanner::pull() {
     e.v100 = b.v100;
     push_element(e);
   }
-  window_.push_back(std::move(b));
-  if (m->path_mode != PathMode::Continuous) mark_stop(window_.back());
+  if (m->path_mode != PathMode::Continuous) mark_stop(b);
 }
 
 double TolerancePlanner::share_of(double tol) const {
@@ -451,7 +461,8 @@ void TolerancePlanner::emit_front() {
 
   // Pieces of the block between zone boundaries, each with the smallest cap over it.
   const bool is_arc = b.m.kind == MotionKind::Arc;
-  std::vector<double> cuts{b.s0, b.s1};
+  std::vector<double>& cuts = cuts_;
+  cuts.assign({b.s0, b.s1});
   if (!is_arc)
     for (const Element& e : elems_)
       if (e.decided && e.cap < kInf)
@@ -459,10 +470,8 @@ void TolerancePlanner::emit_front() {
           if (z > b.s0 && z < b.s1) cuts.push_back(z);
   std::sort(cuts.begin(), cuts.end());
   cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
-  struct Piece {
-    double a, c, cap;
-  };
-  std::vector<Piece> pieces;
+  std::vector<Piece>& pieces = pieces_;
+  pieces.clear();
   for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
     const double a = cuts[i], c = cuts[i + 1];
     if (c - a < 1e-9 && !pieces.empty()) {  // a sliver: joins the piece before
@@ -510,7 +519,11 @@ void TolerancePlanner::emit_front() {
   }
   const double L = b.s1 - b.s0;
   for (std::size_t i = 0; i < pieces.size(); ++i) {
-    Motion p = b.m;
+    Ready& r = ready_.push_back_slot();  // the piece is written in its slot
+    r.canon = b.m;
+    Motion& p = std::get<Motion>(r.canon);
+    r.has_geometry = pieces.size() == 1;  // one piece: the block whole, b's geometry
+    if (r.has_geometry) r.g = b.g;
     const Piece& q = pieces[i];
     if (pieces.size() > 1) {
       p.start_mm = i == 0 ? b.m.start_mm : b.g.at_fraction((q.a - b.s0) / L);
@@ -521,13 +534,12 @@ void TolerancePlanner::emit_front() {
       p.speed_cap_mm_s = q.cap;
       ++stats_.capped_pieces;
     }
-    ready_.push_back(p);
   }
   for (const Element& e : elems_)
     if (!e.arc && e.seq == b.seq && e.pause > e.pause0 + 1e-12)
-      ready_.push_back(Dwell{b.m.line, e.pause - e.pause0});
-  if (b.forced_stop) ready_.push_back(Dwell{b.m.line, tau});
-  for (Canon& c : b.after) ready_.push_back(std::move(c));
+      make_ready(Dwell{b.m.line, e.pause - e.pause0});
+  if (b.forced_stop) make_ready(Dwell{b.m.line, tau});
+  for (Canon& c : b.after) make_ready(std::move(c));
   window_.pop_front();
   // Elements that can no longer reach a block still to come, nor be counted by one.
   const double keep_from = window_.empty() ? kInf : window_.front().t0 - 2.0 * tau;
@@ -548,9 +560,18 @@ bool TolerancePlanner::next(Canon& out) {
     }
     emit_front();
   }
-  out = std::move(ready_.front());
+  Ready& r = ready_.front();
+  out = std::move(r.canon);
+  out_geometry_ = r.has_geometry ? &r.g : nullptr;  // the slot stays until the next push
   ready_.pop_front();
   return true;
+}
+
+void TolerancePlanner::make_ready(Canon&& c, const BlockGeometry* g) {
+  Ready& r = ready_.push_back_slot();
+  r.canon = std::move(c);
+  r.has_geometry = g != nullptr;
+  if (g != nullptr) r.g = *g;
 }
 
 }  // namespace gm

@@ -3,13 +3,13 @@
 #pragma once
 
 #include "common/axis.hpp"
+#include "common/ring_deque.hpp"
 #include "interp/canon.hpp"
 #include "interpolator/geometry.hpp"
 #include "planner/filter_moments.hpp"
 #include "planner/naive_cam.hpp"
 
 #include <cstdint>
-#include <deque>
 #include <vector>
 
 namespace gm {
@@ -69,6 +69,8 @@ class TolerancePlanner : public CanonSource {
  public:
   TolerancePlanner(const FilterMoments& filter, const PlannerConfig& cfg, CanonSource& upstream);
   bool next(Canon& out) override;
+  /// A block handed on whole (one piece) comes with the geometry the planner built for it.
+  const MotionGeometry* geometry() const override { return out_geometry_; }
   const PlannerStats& stats() const { return stats_; }
   /// The G64 Q stage in front of the window (moves read and handed on).
   const NaiveCamMerger& naive_cam() const { return merger_; }
@@ -78,12 +80,11 @@ class TolerancePlanner : public CanonSource {
     Motion m;
     BlockGeometry g;
     std::uint64_t seq = 0;
-    double s0 = 0, s1 = 0;  ///< cumulative path length, mm
-    double t0 = 0, t1 = 0;  ///< cumulative fastest travel time, s (pauses included)
-    double vmax = 0;        ///< at the largest override, mm/s
-    double v100 = 0;        ///< at 100 %, mm/s
-    double cap_all = 0;     ///< cap over the whole block (speed_error_s), mm/s; inf = none
-    AxisVec u0 = AxisVec::Zero(), u1 = AxisVec::Zero();  ///< unit tangents at start and end
+    double s0 = 0, s1 = 0;     ///< cumulative path length, mm
+    double t0 = 0, t1 = 0;     ///< cumulative fastest travel time, s (pauses included)
+    double vmax = 0;           ///< at the largest override, mm/s
+    double v100 = 0;           ///< at 100 %, mm/s
+    double cap_all = 0;        ///< cap over the whole block (speed_error_s), mm/s; inf = none
     std::vector<Canon> after;  ///< what follows until the next block (events, dwells, ...)
     double dwell_after_s = 0;  ///< dwells in `after`
     bool stop_after = false;   ///< the filter drains after it (exact stop, forced stop)
@@ -148,9 +149,26 @@ class TolerancePlanner : public CanonSource {
   PlannerConfig cfg_;
   NaiveCamMerger merger_;       ///< reads the upstream source: G64 Q runs arrive merged
   std::vector<double> grid_d_;  ///< D(k·T/2), k = 0..2N
-  std::deque<Block> window_;
-  std::deque<Element> elems_;
-  std::deque<Canon> ready_;
+  // Rings of reused slots, not std::deque: a deque allocates a node per Block and per Canon.
+  RingDeque<Block> window_;
+  BlockGeometry pulled_g_;  ///< pull()'s geometry of the item read
+  RingDeque<Element> elems_;
+  /// What is ready to hand on, with the block's geometry when the item is a whole block.
+  struct Ready {
+    Canon canon;
+    bool has_geometry = false;
+    BlockGeometry g;
+  };
+  RingDeque<Ready> ready_;
+  const BlockGeometry* out_geometry_ = nullptr;  ///< geometry(): in ready_'s popped front slot
+  void make_ready(Canon&& c, const BlockGeometry* g = nullptr);
+  /// emit_front's scratch (kept, so a block allocates nothing): the cuts of the front block
+  /// and its pieces between them.
+  struct Piece {
+    double a, c, cap;
+  };
+  std::vector<double> cuts_;
+  std::vector<Piece> pieces_;
   Canon scratch_;
   bool ended_ = false;
   std::uint64_t seq_ = 0;

@@ -116,3 +116,30 @@ TEST_CASE("parallel check handles an empty program and a program of one huge lin
   require_same(std::string(3u << 20, 'G'));  // longer than the line limit and a batch
   require_same("G1 X1 F100\n" + std::string(2u << 20, ' ') + "\nM2\n");
 }
+
+TEST_CASE("count_program_errors prints what check_program prints and counts its errors") {
+  namespace fs = std::filesystem;
+  int files = 0, with_errors = 0;
+  for (const char* sub : {"../programs", "bad"}) {
+    for (const auto& e : fs::directory_iterator(fs::path(GMOTION_TESTS_DIR) / sub)) {
+      if (e.path().extension() != ".nc") continue;
+      std::ifstream f(e.path(), std::ios::binary);
+      std::stringstream ss;
+      ss << f.rdbuf();
+      INFO(e.path().string());
+      gm::Machine m;
+      std::istringstream in1(ss.str()), in2(ss.str());
+      std::ostringstream out1, out2;
+      const gm::CheckSummary s =
+          gm::check_program(in1, "p.nc", gm::InterpreterOptions{&m, false}, out1);
+      const int errors =
+          gm::count_program_errors(in2, "p.nc", gm::InterpreterOptions{&m, false}, out2);
+      REQUIRE(errors == s.errors);
+      REQUIRE(out2.str() == out1.str());
+      ++files;
+      if (errors > 0) ++with_errors;
+    }
+  }
+  CHECK(files >= 30);
+  CHECK(with_errors >= 10);  // the bad corpus: the diagnostics themselves are compared
+}

@@ -321,3 +321,56 @@ TEST_CASE("gmotion run --check-tolerance exits 1 when a sample exceeds the toler
   CHECK(t.code == 0);
   CHECK(t.out.find("against 0.0100 mm") != std::string::npos);
 }
+
+TEST_CASE("the planner hands on each whole block's geometry, equal to MotionGeometry::of") {
+  gm::Machine m;
+  m.path_tolerance_mm = 0.01;  // corners are planned: some blocks are cut into pieces
+  const std::string text =
+      "G21 G90 G64\nG0 X1 Y2 Z3\nG1 X20 F1200\nG2 X30 Y12 I5 J5\nG3 X20 Y2 R8 Z1\n"
+      "G18 G2 X25 Z-1 I2.5 K-1\nG17 G1 X0 Y0 F6000\nG1 X-10 Y0.2\nG61 G1 X5 F300\nM2\n";
+  for (const bool tolerance : {false, true}) {
+    CAPTURE(tolerance);
+    gm::Machine mm = m;
+    if (!tolerance) mm.path_tolerance_mm = 0.0;
+    std::istringstream in(text);
+    gm::InterpreterOptions opts;
+    opts.machine = &mm;
+    gm::ProgramStream stream(in, "p.nc", opts);
+    const gm::FilterMoments fm(gm::design_taps(mm.profile, mm.tau_s, mm.period_s), mm.period_s);
+    gm::TolerancePlanner planner(fm, planner_config(mm), stream);
+    gm::Canon c;
+    int motions = 0, with_geometry = 0;
+    while (planner.next(c)) {
+      const auto* mo = std::get_if<gm::Motion>(&c);
+      const gm::MotionGeometry* g = planner.geometry();
+      if (mo == nullptr) {
+        REQUIRE(g == nullptr);
+        continue;
+      }
+      ++motions;
+      if (g == nullptr) continue;  // a piece of a block: the reader builds its geometry
+      ++with_geometry;
+      const gm::MotionGeometry e = gm::MotionGeometry::of(*mo);
+      CAPTURE(mo->line);
+      REQUIRE(g->kind == e.kind);
+      REQUIRE(g->start_mm == e.start_mm);
+      REQUIRE(g->end_mm == e.end_mm);
+      REQUIRE(g->length_mm == e.length_mm);
+      REQUIRE(g->center_mm == e.center_mm);
+      REQUIRE(g->r0_mm == e.r0_mm);
+      REQUIRE(g->r1_mm == e.r1_mm);
+      REQUIRE(g->theta0_rad == e.theta0_rad);
+      REQUIRE(g->sweep_rad == e.sweep_rad);
+      REQUIRE(g->ax.a == e.ax.a);
+      REQUIRE(g->ax.n == e.ax.n);
+      REQUIRE(g->planar == e.planar);
+      REQUIRE(g->rest_moves == e.rest_moves);
+    }
+    REQUIRE(motions >= 8);
+    if (!tolerance)
+      REQUIRE(with_geometry == motions);  // every block whole
+    else
+      REQUIRE(with_geometry > 0);
+    if (tolerance) REQUIRE(with_geometry < motions);  // and some cut into pieces
+  }
+}
