@@ -7,6 +7,9 @@ positions every 1 ms servo cycle, and prints a markdown table next to `gmotion r
 and the blend-rule model (tools/linuxcnc_blend_estimate.py). Run by hand as root, not in CI:
 
   /usr/bin/python3 tools/linuxcnc_headless/run.py [--repeat 3] [--accel 610 1750]
+
+"model" is tools/linuxcnc_blend_estimate.py: its blend rules alone, and with the two line
+accelerations the runs showed (G61 0.9 a_max, the last G64 line a_max / 2).
 """
 import argparse
 import json
@@ -152,6 +155,8 @@ def main():
                      "(tools/install-deps.sh --with-oracle)")
     if subprocess.run(["/usr/bin/python3", "-c", "import linuxcnc, hal"]).returncode:
         sys.exit("run.py: LinuxCNC's Python modules do not load in /usr/bin/python3")
+    if subprocess.run(["pgrep", "-x", "rtapi_app"], capture_output=True).returncode == 0:
+        sys.exit("run.py: another LinuxCNC (rtapi_app) is running; HAL is shared, run one at a time")
     if os.geteuid() != 0:
         sys.exit("run.py: LinuxCNC's uspace rtapi_app needs root here (run as root)")
     if not os.access(a.gmotion, os.X_OK):
@@ -170,12 +175,13 @@ def main():
                 res.setdefault((name, acc), []).append(m)
                 print(f"{name:18} a {acc:g}: {m['cycle_s']:.3f} s  {m['err_mm']:.4f} mm  "
                       f"still {m['still']} gaps {m['gaps']} overruns {m['overruns']} "
-                      f"late {m['late_cycles']} max period {m['period_max_ms']:.1f} ms {m['errors'] or ''}",
+                      f"late {m['late_cycles']} max period {m['period_max_ms']:.1f} ms "
+                      f"{m['errors'] or ''}",
                       file=sys.stderr, flush=True)
     version = next(iter(res.values()))[0]["version"]
     hdr = "| program | " + " | ".join(
-        f"LinuxCNC a {acc:g}: time (spread), error" for acc in a.accel)
-    hdr += " | " + " | ".join(f"model a {acc:g}" for acc in a.accel) + " | gmotion: time, error |"
+        f"LinuxCNC a {acc:g}: time (spread), error | model a {acc:g}: rules / +measured"
+        for acc in a.accel) + " | gmotion: time, error |"
     print(f"\nLinuxCNC {version}, servo 1 ms, {a.repeat} runs each; gmotion run --no-servo\n")
     print(hdr)
     print("|" + " --- |" * (2 + 2 * len(a.accel)))
@@ -189,8 +195,11 @@ def main():
             cells.append(f"{statistics.median(ts):.3f} s ({spread}), {max(es):.4f} mm")
             notes += [f"{name} a {acc:g}: {m}" for m in ms
                       if m["gaps"] or m["overruns"] or m["errors"]]
-        for acc in a.accel:
-            cells.append(f"{square_time(20, 6000, acc, tol)[0]:.3f} s" if tol is not None else "-")
+            if tol is None:
+                cells.append("-")
+            else:
+                rules, meas = (square_time(20, 6000, acc, tol, as_measured=x)[0] for x in (0, 1))
+                cells.append(f"{rules:.3f} / {meas:.3f} s")
         gt, ge = run_gmotion(a.gmotion, prog)
         cells.append(f"{gt:.3f} s, {ge:.4f} mm")
         print(f"| {name} | " + " | ".join(cells) + " |")
