@@ -28,7 +28,8 @@ from linuxcnc_blend_estimate import square_time  # noqa: E402
 
 SQUARE = "G21 G90 G17 {}\nG1 X20 Y0 F6000\nY20\nX0\nY0\nM2\n"  # as tests/planner's kSquare
 SQUARE_MODES = [("G64", 1e9), ("G64 P1", 1), ("G64 P0.3", 0.3), ("G64 P0.1", 0.1),
-                ("G64 P0.03", 0.03), ("G64 P0.01", 0.01), ("G64 P0.003", 0.003), ("G61", 0.0)]
+                ("G64 P0.03", 0.03), ("G64 P0.01", 0.01), ("G64 P0.003", 0.003), ("G61", 0.0),
+                ("G61.1", 0.0)]  # G61.1, exact stop: no kink reduction, the rules alone
 CORNER_MODES = ["G64 P0.02", "G64 P0.1", "G61", "G64"]
 
 
@@ -198,7 +199,9 @@ def main():
             if tol is None:
                 cells.append("-")
             else:
-                rules, meas = (square_time(20, 6000, acc, tol, as_measured=x)[0] for x in (0, 1))
+                kink = not name.endswith("G61.1")
+                rules, meas = (square_time(20, 6000, acc, tol, as_measured=x)[0]
+                               for x in (False, kink))
                 cells.append(f"{rules:.3f} / {meas:.3f} s")
         gt, ge = run_gmotion(a.gmotion, prog)
         cells.append(f"{gt:.3f} s, {ge:.4f} mm")
