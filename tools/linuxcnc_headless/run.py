@@ -27,7 +27,8 @@ sys.path.insert(0, os.path.join(TOP, "tools"))
 from linuxcnc_blend_estimate import square_time  # noqa: E402
 
 SQUARE = "G21 G90 G17 {}\nG1 X20 Y0 F6000\nY20\nX0\nY0\nM2\n"  # as tests/planner's kSquare
-SQUARE_MODES = [("G64", 1e9), ("G64 P1", 1), ("G64 P0.3", 0.3), ("G64 P0.1", 0.1),
+SQUARE_MODES = [("G64", 1e9),  # no P: the model with unbounded P
+                ("G64 P1", 1), ("G64 P0.3", 0.3), ("G64 P0.1", 0.1),
                 ("G64 P0.03", 0.03), ("G64 P0.01", 0.01), ("G64 P0.003", 0.003), ("G61", 0.0),
                 ("G61.1", 0.0)]  # G61.1, exact stop: no kink reduction, the rules alone
 CORNER_MODES = ["G64 P0.02", "G64 P0.1", "G61", "G64"]
@@ -121,6 +122,8 @@ def measure(rows, info, segs):
     gaps = sum(1 for a, b in zip(tags, tags[1:]) if b != a + 1)
     pos = [tuple(float(x) for x in r[1:4]) for r in rows]
     moving = [k for k in range(1, len(pos)) if pos[k] != pos[k - 1]]
+    if not moving:
+        sys.exit(f"run.py: LinuxCNC did not move; errors: {info['errors']}")
     first, last = moving[0], moving[-1]
     worst = max(min(dist(p, s) for s in segs) for p in pos[first - 1:last + 1])
     period = [int(r[7]) for r in rows[first:last + 1]]
