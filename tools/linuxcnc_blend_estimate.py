@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """Cycle time of a closed polygon at feed F under LinuxCNC's documented G64 P blend rules
-(docs/tolerance.md compares it with gmotion's planner; LinuxCNC itself was not run).
+(docs/tolerance.md compares it with gmotion's planner and with LinuxCNC itself, run headless by
+tools/linuxcnc_headless/run.py).
 
 Rules used (LinuxCNC 2.9 trajectory planner, circular blend arcs, src/emc/tp/blendmath.h as
 documented there): every corner is replaced by a circular arc tangent to both lines whose
@@ -24,7 +25,10 @@ def seg_time(length, v0, v1, vmax, a):
     return (vp - v0) / a + (vp - v1) / a + cruise / vp
 
 
-def square_time(side, feed_mm_min, accel, tol, corners=4):
+def square_time(side, feed_mm_min, accel, tol, corners=4, as_measured=False):
+    """as_measured adds what the headless run of LinuxCNC 2.9 showed (tools/linuxcnc_headless):
+    in G61 every line ramps at (1 - ARC_BLEND_KINK_RATIO) * a_max = 0.9 a_max, and in G64 the
+    last line, still marked for a parabolic blend, at a_max / 2."""
     v = feed_mm_min / 60.0
     turn = 2 * math.pi / corners  # exterior angle of a regular polygon
     alpha = math.pi - turn  # interior angle
@@ -43,7 +47,10 @@ def square_time(side, feed_mm_min, accel, tol, corners=4):
         start_v = 0.0 if i == 0 else vb
         end_v = 0.0 if i == n_lines - 1 else vb
         length = side - (d if i > 0 else 0.0) - (d if i < n_lines - 1 else 0.0)
-        t += seg_time(length, start_v, end_v, v, accel)
+        a_line = accel
+        if as_measured:
+            a_line = 0.9 * accel if tol == 0 else (0.5 * accel if i == n_lines - 1 else accel)
+        t += seg_time(length, start_v, end_v, v, a_line)
     if vb > 0:
         t += (corners - 1) * arc_len / vb
     return t, r, vb
@@ -55,12 +62,14 @@ def main():
     ap.add_argument("--feed", type=float, default=6000.0)
     ap.add_argument("--accel", type=float, default=1750.0)
     ap.add_argument("--tol", type=float, nargs="+", default=[0.001, 0.003, 0.01, 0.03, 0.1, 0.3, 1])
+    ap.add_argument("--as-measured", action="store_true",
+                    help="add LinuxCNC 2.9's G61 0.9 a_max and last-line a_max/2 (measured)")
     a = ap.parse_args()
     print("tol_mm,blend_radius_mm,blend_speed_mm_s,cycle_s")
-    t0, _, _ = square_time(a.side, a.feed, a.accel, 0.0)
+    t0, _, _ = square_time(a.side, a.feed, a.accel, 0.0, as_measured=a.as_measured)
     print(f"0 (exact stop),0,0,{t0:.3f}")
     for tol in a.tol:
-        t, r, vb = square_time(a.side, a.feed, a.accel, tol)
+        t, r, vb = square_time(a.side, a.feed, a.accel, tol, as_measured=a.as_measured)
         print(f"{tol:g},{r:.4f},{vb:.2f},{t:.3f}")
 
 
