@@ -148,16 +148,16 @@ inline constexpr std::uint64_t kPow10 = [] {
 /// half); returns false otherwise (then fmt must write x).
 template <int D>
 [[gnu::always_inline]] inline bool fixed_scaled(double x, std::uint64_t& n) {
-  if (!std::isfinite(x)) return false;
   const double a = std::fabs(x);
   const double y = a * static_cast<double>(kPow10<D>);  // within half an ulp of the exact a·10^D
-  if (!(y < 1e15)) return false;
-  const double whole = std::floor(y);
-  const double frac = y - whole;  // exact
+  if (!(y < 1e15)) return false;                        // also NaN and infinity
+  // y is in [0, 1e15): the truncation is the floor, and exact both ways.
+  const auto whole = static_cast<std::uint64_t>(static_cast<std::int64_t>(y));
+  const double frac = y - static_cast<double>(whole);  // exact
   // The nearest integer to the exact a·10^D is the nearest to y unless a half lies within
   // the rounding of y (|y − a·10^D| <= ulp(y)/2 <= y·2^-53); keep well clear of it.
   if (!(std::fabs(frac - 0.5) > y * 4.5e-16)) return false;
-  n = static_cast<std::uint64_t>(whole) + (frac > 0.5 ? 1 : 0);
+  n = whole + (frac > 0.5 ? 1 : 0);
   return true;
 }
 

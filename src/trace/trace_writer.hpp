@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -100,7 +101,7 @@ class TraceWriter {
   std::string_view percent_text(double pct) {
     if (!(pct == last_pct_ && std::signbit(pct) == std::signbit(last_pct_))) [[unlikely]]
       format_percent(pct);
-    return last_pct_text_;
+    return {last_pct_text_.data(), last_pct_size_};
   }
   void format_percent(double pct);  ///< sets last_pct_ and last_pct_text_
   template <typename Row, typename Axes>
@@ -122,10 +123,16 @@ class TraceWriter {
   std::int64_t written_ = 0;        ///< bytes of whole rows (and header) written to the file
   fmt::memory_buffer buf_;
   std::int64_t rows_ = 0;
-  static constexpr std::size_t kMaxRowBytes =
-      1200;  ///< CSV: 38 integers (nine axes), 2 fixed-point, 1 %g, commas; binary: 308
+  /// Room for a row and the 8 (16 for the override) bytes a number's store may write past
+  /// its text. CSV, nine axes: 38 integers of up to 20 characters, t_s and contour_err up to
+  /// 350 each (fmt's "%.6f" of DBL_MAX), the override up to 13, 42 separators: 1,555.
+  /// Binary: 308.
+  static constexpr std::size_t kMaxRowBytes = 2048;
   double last_pct_ = std::numeric_limits<double>::quiet_NaN();  ///< override of the cached text
-  std::string last_pct_text_;                                   ///< "{:.6g}" of last_pct_ (SSO)
+  /// "{:.6g}" of last_pct_ (at most 13 characters, "-1.23457e+308"), in a buffer a row copies
+  /// 16 bytes of at once.
+  std::array<char, 32> last_pct_text_{};
+  std::size_t last_pct_size_ = 0;
 };
 
 }  // namespace gm
