@@ -128,8 +128,8 @@ Run::~Run() = default;
 template <int N>
 void Run::consume_rows(SampleBlock& b, int first) {
   if (first >= b.count) return;
-  // Column by column: the contour of every row, then the tolerance and the summary over them;
-  // a record is formed only for the trace's rows.
+  // Column by column: the contour of every row, then the tolerance, the summary and the trace
+  // over them.
   meter_->measure_block(b, first);
   const double period_s = options_.config.machine.period_s;
   tolerance_.add_block(b, first, period_s);
@@ -140,14 +140,7 @@ void Run::consume_rows(SampleBlock& b, int first) {
     r.arc_ref_dev_blu = b.arc_ref_dev_blu[i];
     r.arc_enc_dev_blu = b.arc_enc_dev_blu[i];
   };
-  if (trace_) {
-    const int decimate = trace_->decimate();
-    for (int i = first; i < b.count; ++i) {
-      if ((b.k0 + i) % decimate != 0) continue;  // TraceWriter::write's grid
-      record(i, crec_);
-      trace_->write(crec_);
-    }
-  }
+  if (trace_) trace_->write_block(b, first, period_s);  // read from the columns in place
   // Without the consumer thread last() is the consumed row, contour fields included.
   if (!queue_) record(b.count - 1, rec_);
 }

@@ -142,8 +142,7 @@ class Run {
   std::unique_ptr<SampleQueue> queue_;  ///< last: its thread uses the members above
   std::unique_ptr<SampleBlock> block_;  ///< the block filled without the consumer thread
   OverrideInput ovr_;
-  SampleRecord rec_;   ///< the last sample produced
-  SampleRecord crec_;  ///< the consumer's record
+  SampleRecord rec_;  ///< the last sample produced
   std::int64_t k_ = 0;
   int line_ = 0;
   bool live_open_ = false;

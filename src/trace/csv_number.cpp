@@ -5,6 +5,28 @@
 
 namespace gm {
 
+char* csv_detail::put_uint_long(char* p, std::uint64_t v) {
+  if (v < 10000000000000000u) {  // two conversions of eight digits
+    const std::uint64_t hi = v / 100000000u;
+    p = put_uint8(p, static_cast<std::uint32_t>(hi));
+    store_digits8(p, digit_bytes8(static_cast<std::uint32_t>(v - hi * 100000000u)));
+    return p + 8;
+  }
+  char* const end = p + count_digits(v);
+  char* q = end;
+  while (v >= 100) {
+    const auto r = static_cast<unsigned>(v % 100);
+    v /= 100;
+    q -= 2;
+    put_pair(q, r);
+  }
+  if (v >= 10)
+    put_pair(q - 2, static_cast<unsigned>(v));
+  else
+    q[-1] = static_cast<char>('0' + v);
+  return end;
+}
+
 char* csv_detail::put_fixed_fmt(char* p, double x, int decimals) {
   return fmt::format_to(p, "{:.{}f}", x, decimals);
 }

@@ -1,6 +1,7 @@
 // CSV and binary encoder traces with a metadata header; temp file + rename for integrity.
 #include "trace/trace_writer.hpp"
 
+#include "trace/block_row.hpp"
 #include "trace/csv_number.hpp"
 #include "trace/trace_row.hpp"
 #include "trace/trace_schema.hpp"
@@ -9,6 +10,7 @@
 
 #include <sys/stat.h>
 #include <unistd.h>
+#include <algorithm>
 #include <cerrno>
 #include <cstdint>
 #include <cstring>
@@ -34,6 +36,12 @@ void put_raw(fmt::memory_buffer& buf, T v) {
   char bytes[sizeof(T)];
   std::memcpy(bytes, &v, sizeof(T));  // little-endian on every machine we build for
   buf.append(bytes, bytes + sizeof(T));
+}
+
+template <typename T>
+char* put_raw(char* p, T v) {
+  std::memcpy(p, &v, sizeof(T));  // little-endian on every machine we build for
+  return p + sizeof(T);
 }
 
 }  // namespace
@@ -120,7 +128,7 @@ TraceWriter::TraceWriter(std::string path, TraceFormat format, const TraceMeta& 
   status_offset_ = static_cast<std::int64_t>(buf_.size() + header.find('\n') + 1);
   buf_.append(header.data(), header.data() + header.size());
   header_bytes_ = static_cast<std::int64_t>(buf_.size());
-  buf_.reserve(kFlushBytes + 4096);
+  buf_.reserve(kFlushBytes + (kBlockSamples + 1) * kMaxRowBytes);
 }
 
 TraceWriter::~TraceWriter() {
@@ -133,22 +141,54 @@ TraceWriter::~TraceWriter() {
 
 void TraceWriter::write(const SampleRecord& s) {
   if (s.k % decimate_ != 0) return;
-  if (format_ == TraceFormat::Csv)
-    write_csv(s);
-  else
-    write_binary(s);
+  const std::size_t at = buf_.size();
+  buf_.resize(at + kMaxRowBytes);
+  char* const p = buf_.data() + at;
+  char* const end =
+      format_ == TraceFormat::Csv ? put_csv_row(p, s, axes_) : put_binary_row(p, s, axes_);
+  buf_.resize(static_cast<std::size_t>(end - buf_.data()));
   ++rows_;
   if (buf_.size() >= kFlushBytes) flush_buffer();
 }
 
-void TraceWriter::write_csv(const SampleRecord& s) {
+void TraceWriter::write_block(const SampleBlock& b, int first, double period_s) {
+  with_axis_count(axes_, [&](auto n) { write_rows<decltype(n)::value>(b, first, period_s); });
+}
+
+template <int N>
+void TraceWriter::write_rows(const SampleBlock& b, int first, double period_s) {
+  if (first >= b.count) return;
+  // The first row on the grid, then every decimate_-th.
+  const auto off = static_cast<int>((b.k0 + first) % decimate_);
+  first += off == 0 ? 0 : decimate_ - off;
+  const std::size_t at = buf_.size();
+  buf_.resize(at + static_cast<std::size_t>(b.count - first + 1) * kMaxRowBytes);
+  char* p = buf_.data() + at;
+  constexpr std::integral_constant<int, N> axes;
+  if (format_ == TraceFormat::Csv) {
+    for (int i = first; i < b.count; i += decimate_)
+      p = put_csv_row(p, BlockRow(b, i, period_s), axes);
+  } else {
+    for (int i = first; i < b.count; i += decimate_)
+      p = put_binary_row(p, BlockRow(b, i, period_s), axes);
+  }
+  if (first < b.count) rows_ += (b.count - 1 - first) / decimate_ + 1;
+  buf_.resize(static_cast<std::size_t>(p - buf_.data()));
+  if (buf_.size() >= kFlushBytes) flush_buffer();
+}
+
+void TraceWriter::format_percent(double pct) {
+  last_pct_ = pct;
+  const auto r = fmt::format_to_n(last_pct_text_.data(), last_pct_text_.size(), "{:.6g}", pct);
+  last_pct_size_ = std::min(r.size, last_pct_text_.size());
+}
+
+template <typename Row, typename Axes>
+char* TraceWriter::put_csv_row(char* p, const Row& s, Axes axes) {
   // The schema's columns (trace_columns.def), each followed by ','; the last ',' becomes '\n'.
   // Same text as fmt "{:.6f}" (time), "{}" (line, count), "{:.3f}" (fixed3), "{:.6g}" (percent),
-  // written by hand into the buffer (put_int/put_fixed are exact; see csv_number.hpp).
-  const std::size_t at = buf_.size();
-  buf_.resize(at + kMaxCsvRow);
-  char* p = buf_.data() + at;
-  visit_trace_row(s, axes_, [&](auto kind, auto value) {
+  // written by hand in place (put_int/put_fixed are exact; see csv_number.hpp).
+  visit_trace_row(s, axes, [&](auto kind, auto value) {
     if constexpr (kind() == TraceKind::Time) {
       p = put_fixed_n<6>(p, value);
     } else if constexpr (kind() == TraceKind::Line || kind() == TraceKind::Count) {
@@ -157,34 +197,32 @@ void TraceWriter::write_csv(const SampleRecord& s) {
       p = put_fixed_n<3>(p, value);
     } else {
       static_assert(kind() == TraceKind::Percent);
-      const double pct = value;
-      if (!(pct == last_pct_ && std::signbit(pct) == std::signbit(last_pct_))) {  // changes rarely
-        last_pct_ = pct;
-        last_pct_text_.clear();
-        fmt::format_to(std::back_inserter(last_pct_text_), "{:.6g}", pct);
-      }
-      std::memcpy(p, last_pct_text_.data(), last_pct_text_.size());
-      p += last_pct_text_.size();
+      const std::string_view text = percent_text(value);
+      std::memcpy(p, text.data(), 16);  // one fixed-size move; the text is shorter
+      if (text.size() > 16) std::memcpy(p, text.data(), text.size());
+      p += text.size();
     }
     *p++ = ',';
   });
   p[-1] = '\n';
-  buf_.resize(static_cast<std::size_t>(p - buf_.data()));
+  return p;
 }
 
 // Binary row: the schema's fields in row order, little-endian, no padding (trace_columns.def:
 // time as the int64 sample index k, line int32, count int64, fixed3 and percent float64).
-void TraceWriter::write_binary(const SampleRecord& s) {
-  visit_trace_row(s, axes_, [&](auto kind, auto value) {
+template <typename Row, typename Axes>
+char* TraceWriter::put_binary_row(char* p, const Row& s, Axes axes) const {
+  visit_trace_row(s, axes, [&](auto kind, auto value) {
     if constexpr (kind() == TraceKind::Time)
-      put_raw(buf_, static_cast<std::int64_t>(s.k));
+      p = put_raw(p, static_cast<std::int64_t>(s.k));
     else if constexpr (kind() == TraceKind::Line)
-      put_raw(buf_, static_cast<std::int32_t>(value));
+      p = put_raw(p, static_cast<std::int32_t>(value));
     else if constexpr (kind() == TraceKind::Count)
-      put_raw(buf_, static_cast<std::int64_t>(value));
+      p = put_raw(p, static_cast<std::int64_t>(value));
     else
-      put_raw(buf_, static_cast<double>(value));
+      p = put_raw(p, static_cast<double>(value));
   });
+  return p;
 }
 
 void TraceWriter::flush_buffer() {

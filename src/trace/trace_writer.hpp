@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <limits>
@@ -13,6 +15,8 @@
 #include <string_view>
 
 namespace gm {
+
+struct SampleBlock;
 
 enum class TraceFormat { Csv, Binary };
 
@@ -60,6 +64,11 @@ class TraceWriter {
   /// Appends sample `s` if it falls on the decimation grid (k % decimate == 0). No allocation
   /// once the buffer has grown to its working size.
   void write(const SampleRecord& s);
+  /// Appends rows first..count-1 of block `b` that fall on the decimation grid, the same bytes as
+  /// write() of each row's SampleRecord (SampleBlock::record() and the contour columns), read from
+  /// the block's columns in place; `period_s` is the T of record(). No allocation once the buffer
+  /// has grown to its working size.
+  void write_block(const SampleBlock& b, int first, double period_s);
   /// Flushes, closes and renames the file into place; with a status line, first overwrites it
   /// with "complete". Throws gm::InputError on a write error; with a status line the file then
   /// stays open, for keep_partial().
@@ -85,8 +94,20 @@ class TraceWriter {
   void flush_buffer();
   void count_whole_rows(std::size_t n);  ///< after a short write of n bytes of buf_
   void patch_status(std::string_view text);
-  void write_csv(const SampleRecord& s);
-  void write_binary(const SampleRecord& s);
+  template <int N>
+  void write_rows(const SampleBlock& b, int first, double period_s);
+  /// Row `s` (a SampleRecord or a BlockRow) of `axes` axis blocks at p; returns its end.
+  /// "{:.6g}" of pct, kept from the last call while pct is the same (the override changes rarely).
+  std::string_view percent_text(double pct) {
+    if (!(pct == last_pct_ && std::signbit(pct) == std::signbit(last_pct_))) [[unlikely]]
+      format_percent(pct);
+    return {last_pct_text_.data(), last_pct_size_};
+  }
+  void format_percent(double pct);  ///< sets last_pct_ and last_pct_text_
+  template <typename Row, typename Axes>
+  char* put_csv_row(char* p, const Row& s, Axes axes);
+  template <typename Row, typename Axes>
+  char* put_binary_row(char* p, const Row& s, Axes axes) const;
 
   std::string path_, tmp_path_;
   TraceFormat format_;
@@ -102,10 +123,16 @@ class TraceWriter {
   std::int64_t written_ = 0;        ///< bytes of whole rows (and header) written to the file
   fmt::memory_buffer buf_;
   std::int64_t rows_ = 0;
-  static constexpr std::size_t kMaxCsvRow =
-      1200;  ///< 38 integers (nine axes), 2 fixed-point, 1 %g, commas
+  /// Room for a row and the 8 (16 for the override) bytes a number's store may write past
+  /// its text. CSV, nine axes: 38 integers of up to 20 characters, t_s and contour_err up to
+  /// 350 each (fmt's "%.6f" of DBL_MAX), the override up to 13, 42 separators: 1,555.
+  /// Binary: 308.
+  static constexpr std::size_t kMaxRowBytes = 2048;
   double last_pct_ = std::numeric_limits<double>::quiet_NaN();  ///< override of the cached text
-  std::string last_pct_text_;                                   ///< "{:.6g}" of last_pct_ (SSO)
+  /// "{:.6g}" of last_pct_ (at most 13 characters, "-1.23457e+308"), in a buffer a row copies
+  /// 16 bytes of at once.
+  std::array<char, 32> last_pct_text_{};
+  std::size_t last_pct_size_ = 0;
 };
 
 }  // namespace gm

@@ -4,11 +4,14 @@
 #include <fmt/format.h>
 #include <catch2/catch.hpp>
 
+#include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <random>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace {
@@ -112,4 +115,64 @@ TEST_CASE("put_int: every digit count, its edges, and a seeded sweep") {
     if (fast_int(v) != fmt::format("{}", v)) ++wrong;
   CHECK(wrong == 0);
   CHECK(values.size() > 100000);
+}
+
+TEST_CASE(
+    "put_uint8 and digit_bytes8: every value below 10^6, a stride to 10^8, against to_chars") {
+  std::size_t wrong = 0, checked = 0;
+  auto check = [&](std::uint32_t v) {
+    char fast[16], ref[16];
+    char* const end = gm::csv_detail::put_uint8(fast, v);
+    const auto r = std::to_chars(ref, ref + sizeof ref, v);
+    ++checked;
+    if (std::string_view(fast, end - fast) != std::string_view(ref, r.ptr - ref)) ++wrong;
+    // The word holds all eight digits, leading zeros included.
+    const std::uint64_t d = gm::csv_detail::digit_bytes8(v);
+    std::uint32_t back = 0;
+    for (int i = 0; i < 8; ++i) back = back * 10 + static_cast<std::uint32_t>(d >> (8 * i) & 0xFF);
+    if (back != v) ++wrong;
+  };
+  for (std::uint32_t v = 0; v < 1000000; ++v) check(v);
+  for (std::uint32_t v = 1000000; v < 100000000; v += 997) check(v);
+  for (std::uint32_t p = 10; p <= 100000000; p *= 10)
+    for (std::uint32_t v : {p - 1, p - 2, p / 10 * 9, p / 2}) check(v);
+  CHECK(wrong == 0);
+  CHECK(checked > 1090000u);
+}
+
+TEST_CASE("put_fixed_n<3> and <6> write what printf %.3f / %.6f writes, at the path edges") {
+  // Signs and -0, values rounding to (-)0, halves in decimal that are not halves in binary,
+  // whole parts at 10^8 (where the whole part needs the second word) and the 1e15 limit.
+  const double values[] = {0.0,
+                           -0.0,
+                           0.0004,
+                           -0.0004,
+                           0.0005,
+                           -0.0005,
+                           0.0015,
+                           2.0005,
+                           99999999.9995,
+                           99999999.999,
+                           100000000.0,
+                           -100000000.0005,
+                           123456789.125,
+                           999999999999.9994,
+                           999999999999.99,
+                           1e12 - 0.0005,
+                           -1e12,
+                           4.0000000000000002,
+                           17160.004,
+                           0.123456,
+                           -0.1234565,
+                           1e-7,
+                           -5e-7};
+  for (double x : values) {
+    char buf[64];
+    INFO(x);
+    char ref3[400], ref6[400];
+    std::snprintf(ref3, sizeof ref3, "%.3f", x);
+    std::snprintf(ref6, sizeof ref6, "%.6f", x);
+    CHECK(std::string(buf, gm::put_fixed_n<3>(buf, x)) == ref3);
+    CHECK(std::string(buf, gm::put_fixed_n<6>(buf, x)) == ref6);
+  }
 }
