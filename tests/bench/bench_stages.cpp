@@ -105,6 +105,22 @@ BENCHMARK_CAPTURE(BM_Fir, linear, "linear")->Arg(11)->Arg(41)->Arg(161);
 BENCHMARK_CAPTURE(BM_Fir, blackman, "blackman")->Arg(11)->Arg(41)->Arg(161);
 BENCHMARK_CAPTURE(BM_Fir, scurve2, "scurve2")->Arg(41);
 
+// Eight blocks of three axes moving on a circle of `radius_blu` (one turn over the eight
+// blocks; Z climbs one BLU every 16 samples), replayed by the FIR benchmarks.
+std::vector<gm::BluColumns> circle_blocks(double radius_blu) {
+  constexpr int kBlocks = 8;
+  std::vector<gm::BluColumns> in(kBlocks);
+  for (int b = 0; b < kBlocks; ++b)
+    for (int i = 0; i < gm::kBlockSamples; ++i) {
+      const double u =
+          2 * 3.141592653589793 * (b * gm::kBlockSamples + i) / (kBlocks * gm::kBlockSamples);
+      in[static_cast<std::size_t>(b)].v[0][i] = std::llround(radius_blu * std::cos(u));
+      in[static_cast<std::size_t>(b)].v[1][i] = std::llround(radius_blu * std::sin(u));
+      in[static_cast<std::size_t>(b)].v[2][i] = i / 16;
+    }
+  return in;
+}
+
 // Per-sample step_n<3> against step_block<3> on the same input: eight blocks of three axes
 // moving on a circle (radius 4000 BLU, one turn every 2,048 samples), replayed; Arg(0): step_n,
 // Arg(1): step_block; the second argument is the instruction set (0 portable, 1 AVX2,
@@ -118,16 +134,8 @@ void BM_FirBlock(benchmark::State& state, const char* profile) {
     return;
   }
   fir.set_isa_for_testing(isa);
-  constexpr int kBlocks = 8;
-  std::vector<gm::BluColumns> in(kBlocks), out(kBlocks);
-  for (int b = 0; b < kBlocks; ++b)
-    for (int i = 0; i < gm::kBlockSamples; ++i) {
-      const double u =
-          2 * 3.141592653589793 * (b * gm::kBlockSamples + i) / (kBlocks * gm::kBlockSamples);
-      in[static_cast<std::size_t>(b)].v[0][i] = std::llround(4000 * std::cos(u));
-      in[static_cast<std::size_t>(b)].v[1][i] = std::llround(4000 * std::sin(u));
-      in[static_cast<std::size_t>(b)].v[2][i] = i / 16;
-    }
+  std::vector<gm::BluColumns> in = circle_blocks(4000), out(in.size());
+  const std::size_t blocks = in.size();
   const bool block = state.range(0) != 0;
   gm::AxisBlu x = gm::AxisBlu::Zero(), y = gm::AxisBlu::Zero();
   std::size_t b = 0;
@@ -144,7 +152,7 @@ void BM_FirBlock(benchmark::State& state, const char* profile) {
       }
     }
     benchmark::DoNotOptimize(o);
-    b = b + 1 == kBlocks ? 0 : b + 1;
+    b = b + 1 == blocks ? 0 : b + 1;
   }
   state.SetItemsProcessed(state.iterations() * gm::kBlockSamples);  // samples (3 axes each)
   state.SetLabel(gm::isa_name(isa));
@@ -251,16 +259,8 @@ void BM_FirServo(benchmark::State& state) {
   const gm::Machine m = gm::default_machine();
   gm::FirAccDec fir(gm::design_taps("blackman", 0.164, m.period_s), gm::AxisBlu::Zero());
   gm::ServoBank bank(m, 3, m.period_s, m.servo_substeps);
-  constexpr int kBlocks = 8;
-  std::vector<gm::BluColumns> in(kBlocks);
-  for (int b = 0; b < kBlocks; ++b)
-    for (int i = 0; i < gm::kBlockSamples; ++i) {
-      const double u =
-          2 * 3.141592653589793 * (b * gm::kBlockSamples + i) / (kBlocks * gm::kBlockSamples);
-      in[static_cast<std::size_t>(b)].v[0][i] = std::llround(40000 * std::cos(u));
-      in[static_cast<std::size_t>(b)].v[1][i] = std::llround(40000 * std::sin(u));
-      in[static_cast<std::size_t>(b)].v[2][i] = i / 16;
-    }
+  const std::vector<gm::BluColumns> in = circle_blocks(40000);
+  const std::size_t blocks = in.size();
   auto ref = std::make_unique<gm::BluColumns>();
   auto enc = std::make_unique<gm::BluColumns>();
   auto table = std::make_unique<gm::RealColumns>();
@@ -279,7 +279,7 @@ void BM_FirServo(benchmark::State& state) {
       }
     }
     benchmark::DoNotOptimize(enc->v[0][n - 1]);
-    b = b + 1 == kBlocks ? 0 : b + 1;
+    b = b + 1 == blocks ? 0 : b + 1;
   }
   state.SetItemsProcessed(state.iterations() * n);
 }
