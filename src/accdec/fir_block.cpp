@@ -90,25 +90,31 @@ __attribute__((always_inline)) inline bool axis_sums(AxisJob& j) {
   std::int64_t* const rel = j.rel;
   double* const s = j.sums;
 
-  // The block's relative positions, and whether all are within the limit: r > limit or
-  // r < -limit sets the sign bit of (limit - r) | (r + limit) (|r| < 2^62: no overflow), so the
-  // check is adds and ORs, W samples at once, no comparison.
-  I beyond_v = {};
+  // The block's relative positions, and whether all are within the limit, W samples at once
+  // with adds and ORs, no comparison. In wrapping (unsigned) arithmetic, for any input: with
+  // 0 < limit < 2^62, r > limit or r < -limit is exactly when the sign bit of
+  // (limit - r) | (r + limit) is set, and in - start wrapped exactly when that of
+  // (in ^ start) & (in ^ r) is.
+  using U = typename BlockLanes<W>::U;
+  const auto start = static_cast<std::uint64_t>(j.start);
+  const auto limit = static_cast<std::uint64_t>(j.limit);
+  U beyond_v = {};
   int i0 = 0;
   for (; i0 + W <= n; i0 += W) {
-    const I r = load<I>(j.in + i0) - j.start;
+    const U in = load<U>(j.in + i0);
+    const U r = in - start;
     store(rel + L + i0, r);
-    beyond_v |= (j.limit - r) | (r + j.limit);
+    beyond_v |= (limit - r) | (r + limit) | ((in ^ start) & (in ^ r));
   }
-  std::int64_t beyond = 0;
+  std::uint64_t beyond = 0;
   for (int l = 0; l < W; ++l) beyond |= beyond_v[l];
   for (; i0 < n; ++i0) {
-    const std::int64_t r = j.in[i0] - j.start;
-    rel[L + i0] = r;
-    beyond |= (j.limit - r) | (r + j.limit);
+    const auto in = static_cast<std::uint64_t>(j.in[i0]);
+    const std::uint64_t r = in - start;
+    rel[L + i0] = static_cast<std::int64_t>(r);
+    beyond |= (limit - r) | (r + limit) | ((in ^ start) & (in ^ r));
   }
-  beyond = beyond < 0;
-  if (beyond != 0) return false;
+  if ((beyond >> 63) != 0) return false;
 
   if (j.running) {
     // A prefix sum: S[i] = S[i-1] + rel[i] - rel[i-L], serial (one add a sample, exact in

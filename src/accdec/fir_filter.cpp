@@ -206,7 +206,12 @@ void FirAccDec::step_n(const AxisBlu& in_pos_blu, AxisBlu& out_pos_blu) {
   for (int a = 0; a < axes; ++a) {
     const std::size_t idx = static_cast<std::size_t>(head_) * static_cast<std::size_t>(axes) +
                             static_cast<std::size_t>(a);
-    const std::int64_t rel = in_pos_blu[a] - start_[a];
+    std::int64_t rel;
+    if (__builtin_sub_overflow(in_pos_blu[a], start_[a], &rel)) [[unlikely]]
+      throw InputError(
+          fmt::format("FIR Acc/Dec: axis {} at {} BLU is beyond int64 from its "
+                      "start at {} BLU",
+                      a, in_pos_blu[a], start_[a]));
     const std::int64_t old = hist_[idx];
     big_in_window_ += static_cast<int>(rel > fast_limit_ || rel < -fast_limit_) -
                       static_cast<int>(old > fast_limit_ || old < -fast_limit_);

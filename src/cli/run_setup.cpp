@@ -2,6 +2,7 @@
 #include "cli/run_setup.hpp"
 
 #include "accdec/profiles.hpp"
+#include "common/position_limits.hpp"
 #include "common/status.hpp"
 #include "machine/linuxcnc_ini.hpp"
 #include "machine/machine_file.hpp"
@@ -81,6 +82,11 @@ Machine resolve_machine(const MachineFlags& f) {
   if (f.period_s) positive("--period", *f.period_s), m.period_s = *f.period_s;
   if (f.blu_mm) {
     positive("--blu", *f.blu_mm);
+    if (*f.blu_mm < kMinBluMm)
+      throw InputError(
+          fmt::format("--blu {} is finer than 1e-6 mm (1 nm): positions up "
+                      "to ±1e12 mm would not fit int64 counts",
+                      *f.blu_mm));
     for (auto& a : m.axes) a.blu_mm = *f.blu_mm;
   }
   // An INI's τ follows its limits, the profile and T: suggested again for the flags' ones.

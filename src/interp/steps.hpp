@@ -2,6 +2,7 @@
 // the code table names. Internal to the interpreter.
 #pragma once
 
+#include "common/position_limits.hpp"
 #include "interp/codes.hpp"
 #include "interp/frame.hpp"
 #include "interp/interpreter.hpp"
@@ -86,8 +87,8 @@ struct BlockCtx {
   Pos9 offset() const { return frame().offset(); }
 };
 
-// Limits beyond which a run's integer positions (BLU) and counts would overflow.
-inline constexpr double kMaxPositionMm = 1e12;
+// Limits beyond which a run's integer counts would overflow (positions:
+// common/position_limits.hpp).
 inline constexpr double kMaxFeedMmMin = 1e12;
 inline constexpr double kMaxToolNumber = 1e6;
 

@@ -2,6 +2,7 @@
 #include "machine/linuxcnc_ini.hpp"
 
 #include "accdec/taps.hpp"
+#include "common/position_limits.hpp"
 #include "common/status.hpp"
 #include "interp/subroutine_path.hpp"
 #include "machine/machine_file.hpp"
@@ -248,12 +249,13 @@ IniImport load_linuxcnc_ini(const std::filesystem::path& path) {
     std::optional<double> v = ini.number(axis_sec, "MAX_VELOCITY");
     std::optional<double> a = ini.number(axis_sec, "MAX_ACCELERATION");
     std::optional<double> scale, backlash;
+    std::string scale_section;
     for (std::size_t j = 0; j < coords.size(); ++j) {
       if (coords[j] != letter) continue;
       const std::string js = fmt::format("JOINT_{}", j);
       v = min_of(v, ini.number(js, "MAX_VELOCITY"));
       a = min_of(a, ini.number(js, "MAX_ACCELERATION"));
-      if (!scale) scale = ini.number(js, "INPUT_SCALE");
+      if (!scale && (scale = ini.number(js, "INPUT_SCALE"))) scale_section = js;
       if (!backlash) backlash = ini.number(js, "BACKLASH");
       soft_limits = soft_limits || ini.find(js, "MIN_LIMIT") || ini.find(js, "MAX_LIMIT");
     }
@@ -270,6 +272,11 @@ IniImport load_linuxcnc_ini(const std::filesystem::path& path) {
       warn.push_back(
           fmt::format("[{}]MAX_ACCELERATION: missing; {} does not limit tau", axis_sec, letter));
     if (scale && *scale != 0.0) ac.blu_mm = unit / std::abs(*scale);
+    if (ac.blu_mm < kMinBluMm)
+      ini.fail(scale_section, "INPUT_SCALE",
+               fmt::format("{:g} counts a unit: one count is {:g} {}, finer than 1e-6 (1 nm): "
+                           "positions up to ±1e12 would not fit int64 counts",
+                           *scale, ac.blu_mm, rotary ? "deg" : "mm"));
     if (backlash && *backlash > 0.0) ac.backlash_blu = std::round(*backlash * unit / ac.blu_mm);
   }
   if (soft_limits)

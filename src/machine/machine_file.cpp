@@ -4,6 +4,7 @@
 
 #include "interp/subroutine_path.hpp"
 
+#include "common/position_limits.hpp"
 #include "common/status.hpp"
 #include "servo/discrete_plant.hpp"
 
@@ -199,6 +200,12 @@ constexpr double kMinKp = 1e-3;
 
 auto positive = [](double v) { return v > 0.0 ? "" : "must be > 0"; };
 auto non_negative = [](double v) { return v >= 0.0 ? "" : "must be >= 0"; };
+// A BLU finer than 1 nm would count positions of a program's range beyond int64.
+auto blu_range = [](double v) {
+  return v >= kMinBluMm
+             ? ""
+             : "must be >= 1e-6 mm (1 nm): positions up to ±1e12 mm must fit int64 counts";
+};
 
 void read_axis(Reader& r, AxisConfig& a, double machine_blu_mm, double period_s, bool path_axis) {
   a.blu_mm = machine_blu_mm;
@@ -214,7 +221,7 @@ void read_axis(Reader& r, AxisConfig& a, double machine_blu_mm, double period_s,
               [period_s](double v) { return tau_problem(v, period_s); });
     ar.reject_unknown();
   }
-  r.number("blu_mm", a.blu_mm, false, positive);
+  r.number("blu_mm", a.blu_mm, false, blu_range);
   r.number("v_max_mm_s", a.v_max_mm_s, false, positive);
   r.number("f_max_N", a.f_max_N, false, positive);
   r.number("p_max_W", a.p_max_W, false, positive);
@@ -319,7 +326,7 @@ Machine parse_machine_toml(std::string_view text, std::string_view source_name) 
                 fmt::format("must be \"acc_dec\" or \"encoder\" (got \"{}\")", tol_on));
   }
   double blu_mm = 0.001;
-  r.number("blu_mm", blu_mm, false, positive);
+  r.number("blu_mm", blu_mm, false, blu_range);
 
   const toml::table* acc = r.table("accdec", false);
   if (acc != nullptr) {

@@ -248,6 +248,30 @@ TEST_CASE("step_block refuses rows outside the block") {
   CHECK_NOTHROW(f.step_block<3>(*in, *out, gm::kBlockSamples - 2, 2));
 }
 
+TEST_CASE("a position int64 cannot hold relative to the start is refused, never wrapped") {
+  // Start at INT64_MIN + 1, then INT64_MAX: the distance 2^64 - 2 wraps to -2, which looks like
+  // a small move; found by fuzzing (UBSan: signed overflow in the block kernel's check).
+  AxisBlu start = AxisBlu::Zero();
+  start[0] = INT64_MIN + 1;
+  for (const char* spec : {"linear", "blackman"})
+    for (const Isa isa : isas())
+      for (const int n : {5, 8})
+        for (const int bad : {0, n - 1}) {
+          CAPTURE(spec, gm::isa_name(isa), n, bad);
+          FirAccDec f(gm::design_taps(spec, 0.044, 0.004), start);
+          f.set_isa_for_testing(isa);
+          auto in = std::make_unique<BluColumns>(), out = std::make_unique<BluColumns>();
+          for (int i = 0; i < n; ++i) in->v[0][i] = i == bad ? INT64_MAX : start[0] + i;
+          CHECK_THROWS_WITH(f.step_block<3>(*in, *out, 0, n),
+                            Catch::Contains("axis 0 at 9223372036854775807 BLU is beyond int64 "
+                                            "from its start at -9223372036854775807 BLU"));
+        }
+  FirAccDec f(gm::design_taps("linear", 0.044, 0.004), start);
+  AxisBlu x = start, y;
+  x[0] = INT64_MAX;
+  CHECK_THROWS_AS(f.step(x, y), gm::InputError);
+}
+
 TEST_CASE("set_isa_for_testing never raises the instruction set above the CPU's") {
   FirAccDec f(gm::design_taps("blackman", 0.164, 0.004), AxisBlu::Zero());
   CHECK(f.isa() == gm::active_isa());

@@ -136,6 +136,9 @@ TEST_CASE("machine files with zero or negative BLU, T or tau are refused by key 
     CHECK(r.code == 1);
     CHECK_THAT(r.out, Catch::Contains("must be a positive number"));
   }
+  const auto fine = gmtest::run_gmotion("run " + prog + " --blu 1e-20");
+  CHECK(fine.code == 1);
+  CHECK_THAT(fine.out, Catch::Contains("--blu 1e-20 is finer than 1e-6 mm (1 nm)"));
 }
 
 TEST_CASE("Acc/Dec flags asking for millions of taps or endless cascades are refused at once") {

@@ -257,6 +257,28 @@ TEST_CASE("ini: a value that is not a number names the file, line, section and k
   }
 }
 
+TEST_CASE("ini: an INPUT_SCALE finer than 1 nm a count is refused by file, line and key") {
+  // 1e10 counts an inch is 2.54e-9 mm a count: ±1e12 mm would be 4e20 counts, beyond int64.
+  const fs::path d = gmtest::scratch_dir("ini");
+  write(d / "fine.ini",
+        "[KINS]\nKINEMATICS = trivkins coordinates=XYZ\nJOINTS = 3\n[TRAJ]\nLINEAR_UNITS = "
+        "inch\n[JOINT_0]\nMAX_VELOCITY = 1\nMAX_ACCELERATION = 10\nINPUT_SCALE = -1e10\n");
+  try {
+    gm::load_linuxcnc_ini(d / "fine.ini");
+    FAIL("no error");
+  } catch (const gm::InputError& e) {
+    CHECK(std::string(e.what()) ==
+          (d / "fine.ini").string() +
+              ":9: [JOINT_0]INPUT_SCALE: -1e+10 counts a unit: one count is 2.54e-09 mm, finer "
+              "than 1e-6 (1 nm): positions up to ±1e12 would not fit int64 counts");
+  }
+  // 1e6 counts a mm is 1 nm: accepted.
+  write(d / "nm.ini",
+        "[KINS]\nKINEMATICS = trivkins coordinates=XYZ\nJOINTS = 3\n[TRAJ]\nLINEAR_UNITS = "
+        "mm\n[JOINT_0]\nMAX_VELOCITY = 1\nMAX_ACCELERATION = 10\nINPUT_SCALE = 1e6\n");
+  CHECK(gm::load_linuxcnc_ini(d / "nm.ini").machine.axes[0].blu_mm == 1e-6);
+}
+
 TEST_CASE("ini: export writes the axis sections that read back to the same machine") {
   gm::Machine m = gm::default_machine();
   m.set_axes(*gm::AxisLayout::of("XYZA"), m.axes[0]);

@@ -190,7 +190,8 @@ TEST_CASE("minimal file: optional keys take the documented defaults", "[machine]
 TEST_CASE("out-of-range value: exact message with key, file and line", "[machine]") {
   // [axes.x] is line 3, so plant_num is line 4; blu_mm inserted as line 4.
   CHECK(error_of(replace(kMinimal, "[axes.x]\n", "[axes.x]\nblu_mm = -1\n")) ==
-        "t.toml:4: key 'axes.x.blu_mm': must be > 0 (got -1)");
+        "t.toml:4: key 'axes.x.blu_mm': must be >= 1e-6 mm (1 nm): positions up to ±1e12 mm "
+        "must fit int64 counts (got -1)");
   CHECK(error_of(replace(kMinimal, "period_s = 0.004", "period_s = 0")) ==
         "t.toml:2: key 'period_s': must be in 1e-06..1 s (got 0)");
   CHECK(
@@ -249,6 +250,15 @@ TEST_CASE("values a run cannot use are refused by the reader (found by fuzzing)"
         "t.toml:2: key 'period_s': must be in 1e-06..1 s (got 1e-300)");
   CHECK(error_of(replace(kMinimal, "period_s = 0.004\n",
                          "period_s = 0.004\n[accdec]\ntau_s = 400\n")) == "<no error>");
+  // A BLU of 1e-20 mm counted the 0.5 mm of a line as 5e19 BLU, beyond int64 (UBSan: signed
+  // overflow in the FIR block kernel). 1 nm is the floor, on the machine and on an axis.
+  CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\nblu_mm = 1e-20\n")) ==
+        "t.toml:3: key 'blu_mm': must be >= 1e-6 mm (1 nm): positions up to ±1e12 mm must fit "
+        "int64 counts (got 1e-20)");
+  CHECK(error_of(replace(kMinimal, "kp_1_s = 30\n[axes.y]", "kp_1_s = 30\nblu_mm = 9e-7\n[axes.y]"))
+            .find("key 'axes.x.blu_mm': must be >= 1e-6 mm") != std::string::npos);
+  CHECK(error_of(replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\nblu_mm = 1e-6\n")) ==
+        "<no error>");
 }
 
 TEST_CASE("missing required key: names the key, the file and the table's line", "[machine]") {
