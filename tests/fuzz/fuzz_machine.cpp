@@ -7,6 +7,7 @@
 #include "machine/machine_file.hpp"
 #include "pipeline/pipeline.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -45,6 +46,9 @@ void run_pipeline(const gm::Machine& m, bool servo, std::vector<gm::Canon> progr
     if (pipeline.step(gm::OverrideInput{}, rec) != gm::PipelineStatus::Working) break;
 }
 
+// Taps × axes × samples one input may run (about a second under the sanitizers).
+constexpr std::size_t kTapSampleBudget = 20'000'000;
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -69,13 +73,19 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // servo axes, contour window). A tap design the reader let through may still be refused
   // with gm::InputError (e.g. tau not a whole number of periods): a run reports it the same way.
   try {
-    (void)gm::design_taps(m.profile, m.tau_s, m.period_s);
-    run_pipeline(m, true, {}, 4096);
+    const gm::Taps taps = gm::design_taps(m.profile, m.tau_s, m.period_s);
+    // Each sample costs a tap a sample and axis: a 23,000-tap filter (tau 9.2 s at T 0.4 ms)
+    // took 9 s of the 10 s timeout under the sanitizers for 4,096 samples. The work an input
+    // may ask is bounded instead (at least 256 samples: every filter still fills and moves).
+    const std::size_t per_sample = taps.integer.size() * static_cast<std::size_t>(m.axis_count());
+    const int steps = static_cast<int>(std::clamp<std::size_t>(
+        kTapSampleBudget / std::max<std::size_t>(per_sample, 1), 256, 4096));
+    run_pipeline(m, true, {}, steps);
     gm::Motion line;
     line.line = 1;
     line.end_mm = gm::AxisVec::Constant(0.5);
     line.feed_mm_min = 600.0;
-    run_pipeline(m, false, {gm::Canon{line}}, 4096);
+    run_pipeline(m, false, {gm::Canon{line}}, steps);
   } catch (const gm::InputError&) {
   }
   return 0;
