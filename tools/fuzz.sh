@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Fuzzes the G-code program, override-schedule and machine-file readers with libFuzzer, bounded.
+# Fuzzes the G-code program, override-schedule, machine-file and LinuxCNC INI readers with
+# libFuzzer, bounded.
 # Usage: tools/fuzz.sh [SECONDS_PER_TARGET]   (default 60)
-# Installs what is missing (tools/install-deps.sh --with-fuzz), builds the three targets in the
+# Installs what is missing (tools/install-deps.sh --with-fuzz), builds the four targets in the
 # 'asan' preset's folder (clang-14, ASan+UBSan, libFuzzer coverage; the same build the sanitized
 # tests run from, so CI compiles the core once for both), seeds build-asan/corpus/<target> from tests/fuzz/seeds.txt and
 # tests/fuzz/regressions/<target>/, then runs each target for SECONDS_PER_TARGET and prints one
@@ -21,7 +22,7 @@ tools/install-deps.sh --with-fuzz
 cmake --preset asan >/dev/null
 cmake --build --preset fuzz
 
-targets=(program override machine)
+targets=(program override machine ini)
 declare -A globs=()
 while read -r target rest; do
   [[ -z "$target" || "$target" == \#* ]] && continue

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <fstream>
 #include <map>
@@ -24,6 +25,10 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr int kMaxIncludeDepth = 8;
+// What one INI may read in all, its #INCLUDE files counted each time they are read: a file that
+// includes itself ten times would otherwise be read 10^8 times.
+constexpr int kMaxFilesRead = 256;
+constexpr std::uintmax_t kMaxBytesRead = std::uintmax_t{64} << 20;  // 64 MiB
 
 /// One `KEY = VALUE` line and where it was.
 struct IniValue {
@@ -39,6 +44,15 @@ class IniFile {
   void read(const fs::path& path, const fs::path& ini_dir, int depth, std::string section) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(fmt::format("{}: cannot open LinuxCNC INI file", path.string()));
+    if (++files_read_ > kMaxFilesRead)
+      throw InputError(fmt::format("{}: more than {} INI files read (#INCLUDE fanning out?)",
+                                   path.string(), kMaxFilesRead));
+    std::error_code ec;
+    const std::uintmax_t size = fs::file_size(path, ec);
+    bytes_read_ += ec ? 0 : size;
+    if (bytes_read_ > kMaxBytesRead)
+      throw InputError(
+          fmt::format("{}: more than {} MiB of INI text read", path.string(), kMaxBytesRead >> 20));
     std::string line;
     int n = 0;
     while (std::getline(in, line)) {
@@ -116,6 +130,8 @@ class IniFile {
  private:
   std::map<std::string, std::map<std::string, IniValue>> sections_;
   std::string last_section_;
+  int files_read_ = 0;
+  std::uintmax_t bytes_read_ = 0;
 };
 
 std::string lower(std::string s) {
@@ -227,6 +243,7 @@ IniImport load_linuxcnc_ini(const std::filesystem::path& path) {
     if (coords.find(l) != std::string::npos) letters += l;
   for (const char c : coords)
     if (axis_index(c) < 0) ini.fail("TRAJ", "COORDINATES", fmt::format("'{}' is not an axis", c));
+  if (coords.empty()) ini.fail("TRAJ", "COORDINATES", "names no axis");
   if (letters.size() != coords.size())
     warn.push_back(
         fmt::format("[TRAJ]COORDINATES = {}: an axis on several joints (gantry) is one "

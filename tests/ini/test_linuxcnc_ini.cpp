@@ -279,6 +279,34 @@ TEST_CASE("ini: an INPUT_SCALE finer than 1 nm a count is refused by file, line 
   CHECK(gm::load_linuxcnc_ini(d / "nm.ini").machine.axes[0].blu_mm == 1e-6);
 }
 
+TEST_CASE("ini: #INCLUDE fan-out ends after 256 files read, not 10^8") {
+  // f0 includes f1 ten times, f1 includes f2 ten times, ... f7: within the depth limit, 10^8
+  // files read unbounded.
+  const fs::path d = gmtest::scratch_dir("ini");
+  for (int k = 0; k < 8; ++k) {
+    std::string text = "[EMCMOT]\nSERVO_PERIOD = 1000000\n";
+    if (k < 7)
+      for (int i = 0; i < 10; ++i) text += "#INCLUDE f" + std::to_string(k + 1) + ".ini\n";
+    write(d / ("f" + std::to_string(k) + ".ini"), text);
+  }
+  try {
+    gm::load_linuxcnc_ini(d / "f0.ini");
+    FAIL("no error");
+  } catch (const gm::InputError& e) {
+    CHECK(std::string(e.what()) ==
+          (d / "f7.ini").string() + ": more than 256 INI files read (#INCLUDE fanning out?)");
+  }
+  // Found by fuzz_ini: an empty COORDINATES made an axis layout of nothing (UBSan: index out of
+  // bounds).
+  write(d / "none.ini", "[TRAJ]\nCOORDINATES = \n");
+  CHECK_THROWS_WITH(gm::load_linuxcnc_ini(d / "none.ini"),
+                    Catch::Contains("none.ini:2: [TRAJ]COORDINATES: names no axis"));
+  // A file including itself meets the depth limit first.
+  write(d / "once.ini", "#INCLUDE once.ini\n");
+  CHECK_THROWS_WITH(gm::load_linuxcnc_ini(d / "once.ini"),
+                    Catch::Contains("once.ini:1: #INCLUDE nested deeper than 8"));
+}
+
 TEST_CASE("ini: export writes the axis sections that read back to the same machine") {
   gm::Machine m = gm::default_machine();
   m.set_axes(*gm::AxisLayout::of("XYZA"), m.axes[0]);
