@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <system_error>
 
 namespace fs = std::filesystem;
 
@@ -24,11 +25,20 @@ namespace {
 }
 
 // The input as fuzz.ini in a folder of this process's own, so that its #INCLUDE, TOOL_TABLE and
-// PARAMETER_FILE lines can name it (itself, in a loop) and nothing else the fuzzer did not write.
+// PARAMETER_FILE lines can name it (itself, in a loop); the reader only reads. The folder is
+// removed at exit.
+struct ScratchDir {
+  fs::path path = fs::temp_directory_path() / ("gmotion-fuzz-ini-" + std::to_string(getpid()));
+  ScratchDir() { fs::create_directories(path); }
+  ~ScratchDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
 fs::path write_input(const std::uint8_t* data, std::size_t size, const char* name) {
-  static const fs::path dir = fs::temp_directory_path() / ("gmotion-fuzz-ini-" + std::to_string(getpid()));
-  fs::create_directories(dir);
-  const fs::path p = dir / name;
+  static const ScratchDir dir;
+  const fs::path p = dir.path / name;
   std::ofstream(p, std::ios::binary | std::ios::trunc)
       .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   return p;
