@@ -51,8 +51,8 @@ enum class ErrorCode : int {
   NegativeValue = 217,           ///< S, T or H negative
   LineNumberNotFirst = 218,      ///< N after other words (LinuxCNC)
   AxisUnavailable = 219,         ///< an axis word for an axis the machine lacks
-  ValueOutOfRange =
-      220,  ///< a position beyond ±1e12 mm, a feed beyond 1e12 mm/min, a tool beyond 1e6
+  ValueOutOfRange = 220,  ///< a position beyond ±1e12 mm, a feed beyond 1e12 mm/min, a tool beyond
+                          ///< 1e6, a block expanding to more than 100,000 moves
   // Expressions and parameters (interp/expression, interp/parameters) --------------------------
   DivisionByZero = 230,       ///< `/` by zero
   DomainError = 231,          ///< SQRT/LN/ACOS/ASIN/** outside their domain

@@ -13,6 +13,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <memory>
 #include <vector>
 
@@ -90,6 +91,9 @@ struct BlockCtx {
 // Limits beyond which a run's integer counts would overflow (positions:
 // common/position_limits.hpp).
 inline constexpr double kMaxFeedMmMin = 1e12;
+// The moves one block may expand to (a canned cycle's repeats and pecks, G7x roughing): what a
+// block holds stays bounded (a Motion is a few hundred bytes).
+inline constexpr std::size_t kMaxMovesPerBlock = 100000;
 inline constexpr double kMaxToolNumber = 1e6;
 
 inline bool within(double v, double limit) {
@@ -167,7 +171,8 @@ bool axis_target(BlockCtx& ctx, const Pos9& from_mm, Pos9& target_mm);
 /// The end point of a G53 block: the axis words are machine coordinates (mm after units).
 bool machine_target(BlockCtx& ctx, Pos9& target_mm);
 /// Emits a straight move (rapid or feed) from the current position to `target_mm` and moves
-/// there; zero-length moves are not emitted.
+/// there; zero-length moves are not emitted. False with the error set for a target beyond
+/// kMaxPositionMm or a block already holding kMaxMovesPerBlock moves (as emit_arc).
 bool emit_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target_mm, SourceLoc loc);
 /// Emits a one-turn arc in the active plane from the current position to `target_mm` about
 /// `centre_mm` (machine coordinates) at the block's feed, and moves there.

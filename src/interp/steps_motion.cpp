@@ -191,7 +191,24 @@ Motion motion_template(const BlockCtx& ctx, MotionKind kind) {
   return mo;
 }
 
-bool emit_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target_mm, SourceLoc) {
+// What every emitted move must meet, whichever step computed it: a target within the position
+// range, and room in the block for one more move.
+static bool can_emit(BlockCtx& ctx, const Pos9& target_mm, SourceLoc loc) {
+  for (int i = 0; i < kProgramAxes; ++i)
+    if (!within(target_mm[i], kMaxPositionMm))
+      return ctx.fail(ErrorCode::ValueOutOfRange, loc,
+                      fmt::format("{} would move to {:g} mm, outside -{:g}..{:g} mm",
+                                  kProgramAxisLetters[static_cast<std::size_t>(i)], target_mm[i],
+                                  kMaxPositionMm, kMaxPositionMm));
+  if (ctx.out.size() >= kMaxMovesPerBlock)
+    return ctx.fail(
+        ErrorCode::ValueOutOfRange, loc,
+        fmt::format("the block expands to more than {} moves (repeats, pecks)", kMaxMovesPerBlock));
+  return true;
+}
+
+bool emit_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target_mm, SourceLoc loc) {
+  if (!can_emit(ctx, target_mm, loc)) return false;
   Motion mo = motion_template(ctx, kind);
   mo.start_mm = to_machine(motion_start(ctx), ctx.machine.layout);
   mo.end_mm = to_machine(target_mm, ctx.machine.layout);
@@ -205,6 +222,7 @@ bool emit_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target_mm, Source
 }
 
 bool emit_arc(BlockCtx& ctx, const Pos9& target_mm, const Pos9& centre_mm, bool ccw) {
+  if (!can_emit(ctx, target_mm, motion_loc(ctx))) return false;
   Motion mo = motion_template(ctx, MotionKind::Arc);
   mo.start_mm = to_machine(ctx.s.position_mm, ctx.machine.layout);
   mo.end_mm = to_machine(target_mm, ctx.machine.layout);

@@ -168,6 +168,28 @@ TEST_CASE("G81 and G83 expand as LinuxCNC: across, down to R, pecks, retract") {
   CHECK(m[14].end_mm[2] == Approx(10));  // G98: the initial level
 }
 
+TEST_CASE("a canned cycle's pecks and repeats are bounded, its R plane within range") {
+  // Found by fuzzing: G83 R1e22 (written out) Q3 went up to 1e22 mm, where depth - 3 == depth, and
+  // pecked forever, every peck held in the block.
+  const auto far =
+      diagnose("G21 G90 G0 X0 Y0 Z10\nG83 X1 Z-1 R10000000000000000000000 Q3 F100\nM2\n");
+  REQUIRE(!far.empty());
+  CHECK(far[0].code == static_cast<int>(ErrorCode::ValueOutOfRange));
+  CHECK(far[0].loc.line == 2);
+  CHECK(far[0].message == "Z would move to 1e+22 mm, outside -1e+12..1e+12 mm");
+  // 10 mm in pecks of 0.0001 mm: three moves a peck, 300,000 moves in one block.
+  const auto fine = diagnose("G21 G90 G0 X0 Y0 Z10\nG83 X1 Z-10 R1 Q0.0001 F100\nM2\n");
+  REQUIRE(!fine.empty());
+  CHECK(fine[0].code == static_cast<int>(ErrorCode::ValueOutOfRange));
+  CHECK(fine[0].message == "the block expands to more than 100000 moves (repeats, pecks)");
+  // 1,000,000 repeats of a drilling cycle (three moves each): refused the same way.
+  const auto many = diagnose("G21 G90 G0 X0 Y0 Z10\nG91 G81 X0.001 Z-1 R-9 L1000000 F100\nM2\n");
+  REQUIRE(!many.empty());
+  CHECK(many[0].message == "the block expands to more than 100000 moves (repeats, pecks)");
+  // 10 mm in pecks of 0.001 mm (30,000 moves): still runs.
+  CHECK(motions("G21 G90 G0 X0 Y0 Z10\nG83 X1 Z-10 R1 Q0.001 F100\nM2\n").size() > 30000);
+}
+
 TEST_CASE("system parameters: G28/G30, G92, coordinate systems and tool data in mm") {
   // Hand-worked: G55 = (10, 20, -5); the point G55 (1, 2, 3) is machine (11, 22, -2); G92 X0 Y0
   // there makes the G92 offsets (1, 2); the spindle's tool is T1 (Z50 D6 in the default table).
