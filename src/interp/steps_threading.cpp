@@ -134,7 +134,14 @@ bool run_threading(BlockCtx& ctx, const Code& c) {
   const int flags = std::max(0, static_cast<int>(w.get('L')));
   t.entry_taper = (flags & 1) != 0;
   t.exit_taper = (flags & 2) != 0;
-  t.spring_passes = w.has('H') ? static_cast<int>(w.get('H')) : 0;
+  if (w.has('H')) {  // spring passes: a whole number (rs274: "Non integer value for integer")
+    double h = 0;
+    if (!near_integer(w.get('H'), h) || h > kMaxPasses)
+      return ctx.fail(ErrorCode::CycleMisused, w['H']->loc,
+                      fmt::format("G76 H{:g}: the spring passes must be a whole number up to {}",
+                                  w.get('H'), kMaxPasses));
+    t.spring_passes = static_cast<int>(h);
+  }
   t.end_z = end_z + t.height * t.tan_angle;
 
   ThreadRun run{ctx, t, ctx.s.position_mm};

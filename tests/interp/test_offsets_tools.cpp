@@ -168,7 +168,7 @@ TEST_CASE("G81 and G83 expand as LinuxCNC: across, down to R, pecks, retract") {
   CHECK(m[14].end_mm[2] == Approx(10));  // G98: the initial level
 }
 
-TEST_CASE("a canned cycle's pecks and repeats are bounded, its R plane within range") {
+TEST_CASE("canned cycles and G76 are bounded: moves a block, the R plane, spring passes") {
   // Found by fuzzing: G83 R1e22 (written out) Q3 went up to 1e22 mm, where depth - 3 == depth, and
   // pecked forever, every peck held in the block.
   const auto far =
@@ -186,6 +186,17 @@ TEST_CASE("a canned cycle's pecks and repeats are bounded, its R plane within ra
   const auto many = diagnose("G21 G90 G0 X0 Y0 Z10\nG91 G81 X0.001 Z-1 R-9 L1000000 F100\nM2\n");
   REQUIRE(!many.empty());
   CHECK(many[0].message == "the block expands to more than 100000 moves (repeats, pecks)");
+  // G76's spring passes H: a whole number, as rs274 ("Non integer value for integer"), and at
+  // most 10,000 (H1e29 was cast to int unchecked).
+  const std::string g76 = "G21 G18 G90\nG0 X12 Z2\nM3 S500\nG76 P2 Z-20 I-1 J0.4 K1.2 H";
+  for (const char* h : {"1.5", "100000000000000000000000000000"}) {
+    const auto d = diagnose(g76 + h + "\nM2\n");
+    REQUIRE(!d.empty());
+    CHECK(d[0].loc.column == 27);
+    CHECK_THAT(d[0].message, Catch::Contains("the spring passes must be a whole number up to"));
+  }
+  // Two spring passes: four moves each (in, along, out, back), as rs274 -g cuts them.
+  CHECK(motions(g76 + "2\nM2\n").size() == motions(g76 + "0\nM2\n").size() + 8);
   // 10 mm in pecks of 0.001 mm (30,000 moves): still runs.
   CHECK(motions("G21 G90 G0 X0 Y0 Z10\nG83 X1 Z-10 R1 Q0.001 F100\nM2\n").size() > 30000);
 }
