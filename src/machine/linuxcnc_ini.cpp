@@ -30,6 +30,17 @@ constexpr int kMaxIncludeDepth = 8;
 constexpr int kMaxFilesRead = 256;
 constexpr std::uintmax_t kMaxBytesRead = std::uintmax_t{64} << 20;  // 64 MiB
 
+// Whether a path names a regular file or a folder; false, never an exception, for a name the
+// system refuses (too long, a loop of links).
+bool is_file(const fs::path& p) {
+  std::error_code ec;
+  return fs::is_regular_file(p, ec);
+}
+bool is_folder(const fs::path& p) {
+  std::error_code ec;
+  return fs::is_directory(p, ec);
+}
+
 /// One `KEY = VALUE` line and where it was.
 struct IniValue {
   std::string value;
@@ -68,7 +79,7 @@ class IniFile {
           inc = fs::path(std::getenv("HOME")) / name.substr(2);
         else if (inc.is_relative())
           inc = ini_dir / inc;
-        if (name.empty() || !fs::is_regular_file(inc)) {
+        if (name.empty() || !is_file(inc)) {
           unreadable_includes.push_back(
               fmt::format("{}:{}: #INCLUDE {}: no such file", path.string(), n, name));
           continue;
@@ -319,7 +330,7 @@ IniImport load_linuxcnc_ini(const std::filesystem::path& path) {
 
   if (const IniValue* t = ini.find("EMCIO", "TOOL_TABLE")) {
     const std::string file = beside(t->value);
-    if (!fs::is_regular_file(file))
+    if (!is_file(file))
       throw InputError(
           fmt::format("{}:{}: [EMCIO]TOOL_TABLE: cannot read {}", t->file, t->line, file));
     m.tool_table = load_tool_table(file);
@@ -333,13 +344,13 @@ IniImport load_linuxcnc_ini(const std::filesystem::path& path) {
   if (const IniValue* s = ini.find("RS274NGC", "SUBROUTINE_PATH"))
     for (const std::string& d : SubroutinePath::split(s->value)) {
       m.subroutine_path.push_back(beside(d));
-      if (!fs::is_directory(m.subroutine_path.back()))
+      if (!is_folder(m.subroutine_path.back()))
         warn.push_back(fmt::format("[RS274NGC]SUBROUTINE_PATH: {} is not a directory",
                                    m.subroutine_path.back()));
     }
   if (const IniValue* p = ini.find("RS274NGC", "PARAMETER_FILE")) {
     const std::string file = beside(p->value);
-    if (fs::is_regular_file(file))
+    if (is_file(file))
       m.parameter_file = file;
     else
       warn.push_back(fmt::format("[RS274NGC]PARAMETER_FILE: {} does not exist; not used", file));

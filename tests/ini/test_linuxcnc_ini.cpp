@@ -301,6 +301,14 @@ TEST_CASE("ini: #INCLUDE fan-out ends after 256 files read, not 10^8") {
   write(d / "none.ini", "[TRAJ]\nCOORDINATES = \n");
   CHECK_THROWS_WITH(gm::load_linuxcnc_ini(d / "none.ini"),
                     Catch::Contains("none.ini:2: [TRAJ]COORDINATES: names no axis"));
+  // Found by fuzz_ini: an #INCLUDE name longer than the system allows made is_regular_file
+  // throw, and the exception ended gmotion (std::terminate). Now it is a missing include.
+  write(d / "long.ini",
+        "#INCLUDE " + std::string(5000, 'x') + ".inc\n[EMCMOT]\nSERVO_PERIOD = 1000000\n");
+  const gm::IniImport imp = gm::load_linuxcnc_ini(d / "long.ini");
+  CHECK(imp.machine.period_s == 0.001);
+  CHECK_THAT(imp.warnings.at(0), Catch::Contains("long.ini:1: #INCLUDE xxx"));
+  CHECK_THAT(imp.warnings.at(0), Catch::EndsWith(".inc: no such file (skipped)"));
   // A file including itself meets the depth limit first.
   write(d / "once.ini", "#INCLUDE once.ini\n");
   CHECK_THROWS_WITH(gm::load_linuxcnc_ini(d / "once.ini"),
