@@ -11,6 +11,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -48,21 +49,29 @@ void require_same(const std::string& text) {
   }
 }
 
-}  // namespace
-
-TEST_CASE("parallel check equals serial check on the bundled and bad programs") {
+// Every .nc of programs/ and tests/bad/: its path and its text.
+std::vector<std::pair<std::string, std::string>> bundled_programs() {
   namespace fs = std::filesystem;
-  int files = 0;
-  for (const char* sub : {"../programs", "bad"}) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const char* sub : {"../programs", "bad"})
     for (const auto& e : fs::directory_iterator(fs::path(GMOTION_TESTS_DIR) / sub)) {
       if (e.path().extension() != ".nc") continue;
       std::ifstream f(e.path(), std::ios::binary);
       std::stringstream ss;
       ss << f.rdbuf();
-      INFO(e.path().string());
-      require_same(ss.str());
-      ++files;
+      out.emplace_back(e.path().string(), ss.str());
     }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("parallel check equals serial check on the bundled and bad programs") {
+  int files = 0;
+  for (const auto& [path, text] : bundled_programs()) {
+    INFO(path);
+    require_same(text);
+    ++files;
   }
   CHECK(files >= 30);
 }
@@ -118,27 +127,20 @@ TEST_CASE("parallel check handles an empty program and a program of one huge lin
 }
 
 TEST_CASE("count_program_errors prints what check_program prints and counts its errors") {
-  namespace fs = std::filesystem;
   int files = 0, with_errors = 0;
-  for (const char* sub : {"../programs", "bad"}) {
-    for (const auto& e : fs::directory_iterator(fs::path(GMOTION_TESTS_DIR) / sub)) {
-      if (e.path().extension() != ".nc") continue;
-      std::ifstream f(e.path(), std::ios::binary);
-      std::stringstream ss;
-      ss << f.rdbuf();
-      INFO(e.path().string());
-      gm::Machine m;
-      std::istringstream in1(ss.str()), in2(ss.str());
-      std::ostringstream out1, out2;
-      const gm::CheckSummary s =
-          gm::check_program(in1, "p.nc", gm::InterpreterOptions{&m, false}, out1);
-      const int errors =
-          gm::count_program_errors(in2, "p.nc", gm::InterpreterOptions{&m, false}, out2);
-      REQUIRE(errors == s.errors);
-      REQUIRE(out2.str() == out1.str());
-      ++files;
-      if (errors > 0) ++with_errors;
-    }
+  for (const auto& [path, text] : bundled_programs()) {
+    INFO(path);
+    gm::Machine m;
+    std::istringstream in1(text), in2(text);
+    std::ostringstream out1, out2;
+    const gm::CheckSummary s =
+        gm::check_program(in1, "p.nc", gm::InterpreterOptions{&m, false}, out1);
+    const int errors =
+        gm::count_program_errors(in2, "p.nc", gm::InterpreterOptions{&m, false}, out2);
+    REQUIRE(errors == s.errors);
+    REQUIRE(out2.str() == out1.str());
+    ++files;
+    if (errors > 0) ++with_errors;
   }
   CHECK(files >= 30);
   CHECK(with_errors >= 10);  // the bad corpus: the diagnostics themselves are compared
