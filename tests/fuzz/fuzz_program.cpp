@@ -16,10 +16,19 @@
 
 namespace {
 
+// Loop iterations and calls one input may run (the interpreter's --max-iterations; a run's
+// default is 10^7). An input is at most 4,096 bytes (libFuzzer's length for these seeds), so at
+// most about 2,000 lines run per iteration, and check + stream run it twice (four times with
+// '/'): 1,000 iterations bound an input to a few million executed lines, well under a second
+// under the sanitizers. At the default, a `while` whose condition never changes ran 10^7
+// iterations: 5.8 s in a release build and past libFuzzer's 10 s limit under ASan+UBSan.
+constexpr std::int64_t kMaxIterations = 1'000;
+
 // Checks the program, then streams it: both must agree on whether it is valid and on the moves.
 void check_and_stream(const std::string& text, bool block_delete) {
   gm::InterpreterOptions opts;
   opts.block_delete = block_delete;
+  opts.max_iterations = kMaxIterations;
 
   std::istringstream check_in(text);
   std::vector<gm::Diagnostic> diags;
