@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Fuzzes the G-code program, override-schedule, machine-file and LinuxCNC INI readers with
-# libFuzzer, bounded.
+# Fuzzes the G-code program, override-schedule, machine-file and LinuxCNC INI readers, generated
+# programs through the interpreter and through the whole pipeline, with libFuzzer, bounded.
 # Usage: tools/fuzz.sh [SECONDS_PER_TARGET]   (default 60)
 # Installs what is missing (tools/install-deps.sh --with-fuzz), builds the four targets in the
 # 'asan' preset's folder (clang-14, ASan+UBSan, libFuzzer coverage; the same build the sanitized
@@ -22,7 +22,7 @@ tools/install-deps.sh --with-fuzz
 cmake --preset asan >/dev/null
 cmake --build --preset fuzz
 
-targets=(program override machine ini)
+targets=(program override machine ini gcode pipeline)
 declare -A globs=()
 while read -r target rest; do
   [[ -z "$target" || "$target" == \#* ]] && continue
@@ -46,8 +46,10 @@ for t in "${targets[@]}"; do
 
   start=$(date +%s)
   rc=0
+  dict=()  # the generator targets read choices, not text: no dictionary
+  [[ -f tests/fuzz/$t.dict ]] && dict=(-dict="tests/fuzz/$t.dict")
   "build-asan/bin/fuzz_$t" "$corpus" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 \
-    -dict="tests/fuzz/$t.dict" -artifact_prefix="$artifacts/" -print_final_stats=1 >"$log" 2>&1 || rc=$?
+    "${dict[@]}" -artifact_prefix="$artifacts/" -print_final_stats=1 >"$log" 2>&1 || rc=$?
   elapsed=$(($(date +%s) - start))
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n1)
   if [[ -z "$execs" ]]; then  # no final stats after a crash: the last status line has the count

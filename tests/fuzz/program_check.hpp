@@ -1,0 +1,80 @@
+// What a program fuzz target asserts: checked whole and then streamed, the two agree on whether
+// the program is valid and on its moves, and every move handed on is finite.
+#pragma once
+
+#include "common/diagnostic.hpp"
+#include "common/status.hpp"
+#include "interp/interpreter.hpp"
+#include "interp/program.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace fuzz {
+
+// Loop iterations and calls one input may run (the interpreter's --max-iterations; a run's
+// default is 10^7). An input is at most 4,096 bytes (libFuzzer's length for these seeds), so at
+// most about 2,000 lines run per iteration, and check + stream run it twice (four times with
+// '/'): 1,000 iterations bound an input to a few million executed lines, well under a second
+// under the sanitizers. At the default, a `while` whose condition never changes ran 10^7
+// iterations: 5.8 s in a release build and past libFuzzer's 10 s limit under ASan+UBSan.
+inline constexpr std::int64_t kMaxIterations = 1'000;
+
+// Checks the program, then streams it: both must agree on whether it is valid and on the moves.
+inline void check_and_stream(const std::string& text, bool block_delete,
+                             gm::Dialect dialect = gm::Dialect::LinuxCNC) {
+  gm::InterpreterOptions opts;
+  opts.block_delete = block_delete;
+  opts.max_iterations = kMaxIterations;
+  opts.dialect = dialect;
+
+  std::istringstream check_in(text);
+  std::vector<gm::Diagnostic> diags;
+  const gm::CheckSummary sum = gm::check_program_diagnostics(check_in, "fuzz.nc", opts, diags);
+  for (const gm::Diagnostic& d : diags) (void)gm::format_diagnostic("fuzz.nc", d);
+
+  std::istringstream stream_in(text);
+  gm::ProgramStream stream(stream_in, "fuzz.nc", opts);
+  gm::Canon canon;
+  std::int64_t moves = 0;
+  try {
+    while (stream.next(canon)) {
+      if (const auto* m = std::get_if<gm::Motion>(&canon)) {
+        ++moves;
+        // What the interpolator is handed must be finite (it converts positions to integers).
+        if (!m->start_mm.allFinite() || !m->end_mm.allFinite() || !m->center_mm.allFinite() ||
+            !std::isfinite(m->feed_mm_min) || !std::isfinite(m->inverse_time_s) ||
+            !std::isfinite(gm::motion_length_mm(*m))) {
+          std::fprintf(stderr, "fuzz: line %d: a motion with a non-finite value\n", m->line);
+          std::abort();
+        }
+      } else if (const auto* d = std::get_if<gm::Dwell>(&canon); d && !std::isfinite(d->seconds)) {
+        std::fprintf(stderr, "fuzz: line %d: a dwell of %g s\n", d->line, d->seconds);
+        std::abort();
+      }
+    }
+  } catch (const gm::InputError&) {
+    if (sum.errors == 0) {
+      std::fputs("fuzz: the stream threw on a program check_program accepted\n", stderr);
+      std::abort();
+    }
+    return;
+  }
+  if (sum.errors > 0) {
+    std::fputs("fuzz: the stream ran to its end through a program check_program refused\n", stderr);
+    std::abort();
+  }
+  if (moves != sum.moves) {
+    std::fprintf(stderr, "fuzz: check counted %lld moves, the stream gave %lld\n",
+                 static_cast<long long>(sum.moves), static_cast<long long>(moves));
+    std::abort();
+  }
+}
+
+}  // namespace fuzz
