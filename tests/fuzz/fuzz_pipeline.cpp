@@ -22,6 +22,12 @@ namespace {
 // filter of at most 80 taps and the servo, about 0.1 s under the sanitizers.
 constexpr double kMaxTime_s = 20.0;
 
+// The smallest tolerance the planner can hold: the interpolator and the filter output each round
+// by up to half a BLU per axis, so it keeps ‖BLU‖₂ (0.0017 mm on three 1 µm axes) out of every
+// tolerance, and a G64 P below twice that is planned as if it were twice that
+// (docs/tolerance.md): such a P is not a promise the run can keep.
+constexpr double kMinTolerance_mm = 0.004;
+
 [[noreturn]] void broken(const char* what, const std::string& program) {
   std::fprintf(stderr, "fuzz_pipeline: %s\n--- program ---\n%s", what, program.c_str());
   std::abort();
@@ -46,7 +52,7 @@ Setup choose_setup(fuzz::ByteReader& in) {
   m.tau_s = taps * m.period_s;
   if (m.profile.rfind("cascade", 0) == 0) m.tau_s = 14 * m.period_s;  // 5 + 5 + 6 - 2 taps
   s.servo = in.chance(60);
-  if (in.chance(50)) m.path_tolerance_mm = in.in(0.002, 0.2);
+  if (in.chance(50)) m.path_tolerance_mm = in.in(kMinTolerance_mm, 0.2);
   m.tolerance_on = in.chance(25) ? gm::ToleranceOn::Encoder : gm::ToleranceOn::AccDec;
   s.feed_override_pct = in.chance(70) ? 100.0 : in.in(10, 200);
   return s;
@@ -61,10 +67,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   gen.raw_lines = false;
   gen.max_statements = 16;
   gen.extent_mm = 10;
-  // One tolerance for the whole program, the machine's (G64 without P). A corner from a block
-  // without a tolerance into one with G64 P is not yet planned for the later block's tolerance
-  // (G1 X9.96 Y6.94 / G1 Y-3.648 / G64 P0.001 G1 X-6 Y-6 at F6000 leaves one sample at
-  // 131-212 % of P, docs/tolerance.md), so programs here carry no P of their own.
+  gen.min_tolerance_mm = kMinTolerance_mm;
+  // One tolerance for the whole program, the machine's (G64 without P): a corner between two
+  // blocks without a tolerance is not planned, yet when a block with G64 P starts within τ after
+  // it the corner's rounding is judged against that P (G0 X10 / G0 X10 Y1 / G64 P0.1 / G1 X20
+  // F3000: 548 % of P; docs/tolerance.md).
   gen.tolerances = false;
   const std::string program = fuzz::ProgramGen(in, gen).generate();
   if (std::getenv("GMOTION_FUZZ_PRINT")) std::fputs(program.c_str(), stderr);  // to replay by hand

@@ -41,8 +41,9 @@ struct GenOptions {
   bool machine = true;    ///< offsets, tools, cycles, cutter compensation, I/O codes
   bool raw_lines = true;  ///< now and then a line of the input's bytes as they are (errors)
   int max_statements = 60;
-  double extent_mm = 50;   ///< moves stay within about ±extent in X and Y
-  bool tolerances = true;  ///< G64 P… in the program (else only G61, G61.1 and plain G64)
+  double extent_mm = 50;            ///< moves stay within about ±extent in X and Y
+  double min_tolerance_mm = 0.001;  ///< the smallest G64 P written
+  bool tolerances = true;           ///< G64 P… in the program (else only G61, G61.1 and G64)
 };
 
 /// Writes a program (G21, G17, absolute) that the generator tracks the position of, so that its
@@ -201,21 +202,17 @@ class ProgramGen {
     move_to(x, y, z_);
   }
   void path_mode() {
+    static constexpr const char* kModes[] = {"G61", "G61.1", "G64"};
+    const double p = in_.in(opts_.min_tolerance_mm, 0.5);
     switch (opts_.tolerances ? in_.below(5) : 2 + in_.below(3)) {
       case 0:
-        out_ += fmt::format("G64 P{}\n", num(in_.in(0.001, 0.5)));
+        out_ += fmt::format("G64 P{}\n", num(p));
         break;
       case 1:
-        out_ += fmt::format("G64 P{} Q{}\n", num(in_.in(0.001, 0.5)), num(in_.in(0.001, 0.2)));
-        break;
-      case 2:
-        out_ += "G61\n";
-        break;
-      case 3:
-        out_ += "G61.1\n";
+        out_ += fmt::format("G64 P{} Q{}\n", num(p), num(in_.in(0.001, 0.2)));
         break;
       default:
-        out_ += "G64\n";
+        out_ += fmt::format("{}\n", kModes[in_.below(3)]);
         break;
     }
   }
