@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The square's corners with and without a contour tolerance (issue 21), for docs/tolerance.md.
+"""The square's corners with and without a contour tolerance (G64 P), for docs/tolerance.md.
 
   plot_tolerance.py LABEL=TRACE.csv [LABEL=TRACE.csv ...] --corner X,Y --zoom MM -o out.png
 

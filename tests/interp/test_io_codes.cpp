@@ -1,4 +1,4 @@
-// Spindle, coolant, tool and I/O codes as canonical events (issue 16): the sequence LinuxCNC's
+// Spindle, coolant, tool and I/O codes as canonical events: the sequence LinuxCNC's
 // interpreter gives, hand-worked; M0/M1 pauses; user M codes recorded only when their file exists.
 #include "gcode_helpers.hpp"
 

@@ -1,4 +1,4 @@
-// Up to nine axes (issue 17): the axis layout, LinuxCNC's feed rule with rotary axes, degrees in
+// Up to nine axes: the axis layout, LinuxCNC's feed rule with rotary axes, degrees in
 // G20, the missing-axis error, machine files with `axes.letters`, and extra axes that leave X, Y
 // and Z sample for sample as they were.
 #include "common/status.hpp"

@@ -1,4 +1,4 @@
-// The block engine (issue 20): a run advanced a block at a time, with the interpolator's spans,
+// The block engine: a run advanced a block at a time, with the interpolator's spans,
 // gives the same trace bytes and summary as the same run stepped one sample at a time, with and
 // without the consumer thread, through override schedules, holds and the stop rules.
 #include "common/status.hpp"

@@ -1,4 +1,4 @@
-// Corner and arc closed forms (issue 21) against hand-worked values and the real FIR filter.
+// Corner and arc closed forms against hand-worked values and the real FIR filter.
 #include "accdec/analysis.hpp"
 #include "accdec/fir_filter.hpp"
 #include "accdec/taps.hpp"
