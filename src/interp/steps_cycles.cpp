@@ -1,5 +1,6 @@
-// Canned cycles G73, G74, G81..G86, G89 with G98/G99, R, L, P, Q, incremental mode and every
-// plane, expanded into moves as LinuxCNC 2.9 expands them (interp_cycles.cc semantics).
+// Canned cycles G73, G74, G81..G89 with G98/G99, R, L, P, Q, incremental mode and every plane,
+// expanded into moves as LinuxCNC 2.9 expands them (interp_cycles.cc semantics). A cycle is one
+// row of kCycles (the words it needs, its spindle rule) and one body that drills one hole.
 #include "interp/steps.hpp"
 
 #include "common/units.hpp"
@@ -216,7 +217,7 @@ struct CycleRow {
 using SR = SpindleRule;
 constexpr CycleRow kCycles[] = {
     // clang-format off
-    // code P      Q      I J K  spindle               body
+    // G  P      Q      IJK    spindle               body
     {810, false, false, false, SR::Any,              cycle_g81},
     {730, false, true,  false, SR::Any,              cycle_g73},
     {740, false, false, false, SR::Counterclockwise, cycle_tap},
