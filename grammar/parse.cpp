@@ -117,6 +117,41 @@ const char* skip_unsupported(const char* pos, const char* end) {
   return pos;
 }
 
+// Appends the name written at [first, last) to out.names in lower case.
+void add_name(Block& out, const char* begin, int first, int last, std::uint32_t& name,
+              std::uint32_t& size) {
+  name = static_cast<std::uint32_t>(out.names.size());
+  size = static_cast<std::uint32_t>(last - first);
+  for (int k = first; k < last; ++k) {
+    char ch = begin[k];
+    if (ch >= 'A' && ch <= 'Z') ch = static_cast<char>(ch - 'A' + 'a');
+    out.names.push_back(ch);
+  }
+}
+
+// The O-word keyword `word` (upper case), or None.
+OKind oword_keyword(std::string_view word) {
+  static constexpr std::pair<std::string_view, OKind> kKeywords[] = {
+      {"SUB", OKind::Sub},
+      {"ENDSUB", OKind::EndSub},
+      {"CALL", OKind::Call},
+      {"RETURN", OKind::Return},
+      {"IF", OKind::If},
+      {"ELSEIF", OKind::ElseIf},
+      {"ELSE", OKind::Else},
+      {"ENDIF", OKind::EndIf},
+      {"WHILE", OKind::While},
+      {"ENDWHILE", OKind::EndWhile},
+      {"DO", OKind::Do},
+      {"REPEAT", OKind::Repeat},
+      {"ENDREPEAT", OKind::EndRepeat},
+      {"BREAK", OKind::Break},
+      {"CONTINUE", OKind::Continue}};
+  for (const auto& [name, kind] : kKeywords)
+    if (word == name) return kind;
+  return OKind::None;
+}
+
 }  // namespace
 
 const char* okind_name(OKind k) {
@@ -162,24 +197,7 @@ bool BlockParser::parse_oword(Block& out, std::string_view compact, std::size_t 
   const std::size_t kw = p;
   while (p < compact.size() && compact[p] >= 'A' && compact[p] <= 'Z') ++p;
   const std::string_view word = compact.substr(kw, p - kw);
-  static constexpr std::pair<std::string_view, OKind> kKeywords[] = {
-      {"SUB", OKind::Sub},
-      {"ENDSUB", OKind::EndSub},
-      {"CALL", OKind::Call},
-      {"RETURN", OKind::Return},
-      {"IF", OKind::If},
-      {"ELSEIF", OKind::ElseIf},
-      {"ELSE", OKind::Else},
-      {"ENDIF", OKind::EndIf},
-      {"WHILE", OKind::While},
-      {"ENDWHILE", OKind::EndWhile},
-      {"DO", OKind::Do},
-      {"REPEAT", OKind::Repeat},
-      {"ENDREPEAT", OKind::EndRepeat},
-      {"BREAK", OKind::Break},
-      {"CONTINUE", OKind::Continue}};
-  for (const auto& [name, kind] : kKeywords)
-    if (word == name) o.kind = kind;
+  o.kind = oword_keyword(word);
   if (o.kind == OKind::None && word.empty() &&
       (p == compact.size() || compact[p] == '(' || compact[p] == ';')) {
     o.kind = OKind::Program;  // `O1234 (title)`: LinuxCNC's Fanuc-style program number
@@ -214,9 +232,27 @@ void BlockParser::add_error(Block& out, ErrorCode code, int offset, std::string 
   out.errors.push_back(SyntaxError{code, SourceLoc{line_, col}, std::move(message)});
 }
 
+// The phases of a line, in order. Each phase on the path of every line is always inlined: the
+// phases are named for the reader, and the parse of a line stays one function for the compiler
+// (the hot loop of a check; separate calls cost 2 % of a check's instructions).
 void BlockParser::parse(std::string_view text, int line, Block& out) {
   line_ = line;
-  out.line = line;
+  clear_block(out);
+  if (!text.empty() && text.back() == '\r') text.remove_suffix(1);
+  const std::string_view compact = compact_line(text);
+  std::size_t start = 0;
+  if (!read_line_start(out, compact, start)) return;
+  read_items(out, compact, start);
+  convert(out, compact.data());
+  active_comment(out, compact.data());
+}
+
+[[gnu::always_inline]] inline SourceLoc BlockParser::loc_at(int offset) const {
+  return SourceLoc{line_, columns_[static_cast<std::size_t>(offset)]};
+}
+
+[[gnu::always_inline]] inline void BlockParser::clear_block(Block& out) const {
+  out.line = line_;
   out.block_delete = false;
   out.percent = false;
   out.words.clear();
@@ -229,12 +265,13 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
   out.oword.kind = OKind::None;
   out.oword.args.clear();
   out.errors.clear();
-  if (!text.empty() && text.back() == '\r') text.remove_suffix(1);
+}
 
-  // 1. Compact: drop spaces/tabs outside comments, upper-case letters outside comments.
-  // Written through pointers into buffers sized once for the line (the hot loop of a check).
-  // The buffers only grow (a resize down and up again would zero-fill them on every line).
-  // kCompactSlack to spare: the plain lines' compaction stores 16 characters at a time.
+// 1. Compact: drop spaces/tabs outside comments, upper-case letters outside comments.
+// Written through pointers into buffers sized once for the line (the hot loop of a check).
+// The buffers only grow (a resize down and up again would zero-fill them on every line).
+// kCompactSlack to spare: the plain lines' compaction stores 16 characters at a time.
+[[gnu::always_inline]] inline std::string_view BlockParser::compact_line(std::string_view text) {
   if (compact_.size() < text.size() + kCompactSlack) compact_.resize(text.size() + kCompactSlack);
   if (columns_.size() < text.size() + 1 + kCompactSlack)
     columns_.resize(text.size() + 1 + kCompactSlack);
@@ -258,9 +295,16 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
     *colp++ = static_cast<int>(i) + 1;
   }
   *colp++ = static_cast<int>(text.size()) + 1;  // end-of-line position
-  const std::string_view compact(compact_.data(), static_cast<std::size_t>(cp - compact_.data()));
+  return std::string_view(compact_.data(), static_cast<std::size_t>(cp - compact_.data()));
+}
 
-  std::size_t start = 0;
+// The line's start: '/' (block delete), '%', then, after an optional N word, an O-word line
+// `O<label> keyword [args]` (comments may follow) or M98/M99 first on the line. `start` is
+// where the items begin. False when the O-word is malformed: the line is not parsed further.
+[[gnu::always_inline]] inline bool BlockParser::read_line_start(Block& out,
+                                                                std::string_view compact,
+                                                                std::size_t& start) {
+  start = 0;
   if (!compact.empty() && compact[0] == '/') {
     out.block_delete = true;
     start = 1;
@@ -269,137 +313,55 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
     out.percent = true;
     ++start;
   }
+  ast_.reset(compact.data());
+  std::size_t k = start;
+  if (k < compact.size() && compact[k] == 'N')
+    for (++k; k < compact.size() && ((compact[k] >= '0' && compact[k] <= '9') || compact[k] == '.');
+         ++k) {
+    }
+  if (k < compact.size() && compact[k] == 'O') {
+    std::size_t after = 0;
+    if (!parse_oword(out, compact, k, after)) return false;
+    start = after;
+  } else if (k + 2 < compact.size() && compact[k] == 'M') {
+    read_flow_m_code(out, compact, k);
+  }
+  return true;
+}
 
-  // O-word lines: `O<label> keyword [args]` (comments may follow).
+// M98/M99 first on the line are control flow (LinuxCNC read_o): M0098 too.
+void BlockParser::read_flow_m_code(Block& out, std::string_view compact, std::size_t k) {
+  std::size_t d = k + 1;
+  while (d < compact.size() && compact[d] == '0') ++d;
+  if (d + 1 < compact.size() && compact[d] == '9' &&
+      (compact[d + 1] == '8' || compact[d + 1] == '9') &&
+      (d + 2 == compact.size() ||
+       !((compact[d + 2] >= '0' && compact[d + 2] <= '9') || compact[d + 2] == '.'))) {
+    out.oword.kind = compact[d + 1] == '8' ? OKind::M98 : OKind::M99;
+    out.oword.loc = SourceLoc{line_, columns_[k]};
+    out.oword.named = false;
+    out.oword.label.clear();
+  }
+}
+
+// 2. Parse items, resynchronising after each error at the next letter, '(' or ';'.
+[[gnu::always_inline]] inline void BlockParser::read_items(Block& out, std::string_view compact,
+                                                           std::size_t start) {
   const char* const begin = compact.data();
   const char* const end = begin + compact.size();
-  ast_.reset(begin);
-  {
-    std::size_t k = start;
-    if (k < compact.size() && compact[k] == 'N')
-      for (++k;
-           k < compact.size() && ((compact[k] >= '0' && compact[k] <= '9') || compact[k] == '.');
-           ++k) {
-      }
-    if (k < compact.size() && compact[k] == 'O') {
-      std::size_t after = 0;
-      if (!parse_oword(out, compact, k, after)) return;
-      start = after;
-    } else if (k + 2 < compact.size() && compact[k] == 'M') {
-      // M98/M99 first on the line are control flow (LinuxCNC read_o): M0098 too.
-      std::size_t d = k + 1;
-      while (d < compact.size() && compact[d] == '0') ++d;
-      if (d + 1 < compact.size() && compact[d] == '9' &&
-          (compact[d + 1] == '8' || compact[d + 1] == '9') &&
-          (d + 2 == compact.size() ||
-           !((compact[d + 2] >= '0' && compact[d + 2] <= '9') || compact[d + 2] == '.'))) {
-        out.oword.kind = compact[d + 1] == '8' ? OKind::M98 : OKind::M99;
-        out.oword.loc = SourceLoc{line_, columns_[k]};
-        out.oword.named = false;
-        out.oword.label.clear();
-      }
-    }
-  }
-
-  // 2. Parse items, resynchronising after each error at the next letter, '(' or ';'.
   const char* pos = begin + start;
   while (pos != end && out.errors.size() < kMaxErrorsPerLine) {
     ItemFailure fail;
     const char* item_start = pos;
     if (parse_items(pos, end, ast_, fail)) {
       if (pos == end) break;
-      const char c = *pos;
-      const int off = static_cast<int>(pos - begin);
-      if (c == '[')
-        add_error(out, ErrorCode::NumberWithoutLetter, off,
-                  "expression without a word letter in front");
-      else if ((c >= '0' && c <= '9') || c == '.' || c == '+' || c == '-')
-        add_error(out, ErrorCode::NumberWithoutLetter, off,
-                  "number without a word letter in front");
-      else if (c == ')')
-        add_error(out, ErrorCode::UnexpectedCharacter, off, "')' without a matching '('");
-      else
-        add_error(out, ErrorCode::UnexpectedCharacter, off,
-                  "unexpected character " + describe_char(c));
+      report_stray_character(out, begin, pos);
       pos = skip_unsupported(pos, end);
+    } else if (ast_.open == ast::Open::Word || ast_.open == ast::Open::Assign) {
+      pos = drop_failed_item(out, begin, end, fail);
     } else {
-      const int off = static_cast<int>(fail.where - begin);
-      const char at = fail.where == end ? '\0' : *fail.where;
-      const std::string found = fail.where == end ? "" : ", found " + describe_char(at);
-      const ast::Open open = ast_.open;
-      if (open == ast::Open::Word || open == ast::Open::Assign) {
-        // Drop the unfinished item and whatever of its expression was emitted.
-        char letter = '#';
-        int item_pos = 0;
-        if (open == ast::Open::Word) {
-          letter = ast_.words[ast_.word_count - 1].letter;
-          item_pos = ast_.words[ast_.word_count - 1].id_first;
-          --ast_.word_count;
-        } else {
-          item_pos = ast_.assigns.back().pos;
-          ast_.assigns.pop_back();
-        }
-        ast_.ops.resize(ast_.open_ops);
-        ast_.open = ast::Open::None;
-        // Resume after the brackets the item opened, so their contents make no further errors.
-        int depth = 0;
-        for (const char* q = begin + item_pos; q < fail.where; ++q)
-          depth += (*q == '[') - (*q == ']');
-        switch (fail.code) {
-          case ErrorCode::ExpectedNumber:
-            if (letter == 'O') {
-              add_error(out, ErrorCode::OWordsUnsupported, item_pos, "O-words are not supported");
-            } else if (at >= 'A' && at <= 'Z') {
-              // Letters then '[' name a function: say which name is unknown.
-              const char* q = fail.where;
-              while (q != end && *q >= 'A' && *q <= 'Z') ++q;
-              if (q != end && *q == '[')
-                add_error(out, ErrorCode::UnknownOperator, off,
-                          "unknown function '" + std::string(fail.where, q) + "'");
-              else
-                add_error(out, ErrorCode::ExpectedNumber, off,
-                          std::string("expected a number after '") + letter + "'" + found);
-            } else
-              add_error(out, ErrorCode::ExpectedNumber, off,
-                        std::string("expected a number after '") + letter + "'" + found);
-            break;
-          case ErrorCode::UnclosedBracket:
-            add_error(out, ErrorCode::UnclosedBracket, off,
-                      "expected ']' to close the expression" + found);
-            break;
-          case ErrorCode::UnknownOperator: {
-            const char* q = fail.where;
-            while (q != end && *q >= 'A' && *q <= 'Z') ++q;
-            add_error(out, ErrorCode::UnknownOperator, off,
-                      "unknown function or operator '" + std::string(fail.where, q) + "'");
-            break;
-          }
-          case ErrorCode::BadParameterName:
-            add_error(out, ErrorCode::BadParameterName, off,
-                      at == '\0' || at != '>' ? "named parameter not closed: expected '>'"
-                                              : "empty parameter name");
-            break;
-          case ErrorCode::ExpectedEquals:
-            add_error(out, ErrorCode::ExpectedEquals, off,
-                      "expected '=' in the parameter setting" + found);
-            break;
-          default:
-            add_error(out, ErrorCode::BadExpression, off,
-                      "expected a number, #parameter, [expression] or function" + found);
-            break;
-        }
-        pos = fail.where;
-        for (; pos != end && depth > 0; ++pos) depth -= (*pos == ']') - (*pos == '[');
-      } else {
-        const int open_paren = ast_.comments[ast_.comment_count - 1].id_first;
-        --ast_.comment_count;
-        ast_.open = ast::Open::None;
-        if (fail.code == ErrorCode::NestedComment)
-          add_error(out, ErrorCode::NestedComment, off, "nested comment: '(' inside a comment");
-        else
-          add_error(out, ErrorCode::UnclosedComment, open_paren, "comment not closed: missing ')'");
-        break;  // the rest of the line is comment text of unknown extent
-      }
+      drop_open_comment(out, begin, fail);
+      break;  // the rest of the line is comment text of unknown extent
     }
     // Resynchronise: next item start after the failure point.
     if (pos == item_start || (pos != end && !starts_item(*pos))) ++pos;
@@ -411,20 +373,122 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
     const int at = ast_.word_count > 0 ? ast_.words[0].id_first : ast_.assigns[0].pos;
     add_error(out, ErrorCode::BadOWord, at, "nothing but comments may follow an O-word");
   }
+}
 
-  // 3. Convert the expressions (one ExprOp per ast op, same indices), then the words.
-  const auto loc_at = [&](int offset) {
-    return SourceLoc{line, columns_[static_cast<std::size_t>(offset)]};
-  };
-  const auto add_name = [&](int first, int last, std::uint32_t& name, std::uint32_t& size) {
-    name = static_cast<std::uint32_t>(out.names.size());
-    size = static_cast<std::uint32_t>(last - first);
-    for (int k = first; k < last; ++k) {
-      char ch = begin[k];
-      if (ch >= 'A' && ch <= 'Z') ch = static_cast<char>(ch - 'A' + 'a');
-      out.names.push_back(ch);
+// The items parsed up to `pos`, where a character no item starts with stands.
+void BlockParser::report_stray_character(Block& out, const char* begin, const char* pos) {
+  const char c = *pos;
+  const int off = static_cast<int>(pos - begin);
+  if (c == '[')
+    add_error(out, ErrorCode::NumberWithoutLetter, off,
+              "expression without a word letter in front");
+  else if ((c >= '0' && c <= '9') || c == '.' || c == '+' || c == '-')
+    add_error(out, ErrorCode::NumberWithoutLetter, off, "number without a word letter in front");
+  else if (c == ')')
+    add_error(out, ErrorCode::UnexpectedCharacter, off, "')' without a matching '('");
+  else
+    add_error(out, ErrorCode::UnexpectedCharacter, off, "unexpected character " + describe_char(c));
+}
+
+// A word or parameter setting failed: drops the unfinished item and whatever of its expression
+// was emitted, reports why, and returns where to resume: after the brackets the item opened,
+// so their contents make no further errors.
+const char* BlockParser::drop_failed_item(Block& out, const char* begin, const char* end,
+                                          const ItemFailure& fail) {
+  char letter = '#';
+  int item_pos = 0;
+  if (ast_.open == ast::Open::Word) {
+    letter = ast_.words[ast_.word_count - 1].letter;
+    item_pos = ast_.words[ast_.word_count - 1].id_first;
+    --ast_.word_count;
+  } else {
+    item_pos = ast_.assigns.back().pos;
+    ast_.assigns.pop_back();
+  }
+  ast_.ops.resize(ast_.open_ops);
+  ast_.open = ast::Open::None;
+  int depth = 0;
+  for (const char* q = begin + item_pos; q < fail.where; ++q) depth += (*q == '[') - (*q == ']');
+  report_item_failure(out, begin, end, fail, letter, item_pos);
+  const char* pos = fail.where;
+  for (; pos != end && depth > 0; ++pos) depth -= (*pos == ']') - (*pos == '[');
+  return pos;
+}
+
+// The message for a failed word (`letter`, written at `item_pos`) or parameter setting ('#').
+void BlockParser::report_item_failure(Block& out, const char* begin, const char* end,
+                                      const ItemFailure& fail, char letter, int item_pos) {
+  const int off = static_cast<int>(fail.where - begin);
+  const char at = fail.where == end ? '\0' : *fail.where;
+  const std::string found = fail.where == end ? "" : ", found " + describe_char(at);
+  switch (fail.code) {
+    case ErrorCode::ExpectedNumber:
+      if (letter == 'O') {
+        add_error(out, ErrorCode::OWordsUnsupported, item_pos, "O-words are not supported");
+      } else if (at >= 'A' && at <= 'Z') {
+        // Letters then '[' name a function: say which name is unknown.
+        const char* q = fail.where;
+        while (q != end && *q >= 'A' && *q <= 'Z') ++q;
+        if (q != end && *q == '[')
+          add_error(out, ErrorCode::UnknownOperator, off,
+                    "unknown function '" + std::string(fail.where, q) + "'");
+        else
+          add_error(out, ErrorCode::ExpectedNumber, off,
+                    std::string("expected a number after '") + letter + "'" + found);
+      } else
+        add_error(out, ErrorCode::ExpectedNumber, off,
+                  std::string("expected a number after '") + letter + "'" + found);
+      break;
+    case ErrorCode::UnclosedBracket:
+      add_error(out, ErrorCode::UnclosedBracket, off,
+                "expected ']' to close the expression" + found);
+      break;
+    case ErrorCode::UnknownOperator: {
+      const char* q = fail.where;
+      while (q != end && *q >= 'A' && *q <= 'Z') ++q;
+      add_error(out, ErrorCode::UnknownOperator, off,
+                "unknown function or operator '" + std::string(fail.where, q) + "'");
+      break;
     }
-  };
+    case ErrorCode::BadParameterName:
+      add_error(out, ErrorCode::BadParameterName, off,
+                at == '\0' || at != '>' ? "named parameter not closed: expected '>'"
+                                        : "empty parameter name");
+      break;
+    case ErrorCode::ExpectedEquals:
+      add_error(out, ErrorCode::ExpectedEquals, off,
+                "expected '=' in the parameter setting" + found);
+      break;
+    default:
+      add_error(out, ErrorCode::BadExpression, off,
+                "expected a number, #parameter, [expression] or function" + found);
+      break;
+  }
+}
+
+// A comment failed (nested or not closed): drops it and reports why.
+void BlockParser::drop_open_comment(Block& out, const char* begin, const ItemFailure& fail) {
+  const int off = static_cast<int>(fail.where - begin);
+  const int open_paren = ast_.comments[ast_.comment_count - 1].id_first;
+  --ast_.comment_count;
+  ast_.open = ast::Open::None;
+  if (fail.code == ErrorCode::NestedComment)
+    add_error(out, ErrorCode::NestedComment, off, "nested comment: '(' inside a comment");
+  else
+    add_error(out, ErrorCode::UnclosedComment, open_paren, "comment not closed: missing ')'");
+}
+
+// 3. Convert the expressions (one ExprOp per ast op, same indices), then the words; the errors
+// in column order.
+[[gnu::always_inline]] inline void BlockParser::convert(Block& out, const char* begin) {
+  convert_expressions(out, begin);
+  convert_words(out, begin);
+  std::stable_sort(
+      out.errors.begin(), out.errors.end(),
+      [](const SyntaxError& a, const SyntaxError& b) { return a.loc.column < b.loc.column; });
+}
+
+[[gnu::always_inline]] inline void BlockParser::convert_expressions(Block& out, const char* begin) {
   for (const ast::ExprOp& a : ast_.ops) {
     ExprOp& op = out.ops.emplace_back();
     op.op = a.op;
@@ -437,7 +501,7 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
         add_error(out, ErrorCode::NumberOutOfRange, a.first,
                   "number out of range: " + show_number(num));
     } else if (a.op == Op::Named || a.op == Op::Exists) {
-      add_name(a.first, a.last, op.name, op.name_size);
+      add_name(out, begin, a.first, a.last, op.name, op.name_size);
     }
   }
   for (const ast::Block::Arg& a : ast_.args)
@@ -447,15 +511,18 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
     Assignment& s = out.assignments.emplace_back();
     s.loc = loc_at(a.pos);
     s.named = a.name_first >= 0;
-    if (s.named) add_name(a.name_first, a.name_last, s.name, s.name_size);
+    if (s.named) add_name(out, begin, a.name_first, a.name_last, s.name, s.name_size);
     s.index = OpRange{static_cast<std::uint32_t>(a.index_first),
                       static_cast<std::uint32_t>(a.index_last)};
     s.value = OpRange{static_cast<std::uint32_t>(a.value_first),
                       static_cast<std::uint32_t>(a.value_last)};
   }
+}
+
+[[gnu::always_inline]] inline void BlockParser::convert_words(Block& out, const char* begin) {
   for (std::size_t i = 0; i < ast_.word_count; ++i) {
     const ast::Word& w = ast_.words[i];
-    const SourceLoc loc{line, columns_[static_cast<std::size_t>(w.id_first)]};
+    const SourceLoc loc = loc_at(w.id_first);
     if (w.letter == 'O') {
       add_error(out, ErrorCode::OWordsUnsupported, w.id_first, "O-words are not supported");
       continue;
@@ -484,43 +551,41 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
     }
     out.words.push_back(Word{w.letter, value, loc});
   }
-  std::stable_sort(
-      out.errors.begin(), out.errors.end(),
-      [](const SyntaxError& a, const SyntaxError& b) { return a.loc.column < b.loc.column; });
+}
 
-  // 4. The active comment: LinuxCNC acts on the last comment of a line only. MSG, DEBUG, PRINT,
-  // ABORT, LOG, LOGOPEN, LOGAPPEND (each with a comma) and LOGCLOSE, in either case.
-  if (ast_.comment_count > 0) {
-    const ast::Comment& c = ast_.comments[ast_.comment_count - 1];
-    std::string_view t(begin + c.text_first, static_cast<std::size_t>(c.text_last - c.text_first));
+// 4. The active comment: LinuxCNC acts on the last comment of a line only. MSG, DEBUG, PRINT,
+// ABORT, LOG, LOGOPEN, LOGAPPEND (each with a comma) and LOGCLOSE, in either case.
+[[gnu::always_inline]] inline void BlockParser::active_comment(Block& out, const char* begin) {
+  if (ast_.comment_count == 0) return;
+  const ast::Comment& c = ast_.comments[ast_.comment_count - 1];
+  std::string_view t(begin + c.text_first, static_cast<std::size_t>(c.text_last - c.text_first));
+  while (!t.empty() && (t.front() == ' ' || t.front() == '\t')) t.remove_prefix(1);
+  struct Keyword {
+    std::string_view word;
+    CommentKind kind;
+    bool display;
+  };
+  static constexpr Keyword kKeywords[] = {
+      {"MSG,", CommentKind::Msg, true},           {"DEBUG,", CommentKind::Debug, true},
+      {"PRINT,", CommentKind::Print, true},       {"ABORT,", CommentKind::Abort, false},
+      {"LOGOPEN,", CommentKind::LogOpen, false},  {"LOGAPPEND,", CommentKind::LogAppend, false},
+      {"LOGCLOSE", CommentKind::LogClose, false}, {"LOG,", CommentKind::Log, false}};
+  auto up = [](char ch) { return (ch >= 'a' && ch <= 'z') ? static_cast<char>(ch - 32) : ch; };
+  for (const Keyword& k : kKeywords) {
+    if (t.size() < k.word.size()) continue;
+    bool match = true;
+    for (std::size_t j = 0; j < k.word.size() && match; ++j) match = up(t[j]) == k.word[j];
+    if (!match) continue;
+    t.remove_prefix(k.word.size());
     while (!t.empty() && (t.front() == ' ' || t.front() == '\t')) t.remove_prefix(1);
-    struct Keyword {
-      std::string_view word;
-      CommentKind kind;
-      bool display;
-    };
-    static constexpr Keyword kKeywords[] = {
-        {"MSG,", CommentKind::Msg, true},           {"DEBUG,", CommentKind::Debug, true},
-        {"PRINT,", CommentKind::Print, true},       {"ABORT,", CommentKind::Abort, false},
-        {"LOGOPEN,", CommentKind::LogOpen, false},  {"LOGAPPEND,", CommentKind::LogAppend, false},
-        {"LOGCLOSE", CommentKind::LogClose, false}, {"LOG,", CommentKind::Log, false}};
-    auto up = [](char ch) { return (ch >= 'a' && ch <= 'z') ? static_cast<char>(ch - 32) : ch; };
-    for (const Keyword& k : kKeywords) {
-      if (t.size() < k.word.size()) continue;
-      bool match = true;
-      for (std::size_t j = 0; j < k.word.size() && match; ++j) match = up(t[j]) == k.word[j];
-      if (!match) continue;
-      t.remove_prefix(k.word.size());
-      while (!t.empty() && (t.front() == ' ' || t.front() == '\t')) t.remove_prefix(1);
-      std::vector<Message>& list = k.display ? out.messages : out.directives;
-      std::size_t& count = k.display ? out.message_count : out.directive_count;
-      if (count == list.size()) list.emplace_back();
-      Message& m = list[count++];
-      m.text.assign(t);
-      m.loc = SourceLoc{line, columns_[static_cast<std::size_t>(c.id_first)]};
-      m.kind = k.kind;
-      break;
-    }
+    std::vector<Message>& list = k.display ? out.messages : out.directives;
+    std::size_t& count = k.display ? out.message_count : out.directive_count;
+    if (count == list.size()) list.emplace_back();
+    Message& m = list[count++];
+    m.text.assign(t);
+    m.loc = loc_at(c.id_first);
+    m.kind = k.kind;
+    break;
   }
 }
 

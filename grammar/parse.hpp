@@ -14,6 +14,8 @@
 
 namespace gm::grammar {
 
+struct ItemFailure;
+
 /// One word with its value; `letter` is upper case, `loc` is the letter's line:column.
 struct Word {
   char letter = 0;
@@ -158,8 +160,26 @@ class BlockParser {
   void parse(std::string_view text, int line, Block& out);
 
  private:
-  void add_error(Block& out, ErrorCode code, int offset, std::string message);
+  // The phases of parse, in order: clear, compact, line start (O-word), items, convert, comment.
+  void clear_block(Block& out) const;
+  std::string_view compact_line(std::string_view text);
+  bool read_line_start(Block& out, std::string_view compact, std::size_t& start);
+  void read_flow_m_code(Block& out, std::string_view compact, std::size_t k);
   bool parse_oword(Block& out, std::string_view compact, std::size_t k, std::size_t& after);
+  void read_items(Block& out, std::string_view compact, std::size_t start);
+  void report_stray_character(Block& out, const char* begin, const char* pos);
+  const char* drop_failed_item(Block& out, const char* begin, const char* end,
+                               const ItemFailure& fail);
+  void report_item_failure(Block& out, const char* begin, const char* end, const ItemFailure& fail,
+                           char letter, int item_pos);
+  void drop_open_comment(Block& out, const char* begin, const ItemFailure& fail);
+  void convert(Block& out, const char* begin);
+  void convert_expressions(Block& out, const char* begin);
+  void convert_words(Block& out, const char* begin);
+  void active_comment(Block& out, const char* begin);
+
+  SourceLoc loc_at(int offset) const;  ///< the line and source column of compact_[offset]
+  void add_error(Block& out, ErrorCode code, int offset, std::string message);
   std::string compact_;       ///< the line without spaces/tabs outside comments, letters upper
   std::vector<int> columns_;  ///< 1-based source column of each compact_ character (+1 sentinel)
   ast::Block ast_;

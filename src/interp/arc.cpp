@@ -24,53 +24,106 @@ constexpr double kGrblMinMm = 0.005, kGrblMaxMm = 0.5, kGrblRel = 0.001;
 // g2core plan_arc.h (mm): ARC_RADIUS_ERROR_MAX 1.0, ARC_RADIUS_ERROR_MIN 0.005, TOLERANCE 0.001.
 constexpr double kG2MinMm = 0.005, kG2MaxMm = 1.0, kG2Rel = 0.001;
 
+// An R-form arc: its centre on the perpendicular bisector of the chord, or the error when R
+// cannot reach the end point.
+ArcResult r_form_arc(const ArcInput& in, double radius_tol, const char* unit) {
+  ArcResult res;
+  if (in.end_a == in.start_a && in.end_b == in.start_b) {
+    res.error = ErrorCode::ArcRSameEndPoint;
+    res.message = "R-form arc ends where it starts; a full circle needs I/J/K";
+    return res;
+  }
+  const double abs_r = std::fabs(in.r);
+  const double mid_a = (in.end_a + in.start_a) / 2.0, mid_b = (in.end_b + in.start_b) / 2.0;
+  double half = std::hypot(mid_a - in.end_a, mid_b - in.end_b);
+  bool too_small = false;
+  if (in.rule == ArcRule::LinuxCnc) {
+    too_small = half - abs_r > radius_tol;
+  } else {
+    // grbl and g2core: only when 4r^2 < d^2 (no slack), compared in mm.
+    too_small = abs_r < half;
+  }
+  if (too_small || abs_r == 0.0) {
+    res.error = ErrorCode::ArcRadiusTooSmall;
+    res.message = fmt::format(
+        "arc radius too small to reach the end point: |R| = {:.6g} {}, half the chord = {:.6g} "
+        "{} "
+        "(short by {:.6g} {})",
+        abs_r, unit, half, unit, half - abs_r, unit);
+    return res;
+  }
+  if (half > abs_r) half = abs_r;  // within tolerance: a semicircle
+  // Centre on the perpendicular bisector; left of the chord for a short CCW arc (LinuxCNC).
+  const double chord_angle = std::atan2(in.end_b - in.start_b, in.end_a - in.start_a);
+  const bool right = (!in.ccw && in.r > 0) || (in.ccw && in.r < 0);
+  const double theta =
+      right ? chord_angle - std::numbers::pi / 2 : chord_angle + std::numbers::pi / 2;
+  const double offset = std::sqrt(std::max(0.0, abs_r * abs_r - half * half));
+  res.center_a = mid_a + offset * std::cos(theta);
+  res.center_b = mid_b + offset * std::sin(theta);
+  res.rel_a = res.center_a - in.start_a;
+  res.rel_b = res.center_b - in.start_b;
+  return res;
+}
+
+// True when the radii to the start (r1) and to the end (r2) differ beyond the dialect's rule.
+bool radii_differ(const ArcInput& in, double r1, double r2) {
+  const bool inch = in.mm_per_unit != 1.0;
+  const double abs_err = std::fabs(r1 - r2);
+  const double rel_err = abs_err / std::max(r1, r2);
+  switch (in.rule) {
+    case ArcRule::LinuxCnc: {
+      const double tol = inch ? kLcncSpiralTolInch : kLcncSpiralTolMm;
+      return abs_err > 100.0 * tol || (abs_err > tol && rel_err > kLcncSpiralRel);
+    }
+    case ArcRule::Grbl: {
+      const double dr_mm = abs_err * in.mm_per_unit, r_mm = r1 * in.mm_per_unit;
+      return dr_mm > kGrblMinMm && (dr_mm > kGrblMaxMm || dr_mm > kGrblRel * r_mm);
+    }
+    case ArcRule::G2core: {
+      const double dr_mm = abs_err * in.mm_per_unit, r_mm = r1 * in.mm_per_unit;
+      return dr_mm > kG2MaxMm || (dr_mm > kG2MinMm && dr_mm > kG2Rel * r_mm);
+    }
+  }
+  return false;
+}
+
+// The message for radii_differ. The rule's text only when it is needed (formatting it for
+// every arc cost 12 % of a check).
+std::string radius_mismatch_message(const ArcInput& in, double r1, double r2, const char* unit) {
+  const bool inch = in.mm_per_unit != 1.0;
+  const double abs_err = std::fabs(r1 - r2);
+  const double rel_err = abs_err / std::max(r1, r2);
+  std::string rule_text;
+  switch (in.rule) {
+    case ArcRule::LinuxCnc: {
+      const double tol = inch ? kLcncSpiralTolInch : kLcncSpiralTolMm;
+      rule_text = fmt::format("linuxcnc: fails above {:.6g} {}, or above {:.6g} {} and 0.1 %",
+                              100.0 * tol, unit, tol, unit);
+      break;
+    }
+    case ArcRule::Grbl:
+      rule_text = "grbl: fails above 0.005 mm and (above 0.5 mm or 0.1 % of r1)";
+      break;
+    case ArcRule::G2core:
+      rule_text = "g2core: fails above 1.0 mm, or above 0.005 mm and 0.1 % of r1";
+      break;
+  }
+  return fmt::format(
+      "radius to end of arc differs from radius to start: r1 = {:.6g} {}, r2 = {:.6g} {}, "
+      "abs_err = {:.4g} {}, rel_err = {:.4f} % ({})",
+      r1, unit, r2, unit, abs_err, unit, rel_err * 100.0, rule_text);
+}
+
 }  // namespace
 
 ArcResult compute_arc(const ArcInput& in) {
-  ArcResult res;
   const bool inch = in.mm_per_unit != 1.0;
   const double radius_tol = inch ? kLcncRadiusTolInch : kLcncRadiusTolMm;
   const char* unit = inch ? "in" : "mm";
+  if (in.use_r) return r_form_arc(in, radius_tol, unit);
 
-  if (in.use_r) {
-    if (in.end_a == in.start_a && in.end_b == in.start_b) {
-      res.error = ErrorCode::ArcRSameEndPoint;
-      res.message = "R-form arc ends where it starts; a full circle needs I/J/K";
-      return res;
-    }
-    const double abs_r = std::fabs(in.r);
-    const double mid_a = (in.end_a + in.start_a) / 2.0, mid_b = (in.end_b + in.start_b) / 2.0;
-    double half = std::hypot(mid_a - in.end_a, mid_b - in.end_b);
-    bool too_small = false;
-    if (in.rule == ArcRule::LinuxCnc) {
-      too_small = half - abs_r > radius_tol;
-    } else {
-      // grbl and g2core: only when 4r^2 < d^2 (no slack), compared in mm.
-      too_small = abs_r < half;
-    }
-    if (too_small || abs_r == 0.0) {
-      res.error = ErrorCode::ArcRadiusTooSmall;
-      res.message = fmt::format(
-          "arc radius too small to reach the end point: |R| = {:.6g} {}, half the chord = {:.6g} "
-          "{} "
-          "(short by {:.6g} {})",
-          abs_r, unit, half, unit, half - abs_r, unit);
-      return res;
-    }
-    if (half > abs_r) half = abs_r;  // within tolerance: a semicircle
-    // Centre on the perpendicular bisector; left of the chord for a short CCW arc (LinuxCNC).
-    const double chord_angle = std::atan2(in.end_b - in.start_b, in.end_a - in.start_a);
-    const bool right = (!in.ccw && in.r > 0) || (in.ccw && in.r < 0);
-    const double theta =
-        right ? chord_angle - std::numbers::pi / 2 : chord_angle + std::numbers::pi / 2;
-    const double offset = std::sqrt(std::max(0.0, abs_r * abs_r - half * half));
-    res.center_a = mid_a + offset * std::cos(theta);
-    res.center_b = mid_b + offset * std::sin(theta);
-    res.rel_a = res.center_a - in.start_a;
-    res.rel_b = res.center_b - in.start_b;
-    return res;
-  }
-
+  ArcResult res;
   if (in.offsets_absolute) {
     res.center_a = in.off_a;
     res.center_b = in.off_b;
@@ -90,48 +143,9 @@ ArcResult compute_arc(const ArcInput& in) {
                               r1, unit, r2, unit, radius_tol, unit);
     return res;
   }
-  const double abs_err = std::fabs(r1 - r2);
-  const double rel_err = abs_err / std::max(r1, r2);
-  bool bad = false;
-  switch (in.rule) {
-    case ArcRule::LinuxCnc: {
-      const double tol = inch ? kLcncSpiralTolInch : kLcncSpiralTolMm;
-      bad = abs_err > 100.0 * tol || (abs_err > tol && rel_err > kLcncSpiralRel);
-      break;
-    }
-    case ArcRule::Grbl: {
-      const double dr_mm = abs_err * in.mm_per_unit, r_mm = r1 * in.mm_per_unit;
-      bad = dr_mm > kGrblMinMm && (dr_mm > kGrblMaxMm || dr_mm > kGrblRel * r_mm);
-      break;
-    }
-    case ArcRule::G2core: {
-      const double dr_mm = abs_err * in.mm_per_unit, r_mm = r1 * in.mm_per_unit;
-      bad = dr_mm > kG2MaxMm || (dr_mm > kG2MinMm && dr_mm > kG2Rel * r_mm);
-      break;
-    }
-  }
-  if (bad) {
-    // The rule's text only when it is needed (formatting it for every arc cost 12 % of a check).
-    std::string rule_text;
-    switch (in.rule) {
-      case ArcRule::LinuxCnc: {
-        const double tol = inch ? kLcncSpiralTolInch : kLcncSpiralTolMm;
-        rule_text = fmt::format("linuxcnc: fails above {:.6g} {}, or above {:.6g} {} and 0.1 %",
-                                100.0 * tol, unit, tol, unit);
-        break;
-      }
-      case ArcRule::Grbl:
-        rule_text = "grbl: fails above 0.005 mm and (above 0.5 mm or 0.1 % of r1)";
-        break;
-      case ArcRule::G2core:
-        rule_text = "g2core: fails above 1.0 mm, or above 0.005 mm and 0.1 % of r1";
-        break;
-    }
+  if (radii_differ(in, r1, r2)) {
     res.error = ErrorCode::ArcRadiusMismatch;
-    res.message = fmt::format(
-        "radius to end of arc differs from radius to start: r1 = {:.6g} {}, r2 = {:.6g} {}, "
-        "abs_err = {:.4g} {}, rel_err = {:.4f} % ({})",
-        r1, unit, r2, unit, abs_err, unit, rel_err * 100.0, rule_text);
+    res.message = radius_mismatch_message(in, r1, r2, unit);
   }
   return res;
 }

@@ -280,22 +280,62 @@ bool comp_flush(BlockCtx& ctx) {
   return move_end_and_flush(ctx, in_plane(ctx.s.position_mm, ax));
 }
 
+namespace {
+
+// G40: the held-back move ends where the tool is; compensation is off.
+bool comp_off(BlockCtx& ctx) {
+  CutterComp& cc = ctx.s.comp;
+  if (cc.active() && !cc.first_move) {
+    const PlaneAxes ax = plane_axes(ctx.s.plane);
+    if (!move_end_and_flush(ctx, in_plane(ctx.s.position_mm, ax))) return false;
+    ctx.s.position_mm = with_plane(ctx.s.position_mm, ax, {cc.prog_a, cc.prog_b});
+    cc.detached = true;
+    cc.arc_not_allowed = true;
+  }
+  cc.side = 0;
+  cc.first_move = true;
+  return true;
+}
+
+// G41/G42 [D<tool>]: the radius and orientation of the tool table's tool D (no D: the tool in
+// the spindle).
+bool comp_tool_radius(BlockCtx& ctx, SourceLoc loc, const std::string& name, double& radius_mm,
+                      int& orientation) {
+  const auto* dw = ctx.w['D'];
+  int tool = ctx.s.spindle_slot_tool;
+  if (dw) {
+    double t = 0;
+    if (std::fabs(dw->value - std::round(dw->value)) >= 0.0001)
+      return ctx.fail(ErrorCode::CutterCompMisused, dw->loc,
+                      fmt::format("{} D{:g}: D must be a whole number (a tool)", name, dw->value));
+    t = std::round(dw->value);
+    if (t < 0)
+      return ctx.fail(ErrorCode::NegativeValue, dw->loc,
+                      fmt::format("{} D{:g}: negative tool number", name, dw->value));
+    if (t > kMaxToolNumber || (t != 0 && !ctx.tables().tools.find(static_cast<int>(t))))
+      return ctx.fail(ErrorCode::ToolNumberOutOfRange, dw->loc,
+                      fmt::format("{} D{:g}: tool {:g} is not in the tool table ({})", name, t, t,
+                                  ctx.tables().tools.source));
+    if (t != 0) tool = static_cast<int>(t);
+  }
+  if (const ToolEntry* e = tool == 0 ? nullptr : ctx.tables().tools.find(tool)) {
+    radius_mm = e->diameter_mm / 2.0;
+    orientation = e->orientation;
+  }
+  if (ctx.s.plane != Plane::XZ && orientation != 0 && orientation != 9)
+    return ctx.fail(
+        ErrorCode::CutterCompMisused, loc,
+        fmt::format("{} with a lathe tool (orientation {}) outside G18", name, orientation));
+  return true;
+}
+
+}  // namespace
+
 bool run_cutter_comp(BlockCtx& ctx, const Code& c) {
   CutterComp& cc = ctx.s.comp;
   const SourceLoc loc = ctx.loc_of(Group::CutterComp);
   const std::string name = code_name(c);
-  if (c.number10 == 400) {  // G40: the held-back move ends where the tool is
-    if (cc.active() && !cc.first_move) {
-      const PlaneAxes ax = plane_axes(ctx.s.plane);
-      if (!move_end_and_flush(ctx, in_plane(ctx.s.position_mm, ax))) return false;
-      ctx.s.position_mm = with_plane(ctx.s.position_mm, ax, {cc.prog_a, cc.prog_b});
-      cc.detached = true;
-      cc.arc_not_allowed = true;
-    }
-    cc.side = 0;
-    cc.first_move = true;
-    return true;
-  }
+  if (c.number10 == 400) return comp_off(ctx);
   if (ctx.s.plane == Plane::YZ)
     return ctx.fail(ErrorCode::CutterCompMisused, loc,
                     fmt::format("{}: cutter radius compensation works in the XY (G17) and XZ (G18) "
@@ -307,8 +347,8 @@ bool run_cutter_comp(BlockCtx& ctx, const Code& c) {
   int side = c.number10 / 10 == 41 ? 1 : -1;
   double radius_mm = 0.0;
   int orientation = 0;
-  const auto* dw = ctx.w['D'];
   if (c.number10 % 10 == 1) {  // G41.1/G42.1 D<diameter> [L<orientation>]
+    const auto* dw = ctx.w['D'];
     if (!dw)
       return ctx.fail(ErrorCode::CutterCompMisused, loc,
                       fmt::format("{} without D (the tool diameter)", name));
@@ -319,32 +359,8 @@ bool run_cutter_comp(BlockCtx& ctx, const Code& c) {
                         fmt::format("{} with L (lathe tool orientation) outside G18", name));
       orientation = static_cast<int>(lw->value);
     }
-  } else {  // G41/G42 [D<tool>]: the tool table's diameter (no D: the tool in the spindle)
-    int tool = ctx.s.spindle_slot_tool;
-    if (dw) {
-      double t = 0;
-      if (std::fabs(dw->value - std::round(dw->value)) >= 0.0001)
-        return ctx.fail(
-            ErrorCode::CutterCompMisused, dw->loc,
-            fmt::format("{} D{:g}: D must be a whole number (a tool)", name, dw->value));
-      t = std::round(dw->value);
-      if (t < 0)
-        return ctx.fail(ErrorCode::NegativeValue, dw->loc,
-                        fmt::format("{} D{:g}: negative tool number", name, dw->value));
-      if (t > kMaxToolNumber || (t != 0 && !ctx.tables().tools.find(static_cast<int>(t))))
-        return ctx.fail(ErrorCode::ToolNumberOutOfRange, dw->loc,
-                        fmt::format("{} D{:g}: tool {:g} is not in the tool table ({})", name, t, t,
-                                    ctx.tables().tools.source));
-      if (t != 0) tool = static_cast<int>(t);
-    }
-    if (const ToolEntry* e = tool == 0 ? nullptr : ctx.tables().tools.find(tool)) {
-      radius_mm = e->diameter_mm / 2.0;
-      orientation = e->orientation;
-    }
-    if (ctx.s.plane != Plane::XZ && orientation != 0 && orientation != 9)
-      return ctx.fail(
-          ErrorCode::CutterCompMisused, loc,
-          fmt::format("{} with a lathe tool (orientation {}) outside G18", name, orientation));
+  } else if (!comp_tool_radius(ctx, loc, name, radius_mm, orientation)) {
+    return false;
   }
   if (radius_mm < 0.0) {  // a negative diameter: the other side with the positive radius
     radius_mm = -radius_mm;
@@ -357,6 +373,69 @@ bool run_cutter_comp(BlockCtx& ctx, const Code& c) {
   return true;
 }
 
+namespace {
+
+// The entry move from the tool at `c`: ends one radius to the side of the programmed end `p`.
+bool comp_straight_entry(BlockCtx& ctx, MotionKind kind, const Pos9& target, P2 c, P2 p) {
+  CutterComp& cc = ctx.s.comp;
+  ModalState& s = ctx.s;
+  const PlaneAxes ax = plane_axes(s.plane);
+  const double r = cc.radius_mm;
+  const double d = dist(c, p);
+  if (d <= r) return tool_too_large(ctx, "the cutter compensation entry move", d);
+  const double alpha = angle(c, p) + cc.side * kPi / 2;
+  const P2 e = polar(p, r, alpha);
+  cc.emitted_mm = motion_start(ctx);
+  cc.detached = false;
+  set_endpoint(cc, c);
+  const Pos9 end = with_plane(target, ax, e);
+  Pos9 prog_from = s.position_mm;
+  const double feed = block_feed(ctx, (target - prog_from).norm());
+  if (!enqueue(ctx, straight_item(ctx, kind, end, feed, std::cos(alpha), std::sin(alpha))))
+    return false;
+  cc.first_move = false;
+  s.position_mm = end;
+  cc.prog_a = p.a;
+  cc.prog_b = p.b;
+  return true;
+}
+
+// A concave corner from a line (the tool at `c`) to a line: back the previous line off along
+// itself. `beta` is the turn at the corner, `theta` + `gamma` the previous line's direction.
+bool end_line_before_line(BlockCtx& ctx, P2 c, double beta, double theta, double gamma) {
+  const double half = (beta + kPi) / 2.0;
+  if (half == 0.0)
+    return ctx.fail(ErrorCode::CompGouge, block_loc(ctx),
+                    "a zero degree inside corner cannot be compensated");
+  const double retreat = ctx.s.comp.radius_mm / std::tan(half);
+  return move_end_and_flush(ctx, polar(c, retreat, theta + gamma));
+}
+
+// A concave corner from an arc to the line from `o` to `p`: end the previous arc where the tool
+// touches the new line.
+bool end_arc_before_line(BlockCtx& ctx, P2 o, P2 p) {
+  const CutterComp& cc = ctx.s.comp;
+  const PlaneAxes ax = plane_axes(ctx.s.plane);
+  const double r = cc.radius_mm;
+  const Motion& pm = cc.queue.front().mo;
+  const P2 pc = in_plane(cc.queue.front().center_mm, ax);
+  const double oldrad = dist(pc, in_plane(cc.queue.front().end_mm, ax));
+  const int pturn = turn_of(pm);
+  const double base = angle(o, p);
+  const double th = pturn > 0 ? base + kPi / 2 : base - kPi / 2;
+  const double phi = angle(o, pc);
+  const bool in = inside(cc.side, pturn);
+  const double uncomp = in ? oldrad + r : oldrad - r;
+  const double d = uncomp * std::cos(th - phi);
+  const double l = (in ? d - r : d + r) / oldrad;
+  if (l > 1.0 || l < -1.0) return gouge(ctx, "arc to straight motion");
+  const double acl = std::acos(l);
+  const double from_centre = (in == (pturn > 0) ? -acl : acl) + th + kPi;
+  return move_end_and_flush(ctx, polar(pc, oldrad, from_centre));
+}
+
+}  // namespace
+
 bool comp_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target) {
   CutterComp& cc = ctx.s.comp;
   ModalState& s = ctx.s;
@@ -366,26 +445,7 @@ bool comp_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target) {
   const PlaneAxes ax = plane_axes(s.plane);
   const double r = cc.radius_mm;
   const P2 c = in_plane(s.position_mm, ax), p = in_plane(target, ax);
-
-  if (cc.first_move) {  // entry move: end one radius to the side of the programmed end
-    const double d = dist(c, p);
-    if (d <= r) return tool_too_large(ctx, "the cutter compensation entry move", d);
-    const double alpha = angle(c, p) + cc.side * kPi / 2;
-    const P2 e = polar(p, r, alpha);
-    cc.emitted_mm = motion_start(ctx);
-    cc.detached = false;
-    set_endpoint(cc, c);
-    const Pos9 end = with_plane(target, ax, e);
-    Pos9 prog_from = s.position_mm;
-    const double feed = block_feed(ctx, (target - prog_from).norm());
-    if (!enqueue(ctx, straight_item(ctx, kind, end, feed, std::cos(alpha), std::sin(alpha))))
-      return false;
-    cc.first_move = false;
-    s.position_mm = end;
-    cc.prog_a = p.a;
-    cc.prog_b = p.b;
-    return true;
-  }
+  if (cc.first_move) return comp_straight_entry(ctx, kind, target, c, p);
 
   const P2 o{cc.prog_a, cc.prog_b};
   const double feed = block_feed(ctx, (target - comp_program_point(ctx)).norm());
@@ -417,30 +477,9 @@ bool comp_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target) {
     if (!move_end_and_flush(ctx, c)) return false;
     if (!corner_move(ctx, kind, o, mid, target, feed)) return false;
   } else if (concave) {
-    if (!front_is_arc(cc)) {  // line to line: back the previous line off along itself
-      const double half = (beta + kPi) / 2.0;
-      if (half == 0.0)
-        return ctx.fail(ErrorCode::CompGouge, block_loc(ctx),
-                        "a zero degree inside corner cannot be compensated");
-      const double retreat = r / std::tan(half);
-      if (!move_end_and_flush(ctx, polar(c, retreat, theta + gamma))) return false;
-    } else {  // arc to line: end the previous arc where the tool touches the new line
-      const Motion& pm = cc.queue.front().mo;
-      const P2 pc = in_plane(cc.queue.front().center_mm, ax);
-      const double oldrad = dist(pc, in_plane(cc.queue.front().end_mm, ax));
-      const int pturn = turn_of(pm);
-      const double base = angle(o, p);
-      const double th = pturn > 0 ? base + kPi / 2 : base - kPi / 2;
-      const double phi = angle(o, pc);
-      const bool in = inside(cc.side, pturn);
-      const double uncomp = in ? oldrad + r : oldrad - r;
-      const double d = uncomp * std::cos(th - phi);
-      const double l = (in ? d - r : d + r) / oldrad;
-      if (l > 1.0 || l < -1.0) return gouge(ctx, "arc to straight motion");
-      const double acl = std::acos(l);
-      const double from_centre = (in == (pturn > 0) ? -acl : acl) + th + kPi;
-      if (!move_end_and_flush(ctx, polar(pc, oldrad, from_centre))) return false;
-    }
+    if (!(front_is_arc(cc) ? end_arc_before_line(ctx, o, p)
+                           : end_line_before_line(ctx, c, beta, theta, gamma)))
+      return false;
   } else {  // straight on, or tangent
     dequeue(ctx);
     set_endpoint(cc, c);
@@ -453,8 +492,33 @@ bool comp_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target) {
   return true;
 }
 
-bool comp_arc(BlockCtx& ctx, const Code& code, const Pos9& target, int turns,
-              const Pos9* centre_mm) {
+namespace {
+
+// The programmed arc's centre: `given` (G70's profile arcs), else from the block's words.
+bool programmed_centre(BlockCtx& ctx, const Code& code, const Pos9& from, const Pos9& target,
+                       const Pos9* given, Pos9& centre9) {
+  if (given != nullptr) {
+    centre9 = *given;
+    return true;
+  }
+  return arc_centre(ctx, code, from, target, centre9);
+}
+
+// The feed of the compensated moves of an arc block: block_feed of the programmed arc.
+double arc_block_feed(const BlockCtx& ctx, const Pos9& from, const Pos9& target,
+                      const Pos9& centre9, bool ccw, int turns) {
+  Motion prog = motion_template(ctx, MotionKind::Arc);
+  prog.start_mm = to_machine(from, ctx.machine.layout);
+  prog.end_mm = to_machine(target, ctx.machine.layout);
+  prog.center_mm = to_machine(centre9, ctx.machine.layout);
+  prog.ccw = ccw;
+  prog.turns = turns;
+  return block_feed(ctx, motion_length_mm(prog));
+}
+
+// The entry arc: through the programmed end, tangent to the tool.
+bool comp_arc_entry(BlockCtx& ctx, const Code& code, const Pos9& target, int turns,
+                    const Pos9* centre_mm) {
   CutterComp& cc = ctx.s.comp;
   ModalState& s = ctx.s;
   const PlaneAxes ax = plane_axes(s.plane);
@@ -463,70 +527,118 @@ bool comp_arc(BlockCtx& ctx, const Code& code, const Pos9& target, int turns,
   const int turn = ccw ? turns : -turns;
   const bool tool_inside = inside(cc.side, turn);
   const P2 c = in_plane(s.position_mm, ax), e = in_plane(target, ax);
-
-  if (cc.first_move) {  // entry arc: through the programmed end, tangent to the tool
-    const double d = dist(c, e);
-    if (d <= r) return tool_too_large(ctx, "the radius of the cutter compensation entry arc", d);
-    if (ctx.w.has('R') && tool_inside && std::fabs(ctx.w['R']->value) * ctx.scale() <= r)
-      return tool_too_large(ctx, "the arc radius", std::fabs(ctx.w['R']->value) * ctx.scale());
-    Pos9 centre9;
-    if (centre_mm != nullptr)
-      centre9 = *centre_mm;
-    else if (!arc_centre(ctx, code, s.position_mm, target, centre9))
+  const double d = dist(c, e);
+  if (d <= r) return tool_too_large(ctx, "the radius of the cutter compensation entry arc", d);
+  if (ctx.w.has('R') && tool_inside && std::fabs(ctx.w['R']->value) * ctx.scale() <= r)
+    return tool_too_large(ctx, "the arc radius", std::fabs(ctx.w['R']->value) * ctx.scale());
+  Pos9 centre9;
+  if (!programmed_centre(ctx, code, s.position_mm, target, centre_mm, centre9)) return false;
+  const P2 centre = in_plane(centre9, ax);
+  if (!ctx.w.has('R') && tool_inside && dist(centre, c) <= r)
+    return tool_too_large(ctx, "the arc radius", dist(centre, c));
+  const double feed = arc_block_feed(ctx, s.position_mm, target, centre9, ccw, turns);
+  const double gamma = tool_inside ? angle(e, centre) : angle(centre, e);
+  cc.first_move = false;
+  cc.prog_a = e.a;
+  cc.prog_b = e.b;
+  const P2 ee = polar(e, r, gamma);
+  // The compensated arc runs from the tool through `ee`; its centre lies on the line from
+  // `ee` through the programmed centre, equidistant from both ends.
+  const double half_chord = dist(c, ee) / 2.0;
+  const double ab = angle(ee, centre);
+  const double a_ang = angle(ee, c) - ab;
+  if (std::fabs(std::cos(a_ang)) < kEqualTol)
+    return tool_too_large(ctx, "the arc radius", dist(centre, e));
+  const P2 nc = polar(ee, half_chord / std::cos(a_ang), ab);
+  cc.emitted_mm = motion_start(ctx);
+  cc.detached = false;
+  if (cc.orientation != 0 && cc.orientation != 9) {  // lathe tool: move its origin first
+    if (!enqueue(ctx, straight_item(ctx, MotionKind::Line, s.position_mm, s.feed_mm_min, 0, 0)))
       return false;
-    const P2 centre = in_plane(centre9, ax);
-    if (!ctx.w.has('R') && tool_inside && dist(centre, c) <= r)
-      return tool_too_large(ctx, "the arc radius", dist(centre, c));
-    Motion prog = motion_template(ctx, MotionKind::Arc);
-    prog.start_mm = to_machine(s.position_mm, ctx.machine.layout);
-    prog.end_mm = to_machine(target, ctx.machine.layout);
-    prog.center_mm = to_machine(centre9, ctx.machine.layout);
-    prog.ccw = ccw;
-    prog.turns = turns;
-    const double feed = block_feed(ctx, motion_length_mm(prog));
-    const double gamma = tool_inside ? angle(e, centre) : angle(centre, e);
-    cc.first_move = false;
-    cc.prog_a = e.a;
-    cc.prog_b = e.b;
-    const P2 ee = polar(e, r, gamma);
-    // The compensated arc runs from the tool through `ee`; its centre lies on the line from
-    // `ee` through the programmed centre, equidistant from both ends.
-    const double half_chord = dist(c, ee) / 2.0;
-    const double ab = angle(ee, centre);
-    const double a_ang = angle(ee, c) - ab;
-    if (std::fabs(std::cos(a_ang)) < kEqualTol)
-      return tool_too_large(ctx, "the arc radius", dist(centre, e));
-    const P2 nc = polar(ee, half_chord / std::cos(a_ang), ab);
-    cc.emitted_mm = motion_start(ctx);
-    cc.detached = false;
-    if (cc.orientation != 0 && cc.orientation != 9) {  // lathe tool: move its origin first
-      if (!enqueue(ctx, straight_item(ctx, MotionKind::Line, s.position_mm, s.feed_mm_min, 0, 0)))
-        return false;
-      set_endpoint(cc, c);
-    }
-    const Pos9 end = with_plane(target, ax, ee);
-    if (!enqueue(ctx,
-                 arc_item(ctx, end, with_plane(end, ax, nc), turn, feed, sweep(c, nc, turn, ee))))
-      return false;
-    s.position_mm = end;
-    return true;
+    set_endpoint(cc, c);
   }
+  const Pos9 end = with_plane(target, ax, ee);
+  if (!enqueue(ctx,
+               arc_item(ctx, end, with_plane(end, ax, nc), turn, feed, sweep(c, nc, turn, ee))))
+    return false;
+  s.position_mm = end;
+  return true;
+}
+
+// An arc after the entry move, at its corner with the previous move: the programmed centre and
+// radius, its sense, the tool's side of it, the previous move's direction `theta` and the turn
+// `beta` between the two.
+struct CompArc {
+  P2 centre;
+  double radius;
+  int turn;
+  bool tool_inside;
+  double theta, beta;
+};
+
+// A concave corner from a line to the arc: where the tool touches the arc (the line ends there).
+bool line_to_arc_meet(BlockCtx& ctx, const CompArc& arc, P2& mid) {
+  const double r = ctx.s.comp.radius_mm;
+  const double cy = arc.radius * std::sin(arc.beta - kPi / 2);
+  const double from_centre = arc.tool_inside ? arc.radius - r : arc.radius + r;
+  const double toward = arc.tool_inside ? cy + r : cy - r;
+  const double l = toward / from_centre;
+  if (l > 1.0 || l < -1.0)
+    return ctx.fail(ErrorCode::CompGouge, block_loc(ctx),
+                    "arc move in concave corner cannot be reached by the tool without "
+                    "gouging");
+  const double as = std::asin(l);
+  const double theta = arc.theta;
+  const double ang = arc.tool_inside ? (arc.turn > 0 ? theta + as : theta - as)
+                                     : (arc.turn > 0 ? theta + kPi - as : theta + kPi + as);
+  mid = polar(arc.centre, from_centre, ang);
+  return true;
+}
+
+// A concave corner from an arc to the arc: where the two offset circles meet.
+bool arc_to_arc_meet(BlockCtx& ctx, const CompArc& arc, P2& mid) {
+  const CutterComp& cc = ctx.s.comp;
+  const PlaneAxes ax = plane_axes(ctx.s.plane);
+  const double r = cc.radius_mm;
+  const CompQueued& prev = cc.queue.front();
+  const P2 pc = in_plane(prev.center_mm, ax);
+  const double oldrad = dist(pc, in_plane(prev.end_mm, ax));
+  const double newrad = arc.tool_inside ? arc.radius - r : arc.radius + r;
+  const double cc_dist = dist(pc, arc.centre);
+  if (oldrad == 0.0 || cc_dist == 0.0)
+    return ctx.fail(ErrorCode::CompGouge, block_loc(ctx),
+                    "arc to arc motion with both arcs about the same centre cannot be "
+                    "compensated");
+  const double a = (oldrad * oldrad + cc_dist * cc_dist - newrad * newrad) / (2 * oldrad * cc_dist);
+  if (a > 1.0 || a < -1.0) return gouge(ctx, "arc to arc motion");
+  const double pull = std::acos(a);
+  const double cc_dir = angle(pc, arc.centre);
+  const bool prev_inside = inside(cc.side, turn_of(prev.mo));
+  const double dir = (prev_inside == (arc.turn > 0)) ? cc_dir + pull : cc_dir - pull;
+  mid = polar(pc, oldrad, dir);
+  return true;
+}
+
+}  // namespace
+
+bool comp_arc(BlockCtx& ctx, const Code& code, const Pos9& target, int turns,
+              const Pos9* centre_mm) {
+  CutterComp& cc = ctx.s.comp;
+  ModalState& s = ctx.s;
+  if (cc.first_move) return comp_arc_entry(ctx, code, target, turns, centre_mm);
+  const PlaneAxes ax = plane_axes(s.plane);
+  const double r = cc.radius_mm;
+  const bool ccw = code.number10 == 30;
+  const int turn = ccw ? turns : -turns;
+  const bool tool_inside = inside(cc.side, turn);
+  const P2 c = in_plane(s.position_mm, ax), e = in_plane(target, ax);
 
   const P2 o{cc.prog_a, cc.prog_b};
   const Pos9 o9 = comp_program_point(ctx);
   Pos9 centre9;
-  if (centre_mm != nullptr)
-    centre9 = *centre_mm;
-  else if (!arc_centre(ctx, code, o9, target, centre9))
-    return false;
+  if (!programmed_centre(ctx, code, o9, target, centre_mm, centre9)) return false;
   const P2 centre = in_plane(centre9, ax);
-  Motion prog = motion_template(ctx, MotionKind::Arc);
-  prog.start_mm = to_machine(o9, ctx.machine.layout);
-  prog.end_mm = to_machine(target, ctx.machine.layout);
-  prog.center_mm = to_machine(centre9, ctx.machine.layout);
-  prog.ccw = ccw;
-  prog.turns = turns;
-  const double feed = block_feed(ctx, motion_length_mm(prog));
+  const double feed = arc_block_feed(ctx, o9, target, centre9, ccw, turns);
 
   const double arc_radius = dist(centre, e);
   const double theta = angle(o, c) - cc.side * kPi / 2;  // direction of the previous move
@@ -552,39 +664,10 @@ bool comp_arc(BlockCtx& ctx, const Code& code, const Pos9& target, int turns,
   const bool concave = beta < -kCornerTolRad || beta > kPi + kCornerTolRad ||
                        (std::fabs(beta - kPi) < kCornerTolRad && !tool_inside);
   if (concave) {
+    const CompArc arc{centre, arc_radius, turn, tool_inside, theta, beta};
     P2 mid;
-    if (!front_is_arc(cc)) {  // line to arc: end the line where the tool touches the arc
-      const double cy = arc_radius * std::sin(beta - kPi / 2);
-      const double from_centre = tool_inside ? arc_radius - r : arc_radius + r;
-      const double toward = tool_inside ? cy + r : cy - r;
-      const double l = toward / from_centre;
-      if (l > 1.0 || l < -1.0)
-        return ctx.fail(ErrorCode::CompGouge, block_loc(ctx),
-                        "arc move in concave corner cannot be reached by the tool without "
-                        "gouging");
-      const double as = std::asin(l);
-      const double ang = tool_inside ? (turn > 0 ? theta + as : theta - as)
-                                     : (turn > 0 ? theta + kPi - as : theta + kPi + as);
-      mid = polar(centre, from_centre, ang);
-    } else {  // arc to arc: where the two offset circles meet
-      const CompQueued& prev = cc.queue.front();
-      const P2 pc = in_plane(prev.center_mm, ax);
-      const double oldrad = dist(pc, in_plane(prev.end_mm, ax));
-      const double newrad = tool_inside ? arc_radius - r : arc_radius + r;
-      const double cc_dist = dist(pc, centre);
-      if (oldrad == 0.0 || cc_dist == 0.0)
-        return ctx.fail(ErrorCode::CompGouge, block_loc(ctx),
-                        "arc to arc motion with both arcs about the same centre cannot be "
-                        "compensated");
-      const double a =
-          (oldrad * oldrad + cc_dist * cc_dist - newrad * newrad) / (2 * oldrad * cc_dist);
-      if (a > 1.0 || a < -1.0) return gouge(ctx, "arc to arc motion");
-      const double pull = std::acos(a);
-      const double cc_dir = angle(pc, centre);
-      const bool prev_inside = inside(cc.side, turn_of(prev.mo));
-      const double dir = (prev_inside == (turn > 0)) ? cc_dir + pull : cc_dir - pull;
-      mid = polar(pc, oldrad, dir);
-    }
+    if (!(front_is_arc(cc) ? arc_to_arc_meet(ctx, arc, mid) : line_to_arc_meet(ctx, arc, mid)))
+      return false;
     if (!move_end_and_flush(ctx, mid)) return false;
   } else if (beta > kCornerTolRad) {  // convex corner: an arc around it first
     dequeue(ctx);

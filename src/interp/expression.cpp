@@ -62,6 +62,135 @@ bool parameter_number(double v, SourceLoc loc, int& n, InterpError& err) {
   return true;
 }
 
+namespace {
+
+// A function or unary operator `o` applied to `b` (Param reads parameter #b).
+bool apply_unary(const grammar::ExprOp& o, double b, const ParameterStore& params, double& result,
+                 InterpError& err) {
+  switch (o.op) {
+    case Op::Param: {
+      int n = 0;
+      if (!parameter_number(b, o.loc, n, err)) return false;
+      result = params.get(n);
+      return true;
+    }
+    case Op::Neg:
+      result = -b;
+      return true;
+    case Op::Abs:
+      result = std::fabs(b);
+      return true;
+    case Op::Acos:
+    case Op::Asin:
+      if (b < -1.0 || b > 1.0)
+        return fail(err, ErrorCode::DomainError, o.loc,
+                    fmt::format("{}[{}]: argument outside -1..1", grammar::op_name(o.op), show(b)));
+      result = to_degrees(o.op == Op::Acos ? std::acos(b) : std::asin(b));
+      return true;
+    case Op::Cos:
+      result = deg_cos(b);
+      return true;
+    case Op::Sin:
+      result = deg_sin(b);
+      return true;
+    case Op::Tan:
+      result = deg_tan(b);
+      return true;
+    case Op::Exp:
+      result = std::exp(b);
+      return true;
+    case Op::Fix:
+      result = std::floor(b);
+      return true;
+    case Op::Fup:
+      result = std::ceil(b);
+      return true;
+    case Op::Round:
+      result = linuxcnc_round(b);
+      return true;
+    case Op::Ln:
+      if (b <= 0.0)
+        return fail(err, ErrorCode::DomainError, o.loc,
+                    fmt::format("LN[{}]: argument must be positive", show(b)));
+      result = std::log(b);
+      return true;
+    case Op::Sqrt:
+      if (b < 0.0)
+        return fail(err, ErrorCode::DomainError, o.loc,
+                    fmt::format("SQRT[{}]: negative argument", show(b)));
+      result = std::sqrt(b);
+      return true;
+    default:
+      return fail(err, ErrorCode::BadExpression, o.loc, "malformed expression");
+  }
+}
+
+// A binary operator `o` (or ATAN) applied to `a` and `b`.
+bool apply_binary(const grammar::ExprOp& o, double a, double b, double& result, InterpError& err) {
+  switch (o.op) {
+    case Op::Atan2:
+      result = to_degrees(std::atan2(a, b));
+      return true;
+    case Op::Pow:
+      if (a < 0.0 && std::floor(b) != b)
+        return fail(
+            err, ErrorCode::DomainError, o.loc,
+            fmt::format("{} ** {}: a negative number to a non-integer power", show(a), show(b)));
+      result = std::pow(a, b);
+      return true;
+    case Op::Mul:
+      result = a * b;
+      return true;
+    case Op::Div:
+      if (b == 0.0)
+        return fail(err, ErrorCode::DivisionByZero, o.loc,
+                    fmt::format("division by zero: {} / 0", show(a)));
+      result = a / b;
+      return true;
+    case Op::Mod:
+      result = std::fmod(a, b);
+      if (result < 0.0) result += std::fabs(b);
+      return true;
+    case Op::Add:
+      result = a + b;
+      return true;
+    case Op::Sub:
+      result = a - b;
+      return true;
+    case Op::Eq:
+      result = std::fabs(a - b) < kEqualTolerance ? 1.0 : 0.0;
+      return true;
+    case Op::Ne:
+      result = std::fabs(a - b) < kEqualTolerance ? 0.0 : 1.0;
+      return true;
+    case Op::Gt:
+      result = a > b ? 1.0 : 0.0;
+      return true;
+    case Op::Ge:
+      result = a >= b ? 1.0 : 0.0;
+      return true;
+    case Op::Lt:
+      result = a < b ? 1.0 : 0.0;
+      return true;
+    case Op::Le:
+      result = a <= b ? 1.0 : 0.0;
+      return true;
+    case Op::And:
+      result = (a != 0.0 && b != 0.0) ? 1.0 : 0.0;
+      return true;
+    case Op::Or:
+      result = (a != 0.0 || b != 0.0) ? 1.0 : 0.0;
+      return true;
+    case Op::Xor:
+      result = ((a != 0.0) != (b != 0.0)) ? 1.0 : 0.0;
+      return true;
+    default:
+      return fail(err, ErrorCode::BadExpression, o.loc, "malformed expression");
+  }
+}
+
+}  // namespace
+
 bool Evaluator::evaluate(const grammar::Block& block, grammar::OpRange r,
                          const ParameterStore& params, double& out, InterpError& err) {
   stack_.clear();
@@ -94,128 +223,16 @@ bool Evaluator::evaluate(const grammar::Block& block, grammar::OpRange r,
     if (stack_.size() < (binary ? 2u : 1u))  // cannot happen for parsed input
       return fail(err, ErrorCode::BadExpression, o.loc, "malformed expression");
     const double b = stack_.back();
-    double a = 0.0;
     if (binary) {
       stack_.pop_back();
-      a = stack_.back();
-    }
-    const char* name = grammar::op_name(o.op);
-    switch (o.op) {
-      case Op::Param: {
-        int n = 0;
-        if (!parameter_number(b, o.loc, n, err)) return false;
-        result = params.get(n);
-        break;
-      }
-      case Op::Neg:
-        result = -b;
-        break;
-      case Op::Abs:
-        result = std::fabs(b);
-        break;
-      case Op::Acos:
-      case Op::Asin:
-        if (b < -1.0 || b > 1.0)
-          return fail(err, ErrorCode::DomainError, o.loc,
-                      fmt::format("{}[{}]: argument outside -1..1", name, show(b)));
-        result = to_degrees(o.op == Op::Acos ? std::acos(b) : std::asin(b));
-        break;
-      case Op::Cos:
-        result = deg_cos(b);
-        break;
-      case Op::Sin:
-        result = deg_sin(b);
-        break;
-      case Op::Tan:
-        result = deg_tan(b);
-        break;
-      case Op::Exp:
-        result = std::exp(b);
-        break;
-      case Op::Fix:
-        result = std::floor(b);
-        break;
-      case Op::Fup:
-        result = std::ceil(b);
-        break;
-      case Op::Round:
-        result = linuxcnc_round(b);
-        break;
-      case Op::Ln:
-        if (b <= 0.0)
-          return fail(err, ErrorCode::DomainError, o.loc,
-                      fmt::format("LN[{}]: argument must be positive", show(b)));
-        result = std::log(b);
-        break;
-      case Op::Sqrt:
-        if (b < 0.0)
-          return fail(err, ErrorCode::DomainError, o.loc,
-                      fmt::format("SQRT[{}]: negative argument", show(b)));
-        result = std::sqrt(b);
-        break;
-      case Op::Atan2:
-        result = to_degrees(std::atan2(a, b));
-        break;
-      case Op::Pow:
-        if (a < 0.0 && std::floor(b) != b)
-          return fail(
-              err, ErrorCode::DomainError, o.loc,
-              fmt::format("{} ** {}: a negative number to a non-integer power", show(a), show(b)));
-        result = std::pow(a, b);
-        break;
-      case Op::Mul:
-        result = a * b;
-        break;
-      case Op::Div:
-        if (b == 0.0)
-          return fail(err, ErrorCode::DivisionByZero, o.loc,
-                      fmt::format("division by zero: {} / 0", show(a)));
-        result = a / b;
-        break;
-      case Op::Mod:
-        result = std::fmod(a, b);
-        if (result < 0.0) result += std::fabs(b);
-        break;
-      case Op::Add:
-        result = a + b;
-        break;
-      case Op::Sub:
-        result = a - b;
-        break;
-      case Op::Eq:
-        result = std::fabs(a - b) < kEqualTolerance ? 1.0 : 0.0;
-        break;
-      case Op::Ne:
-        result = std::fabs(a - b) < kEqualTolerance ? 0.0 : 1.0;
-        break;
-      case Op::Gt:
-        result = a > b ? 1.0 : 0.0;
-        break;
-      case Op::Ge:
-        result = a >= b ? 1.0 : 0.0;
-        break;
-      case Op::Lt:
-        result = a < b ? 1.0 : 0.0;
-        break;
-      case Op::Le:
-        result = a <= b ? 1.0 : 0.0;
-        break;
-      case Op::And:
-        result = (a != 0.0 && b != 0.0) ? 1.0 : 0.0;
-        break;
-      case Op::Or:
-        result = (a != 0.0 || b != 0.0) ? 1.0 : 0.0;
-        break;
-      case Op::Xor:
-        result = ((a != 0.0) != (b != 0.0)) ? 1.0 : 0.0;
-        break;
-      default:
-        return fail(err, ErrorCode::BadExpression, o.loc, "malformed expression");
+      if (!apply_binary(o, stack_.back(), b, result, err)) return false;
+    } else if (!apply_unary(o, b, params, result, err)) {
+      return false;
     }
     if (!std::isfinite(result))
-      return fail(
-          err, ErrorCode::NotANumber, o.loc,
-          fmt::format("{} resulted in {}", name, std::isnan(result) ? "not a number" : "infinity"));
+      return fail(err, ErrorCode::NotANumber, o.loc,
+                  fmt::format("{} resulted in {}", grammar::op_name(o.op),
+                              std::isnan(result) ? "not a number" : "infinity"));
     stack_.back() = result;
   }
   if (stack_.size() != 1)

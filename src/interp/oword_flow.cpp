@@ -147,10 +147,14 @@ bool OwordFlow::leave_sub(const grammar::Block& b, FlowJump& jump, InterpError& 
   return true;
 }
 
-bool OwordFlow::m98(const grammar::Block& b, const LinePos& pos, FlowJump& jump, InterpError& err) {
-  const grammar::OWord& o = b.oword;
+namespace {
+
+// M98's words: P, the subprogram number, as its label; L (repeats), when given. Besides them
+// only M98 itself and N may be written.
+bool m98_words(const grammar::Block& b, std::string& label, const grammar::Word*& l,
+               InterpError& err) {
   const grammar::Word* p = nullptr;
-  const grammar::Word* l = nullptr;
+  l = nullptr;
   bool m98_seen = false;
   for (const grammar::Word& w : b.words) {
     if (w.letter == 'M' && w.value == 98.0 && !m98_seen) {
@@ -166,13 +170,23 @@ bool OwordFlow::m98(const grammar::Block& b, const LinePos& pos, FlowJump& jump,
     }
   }
   if (p == nullptr)
-    return fail(err, ErrorCode::SubprogramMisused, o.loc,
+    return fail(err, ErrorCode::SubprogramMisused, b.oword.loc,
                 "M98 needs P, the number of the subprogram (O1234 ... M99) to call");
   const double pn = std::floor(p->value + 1e-4);
   if (std::abs(p->value - pn) > 1e-4 || pn < 0 || pn > 99999999)
     return fail(err, ErrorCode::SubprogramMisused, p->loc,
                 fmt::format("M98 P must be a subprogram number, not {}", p->value));
-  const std::string label = fmt::format("{}", static_cast<long>(pn));
+  label = fmt::format("{}", static_cast<long>(pn));
+  return true;
+}
+
+}  // namespace
+
+bool OwordFlow::m98(const grammar::Block& b, const LinePos& pos, FlowJump& jump, InterpError& err) {
+  const grammar::OWord& o = b.oword;
+  std::string label;
+  const grammar::Word* l = nullptr;
+  if (!m98_words(b, label, l, err)) return false;
   // LinuxCNC: the caller's frame counts the L repeats down; while some are left, the return
   // comes back to this line, which calls again. `M98 L0` calls nothing.
   pending_again_ = false;
@@ -232,160 +246,36 @@ bool OwordFlow::found_sub(const grammar::OWord& o, const LinePos& pos, FlowJump&
   return enter_sub(o.label, pos, o.loc, jump, false, err);
 }
 
+// An O-word line outside any skip: one function per kind of construct.
 bool OwordFlow::normal(const grammar::Block& b, const LinePos& pos, FlowJump& jump,
                        InterpError& err) {
   const grammar::OWord& o = b.oword;
-  auto mismatch = [&](const char* opens) {
-    return fail(err, ErrorCode::ControlMismatch, o.loc,
-                fmt::format("{} {} without {} {}", label_of(o), grammar::okind_name(o.kind),
-                            label_of(o), opens));
-  };
-  auto top_is = [&](Frame k) {
-    return !stack_.empty() && stack_.back().kind == k && stack_.back().label == o.label;
-  };
-  double v = 0.0;
   switch (o.kind) {
-    case OKind::Sub: {
-      const auto [it, added] = subs_.emplace(o.label, SubDef{pos, false});
-      if (!added && (it->second.pos.file != pos.file || it->second.pos.offset != pos.offset))
-        return fail(
-            err, ErrorCode::SubroutineRedefined, o.loc,
-            fmt::format("redefining subroutine {}: already defined at {}line {}", label_of(o),
-                        it->second.pos.file > 0 && finder_ != nullptr
-                            ? finder_->file_name(it->second.pos.file) + " "
-                            : std::string(),
-                        it->second.pos.line));
-      it->second = SubDef{pos, false};
-      skip(Skip::SubBody, o.label, b, pos.file);
-      return true;
-    }
+    case OKind::Sub:
+      return define_sub(b, pos, err);
     case OKind::EndSub:
     case OKind::Return:
       return leave_sub(b, jump, err);
-    case OKind::Call: {
-      pending_args_.clear();
-      for (std::size_t i = 0; i < o.args.size() && i < ParameterStore::kArgs; ++i) {
-        if (!evaluate_arg(b, i, v, err)) return false;
-        pending_args_.push_back(v);
-      }
-      pending_return_ = pos;
-      pending_fanuc_ = false;
-      pending_again_ = false;
-      skip_.fanuc = false;
-      const auto it = subs_.find(o.label);
-      if (it != subs_.end()) {
-        if (it->second.fanuc)
-          return fail(err, ErrorCode::SubprogramMisused, o.loc,
-                      fmt::format("O{} (line {}) is a Fanuc-style subprogram: call it with M98 P{}",
-                                  o.label, it->second.pos.line, o.label));
-        return enter_sub(o.label, it->second.pos, o.loc, jump, true, err);
-      }
-      if (calls_ >= kMaxCallDepth) return enter_sub(o.label, pos, o.loc, jump, false, err);
-      // LinuxCNC's order: a sub already seen, then `name.ngc` on the subroutine path, then a
-      // definition further down the current file.
-      if (const int file = finder_ != nullptr ? finder_->find(o.label) : 0; file > 0) {
-        skip(Skip::FindSub, o.label, b, pos.file);
-        skip_.file = file;
-        seek_to(jump, LinePos{0, 0, 1, file}, false);
-        return true;
-      }
-      skip(Skip::FindSub, o.label, b, pos.file);  // defined further down: search forward
-      return true;
-    }
+    case OKind::Call:
+      return call_sub(b, pos, jump, err);
     case OKind::If:
-      if (!note_label(o, Frame::If, pos, err)) return false;
-      if (!evaluate_arg(b, 0, v, err)) return false;
-      stack_.push_back(Open{Frame::If, o.label, pos});
-      if (v == 0.0) skip(Skip::IfBranch, o.label, b, pos.file);
-      return true;
     case OKind::ElseIf:
     case OKind::Else:
-      if (!top_is(Frame::If)) return mismatch("if");
-      skip(Skip::IfDone, o.label, b, pos.file);  // the branch that ran ends here
-      return true;
     case OKind::EndIf:
-      if (!top_is(Frame::If)) return mismatch("if");
-      stack_.pop_back();
-      return true;
+      return if_line(b, pos, err);
     case OKind::Do:
       if (!note_label(o, Frame::Do, pos, err)) return false;
       stack_.push_back(Open{Frame::Do, o.label, pos});
       return true;
     case OKind::While:
-      if (top_is(Frame::Do)) {  // the end of a do ... while loop
-        if (!evaluate_arg(b, 0, v, err)) return false;
-        if (v != 0.0 && !break_pending_) {
-          if (!count_iteration(o.loc, err)) return false;
-          seek_to(jump, stack_.back().pos, true);
-        } else {
-          stack_.pop_back();
-          break_pending_ = false;
-        }
-        return true;
-      }
-      if (!(top_is(Frame::While) && stack_.back().pos.offset == pos.offset)) {
-        if (!note_label(o, Frame::While, pos, err)) return false;
-        stack_.push_back(Open{Frame::While, o.label, pos});
-      }
-      if (!evaluate_arg(b, 0, v, err)) return false;
-      if (v == 0.0) {
-        stack_.pop_back();
-        skip(Skip::LoopEnd, o.label, b, pos.file);
-      }
-      return true;
     case OKind::EndWhile:
-      if (!top_is(Frame::While)) return mismatch("while");
-      if (!count_iteration(o.loc, err)) return false;
-      seek_to(jump, stack_.back().pos, false);  // re-evaluate
-      return true;
+      return while_line(b, pos, jump, err);
     case OKind::Repeat:
-      if (!note_label(o, Frame::Repeat, pos, err)) return false;
-      if (!evaluate_arg(b, 0, v, err)) return false;
-      if (v >= 1.0) {
-        stack_.push_back(Open{Frame::Repeat, o.label, pos, v});
-      } else {
-        skip(Skip::LoopEnd, o.label, b, pos.file);
-      }
-      return true;
-    case OKind::EndRepeat: {
-      if (!top_is(Frame::Repeat)) return mismatch("repeat");
-      Open& f = stack_.back();
-      f.remaining -= 1.0;
-      if (f.remaining >= 1.0) {
-        if (!count_iteration(o.loc, err)) return false;
-        seek_to(jump, f.pos, true);
-      } else {
-        stack_.pop_back();
-      }
-      return true;
-    }
+    case OKind::EndRepeat:
+      return repeat_line(b, pos, jump, err);
     case OKind::Break:
-    case OKind::Continue: {
-      const int at = find_loop(o.label);
-      if (at < 0) return mismatch("while or do");
-      const Open loop = stack_[static_cast<std::size_t>(at)];
-      if (o.kind == OKind::Break) {
-        break_pending_ = true;
-        stack_.resize(static_cast<std::size_t>(at));
-        skip(Skip::LoopEnd, o.label, b, pos.file);
-        return true;
-      }
-      stack_.resize(static_cast<std::size_t>(at) + 1);
-      if (loop.kind == Frame::Do) {
-        // rs274 2.9: `continue` in a do loop goes to its `while` line as if that opened a
-        // while loop (the do is forgotten): a true condition runs on past the loop.
-        stack_.pop_back();
-        skip(Skip::ToLoopEnd, o.label, b, pos.file);
-        return true;
-      }
-      if (loop.kind == Frame::While) {
-        if (!count_iteration(o.loc, err)) return false;
-        seek_to(jump, loop.pos, false);
-      } else {
-        skip(Skip::ToLoopEnd, o.label, b, pos.file);
-      }
-      return true;
-    }
+    case OKind::Continue:
+      return leave_loop(b, pos, jump, err);
     case OKind::M98:
       return m98(b, pos, jump, err);
     case OKind::M99:
@@ -393,6 +283,177 @@ bool OwordFlow::normal(const grammar::Block& b, const LinePos& pos, FlowJump& ju
     case OKind::Program:  // reached in the flow, not by M98: LinuxCNC runs on into it
     case OKind::None:
       break;
+  }
+  return true;
+}
+
+bool OwordFlow::mismatch(const grammar::OWord& o, const char* opens, InterpError& err) const {
+  return fail(err, ErrorCode::ControlMismatch, o.loc,
+              fmt::format("{} {} without {} {}", label_of(o), grammar::okind_name(o.kind),
+                          label_of(o), opens));
+}
+
+bool OwordFlow::top_is(const grammar::OWord& o, Frame k) const {
+  return !stack_.empty() && stack_.back().kind == k && stack_.back().label == o.label;
+}
+
+// `o... sub`: records the definition and passes over its body.
+bool OwordFlow::define_sub(const grammar::Block& b, const LinePos& pos, InterpError& err) {
+  const grammar::OWord& o = b.oword;
+  const auto [it, added] = subs_.emplace(o.label, SubDef{pos, false});
+  if (!added && (it->second.pos.file != pos.file || it->second.pos.offset != pos.offset))
+    return fail(err, ErrorCode::SubroutineRedefined, o.loc,
+                fmt::format("redefining subroutine {}: already defined at {}line {}", label_of(o),
+                            it->second.pos.file > 0 && finder_ != nullptr
+                                ? finder_->file_name(it->second.pos.file) + " "
+                                : std::string(),
+                            it->second.pos.line));
+  it->second = SubDef{pos, false};
+  skip(Skip::SubBody, o.label, b, pos.file);
+  return true;
+}
+
+// `o... call [args]`: enters a sub already seen, else searches for it.
+bool OwordFlow::call_sub(const grammar::Block& b, const LinePos& pos, FlowJump& jump,
+                         InterpError& err) {
+  const grammar::OWord& o = b.oword;
+  double v = 0.0;
+  pending_args_.clear();
+  for (std::size_t i = 0; i < o.args.size() && i < ParameterStore::kArgs; ++i) {
+    if (!evaluate_arg(b, i, v, err)) return false;
+    pending_args_.push_back(v);
+  }
+  pending_return_ = pos;
+  pending_fanuc_ = false;
+  pending_again_ = false;
+  skip_.fanuc = false;
+  const auto it = subs_.find(o.label);
+  if (it != subs_.end()) {
+    if (it->second.fanuc)
+      return fail(err, ErrorCode::SubprogramMisused, o.loc,
+                  fmt::format("O{} (line {}) is a Fanuc-style subprogram: call it with M98 P{}",
+                              o.label, it->second.pos.line, o.label));
+    return enter_sub(o.label, it->second.pos, o.loc, jump, true, err);
+  }
+  if (calls_ >= kMaxCallDepth) return enter_sub(o.label, pos, o.loc, jump, false, err);
+  // LinuxCNC's order: a sub already seen, then `name.ngc` on the subroutine path, then a
+  // definition further down the current file.
+  if (const int file = finder_ != nullptr ? finder_->find(o.label) : 0; file > 0) {
+    skip(Skip::FindSub, o.label, b, pos.file);
+    skip_.file = file;
+    seek_to(jump, LinePos{0, 0, 1, file}, false);
+    return true;
+  }
+  skip(Skip::FindSub, o.label, b, pos.file);  // defined further down: search forward
+  return true;
+}
+
+// if, elseif, else, endif (a false branch is passed over by the skip state).
+bool OwordFlow::if_line(const grammar::Block& b, const LinePos& pos, InterpError& err) {
+  const grammar::OWord& o = b.oword;
+  if (o.kind == OKind::If) {
+    double v = 0.0;
+    if (!note_label(o, Frame::If, pos, err)) return false;
+    if (!evaluate_arg(b, 0, v, err)) return false;
+    stack_.push_back(Open{Frame::If, o.label, pos});
+    if (v == 0.0) skip(Skip::IfBranch, o.label, b, pos.file);
+    return true;
+  }
+  if (!top_is(o, Frame::If)) return mismatch(o, "if", err);
+  if (o.kind == OKind::EndIf)
+    stack_.pop_back();
+  else
+    skip(Skip::IfDone, o.label, b, pos.file);  // the branch that ran ends here
+  return true;
+}
+
+// while (opening a while loop, or ending a do loop) and endwhile.
+bool OwordFlow::while_line(const grammar::Block& b, const LinePos& pos, FlowJump& jump,
+                           InterpError& err) {
+  const grammar::OWord& o = b.oword;
+  double v = 0.0;
+  if (o.kind == OKind::EndWhile) {
+    if (!top_is(o, Frame::While)) return mismatch(o, "while", err);
+    if (!count_iteration(o.loc, err)) return false;
+    seek_to(jump, stack_.back().pos, false);  // re-evaluate
+    return true;
+  }
+  if (top_is(o, Frame::Do)) {  // the end of a do ... while loop
+    if (!evaluate_arg(b, 0, v, err)) return false;
+    if (v != 0.0 && !break_pending_) {
+      if (!count_iteration(o.loc, err)) return false;
+      seek_to(jump, stack_.back().pos, true);
+    } else {
+      stack_.pop_back();
+      break_pending_ = false;
+    }
+    return true;
+  }
+  if (!(top_is(o, Frame::While) && stack_.back().pos.offset == pos.offset)) {
+    if (!note_label(o, Frame::While, pos, err)) return false;
+    stack_.push_back(Open{Frame::While, o.label, pos});
+  }
+  if (!evaluate_arg(b, 0, v, err)) return false;
+  if (v == 0.0) {
+    stack_.pop_back();
+    skip(Skip::LoopEnd, o.label, b, pos.file);
+  }
+  return true;
+}
+
+// repeat [n] and endrepeat.
+bool OwordFlow::repeat_line(const grammar::Block& b, const LinePos& pos, FlowJump& jump,
+                            InterpError& err) {
+  const grammar::OWord& o = b.oword;
+  if (o.kind == OKind::Repeat) {
+    double v = 0.0;
+    if (!note_label(o, Frame::Repeat, pos, err)) return false;
+    if (!evaluate_arg(b, 0, v, err)) return false;
+    if (v >= 1.0) {
+      stack_.push_back(Open{Frame::Repeat, o.label, pos, v});
+    } else {
+      skip(Skip::LoopEnd, o.label, b, pos.file);
+    }
+    return true;
+  }
+  if (!top_is(o, Frame::Repeat)) return mismatch(o, "repeat", err);
+  Open& f = stack_.back();
+  f.remaining -= 1.0;
+  if (f.remaining >= 1.0) {
+    if (!count_iteration(o.loc, err)) return false;
+    seek_to(jump, f.pos, true);
+  } else {
+    stack_.pop_back();
+  }
+  return true;
+}
+
+// break and continue, in the innermost loop with their label.
+bool OwordFlow::leave_loop(const grammar::Block& b, const LinePos& pos, FlowJump& jump,
+                           InterpError& err) {
+  const grammar::OWord& o = b.oword;
+  const int at = find_loop(o.label);
+  if (at < 0) return mismatch(o, "while or do", err);
+  const Open loop = stack_[static_cast<std::size_t>(at)];
+  if (o.kind == OKind::Break) {
+    break_pending_ = true;
+    stack_.resize(static_cast<std::size_t>(at));
+    skip(Skip::LoopEnd, o.label, b, pos.file);
+    return true;
+  }
+  stack_.resize(static_cast<std::size_t>(at) + 1);
+  if (loop.kind == Frame::Do) {
+    // rs274 2.9: `continue` in a do loop goes to its `while` line as if that opened a
+    // while loop (the do is forgotten): a true condition runs on past the loop.
+    stack_.pop_back();
+    skip(Skip::ToLoopEnd, o.label, b, pos.file);
+    return true;
+  }
+  if (loop.kind == Frame::While) {
+    if (!count_iteration(o.loc, err)) return false;
+    seek_to(jump, loop.pos, false);
+  } else {
+    skip(Skip::ToLoopEnd, o.label, b, pos.file);
   }
   return true;
 }

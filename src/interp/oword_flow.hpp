@@ -106,6 +106,18 @@ class OwordFlow {
 
   bool evaluate_arg(const grammar::Block& b, std::size_t i, double& v, InterpError& err);
   bool normal(const grammar::Block& b, const LinePos& pos, FlowJump& jump, InterpError& err);
+  // normal's constructs: sub, call, if/elseif/else/endif, while/endwhile, repeat/endrepeat,
+  // break/continue.
+  bool define_sub(const grammar::Block& b, const LinePos& pos, InterpError& err);
+  bool call_sub(const grammar::Block& b, const LinePos& pos, FlowJump& jump, InterpError& err);
+  bool if_line(const grammar::Block& b, const LinePos& pos, InterpError& err);
+  bool while_line(const grammar::Block& b, const LinePos& pos, FlowJump& jump, InterpError& err);
+  bool repeat_line(const grammar::Block& b, const LinePos& pos, FlowJump& jump, InterpError& err);
+  bool leave_loop(const grammar::Block& b, const LinePos& pos, FlowJump& jump, InterpError& err);
+  /// True when the innermost open construct is a `k` labelled as `o`.
+  bool top_is(const grammar::OWord& o, Frame k) const;
+  /// The error for an end line (`o`) without its opening line (`opens`).
+  bool mismatch(const grammar::OWord& o, const char* opens, InterpError& err) const;
   bool skipped(const grammar::Block& b, const LinePos& pos, FlowJump& jump, InterpError& err);
   bool enter_sub(const std::string& label, const LinePos& body, SourceLoc loc, FlowJump& jump,
                  bool seek, InterpError& err);
