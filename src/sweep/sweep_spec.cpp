@@ -1,8 +1,8 @@
 // Sweep spec reader (toml++): lists of programs, machines, profiles, τ and overrides.
 #include "sweep/sweep_spec.hpp"
 
-#include "cli/run_setup.hpp"
 #include "common/status.hpp"
+#include "setup/run_settings.hpp"
 
 #include <fmt/format.h>
 
@@ -84,9 +84,10 @@ SweepSpec load_sweep_spec(const std::filesystem::path& path) {
     s.machines.push_back(SweepMachine{"", "builtin", {}});
   }
   for (SweepMachine& m : s.machines) {
-    cli::MachineFlags flags;
-    flags.machine_file = m.file;
-    m.machine = cli::resolve_machine(flags);  // once per machine (an INI says once what it skips)
+    setup::RunSettings settings;
+    settings.machine_file = m.file;
+    m.machine =
+        setup::resolve_machine(settings);  // once per machine (an INI says once what it skips)
   }
   if (const toml::array* a = list(s, root, "profiles"))
     for (const toml::node& n : *a) s.profiles.emplace_back(text(s, n, "profiles"));
