@@ -1,6 +1,6 @@
 """One program run four ways (gmotion run, a golden case, gmotion sweep, gmotion.run) on a machine
 file that sets dialect = "fanuc" and tolerance_on = "encoder": the summaries agree. Then the same
-with --tolerance-on given as a flag (run, golden case, Python; a sweep has no such list).
+with --tolerance-on given as a flag (a case's and a sweep spec's `flags`, a keyword in Python).
 
 Needs GMOTION_BIN, GMOTION_SOURCE_DIR and the gmotion package on PYTHONPATH (as python:unittest).
 """
@@ -83,11 +83,14 @@ class SettingsAgree(unittest.TestCase):
         with open(os.path.join(suite, "golden", "one.summary.json")) as f:
             return figures(json.load(f))
 
-    def by_sweep(self, machine):
+    def by_sweep(self, machine, flags=""):
         spec = self.write("spec.toml", f"programs = [{json.dumps(self.program)}]\n"
-                                       f"machines = [{json.dumps(machine)}]\n")
+                                       f"machines = [{json.dumps(machine)}]\n"
+                                       f"flags = {json.dumps(flags)}\n")
         table = os.path.join(self.d, "table.json")
         self.gmotion("sweep", spec, "--json", table)
+        emitted = self.gmotion("sweep", spec, "--emit", "parallel", "--out-dir", self.d).stdout
+        self.assertIn(flags, emitted)  # the emitted `gmotion run` takes the same flags
         with open(table) as f:
             row = json.load(f)[0]
         self.assertEqual(row["status"], "ok", row)
@@ -109,11 +112,14 @@ class SettingsAgree(unittest.TestCase):
         acc_dec = self.by_run(self.write("acc_dec.toml", machine_text("")))
         self.assertNotEqual(acc_dec, run)
 
-    def test_tolerance_on_flag_three_ways(self):
+    def test_tolerance_on_flag_four_ways(self):
         machine = self.write("fanuc.toml", machine_text(""))
         run = self.by_run(machine, "--tolerance-on", "encoder")
         self.assertEqual(self.by_golden(machine, "--tolerance-on encoder"), run)
         self.assertEqual(self.by_python(machine, tolerance_on="encoder"), run)
+        sweep = self.by_sweep(machine, "--tolerance-on encoder")
+        self.assertEqual(sweep[:2], run[:2])
+        self.assertAlmostEqual(sweep[2], run[2], places=2)
         self.assertNotEqual(self.by_run(machine), run)
 
 

@@ -287,6 +287,31 @@ void parse_flags(RunSettings& s, std::string_view flags, unsigned groups) {
       throw InputError(fmt::format("{} excludes {}", r.flag, r.excludes));
 }
 
+std::vector<std::string> flags_of(const RunSettings& s, unsigned groups) {
+  static const RunSettings defaults;
+  std::vector<std::string> out;
+  for (const SettingRow& row : setting_rows()) {
+    if ((row.groups & groups) == 0) continue;
+    std::visit(
+        [&](auto member) {
+          const auto& v = s.*member;
+          if (v == defaults.*member) return;
+          out.push_back(row.flag);
+          using T = std::remove_cvref_t<decltype(v)>;
+          if constexpr (std::is_same_v<T, std::string>)
+            out.push_back(v);
+          else if constexpr (std::is_same_v<T, std::optional<std::string>>)
+            out.push_back(*v);
+          else if constexpr (std::is_same_v<T, std::optional<double>>)
+            out.push_back(fmt::format("{}", *v));
+          else if constexpr (!std::is_same_v<T, bool>)
+            out.push_back(fmt::format("{}", v));
+        },
+        row.field);
+  }
+  return out;
+}
+
 std::string flag_names(unsigned groups) {
   std::string names;
   for (const SettingRow& r : setting_rows())

@@ -91,6 +91,9 @@ void set_from_text(RunSettings& s, const SettingRow& row, std::string_view text)
 /// Parses a string of flags ("--profile scurve2 --tau 0.1 --no-servo") of the rows in `groups`
 /// into `s`. Throws gm::InputError naming the first bad flag or value.
 void parse_flags(RunSettings& s, std::string_view flags, unsigned groups = kAllSettings);
+/// The flags that give `s` from the defaults, as words ("--tau", "0.1", "--no-servo"): the rows
+/// of `groups` whose field differs from a default RunSettings, in the table's order.
+std::vector<std::string> flags_of(const RunSettings& s, unsigned groups = kAllSettings);
 /// The flags of `groups`, space-separated (for help texts).
 std::string flag_names(unsigned groups = kAllSettings);
 

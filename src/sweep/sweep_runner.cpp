@@ -70,7 +70,7 @@ Machine run_machine(const SweepSpec& s, const RunPoint& r) {
 }
 
 setup::RunSettings run_settings(const SweepSpec& s, const RunPoint& r) {
-  setup::RunSettings settings;
+  setup::RunSettings settings = s.settings;
   settings.machine_file = s.machines[r.machine].file;
   settings.profile = s.profiles[r.profile];
   settings.tau_s = s.taus_s[r.tau];
@@ -135,6 +135,7 @@ std::string run_command(const SweepSpec& s, const RunPoint& r, const std::string
     c += " --override-file " + shell_quote(ov.schedule);
   if (!s.servo) c += " --no-servo";
   c += fmt::format(" --max-time {}", s.max_time_s);
+  for (const std::string& word : setup::flags_of(s.settings)) c += " " + shell_quote(word);
   c += " --summary-json " + shell_quote(summary_path(out_dir, r)) + " >/dev/null";
   return c;
 }
