@@ -33,12 +33,13 @@ namespace {
 
 /// The keyword options of `what` (run, check, moves): the run settings of `groups`, named as in
 /// setup::setting_rows() (the flag without dashes, '-' as '_'), plus `servo` (the opposite of
-/// no_servo) and `schedule` (override_file), the names of the first bindings. `machine` and
-/// `axes` are arguments of their own.
-std::vector<std::string> option_names(unsigned groups) {
+/// no_servo) and `schedule` (override_file), the names of the first bindings. `machine` (and for
+/// moves `axes`) is an argument of its own.
+std::vector<std::string> option_names(unsigned groups, const std::string& what) {
   std::vector<std::string> names;
   for (const gm::setup::SettingRow& row : gm::setup::setting_rows())
-    if ((row.groups & groups) != 0 && row.flag != "--machine" && row.flag != "--axes")
+    if ((row.groups & groups) != 0 && row.flag != "--machine" &&
+        (row.flag != "--axes" || what != "moves"))
       names.push_back(row.keyword());
   if ((groups & gm::setup::kMachineGroup) != 0) names.emplace_back("servo");
   if ((groups & gm::setup::kRunGroup) != 0) names.emplace_back("schedule");
@@ -47,7 +48,7 @@ std::vector<std::string> option_names(unsigned groups) {
 
 /// The run settings from keyword options (None: the default); a TypeError names an unknown one.
 gm::setup::RunSettings settings_from(const py::dict& kw, unsigned groups, const char* what) {
-  const std::vector<std::string> names = option_names(groups);
+  const std::vector<std::string> names = option_names(groups, what);
   gm::setup::RunSettings s;
   for (const auto& [k, value] : kw) {
     std::string key = k.cast<std::string>();
@@ -401,7 +402,8 @@ PYBIND11_MODULE(_core, m) {
       "options",
       [](const std::string& what) {
         return option_names(what == "run" ? gm::setup::kAllSettings
-                                          : gm::setup::kProgramGroup | gm::setup::kLanguageGroup);
+                                          : gm::setup::kProgramGroup | gm::setup::kLanguageGroup,
+                            what);
       },
       py::arg("what"));
   m.def("moves", &moves, py::arg("program"), py::arg("machine"), py::arg("axes"),

@@ -14,7 +14,7 @@
 The keyword options of run() are the `gmotion run` flags that change the run (docs/cli.md), with
 dashes as underscores: the one table of run settings (src/setup/run_settings.cpp) names them for
 the CLI, golden cases, sweeps and Python alike; `gmotion.options("run")` lists them (profile, tau,
-period, blu, no_servo, block_delete, tool_table, override, rapid_override, override_file,
+period, blu, axes, no_servo, block_delete, tool_table, override, rapid_override, override_file,
 decimate, tolerance, tolerance_on, check_tolerance, max_time, dialect, ...). servo (False =
 no_servo) and schedule (= override_file) are accepted too. The GIL is released while a program
 runs, so runs in threads proceed in parallel.
@@ -97,8 +97,9 @@ class RunResult:
 
 
 def options(what="run"):
-    """The keyword options run() ("run") or check() and moves() ("check") take: the run settings'
-    flag names with '_' for '-' (one table for the CLI, golden cases, sweeps and Python)."""
+    """The keyword options run(), check() or moves() take (what = "run", "check", "moves"): the
+    run settings' flag names with '_' for '-' (one table for the CLI, golden cases, sweeps and
+    Python)."""
     return list(_core.options(what))
 
 
@@ -111,7 +112,7 @@ def check(program, machine=None, **options):
     """Checks `program` (a path) as `gmotion check` does, on `machine` (a machine file path;
     None = the built-in machine). Options (options("check")): block_delete, max_iterations,
     subroutine_path ("DIR[:DIR...]"), dialect ("linuxcnc", "fanuc", "grbl"), parameter_file,
-    no_parameter_file, tool_table, user_mcode_dir.
+    no_parameter_file, axes, tool_table, user_mcode_dir.
     Returns a CheckResult; raises ProgramError at the first error."""
     d = _core.check(os.fspath(program), "" if machine is None else os.fspath(machine),
                     _paths(options))

@@ -22,28 +22,31 @@ namespace {
 
 constexpr unsigned kCheckMachine = kProgramGroup | kMachineGroup;
 
-std::vector<SettingRow> make_rows() {
-  using S = RunSettings;
-  auto row = [](std::string flag, std::string help, SettingField field, unsigned groups) {
-    SettingRow r;
-    r.flag = std::move(flag);
-    r.help = std::move(help);
-    r.field = field;
-    r.groups = groups;
-    return r;
-  };
-  auto must_be_positive = [](SettingRow r) {
-    r.check = SettingCheck::Positive;
-    return r;
-  };
-  auto one_of = [](SettingRow r, std::vector<std::string> choices, bool ignore_case) {
-    r.check = SettingCheck::OneOf;
-    r.choices = std::move(choices);
-    r.ignore_case = ignore_case;
-    return r;
-  };
-  std::vector<SettingRow> rows;
-  // The machine choice.
+using S = RunSettings;
+
+SettingRow row(std::string flag, std::string help, SettingField field, unsigned groups) {
+  SettingRow r;
+  r.flag = std::move(flag);
+  r.help = std::move(help);
+  r.field = field;
+  r.groups = groups;
+  return r;
+}
+
+SettingRow must_be_positive(SettingRow r) {
+  r.check = SettingCheck::Positive;
+  return r;
+}
+
+SettingRow one_of(SettingRow r, std::vector<std::string> choices, bool ignore_case) {
+  r.check = SettingCheck::OneOf;
+  r.choices = std::move(choices);
+  r.ignore_case = ignore_case;
+  return r;
+}
+
+// The machine choice.
+void add_machine_rows(std::vector<SettingRow>& rows) {
   rows.push_back(row("--machine",
                      "Machine file (TOML, or a LinuxCNC .ini: docs/linuxcnc-ini.md); "
                      "default: the built-in 3-axis machine",
@@ -76,7 +79,10 @@ std::vector<SettingRow> make_rows() {
                      "Seconds an M0/M1 program stop holds the run; default: the "
                      "machine's pause_s (0)",
                      &S::pause_s, kMachineGroup));
-  // The language.
+}
+
+// How the program is read.
+void add_language_rows(std::vector<SettingRow>& rows) {
   rows.push_back(row("--subroutine-path",
                      "directories (DIR[:DIR...]) where 'o<name> call' finds "
                      "name.ngc, searched before the machine's subroutine_path",
@@ -102,7 +108,10 @@ std::vector<SettingRow> make_rows() {
                          &S::no_parameter_file, kLanguageGroup);
   no_pf.excludes = "--parameter-file";
   rows.push_back(std::move(no_pf));
-  // The run.
+}
+
+// The run itself.
+void add_run_rows(std::vector<SettingRow>& rows) {
   rows.push_back(
       must_be_positive(row("--decimate", "Write every K-th sample", &S::decimate, kRunGroup)));
   rows.push_back(row("--override", "Feed override at the start, percent (default 100)",
@@ -129,7 +138,6 @@ std::vector<SettingRow> make_rows() {
                             "(encoder; the machine's tolerance_on)",
                             &S::tolerance_on, kRunGroup),
                         {"acc_dec", "encoder"}, false));
-  return rows;
 }
 
 std::string lower(std::string_view text) {
@@ -231,7 +239,13 @@ std::string SettingRow::keyword() const {
 }
 
 const std::vector<SettingRow>& setting_rows() {
-  static const std::vector<SettingRow> rows = make_rows();
+  static const std::vector<SettingRow> rows = [] {
+    std::vector<SettingRow> all;
+    add_machine_rows(all);
+    add_language_rows(all);
+    add_run_rows(all);
+    return all;
+  }();
   return rows;
 }
 
