@@ -2,13 +2,13 @@
 #include "accdec/analysis.hpp"
 #include "accdec/design_procedure.hpp"
 #include "accdec/profile_spec.hpp"
-#include "cli/language_flags.hpp"
-#include "cli/run_setup.hpp"
 #include "common/diagnostic.hpp"
 #include "common/status.hpp"
 #include "interp/program.hpp"
 #include "override/override_schedule.hpp"
 #include "pipeline/run.hpp"
+#include "setup/program_input.hpp"
+#include "setup/run_settings.hpp"
 #include "trace/trace_reader.hpp"
 
 #include <fmt/format.h>
@@ -18,12 +18,12 @@
 #include <numbers>
 
 #include <unistd.h>
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <optional>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -31,46 +31,46 @@ namespace py = pybind11;
 
 namespace {
 
-/// The keyword arguments of gmotion.run(), named as the `run` flags are (dashes as underscores).
-const std::set<std::string> kRunOptions = {"profile",         "tau",
-                                           "period",          "blu",
-                                           "servo",           "block_delete",
-                                           "override",        "tool_table",
-                                           "rapid_override",  "schedule",
-                                           "decimate",        "tolerance",
-                                           "max_time",        "max_iterations",
-                                           "subroutine_path", "dialect",
-                                           "parameter_file",  "no_parameter_file"};
-
-template <typename T>
-std::optional<T> option(const py::dict& d, const char* key) {
-  if (!d.contains(key) || d[key].is_none()) return std::nullopt;
-  return d[key].cast<T>();
+/// The keyword options of `what` (run, check, moves): the run settings of `groups`, named as in
+/// setup::setting_rows() (the flag without dashes, '-' as '_'), plus `servo` (the opposite of
+/// no_servo) and `schedule` (override_file), the names of the first bindings. `machine` (and for
+/// moves `axes`) is an argument of its own.
+std::vector<std::string> option_names(unsigned groups, const std::string& what) {
+  std::vector<std::string> names;
+  for (const gm::setup::SettingRow& row : gm::setup::setting_rows())
+    if ((row.groups & groups) != 0 && row.flag != "--machine" &&
+        (row.flag != "--axes" || what != "moves"))
+      names.push_back(row.keyword());
+  if ((groups & gm::setup::kMachineGroup) != 0) names.emplace_back("servo");
+  if ((groups & gm::setup::kRunGroup) != 0) names.emplace_back("schedule");
+  return names;
 }
 
-/// The language flags (`--subroutine-path`, `--dialect`, `--parameter-file`,
-/// `--no-parameter-file`, `--max-iterations`, `--block-delete`) from keyword options, applied
-/// as the commands apply them: the flags first, then the machine's keys.
-gm::InterpreterOptions language_options(const py::dict& kw, const gm::Machine& machine) {
-  gm::cli::LanguageFlags f;
-  f.subroutine_path = option<std::string>(kw, "subroutine_path").value_or("");
-  f.dialect = option<std::string>(kw, "dialect").value_or("");
-  if (!f.dialect.empty() && f.dialect != "linuxcnc" && f.dialect != "fanuc" && f.dialect != "grbl")
-    throw gm::InputError(
-        fmt::format("dialect '{}' is not one of linuxcnc, fanuc, grbl", f.dialect));
-  f.parameter_file = option<std::string>(kw, "parameter_file").value_or("");
-  f.no_parameter_file = option<bool>(kw, "no_parameter_file").value_or(false);
-  if (f.no_parameter_file && !f.parameter_file.empty())
-    throw gm::InputError("parameter_file and no_parameter_file exclude each other");
-  if (auto n = option<std::int64_t>(kw, "max_iterations")) {
-    if (*n <= 0) throw gm::InputError(fmt::format("max_iterations {} is not positive", *n));
-    f.max_iterations = *n;
+/// The run settings from keyword options (None: the default); a TypeError names an unknown one.
+gm::setup::RunSettings settings_from(const py::dict& kw, unsigned groups, const char* what) {
+  const std::vector<std::string> names = option_names(groups, what);
+  gm::setup::RunSettings s;
+  for (const auto& [k, value] : kw) {
+    std::string key = k.cast<std::string>();
+    if (std::find(names.begin(), names.end(), key) == names.end()) {
+      std::string known;
+      for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
+      throw py::type_error(
+          fmt::format("{}() got an unknown option '{}' (the options: {})", what, key, known));
+    }
+    if (value.is_none()) continue;
+    if (key == "servo") {
+      s.no_servo = !value.cast<bool>();
+      continue;
+    }
+    if (key == "schedule") key = "override_file";
+    for (const gm::setup::SettingRow& row : gm::setup::setting_rows())
+      if (row.keyword() == key)
+        gm::setup::set_from_text(s, row,
+                                 row.is_switch() ? (value.cast<bool>() ? "true" : "false")
+                                                 : py::str(value).cast<std::string>());
   }
-  gm::InterpreterOptions opts;
-  opts.machine = &machine;
-  opts.block_delete = option<bool>(kw, "block_delete").value_or(false);
-  gm::cli::apply_language_flags(f, machine, opts);
-  return opts;
+  return s;
 }
 
 py::dict diagnostic_dict(const std::string& file, const gm::Diagnostic& d) {
@@ -89,7 +89,7 @@ py::dict diagnostic_dict(const std::string& file, const gm::Diagnostic& d) {
 
 /// Checks the program; the diagnostics as dicts and the check summary.
 py::dict check(const std::string& path, const gm::InterpreterOptions& opts) {
-  gm::cli::ProgramInput program(path);
+  gm::setup::ProgramInput program(path);
   std::vector<gm::Diagnostic> diags;
   gm::CheckSummary s;
   {
@@ -125,51 +125,10 @@ struct ScratchTrace {
 };
 
 py::dict run(const std::string& path, const std::string& machine, const py::dict& kw) {
-  for (const auto& item : kw) {
-    const auto key = item.first.cast<std::string>();
-    if (kRunOptions.count(key) == 0) {
-      std::string known;
-      for (const auto& k : kRunOptions) {
-        if (!known.empty()) known += ", ";
-        known += k;
-      }
-      throw py::type_error(
-          fmt::format("run() got an unknown option '{}' (the options: {})", key, known));
-    }
-  }
-  gm::cli::MachineFlags flags;
-  flags.machine_file = machine;
-  flags.profile = option<std::string>(kw, "profile");
-  flags.tau_s = option<double>(kw, "tau");
-  flags.period_s = option<double>(kw, "period");
-  flags.blu_mm = option<double>(kw, "blu");
-  flags.no_servo = !option<bool>(kw, "servo").value_or(true);
-  flags.block_delete = option<bool>(kw, "block_delete").value_or(false);
-  flags.tool_table = option<std::string>(kw, "tool_table").value_or("");
-
-  gm::RunOptions o;
-  o.config.machine = gm::cli::resolve_machine(flags);
-  o.config.servo = !flags.no_servo;
-  if (auto tol = option<double>(kw, "tolerance")) {
-    if (!(*tol >= 0.0) || *tol > 1000.0)
-      throw gm::InputError(fmt::format("tolerance {} is outside 0..1000 mm", *tol));
-    o.config.machine.path_tolerance_mm = *tol;
-  }
-  const double max_pct = o.config.machine.max_override * 100.0;
-  o.feed_override_pct = option<double>(kw, "override").value_or(100.0);
-  o.rapid_override_pct = option<double>(kw, "rapid_override").value_or(100.0);
-  for (auto [name, v] : {std::pair{"override", o.feed_override_pct},
-                         std::pair{"rapid_override", o.rapid_override_pct}})
-    if (!(v >= 0.0) || v > max_pct + 1e-9)
-      throw gm::InputError(fmt::format("{} {} is outside 0..{} % (the machine's maximum override)",
-                                       name, v, max_pct));
-  if (auto file = option<std::string>(kw, "schedule"))
-    o.schedule = gm::OverrideSchedule::load(*file, max_pct);
-  o.decimate = option<int>(kw, "decimate").value_or(1);
-  if (o.decimate < 1) throw gm::InputError(fmt::format("decimate {} is below 1", o.decimate));
-  o.max_time_s = option<double>(kw, "max_time").value_or(0.0);
-
-  gm::InterpreterOptions opts = language_options(kw, o.config.machine);
+  gm::setup::RunSettings settings = settings_from(kw, gm::setup::kAllSettings, "run");
+  settings.machine_file = machine;
+  gm::RunOptions o = gm::setup::run_options(settings, gm::setup::resolve_machine(settings));
+  gm::InterpreterOptions opts = gm::setup::interpreter_options(settings, o.config.machine);
 
   py::dict out;
   const py::dict checked = check(path, opts);
@@ -179,7 +138,7 @@ py::dict run(const std::string& path, const std::string& machine, const py::dict
   }
   opts.save_parameters = true;  // as `gmotion run`: written once, after the run
 
-  gm::cli::ProgramInput program(path);
+  gm::setup::ProgramInput program(path);
   ScratchTrace scratch;
   o.program_name = program.name();
   o.trace_path = scratch.path;
@@ -189,6 +148,7 @@ py::dict run(const std::string& path, const std::string& machine, const py::dict
   std::vector<std::vector<double>> values;
   std::vector<std::string> header;
   std::string summary_json, tolerance_text, unsettled;
+  std::int64_t over_tolerance = 0;  // samples over the tolerance in force (check_tolerance)
   gm::RunStatus st = gm::RunStatus::Working;
   {
     py::gil_scoped_release unlocked;
@@ -198,6 +158,8 @@ py::dict run(const std::string& path, const std::string& machine, const py::dict
     summary_json = r.summary().json();
     tolerance_text = r.tolerance().text();
     if (st == gm::RunStatus::Unsettled) unsettled = r.unsettled_reason();
+    if (r.tolerance().exceeded())
+      over_tolerance = r.tolerance().cutting().over + r.tolerance().rapids().over;
     // The run has finished and closed its trace: read it back into one vector per column.
     gm::TraceReader reader(scratch.path);
     columns = reader.columns();
@@ -207,6 +169,9 @@ py::dict run(const std::string& path, const std::string& machine, const py::dict
     while (reader.next(row))
       for (std::size_t c = 0; c < row.size(); ++c) values[c].push_back(row[c]);
   }
+  if (settings.check_tolerance && over_tolerance > 0)
+    throw gm::InputError(
+        fmt::format("check_tolerance: {} samples exceed the tolerance in force", over_tolerance));
   py::dict trace;
   for (std::size_t c = 0; c < columns.size(); ++c) {
     py::array_t<double> a(static_cast<py::ssize_t>(values[c].size()));
@@ -241,12 +206,14 @@ py::list xyz(const gm::AxisVec& v) {
 /// keys; tests/python compares the two).
 py::list moves(const std::string& path, const std::string& machine_file, const std::string& axes,
                bool messages, const py::dict& kw) {
-  gm::cli::MachineFlags flags;
-  flags.machine_file = machine_file;
-  flags.axes = axes;
-  const gm::Machine machine = gm::cli::resolve_machine(flags);
-  gm::InterpreterOptions io = language_options(kw, machine);
-  gm::cli::ProgramInput program(path);
+  gm::setup::RunSettings settings =
+      settings_from(kw, gm::setup::kProgramGroup | gm::setup::kLanguageGroup, "moves");
+  settings.machine_file = machine_file;
+  settings.axes = axes;
+  const gm::Machine machine = gm::setup::resolve_machine(settings);
+  gm::setup::validate(settings, machine);
+  gm::InterpreterOptions io = gm::setup::interpreter_options(settings, machine);
+  gm::setup::ProgramInput program(path);
   std::vector<gm::Canon> all;
   {
     py::gil_scoped_release unlocked;
@@ -423,12 +390,22 @@ PYBIND11_MODULE(_core, m) {
   m.def(
       "check",
       [](const std::string& path, const std::string& machine_file, const py::dict& kw) {
-        gm::cli::MachineFlags flags;
-        flags.machine_file = machine_file;
-        const gm::Machine machine = gm::cli::resolve_machine(flags);
-        return check(path, language_options(kw, machine));
+        gm::setup::RunSettings settings =
+            settings_from(kw, gm::setup::kProgramGroup | gm::setup::kLanguageGroup, "check");
+        settings.machine_file = machine_file;
+        const gm::Machine machine = gm::setup::resolve_machine(settings);
+        gm::setup::validate(settings, machine);
+        return check(path, gm::setup::interpreter_options(settings, machine));
       },
       py::arg("program"), py::arg("machine"), py::arg("options"));
+  m.def(
+      "options",
+      [](const std::string& what) {
+        return option_names(what == "run" ? gm::setup::kAllSettings
+                                          : gm::setup::kProgramGroup | gm::setup::kLanguageGroup,
+                            what);
+      },
+      py::arg("what"));
   m.def("moves", &moves, py::arg("program"), py::arg("machine"), py::arg("axes"),
         py::arg("messages"), py::arg("options"));
   m.def(

@@ -11,10 +11,13 @@
     gmotion.response("blackman", 0.164, 0.004)                # `gmotion analyze response`
     gmotion.radius_error("linear", 0.041, 0.001, radius=150)  # `gmotion analyze radius-error`
 
-The keyword options of run() are the `gmotion run` flags (docs/cli.md) with dashes as
-underscores: profile, tau, period, blu, servo (False = --no-servo), block_delete, tool_table,
-override, rapid_override, schedule (an override-schedule file), decimate, tolerance, max_time,
-max_iterations. The GIL is released while a program runs, so runs in threads proceed in parallel.
+The keyword options of run() are the `gmotion run` flags that change the run (docs/cli.md), with
+dashes as underscores: the one table of run settings (src/setup/run_settings.cpp) names them for
+the CLI, golden cases, sweeps and Python alike; `gmotion.options("run")` lists them (profile, tau,
+period, blu, axes, no_servo, block_delete, tool_table, override, rapid_override, override_file,
+decimate, tolerance, tolerance_on, check_tolerance, max_time, dialect, ...). servo (False =
+no_servo) and schedule (= override_file) are accepted too. The GIL is released while a program
+runs, so runs in threads proceed in parallel.
 """
 
 import json
@@ -22,7 +25,7 @@ import os
 
 from . import _core
 
-__all__ = ["run", "check", "moves", "design", "response", "radius_error", "RunResult",
+__all__ = ["run", "check", "moves", "design", "response", "radius_error", "options", "RunResult",
            "CheckResult", "Design", "ProgramError", "InputError", "__version__"]
 
 __version__ = _core.version
@@ -93,27 +96,26 @@ class RunResult:
         return f"RunResult({n} rows x {len(self.columns)} columns, finished={self.finished})"
 
 
-_LANGUAGE_OPTIONS = ("block_delete", "max_iterations", "subroutine_path", "dialect",
-                     "parameter_file", "no_parameter_file")
+def options(what="run"):
+    """The keyword options run(), check() or moves() take (what = "run", "check", "moves"): the
+    run settings' flag names with '_' for '-' (one table for the CLI, golden cases, sweeps and
+    Python)."""
+    return list(_core.options(what))
 
 
-def _language(options, what):
-    """The language flags among `options` (paths made strings); a TypeError names any other."""
-    for k in options:
-        if k not in _LANGUAGE_OPTIONS:
-            raise TypeError(f"{what}() got an unknown option '{k}' "
-                            f"(the options: {', '.join(_LANGUAGE_OPTIONS)})")
-    return {k: (os.fspath(v) if k in ("subroutine_path", "parameter_file") and v is not None
-                else v) for k, v in options.items()}
+def _paths(options):
+    """`options` with path-like values (pathlib.Path) made strings."""
+    return {k: (os.fspath(v) if isinstance(v, os.PathLike) else v) for k, v in options.items()}
 
 
 def check(program, machine=None, **options):
     """Checks `program` (a path) as `gmotion check` does, on `machine` (a machine file path;
-    None = the built-in machine). Options: block_delete, max_iterations, subroutine_path
-    ("DIR[:DIR...]"), dialect ("linuxcnc", "fanuc", "grbl"), parameter_file, no_parameter_file.
+    None = the built-in machine). Options (options("check")): block_delete, max_iterations,
+    subroutine_path ("DIR[:DIR...]"), dialect ("linuxcnc", "fanuc", "grbl"), parameter_file,
+    no_parameter_file, axes, tool_table, user_mcode_dir.
     Returns a CheckResult; raises ProgramError at the first error."""
     d = _core.check(os.fspath(program), "" if machine is None else os.fspath(machine),
-                    _language(options, "check"))
+                    _paths(options))
     err = _first_error(d["diagnostics"])
     if err is not None:
         raise err
@@ -125,12 +127,8 @@ def run(program, machine=None, **options):
     with the `run` flags as keyword options. Returns a RunResult; raises ProgramError when the
     program has an error (nothing runs then) and InputError for a bad machine, option or a stop
     rule."""
-    if "schedule" in options and options["schedule"] is not None:
-        options["schedule"] = os.fspath(options["schedule"])
-    for k in ("tool_table", "subroutine_path", "parameter_file"):
-        if k in options and options[k] is not None:
-            options[k] = os.fspath(options[k])
-    d = _core.run(os.fspath(program), "" if machine is None else os.fspath(machine), options)
+    d = _core.run(os.fspath(program), "" if machine is None else os.fspath(machine),
+                  _paths(options))
     if "diagnostics" in d:
         raise _first_error(d["diagnostics"])
     return RunResult(d)
@@ -140,10 +138,10 @@ def moves(program, machine=None, axes="", messages=False, **options):
     """The canonical moves of `program` as `gmotion moves` prints them: a list of dicts with the
     same keys ("line", "kind" rapid|line|arc|dwell, "end" [x, y, z] mm, "feed" mm/min, "axes"
     {letter: value} past XYZ, "center"/"dir"/"turns"/"plane" for arcs, "seconds" for dwells;
-    with messages=True also "message" records). Options as check(). Raises InputError if the
-    program has an error."""
+    with messages=True also "message" records). Options as check() (axes is its own argument).
+    Raises InputError if the program has an error."""
     return _core.moves(os.fspath(program), "" if machine is None else os.fspath(machine), axes,
-                       messages, _language(options, "moves"))
+                       messages, _paths(options))
 
 
 class _Record:

@@ -3,10 +3,10 @@
 #include "accdec/analysis.hpp"
 #include "accdec/profiles.hpp"
 #include "cli/commands.hpp"
-#include "cli/language_flags.hpp"
-#include "cli/run_setup.hpp"
+#include "cli/settings_flags.hpp"
 #include "common/status.hpp"
 #include "pipeline/run.hpp"
+#include "setup/program_input.hpp"
 #include "trace/run_summary.hpp"
 
 #include <fmt/format.h>
@@ -22,10 +22,11 @@
 namespace gm::cli {
 namespace {
 
+using setup::ProgramInput;
+
 struct CompareFlags {
   std::string program;
-  MachineFlags machine;
-  LanguageFlags language;
+  setup::RunSettings settings;  ///< the machine choice and the language
   std::vector<std::string> profiles = paper_profiles();
   bool json = false;
 };
@@ -63,100 +64,89 @@ struct Row {
   bool settled = false;
 };
 
-int compare(const CompareFlags& f) {
-  const Machine base = resolve_machine(f.machine);
-  ProgramInput program(f.program);
-  InterpreterOptions opts;
-  opts.machine = &base;
-  opts.block_delete = f.machine.block_delete;
-  apply_language_flags(f.language, base, opts);
-  if (!validate_program(program, opts)) return static_cast<int>(ExitCode::InputError);
+// The first arc's radius and tangent speed in BLU, and Eq. 35's servo radius loss for them.
+struct ArcFigures {
+  std::optional<Motion> arc;
+  double r_blu = 0, v_blu_s = 0, servo_eq35 = 0, kp = 0;
+};
 
-  const std::optional<Motion> arc = first_arc(program, opts);
-  const double blu = base.contour_blu_mm();
-  double r_blu = 0, v_blu_s = 0;
-  if (arc) {
-    r_blu = (arc->start_mm - arc->center_mm).norm() / blu;  // planar arcs: in-plane radius
-    v_blu_s = arc->feed_mm_min / 60.0 / blu;
+ArcFigures arc_figures(ProgramInput& program, const InterpreterOptions& opts, const Machine& m) {
+  ArcFigures a;
+  a.arc = first_arc(program, opts);
+  const double blu = m.contour_blu_mm();
+  if (a.arc) {
+    a.r_blu = (a.arc->start_mm - a.arc->center_mm).norm() / blu;  // planar arcs: in-plane radius
+    a.v_blu_s = a.arc->feed_mm_min / 60.0 / blu;
   }
-  const double kp = base.axes[0].kp_1_s;
-  const double servo_eq35 = arc ? v_blu_s * v_blu_s / (2.0 * r_blu * kp * kp) : 0.0;
+  a.kp = m.axes[0].kp_1_s;
+  a.servo_eq35 = a.arc ? a.v_blu_s * a.v_blu_s / (2.0 * a.r_blu * a.kp * a.kp) : 0.0;
+  return a;
+}
 
-  // The servo's own radius loss: the same program with the Acc/Dec off (one tap, tau = T).
-  double servo_alone_blu = 0.0;
-  if (!f.machine.no_servo && arc) {
-    RunConfig cfg;
-    cfg.machine = base;
-    cfg.machine.profile = "custom:1";
-    cfg.machine.tau_s = base.period_s;
-    servo_alone_blu = -run_once(cfg, program, opts, nullptr, nullptr).arc_enc_radial_dev_blu;
+// One profile's row: the run without servo (Acc/Dec alone), then with it unless --no-servo.
+Row profile_row(const std::string& profile, const Machine& base, bool servo, ProgramInput& program,
+                const InterpreterOptions& opts, const ArcFigures& a, double servo_alone_blu) {
+  Row row;
+  row.profile = profile;
+  RunConfig cfg;
+  cfg.machine = base;
+  cfg.machine.profile = profile;
+  cfg.servo = false;
+  std::vector<double> real_taps;
+  const RunSummary ideal = run_once(cfg, program, opts, &row.taps, &real_taps);
+  if (a.arc) row.analysis_blu = radius_loss_sampled(real_taps, a.r_blu, a.v_blu_s, base.period_s);
+  row.accdec_blu = -ideal.arc_ref_radial_dev_blu;
+  const RunSummary* shown = &ideal;
+  std::optional<RunSummary> with_servo;
+  if (servo) {
+    cfg.servo = true;
+    with_servo.emplace(run_once(cfg, program, opts, nullptr, nullptr));
+    row.total_blu = -with_servo->arc_enc_radial_dev_blu;
+    shown = &*with_servo;
   }
+  row.cycle_s = shown->cycle_time_s;
+  row.contour_max_blu = shown->contour_err_blu.value;
+  row.settled = shown->settled;
+  row.additive_blu = row.accdec_blu + servo_alone_blu;
+  row.predicted_total_blu = row.analysis_blu + a.servo_eq35;
+  return row;
+}
 
-  std::vector<Row> rows;
-  for (const std::string& profile : f.profiles) {
-    Row row;
-    row.profile = profile;
-    RunConfig cfg;
-    cfg.machine = base;
-    cfg.machine.profile = profile;
-    cfg.servo = false;
-    std::vector<double> real_taps;
-    const RunSummary ideal = run_once(cfg, program, opts, &row.taps, &real_taps);
-    if (arc) row.analysis_blu = radius_loss_sampled(real_taps, r_blu, v_blu_s, base.period_s);
-    row.accdec_blu = -ideal.arc_ref_radial_dev_blu;
-    const RunSummary* shown = &ideal;
-    std::optional<RunSummary> with_servo;
-    if (!f.machine.no_servo) {
-      cfg.servo = true;
-      with_servo.emplace(run_once(cfg, program, opts, nullptr, nullptr));
-      row.total_blu = -with_servo->arc_enc_radial_dev_blu;
-      shown = &*with_servo;
-    }
-    row.cycle_s = shown->cycle_time_s;
-    row.contour_max_blu = shown->contour_err_blu.value;
-    row.settled = shown->settled;
-    row.additive_blu = row.accdec_blu + servo_alone_blu;
-    row.predicted_total_blu = row.analysis_blu + servo_eq35;
-    rows.push_back(row);
-  }
-
-  if (f.json) {
-    std::string j = "{\"rows\":[";
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-      const Row& r = rows[i];
-      j += fmt::format(
-          "{}{{\"profile\":\"{}\",\"taps\":{},\"analysis_blu\":{:.6g},\"accdec_blu\":{:.6g},"
-          "\"total_blu\":{:.6g},"
-          "\"additive_blu\":{:.6g},\"predicted_total_blu\":{:.6g},\"cycle_time_s\":{:.6g},"
-          "\"contour_err_max_blu\":{:.6g},\"settled\":{}}}",
-          i ? "," : "", r.profile, r.taps, r.analysis_blu, r.accdec_blu, r.total_blu,
-          r.additive_blu, r.predicted_total_blu, r.cycle_s, r.contour_max_blu,
-          r.settled ? "true" : "false");
-    }
+void print_json(const std::vector<Row>& rows, const ArcFigures& a, double servo_alone_blu) {
+  std::string j = "{\"rows\":[";
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const Row& r = rows[i];
     j += fmt::format(
-        "],\"radius_blu\":{:.6g},\"v_tan_blu_s\":{:.6g},\"servo_alone_blu\":{:.6g},\"servo_eq35_"
-        "blu\":{:.6g}}}\n",
-        r_blu, v_blu_s, servo_alone_blu, servo_eq35);
-    fmt::print("{}", j);
-    return 0;
+        "{}{{\"profile\":\"{}\",\"taps\":{},\"analysis_blu\":{:.6g},\"accdec_blu\":{:.6g},"
+        "\"total_blu\":{:.6g},"
+        "\"additive_blu\":{:.6g},\"predicted_total_blu\":{:.6g},\"cycle_time_s\":{:.6g},"
+        "\"contour_err_max_blu\":{:.6g},\"settled\":{}}}",
+        i ? "," : "", r.profile, r.taps, r.analysis_blu, r.accdec_blu, r.total_blu, r.additive_blu,
+        r.predicted_total_blu, r.cycle_s, r.contour_max_blu, r.settled ? "true" : "false");
   }
+  j += fmt::format(
+      "],\"radius_blu\":{:.6g},\"v_tan_blu_s\":{:.6g},\"servo_alone_blu\":{:.6g},\"servo_eq35_"
+      "blu\":{:.6g}}}\n",
+      a.r_blu, a.v_blu_s, servo_alone_blu, a.servo_eq35);
+  fmt::print("{}", j);
+}
 
-  fmt::print("{} on {}: T = {} s, tau = {} s", program.name(), base.name, base.period_s,
-             base.tau_s);
-  if (arc)
-    fmt::print(", circle R = {:.0f} BLU at V_tan = {:.0f} BLU/s (line {})\n", r_blu, v_blu_s,
-               arc->line);
+void print_table(const std::vector<Row>& rows, const std::string& name, const Machine& base,
+                 bool servo, const ArcFigures& a, double servo_alone_blu) {
+  fmt::print("{} on {}: T = {} s, tau = {} s", name, base.name, base.period_s, base.tau_s);
+  if (a.arc)
+    fmt::print(", circle R = {:.0f} BLU at V_tan = {:.0f} BLU/s (line {})\n", a.r_blu, a.v_blu_s,
+               a.arc->line);
   else
     fmt::print(", no arcs (radius columns are empty)\n");
   fmt::print("Steady-state radius loss on arcs, BLU (positive = radius decreased):\n");
   fmt::print("  {:<10} {:>5} {:>12} {:>12}", "profile", "taps", "analysis", "Acc/Dec");
-  if (!f.machine.no_servo)
-    fmt::print(" {:>11} {:>14} {:>14}", "with servo", "Acc/Dec+servo", "analysis+Eq35");
+  if (servo) fmt::print(" {:>11} {:>14} {:>14}", "with servo", "Acc/Dec+servo", "analysis+Eq35");
   fmt::print(" {:>10} {:>14}\n", "cycle s", "max contour");
   for (const Row& r : rows) {
     fmt::print("  {:<10} {:>5} {:>12.2f} {:>12.2f}", r.profile, r.taps, r.analysis_blu,
                r.accdec_blu);
-    if (!f.machine.no_servo)
+    if (servo)
       fmt::print(" {:>11.2f} {:>14.2f} {:>14.2f}", r.total_blu, r.additive_blu,
                  r.predicted_total_blu);
     fmt::print(" {:>10.3f} {:>14.2f}{}\n", r.cycle_s, r.contour_max_blu,
@@ -169,7 +159,33 @@ int compare(const CompareFlags& f) {
       "measured\n"
       "(Acc/Dec off): {:.2f} BLU; analysis+Eq35 = Eq. 34 with Eq. 35's V^2/(2 R Kp^2) = {:.2f} BLU "
       "(Kp = {} 1/s).\n",
-      servo_alone_blu, servo_eq35, kp);
+      servo_alone_blu, a.servo_eq35, a.kp);
+}
+
+int compare(const CompareFlags& f) {
+  const Machine base = setup::resolve_machine(f.settings);
+  ProgramInput program(f.program);
+  const InterpreterOptions opts = setup::interpreter_options(f.settings, base);
+  if (!setup::validate_program(program, opts)) return static_cast<int>(ExitCode::InputError);
+  const ArcFigures a = arc_figures(program, opts, base);
+  const bool servo = !f.settings.no_servo;
+
+  // The servo's own radius loss: the same program with the Acc/Dec off (one tap, tau = T).
+  double servo_alone_blu = 0.0;
+  if (servo && a.arc) {
+    RunConfig cfg;
+    cfg.machine = base;
+    cfg.machine.profile = "custom:1";
+    cfg.machine.tau_s = base.period_s;
+    servo_alone_blu = -run_once(cfg, program, opts, nullptr, nullptr).arc_enc_radial_dev_blu;
+  }
+  std::vector<Row> rows;
+  for (const std::string& profile : f.profiles)
+    rows.push_back(profile_row(profile, base, servo, program, opts, a, servo_alone_blu));
+  if (f.json)
+    print_json(rows, a, servo_alone_blu);
+  else
+    print_table(rows, program.name(), base, servo, a, servo_alone_blu);
   return 0;
 }
 
@@ -180,8 +196,7 @@ void add_compare(CLI::App& app, Context& ctx) {
   auto* sub = app.add_subcommand(
       "compare", "Run a program through several Acc/Dec profiles and tabulate radius loss");
   sub->add_option("program", flags->program, "G-code program, or - for stdin")->required();
-  add_machine_flags(sub, flags->machine);
-  add_language_flags(sub, flags->language);
+  add_setting_flags(sub, flags->settings, setup::kMachineGroup | setup::kLanguageGroup);
   sub->add_option("--profiles", flags->profiles,
                   "Comma-separated profiles; default: the paper's (" +
                       fmt::format("{}", fmt::join(paper_profiles(), ",")) + ")")

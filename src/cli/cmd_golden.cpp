@@ -5,6 +5,7 @@
 #include "golden/golden_runner.hpp"
 #include "golden/junit.hpp"
 #include "golden/suite.hpp"
+#include "setup/run_settings.hpp"
 
 #include <fmt/format.h>
 
@@ -96,7 +97,7 @@ void add_golden(CLI::App& app, Context& ctx) {
   g->require_subcommand(1);
   g->footer(fmt::format(
       "A case's `flags` in suite.toml takes these `gmotion run` flags: {}.\nSee docs/golden.md.",
-      golden::kCaseFlagsHelp));
+      setup::flag_names()));
 
   auto rec = std::make_shared<GoldenFlags>();
   auto* r = g->add_subcommand(

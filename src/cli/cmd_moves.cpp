@@ -1,10 +1,9 @@
 // gmotion moves PROGRAM: the canonical moves as JSON Lines (mm, mm/min, machine coordinates).
 #include "cli/commands.hpp"
-#include "cli/language_flags.hpp"
-#include "cli/run_setup.hpp"
+#include "cli/settings_flags.hpp"
 #include "common/status.hpp"
 #include "interp/program.hpp"
-#include "machine/machine_file.hpp"
+#include "setup/program_input.hpp"
 
 #include <fmt/format.h>
 
@@ -143,43 +142,27 @@ void add_moves(CLI::App& app, Context& ctx) {
       "moves", "Print the canonical moves as JSON Lines (mm, mm/min, machine coordinates)");
   struct Opts {
     std::string program;
-    std::string machine_file;
-    std::string tool_table;
-    std::string user_mcode_dir;
-    std::string axes;
-    bool block_delete = false;
+    setup::RunSettings settings;  ///< the machine file, axes, tools, block delete, language
     bool messages = false;
     bool io = false;
-    LanguageFlags language;
   };
   auto opts = std::make_shared<Opts>();
   sub->add_option("PROGRAM", opts->program, "G-code file ('-' reads stdin)")->required();
-  sub->add_option("--machine", opts->machine_file, "machine description file (TOML)");
-  sub->add_option("--axes", opts->axes, kAxesFlagHelp);
-  sub->add_option("--tool-table", opts->tool_table,
-                  "LinuxCNC tool table (T1 P1 Z50 D6 ;comment), mm; default: the machine's");
-  sub->add_option("--user-mcode-dir", opts->user_mcode_dir, kUserMcodeDirHelp);
-  sub->add_flag("--block-delete", opts->block_delete, "skip lines that start with '/'");
-  add_language_flags(sub, opts->language);
+  add_setting_flags(sub, opts->settings, setup::kProgramGroup | setup::kLanguageGroup);
   sub->add_flag("--messages", opts->messages,
                 "also print MSG/DEBUG/PRINT comments as records of kind \"message\"");
   sub->add_flag("--io", opts->io,
                 "also print spindle, coolant, tool, I/O, user M-code and stop records "
                 "(docs/machine-codes.md)");
   sub->callback([opts, &ctx] {
-    Machine machine;
-    if (!opts->machine_file.empty()) machine = load_machine_file(opts->machine_file);
-    apply_axes_flag(machine, opts->axes);
-    if (!opts->tool_table.empty()) machine.tool_table = load_tool_table(opts->tool_table);
-    if (!opts->user_mcode_dir.empty()) machine.user_mcode_dir = opts->user_mcode_dir;
-    InterpreterOptions io{&machine, opts->block_delete};
-    apply_language_flags(opts->language, machine, io);
+    const Machine machine = setup::resolve_machine(opts->settings, setup::IniNotes::Quiet);
+    InterpreterOptions io = setup::interpreter_options(opts->settings, machine);
     const std::string name = opts->program == "-" ? "<stdin>" : opts->program;
 
     // Nothing is printed if the program has any error: check it whole first, then stream it
     // (stdin is spooled to an unlinked temporary file so it can be read twice without being held).
-    ProgramInput program(opts->program);
-    if (!validate_program(program, io)) {
+    setup::ProgramInput program(opts->program);
+    if (!setup::validate_program(program, io)) {
       ctx.exit_code = static_cast<int>(ExitCode::InputError);
       return;
     }

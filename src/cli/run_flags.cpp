@@ -1,6 +1,7 @@
 // The flags of `gmotion run`, and running a program with them: shared by `run` and `report`.
 #include "cli/run_flags.hpp"
 
+#include "cli/settings_flags.hpp"
 #include "common/status.hpp"
 #include "override/override_schedule.hpp"
 #include "trace/trace_writer.hpp"
@@ -26,38 +27,24 @@ int run(const RunFlags& f, std::unique_ptr<Run>& run_out, const RunHooks& hooks)
   // (a background job's SIGINT is otherwise ignored); the run stops at its first sample.
   std::signal(SIGINT, on_sigint);
   std::signal(SIGTERM, on_sigint);
-  RunOptions o;
-  o.config.machine = resolve_machine(f.machine);
-  o.config.servo = !f.machine.no_servo;
-  const double max_pct =
-      apply_run_limits(o.config.machine, f.tolerance_mm, f.override_pct, f.rapid_override_pct);
-  if (!f.tolerance_on.empty())
-    o.config.machine.tolerance_on =
-        f.tolerance_on == "encoder" ? ToleranceOn::Encoder : ToleranceOn::AccDec;
-  if (!f.override_file.empty()) o.schedule = OverrideSchedule::load(f.override_file, max_pct);
+  const setup::RunSettings& set = f.settings;
+  RunOptions o = setup::run_options(set, setup::resolve_machine(set));
 
   ProgramInput program(f.program);
-  InterpreterOptions opts;
-  opts.machine = &o.config.machine;
-  opts.block_delete = f.machine.block_delete;
-  apply_language_flags(f.language, o.config.machine, opts);
-  if (!validate_program(program, opts)) return static_cast<int>(ExitCode::InputError);
+  InterpreterOptions opts = setup::interpreter_options(set, o.config.machine);
+  if (!setup::validate_program(program, opts)) return static_cast<int>(ExitCode::InputError);
   opts.save_parameters = true;  // the parameter file is written once, after the real pass
 
   o.program_name = program.name();
-  o.feed_override_pct = f.override_pct;
-  o.rapid_override_pct = f.rapid_override_pct;
   if (f.realtime) o.live_fd = STDIN_FILENO;
   o.trace_path = f.trace_path;
   o.trace_format = f.trace_format == "bin" ? TraceFormat::Binary : TraceFormat::Csv;
-  o.decimate = f.decimate;
   o.keep_partial = f.keep_partial;
   o.record_override_path = f.record_override;
   if (isatty(STDERR_FILENO) != 0)
     o.progress = [name = program.name()](const SampleRecord& r) {
       fmt::print(stderr, "\r{}: t = {:.1f} s, line {}   ", name, r.t_s, r.line);
     };
-  o.max_time_s = f.max_time_s;
   o.interrupted = &g_interrupted;
   // A hook reads every sample's contour error in step(), so the run measures it there.
   if (hooks.sample) o.consumer_thread = false;
@@ -96,7 +83,7 @@ int run(const RunFlags& f, std::unique_ptr<Run>& run_out, const RunHooks& hooks)
     js << run.summary().json(run.tolerance().json_member());
     if (!js) throw InputError(fmt::format("cannot write summary '{}'", f.summary_json));
   }
-  if (f.check_tolerance && run.tolerance().exceeded()) {
+  if (set.check_tolerance && run.tolerance().exceeded()) {
     fmt::print(stderr, "gmotion run: --check-tolerance: {} samples exceed the tolerance in force\n",
                run.tolerance().cutting().over + run.tolerance().rapids().over);
     return static_cast<int>(ExitCode::InputError);
@@ -109,22 +96,12 @@ int run(const RunFlags& f, std::unique_ptr<Run>& run_out, const RunHooks& hooks)
 void add_run_flags(CLI::App* sub, RunFlags& flags) {
   sub->add_option("program", flags.program, "G-code program (.nc, .ngc), or - for stdin")
       ->required();
-  add_machine_flags(sub, flags.machine);
-  add_language_flags(sub, flags.language);
+  add_setting_flags(sub, flags.settings, setup::kAllSettings);
   auto* trace = sub->add_option("--trace", flags.trace_path,
                                 "Write the per-sample encoder trace here (- = stdout)");
   sub->add_option("--trace-format", flags.trace_format, "csv or bin")
       ->check(CLI::IsMember({"csv", "bin"}));
-  sub->add_option("--decimate", flags.decimate, "Write every K-th sample")
-      ->check(CLI::PositiveNumber);
   sub->add_option("--summary-json", flags.summary_json, "Write the summary as JSON to this file");
-  sub->add_option("--override", flags.override_pct,
-                  "Feed override at the start, percent (default 100)");
-  sub->add_option("--rapid-override", flags.rapid_override_pct,
-                  "Rapid override at the start, percent (default 100)");
-  sub->add_option(
-      "--override-file", flags.override_file,
-      "Override schedule: lines t_s,percent | line:N,percent | t_s,rapid=percent; # comments");
   sub->add_flag(
       "--realtime", flags.realtime,
       "Pace the run at wall-clock speed and read override changes from stdin, one a line: "
@@ -132,22 +109,11 @@ void add_run_flags(CLI::App* sub, RunFlags& flags) {
   sub->add_option(
       "--record-override", flags.record_override,
       "Write the overrides in effect as a schedule that --override-file replays exactly");
-  sub->add_option("--max-time", flags.max_time_s,
-                  "Stop the run (exit 1) when simulated time passes this, s");
   sub->add_flag(
          "--keep-partial", flags.keep_partial,
          "When the run fails, keep the trace written so far as FILE.partial; a '# status:' header "
          "line says whether the trace is complete or why it is partial")
       ->needs(trace);
-  sub->add_option("--tolerance", flags.tolerance_mm,
-                  "Contour tolerance under G64 without P, mm (the machine's path_tolerance_mm; "
-                  "0 = unbounded)");
-  sub->add_flag("--check-tolerance", flags.check_tolerance,
-                "Exit 1 when any sample's contour error exceeds the tolerance in force");
-  sub->add_option("--tolerance-on", flags.tolerance_on,
-                  "Plan the tolerance for the Acc/Dec output (acc_dec, default) or for the table "
-                  "through the servo model too (encoder; the machine's tolerance_on)")
-      ->check(CLI::IsMember({"acc_dec", "encoder"}));
 }
 
 void validate_run_flags(const RunFlags& flags) {

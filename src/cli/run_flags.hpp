@@ -2,9 +2,9 @@
 #pragma once
 
 #include "cli/commands.hpp"
-#include "cli/language_flags.hpp"
-#include "cli/run_setup.hpp"
 #include "pipeline/run.hpp"
+#include "setup/program_input.hpp"
+#include "setup/run_settings.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -15,24 +15,19 @@
 
 namespace gm::cli {
 
+using setup::ProgramInput;
+
+/// `gmotion run`'s arguments: the program, the run settings, and the flags that only choose the
+/// output files (which stay here).
 struct RunFlags {
   std::string program;
-  MachineFlags machine;
-  LanguageFlags language;
+  setup::RunSettings settings;  ///< every flag that changes the run (src/setup's table)
   std::string trace_path;
   std::string trace_format = "csv";
-  int decimate = 1;
   std::string summary_json;
-  double override_pct = 100.0;
-  double rapid_override_pct = 100.0;
-  std::string override_file;
   std::string record_override;
   bool realtime = false;
-  double max_time_s = 0.0;
   bool keep_partial = false;
-  std::optional<double> tolerance_mm;  ///< --tolerance: the machine's path_tolerance_mm
-  bool check_tolerance = false;        ///< --check-tolerance: exit 1 if a sample exceeds it
-  std::string tolerance_on;            ///< --tolerance-on acc_dec|encoder (machine tolerance_on)
 };
 
 /// What a caller of run_with_flags() sees besides the printed output (`report` uses both).

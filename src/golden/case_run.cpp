@@ -1,17 +1,16 @@
 // One case: flags parsed as `gmotion run` parses them, then Run stepped to the end on this thread.
 #include "golden/case_run.hpp"
 
-#include "cli/run_setup.hpp"
 #include "common/status.hpp"
 #include "machine/machine_file.hpp"
-#include "override/override_schedule.hpp"
 #include "pipeline/run.hpp"
+#include "setup/program_input.hpp"
+#include "setup/run_settings.hpp"
 
 #include <fmt/format.h>
-#include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <exception>
-#include <optional>
 #include <sstream>
 
 namespace gm::golden {
@@ -19,50 +18,64 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CaseFlags {
-  cli::MachineFlags machine;
-  std::string override_file;
-  double override_pct = 100.0;
-  double rapid_override_pct = 100.0;
-  int decimate = 1;
-  std::optional<double> tolerance_mm;
-  bool check_tolerance = false;
-  double max_time_s = 0.0;
-};
+std::string under_root(const Suite& s, const std::string& p) {
+  if (p.empty() || fs::path(p).is_absolute()) return p;
+  return (s.root / p).lexically_normal().string();
+}
 
-// Parses a case's flags with the same option definitions as `gmotion run`.
-CaseFlags parse_flags(const GoldenCase& c) {
-  CaseFlags f;
+// A case's run settings: its flags parsed from the same table as `gmotion run`'s, then its keys;
+// paths relative to the suite's root.
+setup::RunSettings case_settings(const Suite& s, const GoldenCase& c) {
+  setup::RunSettings f;
   f.decimate = c.decimate;
-  CLI::App app{"golden case"};
-  cli::add_machine_flags(&app, f.machine);
-  app.add_option("--override", f.override_pct);
-  app.add_option("--rapid-override", f.rapid_override_pct);
-  app.add_option("--override-file", f.override_file);
-  app.add_option("--decimate", f.decimate)->check(CLI::PositiveNumber);
-  app.add_option("--tolerance", f.tolerance_mm);
-  app.add_flag("--check-tolerance", f.check_tolerance);
-  app.add_option("--max-time", f.max_time_s);
   try {
-    app.parse(c.flags, false);
-  } catch (const CLI::ParseError& e) {
+    setup::parse_flags(f, c.flags);
+  } catch (const InputError& e) {
     throw InputError(
-        fmt::format("flags '{}': {} (a case takes: {})", c.flags, e.what(), kCaseFlagsHelp));
+        fmt::format("flags '{}': {} (a case takes: {})", c.flags, e.what(), setup::flag_names()));
   }
   auto both = [&](const std::string& key, const std::string& flag_value, const char* flag) {
     if (!key.empty() && !flag_value.empty())
       throw InputError(fmt::format("both the key and the flag {} are given", flag));
   };
-  both(c.machine, f.machine.machine_file, "--machine");
+  both(c.machine, f.machine_file, "--machine");
   both(c.override_file, f.override_file, "--override-file");
-  if (!c.machine.empty()) f.machine.machine_file = c.machine;
+  if (!c.machine.empty()) f.machine_file = c.machine;
   if (!c.override_file.empty()) f.override_file = c.override_file;
+  for (std::string* path :
+       {&f.machine_file, &f.tool_table, &f.override_file, &f.parameter_file, &f.user_mcode_dir})
+    *path = under_root(s, *path);
+  std::string dirs;
+  for (std::size_t at = 0; at <= f.subroutine_path.size() && !f.subroutine_path.empty();) {
+    const std::size_t colon = std::min(f.subroutine_path.find(':', at), f.subroutine_path.size());
+    dirs += (dirs.empty() ? "" : ":") + under_root(s, f.subroutine_path.substr(at, colon - at));
+    at = colon + 1;
+  }
+  f.subroutine_path = dirs;
   return f;
 }
 
-std::string under_root(const Suite& s, const std::string& p) {
-  if (p.empty() || fs::path(p).is_absolute()) return p;
-  return (s.root / p).lexically_normal().string();
+// The set-up: everything that shapes the motion except the program and the schedule. The
+// language flags are listed only when given, so a case without them keeps its hash.
+std::string setup_text(const setup::RunSettings& f, const RunOptions& o) {
+  std::string text = machine_to_toml(o.config.machine);
+  text += fmt::format(
+      "\n[run]\nservo = {}\nblock_delete = {}\noverride_percent = {}\nrapid_override_percent = "
+      "{}\ndecimate = {}\ncheck_tolerance = {}\nmax_time_s = {}\n",
+      o.config.servo, f.block_delete, f.override_pct, f.rapid_override_pct, f.decimate,
+      f.check_tolerance, f.max_time_s);
+  const setup::RunSettings none;
+  std::string language;
+  if (f.subroutine_path != none.subroutine_path)
+    language += fmt::format("subroutine_path = \"{}\"\n", f.subroutine_path);
+  if (f.max_iterations != none.max_iterations)
+    language += fmt::format("max_iterations = {}\n", f.max_iterations);
+  if (f.dialect != none.dialect) language += fmt::format("dialect = \"{}\"\n", f.dialect);
+  if (f.parameter_file != none.parameter_file)
+    language += fmt::format("parameter_file = \"{}\"\n", f.parameter_file);
+  if (f.no_parameter_file) language += "no_parameter_file = true\n";
+  if (!language.empty()) text += "\n[language]\n" + language;
+  return text;
 }
 
 }  // namespace
@@ -76,30 +89,15 @@ std::uint64_t fnv1a64(std::string_view text) {
 CaseOutput run_case(const Suite& s, const GoldenCase& c, const std::string& trace_path) {
   CaseOutput out;
   try {
-    CaseFlags f = parse_flags(c);
-    f.machine.machine_file = under_root(s, f.machine.machine_file);
-    f.machine.tool_table = under_root(s, f.machine.tool_table);
-    RunOptions o;
-    o.config.machine = cli::resolve_machine(f.machine);
-    o.config.servo = !f.machine.no_servo;
-    const double max_pct = cli::apply_run_limits(o.config.machine, f.tolerance_mm, f.override_pct,
-                                                 f.rapid_override_pct);
-    if (!f.override_file.empty())
-      o.schedule = OverrideSchedule::load(under_root(s, f.override_file), max_pct);
-
-    // The set-up: everything that shapes the motion except the program and the schedule.
-    out.setup = machine_to_toml(o.config.machine);
-    out.setup += fmt::format(
-        "\n[run]\nservo = {}\nblock_delete = {}\noverride_percent = {}\nrapid_override_percent = "
-        "{}\ndecimate = {}\ncheck_tolerance = {}\nmax_time_s = {}\n",
-        o.config.servo, f.machine.block_delete, f.override_pct, f.rapid_override_pct, f.decimate,
-        f.check_tolerance, f.max_time_s);
+    const setup::RunSettings f = case_settings(s, c);
+    RunOptions o = setup::run_options(f, setup::resolve_machine(f));
+    out.setup = setup_text(f, o);
     out.setup_hash = fnv1a64(out.setup);
 
-    cli::ProgramInput program(c.program_path.string());
-    InterpreterOptions opts;
-    opts.machine = &o.config.machine;
-    opts.block_delete = f.machine.block_delete;
+    setup::ProgramInput program(c.program_path.string());
+    // The parameter file is read as `run` reads it, never written: a case must not change the
+    // next one's start.
+    const InterpreterOptions opts = setup::interpreter_options(f, o.config.machine);
     std::ostringstream diag;
     const CheckSummary chk =
         check_program(program.rewind(), c.program, opts, diag, CheckThreads::Single);
@@ -110,12 +108,8 @@ CaseOutput run_case(const Suite& s, const GoldenCase& c, const std::string& trac
                                    chk.errors == 1 ? "" : "s", text));
     }
     o.program_name = c.program;
-    o.feed_override_pct = f.override_pct;
-    o.rapid_override_pct = f.rapid_override_pct;
     o.trace_path = trace_path;
     o.trace_format = TraceFormat::Binary;
-    o.decimate = f.decimate;
-    o.max_time_s = f.max_time_s;
     o.consumer_thread = false;  // the cases themselves fill the cores
     Run run(std::move(o), program.rewind(), opts);
     RunStatus st;

@@ -20,13 +20,9 @@ struct CaseOutput {
   std::uint64_t setup_hash = 0;
 };
 
-/// The `gmotion run` flags a case accepts (in `flags`), for help texts and docs.
-inline constexpr const char* kCaseFlagsHelp =
-    "--machine --profile --tau --period --blu --no-servo --block-delete --tool-table --override "
-    "--rapid-override --override-file --decimate --tolerance --check-tolerance --max-time";
-
-/// Runs case `c` of suite `s`, writing its binary trace to `trace_path`. Never throws: a failure is
-/// reported in CaseOutput::error.
+/// Runs case `c` of suite `s`, writing its binary trace to `trace_path`: its flags are the run
+/// settings of `gmotion run` (setup::setting_rows()); the parameter file is read, never written.
+/// Never throws: a failure is reported in CaseOutput::error.
 CaseOutput run_case(const Suite& s, const GoldenCase& c, const std::string& trace_path);
 
 /// FNV-1a, 64 bits (the set-up hash; stable across machines and versions).

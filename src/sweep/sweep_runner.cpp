@@ -1,10 +1,9 @@
 // Sweep execution: a thread pool over the runs (as golden verify's), or commands for a scheduler.
 #include "sweep/sweep_runner.hpp"
 
-#include "cli/run_setup.hpp"
 #include "common/status.hpp"
-#include "override/override_schedule.hpp"
 #include "pipeline/run.hpp"
+#include "setup/program_input.hpp"
 
 #include <fmt/format.h>
 
@@ -33,16 +32,12 @@ SweepRow run_one(const SweepSpec& s, const RunPoint& r) {
   Machine m = run_machine(s, r);
   SweepRow row = row_setup(s, r, m);
   try {
-    const OverrideChoice& ov = s.overrides[r.override_];
-    RunOptions o;
-    o.config.machine = m;
-    o.config.servo = s.servo;
-    const double max_pct = cli::apply_run_limits(o.config.machine, std::nullopt, ov.percent, 100.0);
-    if (!ov.schedule.empty()) o.schedule = OverrideSchedule::load(ov.schedule, max_pct);
-    cli::ProgramInput program(s.programs[r.program]);
-    InterpreterOptions opts;
-    opts.machine = &o.config.machine;
-    opts.subroutine_path = o.config.machine.subroutine_path;
+    const setup::RunSettings settings = run_settings(s, r);
+    RunOptions o = setup::run_options(settings, m);
+    setup::ProgramInput program(s.programs[r.program]);
+    // The machine's language keys apply as in `run`; its parameter file is read, never written
+    // (the runs are parallel).
+    const InterpreterOptions opts = setup::interpreter_options(settings, o.config.machine);
     std::ostringstream diag;
     const CheckSummary chk =
         check_program(program.rewind(), program.name(), opts, diag, CheckThreads::Single);
@@ -51,8 +46,6 @@ SweepRow run_one(const SweepSpec& s, const RunPoint& r) {
       throw InputError(text.substr(0, text.find('\n')));
     }
     o.program_name = program.name();
-    o.feed_override_pct = ov.percent;
-    o.max_time_s = s.max_time_s;
     o.consumer_thread = false;  // the runs themselves fill the cores
     Run run(std::move(o), program.rewind(), opts);
     RunStatus st;
@@ -74,6 +67,19 @@ Machine run_machine(const SweepSpec& s, const RunPoint& r) {
   if (const auto& p = s.profiles[r.profile]) m.profile = *p;
   if (const auto& t = s.taus_s[r.tau]) m.tau_s = *t;
   return m;
+}
+
+setup::RunSettings run_settings(const SweepSpec& s, const RunPoint& r) {
+  setup::RunSettings settings = s.settings;
+  settings.machine_file = s.machines[r.machine].file;
+  settings.profile = s.profiles[r.profile];
+  settings.tau_s = s.taus_s[r.tau];
+  const OverrideChoice& ov = s.overrides[r.override_];
+  settings.override_pct = ov.percent;
+  settings.override_file = ov.schedule;
+  settings.no_servo = !s.servo;
+  settings.max_time_s = s.max_time_s;
+  return settings;
 }
 
 std::vector<SweepRow> run_local(const SweepSpec& s, int jobs,
@@ -129,6 +135,7 @@ std::string run_command(const SweepSpec& s, const RunPoint& r, const std::string
     c += " --override-file " + shell_quote(ov.schedule);
   if (!s.servo) c += " --no-servo";
   c += fmt::format(" --max-time {}", s.max_time_s);
+  for (const std::string& word : setup::flags_of(s.settings)) c += " " + shell_quote(word);
   c += " --summary-json " + shell_quote(summary_path(out_dir, r)) + " >/dev/null";
   return c;
 }

@@ -1,6 +1,7 @@
 // Running a sweep: every run on a pool of local threads, or emitted as commands for a scheduler.
 #pragma once
 
+#include "setup/run_settings.hpp"
 #include "sweep/sweep_table.hpp"
 
 #include <functional>
@@ -11,6 +12,9 @@ namespace gm::sweep {
 
 /// The machine run `r` uses: the spec's machine with the run's profile and τ.
 Machine run_machine(const SweepSpec& s, const RunPoint& r);
+
+/// The run settings of run `r` (as its emitted `gmotion run` command gives them).
+setup::RunSettings run_settings(const SweepSpec& s, const RunPoint& r);
 
 /// Runs every point on `jobs` threads (0: the spec's jobs, else every core), each as `gmotion
 /// run` would with --summary-json; a failed run is a row with status "error" and its message.

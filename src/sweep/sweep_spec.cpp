@@ -1,12 +1,14 @@
 // Sweep spec reader (toml++): lists of programs, machines, profiles, τ and overrides.
 #include "sweep/sweep_spec.hpp"
 
-#include "cli/run_setup.hpp"
 #include "common/status.hpp"
+#include "setup/run_settings.hpp"
 
 #include <fmt/format.h>
 
 #include <toml++/toml.h>
+
+#include <algorithm>
 
 namespace gm::sweep {
 namespace {
@@ -39,6 +41,39 @@ double number(const SweepSpec& s, const toml::node& n, const char* key) {
   fail(s, n, key, "must be a number");
 }
 
+// `flags`: the run flags every run takes. Those the spec's own keys give are refused.
+template <typename Beside>
+void read_flags(SweepSpec& s, const toml::node& n, const Beside& beside) {
+  const auto v = n.as_string();
+  if (!v) fail(s, n, "flags", "must be a string of `gmotion run` flags");
+  setup::RunSettings& f = s.settings;
+  try {
+    setup::parse_flags(f, v->get());
+  } catch (const InputError& e) {
+    fail(s, n, "flags", e.what());
+  }
+  for (auto [flag, given] :
+       {std::pair{"--machine", !f.machine_file.empty()},
+        std::pair{"--profile", f.profile.has_value()}, std::pair{"--tau", f.tau_s.has_value()},
+        std::pair{"--override", f.override_pct != 100.0},
+        std::pair{"--override-file", !f.override_file.empty()}, std::pair{"--no-servo", f.no_servo},
+        std::pair{"--max-time", f.max_time_s != 0.0}})
+    if (given)
+      fail(s, n, "flags",
+           fmt::format("{}: the spec's machines, profiles, tau_s, overrides, servo and "
+                       "max_time_s give it",
+                       flag));
+  for (std::string* path : {&f.tool_table, &f.parameter_file, &f.user_mcode_dir})
+    if (!path->empty()) *path = beside(*path);
+  std::string dirs;
+  for (std::size_t at = 0; at < f.subroutine_path.size();) {
+    const std::size_t colon = std::min(f.subroutine_path.find(':', at), f.subroutine_path.size());
+    dirs += (dirs.empty() ? "" : ":") + beside(f.subroutine_path.substr(at, colon - at));
+    at = colon + 1;
+  }
+  f.subroutine_path = dirs;
+}
+
 }  // namespace
 
 std::string OverrideChoice::label() const {
@@ -62,11 +97,13 @@ SweepSpec load_sweep_spec(const std::filesystem::path& path) {
   for (auto&& [k, n] : root) {
     const std::string key(k.str());
     if (key != "programs" && key != "machines" && key != "profiles" && key != "tau_s" &&
-        key != "overrides" && key != "servo" && key != "max_time_s" && key != "jobs")
+        key != "overrides" && key != "servo" && key != "max_time_s" && key != "jobs" &&
+        key != "flags")
       fail(s, n, key,
            "unknown key (programs, machines, profiles, tau_s, overrides, servo, "
-           "max_time_s, jobs)");
+           "max_time_s, jobs, flags)");
   }
+  if (const toml::node* n = root.get("flags")) read_flags(s, *n, beside);
   const toml::array* programs = list(s, root, "programs");
   if (programs == nullptr)
     throw InputError(fmt::format("{}: key 'programs' is missing", path.string()));
@@ -84,9 +121,10 @@ SweepSpec load_sweep_spec(const std::filesystem::path& path) {
     s.machines.push_back(SweepMachine{"", "builtin", {}});
   }
   for (SweepMachine& m : s.machines) {
-    cli::MachineFlags flags;
-    flags.machine_file = m.file;
-    m.machine = cli::resolve_machine(flags);  // once per machine (an INI says once what it skips)
+    setup::RunSettings settings = s.settings;
+    settings.machine_file = m.file;
+    m.machine =
+        setup::resolve_machine(settings);  // once per machine (an INI says once what it skips)
   }
   if (const toml::array* a = list(s, root, "profiles"))
     for (const toml::node& n : *a) s.profiles.emplace_back(text(s, n, "profiles"));

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "machine/machine.hpp"
+#include "setup/run_settings.hpp"
 
 #include <filesystem>
 #include <optional>
@@ -34,7 +35,10 @@ struct SweepSpec {
   std::vector<OverrideChoice> overrides;             ///< default: 100 %
   bool servo = true;
   double max_time_s = 3600.0;  ///< each run's stop rule (simulated seconds)
-  int jobs = 0;                ///< 0: every core
+  /// `flags`: further `gmotion run` flags of every run (those the lists above do not give), paths
+  /// in them made relative to the spec's directory; the machines are resolved with them.
+  setup::RunSettings settings;
+  int jobs = 0;  ///< 0: every core
 };
 
 /// One run: indices into the spec's lists.

@@ -128,3 +128,21 @@ TEST_CASE("sweep: a spec error names the file, line and key") {
   CHECK(r.code == 1);
   CHECK(r.out.find("bad.toml:2: key 'tau_s': each must be > 0 s") != std::string::npos);
 }
+
+TEST_CASE("sweep: `flags` gives every run the run settings the lists do not") {
+  const fs::path d = gmtest::scratch_dir("sweep");
+  write(d / "line.nc", "(one 10 mm feed)\nG21 G90 G94\nG1 X10 F600\nM2\n");
+  write(d / "flags.toml",
+        "programs = [\"line.nc\"]\nflags = \"--period 0.002 --subroutine-path subs\"\n");
+  const gm::sweep::SweepSpec s = gm::sweep::load_sweep_spec(d / "flags.toml");
+  CHECK(s.machines[0].machine.period_s == 0.002);  // the machines are resolved with them
+  const gm::sweep::RunPoint r = gm::sweep::expand(s)[0];
+  CHECK(gm::sweep::run_settings(s, r).subroutine_path == (d / "subs").string());
+  CHECK(gm::sweep::run_command(s, r, "gmotion", "out")
+            .find(" --period 0.002 --subroutine-path " + (d / "subs").string()) !=
+        std::string::npos);
+  write(d / "owned.toml", "programs = [\"line.nc\"]\nflags = \"--tau 0.1\"\n");
+  const auto owned = gmtest::run_gmotion("sweep " + (d / "owned.toml").string());
+  CHECK(owned.code == 1);
+  CHECK(owned.out.find("owned.toml:2: key 'flags': --tau: the spec's") != std::string::npos);
+}
