@@ -183,8 +183,16 @@ class Interpreter {
   /// #5221..#5390, mm and degrees): the tables take it as LinuxCNC's parameters do; the active
   /// system's offsets follow at its next selection or G10. False if #n is none of those.
   bool write_system_parameter(int n, double v);
-  /// G70-G72: true after the cycle's line ran; the driver then calls its subroutine and hands
-  /// the subroutine's blocks to g7x_collect, then calls g7x_finish at its end.
+  /// Where a committed block's result parameters (#5061-#5070, #5399) are written; null: nowhere.
+  void set_result_parameters(ParameterStore* params) { result_params_ = params; }
+  /// Changes whenever a block changed the tables (so their parameters need writing again).
+  std::uint64_t tables_version() const { return tables_version_; }
+
+ private:
+  // G70-G72 (steps_g7x.cpp), driven by G7xDriver (g7x_driver.hpp): true after the cycle's line
+  // ran; the driver then calls its subroutine and hands the subroutine's blocks to
+  // g7x_collect, then calls g7x_finish at its end.
+  friend class G7xDriver;
   bool g7x_pending() const { return g7x_.pending; }
   const G7xCycle& g7x() const { return g7x_; }
   void g7x_started() { g7x_.pending = false; }
@@ -192,12 +200,7 @@ class Interpreter {
   bool g7x_collect(const grammar::Block& block, InterpError& err);
   /// The subroutine returned at `line`: the cycle's moves; errors are located at `line`.
   bool g7x_finish(int line, std::vector<Canon>& out, InterpError& err);
-  /// Where a committed block's result parameters (#5061-#5070, #5399) are written; null: nowhere.
-  void set_result_parameters(ParameterStore* params) { result_params_ = params; }
-  /// Changes whenever a block changed the tables (so their parameters need writing again).
-  std::uint64_t tables_version() const { return tables_version_; }
 
- private:
   const Machine& machine_;
   /// The modal state and the copy a block executes on; a block that succeeds is committed by
   /// making its copy the state (no second copy), one that fails leaves the state as it was.
