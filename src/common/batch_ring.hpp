@@ -14,7 +14,7 @@ namespace gm {
 /// takes the batch begin_take() returns and gives it back with end_take(). Either side may fail()
 /// with an exception, which the other side's next wait rethrows. Memory is the N batches, made
 /// once. Used by SampleQueue (the run's samples to the consumer thread) and by the program
-/// reader's look-ahead (interp/program.cpp, ParallelFront).
+/// reader's look-ahead (interp/line_source.hpp, ParallelFront).
 template <typename Batch, std::size_t N = 3>
 class BatchRing {
  public:

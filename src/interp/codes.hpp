@@ -66,6 +66,11 @@ enum class Step : std::uint8_t {
   Count
 };
 
+/// The dialects a code belongs to (docs/dialects.md), one bit each (bit 1 << Dialect).
+using DialectSet = std::uint8_t;
+inline constexpr DialectSet kLinuxCncBit = 1, kFanucBit = 2, kGrblBit = 4;
+inline constexpr DialectSet kAllDialects = kLinuxCncBit | kFanucBit | kGrblBit;
+
 struct BlockCtx;
 struct Code;
 /// Executes one code of a block on the block's copy of the state; false (with the error set) to
@@ -77,6 +82,7 @@ struct Code {
   int number10;                 ///< code number x 10 (G92.1 = 921, M30 = 300)
   Group group;                  ///< modal group
   Step step;                    ///< when it executes within the block
+  DialectSet dialects;          ///< the dialects that have it (grbl has a subset)
   StepFn run;                   ///< what it does
   std::string_view words = {};  ///< the value words it uses (besides the ones every block may have)
   bool uses_axes = false;       ///< a group 0 code that takes the axis words (G92)

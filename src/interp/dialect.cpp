@@ -1,9 +1,12 @@
-// Dialect rules that are not LinuxCNC's: names, grbl's '$' lines and grbl 1.1's accepted set.
+// The dialects' rules: names, the per-line rules (rs274's line limit, grbl's '$' lines and
+// accepted set, Fanuc's machine M codes, the missing program end) and grbl's start in G0.
 #include "interp/dialect.hpp"
+
+#include "common/error_codes.hpp"
+#include "interp/codes.hpp"
 
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
@@ -47,23 +50,26 @@ bool grbl_dollar_line(std::string_view text) {
 
 namespace {
 
-// grbl 1.1's G codes (x 10): gnea/grbl README "G-code support" and gcode.c.
-constexpr std::array<int, 38> kGrblG = {
-    0,   10,  20,  30,  40,  100, 170, 180, 190, 200, 210, 280, 281, 300, 301, 382, 383, 384, 385,
-    400, 431, 490, 530, 540, 550, 560, 570, 580, 590, 610, 800, 900, 910, 911, 920, 921, 930, 940};
-// grbl 1.1's M codes: program flow, spindle, coolant, M56 (parking override).
-constexpr std::array<int, 11> kGrblM = {0, 1, 2, 30, 3, 4, 5, 7, 8, 9, 56};
+DialectSet dialect_bit(Dialect d) {
+  return static_cast<DialectSet>(1u << static_cast<unsigned>(d));
+}
 
+// grbl 1.1's G codes: the code table's rows with the grbl bit.
 bool grbl_g(double v) {
   const long n = std::lround(v * 10.0);
   if (std::abs(v * 10.0 - static_cast<double>(n)) > 1e-6) return false;
-  return std::find(kGrblG.begin(), kGrblG.end(), n) != kGrblG.end();
+  const Code* c = n < 0 || n > 9999 ? nullptr : find_code('G', static_cast<int>(n));
+  return c != nullptr && (c->dialects & kGrblBit) != 0;
 }
 
+// grbl 1.1's M codes: program flow, spindle, coolant (the table's rows with the grbl bit), and
+// M56 (parking override), which has no row: the interpreter then refuses it as unknown.
 bool grbl_m(double v) {
   const long n = std::lround(v);
-  return std::abs(v - static_cast<double>(n)) < 1e-6 &&
-         std::find(kGrblM.begin(), kGrblM.end(), n) != kGrblM.end();
+  if (!(std::abs(v - static_cast<double>(n)) < 1e-6)) return false;
+  if (n == 56) return true;
+  const Code* c = n < 0 || n > 999 ? nullptr : find_code('M', static_cast<int>(10 * n));
+  return c != nullptr && (c->dialects & kGrblBit) != 0;
 }
 
 }  // namespace
@@ -117,6 +123,108 @@ bool grbl_accepts(const grammar::Block& b, SourceLoc& loc, std::string& why) {
     why = "grbl 1.1 arcs take no P (turns): gnea/grbl#1020";
     return false;
   }
+  return true;
+}
+
+std::string echoed_line(const std::string& text) {
+  return text.size() <= 512 ? text : std::string();
+}
+
+bool DialectRules::line_fits(std::uint64_t bytes, bool truncated, int line, const std::string& text,
+                             std::vector<Diagnostic>& diags) const {
+  if (dialect_ != Dialect::LinuxCNC || truncated || bytes < kRs274LineBytes) return true;
+  diags.push_back(Diagnostic{
+      Severity::Error, static_cast<int>(ErrorCode::LineTooLong),
+      SourceLoc{line, static_cast<int>(kRs274LineBytes) - 1},
+      fmt::format("command too long: {} bytes with the line end, LinuxCNC reads at most {} "
+                  "(--dialect fanuc has no such limit)",
+                  bytes, kRs274LineBytes - 1),
+      echoed_line(text)});
+  return false;
+}
+
+bool DialectRules::passed_over(const std::string& text, bool truncated, int line,
+                               std::vector<Diagnostic>& diags) {
+  if (dialect_ != Dialect::Grbl || truncated || !grbl_dollar_line(text)) return false;
+  if (!dollar_warned_) {  // a grbl setting or command ($H, $$, $110=500): not G-code
+    dollar_warned_ = true;
+    diags.push_back(Diagnostic{Severity::Warning, 0, SourceLoc{line, 1},
+                               "grbl '$' setting and command lines are passed over (the "
+                               "first is here)",
+                               echoed_line(text)});
+  }
+  return true;
+}
+
+bool DialectRules::accepts(const grammar::Block& block, const std::string& text,
+                           std::vector<Diagnostic>& diags) const {
+  if (dialect_ != Dialect::Grbl) return true;
+  SourceLoc at;
+  std::string why;
+  if (grbl_accepts(block, at, why)) return true;
+  diags.push_back(Diagnostic{Severity::Error, static_cast<int>(ErrorCode::NotInDialect), at,
+                             why + " (--dialect grbl)", echoed_line(text)});
+  return false;
+}
+
+bool DialectRules::machine_codes(grammar::Block& block, const std::string& text,
+                                 std::vector<Diagnostic>& diags) {
+  if (dialect_ != Dialect::Fanuc) return true;
+  auto& words = block.words;
+  for (std::size_t i = 0; i < words.size();) {
+    const grammar::Word& w = words[i];
+    const long m = std::lround(w.value);
+    const Code* known = nullptr;
+    if (w.letter != 'M' || std::abs(w.value - static_cast<double>(m)) > 1e-6 || m < 0 || m > 99 ||
+        ((known = find_code('M', static_cast<int>(10 * m))) != nullptr &&
+         (known->dialects & dialect_bit(dialect_)) != 0)) {
+      ++i;
+      continue;
+    }
+    if (m == 97) {
+      diags.push_back(Diagnostic{Severity::Error, static_cast<int>(ErrorCode::NotInDialect), w.loc,
+                                 "M97 (Haas local subprogram call to line N) is not supported: "
+                                 "use M98 with an O-numbered subprogram",
+                                 echoed_line(text)});
+      return false;
+    }
+    if (!fanuc_warned_[static_cast<std::size_t>(m)]) {
+      fanuc_warned_[static_cast<std::size_t>(m)] = true;
+      diags.push_back(Diagnostic{Severity::Warning, 0, w.loc,
+                                 fmt::format("M{} is a machine function LinuxCNC does not have: "
+                                             "passed over (--dialect fanuc; warned once)",
+                                             m),
+                                 echoed_line(text)});
+    }
+    words.erase(words.begin() + static_cast<std::ptrdiff_t>(i));
+  }
+  return !(words.empty() && block.message_count == 0);
+}
+
+void DialectRules::missing_end(int last_line, bool opened_percent, const std::string& last_text,
+                               const std::string& file, std::vector<Diagnostic>& diags) const {
+  const SourceLoc at{last_line > 0 ? last_line : 1, 1};
+  switch (dialect_) {
+    case Dialect::Grbl:  // grbl streams: no end
+      return;
+    case Dialect::Fanuc:
+      diags.push_back(Diagnostic{Severity::Warning, 0, at,
+                                 "the program ends without M2/M30 (ended here, --dialect fanuc)",
+                                 last_text, file});
+      return;
+    case Dialect::LinuxCNC:
+      break;
+  }
+  diags.push_back(Diagnostic{Severity::Error, static_cast<int>(ErrorCode::MissingProgramEnd), at,
+                             opened_percent
+                                 ? "missing program end: no closing '%' (or M2/M30)"
+                                 : "missing program end: the program must end with M2 or M30",
+                             last_text, file});
+}
+
+bool DialectRules::start_block(grammar::Block& block) const {
+  if (dialect_ != Dialect::Grbl) return false;
+  block.words.push_back(grammar::Word{'G', 0.0, SourceLoc{1, 1}});
   return true;
 }
 

@@ -1,10 +1,15 @@
-// The G-code dialects gmotion reads: LinuxCNC's RS274/NGC (the reference), Fanuc/Haas posts, grbl.
+// The G-code dialects gmotion reads (LinuxCNC's RS274/NGC, the reference; Fanuc/Haas posts;
+// grbl) and their rules, in one place: DialectRules.
 #pragma once
 
+#include "common/diagnostic.hpp"
 #include "grammar/parse.hpp"
 
+#include <array>
+#include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace gm {
 
@@ -22,8 +27,58 @@ const char* dialect_name(Dialect d);
 bool grbl_dollar_line(std::string_view text);
 
 /// Checks `b` against grbl 1.1's G-code (gnea/grbl README and gcode.c): no parameters,
-/// expressions or O-words; G and M codes and word letters from grbl's set; no P on arcs. False
-/// with the offending place and why.
+/// expressions or O-words; G and M codes (the code table's grbl column) and word letters from
+/// grbl's set; no P on arcs. False with the offending place and why.
 bool grbl_accepts(const grammar::Block& b, SourceLoc& loc, std::string& why);
+
+/// The line echoed under a diagnostic: very long lines are not (the location is still exact).
+std::string echoed_line(const std::string& text);
+
+/// rs274's LINELEN (255) less one: fgets filling this many bytes is LinuxCNC's "Command too long".
+inline constexpr std::uint64_t kRs274LineBytes = 254;
+
+/// The per-line rules in which the dialects differ, for one program (it remembers what it has
+/// warned about). Each check appends its diagnostics to `diags`; `text` is the line as read.
+class DialectRules {
+ public:
+  explicit DialectRules(Dialect d) : dialect_(d) {}
+  Dialect dialect() const { return dialect_; }
+
+  /// rs274 reads a line with fgets into 255 bytes and refuses one that fills 254 of them (line
+  /// end included), even on lines it passes over: "Command too long". False (with the error)
+  /// for such a line of `bytes` bytes; `truncated`: longer than the grammar reads (reported
+  /// apart).
+  bool line_fits(std::uint64_t bytes, bool truncated, int line, const std::string& text,
+                 std::vector<Diagnostic>& diags) const;
+  /// grbl's setting and command lines ($H, $$, $110=500): not G-code, passed over (true), with
+  /// a warning at the first.
+  bool passed_over(const std::string& text, bool truncated, int line,
+                   std::vector<Diagnostic>& diags);
+  /// '/' skips the line under --block-delete; grbl passes over '/' and runs the line
+  /// (protocol.c: block delete not supported).
+  bool honours_block_delete() const { return dialect_ != Dialect::Grbl; }
+  /// What the dialect refuses in a parsed block (grbl: what grbl 1.1 does not have). False with
+  /// the error.
+  bool accepts(const grammar::Block& block, const std::string& text,
+               std::vector<Diagnostic>& diags) const;
+  /// Fanuc: M codes of Fanuc/Haas machines that LinuxCNC does not have (M31 chip conveyor, M88
+  /// through-spindle coolant, ...) are taken out of `block` with one warning per code; M97 (Haas
+  /// local subprogram call) is refused. False when nothing is left to execute.
+  bool machine_codes(grammar::Block& block, const std::string& text,
+                     std::vector<Diagnostic>& diags);
+  /// The input ended after line `last_line` (0: empty) without M2/M30 or a closing '%':
+  /// LinuxCNC's error, Fanuc's warning, nothing for grbl (it streams). `opened_percent`: the
+  /// program opened with '%'; `last_text` and `file` locate it.
+  void missing_end(int last_line, bool opened_percent, const std::string& last_text,
+                   const std::string& file, std::vector<Diagnostic>& diags) const;
+  /// A block the interpreter runs before the program's first line (grbl starts in G0: a first
+  /// `X10` moves, where rs274 refuses it). False when there is none.
+  bool start_block(grammar::Block& block) const;
+
+ private:
+  Dialect dialect_;
+  bool dollar_warned_ = false;
+  std::array<bool, 100> fanuc_warned_{};
+};
 
 }  // namespace gm

@@ -3,6 +3,7 @@
 #include "interp/interpreter.hpp"
 
 #include "interp/frame.hpp"
+#include "interp/parameters.hpp"
 
 #include "common/units.hpp"
 #include "interp/steps.hpp"
@@ -262,6 +263,9 @@ bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, 
   if (e.order > 0) nurbs_.order = e.order;
   for (int i = 0; i < e.added; ++i) nurbs_.points.push_back(e.add[static_cast<std::size_t>(i)]);
   if (g7x.pending) g7x_ = std::move(g7x);
+  if (result_params_ != nullptr)
+    for (std::size_t i = 0; i < ctx.results.count; ++i)
+      result_params_->set_system(ctx.results.set[i].first, ctx.results.set[i].second);
   return true;
 }
 

@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace gm {
@@ -103,18 +104,14 @@ struct ModalState {
   /// copies them then: a program writing #5221.. changes them at the next selection or G10).
   Pos9 g5x_mm = Pos9::Zero();
   double g5x_rotation_deg = 0.0;
-  Pos9 g92_mm = Pos9::Zero();            ///< G92/G52 axis offsets
-  bool g92_applied = false;              ///< #5210: G92/G52/G92.3 on, G92.1/G92.2 off
-  Pos9 tool_offset_mm = Pos9::Zero();    ///< G43 tool length offset
-  int spindle_dir = 0;                   ///< M3 = 1, M4 = -1, M5 = 0
-  double spindle_rpm = 0.0;              ///< S
-  int probes = 0;                        ///< G38.x blocks run (#5061-#5070 hold the last result)
-  int input_waits = 0;                   ///< M66 blocks run (#5399 holds the last result)
-  double input_result = 0.0;             ///< M66's #5399: the input read, -1 on a timeout
-  std::array<double, 9> probe_result{};  ///< probe end point, program coordinates and units
-  int tool_length_code = 490;            ///< G43/G43.1/G43.2/G49 in effect (x 10)
-  bool feed_override = true;             ///< M48 (M50 P1) vs M49 (M50 P0)
-  bool mist = false, flood = false;      ///< M7, M8 (M9 turns both off)
+  Pos9 g92_mm = Pos9::Zero();          ///< G92/G52 axis offsets
+  bool g92_applied = false;            ///< #5210: G92/G52/G92.3 on, G92.1/G92.2 off
+  Pos9 tool_offset_mm = Pos9::Zero();  ///< G43 tool length offset
+  int spindle_dir = 0;                 ///< M3 = 1, M4 = -1, M5 = 0
+  double spindle_rpm = 0.0;            ///< S
+  int tool_length_code = 490;          ///< G43/G43.1/G43.2/G49 in effect (x 10)
+  bool feed_override = true;           ///< M48 (M50 P1) vs M49 (M50 P0)
+  bool mist = false, flood = false;    ///< M7, M8 (M9 turns both off)
   // Canned cycles (program units, as LinuxCNC keeps them) --------------------------------------
   bool retract_to_r = true;   ///< G99 (LinuxCNC's initial retract mode); G98 = false
   int cycle_mode = -1;        ///< the cycle code x 10 of the previous cycle block, -1 none
@@ -128,6 +125,19 @@ struct ModalState {
   /// mm per program length unit (25.4 under G20).
   double mm_per_unit() const;
 };
+
+/// The system parameters a block sets for the program to read (#5061-#5070 after G38.x, #5399
+/// after M66): written to the parameter store when the block commits.
+struct ResultParameters {
+  static constexpr std::size_t kMax = 16;
+  std::array<std::pair<int, double>, kMax> set{};
+  std::size_t count = 0;
+  void add(int n, double v) {
+    if (count < kMax) set[count++] = {n, v};
+  }
+};
+
+class ParameterStore;
 
 /// A lathe cycle G70-G72 between its line and the end of its profile subroutine (program
 /// units, X as a radius).
@@ -173,8 +183,16 @@ class Interpreter {
   /// #5221..#5390, mm and degrees): the tables take it as LinuxCNC's parameters do; the active
   /// system's offsets follow at its next selection or G10. False if #n is none of those.
   bool write_system_parameter(int n, double v);
-  /// G70-G72: true after the cycle's line ran; the driver then calls its subroutine and hands
-  /// the subroutine's blocks to g7x_collect, then calls g7x_finish at its end.
+  /// Where a committed block's result parameters (#5061-#5070, #5399) are written; null: nowhere.
+  void set_result_parameters(ParameterStore* params) { result_params_ = params; }
+  /// Changes whenever a block changed the tables (so their parameters need writing again).
+  std::uint64_t tables_version() const { return tables_version_; }
+
+ private:
+  // G70-G72 (steps_g7x.cpp), driven by G7xDriver (g7x_driver.hpp): true after the cycle's line
+  // ran; the driver then calls its subroutine and hands the subroutine's blocks to
+  // g7x_collect, then calls g7x_finish at its end.
+  friend class G7xDriver;
   bool g7x_pending() const { return g7x_.pending; }
   const G7xCycle& g7x() const { return g7x_; }
   void g7x_started() { g7x_.pending = false; }
@@ -182,10 +200,7 @@ class Interpreter {
   bool g7x_collect(const grammar::Block& block, InterpError& err);
   /// The subroutine returned at `line`: the cycle's moves; errors are located at `line`.
   bool g7x_finish(int line, std::vector<Canon>& out, InterpError& err);
-  /// Changes whenever a block changed the tables (so their parameters need writing again).
-  std::uint64_t tables_version() const { return tables_version_; }
 
- private:
   const Machine& machine_;
   /// The modal state and the copy a block executes on; a block that succeeds is committed by
   /// making its copy the state (no second copy), one that fails leaves the state as it was.
@@ -204,6 +219,7 @@ class Interpreter {
   SystemTables tables_;
   int call_level_ = 0;
   std::uint64_t tables_version_ = 1;
+  ParameterStore* result_params_ = nullptr;
 };
 
 }  // namespace gm

@@ -70,7 +70,7 @@ CheckSummary check_program_diagnostics(std::istream& in, std::string_view filena
                                        std::vector<Diagnostic>& diagnostics,
                                        CheckThreads threads = CheckThreads::Auto);
 
-class SerialRunner;  // internal: reader + parser + interpreter, one line at a time
+class LineDriver;  // internal: reader + parser + interpreter, one line at a time
 
 /// Streams canonical commands: each line is parsed, interpreted and handed on before the next
 /// is read. Throws gm::InputError with the formatted diagnostic(s) at the first bad line.
@@ -84,7 +84,7 @@ class ProgramStream : public CanonSource {
   bool next(Canon& out) override;
 
  private:
-  std::unique_ptr<SerialRunner> runner_;
+  std::unique_ptr<LineDriver> runner_;
   std::vector<Canon> queue_;  ///< canon of the current line (reused)
   std::size_t head_ = 0;
   std::vector<Diagnostic> diags_;

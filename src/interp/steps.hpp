@@ -62,6 +62,7 @@ struct BlockCtx {
   const NurbsCurve* nurbs = nullptr;  ///< the G5.2 curve collected by earlier blocks
   NurbsEdit nurbs_edit{};             ///< this block's change to it (applied on commit)
   G7xCycle* g7x = nullptr;            ///< G70-G72: the cycle this block starts
+  ResultParameters results{};         ///< #5061-#5070, #5399 this block sets (on commit)
 
   /// Sets the error; returns false so a step can `return ctx.fail(...)`.
   bool fail(ErrorCode code, SourceLoc loc, std::string msg) {

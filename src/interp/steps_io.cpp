@@ -158,8 +158,7 @@ bool run_wait_input(BlockCtx& ctx, const Code&) {
   e.value = w.has('Q') && w['Q']->value > 0.0 ? w['Q']->value : 0.0;
   // A simulation's inputs read 0 (digital low): a wait for a rise, a fall or a high level runs
   // to its timeout (the interpolator waits Q), after which LinuxCNC gives #5399 = -1.
-  ++ctx.s.input_waits;
-  ctx.s.input_result = mode >= 1 && mode <= 3 ? -1.0 : 0.0;
+  ctx.results.add(5399, mode >= 1 && mode <= 3 ? -1.0 : 0.0);
   ctx.out.emplace_back(std::in_place_type<Event>, std::move(e));
   return true;
 }

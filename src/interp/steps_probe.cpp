@@ -33,9 +33,8 @@ bool run_probe(BlockCtx& ctx, const Code& c) {
   if (!emit_straight(ctx, MotionKind::Line, target, loc)) return false;
   // The probe result, in the program's coordinates and units at this block.
   const Pos9 at = ctx.frame().to_program(target);
-  for (int i = 0; i < kProgramAxes; ++i)
-    ctx.s.probe_result[static_cast<std::size_t>(i)] = at[i] / ctx.scale();
-  ++ctx.s.probes;
+  for (int i = 0; i < kProgramAxes; ++i) ctx.results.add(5061 + i, at[i] / ctx.scale());
+  ctx.results.add(5070, 0.0);  // not tripped
   const Eigen::Vector3d d = (start - target).head<3>();
   const double dist = d.norm();
   if (dist == 0.0) return true;

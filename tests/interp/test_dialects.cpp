@@ -1,11 +1,15 @@
 // --dialect fanuc|grbl through the CLI: each row of docs/dialects.md's table.
 #include <catch2/catch.hpp>
 
+#include "interp/codes.hpp"
+#include "interp/dialect.hpp"
 #include "support/run_command.hpp"
 #include "support/scratch_dir.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <string>
+#include <vector>
 
 namespace {
 using gmtest::sh;
@@ -169,4 +173,26 @@ TEST_CASE("dialect-cli: LinuxCNC line limit is 253 bytes with the line end, fanu
   // also on a line passed over (a false if), as rs274 reads every line
   CHECK(check("o1 if [0]\n" + line(300) + "\no1 endif\nM2\n").code == 1);
   CHECK(check("G21\n" + line(5000) + "\nM2\n", "--dialect fanuc").code == 0);
+}
+
+TEST_CASE("dialects: grbl's codes are the code table's grbl column, M56 besides") {
+  std::vector<int> g, m;
+  for (const gm::Code& c : gm::code_table())
+    if ((c.dialects & gm::kGrblBit) != 0) (c.letter == 'G' ? g : m).push_back(c.number10);
+  std::sort(g.begin(), g.end());
+  std::sort(m.begin(), m.end());
+  // grbl 1.1's G-code (gnea/grbl README "G-code support", gcode.c), x 10.
+  CHECK(g == std::vector<int>{0,   10,  20,  30,  40,  100, 170, 180, 190, 200, 210, 280, 281,
+                              300, 301, 382, 383, 384, 385, 400, 431, 490, 530, 540, 550, 560,
+                              570, 580, 590, 610, 800, 900, 910, 911, 920, 921, 930, 940});
+  CHECK(m == std::vector<int>{0, 10, 20, 30, 40, 50, 70, 80, 90, 300});
+  for (const gm::Code& c : gm::code_table()) CHECK((c.dialects & gm::kFanucBit) != 0);
+  CHECK((gm::find_code('M', 1010)->dialects & gm::kGrblBit) == 0);  // user M codes
+  gm::grammar::Block b;
+  b.words.push_back(gm::grammar::Word{'M', 56.0, gm::SourceLoc{1, 1}});
+  gm::SourceLoc at;
+  std::string why;
+  CHECK(gm::grbl_accepts(b, at, why));  // parking override: grbl's, refused later as unknown
+  b.words.front().value = 6.0;
+  CHECK_FALSE(gm::grbl_accepts(b, at, why));
 }

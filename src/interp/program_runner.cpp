@@ -1,0 +1,321 @@
+// The program driver's back half, a short ordered classifier of each line (program rules,
+// dialect rules, control flow, expressions, the interpreter), and the line driver.
+#include "interp/program_runner.hpp"
+
+#include "common/error_codes.hpp"
+
+#include <fmt/format.h>
+
+namespace gm {
+
+namespace {
+
+// An interpreter error on the line whose text is `text`, as a diagnostic.
+Diagnostic error_diagnostic(const InterpError& err, const std::string& text) {
+  return Diagnostic{Severity::Error, static_cast<int>(err.code), err.loc, err.message,
+                    echoed_line(text)};
+}
+
+LinePos position_of(const ParsedLine& p) {
+  return LinePos{p.offset, p.next_offset, p.number, p.file};
+}
+
+}  // namespace
+
+ProgramRunner::ProgramRunner(std::string filename, const InterpreterOptions& opts)
+    : filename_(std::move(filename)),
+      machine_(opts.machine ? *opts.machine : default_machine_),
+      block_delete_(opts.block_delete),
+      interp_(machine_),
+      system_(interp_, params_, opts.parameter_file),
+      files_(opts.subroutine_path),
+      flow_(params_, opts.max_iterations, &files_),
+      g7x_(interp_, flow_),
+      rules_(opts.dialect) {
+  interp_.set_result_parameters(&params_);
+  // The parameter file: read before the first line (its offsets apply, LinuxCNC Interp::init);
+  // an error there is reported with the first line processed and stops the program.
+  Diagnostic error;
+  if (!system_.load(error)) start_error_.push_back(std::move(error));
+  grammar::Block start;
+  if (rules_.start_block(start)) {
+    std::vector<Canon> none;
+    InterpError err;
+    interp_.execute(start, none, err);
+  }
+}
+
+bool ProgramRunner::process(ParsedLine& p, std::vector<Canon>& out, std::vector<Diagnostic>& diags,
+                            FlowJump& jump) {
+  if (start_failed(diags)) return false;
+  const std::size_t first = diags.size();
+  Line l{p, out, diags, jump};
+  const bool more = process_line(l);
+  if (p.file > 0)
+    for (std::size_t i = first; i < diags.size(); ++i) diags[i].file = files_.file_name(p.file);
+  return more;
+}
+
+// The decisions on a line, in order; each returns whether the program goes on.
+bool ProgramRunner::process_line(Line& l) {
+  ParsedLine& p = l.p;
+  grammar::Block& block = p.block;
+  l.jump.seek = false;
+  if (done_) return false;
+  remember(p.text);
+  if (!rules_.line_fits(p.next_offset - p.offset, p.truncated, p.number, p.text, l.diags))
+    return true;
+  if (flow_.skipping()) return skipped_line(l);
+  if (rules_.passed_over(p.text, p.truncated, p.number, l.diags)) return true;
+  if (p.truncated) return truncated_line(l);
+  if (block.block_delete && block_delete_ && rules_.honours_block_delete()) return true;
+  if (!well_formed(l)) return true;
+  if (block.percent && first_content_seen_) {  // the closing '%' ends the program
+    l.out.emplace_back(Event{p.number, EventKind::End, {}});
+    done_ = true;
+    return false;
+  }
+  if (block.percent) opened_percent_ = first_content_seen_ = true;
+  main_m99_ends(block);
+  if (block.oword.kind != grammar::OKind::None) {
+    first_content_seen_ = true;
+    return control(l);
+  }
+  if (block.words.empty() && block.message_count == 0 && !block.needs_evaluation()) return true;
+  first_content_seen_ = true;
+  if (!block.words.empty()) ++blocks_;
+  return content(l);
+}
+
+// Passing over lines (a false condition, a sub's body): only O-words matter, nothing else is
+// checked.
+bool ProgramRunner::skipped_line(Line& l) {
+  if (l.p.truncated || l.p.block.oword.kind == grammar::OKind::None) return true;
+  return control(l);
+}
+
+bool ProgramRunner::truncated_line(Line& l) {
+  l.diags.push_back(Diagnostic{Severity::Error,
+                               static_cast<int>(ErrorCode::LineTooLong),
+                               SourceLoc{l.p.number, 1},
+                               fmt::format("line longer than {} bytes", grammar::kMaxLineLength),
+                               {}});
+  return true;
+}
+
+// The grammar's errors, then what the dialect refuses: reported, and the line is not run.
+bool ProgramRunner::well_formed(Line& l) {
+  const grammar::Block& block = l.p.block;
+  if (block.has_errors()) {
+    for (const auto& e : block.errors)
+      l.diags.push_back(Diagnostic{Severity::Error, static_cast<int>(e.code), e.loc, e.message,
+                                   echoed_line(l.p.text)});
+    first_content_seen_ = true;
+    return false;
+  }
+  if (rules_.accepts(block, l.p.text, l.diags)) return true;
+  first_content_seen_ = true;
+  return false;
+}
+
+// M99 in the main program ends it as M2 does (rs274; LinuxCNC's task would loop).
+void ProgramRunner::main_m99_ends(grammar::Block& block) const {
+  if (block.oword.kind != grammar::OKind::M99 || flow_.call_depth() != 0) return;
+  block.oword.kind = grammar::OKind::None;
+  for (grammar::Word& w : block.words)
+    if (w.letter == 'M' && w.value == 99.0) w.value = 2.0;
+}
+
+// A line with words, messages or expressions: evaluated, then collected for a G7x profile or
+// run by the interpreter.
+bool ProgramRunner::content(Line& l) {
+  grammar::Block& block = l.p.block;
+  if (block.needs_evaluation()) {
+    bool more = true;
+    if (!evaluate(l, more)) return more;
+  }
+  if (!rules_.machine_codes(block, l.p.text, l.diags)) return true;
+  InterpError err;
+  if (g7x_.collecting()) {  // a G7x profile: read, not run
+    if (!g7x_.collect(block, err)) l.diags.push_back(error_diagnostic(err, l.p.text));
+    return true;
+  }
+  return run_block(l);
+}
+
+// Expressions, parameter settings and the directive comments; false when nothing is left to
+// run, `more` then saying whether the program goes on.
+bool ProgramRunner::evaluate(Line& l, bool& more) {
+  grammar::Block& block = l.p.block;
+  InterpError err;
+  system_.set_line(l.p.number);
+  if (!evaluator_.run(block, params_, err)) {
+    l.diags.push_back(error_diagnostic(err, l.p.text));
+    return false;
+  }
+  system_.apply_program_writes();
+  for (std::size_t i = 0; i < block.directive_count; ++i)
+    if (!directive(block.directives[i], l)) return more = false;
+  return !(block.words.empty() && block.message_count == 0);
+}
+
+bool ProgramRunner::run_block(Line& l) {
+  InterpError err;
+  if (!interp_.execute(l.p.block, l.out, err)) {
+    l.diags.push_back(error_diagnostic(err, l.p.text));
+    return true;
+  }
+  system_.export_state();
+  if (g7x_.pending() && !g7x_.start(position_of(l.p), l.jump, err)) return stop(err, l);
+  if (!interp_.state().ended) return true;
+  done_ = true;
+  return false;
+}
+
+// An O-word line: control flow. An error there ends the program (the flow state is lost).
+bool ProgramRunner::control(Line& l) {
+  ParsedLine& p = l.p;
+  system_.set_line(p.number);
+  InterpError err;
+  const int depth = flow_.call_depth();
+  const grammar::OKind kind = p.block.oword.kind;
+  if ((kind == grammar::OKind::M98 || kind == grammar::OKind::M99) && !flow_.skipping() &&
+      p.block.needs_evaluation() && !evaluator_.run(p.block, params_, err))
+    return stop(err, l);
+  bool ok = flow_.handle(p.block, position_of(p), l.jump, err);
+  // The interpreter keeps M70/M73 modes per call level (machine's, interp/saved_modes.cpp).
+  if (ok && flow_.call_depth() > depth) interp_.enter_call(flow_.call_depth());
+  if (ok && flow_.call_depth() < depth) ok = interp_.leave_call(depth, p.number, l.out, err);
+  if (ok && !g7x_.after_return(depth, p.number, l.out, err)) {
+    l.diags.push_back(error_diagnostic(err, p.text));
+    return true;
+  }
+  return ok || stop(err, l);
+}
+
+// ABORT ends the program with a located error; LOG comments write nothing (no log directory
+// is configured), LOGOPEN/LOGAPPEND say so once. False when the program is over.
+bool ProgramRunner::directive(const grammar::Message& m, Line& l) {
+  using grammar::CommentKind;
+  if (m.kind == CommentKind::Abort) {
+    l.diags.push_back(Diagnostic{Severity::Error, static_cast<int>(ErrorCode::CommentAbort), m.loc,
+                                 fmt::format("program aborted: {}", m.text),
+                                 echoed_line(l.p.text)});
+    done_ = true;
+    return false;
+  }
+  if ((m.kind == CommentKind::LogOpen || m.kind == CommentKind::LogAppend) && !log_warned_) {
+    log_warned_ = true;
+    l.diags.push_back(Diagnostic{Severity::Warning, 0, m.loc,
+                                 fmt::format("log file '{}' not written: no log directory is "
+                                             "allowed (LOG comments are ignored)",
+                                             m.text),
+                                 echoed_line(l.p.text)});
+  }
+  return true;
+}
+
+bool ProgramRunner::stop(const InterpError& err, Line& l) {
+  l.diags.push_back(error_diagnostic(err, l.p.text));
+  done_ = true;
+  l.jump.seek = false;
+  return false;
+}
+
+void ProgramRunner::end_of_input(int last_line, std::vector<Diagnostic>& diags, int file) {
+  if (start_failed(diags) || done_) return;
+  done_ = true;
+  InterpError err;
+  int err_file = 0;
+  if (!flow_.at_end(last_line, err, err_file)) {
+    diags.push_back(Diagnostic{Severity::Error,
+                               static_cast<int>(err.code),
+                               err.loc,
+                               err.message,
+                               {},
+                               files_.file_name(err_file)});
+    return;
+  }
+  if (!interp_.state().ended)
+    rules_.missing_end(last_line, opened_percent_, last_line_, files_.file_name(file), diags);
+}
+
+void ProgramRunner::cannot_open(int file, int line, int from_file, std::vector<Diagnostic>& diags) {
+  diags.push_back(Diagnostic{Severity::Error,
+                             static_cast<int>(ErrorCode::SubroutineFile),
+                             SourceLoc{line, 1},
+                             fmt::format("cannot read subroutine file {}", files_.file_name(file)),
+                             {},
+                             files_.file_name(from_file)});
+  done_ = true;
+}
+
+void ProgramRunner::cannot_seek(int line, std::vector<Diagnostic>& diags) {
+  diags.push_back(Diagnostic{
+      Severity::Error,
+      static_cast<int>(ErrorCode::NotSeekable),
+      SourceLoc{line, 1},
+      "loops and subroutine calls re-read the program, which cannot seek here (a pipe?): "
+      "give it as a file",
+      {}});
+  done_ = true;
+}
+
+bool ProgramRunner::start_failed(std::vector<Diagnostic>& diags) {
+  if (start_error_.empty()) return false;
+  for (Diagnostic& d : start_error_) diags.push_back(std::move(d));
+  start_error_.clear();
+  done_ = true;
+  return true;
+}
+
+void ProgramRunner::remember(const std::string& text) {
+  if (text.size() <= 512)
+    last_line_ = text;
+  else
+    last_line_.clear();
+}
+
+bool LineDriver::step(std::vector<Canon>& out, std::vector<Diagnostic>& diags) {
+  if (back_.done()) return false;
+  if (ahead_) return step_ahead(out, diags);
+  if (!source_.next(line_)) {
+    back_.end_of_input(source_.last_number(), diags, source_.file());
+    return false;
+  }
+  FlowJump jump;
+  const bool more = back_.process(line_, out, diags, jump);
+  const int number = line_.number;
+  line_.trim();
+  if (more && jump.seek && !source_.go(jump, number, diags)) return false;
+  return more;
+}
+
+bool LineDriver::step_ahead(std::vector<Canon>& out, std::vector<Diagnostic>& diags) {
+  if (batch_ == nullptr || next_ == batch_->count) {
+    if (batch_ == nullptr || !batch_->eof) {  // (a released batch is the reader's again)
+      if (batch_ != nullptr) ahead_->release();
+      batch_ = &ahead_->acquire();
+      next_ = 0;
+    }
+    if (next_ == batch_->count) {  // the input ended after the lines handed out
+      const int last = batch_->last_number;
+      batch_ = nullptr;
+      ahead_.reset();
+      back_.end_of_input(last, diags);
+      return false;
+    }
+  }
+  ParsedLine& p = batch_->lines[next_++];
+  FlowJump jump;
+  const bool more = back_.process(p, out, diags, jump);
+  if (more && jump.seek) {
+    const int number = p.number;
+    batch_ = nullptr;
+    ahead_.reset();  // the reader stops; its batches are dropped
+    return source_.go(jump, number, diags);
+  }
+  return more;
+}
+
+}  // namespace gm

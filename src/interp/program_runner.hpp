@@ -1,0 +1,128 @@
+// The back half of the program driver (program rules and the interpreter, one parsed line at a
+// time) and LineDriver, which feeds it lines from the front half.
+#pragma once
+
+#include "common/diagnostic.hpp"
+#include "interp/dialect.hpp"
+#include "interp/expression.hpp"
+#include "interp/g7x_driver.hpp"
+#include "interp/interpreter.hpp"
+#include "interp/line_source.hpp"
+#include "interp/oword_flow.hpp"
+#include "interp/parameters.hpp"
+#include "interp/program.hpp"
+#include "interp/subroutine_files.hpp"
+#include "interp/system_parameters.hpp"
+
+#include <cstdint>
+#include <istream>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace gm {
+
+/// The back half: program-level rules (% delimiters, block delete, missing end), the dialect's
+/// rules (DialectRules) and the interpreter, one parsed line at a time; shared by check_program
+/// and ProgramStream.
+class ProgramRunner {
+ public:
+  ProgramRunner(std::string filename, const InterpreterOptions& opts);
+  ProgramRunner(const ProgramRunner&) = delete;
+  ProgramRunner& operator=(const ProgramRunner&) = delete;
+
+  /// Processes one parsed line. Appends canon to `out` and diagnostics to `diags`.
+  /// Returns false when the program is over (end code or closing %).
+  bool process(ParsedLine& p, std::vector<Canon>& out, std::vector<Diagnostic>& diags,
+               FlowJump& jump);
+  /// The input (file `file`) ended after line `last_line` (0: empty input): reports a missing
+  /// program end.
+  void end_of_input(int last_line, std::vector<Diagnostic>& diags, int file = 0);
+  /// A subroutine file found on the path could not be opened when the program jumped to it.
+  void cannot_open(int file, int line, int from_file, std::vector<Diagnostic>& diags);
+  /// The driver could not seek where the control flow asked (the input is a pipe).
+  void cannot_seek(int line, std::vector<Diagnostic>& diags);
+  /// Writes the parameters to the parameter file (if one is named and it was read), once.
+  void save_parameters(std::vector<Diagnostic>& diags) { system_.save(diags); }
+
+  SubroutineFiles& files() { return files_; }
+  bool done() const { return done_; }
+  const std::string& filename() const { return filename_; }
+  const ParameterStore& parameters() const { return params_; }
+  const Machine& machine() const { return machine_; }
+  std::int64_t blocks() const { return blocks_; }
+
+ private:
+  /// One line's in- and outputs, handed from decision to decision.
+  struct Line {
+    ParsedLine& p;
+    std::vector<Canon>& out;
+    std::vector<Diagnostic>& diags;
+    FlowJump& jump;
+  };
+  bool process_line(Line& l);
+  bool skipped_line(Line& l);
+  bool truncated_line(Line& l);
+  bool well_formed(Line& l);
+  void main_m99_ends(grammar::Block& block) const;
+  bool content(Line& l);
+  bool evaluate(Line& l, bool& more);
+  bool run_block(Line& l);
+  bool control(Line& l);
+  bool directive(const grammar::Message& m, Line& l);
+  /// The program is over at an error: `err` on the line as a diagnostic; false.
+  bool stop(const InterpError& err, Line& l);
+  bool start_failed(std::vector<Diagnostic>& diags);
+  void remember(const std::string& text);
+
+  std::string filename_;
+  Machine default_machine_;
+  const Machine& machine_;
+  bool block_delete_;
+  Interpreter interp_;
+  ParameterStore params_;
+  SystemParameters system_;
+  LineEvaluator evaluator_;
+  SubroutineFiles files_;
+  OwordFlow flow_;
+  G7xDriver g7x_;
+  DialectRules rules_;
+  std::string last_line_;
+  bool log_warned_ = false;
+  bool done_ = false;
+  bool opened_percent_ = false;
+  bool first_content_seen_ = false;
+  std::int64_t blocks_ = 0;
+  std::vector<Diagnostic> start_error_;
+};
+
+/// Both halves, what ProgramStream pulls a line at a time: on one thread, or with read-ahead
+/// (InterpreterOptions::read_ahead) the lines read and parsed on a second thread (ParallelFront)
+/// until the program first jumps (a loop or a call re-reads it: the reader stops and the rest is
+/// read here, seeking as asked). The same lines reach the interpreter either way.
+class LineDriver {
+ public:
+  LineDriver(std::istream& in, std::string filename, const InterpreterOptions& opts)
+      : front_(in), back_(std::move(filename), opts), source_(front_, back_) {
+    if (opts.read_ahead) ahead_ = std::make_unique<ParallelFront>(in);  // front_ reads nothing yet
+  }
+  /// Reads, parses and interprets one line; false when the program is over.
+  bool step(std::vector<Canon>& out, std::vector<Diagnostic>& diags);
+  const ProgramRunner& back() const { return back_; }
+  /// The program is over: writes the parameter file (once).
+  void finish(std::vector<Diagnostic>& diags) { back_.save_parameters(diags); }
+
+ private:
+  /// step() on the reader thread's lines (file 0, the program).
+  bool step_ahead(std::vector<Canon>& out, std::vector<Diagnostic>& diags);
+
+  LineParser front_;
+  ProgramRunner back_;
+  LineSource source_;
+  ParsedLine line_;
+  std::unique_ptr<ParallelFront> ahead_;   ///< read-ahead until the first jump, else null
+  ParallelFront::Batch* batch_ = nullptr;  ///< the batch being interpreted
+  std::size_t next_ = 0;                   ///< its next line
+};
+
+}  // namespace gm
