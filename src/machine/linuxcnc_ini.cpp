@@ -2,10 +2,9 @@
 #include "machine/linuxcnc_ini.hpp"
 
 #include "accdec/taps.hpp"
+#include "common/path_list.hpp"
 #include "common/position_limits.hpp"
 #include "common/status.hpp"
-#include "interp/subroutine_path.hpp"
-#include "machine/machine_file.hpp"
 
 #include <fmt/format.h>
 
@@ -342,7 +341,7 @@ IniImport load_linuxcnc_ini(const std::filesystem::path& path) {
       }
   }
   if (const IniValue* s = ini.find("RS274NGC", "SUBROUTINE_PATH"))
-    for (const std::string& d : SubroutinePath::split(s->value)) {
+    for (const std::string& d : split_path_list(s->value)) {
       m.subroutine_path.push_back(beside(d));
       if (!is_folder(m.subroutine_path.back()))
         warn.push_back(fmt::format("[RS274NGC]SUBROUTINE_PATH: {} is not a directory",

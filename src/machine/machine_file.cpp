@@ -2,8 +2,7 @@
 #include "machine/machine_file.hpp"
 #include "machine/linuxcnc_ini.hpp"
 
-#include "interp/subroutine_path.hpp"
-
+#include "common/path_list.hpp"
 #include "common/position_limits.hpp"
 #include "common/status.hpp"
 #include "servo/discrete_plant.hpp"
@@ -268,18 +267,6 @@ void read_axis(Reader& r, AxisConfig& a, double machine_blu_mm, double period_s,
 
 }  // namespace
 
-Machine default_machine() {
-  Machine m;
-  m.name = "default";
-  m.source = "<built-in>";
-  AxisConfig& y = m.axes[static_cast<std::size_t>(Axis::Y)];
-  y.plant_num = {32.07};
-  y.plant_den = {1.0, 13.823};
-  y.kvp = 0.0442;
-  y.kvi = 0.0098;
-  return m;
-}
-
 Machine parse_machine_toml(std::string_view text, std::string_view source_name) {
   const std::string src(source_name);
   toml::table root;
@@ -375,8 +362,7 @@ Machine parse_machine_toml(std::string_view text, std::string_view source_name) 
     return p.is_absolute() ? f : (std::filesystem::path(src).parent_path() / p).string();
   };
   if (std::string sp; r.string("subroutine_path", sp, false))
-    for (const std::string& dir : SubroutinePath::split(sp))
-      m.subroutine_path.push_back(beside(dir));
+    for (const std::string& dir : split_path_list(sp)) m.subroutine_path.push_back(beside(dir));
   if (std::string pf; r.string("parameter_file", pf, false)) m.parameter_file = beside(pf);
   if (std::string d; r.string("dialect", d, false)) {
     if (d == "linuxcnc" || d == "fanuc" || d == "grbl")
