@@ -1,6 +1,7 @@
 // Shared set-up of the pipeline commands: machine resolution and program input.
 #include "cli/run_setup.hpp"
 
+#include "accdec/accel_limit.hpp"
 #include "accdec/profiles.hpp"
 #include "common/position_limits.hpp"
 #include "common/status.hpp"
@@ -91,7 +92,7 @@ Machine resolve_machine(const MachineFlags& f) {
   }
   // An INI's τ follows its limits, the profile and T: suggested again for the flags' ones.
   if (ini && !f.tau_s && f.axes.empty() && (f.profile || f.period_s))
-    m.tau_s = suggest_tau_s(m, ini->a_max_mm_s2, m.tau_s);
+    m.tau_s = tau_for_accel_limit(m, ini->a_max_mm_s2, m.tau_s);
   return m;
 }
 

@@ -1,7 +1,7 @@
 // LinuxCNC INI -> Machine (limits, units, period, paths, suggested τ) and Machine -> INI sections.
 #include "machine/linuxcnc_ini.hpp"
 
-#include "accdec/taps.hpp"
+#include "accdec/accel_limit.hpp"
 #include "common/path_list.hpp"
 #include "common/position_limits.hpp"
 #include "common/status.hpp"
@@ -190,28 +190,6 @@ bool is_linuxcnc_ini(const std::filesystem::path& path) {
   return lower(path.extension().string()) == ".ini";
 }
 
-double profile_peak_factor(const std::string& profile) {
-  constexpr int kTaps = 1000;
-  try {
-    const Taps t = design_taps(profile, kTaps * 1e-3, 1e-3);
-    return *std::max_element(t.real.begin(), t.real.end()) * static_cast<double>(t.real.size());
-  } catch (const InputError&) {
-    return 1.0;  // a fixed-length profile (custom, cascade) cannot be designed at 1000 taps
-  }
-}
-
-double suggest_tau_s(const Machine& m, const std::vector<double>& a_max_mm_s2, double fallback) {
-  double ratio = 0.0;
-  for (int i = 0; i < m.axis_count(); ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    if (k < a_max_mm_s2.size() && a_max_mm_s2[k] > 0.0)
-      ratio = std::max(ratio, m.axes[k].v_max_mm_s / a_max_mm_s2[k]);
-  }
-  if (ratio == 0.0) return fallback;
-  const double taps = std::ceil(profile_peak_factor(m.profile) * ratio / m.period_s - 1e-9);
-  return std::clamp(taps, 1.0, static_cast<double>(kMaxAccDecTaps)) * m.period_s;
-}
-
 IniImport load_linuxcnc_ini(const std::filesystem::path& path) {
   IniFile ini;
   const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
@@ -325,7 +303,7 @@ IniImport load_linuxcnc_ini(const std::filesystem::path& path) {
       warn.push_back(fmt::format("[DISPLAY]MAX_FEED_OVERRIDE = {}: gmotion needs 1..10; keeps {}",
                                  *o, m.max_override));
   }
-  m.tau_s = suggest_tau_s(m, out.a_max_mm_s2, m.tau_s);
+  m.tau_s = tau_for_accel_limit(m, out.a_max_mm_s2, m.tau_s);
 
   if (const IniValue* t = ini.find("EMCIO", "TOOL_TABLE")) {
     const std::string file = beside(t->value);
