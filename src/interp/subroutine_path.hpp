@@ -1,6 +1,8 @@
 // Where `o<name> call` finds a subroutine that is not in the program: `name.ngc` on a search path.
 #pragma once
 
+#include "common/path_list.hpp"
+
 #include <string>
 #include <string_view>
 #include <vector>
@@ -16,8 +18,10 @@ class SubroutinePath {
   SubroutinePath() = default;
   explicit SubroutinePath(std::vector<std::string> dirs) : dirs_(std::move(dirs)) {}
 
-  /// Splits "DIR[:DIR...]" (empty entries dropped).
-  static std::vector<std::string> split(std::string_view colon_list);
+  /// Splits "DIR[:DIR...]" (empty entries dropped): split_path_list.
+  static std::vector<std::string> split(std::string_view colon_list) {
+    return split_path_list(colon_list);
+  }
 
   bool empty() const { return dirs_.empty(); }
   const std::vector<std::string>& dirs() const { return dirs_; }

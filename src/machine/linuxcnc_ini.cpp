@@ -1,11 +1,11 @@
 // LinuxCNC INI -> Machine (limits, units, period, paths, suggested τ) and Machine -> INI sections.
 #include "machine/linuxcnc_ini.hpp"
 
-#include "accdec/taps.hpp"
+#include "accdec/accel_limit.hpp"
+#include "common/path_list.hpp"
 #include "common/position_limits.hpp"
 #include "common/status.hpp"
-#include "interp/subroutine_path.hpp"
-#include "machine/machine_file.hpp"
+#include "common/units.hpp"
 
 #include <fmt/format.h>
 
@@ -185,50 +185,24 @@ std::string ini_number(double v) {
   return fmt::format("{}", v);
 }
 
-}  // namespace
+using Warnings = std::vector<std::string>;
 
-bool is_linuxcnc_ini(const std::filesystem::path& path) {
-  return lower(path.extension().string()) == ".ini";
+// The axes named in `coords`, each once, in the order XYZABCUVW.
+std::string axis_letters(const std::string& coords) {
+  std::string letters;
+  for (const char l : std::string("XYZABCUVW"))
+    if (coords.find(l) != std::string::npos) letters += l;
+  return letters;
 }
 
-double profile_peak_factor(const std::string& profile) {
-  constexpr int kTaps = 1000;
-  try {
-    const Taps t = design_taps(profile, kTaps * 1e-3, 1e-3);
-    return *std::max_element(t.real.begin(), t.real.end()) * static_cast<double>(t.real.size());
-  } catch (const InputError&) {
-    return 1.0;  // a fixed-length profile (custom, cascade) cannot be designed at 1000 taps
-  }
+// A file the INI names, relative to the INI's directory.
+std::string beside_ini(const fs::path& ini_dir, const std::string& f) {
+  const fs::path p(f);
+  return p.is_absolute() ? f : (ini_dir / p).lexically_normal().string();
 }
 
-double suggest_tau_s(const Machine& m, const std::vector<double>& a_max_mm_s2, double fallback) {
-  double ratio = 0.0;
-  for (int i = 0; i < m.axis_count(); ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    if (k < a_max_mm_s2.size() && a_max_mm_s2[k] > 0.0)
-      ratio = std::max(ratio, m.axes[k].v_max_mm_s / a_max_mm_s2[k]);
-  }
-  if (ratio == 0.0) return fallback;
-  const double taps = std::ceil(profile_peak_factor(m.profile) * ratio / m.period_s - 1e-9);
-  return std::clamp(taps, 1.0, static_cast<double>(kMaxAccDecTaps)) * m.period_s;
-}
-
-IniImport load_linuxcnc_ini(const std::filesystem::path& path) {
-  IniFile ini;
-  const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
-  ini.read(path, dir, 0, "");
-  IniImport out;
-  std::vector<std::string>& warn = out.warnings;
-  for (const std::string& w : ini.unreadable_includes) warn.push_back(w + " (skipped)");
-  const auto beside = [&](const std::string& f) {
-    const fs::path p(f);
-    return p.is_absolute() ? f : (dir / p).lexically_normal().string();
-  };
-
-  Machine m = default_machine();
-  m.source = path.string();
-  if (const IniValue* v = ini.find("EMC", "MACHINE")) m.name = v->value;
-
+// [EMCMOT]SERVO_PERIOD (ns) -> T.
+void read_emcmot(const IniFile& ini, Machine& m, Warnings& warn) {
   if (const auto ns = ini.number("EMCMOT", "SERVO_PERIOD")) {
     if (!(*ns >= 1000.0 && *ns <= 1e9))
       ini.fail("EMCMOT", "SERVO_PERIOD", "must be in 1000..1e9 ns");
@@ -236,10 +210,11 @@ IniImport load_linuxcnc_ini(const std::filesystem::path& path) {
   } else {
     warn.push_back("[EMCMOT]SERVO_PERIOD: missing; T stays 0.004 s");
   }
-  const double lin = linear_unit_mm(ini);
-  const double ang = angular_unit_deg(ini);
+}
 
-  // The axes: COORDINATES in joint order (trivkins: joint n drives the n-th letter).
+// [TRAJ]COORDINATES: the joints' letters in joint order (trivkins: joint n drives the n-th
+// letter); [KINS]KINEMATICS other than trivkins is only warned about.
+std::string read_coordinates(const IniFile& ini, Warnings& warn) {
   std::string coords;
   if (const IniValue* v = ini.find("TRAJ", "COORDINATES")) {
     for (const char c : v->value)
@@ -249,13 +224,10 @@ IniImport load_linuxcnc_ini(const std::filesystem::path& path) {
     coords = "XYZ";
     warn.push_back("[TRAJ]COORDINATES: missing; the axes are XYZ");
   }
-  std::string letters;
-  for (const char l : std::string("XYZABCUVW"))
-    if (coords.find(l) != std::string::npos) letters += l;
   for (const char c : coords)
     if (axis_index(c) < 0) ini.fail("TRAJ", "COORDINATES", fmt::format("'{}' is not an axis", c));
   if (coords.empty()) ini.fail("TRAJ", "COORDINATES", "names no axis");
-  if (letters.size() != coords.size())
+  if (axis_letters(coords).size() != coords.size())
     warn.push_back(
         fmt::format("[TRAJ]COORDINATES = {}: an axis on several joints (gantry) is one "
                     "axis here, with the tightest joint limits",
@@ -265,60 +237,94 @@ IniImport load_linuxcnc_ini(const std::filesystem::path& path) {
         fmt::format("[KINS]KINEMATICS = {}: not modelled; every axis is one joint "
                     "(trivkins)",
                     k->value));
-  m.set_axes(*AxisLayout::of(letters), default_machine().axes[0]);
+  return coords;
+}
 
-  out.a_max_mm_s2.assign(static_cast<std::size_t>(m.axis_count()), 0.0);
+// What [AXIS_L] and the [JOINT_n] that drive L give one axis (the tighter of axis and joints).
+struct AxisLimits {
+  std::optional<double> v, a, scale, backlash;
+  std::string scale_section;  ///< the joint INPUT_SCALE came from
+  bool soft_limits = false;   ///< MIN_LIMIT or MAX_LIMIT named
+};
+
+AxisLimits axis_limits(const IniFile& ini, const std::string& coords, char letter) {
+  const std::string axis_sec = fmt::format("AXIS_{}", letter);
+  AxisLimits l;
+  l.v = ini.number(axis_sec, "MAX_VELOCITY");
+  l.a = ini.number(axis_sec, "MAX_ACCELERATION");
+  for (std::size_t j = 0; j < coords.size(); ++j) {
+    if (coords[j] != letter) continue;
+    const std::string js = fmt::format("JOINT_{}", j);
+    l.v = min_of(l.v, ini.number(js, "MAX_VELOCITY"));
+    l.a = min_of(l.a, ini.number(js, "MAX_ACCELERATION"));
+    if (!l.scale && (l.scale = ini.number(js, "INPUT_SCALE"))) l.scale_section = js;
+    if (!l.backlash) l.backlash = ini.number(js, "BACKLASH");
+    l.soft_limits = l.soft_limits || ini.find(js, "MIN_LIMIT") || ini.find(js, "MAX_LIMIT");
+  }
+  l.soft_limits =
+      l.soft_limits || ini.find(axis_sec, "MIN_LIMIT") || ini.find(axis_sec, "MAX_LIMIT");
+  return l;
+}
+
+// One axis from [AXIS_L]/[JOINT_n]: V_max, BLU (INPUT_SCALE), backlash; its A_max into a_max_mm_s2.
+// Returns whether soft limits were named.
+bool read_ini_axis(const IniFile& ini, const std::string& coords, double unit, Machine& m, int i,
+                   double& a_max_mm_s2, Warnings& warn) {
+  const char letter = m.layout.letter(i);
+  const bool rotary = axis_is_rotary(m.layout.program(i));
+  const std::string axis_sec = fmt::format("AXIS_{}", letter);
+  const AxisLimits l = axis_limits(ini, coords, letter);
+  AxisConfig& ac = m.axes[static_cast<std::size_t>(i)];
+  if (l.v && *l.v > 0.0)
+    ac.v_max_mm_s = *l.v * unit;
+  else
+    warn.push_back(fmt::format("[{}]MAX_VELOCITY: missing; {} keeps {} {}/s", axis_sec, letter,
+                               ac.v_max_mm_s, rotary ? "deg" : "mm"));
+  if (l.a && *l.a > 0.0)
+    a_max_mm_s2 = *l.a * unit;
+  else
+    warn.push_back(
+        fmt::format("[{}]MAX_ACCELERATION: missing; {} does not limit tau", axis_sec, letter));
+  if (l.scale && *l.scale != 0.0) ac.blu_mm = unit / std::abs(*l.scale);
+  if (ac.blu_mm < kMinBluMm)
+    ini.fail(l.scale_section, "INPUT_SCALE",
+             fmt::format("{:g} counts a unit: one count is {:g} {}, finer than 1e-6 (1 nm): "
+                         "positions up to ±1e12 would not fit int64 counts",
+                         *l.scale, ac.blu_mm, rotary ? "deg" : "mm"));
+  if (l.backlash && *l.backlash > 0.0) ac.backlash_blu = std::round(*l.backlash * unit / ac.blu_mm);
+  return l.soft_limits;
+}
+
+// [AXIS_*]/[JOINT_*]: every axis of the machine, lengths in `lin` mm and angles in `ang` degrees.
+void read_ini_axes(const IniFile& ini, const std::string& coords, double lin, double ang,
+                   Machine& m, std::vector<double>& a_max_mm_s2, Warnings& warn) {
+  a_max_mm_s2.assign(static_cast<std::size_t>(m.axis_count()), 0.0);
   bool soft_limits = false;
   for (int i = 0; i < m.axis_count(); ++i) {
-    const char letter = m.layout.letter(i);
-    const bool rotary = axis_is_rotary(m.layout.program(i));
-    const double unit = rotary ? ang : lin;
-    const std::string axis_sec = fmt::format("AXIS_{}", letter);
-    std::optional<double> v = ini.number(axis_sec, "MAX_VELOCITY");
-    std::optional<double> a = ini.number(axis_sec, "MAX_ACCELERATION");
-    std::optional<double> scale, backlash;
-    std::string scale_section;
-    for (std::size_t j = 0; j < coords.size(); ++j) {
-      if (coords[j] != letter) continue;
-      const std::string js = fmt::format("JOINT_{}", j);
-      v = min_of(v, ini.number(js, "MAX_VELOCITY"));
-      a = min_of(a, ini.number(js, "MAX_ACCELERATION"));
-      if (!scale && (scale = ini.number(js, "INPUT_SCALE"))) scale_section = js;
-      if (!backlash) backlash = ini.number(js, "BACKLASH");
-      soft_limits = soft_limits || ini.find(js, "MIN_LIMIT") || ini.find(js, "MAX_LIMIT");
-    }
-    soft_limits = soft_limits || ini.find(axis_sec, "MIN_LIMIT") || ini.find(axis_sec, "MAX_LIMIT");
-    AxisConfig& ac = m.axes[static_cast<std::size_t>(i)];
-    if (v && *v > 0.0)
-      ac.v_max_mm_s = *v * unit;
-    else
-      warn.push_back(fmt::format("[{}]MAX_VELOCITY: missing; {} keeps {} {}/s", axis_sec, letter,
-                                 ac.v_max_mm_s, rotary ? "deg" : "mm"));
-    if (a && *a > 0.0)
-      out.a_max_mm_s2[static_cast<std::size_t>(i)] = *a * unit;
-    else
-      warn.push_back(
-          fmt::format("[{}]MAX_ACCELERATION: missing; {} does not limit tau", axis_sec, letter));
-    if (scale && *scale != 0.0) ac.blu_mm = unit / std::abs(*scale);
-    if (ac.blu_mm < kMinBluMm)
-      ini.fail(scale_section, "INPUT_SCALE",
-               fmt::format("{:g} counts a unit: one count is {:g} {}, finer than 1e-6 (1 nm): "
-                           "positions up to ±1e12 would not fit int64 counts",
-                           *scale, ac.blu_mm, rotary ? "deg" : "mm"));
-    if (backlash && *backlash > 0.0) ac.backlash_blu = std::round(*backlash * unit / ac.blu_mm);
+    const double unit = axis_is_rotary(m.layout.program(i)) ? ang : lin;
+    soft_limits =
+        read_ini_axis(ini, coords, unit, m, i, a_max_mm_s2[static_cast<std::size_t>(i)], warn) ||
+        soft_limits;
   }
   if (soft_limits)
     warn.push_back("[AXIS_*]/[JOINT_*]MIN_LIMIT, MAX_LIMIT: soft limits are not checked");
+}
 
+// [TRAJ]MAX_LINEAR_VELOCITY -> the rapid rate; without it, the fastest linear axis.
+void read_rapid(const IniFile& ini, double lin, Machine& m) {
   if (const auto r = ini.number("TRAJ", "MAX_LINEAR_VELOCITY"); r && *r > 0.0) {
-    m.rapid_mm_min = *r * lin * 60.0;
-  } else {
-    double fastest = 0.0;
-    for (int i = 0; i < m.axis_count(); ++i)
-      if (!axis_is_rotary(m.layout.program(i)))
-        fastest = std::max(fastest, m.axes[static_cast<std::size_t>(i)].v_max_mm_s);
-    if (fastest > 0.0) m.rapid_mm_min = fastest * 60.0;
+    m.rapid_mm_min = units::mm_s_to_mm_min(*r * lin);
+    return;
   }
+  double fastest = 0.0;
+  for (int i = 0; i < m.axis_count(); ++i)
+    if (!axis_is_rotary(m.layout.program(i)))
+      fastest = std::max(fastest, m.axes[static_cast<std::size_t>(i)].v_max_mm_s);
+  if (fastest > 0.0) m.rapid_mm_min = units::mm_s_to_mm_min(fastest);
+}
+
+// [DISPLAY]MAX_FEED_OVERRIDE.
+void read_display(const IniFile& ini, Machine& m, Warnings& warn) {
   if (const auto o = ini.number("DISPLAY", "MAX_FEED_OVERRIDE")) {
     if (*o >= 1.0 && *o <= 10.0)
       m.max_override = *o;
@@ -326,30 +332,36 @@ IniImport load_linuxcnc_ini(const std::filesystem::path& path) {
       warn.push_back(fmt::format("[DISPLAY]MAX_FEED_OVERRIDE = {}: gmotion needs 1..10; keeps {}",
                                  *o, m.max_override));
   }
-  m.tau_s = suggest_tau_s(m, out.a_max_mm_s2, m.tau_s);
+}
 
-  if (const IniValue* t = ini.find("EMCIO", "TOOL_TABLE")) {
-    const std::string file = beside(t->value);
-    if (!is_file(file))
-      throw InputError(
-          fmt::format("{}:{}: [EMCIO]TOOL_TABLE: cannot read {}", t->file, t->line, file));
-    m.tool_table = load_tool_table(file);
-    if (lin != 1.0)
-      for (ToolEntry& e : m.tool_table.tools) {
-        for (int k = 0; k < 9; ++k)
-          if (!axis_is_rotary(k)) e.offset_mm[static_cast<std::size_t>(k)] *= lin;
-        e.diameter_mm *= lin;
-      }
-  }
+// [EMCIO]TOOL_TABLE, its lengths in `lin` mm.
+void read_emcio_tool_table(const IniFile& ini, const fs::path& dir, double lin, Machine& m) {
+  const IniValue* t = ini.find("EMCIO", "TOOL_TABLE");
+  if (t == nullptr) return;
+  const std::string file = beside_ini(dir, t->value);
+  if (!is_file(file))
+    throw InputError(
+        fmt::format("{}:{}: [EMCIO]TOOL_TABLE: cannot read {}", t->file, t->line, file));
+  m.tool_table = load_tool_table(file);
+  if (lin != 1.0)
+    for (ToolEntry& e : m.tool_table.tools) {
+      for (int k = 0; k < 9; ++k)
+        if (!axis_is_rotary(k)) e.offset_mm[static_cast<std::size_t>(k)] *= lin;
+      e.diameter_mm *= lin;
+    }
+}
+
+// [RS274NGC]SUBROUTINE_PATH and PARAMETER_FILE (beside the INI); USER_M_PATH is only warned about.
+void read_rs274ngc(const IniFile& ini, const fs::path& dir, Machine& m, Warnings& warn) {
   if (const IniValue* s = ini.find("RS274NGC", "SUBROUTINE_PATH"))
-    for (const std::string& d : SubroutinePath::split(s->value)) {
-      m.subroutine_path.push_back(beside(d));
+    for (const std::string& d : split_path_list(s->value)) {
+      m.subroutine_path.push_back(beside_ini(dir, d));
       if (!is_folder(m.subroutine_path.back()))
         warn.push_back(fmt::format("[RS274NGC]SUBROUTINE_PATH: {} is not a directory",
                                    m.subroutine_path.back()));
     }
   if (const IniValue* p = ini.find("RS274NGC", "PARAMETER_FILE")) {
-    const std::string file = beside(p->value);
+    const std::string file = beside_ini(dir, p->value);
     if (is_file(file))
       m.parameter_file = file;
     else
@@ -358,8 +370,12 @@ IniImport load_linuxcnc_ini(const std::filesystem::path& path) {
   if (const IniValue* u = ini.find("RS274NGC", "USER_M_PATH"))
     warn.push_back(
         fmt::format("[RS274NGC]USER_M_PATH = {}: M100-M199 are recorded, never run", u->value));
-  // LinuxCNC's INIT_CANON: units within 1e-3 of 1/25.4 per mm are inches, 1 per mm is mm, and
-  // anything else starts the interpreter in mm with an error message; a program starts in them.
+}
+
+// [TRAJ]LINEAR_UNITS -> the units a program starts in. LinuxCNC's INIT_CANON: units within 1e-3
+// of 1/25.4 per mm are inches, 1 per mm is mm, and anything else starts the interpreter in mm
+// with an error message.
+void read_program_units(const IniFile& ini, double lin, Machine& m, Warnings& warn) {
   m.program_inch = std::abs(1.0 / lin - 1.0 / 25.4) < 1e-3;
   if (!m.program_inch && std::abs(1.0 / lin - 1.0) >= 1e-3)
     warn.push_back(
@@ -367,6 +383,37 @@ IniImport load_linuxcnc_ini(const std::filesystem::path& path) {
                     "start in G21 (LinuxCNC: \"non-standard length units, setting interpreter "
                     "to mm\")",
                     ini.find("TRAJ", "LINEAR_UNITS")->value));
+}
+
+}  // namespace
+
+bool is_linuxcnc_ini(const std::filesystem::path& path) {
+  return lower(path.extension().string()) == ".ini";
+}
+
+IniImport load_linuxcnc_ini(const std::filesystem::path& path) {
+  IniFile ini;
+  const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  ini.read(path, dir, 0, "");
+  IniImport out;
+  Warnings& warn = out.warnings;
+  for (const std::string& w : ini.unreadable_includes) warn.push_back(w + " (skipped)");
+
+  Machine m = default_machine();
+  m.source = path.string();
+  if (const IniValue* v = ini.find("EMC", "MACHINE")) m.name = v->value;
+  read_emcmot(ini, m, warn);
+  const double lin = linear_unit_mm(ini);
+  const double ang = angular_unit_deg(ini);
+  const std::string coords = read_coordinates(ini, warn);
+  m.set_axes(*AxisLayout::of(axis_letters(coords)), default_machine().axes[0]);
+  read_ini_axes(ini, coords, lin, ang, m, out.a_max_mm_s2, warn);
+  read_rapid(ini, lin, m);
+  read_display(ini, m, warn);
+  m.tau_s = tau_for_accel_limit(m, out.a_max_mm_s2, m.tau_s);
+  read_emcio_tool_table(ini, dir, lin, m);
+  read_rs274ngc(ini, dir, m, warn);
+  read_program_units(ini, lin, m, warn);
   if (const IniValue* r = ini.find("EMCIO", "TOOL_CHANGE_POSITION"))
     warn.push_back(
         fmt::format("[EMCIO]TOOL_CHANGE_POSITION = {}: tool changes do not move", r->value));

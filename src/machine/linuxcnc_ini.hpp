@@ -27,24 +27,15 @@ bool is_linuxcnc_ini(const std::filesystem::path& path);
 /// [AXIS_L]/[JOINT_n] MAX_VELOCITY, MAX_ACCELERATION (the smaller of the two), INPUT_SCALE
 /// (BLU) and BACKLASH; [DISPLAY]MAX_FEED_OVERRIDE; [EMCIO]TOOL_TABLE; [RS274NGC]SUBROUTINE_PATH
 /// and PARAMETER_FILE (paths relative to the INI's directory). τ is suggested from the limits
-/// (suggest_tau_s). Throws gm::InputError "FILE:LINE: [SECTION]KEY: ..." on a value it needs
-/// and cannot read.
+/// (tau_for_accel_limit, accdec/accel_limit.hpp). Throws gm::InputError "FILE:LINE: [SECTION]KEY:
+/// ..." on a value it needs and cannot read.
 IniImport load_linuxcnc_ini(const std::filesystem::path& path);
-
-/// Peak-to-mean ratio of the profile's taps, (N+1)·max h_k at N+1 = 1000 taps: a velocity step
-/// V through the filter accelerates at most c·V/τ. 1 for linear; fixed-length profiles give 1.
-double profile_peak_factor(const std::string& profile);
-
-/// The smallest τ (a whole number of periods) at which a velocity step at each axis's
-/// v_max_mm_s stays within its acceleration limit: ⌈c·max_i(V_i/A_i)/T⌉·T, at least T. Axes
-/// with A_i = 0 are skipped; `fallback` when none has a limit.
-double suggest_tau_s(const Machine& m, const std::vector<double>& a_max_mm_s2, double fallback);
 
 /// The INI sections a LinuxCNC configuration needs for this machine's axes: [EMCMOT]
 /// SERVO_PERIOD, [TRAJ] (COORDINATES, units mm/degree, MAX_LINEAR_VELOCITY), [KINS] JOINTS,
 /// [DISPLAY] MAX_FEED_OVERRIDE and per axis [AXIS_L] and [JOINT_n] with MAX_VELOCITY,
-/// MAX_ACCELERATION = c·V/τ (so that reading it back suggests the machine's τ), INPUT_SCALE =
-/// 1/BLU and BACKLASH.
+/// MAX_ACCELERATION = c·V/τ (c = profile_peak_factor, so that reading it back suggests the
+/// machine's τ), INPUT_SCALE = 1/BLU and BACKLASH.
 std::string machine_to_linuxcnc_ini(const Machine& m);
 
 }  // namespace gm

@@ -74,7 +74,7 @@ struct Machine {
   int servo_substeps = 1;             ///< servo period = T / servo_substeps
   double rapid_mm_min = 6000.0;       ///< G0 rate (path speed)
   double max_override = 2.0;          ///< largest feed override, 2.0 = 200 %
-  std::string profile = "blackman";   ///< Acc/Dec profile spec (see accdec/profile.hpp)
+  std::string profile = "blackman";   ///< Acc/Dec profile spec (see accdec/profile_spec.hpp)
   double tau_s = 0.164;               ///< Acc/Dec time constant (N+1)T
   ArcRule arc_rule = ArcRule::LinuxCnc;
   /// Contour tolerance under G64 without P, mm (machine key path_tolerance_mm, CLI --tolerance);
@@ -152,5 +152,9 @@ struct Machine {
     axes = std::move(next);
   }
 };
+
+/// The built-in default machine (3 axes XYZ, the paper's numbers; y has the paper's y plant).
+/// Needs no file; equal to programs/machines/default.toml.
+Machine default_machine();
 
 }  // namespace gm

@@ -2,8 +2,7 @@
 #include "machine/machine_file.hpp"
 #include "machine/linuxcnc_ini.hpp"
 
-#include "interp/subroutine_path.hpp"
-
+#include "common/path_list.hpp"
 #include "common/position_limits.hpp"
 #include "common/status.hpp"
 #include "servo/discrete_plant.hpp"
@@ -266,32 +265,8 @@ void read_axis(Reader& r, AxisConfig& a, double machine_blu_mm, double period_s,
   r.reject_unknown();
 }
 
-}  // namespace
-
-Machine default_machine() {
-  Machine m;
-  m.name = "default";
-  m.source = "<built-in>";
-  AxisConfig& y = m.axes[static_cast<std::size_t>(Axis::Y)];
-  y.plant_num = {32.07};
-  y.plant_den = {1.0, 13.823};
-  y.kvp = 0.0442;
-  y.kvi = 0.0098;
-  return m;
-}
-
-Machine parse_machine_toml(std::string_view text, std::string_view source_name) {
-  const std::string src(source_name);
-  toml::table root;
-  try {
-    root = toml::parse(text, src);
-  } catch (const toml::parse_error& e) {
-    throw InputError(
-        fmt::format("{}:{}: TOML syntax error: {}", src, e.source().begin.line, e.description()));
-  }
-  Machine m = default_machine();
-  m.source = src;
-  Reader r(root, "", src);
+// The top-level keys of the run: period, rates, override, tolerance, arc rule.
+void read_run_keys(Reader& r, const toml::table& root, Machine& m) {
   r.string("name", m.name, true);
   r.number("period_s", m.period_s, true,
            [](double v) { return v >= kMinPeriod && v <= 1.0 ? "" : "must be in 1e-06..1 s"; });
@@ -325,9 +300,10 @@ Machine parse_machine_toml(std::string_view text, std::string_view source_name) 
       r.fail_at(root.get("tolerance_on")->source(), "tolerance_on",
                 fmt::format("must be \"acc_dec\" or \"encoder\" (got \"{}\")", tol_on));
   }
-  double blu_mm = 0.001;
-  r.number("blu_mm", blu_mm, false, blu_range);
+}
 
+// [accdec]: profile and τ; without tau_s the period must suit the default τ.
+void read_accdec_table(Reader& r, const toml::table& root, const std::string& src, Machine& m) {
   const toml::table* acc = r.table("accdec", false);
   if (acc != nullptr) {
     Reader ar(*acc, "accdec.", src);
@@ -343,6 +319,10 @@ Machine parse_machine_toml(std::string_view text, std::string_view source_name) 
                 fmt::format("does not suit accdec.tau_s = {} s (the default): tau_s {} (got {})",
                             fmt_double(m.tau_s), c, fmt_double(m.period_s)));
   }
+}
+
+// [axes]: the letters, then one [axes.<letter>] table per axis.
+void read_axes_table(Reader& r, const std::string& src, double blu_mm, Machine& m) {
   const toml::table* axes = r.table("axes", true);
   Reader axr(*axes, "axes.", src);
   if (std::string letters; axr.string("letters", letters, false)) {
@@ -362,21 +342,19 @@ Machine parse_machine_toml(std::string_view text, std::string_view source_name) 
     read_axis(ar, m.axes[static_cast<std::size_t>(i)], blu_mm, m.period_s, m.layout.program(i) < 3);
   }
   axr.reject_unknown();
+}
+
+// The top-level keys of the programs: tools, files and directories (relative to the machine
+// file's directory, as LinuxCNC's are to the INI's), dialect, units, spindle, pause.
+void read_program_keys(Reader& r, const toml::table& root, const std::string& src, Machine& m) {
   r.numbers("tools", m.tool_lengths_mm, false, 0, 100000);
-  if (std::string tt; r.string("tool_table", tt, false)) {
-    // Relative to the machine file's directory.
-    const std::filesystem::path p(tt);
-    m.tool_table = load_tool_table(
-        p.is_absolute() ? tt : (std::filesystem::path(src).parent_path() / p).string());
-  }
-  // Both relative to the machine file's directory, like the tool table (LinuxCNC: the INI's).
   const auto beside = [&](const std::string& f) {
     const std::filesystem::path p(f);
     return p.is_absolute() ? f : (std::filesystem::path(src).parent_path() / p).string();
   };
+  if (std::string tt; r.string("tool_table", tt, false)) m.tool_table = load_tool_table(beside(tt));
   if (std::string sp; r.string("subroutine_path", sp, false))
-    for (const std::string& dir : SubroutinePath::split(sp))
-      m.subroutine_path.push_back(beside(dir));
+    for (const std::string& dir : split_path_list(sp)) m.subroutine_path.push_back(beside(dir));
   if (std::string pf; r.string("parameter_file", pf, false)) m.parameter_file = beside(pf);
   if (std::string d; r.string("dialect", d, false)) {
     if (d == "linuxcnc" || d == "fanuc" || d == "grbl")
@@ -397,39 +375,35 @@ Machine parse_machine_toml(std::string_view text, std::string_view source_name) 
            [](double v) { return v >= 0.0 && v <= 1e7 ? "" : "must be 0..1e7 rpm/s"; });
   r.number("pause_s", m.pause_s, false,
            [](double v) { return v >= 0.0 && v <= 1e6 ? "" : "must be 0..1e6 s"; });
-  if (const toml::table* wo = r.table("work_offsets", false)) {
-    Reader wr(*wo, "work_offsets.", src);
-    for (int g = 0; g < 6; ++g) {
-      std::vector<double> v;
-      // [x, y, z] or more, in XYZABCUVW order (an axis the machine lacks must be 0).
-      if (wr.numbers(fmt::format("g{}", 54 + g), v, false, 3, kMaxAxes))
-        for (int a = 0; a < static_cast<int>(v.size()); ++a)
-          m.work_offsets_mm[static_cast<std::size_t>(g)][a] = v[static_cast<std::size_t>(a)];
-    }
-    wr.reject_unknown();
+}
+
+// [work_offsets]: g54..g59 as [x, y, z] or more, in XYZABCUVW order (an axis the machine lacks
+// must be 0).
+void read_work_offsets_table(Reader& r, const std::string& src, Machine& m) {
+  const toml::table* wo = r.table("work_offsets", false);
+  if (wo == nullptr) return;
+  Reader wr(*wo, "work_offsets.", src);
+  for (int g = 0; g < 6; ++g) {
+    std::vector<double> v;
+    if (wr.numbers(fmt::format("g{}", 54 + g), v, false, 3, kMaxAxes))
+      for (int a = 0; a < static_cast<int>(v.size()); ++a)
+        m.work_offsets_mm[static_cast<std::size_t>(g)][a] = v[static_cast<std::size_t>(a)];
   }
-  r.reject_unknown();
-  return m;
+  wr.reject_unknown();
 }
 
-Machine load_machine_file(const std::filesystem::path& path) {
-  if (is_linuxcnc_ini(path)) return load_linuxcnc_ini(path).machine;  // docs/linuxcnc-ini.md
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot open machine file", path.string()));
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_machine_toml(ss.str(), path.string());
+// A TOML array of numbers.
+std::string toml_list(const std::vector<double>& v) {
+  std::string s = "[";
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (i) s += ", ";  // appended in two steps: g++ 12 -O3 warns falsely on `a + b`
+    s += fmt_double(v[i]);
+  }
+  return s + "]";
 }
 
-std::string machine_to_toml(const Machine& m) {
-  auto list = [](const auto& v) {
-    std::string s = "[";
-    for (std::size_t i = 0; i < static_cast<std::size_t>(v.size()); ++i) {
-      if (i) s += ", ";  // appended in two steps: g++ 12 -O3 warns falsely on `a + b`
-      s += fmt_double(v[i]);
-    }
-    return s + "]";
-  };
+// The top-level keys machine_to_toml writes, up to the first table.
+std::string toml_top_keys(const Machine& m) {
   const char* rule = m.arc_rule == ArcRule::Grbl     ? "grbl"
                      : m.arc_rule == ArcRule::G2core ? "g2core"
                                                      : "linuxcnc";
@@ -459,39 +433,83 @@ std::string machine_to_toml(const Machine& m) {
   if (m.program_inch) s += "program_units = \"inch\"\n";
   if (m.spindle_accel_rpm_s > 0.0)
     s += fmt::format("spindle_accel_rpm_s = {}\n", fmt_double(m.spindle_accel_rpm_s));
-  s += "tools = " + list(m.tool_lengths_mm) + "\n\n";
+  s += "tools = " + toml_list(m.tool_lengths_mm) + "\n\n";
+  return s;
+}
+
+// One [axes.<letter>] table, and its [axes.<letter>.accdec] when it has its own Acc/Dec.
+std::string toml_axis_table(const AxisConfig& a, char letter) {
+  std::string s = fmt::format("\n[axes.{}]\n", letter);
+  s += fmt::format("blu_mm = {}\nv_max_mm_s = {}\nf_max_N = {}\np_max_W = {}\n",
+                   fmt_double(a.blu_mm), fmt_double(a.v_max_mm_s), fmt_double(a.f_max_N),
+                   fmt_double(a.p_max_W));
+  s += fmt::format("mass_kg = {}\ndamping_kg_s = {}\nplant_num = {}\nplant_den = {}\n",
+                   fmt_double(a.mass_kg), fmt_double(a.damping_kg_s), toml_list(a.plant_num),
+                   toml_list(a.plant_den));
+  s += fmt::format("kvp = {}\nkvi = {}\nkp_1_s = {}\nbacklash_blu = {}\ncoulomb_N = {}\n",
+                   fmt_double(a.kvp), fmt_double(a.kvi), fmt_double(a.kp_1_s),
+                   fmt_double(a.backlash_blu), fmt_double(a.coulomb_N));
+  s += fmt::format(
+      "plant_blu_s_per_unit = {}\nkv_period_s = {}\nkv_form = \"{}\"\ndrive_N_per_unit = {}\n",
+      fmt_double(a.plant_blu_s_per_unit), fmt_double(a.kv_period_s),
+      a.kv_form == VelocityLoopForm::Ip ? "ip" : "pi", fmt_double(a.drive_N_per_unit));
+  if (!a.accdec_profile.empty() || a.accdec_tau_s > 0.0) {
+    s += fmt::format("\n[axes.{}.accdec]\n", letter);
+    if (!a.accdec_profile.empty())
+      s += fmt::format("profile = {}\n", toml_string(a.accdec_profile));
+    if (a.accdec_tau_s > 0.0) s += fmt::format("tau_s = {}\n", fmt_double(a.accdec_tau_s));
+  }
+  return s;
+}
+
+}  // namespace
+
+Machine parse_machine_toml(std::string_view text, std::string_view source_name) {
+  const std::string src(source_name);
+  toml::table root;
+  try {
+    root = toml::parse(text, src);
+  } catch (const toml::parse_error& e) {
+    throw InputError(
+        fmt::format("{}:{}: TOML syntax error: {}", src, e.source().begin.line, e.description()));
+  }
+  Machine m = default_machine();
+  m.source = src;
+  Reader r(root, "", src);
+  read_run_keys(r, root, m);
+  double blu_mm = 0.001;
+  r.number("blu_mm", blu_mm, false, blu_range);
+  read_accdec_table(r, root, src, m);
+  read_axes_table(r, src, blu_mm, m);
+  read_program_keys(r, root, src, m);
+  read_work_offsets_table(r, src, m);
+  r.reject_unknown();
+  return m;
+}
+
+Machine load_machine_file(const std::filesystem::path& path) {
+  if (is_linuxcnc_ini(path)) return load_linuxcnc_ini(path).machine;  // docs/linuxcnc-ini.md
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(fmt::format("{}: cannot open machine file", path.string()));
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse_machine_toml(ss.str(), path.string());
+}
+
+std::string machine_to_toml(const Machine& m) {
+  std::string s = toml_top_keys(m);
   s += fmt::format("[accdec]\nprofile = {}\ntau_s = {}\n", toml_string(m.profile),
                    fmt_double(m.tau_s));
   if (!m.layout.is_xyz()) s += fmt::format("\n[axes]\nletters = \"{}\"\n", m.layout.letters());
-  for (int i = 0; i < m.axis_count(); ++i) {
-    const AxisConfig& a = m.axes[static_cast<std::size_t>(i)];
-    s += fmt::format("\n[axes.{}]\n", static_cast<char>(m.layout.letter(i) - 'A' + 'a'));
-    s += fmt::format("blu_mm = {}\nv_max_mm_s = {}\nf_max_N = {}\np_max_W = {}\n",
-                     fmt_double(a.blu_mm), fmt_double(a.v_max_mm_s), fmt_double(a.f_max_N),
-                     fmt_double(a.p_max_W));
-    s += fmt::format("mass_kg = {}\ndamping_kg_s = {}\nplant_num = {}\nplant_den = {}\n",
-                     fmt_double(a.mass_kg), fmt_double(a.damping_kg_s), list(a.plant_num),
-                     list(a.plant_den));
-    s += fmt::format("kvp = {}\nkvi = {}\nkp_1_s = {}\nbacklash_blu = {}\ncoulomb_N = {}\n",
-                     fmt_double(a.kvp), fmt_double(a.kvi), fmt_double(a.kp_1_s),
-                     fmt_double(a.backlash_blu), fmt_double(a.coulomb_N));
-    s += fmt::format(
-        "plant_blu_s_per_unit = {}\nkv_period_s = {}\nkv_form = \"{}\"\ndrive_N_per_unit = {}\n",
-        fmt_double(a.plant_blu_s_per_unit), fmt_double(a.kv_period_s),
-        a.kv_form == VelocityLoopForm::Ip ? "ip" : "pi", fmt_double(a.drive_N_per_unit));
-    if (!a.accdec_profile.empty() || a.accdec_tau_s > 0.0) {
-      s += fmt::format("\n[axes.{}.accdec]\n", static_cast<char>(m.layout.letter(i) - 'A' + 'a'));
-      if (!a.accdec_profile.empty())
-        s += fmt::format("profile = {}\n", toml_string(a.accdec_profile));
-      if (a.accdec_tau_s > 0.0) s += fmt::format("tau_s = {}\n", fmt_double(a.accdec_tau_s));
-    }
-  }
+  for (int i = 0; i < m.axis_count(); ++i)
+    s += toml_axis_table(m.axes[static_cast<std::size_t>(i)],
+                         static_cast<char>(m.layout.letter(i) - 'A' + 'a'));
   s += "\n[work_offsets]\n";
   for (int g = 0; g < 6; ++g) {
     const AxisVec& w = m.work_offsets_mm[static_cast<std::size_t>(g)];
     int n = kMaxAxes;
     while (n > 3 && w[n - 1] == 0.0) --n;  // [x, y, z] unless a later axis is offset
-    s += fmt::format("g{} = {}\n", 54 + g, list(std::vector<double>(w.data(), w.data() + n)));
+    s += fmt::format("g{} = {}\n", 54 + g, toml_list(std::vector<double>(w.data(), w.data() + n)));
   }
   return s;
 }

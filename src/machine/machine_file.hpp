@@ -15,10 +15,6 @@ namespace gm {
 /// out-of-range value.
 Machine load_machine_file(const std::filesystem::path& path);
 
-/// The built-in default machine (3 axes XYZ, the paper's numbers; y has the paper's y plant).
-/// Needs no file; equal to programs/machines/default.toml.
-Machine default_machine();
-
 /// Parses machine TOML text; source_name is used in messages and stored in Machine::source.
 Machine parse_machine_toml(std::string_view text, std::string_view source_name);
 

@@ -41,6 +41,56 @@ bool as_int(double v, int& out) {
   return true;
 }
 
+[[noreturn]] void fail_tool_line(const std::string& filename, int lineno, const std::string& why) {
+  throw InputError(fmt::format("{}:{}: tool table: {}", filename, lineno, why));
+}
+
+// Cuts the `;comment` off `line` and returns it, trailing space dropped.
+std::string cut_tool_comment(std::string& line) {
+  std::string comment;
+  if (const auto semi = line.find(';'); semi != std::string::npos) {
+    comment = line.substr(semi + 1);
+    line.resize(semi);
+    while (!comment.empty() && std::isspace(static_cast<unsigned char>(comment.back())))
+      comment.pop_back();
+  }
+  return comment;
+}
+
+// One word of a tool line, letter `c` (upper case) with value `v`, into `e`: false for an
+// unknown letter; `error` says why a value does not fit.
+bool set_tool_word(ToolEntry& e, char c, double v, bool& have_t, std::string& error) {
+  int n = 0;
+  switch (c) {
+    case 'T':
+      if (!as_int(v, e.number) || e.number < 0) error = "T must be a tool number (0 or more)";
+      have_t = true;
+      return true;
+    case 'P':
+      if (!as_int(v, e.pocket) || e.pocket < 0) error = "P must be a pocket number (0 or more)";
+      return true;
+    case 'D':
+      e.diameter_mm = v;
+      return true;
+    case 'I':
+      e.front_angle_deg = v;
+      return true;
+    case 'J':
+      e.back_angle_deg = v;
+      return true;
+    case 'Q':
+      if (!as_int(v, n)) error = "Q must be an orientation 0..9";
+      e.orientation = n;
+      return true;
+    default: {
+      const char* ax = std::char_traits<char>::find(kAxisWords, 9, c);
+      if (!ax) return false;
+      e.offset_mm[static_cast<std::size_t>(ax - kAxisWords)] = v;
+      return true;
+    }
+  }
+}
+
 }  // namespace
 
 ToolTable read_tool_table(std::istream& in, const std::string& filename) {
@@ -48,20 +98,11 @@ ToolTable read_tool_table(std::istream& in, const std::string& filename) {
   t.source = filename;
   std::string line;
   int lineno = 0;
-  auto fail = [&](const std::string& why) {
-    throw InputError(fmt::format("{}:{}: tool table: {}", filename, lineno, why));
-  };
+  auto fail = [&](const std::string& why) { fail_tool_line(filename, lineno, why); };
   while (std::getline(in, line)) {
     ++lineno;
-    std::string comment;
-    if (const auto semi = line.find(';'); semi != std::string::npos) {
-      comment = line.substr(semi + 1);
-      line.resize(semi);
-      while (!comment.empty() && std::isspace(static_cast<unsigned char>(comment.back())))
-        comment.pop_back();
-    }
     ToolEntry e;
-    e.comment = comment;
+    e.comment = cut_tool_comment(line);
     bool have_t = false;
     std::size_t i = 0;
     while (i < line.size()) {
@@ -77,34 +118,9 @@ ToolTable read_tool_table(std::istream& in, const std::string& filename) {
       if (end == begin || !std::isfinite(v))
         fail(fmt::format("expected a number after '{}' (column {})", raw, i + 1));
       i = static_cast<std::size_t>(end - line.c_str());
-      int n = 0;
-      switch (c) {
-        case 'T':
-          if (!as_int(v, e.number) || e.number < 0) fail("T must be a tool number (0 or more)");
-          have_t = true;
-          break;
-        case 'P':
-          if (!as_int(v, e.pocket) || e.pocket < 0) fail("P must be a pocket number (0 or more)");
-          break;
-        case 'D':
-          e.diameter_mm = v;
-          break;
-        case 'I':
-          e.front_angle_deg = v;
-          break;
-        case 'J':
-          e.back_angle_deg = v;
-          break;
-        case 'Q':
-          if (!as_int(v, n)) fail("Q must be an orientation 0..9");
-          e.orientation = n;
-          break;
-        default: {
-          const char* ax = std::char_traits<char>::find(kAxisWords, 9, c);
-          if (!ax) fail(fmt::format("unknown word '{}'", raw));
-          e.offset_mm[static_cast<std::size_t>(ax - kAxisWords)] = v;
-        }
-      }
+      std::string error;
+      if (!set_tool_word(e, c, v, have_t, error)) fail(fmt::format("unknown word '{}'", raw));
+      if (!error.empty()) fail(error);
     }
     if (!have_t) {
       if (line.find_first_not_of(" \t\r") == std::string::npos) continue;  // blank or comment

@@ -95,8 +95,6 @@ class Run {
   const RunSummary& summary() const { return summary_; }
   /// The contour error against the tolerance in force (issue 21), complete with summary().
   const ToleranceCheck& tolerance() const { return tolerance_; }
-  /// What the tolerance planner (between the program and the pipeline) did.
-  const PlannerStats& planner_stats() const { return planner_->stats(); }
   const Pipeline& pipeline() const { return pipeline_; }
   const RunConfig& config() const { return options_.config; }
   const RunOptions& options() const { return options_; }

@@ -1,6 +1,8 @@
 // TolerancePlanner: look-ahead window, per-element budgets, speed caps by zone, corner pauses.
 #include "planner/tolerance_planner.hpp"
 
+#include "common/units.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <iterator>
@@ -25,6 +27,19 @@ double min_positive(double a, double b) {
   return a > 0.0 ? a : b;
 }
 
+/// The largest speed v <= vmax whose load(v) (which grows with v) stays within `share`: vmax
+/// when it does, else by bisection.
+template <class Load>
+double largest_speed_within(double vmax, double share, Load&& load) {
+  if (load(vmax) <= share) return vmax;
+  double lo = 0.0, hi = vmax;
+  for (int it = 0; it < 40; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (load(mid) <= share ? lo : hi) = mid;
+  }
+  return lo;
+}
+
 }  // namespace
 
 TolerancePlanner::TolerancePlanner(const FilterMoments& filter, const PlannerConfig& cfg,
@@ -47,24 +62,48 @@ void TolerancePlanner::pull() {
   const Motion* m = std::get_if<Motion>(&scratch_);
   if (m != nullptr) pulled_g_ = BlockGeometry::of(*m);
   if (m == nullptr || !(pulled_g_.length_mm > 0.0)) {  // not a block of the path
-    if (window_.empty()) {
-      make_ready(Canon(scratch_));
-      return;
-    }
-    Block& last = window_.back();
-    if (const auto* d = std::get_if<Dwell>(&scratch_)) last.dwell_after_s += d->seconds;
-    if (const auto* e = std::get_if<Event>(&scratch_); e != nullptr && e->kind == EventKind::End)
-      mark_stop(last);
-    last.after.push_back(scratch_);
+    hold_after_last();
     return;
   }
+  Block& b = push_block(*m);
+  const Block* prev = window_.size() >= 2 ? &window_[window_.size() - 2] : nullptr;
+  if (prev != nullptr) add_corner(*prev, b);
+  if (b.m.kind == MotionKind::Arc) end_run();
+  if (b.m.kind == MotionKind::Arc && b.m.path_tolerance_mm > 0.0) push_element(arc_element(b));
+  if (b.m.path_mode != PathMode::Continuous) mark_stop(b);
+}
+
+void TolerancePlanner::hold_after_last() {
+  if (window_.empty()) {
+    make_ready(Canon(scratch_));
+    return;
+  }
+  Block& last = window_.back();
+  if (const auto* d = std::get_if<Dwell>(&scratch_)) last.dwell_after_s += d->seconds;
+  if (const auto* e = std::get_if<Event>(&scratch_); e != nullptr && e->kind == EventKind::End)
+    mark_stop(last);
+  last.after.push_back(scratch_);
+}
+
+double TolerancePlanner::speed_at_100_mm_s(const Motion& m, double length_mm) const {
+  double v100 = 0.0;
+  if (m.kind == MotionKind::Rapid)
+    v100 = units::mm_min_to_mm_s(cfg_.rapid_mm_min);
+  else if (m.inverse_time_s > 0.0)
+    v100 = length_mm / m.inverse_time_s;
+  else
+    v100 = units::mm_min_to_mm_s(m.feed_mm_min);
+  return std::max(v100, 1e-9);
+}
+
+TolerancePlanner::Block& TolerancePlanner::push_block(const Motion& m) {
   const double tau = filter_.tau_s();
   // The block is built in its slot at the window's end (no Block copied); every field is set
   // here, since the slot holds an earlier block.
   Block& b = window_.push_back_slot();
   const Block* prev = window_.size() >= 2 ? &window_[window_.size() - 2] : nullptr;
   const BlockGeometry& g = pulled_g_;
-  b.m = *m;
+  b.m = m;
   b.g = g;
   b.seq = ++seq_;
   b.after.clear();
@@ -72,13 +111,7 @@ void TolerancePlanner::pull() {
   b.stop_after = false;
   b.forced_stop = false;
   const double L = g.length_mm;
-  if (m->kind == MotionKind::Rapid)
-    b.v100 = cfg_.rapid_mm_min / 60.0;
-  else if (m->inverse_time_s > 0.0)
-    b.v100 = L / m->inverse_time_s;
-  else
-    b.v100 = m->feed_mm_min / 60.0;
-  b.v100 = std::max(b.v100, 1e-9);
+  b.v100 = speed_at_100_mm_s(m, L);
   b.vmax = b.v100 * cfg_.max_override;
   b.s0 = s_end_;
   b.s1 = s_end_ + L;
@@ -89,65 +122,71 @@ void TolerancePlanner::pull() {
   s_end_ = b.s1;
   t_end_ = b.t1;
   b.cap_all = kInf;
-  if (cfg_.speed_error_s > 0.0 && m->path_tolerance_mm > 0.0) {
+  if (cfg_.speed_error_s > 0.0 && m.path_tolerance_mm > 0.0) {
     // The mismatch at a sample of b comes from the speeds within one chain length before it:
     // b and the blocks the chain still holds when b starts keep to reserve/speed_error.
-    const double v = reserve_of(m->path_tolerance_mm) / cfg_.speed_error_s;
+    const double v = reserve_of(m.path_tolerance_mm) / cfg_.speed_error_s;
     b.cap_all = v;
     for (auto it = std::next(window_.rbegin());  // the blocks before b
          it != window_.rend() && it->t1 > b.t0 - tau; ++it)
       it->cap_all = std::min(it->cap_all, v);
   }
+  return b;
+}
 
-  const double corner_tol =
-      prev != nullptr ? min_positive(prev->m.path_tolerance_mm, b.m.path_tolerance_mm) : 0.0;
+void TolerancePlanner::add_corner(const Block& prev, const Block& b) {
+  const double tol = min_positive(prev.m.path_tolerance_mm, b.m.path_tolerance_mm);
   // The turn matters to a corner with a tolerance, and without one only to a run of small turns
   // being gathered (it ends the run); otherwise its tangents are not computed.
-  if (prev != nullptr && !prev->stop_after &&
-      (corner_tol > 0.0 || run_.open || run_.vertices > 0)) {
-    const double turn = (g.tangent_at_fraction(0.0) - prev->g.tangent_at_fraction(1.0)).norm();
-    const double tol = corner_tol;
-    if (turn > kMinTurn && tol > 0.0) {
-      Element e;
-      e.seq = prev->seq;
-      e.t0 = prev->t1;
-      e.t1 = b.t0;
-      e.s0 = e.s1 = prev->s1;
-      e.tol_mm = tol;
-      e.turn = turn;
-      e.pause0 = prev->dwell_after_s;
-      e.vmax = std::max(prev->vmax, b.vmax);
-      e.v100 = std::max(prev->v100, b.v100);
-      const double seg = prev->s1 - prev->s0;
-      if (prev->m.kind == MotionKind::Line && b.m.kind == MotionKind::Line && turn <= kRunTurn &&
-          turn * e.v100 * filter_.abs_moment_s() <= kRunDeltaShare * tol &&
-          seg < prev->vmax * tau) {
-        add_run_vertex(e, seg);
-      } else {
-        end_run();
-        push_element(e);
-      }
-    } else if (turn > kMinTurn) {
-      end_run();  // a turn without a tolerance: the run's bound does not cover it
-    }
+  if (prev.stop_after || !(tol > 0.0 || run_.open || run_.vertices > 0)) return;
+  const double turn = (b.g.tangent_at_fraction(0.0) - prev.g.tangent_at_fraction(1.0)).norm();
+  if (!(turn > kMinTurn)) return;
+  if (!(tol > 0.0)) {
+    end_run();  // a turn without a tolerance: the run's bound does not cover it
+    return;
   }
-  if (m->kind == MotionKind::Arc) end_run();
-  if (m->kind == MotionKind::Arc && m->path_tolerance_mm > 0.0) {
-    const double r = std::min(g.r0_mm, g.r1_mm);
-    Element e;
-    e.arc = true;
-    e.seq = b.seq;
-    e.t0 = b.t0;
-    e.t1 = b.t1;
-    e.s0 = b.s0;
-    e.s1 = b.s1;
-    e.tol_mm = m->path_tolerance_mm;
-    e.kappa = r > 0.0 ? 1.0 / r : kInf;
-    e.vmax = b.vmax;
-    e.v100 = b.v100;
+  const Element e = corner_element(prev, b, turn, tol);
+  const double seg = prev.s1 - prev.s0;
+  if (prev.m.kind == MotionKind::Line && b.m.kind == MotionKind::Line && turn <= kRunTurn &&
+      turn * e.v100 * filter_.abs_moment_s() <= kRunDeltaShare * tol &&
+      seg < prev.vmax * filter_.tau_s()) {
+    add_run_vertex(e, seg);
+  } else {
+    end_run();
     push_element(e);
   }
-  if (m->path_mode != PathMode::Continuous) mark_stop(b);
+}
+
+TolerancePlanner::Element TolerancePlanner::corner_element(const Block& prev, const Block& b,
+                                                           double turn, double tol) {
+  Element e;
+  e.kind = ElementKind::Corner;
+  e.seq = prev.seq;
+  e.t0 = prev.t1;
+  e.t1 = b.t0;
+  e.s0 = e.s1 = prev.s1;
+  e.tol_mm = tol;
+  e.turn = turn;
+  e.pause0 = prev.dwell_after_s;
+  e.vmax = std::max(prev.vmax, b.vmax);
+  e.v100 = std::max(prev.v100, b.v100);
+  return e;
+}
+
+TolerancePlanner::Element TolerancePlanner::arc_element(const Block& b) {
+  const double r = std::min(b.g.r0_mm, b.g.r1_mm);
+  Element e;
+  e.kind = ElementKind::Arc;
+  e.seq = b.seq;
+  e.t0 = b.t0;
+  e.t1 = b.t1;
+  e.s0 = b.s0;
+  e.s1 = b.s1;
+  e.tol_mm = b.m.path_tolerance_mm;
+  e.kappa = r > 0.0 ? 1.0 / r : kInf;
+  e.vmax = b.vmax;
+  e.v100 = b.v100;
+  return e;
 }
 
 double TolerancePlanner::share_of(double tol) const {
@@ -157,7 +196,7 @@ double TolerancePlanner::share_of(double tol) const {
 double TolerancePlanner::reserve_of(double tol) const {
   if (!(cfg_.speed_error_s > 0.0)) return 0.0;
   // share − reserve grows with tol, so the smaller tolerance a decision takes stays safe.
-  const double v_rapid = cfg_.rapid_mm_min / 60.0 * cfg_.max_override;
+  const double v_rapid = units::mm_min_to_mm_s(cfg_.rapid_mm_min) * cfg_.max_override;
   return std::min(0.5 * share_of(tol), v_rapid * cfg_.speed_error_s);
 }
 
@@ -168,7 +207,7 @@ void TolerancePlanner::add_run_vertex(const Element& corner, double seg_before_m
   if (!run_.open) {
     run_.open = true;
     c = corner;
-    c.run = true;
+    c.kind = ElementKind::Run;
     c.run_id = run_.id;
     c.kappa = c.delta = c.turn = c.pause0 = 0.0;
   }
@@ -192,7 +231,6 @@ void TolerancePlanner::close_run_chunk() {
     for (const Element& c : run_.corners) push_element(c);
   } else {
     push_element(run_.chunk);
-    ++stats_.run_chunks;
   }
   run_.corners.clear();
 }
@@ -214,7 +252,7 @@ void TolerancePlanner::mark_stop(Block& b) {
       b.m.path_mode != PathMode::Continuous)
     return;
   Element e;
-  e.stop = true;
+  e.kind = ElementKind::Stop;
   e.seq = b.seq;
   e.t0 = e.t1 = b.t1;
   e.s0 = e.s1 = b.s1;
@@ -285,12 +323,12 @@ double TolerancePlanner::zone_fwd(double s_from, double time_s, double cap) cons
 void TolerancePlanner::push_element(Element e) {
   // Weights: what the element costs at a speed, in a corner's units (V·D(0)·|Δu| for a corner):
   // a run's (κ·V·σ²/2 + δ·M₁)/D(0) at 100 % feed, so that the corners beside it keep a fair share.
-  if (e.run)
+  if (e.kind == ElementKind::Run)
     e.weight = std::max(kMinTurn, (0.5 * e.kappa * e.v100 * filter_.variance_s2() +
                                    e.delta * filter_.abs_moment_s()) /
                                       filter_.corner_moment_s(0.0));
   else
-    e.weight = e.arc ? 1.0 : e.turn;
+    e.weight = e.kind == ElementKind::Arc ? 1.0 : e.turn;
   e.cum = weight_total_;
   weight_total_ += e.weight;
   elems_.push_back(e);
@@ -307,7 +345,8 @@ double TolerancePlanner::zone_count(double z0, double z1) const {
 double TolerancePlanner::same_run_weight(const Element& e, double z0, double z1) const {
   double w = 0.0;
   for (const Element& f : elems_)
-    if (f.run && f.run_id == e.run_id && f.s1 > z0 - 1e-9 && f.s0 < z1 + 1e-9) w += f.weight;
+    if (f.kind == ElementKind::Run && f.run_id == e.run_id && f.s1 > z0 - 1e-9 && f.s0 < z1 + 1e-9)
+      w += f.weight;
   return w;
 }
 
@@ -322,10 +361,10 @@ double TolerancePlanner::zone_weight(double z0, double z1) const {
   return end - first->cum;
 }
 
-void TolerancePlanner::decide(Element& e) {
+double TolerancePlanner::tolerance_near(const Element& e) const {
   const double tau = filter_.tau_s();
-  // The tolerance: the smallest among the elements that can share a window with e and the
-  // blocks the interpolator is in while the filter still holds e (each judged by its own).
+  // The smallest among the elements that can share a window with e and the blocks the
+  // interpolator is in while the filter still holds e (each judged by its own).
   double tol = e.tol_mm;
   for (const Element& f : elems_) {
     const double gap = f.t0 > e.t1 ? f.t0 - e.t1 : (e.t0 > f.t1 ? e.t0 - f.t1 : 0.0);
@@ -334,61 +373,95 @@ void TolerancePlanner::decide(Element& e) {
   for (const Block& b : window_)
     if (b.t1 >= e.t0 && b.t0 < e.t1 + tau && b.m.path_tolerance_mm > 0.0)
       tol = std::min(tol, b.m.path_tolerance_mm);
-  const double share = share_of(tol) - reserve_of(tol);
+  return tol;
+}
 
+void TolerancePlanner::decide(Element& e) {
+  const double tol = tolerance_near(e);
+  const double share = share_of(tol) - reserve_of(tol);
   // Sharing: an element f whose contribution overlaps e's in time lies in e's zone (the speed
   // is at most e's cap there for the zone's time, and past it e no longer counts). Each element
   // takes share·w_e/W_e, W_e the weight (corner |Δu|, arc 1) of everything in its zone: any set
   // of elements active at one instant adds up to at most the share.
   // W(v) over a zone taken as s ∓ v·t: it holds the true zone (τ − P of time at speeds <= v),
   // so W is never undercounted. load(v) = error·W grows with v: the largest v <= vmax with
-  // load(v) <= share, by bisection.
-  auto solve = [&](double vmax, auto&& load) {
-    if (load(vmax) <= share) return vmax;
-    double lo = 0.0, hi = vmax;
-    for (int it = 0; it < 40; ++it) {
-      const double mid = 0.5 * (lo + hi);
-      (load(mid) <= share ? lo : hi) = mid;
-    }
-    return lo;
-  };
-
+  // load(v) <= share, by bisection (largest_speed_within).
   e.decided = true;
   e.cap = kInf;
-  if (e.arc) {
-    // κ·v²·σ²/2 <= share/W
-    auto load = [&](double v) {
-      return 0.5 * e.kappa * v * v * filter_.variance_s2() *
-             zone_weight(e.s0 - v * tau, e.s1 + v * tau);
-    };
-    const double v = solve(e.vmax, load);
-    if (v < e.vmax) e.cap = v;
-    e.z0 = zone_back(e.s0, tau, e.cap);
-    e.z1 = zone_fwd(e.s1, tau, e.cap);
-    return;
+  switch (e.kind) {
+    case ElementKind::Arc:
+      decide_arc(e, share);
+      return;
+    case ElementKind::Run:
+      decide_run(e, share);
+      return;
+    case ElementKind::Corner:
+    case ElementKind::Stop:
+      decide_corner(e, share);
+      return;
   }
-  if (e.run) {
-    // (κ·v²·σ²/2 + δ·v·M₁)·W <= share, κ and δ the largest of the run's chunks within reach (a
-    // filter window over two chunks sees both), W counting the run once, by this chunk's weight.
-    double kappa = e.kappa, delta = e.delta;
-    const double w0 = e.s0 - e.vmax * tau, w1 = e.s1 + e.vmax * tau;
-    for (const Element& f : elems_)
-      if (f.run && f.run_id == e.run_id && f.s1 > w0 - 1e-9 && f.s0 < w1 + 1e-9) {
-        kappa = std::max(kappa, f.kappa);
-        delta = std::max(delta, f.delta);
-      }
-    auto load = [&](double v) {
-      const double z0 = e.s0 - v * tau, z1 = e.s1 + v * tau;
-      const double w = zone_weight(z0, z1) - same_run_weight(e, z0, z1) + e.weight;
-      return (0.5 * kappa * v * v * filter_.variance_s2() + delta * v * filter_.abs_moment_s()) *
-             w / e.weight;  // error <= share·w_e/W
-    };
-    const double v = solve(e.vmax, load);
-    if (v < e.vmax) e.cap = v;
-    e.z0 = zone_back(e.s0, tau, e.cap);
-    e.z1 = zone_fwd(e.s1, tau, e.cap);
-    return;
-  }
+}
+
+void TolerancePlanner::decide_arc(Element& e, double share) const {
+  const double tau = filter_.tau_s();
+  // κ·v²·σ²/2 <= share/W
+  auto load = [&](double v) {
+    return 0.5 * e.kappa * v * v * filter_.variance_s2() *
+           zone_weight(e.s0 - v * tau, e.s1 + v * tau);
+  };
+  const double v = largest_speed_within(e.vmax, share, load);
+  if (v < e.vmax) e.cap = v;
+  e.z0 = zone_back(e.s0, tau, e.cap);
+  e.z1 = zone_fwd(e.s1, tau, e.cap);
+}
+
+void TolerancePlanner::decide_run(Element& e, double share) const {
+  const double tau = filter_.tau_s();
+  // (κ·v²·σ²/2 + δ·v·M₁)·W <= share, κ and δ the largest of the run's chunks within reach (a
+  // filter window over two chunks sees both), W counting the run once, by this chunk's weight.
+  double kappa = e.kappa, delta = e.delta;
+  const double w0 = e.s0 - e.vmax * tau, w1 = e.s1 + e.vmax * tau;
+  for (const Element& f : elems_)
+    if (f.kind == ElementKind::Run && f.run_id == e.run_id && f.s1 > w0 - 1e-9 &&
+        f.s0 < w1 + 1e-9) {
+      kappa = std::max(kappa, f.kappa);
+      delta = std::max(delta, f.delta);
+    }
+  auto load = [&](double v) {
+    const double z0 = e.s0 - v * tau, z1 = e.s1 + v * tau;
+    const double w = zone_weight(z0, z1) - same_run_weight(e, z0, z1) + e.weight;
+    return (0.5 * kappa * v * v * filter_.variance_s2() + delta * v * filter_.abs_moment_s()) * w /
+           e.weight;  // error <= share·w_e/W
+  };
+  const double v = largest_speed_within(e.vmax, share, load);
+  if (v < e.vmax) e.cap = v;
+  e.z0 = zone_back(e.s0, tau, e.cap);
+  e.z1 = zone_fwd(e.s1, tau, e.cap);
+}
+
+double TolerancePlanner::corner_cost_s(const Element& e, double pause_s, double d, double share,
+                                       double v_ref, double& v) const {
+  const double zt = std::max(filter_.zone_floor_s(), filter_.tau_s() - pause_s);
+  auto weight = [&](double s) { return zone_weight(e.s0 - s * zt, e.s1 + s * zt); };
+  auto load = [&](double s) { return s * d * weight(s); };
+  v = d > 0.0 ? largest_speed_within(e.vmax, share, load) : e.vmax;
+  // The slowing is shared by the elements in the zone (a run of short segments slows once);
+  // the pause is e's alone.
+  const double z0 = e.s0 - v * zt, z1 = e.s1 + v * zt;
+  // Each side is at least one sample of travel at the fastest speed (emit_front's shortest
+  // piece): ℓ at v instead of v_ref costs ℓ/v − ℓ/v_ref.
+  const double side = std::max(v * zt, 1.01 * e.vmax * filter_.period_s());
+  const double slow =
+      (v > 0.0 ? std::max(0.0, side / v - side / v_ref) : kInf) / std::max(1.0, zone_count(z0, z1));
+  double cost = (pause_s - e.pause0) + 2.0 * slow;
+  // An arc the zone touches takes the cap whole (arcs are not split): its slowing counts too.
+  for (const Element& f : elems_)
+    if (f.kind == ElementKind::Arc && f.s1 > z0 && f.s0 < z1 && v < f.v100)
+      cost += (f.s1 - f.s0) * (1.0 / v - 1.0 / f.v100);
+  return cost;
+}
+
+void TolerancePlanner::decide_corner(Element& e, double share) {
   // The speed the interpolator would have here anyway: 100 % feed, or an earlier cap whose zone
   // already covers this corner (then slowing further costs only the difference).
   double v_ref = e.v100;
@@ -400,23 +473,8 @@ void TolerancePlanner::decide(Element& e) {
   double best_cost = kInf, best_p = e.pause0, best_v = 0.0;
   auto consider = [&](double p, double d) {
     if (p - e.pause0 >= best_cost) return false;  // pauses only get longer from here
-    const double zt = std::max(filter_.zone_floor_s(), tau - p);
-    auto weight = [&](double v) { return zone_weight(e.s0 - v * zt, e.s1 + v * zt); };
-    auto load = [&](double v) { return v * d * weight(v); };
-    const double v = d > 0.0 ? solve(e.vmax, load) : e.vmax;
-    // The slowing is shared by the elements in the zone (a run of short segments slows once);
-    // the pause is e's alone.
-    const double z0 = e.s0 - v * zt, z1 = e.s1 + v * zt;
-    // Each side is at least one sample of travel at the fastest speed (emit_front's shortest
-    // piece): ℓ at v instead of v_ref costs ℓ/v − ℓ/v_ref.
-    const double side = std::max(v * zt, 1.01 * e.vmax * filter_.period_s());
-    const double slow = (v > 0.0 ? std::max(0.0, side / v - side / v_ref) : kInf) /
-                        std::max(1.0, zone_count(z0, z1));
-    double cost = (p - e.pause0) + 2.0 * slow;
-    // An arc the zone touches takes the cap whole (arcs are not split): its slowing counts too.
-    for (const Element& f : elems_)
-      if (f.arc && f.s1 > z0 && f.s0 < z1 && v < f.v100)
-        cost += (f.s1 - f.s0) * (1.0 / v - 1.0 / f.v100);
+    double v = 0.0;
+    const double cost = corner_cost_s(e, p, d, share, v_ref, v);
     if (cost < best_cost - 1e-12) {
       best_cost = cost;
       best_p = p;
@@ -432,14 +490,9 @@ void TolerancePlanner::decide(Element& e) {
   }
   e.pause = best_p;
   if (best_v < e.vmax) e.cap = best_v;
-  const double zt = std::max(filter_.zone_floor_s(), tau - best_p);
+  const double zt = std::max(filter_.zone_floor_s(), filter_.tau_s() - best_p);
   e.z0 = zone_back(e.s0, zt, e.cap);
   e.z1 = zone_fwd(e.s1, zt, e.cap);
-  if (!e.stop) ++stats_.corners;
-  if (best_p > e.pause0) {
-    ++stats_.paused_corners;
-    stats_.pause_total_s += best_p - e.pause0;
-  }
 }
 
 void TolerancePlanner::emit_front() {
@@ -447,9 +500,26 @@ void TolerancePlanner::emit_front() {
   if (!ended_ && window_.size() >= cfg_.capacity && !window_.back().stop_after) {
     mark_stop(window_.back());
     window_.back().forced_stop = true;
-    ++stats_.forced_stops;
   }
   Block& b = window_.front();
+  decide_reachable(b);
+  cut_pieces(b);
+  merge_short_pieces(b);
+  emit_pieces(b);
+  for (const Element& e : elems_)
+    if (e.kind != ElementKind::Arc && e.seq == b.seq && e.pause > e.pause0 + 1e-12)
+      make_ready(Dwell{b.m.line, e.pause - e.pause0});
+  if (b.forced_stop) make_ready(Dwell{b.m.line, tau});
+  for (Canon& c : b.after) make_ready(std::move(c));
+  window_.pop_front();
+  // Elements that can no longer reach a block still to come, nor be counted by one.
+  const double keep_from = window_.empty() ? kInf : window_.front().t0 - 2.0 * tau;
+  while (!elems_.empty() && elems_.front().decided && elems_.front().t1 < keep_from)
+    elems_.pop_front();
+}
+
+void TolerancePlanner::decide_reachable(const Block& b) {
+  const double tau = filter_.tau_s();
   if (run_.open) {  // a chunk some decision can reach is closed first, so that it is counted
     double horizon = b.t1 + 2.0 * tau;
     for (const Element& e : elems_)
@@ -458,7 +528,9 @@ void TolerancePlanner::emit_front() {
   }
   for (Element& e : elems_)
     if (!e.decided && e.t0 < b.t1 + tau) decide(e);
+}
 
+void TolerancePlanner::cut_pieces(const Block& b) {
   // Pieces of the block between zone boundaries, each with the smallest cap over it.
   const bool is_arc = b.m.kind == MotionKind::Arc;
   std::vector<double>& cuts = cuts_;
@@ -490,9 +562,13 @@ void TolerancePlanner::emit_front() {
     else
       pieces.push_back({a, c, cap});
   }
+}
+
+void TolerancePlanner::merge_short_pieces(const Block& b) {
   // No piece shorter than one sample of travel at the fastest speed: the contour measurement
   // sees one block per sample (the one the sample ends in), so such a piece would be skipped by
   // it. A merged piece takes the smaller cap (never faster than planned).
+  std::vector<Piece>& pieces = pieces_;
   const double min_piece = 1.01 * b.vmax * filter_.period_s();
   for (std::size_t i = 0; pieces.size() > 1 && i < pieces.size();) {
     if (pieces[i].c - pieces[i].a >= min_piece) {
@@ -517,6 +593,10 @@ void TolerancePlanner::emit_front() {
     pieces.erase(pieces.begin() + static_cast<std::ptrdiff_t>(hi));
     i = lo;
   }
+}
+
+void TolerancePlanner::emit_pieces(const Block& b) {
+  const std::vector<Piece>& pieces = pieces_;
   const double L = b.s1 - b.s0;
   for (std::size_t i = 0; i < pieces.size(); ++i) {
     Ready& r = ready_.push_back_slot();  // the piece is written in its slot
@@ -530,21 +610,8 @@ void TolerancePlanner::emit_front() {
       p.end_mm = i + 1 == pieces.size() ? b.m.end_mm : b.g.at_fraction((q.c - b.s0) / L);
       if (b.m.inverse_time_s > 0.0) p.inverse_time_s = b.m.inverse_time_s * (q.c - q.a) / L;
     }
-    if (q.cap < b.vmax * (1.0 - 1e-12)) {
-      p.speed_cap_mm_s = q.cap;
-      ++stats_.capped_pieces;
-    }
+    if (q.cap < b.vmax * (1.0 - 1e-12)) p.speed_cap_mm_s = q.cap;
   }
-  for (const Element& e : elems_)
-    if (!e.arc && e.seq == b.seq && e.pause > e.pause0 + 1e-12)
-      make_ready(Dwell{b.m.line, e.pause - e.pause0});
-  if (b.forced_stop) make_ready(Dwell{b.m.line, tau});
-  for (Canon& c : b.after) make_ready(std::move(c));
-  window_.pop_front();
-  // Elements that can no longer reach a block still to come, nor be counted by one.
-  const double keep_from = window_.empty() ? kInf : window_.front().t0 - 2.0 * tau;
-  while (!elems_.empty() && elems_.front().decided && elems_.front().t1 < keep_from)
-    elems_.pop_front();
 }
 
 bool TolerancePlanner::next(Canon& out) {

@@ -28,16 +28,6 @@ struct PlannerConfig {
   std::size_t capacity = 4096;  ///< most motion blocks held for look-ahead (memory bound)
 };
 
-/// What the planner did, for the summary.
-struct PlannerStats {
-  std::int64_t corners = 0;         ///< corners with a tolerance planned
-  std::int64_t paused_corners = 0;  ///< of which the interpolator pauses at
-  double pause_total_s = 0.0;       ///< pauses added in all
-  std::int64_t capped_pieces = 0;   ///< motion pieces emitted with a speed cap
-  std::int64_t forced_stops = 0;    ///< look-ahead full: a full stop was planned
-  std::int64_t run_chunks = 0;      ///< pieces of runs of small turns planned as one curve
-};
-
 /// Reads canon from `upstream` (through NaiveCamMerger: G64 Q) and hands on the same program with,
 /// for every block whose path_tolerance_mm is > 0, a speed cap (Motion::speed_cap_mm_s, honoured by
 /// the interpolator whatever the override) on the pieces near corners and arcs, and a short pause
@@ -71,7 +61,6 @@ class TolerancePlanner : public CanonSource {
   bool next(Canon& out) override;
   /// A block handed on whole (one piece) comes with the geometry the planner built for it.
   const MotionGeometry* geometry() const override { return out_geometry_; }
-  const PlannerStats& stats() const { return stats_; }
   /// The G64 Q stage in front of the window (moves read and handed on).
   const NaiveCamMerger& naive_cam() const { return merger_; }
 
@@ -90,44 +79,72 @@ class TolerancePlanner : public CanonSource {
     bool stop_after = false;   ///< the filter drains after it (exact stop, forced stop)
     bool forced_stop = false;  ///< the planner adds the stop (window full)
   };
+  /// What an element of the path is; the fields marked with kinds apply to those only.
+  enum class ElementKind {
+    Corner,  ///< a vertex between two blocks, planned by a pause and a cap
+    Arc,     ///< an arc block, planned by a cap over it and its zone
+    Run,     ///< a chunk of a run of small turns: a curve of κ_eff and δ
+    Stop,    ///< a stop of a chain that overshoots (mark_stop): a corner to rest
+  };
   struct Element {
-    bool arc = false;
-    bool run = false;  ///< a chunk of a run of small turns (a curve of κ_eff and δ)
-    std::uint64_t run_id = 0;
-    double delta = 0;       ///< run: the largest turn |Δu|
-    bool stop = false;      ///< a stop of a chain that overshoots (mark_stop): a corner to rest
-    std::uint64_t seq = 0;  ///< corner: the block before it; arc: the arc
-    double t0 = 0, t1 = 0;  ///< extent in fastest travel time
-    double s0 = 0, s1 = 0;  ///< extent in path length
+    ElementKind kind = ElementKind::Corner;
+    std::uint64_t run_id = 0;  ///< Run: the run it is a chunk of
+    double delta = 0;          ///< Run: the largest turn |Δu|
+    std::uint64_t seq = 0;     ///< Corner, Stop, Run: the block before it; Arc: the arc
+    double t0 = 0, t1 = 0;     ///< extent in fastest travel time
+    double s0 = 0, s1 = 0;     ///< extent in path length
     double tol_mm = 0;
-    double turn = 0;    ///< corner: |u_after − u_before| = 2 sin(φ/2)
-    double kappa = 0;   ///< arc: curvature bound; run: κ_eff, 1/mm
-    double pause0 = 0;  ///< corner: pause already there (dwells)
+    double turn = 0;    ///< Corner, Stop: |u_after − u_before| = 2 sin(φ/2) (1 for a Stop)
+    double kappa = 0;   ///< Arc: curvature bound; Run: κ_eff, 1/mm
+    double pause0 = 0;  ///< Corner, Stop: pause already there (dwells; the drain for a Stop)
     double vmax = 0;    ///< fastest adjacent speed
     double v100 = 0;    ///< adjacent speed at 100 %
     bool decided = false;
     double cap = 0;         ///< mm/s; infinity = none
-    double pause = 0;       ///< corner: total pause at the vertex
+    double pause = 0;       ///< Corner, Stop: total pause at the vertex
     double z0 = 0, z1 = 0;  ///< zone in path length where the cap applies
-    double weight = 0;      ///< share weight: corner |Δu|, arc 1
+    double weight = 0;      ///< share weight: Corner, Stop |Δu|, Arc 1, Run its error per D(0)
     double cum = 0;         ///< weights of all elements before it (prefix sum)
   };
 
   void pull();  ///< one item from upstream into the window
-  void mark_stop(Block& b);
+  /// pull() of an item that is not a block of the path: held after the window's last block.
+  void hold_after_last();
+  /// pull() of a block: built in a new slot at the window's end (speeds, extents, cap_all).
+  Block& push_block(const Motion& m);
+  double speed_at_100_mm_s(const Motion& m, double length_mm) const;
+  /// The vertex between prev and b: a corner element, a vertex of a run, or the end of a run.
+  void add_corner(const Block& prev, const Block& b);
+  static Element corner_element(const Block& prev, const Block& b, double turn, double tol);
+  static Element arc_element(const Block& b);
+  void mark_stop(Block& b);  ///< the filter drains after b (and the overshoot is planned for)
   /// Tolerance `tol` less the rounding, and the part of it kept for speed_error_s.
   double share_of(double tol) const;
-  double reserve_of(
-      double tol) const;  ///< the filter drains after b (and the overshoot is planned for)
+  double reserve_of(double tol) const;
   bool lookahead_enough() const;
+  /// The cap, zone and (corners) pause of e within its share of the tolerance.
   void decide(Element& e);
+  double tolerance_near(const Element& e) const;
+  void decide_arc(Element& e, double share) const;
+  void decide_run(Element& e, double share) const;
+  void decide_corner(Element& e, double share);
+  /// Time a corner costs with a pause of pause_s (D(pause) = d): the pause added plus the
+  /// slowing; `v` is the cap that keeps it within the share.
+  double corner_cost_s(const Element& e, double pause_s, double d, double share, double v_ref,
+                       double& v) const;
   double zone_back(double s_from, double time_s, double cap) const;
   double zone_fwd(double s_from, double time_s, double cap) const;
   double zone_weight(double z0, double z1) const;
   double zone_count(double z0, double z1) const;
   void push_element(Element e);
   const std::vector<double>& grid_d();  ///< grid_d_, built on first use
+  /// Hands on the window's front block: as pieces with their caps, then its pauses and what
+  /// follows it.
   void emit_front();
+  void decide_reachable(const Block& b);  ///< decides every element the block can reach
+  void cut_pieces(const Block& b);        ///< pieces_ between the zone boundaries in b
+  void merge_short_pieces(const Block& b);
+  void emit_pieces(const Block& b);
   /// Runs of small turns (CAM polylines): a vertex joins the run being gathered; a chunk is
   /// closed (pushed as one element, or as its corners while the run is short) when it spans τ,
   /// when a decision could reach it, and when the run ends.
@@ -173,8 +190,7 @@ class TolerancePlanner : public CanonSource {
   bool ended_ = false;
   std::uint64_t seq_ = 0;
   double s_end_ = 0, t_end_ = 0;  ///< where the last block in the window ends
-  PlannerStats stats_;
-  double weight_total_ = 0.0;  ///< weights of all elements pushed so far
+  double weight_total_ = 0.0;     ///< weights of all elements pushed so far
   PendingRun run_;
   std::uint64_t runs_ = 0;
 };

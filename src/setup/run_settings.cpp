@@ -1,6 +1,7 @@
 // The run settings' table of names, their parsing and checks, and the machine and options of a run.
 #include "setup/run_settings.hpp"
 
+#include "accdec/accel_limit.hpp"
 #include "accdec/profiles.hpp"
 #include "common/position_limits.hpp"
 #include "common/status.hpp"
@@ -382,7 +383,7 @@ Machine resolve_machine(const RunSettings& s, IniNotes notes) {
   apply_machine_settings(s, m);
   // An INI's τ follows its limits, the profile and T: suggested again for the settings' ones.
   if (ini && !s.tau_s && s.axes.empty() && (s.profile || s.period_s))
-    m.tau_s = suggest_tau_s(m, ini->a_max_mm_s2, m.tau_s);
+    m.tau_s = tau_for_accel_limit(m, ini->a_max_mm_s2, m.tau_s);
   return m;
 }
 

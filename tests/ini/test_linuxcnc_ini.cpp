@@ -1,6 +1,7 @@
 // LinuxCNC INI -> machine: units, limits, joints, paths, τ, warnings; sample configs run; export.
 #include "machine/linuxcnc_ini.hpp"
 
+#include "accdec/accel_limit.hpp"
 #include "accdec/taps.hpp"
 #include "common/status.hpp"
 #include "interp/program.hpp"
@@ -236,12 +237,12 @@ TEST_CASE("ini: tau is the time a velocity step takes at the tightest V/A, by th
   // Linear (box) taps: a step V ramps at V/tau, so tau = max V/A = 2.5/20 s (Y, and A: 90/720).
   m.profile = "linear";
   CHECK(gm::profile_peak_factor("linear") == Approx(1.0));
-  CHECK(gm::suggest_tau_s(m, imp.a_max_mm_s2, 0.0) == Approx(0.125));
+  CHECK(gm::tau_for_accel_limit(m, imp.a_max_mm_s2, 0.0) == Approx(0.125));
   // The default Blackman: its designed taps, applied to a step at each axis's V, stay within the
   // axis's A (the steepest sample is max h·V/T) to the rounding of c at 1000 taps.
   m.profile = "blackman";
   const double tau = imp.machine.tau_s;
-  CHECK(tau == Approx(gm::suggest_tau_s(m, imp.a_max_mm_s2, 0.0)));
+  CHECK(tau == Approx(gm::tau_for_accel_limit(m, imp.a_max_mm_s2, 0.0)));
   const gm::Taps t = gm::design_taps("blackman", tau, m.period_s);
   const double hmax = *std::max_element(t.real.begin(), t.real.end());
   for (std::size_t i = 0; i < 4; ++i) {
