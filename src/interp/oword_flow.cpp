@@ -300,6 +300,19 @@ bool OwordFlow::top_is(const grammar::OWord& o, Frame k) const {
 // `o... sub`: records the definition and passes over its body.
 bool OwordFlow::define_sub(const grammar::Block& b, const LinePos& pos, InterpError& err) {
   const grammar::OWord& o = b.oword;
+  // Reached while a sub runs (called forward, or from its file): the definition is inside that
+  // sub's body. rs274 2.9 would run its body in line and return at its endsub.
+  for (auto f = stack_.rbegin(); f != stack_.rend(); ++f) {
+    if (f->kind != Frame::Call) continue;
+    const bool number = f->label.find_first_not_of("0123456789") == std::string::npos;
+    const std::string caller = f->fanuc ? "O" + f->label
+                               : number ? "o" + f->label
+                                        : "o<" + f->label + ">";
+    return fail(err, ErrorCode::ControlMismatch, o.loc,
+                fmt::format("nested subroutine definition: {} sub inside the body of the called "
+                            "subroutine {}; a sub is defined outside every other sub",
+                            label_of(o), caller));
+  }
   const auto [it, added] = subs_.emplace(o.label, SubDef{pos, false});
   if (!added && (it->second.pos.file != pos.file || it->second.pos.offset != pos.offset))
     return fail(err, ErrorCode::SubroutineRedefined, o.loc,
@@ -461,6 +474,12 @@ bool OwordFlow::leave_loop(const grammar::Block& b, const LinePos& pos, FlowJump
 bool OwordFlow::skipped(const grammar::Block& b, const LinePos& pos, FlowJump& jump,
                         InterpError& err) {
   const grammar::OWord& o = b.oword;
+  // rs274 2.9 (read_o): a `sub` while a definition is open is "Nested subroutine definition".
+  if (o.kind == OKind::Sub && skip_.mode == Skip::SubBody)
+    return fail(err, ErrorCode::ControlMismatch, o.loc,
+                fmt::format("nested subroutine definition: {} sub inside {} sub (line {}); a sub "
+                            "is defined outside every other sub",
+                            label_of(o), skip_.shown, skip_.started.line));
   if (o.kind == OKind::Sub && skip_.mode != Skip::FindSub)
     subs_.emplace(o.label, SubDef{pos, false});
   if (o.label != skip_.label) return true;

@@ -104,6 +104,28 @@ TEST_CASE("control-flow errors are located and name the O-word") {
   }
 }
 
+TEST_CASE("a sub defined inside another sub's body is an error (rs274: nested definition)") {
+  // Read while the outer definition is passed over (rs274: "Nested subroutine definition").
+  auto d = diagnose(
+      "o<outer> sub\n  G0 X1\n  o<inner> sub\n  G0 X2\n  o<inner> endsub\n"
+      "o<outer> endsub\no<outer> call\nM2\n");
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].code == code(gm::ErrorCode::ControlMismatch));
+  CHECK(d[0].loc.line == 3);
+  CHECK(d[0].loc.column == 3);
+  CHECK(d[0].message ==
+        "nested subroutine definition: o<inner> sub inside o<outer> sub (line 1); a sub is "
+        "defined outside every other sub");
+  // Reached while the sub runs (called before its definition): the same error, at that line.
+  d = diagnose("o20 call\nM2\no20 sub\nG0 X1\n o21 sub\no21 endsub\no20 endsub\n");
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].loc.line == 5);
+  CHECK(d[0].loc.column == 2);
+  CHECK(d[0].message ==
+        "nested subroutine definition: o21 sub inside the body of the called subroutine o20; a "
+        "sub is defined outside every other sub");
+}
+
 TEST_CASE("labels: reused across subroutines and re-run loops, but not within one scope") {
   // The same if inside a loop, the same label at top level and in a sub, a do closed by its
   // while, a sub called twice: all one label per construct and scope, so accepted.
