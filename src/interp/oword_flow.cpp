@@ -525,6 +525,14 @@ bool OwordFlow::skipped(const grammar::Block& b, const LinePos& pos, FlowJump& j
   return true;
 }
 
+bool OwordFlow::closing_percent(SourceLoc at, InterpError& err) const {
+  if (skip_.mode != Skip::FindSub) return true;
+  return fail(err, ErrorCode::UndefinedSubroutine, at,
+              fmt::format("subroutine {} (called at line {}) is not defined before the "
+                          "program's closing '%': nothing after it is read",
+                          skip_.shown, skip_.started.line));
+}
+
 bool OwordFlow::at_end(int last_line, InterpError& err, int& err_file) const {
   const std::string label = skip_.label;
   err_file = skip_.started_file;

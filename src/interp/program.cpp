@@ -366,6 +366,13 @@ class ProgramRunner {
       return true;
     }
     if (flow_.skipping()) {  // passing over lines: only O-words matter, nothing else is checked
+      InterpError err;       // a sub searched for past the closing '%' (rs274: not found)
+      if (p.block.percent && opened_percent_ && p.file == 0 && !p.truncated &&
+          !flow_.closing_percent(SourceLoc{line, static_cast<int>(text.find('%')) + 1}, err)) {
+        diags.push_back(error_diagnostic(err, text));
+        done_ = true;
+        return false;
+      }
       if (p.truncated || p.block.oword.kind == grammar::OKind::None) return true;
       return control(p, out, diags, jump);
     }

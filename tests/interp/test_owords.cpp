@@ -126,6 +126,24 @@ TEST_CASE("a sub defined inside another sub's body is an error (rs274: nested de
         "sub is defined outside every other sub");
 }
 
+TEST_CASE("a sub after the program end: found after M2, not after the closing % (rs274)") {
+  // After M2 a forward call still finds it (rs274 reads on to the definition).
+  CHECK(xs("G0 X1\no<late> call\nM2\no<late> sub\nG0 X3\no<late> endsub\n") ==
+        std::vector<double>{1, 3});
+  // Uncalled, after M2 or after the closing '%': never read.
+  CHECK(diagnose("G0 X1\nM2\no<late> sub\nG0 X3\no<late> endsub\n").empty());
+  CHECK(diagnose("%\nG0 X1\n%\no<late> sub\nG0 X3\no<late> endsub\n").empty());
+  // Called, after the closing '%': rs274 "Failed to find sub 'Olate' before EOF", at the '%'.
+  const auto d = diagnose("%\nG0 X1\no<late> call\n%\no<late> sub\nG0 X3\no<late> endsub\n");
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].code == code(gm::ErrorCode::UndefinedSubroutine));
+  CHECK(d[0].loc.line == 4);
+  CHECK(d[0].loc.column == 1);
+  CHECK(d[0].message ==
+        "subroutine o<late> (called at line 3) is not defined before the program's closing '%': "
+        "nothing after it is read");
+}
+
 TEST_CASE("labels: reused across subroutines and re-run loops, but not within one scope") {
   // The same if inside a loop, the same label at top level and in a sub, a do closed by its
   // while, a sub called twice: all one label per construct and scope, so accepted.
