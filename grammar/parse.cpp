@@ -167,8 +167,23 @@ bool BlockParser::parse_oword(Block& out, std::string_view compact, std::size_t 
   OWord& o = out.oword;
   o.loc = SourceLoc{line_, columns_[k]};
   o.label.clear();
+  o.label_expr = false;
   std::size_t p = k + 1;
-  if (p < compact.size() && compact[p] == '<') {
+  if (p < compact.size() && compact[p] == '[') {
+    // O[#2*10]: the number is an expression (rs274 2.9), kept as the first argument (one
+    // bracket only: `O[a][b] call` is refused).
+    const char* pos = compact.data() + p;
+    ItemFailure number_fail;
+    if (!parse_oword_args(pos, compact.data() + compact.size(), ast_, number_fail) ||
+        ast_.args.size() != 1) {
+      add_error(out, ErrorCode::BadOWord, static_cast<int>(p),
+                "bad expression for the O-word number");
+      return false;
+    }
+    o.named = false;
+    o.label_expr = true;
+    p = static_cast<std::size_t>(pos - compact.data());
+  } else if (p < compact.size() && compact[p] == '<') {
     const std::size_t close = compact.find('>', p + 1);
     if (close == std::string_view::npos || close == p + 1) {
       add_error(out, ErrorCode::BadOWord, static_cast<int>(p),

@@ -110,8 +110,10 @@ const char* okind_name(OKind k);
 struct OWord {
   OKind kind = OKind::None;
   bool named = false;  ///< o<name> (else numbered)
-  std::string label;   ///< "100" (leading zeros dropped) or the name in lower case
-  SourceLoc loc;       ///< the 'O'
+  /// O[expression]: args[0] is the number, evaluated when the line is reached (label empty)
+  bool label_expr = false;
+  std::string label;  ///< "100" (leading zeros dropped) or the name in lower case
+  SourceLoc loc;      ///< the 'O'
   std::vector<OpRange> args;
 };
 

@@ -90,6 +90,21 @@ bool OwordFlow::note_label(const grammar::OWord& o, Frame kind, const LinePos& p
 
 bool OwordFlow::handle(const grammar::Block& b, const LinePos& pos, FlowJump& jump,
                        InterpError& err) {
+  if (b.oword.label_expr) {
+    // O[#2*10]: rs274 2.9 evaluates the number whenever it reads the line, passed over or not.
+    double v = 0.0;
+    if (!eval_.evaluate(b, b.oword.args[0], params_, v, err)) return false;
+    const double n = std::round(v);
+    if (!(std::fabs(v - n) < 1e-4) || n < 0 || n > 99999999)
+      return fail(
+          err, ErrorCode::BadOWord, b.oword.loc,
+          fmt::format("O[...] gives {}: an O-word number is a whole number 0..99999999", v));
+    grammar::Block numbered = b;
+    numbered.oword.label_expr = false;
+    numbered.oword.label = fmt::format("{}", static_cast<long>(n));
+    numbered.oword.args.erase(numbered.oword.args.begin());
+    return skipping() ? skipped(numbered, pos, jump, err) : normal(numbered, pos, jump, err);
+  }
   return skipping() ? skipped(b, pos, jump, err) : normal(b, pos, jump, err);
 }
 

@@ -144,6 +144,20 @@ TEST_CASE("a sub after the program end: found after M2, not after the closing % 
         "nothing after it is read");
 }
 
+TEST_CASE("O[expression]: an O-word number computed when the line is read (rs274)") {
+  CHECK(messages("o10 sub\n(DEBUG, sub 10 got #1)\no10 endsub\n#2=1\nO[#2*10] call [7]\nM2\n") ==
+        std::vector<std::string>{"sub 10 got 7.000000"});
+  // Every O-word takes it: a loop labelled by an expression.
+  CHECK(xs("#1=0\nO[5] while [#1 LT 2]\n#1=[#1+1]\nG0 X#1\nO[2+3] endwhile\nM2\n") ==
+        std::vector<double>{1, 2});
+  const auto d = diagnose("#2=0.25\nO[#2*10] call\nM2\n");
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].code == code(gm::ErrorCode::BadOWord));
+  CHECK(d[0].loc.line == 2);
+  CHECK(d[0].loc.column == 1);
+  CHECK(d[0].message == "O[...] gives 2.5: an O-word number is a whole number 0..99999999");
+}
+
 TEST_CASE("labels: reused across subroutines and re-run loops, but not within one scope") {
   // The same if inside a loop, the same label at top level and in a sub, a do closed by its
   // while, a sub called twice: all one label per construct and scope, so accepted.
