@@ -227,15 +227,24 @@ bool BlockParser::parse_oword(Block& out, std::string_view compact, std::size_t 
   }
   const char* pos = compact.data() + p;
   ItemFailure fail;
-  if (!parse_oword_args(pos, compact.data() + compact.size(), ast_, fail)) {
-    const int off = static_cast<int>(fail.where - compact.data());
-    add_error(out, fail.code == ErrorCode::ExpectedNumber ? ErrorCode::BadExpression : fail.code,
-              off,
-              fail.code == ErrorCode::UnclosedBracket
-                  ? std::string("expected ']' to close the O-word argument")
-                  : std::string("bad expression in the O-word argument"));
-    o.kind = OKind::None;
-    return false;
+  const char* const end = compact.data() + compact.size();
+  for (;;) {
+    if (!parse_oword_args(pos, end, ast_, fail)) {
+      const int off = static_cast<int>(fail.where - compact.data());
+      add_error(out, fail.code == ErrorCode::ExpectedNumber ? ErrorCode::BadExpression : fail.code,
+                off,
+                fail.code == ErrorCode::UnclosedBracket
+                    ? std::string("expected ']' to close the O-word argument")
+                    : std::string("bad expression in the O-word argument"));
+      o.kind = OKind::None;
+      return false;
+    }
+    // A comment between two arguments (`[1] (note) [2]`) is passed over, as rs274 does.
+    if (pos == end || *pos != '(') break;
+    const char* close = pos + 1;
+    while (close != end && *close != ')' && *close != '(') ++close;
+    if (close == end || *close != ')' || close + 1 == end || close[1] != '[') break;
+    pos = close + 1;
   }
   after = static_cast<std::size_t>(pos - compact.data());
   return true;

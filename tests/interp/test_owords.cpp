@@ -158,6 +158,18 @@ TEST_CASE("O[expression]: an O-word number computed when the line is read (rs274
   CHECK(d[0].message == "O[...] gives 2.5: an O-word number is a whole number 0..99999999");
 }
 
+TEST_CASE("a comment between the arguments of a call is passed over (rs274)") {
+  CHECK(messages("o<s> sub\n(DEBUG, #1 #2 #3)\no<s> endsub\n"
+                 "o<s> call [1] (note) [2](two)[3] (end)\nM2\n") ==
+        std::vector<std::string>{"1.000000 2.000000 3.000000"});
+  // Still nothing but comments after the arguments.
+  const auto d = diagnose("o<s> sub\no<s> endsub\no<s> call [1] (note) G0 X1\nM2\n");
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].loc.line == 3);
+  CHECK(d[0].loc.column == 22);
+  CHECK(d[0].message == "nothing but comments may follow an O-word");
+}
+
 TEST_CASE("labels: reused across subroutines and re-run loops, but not within one scope") {
   // The same if inside a loop, the same label at top level and in a sub, a do closed by its
   // while, a sub called twice: all one label per construct and scope, so accepted.
