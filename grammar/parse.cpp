@@ -279,6 +279,7 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
   out.line = line_;
   out.block_delete = false;
   out.percent = false;
+  out.percent_text = false;
   out.words.clear();
   out.message_count = 0;
   out.directive_count = 0;
@@ -335,6 +336,13 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
   }
   if (start < compact.size() && compact[start] == '%') {
     out.percent = true;
+    if (start + 1 < compact.size()) {  // rs274 2.9: "Bad character '%' used", one error
+      out.percent_text = true;
+      add_error(out, ErrorCode::UnexpectedCharacter, static_cast<int>(start),
+                "bad character '%' used: a '%' line holds nothing else (--dialect fanuc passes "
+                "the text after it over)");
+      return false;
+    }
     ++start;
   }
   ast_.reset(compact.data());

@@ -123,6 +123,7 @@ struct Block {
   int line = 0;
   bool block_delete = false;  ///< the line starts with '/'
   bool percent = false;       ///< the line is a '%' program delimiter
+  bool percent_text = false;  ///< text follows the '%' (`% vfd enable`): errors holds one error
   std::vector<Word> words;
   /// Comments to show (MSG, DEBUG, PRINT): at most one, LinuxCNC acts on the last comment.
   std::vector<Message> messages;

@@ -397,6 +397,12 @@ class ProgramRunner {
     grammar::Block& block = p.block;
     // grbl passes over '/' and runs the line (protocol.c: block delete not supported)
     if (block.block_delete && block_delete_ && dialect_ != Dialect::Grbl) return true;
+    if (block.percent_text && dialect_ == Dialect::Fanuc) {  // `% vfd enable`: a tape marker
+      diags.push_back(Diagnostic{Severity::Warning, 0, block.errors[0].loc,
+                                 "text after a '%' tape marker is passed over (--dialect fanuc)",
+                                 source_for(text)});
+      block.errors.clear();
+    }
     if (block.has_errors()) {
       for (const auto& e : block.errors)
         diags.push_back(Diagnostic{Severity::Error, static_cast<int>(e.code), e.loc, e.message,

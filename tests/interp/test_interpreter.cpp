@@ -171,6 +171,35 @@ TEST_CASE("% delimited program ends at the second %") {
   CHECK(diagnose("%\nG1 X1 F100\n%\n").empty());
 }
 
+TEST_CASE("text after a % is one error under linuxcnc, a passed-over tape marker under fanuc") {
+  // rs274 2.9: "Bad character '%' used" (a comment after it too); before, one error per letter.
+  for (const char* p : {"% vfd enable\nG0 X1\nM2\n", "G0 X1\nM2\n% (end)\n"}) {
+    INFO(p);
+    const bool first = p[0] == '%';
+    const auto d = diagnose(p);
+    REQUIRE(d.size() == (first ? 1u : 0u));
+    if (!first) continue;
+    CHECK(d[0].code == code(gm::ErrorCode::UnexpectedCharacter));
+    CHECK(d[0].loc.line == 1);
+    CHECK(d[0].loc.column == 1);
+    CHECK(d[0].message ==
+          "bad character '%' used: a '%' line holds nothing else (--dialect fanuc passes the "
+          "text after it over)");
+  }
+  gm::Machine m;
+  gm::InterpreterOptions o{&m, false};
+  o.dialect = gm::Dialect::Fanuc;
+  std::istringstream in("% vfd enable\nG0 X1\n%  rewind\nG0 X9\n");
+  std::vector<gm::Diagnostic> d;
+  gm::check_program_diagnostics(in, "t.nc", o, d);
+  REQUIRE(d.size() == 2);  // one warning per marker line; the second '%' ends the program
+  CHECK(d[0].severity == gm::Severity::Warning);
+  CHECK(d[0].loc.line == 1);
+  CHECK(d[0].loc.column == 1);
+  CHECK(d[0].message == "text after a '%' tape marker is passed over (--dialect fanuc)");
+  CHECK(d[1].loc.line == 3);
+}
+
 TEST_CASE("a UTF-8 byte-order mark opening the file is skipped in every dialect") {
   for (const gm::Dialect dialect : {gm::Dialect::LinuxCNC, gm::Dialect::Fanuc, gm::Dialect::Grbl}) {
     gm::Machine m;
