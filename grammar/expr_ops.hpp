@@ -8,11 +8,12 @@ namespace gm::grammar {
 /// One step of an expression in reverse Polish order. Operands are pushed (Number, Named,
 /// Exists), Param pops a parameter number and pushes its value, the rest pop their operands.
 enum class Op : std::uint8_t {
-  Number,  ///< a literal
-  Param,   ///< #n: pops n, pushes the value of parameter n
-  Named,   ///< #<name>
-  Exists,  ///< EXISTS[#<name>]
-  Neg,     ///< unary minus
+  Number,        ///< a literal
+  Param,         ///< #n: pops n, pushes the value of parameter n
+  Named,         ///< #<name>
+  Exists,        ///< EXISTS[#<name>]
+  ExistsNumber,  ///< EXISTS[#n]: pops n, pushes 1 when #n is a parameter number (1..5601)
+  Neg,           ///< unary minus
   // functions of one argument (degrees)
   Abs,
   Acos,
@@ -48,9 +49,10 @@ enum class Op : std::uint8_t {
 /// The names of the operators and functions as written, by Op. At namespace scope: a table local
 /// to op_name was copied onto the stack at every call (264 bytes per operator evaluated).
 inline constexpr const char* kOpNames[] = {
-    "number", "#",     "#<>", "EXISTS", "-",    "ABS", "ACOS", "ASIN", "COS", "EXP", "FIX",
-    "FUP",    "ROUND", "LN",  "SIN",    "SQRT", "TAN", "ATAN", "**",   "*",   "/",   "MOD",
-    "+",      "-",     "EQ",  "NE",     "GT",   "GE",  "LT",   "LE",   "AND", "OR",  "XOR"};
+    "number", "#",   "#<>", "EXISTS", "EXISTS", "-",  "ABS", "ACOS", "ASIN",
+    "COS",    "EXP", "FIX", "FUP",    "ROUND",  "LN", "SIN", "SQRT", "TAN",
+    "ATAN",   "**",  "*",   "/",      "MOD",    "+",  "-",   "EQ",   "NE",
+    "GT",     "GE",  "LT",  "LE",     "AND",    "OR", "XOR"};
 
 /// The name of an operator or function as written (for messages).
 constexpr const char* op_name(Op op) {

@@ -167,8 +167,23 @@ bool BlockParser::parse_oword(Block& out, std::string_view compact, std::size_t 
   OWord& o = out.oword;
   o.loc = SourceLoc{line_, columns_[k]};
   o.label.clear();
+  o.label_expr = false;
   std::size_t p = k + 1;
-  if (p < compact.size() && compact[p] == '<') {
+  if (p < compact.size() && compact[p] == '[') {
+    // O[#2*10]: the number is an expression (rs274 2.9), kept as the first argument (one
+    // bracket only: `O[a][b] call` is refused).
+    const char* pos = compact.data() + p;
+    ItemFailure number_fail;
+    if (!parse_oword_args(pos, compact.data() + compact.size(), ast_, number_fail) ||
+        ast_.args.size() != 1) {
+      add_error(out, ErrorCode::BadOWord, static_cast<int>(p),
+                "bad expression for the O-word number");
+      return false;
+    }
+    o.named = false;
+    o.label_expr = true;
+    p = static_cast<std::size_t>(pos - compact.data());
+  } else if (p < compact.size() && compact[p] == '<') {
     const std::size_t close = compact.find('>', p + 1);
     if (close == std::string_view::npos || close == p + 1) {
       add_error(out, ErrorCode::BadOWord, static_cast<int>(p),
@@ -212,15 +227,24 @@ bool BlockParser::parse_oword(Block& out, std::string_view compact, std::size_t 
   }
   const char* pos = compact.data() + p;
   ItemFailure fail;
-  if (!parse_oword_args(pos, compact.data() + compact.size(), ast_, fail)) {
-    const int off = static_cast<int>(fail.where - compact.data());
-    add_error(out, fail.code == ErrorCode::ExpectedNumber ? ErrorCode::BadExpression : fail.code,
-              off,
-              fail.code == ErrorCode::UnclosedBracket
-                  ? std::string("expected ']' to close the O-word argument")
-                  : std::string("bad expression in the O-word argument"));
-    o.kind = OKind::None;
-    return false;
+  const char* const end = compact.data() + compact.size();
+  for (;;) {
+    if (!parse_oword_args(pos, end, ast_, fail)) {
+      const int off = static_cast<int>(fail.where - compact.data());
+      add_error(out, fail.code == ErrorCode::ExpectedNumber ? ErrorCode::BadExpression : fail.code,
+                off,
+                fail.code == ErrorCode::UnclosedBracket
+                    ? std::string("expected ']' to close the O-word argument")
+                    : std::string("bad expression in the O-word argument"));
+      o.kind = OKind::None;
+      return false;
+    }
+    // A comment between two arguments (`[1] (note) [2]`) is passed over, as rs274 does.
+    if (pos == end || *pos != '(') break;
+    const char* close = pos + 1;
+    while (close != end && *close != ')' && *close != '(') ++close;
+    if (close == end || *close != ')' || close + 1 == end || close[1] != '[') break;
+    pos = close + 1;
   }
   after = static_cast<std::size_t>(pos - compact.data());
   return true;
@@ -255,6 +279,7 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
   out.line = line_;
   out.block_delete = false;
   out.percent = false;
+  out.percent_text = false;
   out.words.clear();
   out.message_count = 0;
   out.directive_count = 0;
@@ -311,6 +336,13 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
   }
   if (start < compact.size() && compact[start] == '%') {
     out.percent = true;
+    if (start + 1 < compact.size()) {  // rs274 2.9: "Bad character '%' used", one error
+      out.percent_text = true;
+      add_error(out, ErrorCode::UnexpectedCharacter, static_cast<int>(start),
+                "bad character '%' used: a '%' line holds nothing else (--dialect fanuc passes "
+                "the text after it over)");
+      return false;
+    }
     ++start;
   }
   ast_.reset(compact.data());

@@ -110,8 +110,10 @@ const char* okind_name(OKind k);
 struct OWord {
   OKind kind = OKind::None;
   bool named = false;  ///< o<name> (else numbered)
-  std::string label;   ///< "100" (leading zeros dropped) or the name in lower case
-  SourceLoc loc;       ///< the 'O'
+  /// O[expression]: args[0] is the number, evaluated when the line is reached (label empty)
+  bool label_expr = false;
+  std::string label;  ///< "100" (leading zeros dropped) or the name in lower case
+  SourceLoc loc;      ///< the 'O'
   std::vector<OpRange> args;
 };
 
@@ -121,6 +123,7 @@ struct Block {
   int line = 0;
   bool block_delete = false;  ///< the line starts with '/'
   bool percent = false;       ///< the line is a '%' program delimiter
+  bool percent_text = false;  ///< text follows the '%' (`% vfd enable`): errors holds one error
   std::vector<Word> words;
   /// Comments to show (MSG, DEBUG, PRINT): at most one, LinuxCNC acts on the last comment.
   std::vector<Message> messages;

@@ -74,6 +74,14 @@ bool apply_unary(const grammar::ExprOp& o, double b, const ParameterStore& param
       result = params.get(n);
       return true;
     }
+    case Op::ExistsNumber: {  // rs274 2.9: every parameter number exists, others do not
+      const double r = std::round(b);
+      if (!(std::fabs(b - r) < 1e-4))
+        return fail(err, ErrorCode::ParameterOutOfRange, o.loc,
+                    fmt::format("EXISTS[#{}]: a parameter number is an integer", show(b)));
+      result = r >= ParameterStore::kFirst && r <= ParameterStore::kLast ? 1.0 : 0.0;
+      return true;
+    }
     case Op::Neg:
       result = -b;
       return true;

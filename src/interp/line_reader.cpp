@@ -69,6 +69,9 @@ bool LineReader::next(std::string& line) {
     return false;
   }
   if (number_ < std::numeric_limits<int>::max()) ++number_;
+  // A UTF-8 byte-order mark opening the input is not part of the first line (every dialect;
+  // rs274 2.9 refuses it: "Bad character '\357' used"). Columns count from after it.
+  if (line_offset_ == 0 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
   return true;
 }
 

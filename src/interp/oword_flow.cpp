@@ -90,6 +90,21 @@ bool OwordFlow::note_label(const grammar::OWord& o, Frame kind, const LinePos& p
 
 bool OwordFlow::handle(const grammar::Block& b, const LinePos& pos, FlowJump& jump,
                        InterpError& err) {
+  if (b.oword.label_expr) {
+    // O[#2*10]: rs274 2.9 evaluates the number whenever it reads the line, passed over or not.
+    double v = 0.0;
+    if (!eval_.evaluate(b, b.oword.args[0], params_, v, err)) return false;
+    const double n = std::round(v);
+    if (!(std::fabs(v - n) < 1e-4) || n < 0 || n > 99999999)
+      return fail(
+          err, ErrorCode::BadOWord, b.oword.loc,
+          fmt::format("O[...] gives {}: an O-word number is a whole number 0..99999999", v));
+    grammar::Block numbered = b;
+    numbered.oword.label_expr = false;
+    numbered.oword.label = fmt::format("{}", static_cast<long>(n));
+    numbered.oword.args.erase(numbered.oword.args.begin());
+    return skipping() ? skipped(numbered, pos, jump, err) : normal(numbered, pos, jump, err);
+  }
   return skipping() ? skipped(b, pos, jump, err) : normal(b, pos, jump, err);
 }
 
@@ -300,6 +315,19 @@ bool OwordFlow::top_is(const grammar::OWord& o, Frame k) const {
 // `o... sub`: records the definition and passes over its body.
 bool OwordFlow::define_sub(const grammar::Block& b, const LinePos& pos, InterpError& err) {
   const grammar::OWord& o = b.oword;
+  // Reached while a sub runs (called forward, or from its file): the definition is inside that
+  // sub's body. rs274 2.9 would run its body in line and return at its endsub.
+  for (auto f = stack_.rbegin(); f != stack_.rend(); ++f) {
+    if (f->kind != Frame::Call) continue;
+    const bool number = f->label.find_first_not_of("0123456789") == std::string::npos;
+    const std::string caller = f->fanuc ? "O" + f->label
+                               : number ? "o" + f->label
+                                        : "o<" + f->label + ">";
+    return fail(err, ErrorCode::ControlMismatch, o.loc,
+                fmt::format("nested subroutine definition: {} sub inside the body of the called "
+                            "subroutine {}; a sub is defined outside every other sub",
+                            label_of(o), caller));
+  }
   const auto [it, added] = subs_.emplace(o.label, SubDef{pos, false});
   if (!added && (it->second.pos.file != pos.file || it->second.pos.offset != pos.offset))
     return fail(err, ErrorCode::SubroutineRedefined, o.loc,
@@ -461,6 +489,12 @@ bool OwordFlow::leave_loop(const grammar::Block& b, const LinePos& pos, FlowJump
 bool OwordFlow::skipped(const grammar::Block& b, const LinePos& pos, FlowJump& jump,
                         InterpError& err) {
   const grammar::OWord& o = b.oword;
+  // rs274 2.9 (read_o): a `sub` while a definition is open is "Nested subroutine definition".
+  if (o.kind == OKind::Sub && skip_.mode == Skip::SubBody)
+    return fail(err, ErrorCode::ControlMismatch, o.loc,
+                fmt::format("nested subroutine definition: {} sub inside {} sub (line {}); a sub "
+                            "is defined outside every other sub",
+                            label_of(o), skip_.shown, skip_.started.line));
   if (o.kind == OKind::Sub && skip_.mode != Skip::FindSub)
     subs_.emplace(o.label, SubDef{pos, false});
   if (o.label != skip_.label) return true;
@@ -504,6 +538,14 @@ bool OwordFlow::skipped(const grammar::Block& b, const LinePos& pos, FlowJump& j
       break;
   }
   return true;
+}
+
+bool OwordFlow::closing_percent(SourceLoc at, InterpError& err) const {
+  if (skip_.mode != Skip::FindSub) return true;
+  return fail(err, ErrorCode::UndefinedSubroutine, at,
+              fmt::format("subroutine {} (called at line {}) is not defined before the "
+                          "program's closing '%': nothing after it is read",
+                          skip_.shown, skip_.started.line));
 }
 
 bool OwordFlow::at_end(int last_line, InterpError& err, int& err_file) const {

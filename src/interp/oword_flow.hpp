@@ -66,6 +66,11 @@ class OwordFlow {
   /// subroutine was never found); `err_file` is then the file the error is in.
   bool at_end(int last_line, InterpError& err, int& err_file) const;
 
+  /// The program's closing '%' at `at` was reached: false with `err` set if a forward search
+  /// for a sub is under way (rs274 2.9 reads nothing after it: "Failed to find sub ... before
+  /// EOF").
+  bool closing_percent(SourceLoc at, InterpError& err) const;
+
   int call_depth() const { return calls_; }
 
  private:

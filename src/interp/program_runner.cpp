@@ -90,7 +90,12 @@ bool ProgramRunner::process_line(Line& l) {
 // Passing over lines (a false condition, a sub's body): only O-words matter, nothing else is
 // checked.
 bool ProgramRunner::skipped_line(Line& l) {
-  if (l.p.truncated || l.p.block.oword.kind == grammar::OKind::None) return true;
+  const ParsedLine& p = l.p;
+  InterpError err;  // a sub searched for past the closing '%' (rs274: not found)
+  if (p.block.percent && opened_percent_ && p.file == 0 && !p.truncated &&
+      !flow_.closing_percent(SourceLoc{p.number, static_cast<int>(p.text.find('%')) + 1}, err))
+    return stop(err, l);
+  if (p.truncated || p.block.oword.kind == grammar::OKind::None) return true;
   return control(l);
 }
 
@@ -105,7 +110,13 @@ bool ProgramRunner::truncated_line(Line& l) {
 
 // The grammar's errors, then what the dialect refuses: reported, and the line is not run.
 bool ProgramRunner::well_formed(Line& l) {
-  const grammar::Block& block = l.p.block;
+  grammar::Block& block = l.p.block;
+  if (block.percent_text && rules_.dialect() == Dialect::Fanuc) {  // `% vfd enable`: a tape marker
+    l.diags.push_back(Diagnostic{Severity::Warning, 0, block.errors[0].loc,
+                                 "text after a '%' tape marker is passed over (--dialect fanuc)",
+                                 echoed_line(l.p.text)});
+    block.errors.clear();
+  }
   if (block.has_errors()) {
     for (const auto& e : block.errors)
       l.diags.push_back(Diagnostic{Severity::Error, static_cast<int>(e.code), e.loc, e.message,

@@ -102,6 +102,24 @@ TEST_CASE("named parameters, EXISTS and predefined ones (rs274)") {
         "2.000000 1.000000 3.000000");
 }
 
+TEST_CASE("EXISTS of a numbered parameter: 1 for every parameter number (rs274 2.9)") {
+  // #1 set, #123 never set, #[1+1] computed: numbers 1..5601 exist; #0 and #99999 do not; an
+  // unknown global name does not, the predefined #<_x> does.
+  const auto m = messages(
+      "#1=5\n#10=EXISTS[#1] #11=EXISTS[#<_unknown>] #12=EXISTS[#123] #13=EXISTS[#[1+1]]\n"
+      "#14=EXISTS[#0] #15=EXISTS[#99999] #16=EXISTS[#<_x>]\n(DEBUG,#10 #11 #12 #13 #14 #15 #16)\n"
+      "M2\n");
+  REQUIRE(m.size() == 1);
+  CHECK(m[0] == "1.000000 0.000000 1.000000 1.000000 0.000000 0.000000 1.000000");
+  // rs274: "Non integer value for integer".
+  const auto d = diagnose("#10=EXISTS[#1.5]\nM2\n");
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].code == code(gm::ErrorCode::ParameterOutOfRange));
+  CHECK(d[0].loc.line == 1);
+  CHECK(d[0].loc.column == 5);
+  CHECK(d[0].message == "EXISTS[#1.5]: a parameter number is an integer");
+}
+
 TEST_CASE("only the last comment of a line acts, MSG is shown as written (rs274)") {
   CHECK(messages("(MSG,a)(MSG,b)\nM2\n") == std::vector<std::string>{"b"});
   CHECK(messages("(MSG,c)(plain)\nM2\n").empty());

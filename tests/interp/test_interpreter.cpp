@@ -171,6 +171,54 @@ TEST_CASE("% delimited program ends at the second %") {
   CHECK(diagnose("%\nG1 X1 F100\n%\n").empty());
 }
 
+TEST_CASE("text after a % is one error under linuxcnc, a passed-over tape marker under fanuc") {
+  // rs274 2.9: "Bad character '%' used" (a comment after it too); before, one error per letter.
+  for (const char* p : {"% vfd enable\nG0 X1\nM2\n", "G0 X1\nM2\n% (end)\n"}) {
+    INFO(p);
+    const bool first = p[0] == '%';
+    const auto d = diagnose(p);
+    REQUIRE(d.size() == (first ? 1u : 0u));
+    if (!first) continue;
+    CHECK(d[0].code == code(gm::ErrorCode::UnexpectedCharacter));
+    CHECK(d[0].loc.line == 1);
+    CHECK(d[0].loc.column == 1);
+    CHECK(d[0].message ==
+          "bad character '%' used: a '%' line holds nothing else (--dialect fanuc passes the "
+          "text after it over)");
+  }
+  gm::Machine m;
+  gm::InterpreterOptions o{&m, false};
+  o.dialect = gm::Dialect::Fanuc;
+  std::istringstream in("% vfd enable\nG0 X1\n%  rewind\nG0 X9\n");
+  std::vector<gm::Diagnostic> d;
+  gm::check_program_diagnostics(in, "t.nc", o, d);
+  REQUIRE(d.size() == 2);  // one warning per marker line; the second '%' ends the program
+  CHECK(d[0].severity == gm::Severity::Warning);
+  CHECK(d[0].loc.line == 1);
+  CHECK(d[0].loc.column == 1);
+  CHECK(d[0].message == "text after a '%' tape marker is passed over (--dialect fanuc)");
+  CHECK(d[1].loc.line == 3);
+}
+
+TEST_CASE("a UTF-8 byte-order mark opening the file is skipped in every dialect") {
+  for (const gm::Dialect dialect : {gm::Dialect::LinuxCNC, gm::Dialect::Fanuc, gm::Dialect::Grbl}) {
+    gm::Machine m;
+    gm::InterpreterOptions o{&m, false};
+    o.dialect = dialect;
+    std::istringstream in("\xEF\xBB\xBFG0 X1\nG1 X2 Y& F100\nM2\n");
+    std::vector<gm::Diagnostic> d;
+    gm::check_program_diagnostics(in, "t.nc", o, d);
+    REQUIRE(d.size() == 1);  // only the error on line 2; columns of line 1 count after the mark
+    CHECK(d[0].loc.line == 2);
+  }
+  const auto d = diagnose("\xEF\xBB\xBFG0 X1 &\nM2\n");
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].loc.column == 7);
+  CHECK(d[0].message == "unexpected character '&'");
+  // Only at the start of the input: elsewhere it is still a stray character.
+  CHECK(diagnose("G0 X1\n\xEF\xBB\xBFG0 X2\nM2\n").at(0).message == "unexpected character 0xEF");
+}
+
 TEST_CASE("one test per block error: code and line:col") {
   struct Case {
     const char* program;

@@ -104,6 +104,72 @@ TEST_CASE("control-flow errors are located and name the O-word") {
   }
 }
 
+TEST_CASE("a sub defined inside another sub's body is an error (rs274: nested definition)") {
+  // Read while the outer definition is passed over (rs274: "Nested subroutine definition").
+  auto d = diagnose(
+      "o<outer> sub\n  G0 X1\n  o<inner> sub\n  G0 X2\n  o<inner> endsub\n"
+      "o<outer> endsub\no<outer> call\nM2\n");
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].code == code(gm::ErrorCode::ControlMismatch));
+  CHECK(d[0].loc.line == 3);
+  CHECK(d[0].loc.column == 3);
+  CHECK(d[0].message ==
+        "nested subroutine definition: o<inner> sub inside o<outer> sub (line 1); a sub is "
+        "defined outside every other sub");
+  // Reached while the sub runs (called before its definition): the same error, at that line.
+  d = diagnose("o20 call\nM2\no20 sub\nG0 X1\n o21 sub\no21 endsub\no20 endsub\n");
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].loc.line == 5);
+  CHECK(d[0].loc.column == 2);
+  CHECK(d[0].message ==
+        "nested subroutine definition: o21 sub inside the body of the called subroutine o20; a "
+        "sub is defined outside every other sub");
+}
+
+TEST_CASE("a sub after the program end: found after M2, not after the closing % (rs274)") {
+  // After M2 a forward call still finds it (rs274 reads on to the definition).
+  CHECK(xs("G0 X1\no<late> call\nM2\no<late> sub\nG0 X3\no<late> endsub\n") ==
+        std::vector<double>{1, 3});
+  // Uncalled, after M2 or after the closing '%': never read.
+  CHECK(diagnose("G0 X1\nM2\no<late> sub\nG0 X3\no<late> endsub\n").empty());
+  CHECK(diagnose("%\nG0 X1\n%\no<late> sub\nG0 X3\no<late> endsub\n").empty());
+  // Called, after the closing '%': rs274 "Failed to find sub 'Olate' before EOF", at the '%'.
+  const auto d = diagnose("%\nG0 X1\no<late> call\n%\no<late> sub\nG0 X3\no<late> endsub\n");
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].code == code(gm::ErrorCode::UndefinedSubroutine));
+  CHECK(d[0].loc.line == 4);
+  CHECK(d[0].loc.column == 1);
+  CHECK(d[0].message ==
+        "subroutine o<late> (called at line 3) is not defined before the program's closing '%': "
+        "nothing after it is read");
+}
+
+TEST_CASE("O[expression]: an O-word number computed when the line is read (rs274)") {
+  CHECK(messages("o10 sub\n(DEBUG, sub 10 got #1)\no10 endsub\n#2=1\nO[#2*10] call [7]\nM2\n") ==
+        std::vector<std::string>{"sub 10 got 7.000000"});
+  // Every O-word takes it: a loop labelled by an expression.
+  CHECK(xs("#1=0\nO[5] while [#1 LT 2]\n#1=[#1+1]\nG0 X#1\nO[2+3] endwhile\nM2\n") ==
+        std::vector<double>{1, 2});
+  const auto d = diagnose("#2=0.25\nO[#2*10] call\nM2\n");
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].code == code(gm::ErrorCode::BadOWord));
+  CHECK(d[0].loc.line == 2);
+  CHECK(d[0].loc.column == 1);
+  CHECK(d[0].message == "O[...] gives 2.5: an O-word number is a whole number 0..99999999");
+}
+
+TEST_CASE("a comment between the arguments of a call is passed over (rs274)") {
+  CHECK(messages("o<s> sub\n(DEBUG, #1 #2 #3)\no<s> endsub\n"
+                 "o<s> call [1] (note) [2](two)[3] (end)\nM2\n") ==
+        std::vector<std::string>{"1.000000 2.000000 3.000000"});
+  // Still nothing but comments after the arguments.
+  const auto d = diagnose("o<s> sub\no<s> endsub\no<s> call [1] (note) G0 X1\nM2\n");
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].loc.line == 3);
+  CHECK(d[0].loc.column == 22);
+  CHECK(d[0].message == "nothing but comments may follow an O-word");
+}
+
 TEST_CASE("labels: reused across subroutines and re-run loops, but not within one scope") {
   // The same if inside a loop, the same label at top level and in a sub, a do closed by its
   // while, a sub called twice: all one label per construct and scope, so accepted.

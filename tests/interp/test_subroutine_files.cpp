@@ -157,6 +157,24 @@ TEST_CASE("subroutine files: located errors that name the path and the file") {
   CHECK(d[0].message.find("no subroutine path is set") != std::string::npos);
 }
 
+TEST_CASE("a sub defined inside the body of a sub file's sub is an error") {
+  // rs274 2.9 runs such a body in line and returns at its endsub; gmotion stops there.
+  Library lib;
+  lib.add("outer.ngc",
+          "o<outer> sub\n  G0 X1\n  o<inner> sub\n    G0 X2\n  o<inner> endsub\n"
+          "  G0 X5\no<outer> endsub\nM2\n");
+  gm::Machine m;
+  const auto d = checked("G0 X0\no<outer> call\nM2\n", lib.options(m));
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].code == code(gm::ErrorCode::ControlMismatch));
+  CHECK(d[0].file == (lib.dir / "outer.ngc").string());
+  CHECK(d[0].loc.line == 3);
+  CHECK(d[0].loc.column == 3);
+  CHECK(d[0].message ==
+        "nested subroutine definition: o<inner> sub inside the body of the called subroutine "
+        "o<outer>; a sub is defined outside every other sub");
+}
+
 TEST_CASE("a program cannot name a file outside the subroutine path") {
   Library lib;
   fs::create_directory(lib.dir / "inner");
