@@ -12,7 +12,8 @@ expects to be refused. Each such run is made twice, from a scratch copy of the t
   * rs274 (LinuxCNC 2.9's standalone interpreter) with the same flags, every run with its own
     empty HOME, on the program renumbered N<file line> so that it reports source lines;
   * `gmotion moves` with the flags a user would pass: the INI as --machine, the tool table as
-    --tool-table (converted from rs274's inches to mm), the parameter file as --parameter-file
+    --tool-table (converted from rs274's inches to mm; without -t the table rs274 then reads,
+    --rs274-tools), the parameter file as --parameter-file
     (likewise), --axes XYZABCUVW, --messages and --io.
 Both outputs are compared as tools/rs274_diff.py compares them (its parser and comparator are
 imported). One line per test, then the totals:
@@ -46,6 +47,8 @@ SUITES = ("interp", "ccomp", "oword")
 GMOTION_AXES = "XYZABCUVW"  # rs274's canon drives nine axes
 RS274_TIMEOUT_S = 10.0       # the endless-loop tests give rs274 5-10 s
 GMOTION_TIMEOUT_S = 60.0
+# The table rs274 2.9 reads when not given -t (EMC2_DEFAULT_TOOLTABLE of linuxcnc-uspace), inches
+RS274_DEFAULT_TOOLS = "/usr/share/doc/linuxcnc/examples/sample-configs/common/tool.tbl"
 
 # What a test script runs instead of rs274 on G-code: it is beyond an interpreter comparison.
 NEEDS_MORE = [
@@ -214,14 +217,16 @@ def run_rs274(rs274: str, work: Path, run: Run) -> Side:
     return Side(True, rd.parse_rs274_output(p.stdout))
 
 
-def run_gmotion(gmotion: str, work: Path, run: Run) -> Side:
-    """`gmotion moves` in `work` (a scratch copy of the test folder, the program as written)."""
+def run_gmotion(gmotion: str, work: Path, run: Run, default_tools: str) -> Side:
+    """`gmotion moves` in `work` (a scratch copy of the test folder, the program as written).
+    Without -t it gets the table rs274 reads then (`default_tools`), not its own built-in one."""
     cmd = [gmotion, "moves", run.program, "--messages", "--io", "--axes", GMOTION_AXES]
     if "i" in run.flags:
         cmd += ["--machine", run.flags["i"]]
-    if "t" in run.flags:
+    tools = work / run.flags["t"] if "t" in run.flags else Path(default_tools)
+    if tools.is_file():
         mm = work / ".tools-mm.tbl"
-        mm.write_text(_scale_tool_table((work / run.flags["t"]).read_text(errors="replace")))
+        mm.write_text(_scale_tool_table(tools.read_text(errors="replace")))
         cmd += ["--tool-table", str(mm)]
     if "v" in run.flags:
         var = work / run.flags["v"]
@@ -311,7 +316,7 @@ def judge(args, test: Test, run: Run) -> tuple[str, str]:
                 shutil.copy(tpl, d / tpl.name[:-len(".template")])
         rs = run_rs274(args.rs274, rs_dir, run)
         numbered = (rs_dir / run.program).read_text(errors="replace")
-        gm = run_gmotion(args.gmotion, gm_dir, run)
+        gm = run_gmotion(args.gmotion, gm_dir, run, args.rs274_tools)
     if rs.hung:
         return "rs274 cannot run it", f"rs274 {rs.error}" + (
             "; gmotion refuses it" if not gm.ok else "; gmotion runs it")
@@ -350,6 +355,9 @@ def main(argv=None) -> int:
     ap.add_argument("--linuxcnc", required=True, help="a LinuxCNC source checkout")
     ap.add_argument("--gmotion", required=True, help="the gmotion executable")
     ap.add_argument("--rs274", default="rs274", help="LinuxCNC 2.9's rs274 (default: rs274)")
+    ap.add_argument("--rs274-tools", default=RS274_DEFAULT_TOOLS, metavar="FILE",
+                    help="the tool table rs274 reads without -t, given to gmotion for such tests "
+                         f"(default {RS274_DEFAULT_TOOLS})")
     ap.add_argument("--only", default="", help="run the tests whose name contains this text")
     ap.add_argument("-v", "--verbose", action="store_true", help="a line for every run too")
     args = ap.parse_args(argv)
