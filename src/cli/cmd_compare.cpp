@@ -6,8 +6,8 @@
 #include "cli/language_flags.hpp"
 #include "cli/run_setup.hpp"
 #include "common/status.hpp"
+#include "measure/run_summary.hpp"
 #include "pipeline/run.hpp"
-#include "trace/run_summary.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>

@@ -7,7 +7,7 @@
 #include "interp/canon.hpp"
 #include "interpolator/interpolator.hpp"
 #include "machine/machine.hpp"
-#include "pipeline/contour_meter.hpp"
+#include "measure/contour_meter.hpp"
 #include "pipeline/sample_block.hpp"
 #include "pipeline/sample_record.hpp"
 #include "servo/servo_bank.hpp"

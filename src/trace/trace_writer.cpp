@@ -91,6 +91,7 @@ TraceWriter::TraceWriter(std::string path, TraceFormat format, const TraceMeta& 
     : path_(std::move(path)),
       format_(format),
       decimate_(meta.decimate < 1 ? 1 : meta.decimate),
+      period_s_(meta.period_s),
       status_line_(meta.status_line),
       axes_(static_cast<int>(meta.axes.size())),
       binary_row_(binary_row_bytes(axes_)) {

@@ -12,8 +12,8 @@
 // timed span.
 #include "interp/program.hpp"
 #include "machine/machine_file.hpp"
+#include "measure/run_summary.hpp"
 #include "pipeline/pipeline.hpp"
-#include "trace/run_summary.hpp"
 
 #include <fmt/format.h>
 

@@ -3,10 +3,10 @@
 #include "interp/program.hpp"
 #include "interpolator/interpolator.hpp"
 #include "machine/machine_file.hpp"
-#include "pipeline/contour_meter.hpp"
+#include "measure/contour_meter.hpp"
+#include "measure/run_summary.hpp"
+#include "measure/tolerance_check.hpp"
 #include "pipeline/pipeline.hpp"
-#include "planner/tolerance_check.hpp"
-#include "trace/run_summary.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -3,10 +3,10 @@
 #include "accdec/taps.hpp"
 #include "interp/program.hpp"
 #include "machine/machine.hpp"
+#include "measure/tolerance_check.hpp"
 #include "pipeline/pipeline.hpp"
 #include "planner/filter_moments.hpp"
 #include "planner/naive_cam.hpp"
-#include "planner/tolerance_check.hpp"
 #include "planner/tolerance_planner.hpp"
 
 #include <fmt/format.h>

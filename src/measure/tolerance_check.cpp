@@ -1,5 +1,5 @@
 // ToleranceCheck: per-sample comparison of the contour error with the block's tolerance.
-#include "planner/tolerance_check.hpp"
+#include "measure/tolerance_check.hpp"
 
 #include <fmt/format.h>
 

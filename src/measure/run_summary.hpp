@@ -3,6 +3,7 @@
 
 #include "common/axis.hpp"
 #include "machine/machine.hpp"
+#include "pipeline/block_sink.hpp"
 #include "pipeline/sample_block.hpp"
 #include "pipeline/sample_record.hpp"
 
@@ -46,8 +47,8 @@ struct AxisSummary {
   std::int64_t final_enc_err_blu = 0;  ///< encoder − programmed end
 };
 
-/// Accumulates statistics over the samples of a run (constant memory).
-class RunSummary {
+/// Accumulates statistics over the samples of a run (constant memory); a run's BlockSink.
+class RunSummary final : public BlockSink {
  public:
   explicit RunSummary(const Machine& machine);
 
@@ -56,8 +57,10 @@ class RunSummary {
   /// add() of rows first..count-1 of `b` (contour columns filled by ContourMeter::measure_block):
   /// the same statistics, bit for bit, as add() of b.record() row by row, a column at a time.
   void add_block(const SampleBlock& b, int first);
+  void consume(const SampleBlock& b, int first) override { add_block(b, first); }
   /// Records the end: the last sample, the programmed end point and whether the axes settled.
   void finish(const SampleRecord& last, const AxisBlu& program_end_blu, bool settled);
+  void finish(const RunEnd& end) override { finish(end.last, end.program_end_blu, end.settled); }
 
   /// Human-readable summary, several lines.
   std::string text() const;

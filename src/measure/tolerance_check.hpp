@@ -4,6 +4,7 @@
 
 #include "common/axis.hpp"
 #include "interp/canon.hpp"
+#include "pipeline/block_sink.hpp"
 #include "pipeline/sample_block.hpp"
 #include "pipeline/sample_record.hpp"
 
@@ -15,18 +16,20 @@ namespace gm {
 /// Fed every record of a run (with the motion that became current in it, as ContourMeter is),
 /// compares |contour_err| with the path tolerance of the block the sample is in — cutting
 /// moves (G1/G2/G3) and rapids (G0) apart. Blocks with no tolerance (0) are not judged.
-class ToleranceCheck {
+class ToleranceCheck final : public BlockSink {
  public:
   /// `contour_blu_mm`: the length of one contour_err_blu unit (the smallest axis BLU), mm.
   /// `allowance_mm`: what a sample may exceed the tolerance by without counting as over (one
   /// BLU with tolerance_on = encoder and the servo on: the encoder's quantisation in the loop).
-  explicit ToleranceCheck(double contour_blu_mm, double allowance_mm = 0.0)
-      : blu_mm_(contour_blu_mm), allowance_mm_(allowance_mm) {}
+  /// `period_s`: the sample period consume() times the rows with (t = k·T).
+  explicit ToleranceCheck(double contour_blu_mm, double allowance_mm = 0.0, double period_s = 0.0)
+      : blu_mm_(contour_blu_mm), allowance_mm_(allowance_mm), period_s_(period_s) {}
 
   void add(const SampleRecord& r, const Motion* started);
   /// add() of rows first..count-1 of `b` (contour column filled), each with the last motion
   /// b.motions started in it; `period_s`: the sample period (t = k·T, as SampleBlock::record).
   void add_block(const SampleBlock& b, int first, double period_s);
+  void consume(const SampleBlock& b, int first) override { add_block(b, first, period_s_); }
 
   struct Worst {
     std::int64_t samples = 0;  ///< samples judged (a tolerance was in force)
@@ -59,6 +62,7 @@ class ToleranceCheck {
 
   double blu_mm_;
   double allowance_mm_ = 0.0;
+  double period_s_ = 0.0;
   double tol_mm_ = 0.0;
   bool rapid_block_ = false;
   Worst cut_, rapid_;

@@ -1,5 +1,5 @@
 // Running statistics of a pipeline run and their text/JSON rendering.
-#include "trace/run_summary.hpp"
+#include "measure/run_summary.hpp"
 
 #include "common/isa.hpp"
 #include "interpolator/interpolator.hpp"
