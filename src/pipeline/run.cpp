@@ -34,7 +34,6 @@ bool realtime(const RunOptions& o) {
 // The consumer thread is worth it only with a second core, and never paces a real-time run.
 RunOptions with_thread_choice(RunOptions o) {
   o.consumer_thread = o.consumer_thread && !realtime(o) && std::thread::hardware_concurrency() >= 2;
-  o.config.defer_contour = true;  // Run measures the contour with the outputs (consume_rows)
   return o;
 }
 

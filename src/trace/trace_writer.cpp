@@ -140,18 +140,6 @@ TraceWriter::~TraceWriter() {
   }
 }
 
-void TraceWriter::write(const SampleRecord& s) {
-  if (s.k % decimate_ != 0) return;
-  const std::size_t at = buf_.size();
-  buf_.resize(at + kMaxRowBytes);
-  char* const p = buf_.data() + at;
-  char* const end =
-      format_ == TraceFormat::Csv ? put_csv_row(p, s, axes_) : put_binary_row(p, s, axes_);
-  buf_.resize(static_cast<std::size_t>(end - buf_.data()));
-  ++rows_;
-  if (buf_.size() >= kFlushBytes) flush_buffer();
-}
-
 void TraceWriter::write_block(const SampleBlock& b, int first, double period_s) {
   with_axis_count(axes_, [&](auto n) { write_rows<decltype(n)::value>(b, first, period_s); });
 }

@@ -62,13 +62,10 @@ class TraceWriter final : public BlockSink {
   TraceWriter(const TraceWriter&) = delete;
   TraceWriter& operator=(const TraceWriter&) = delete;
 
-  /// Appends sample `s` if it falls on the decimation grid (k % decimate == 0). No allocation
-  /// once the buffer has grown to its working size.
-  void write(const SampleRecord& s);
-  /// Appends rows first..count-1 of block `b` that fall on the decimation grid, the same bytes as
-  /// write() of each row's SampleRecord (SampleBlock::record() and the contour columns), read from
-  /// the block's columns in place; `period_s` is the T of record(). No allocation once the buffer
-  /// has grown to its working size.
+  /// Appends rows first..count-1 of block `b` that fall on the decimation grid
+  /// (k % decimate == 0), each row's SampleRecord (SampleBlock::record() and the contour columns)
+  /// read from the block's columns in place; `period_s` is the T of record(). No allocation once
+  /// the buffer has grown to its working size.
   void write_block(const SampleBlock& b, int first, double period_s);
   /// write_block() with the header's period.
   void consume(const SampleBlock& b, int first) override { write_block(b, first, period_s_); }

@@ -10,7 +10,9 @@
 #include "planner/servo_response.hpp"
 #include "planner/tolerance_planner.hpp"
 #include "support/run_command.hpp"
+#include "support/sample_stepper.hpp"
 #include "support/test_scale.hpp"
+#include "support/tolerance_reference.hpp"
 
 #include <fmt/format.h>
 #include <catch2/catch.hpp>
@@ -32,7 +34,7 @@ gm::PlannerConfig planner_config(const gm::Machine& m) {
 }
 
 struct Outcome {
-  gm::ToleranceCheck check{0.001};
+  gmtest::ToleranceReference check{0.001};
   double cycle_s = 0;
   bool finished = false;
   bool end_exact = false;
@@ -59,9 +61,9 @@ Outcome run_program(const std::string& text, const gm::Machine& m, Ovr ovr, bool
   gm::RunConfig cfg;
   cfg.machine = mm;
   cfg.servo = encoder;
-  gm::Pipeline p(cfg, planner);
+  gmtest::SampleStepper p(cfg, planner);
   Outcome o;
-  o.check = gm::ToleranceCheck(m.contour_blu_mm(), encoder ? m.contour_blu_mm() : 0.0);
+  o.check = gmtest::ToleranceReference(m.contour_blu_mm(), encoder ? m.contour_blu_mm() : 0.0);
   gm::SampleRecord rec;
   gm::PipelineStatus st;
   std::int64_t k = 0;
