@@ -10,5 +10,9 @@ inline constexpr double kSecondsPerMinute = 60.0;
 constexpr double mm_min_to_mm_s(double v_mm_min) {
   return v_mm_min / kSecondsPerMinute;
 }
+/// mm/s -> mm/min.
+constexpr double mm_s_to_mm_min(double v_mm_s) {
+  return v_mm_s * kSecondsPerMinute;
+}
 
 }  // namespace gm::units
