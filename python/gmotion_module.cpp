@@ -9,7 +9,9 @@
 #include "pipeline/run.hpp"
 #include "setup/program_input.hpp"
 #include "setup/run_settings.hpp"
-#include "trace/trace_reader.hpp"
+#include "trace/block_row.hpp"
+#include "trace/trace_row.hpp"
+#include "trace/trace_writer.hpp"
 
 #include <fmt/format.h>
 #include <pybind11/numpy.h>
@@ -17,13 +19,9 @@
 #include <pybind11/stl.h>
 #include <numbers>
 
-#include <unistd.h>
 #include <algorithm>
-#include <cerrno>
-#include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -108,20 +106,47 @@ py::dict check(const std::string& path, const gm::InterpreterOptions& opts) {
   return out;
 }
 
-/// A binary trace in TMPDIR, removed when this goes out of scope.
-struct ScratchTrace {
-  std::string path;
-  ScratchTrace() {
-    const char* dir = std::getenv("TMPDIR");
-    path = (dir != nullptr && *dir != '\0' ? std::string(dir) : "/tmp") + "/gmotion-py-XXXXXX";
-    const int fd = mkstemp(path.data());
-    if (fd < 0)
-      throw gm::InputError(fmt::format("cannot make a scratch trace: {}", std::strerror(errno)));
-    ::close(fd);
+/// The trace's columns as numbers, a vector per column, as a binary trace of the run read back
+/// would hold them (TraceReader::next): a run's BlockSink, decimated as its trace would be.
+class ColumnCollector final : public gm::BlockSink {
+ public:
+  explicit ColumnCollector(const gm::TraceMeta& meta)
+      : axes_(static_cast<int>(meta.axes.size())),
+        decimate_(meta.decimate < 1 ? 1 : meta.decimate),
+        period_s_(meta.period_s),
+        columns_(gm::trace_column_names(meta.axes)),
+        values_(columns_.size()) {
+    // The header lines as TraceReader::header() gives them: without the leading "# ".
+    std::istringstream text(gm::trace_header(meta));
+    for (std::string l; std::getline(text, l);)
+      if (l.rfind("# ", 0) == 0) header_.push_back(l.substr(2));
   }
-  ~ScratchTrace() { std::remove(path.c_str()); }
-  ScratchTrace(const ScratchTrace&) = delete;
-  ScratchTrace& operator=(const ScratchTrace&) = delete;
+
+  void consume(const gm::SampleBlock& b, int first) override {
+    // The rows on the decimation grid (k % decimate == 0), as TraceWriter::write_block.
+    const auto off = static_cast<int>((b.k0 + first) % decimate_);
+    first += off == 0 ? 0 : decimate_ - off;
+    gm::with_axis_count(axes_, [&](auto n) {
+      for (int i = first; i < b.count; i += decimate_) {
+        std::size_t c = 0;
+        // Each value as the binary field reads back: integers exactly, t = k·T.
+        gm::visit_trace_row(gm::BlockRow(b, i, period_s_), n, [&](auto, auto value) {
+          values_[c++].push_back(static_cast<double>(value));
+        });
+      }
+    });
+  }
+
+  const std::vector<std::string>& columns() const { return columns_; }
+  const std::vector<std::string>& header() const { return header_; }
+  std::vector<std::vector<double>>& values() { return values_; }
+
+ private:
+  int axes_;
+  int decimate_;
+  double period_s_;
+  std::vector<std::string> columns_, header_;
+  std::vector<std::vector<double>> values_;
 };
 
 py::dict run(const std::string& path, const std::string& machine, const py::dict& kw) {
@@ -139,10 +164,7 @@ py::dict run(const std::string& path, const std::string& machine, const py::dict
   opts.save_parameters = true;  // as `gmotion run`: written once, after the run
 
   gm::setup::ProgramInput program(path);
-  ScratchTrace scratch;
   o.program_name = program.name();
-  o.trace_path = scratch.path;
-  o.trace_format = gm::TraceFormat::Binary;
 
   std::vector<std::string> columns;
   std::vector<std::vector<double>> values;
@@ -152,7 +174,10 @@ py::dict run(const std::string& path, const std::string& machine, const py::dict
   gm::RunStatus st = gm::RunStatus::Working;
   {
     py::gil_scoped_release unlocked;
+    std::optional<ColumnCollector> collector;  // outlives the run, whose thread fills it
     gm::Run r(std::move(o), program.rewind(), opts);
+    collector.emplace(r.trace_meta());
+    r.add_sink(*collector);
     while ((st = r.advance()) == gm::RunStatus::Working) {
     }
     summary_json = r.summary().json();
@@ -160,14 +185,9 @@ py::dict run(const std::string& path, const std::string& machine, const py::dict
     if (st == gm::RunStatus::Unsettled) unsettled = r.unsettled_reason();
     if (r.tolerance().exceeded())
       over_tolerance = r.tolerance().cutting().over + r.tolerance().rapids().over;
-    // The run has finished and closed its trace: read it back into one vector per column.
-    gm::TraceReader reader(scratch.path);
-    columns = reader.columns();
-    header = reader.header();
-    values.resize(columns.size());
-    std::vector<double> row;
-    while (reader.next(row))
-      for (std::size_t c = 0; c < row.size(); ++c) values[c].push_back(row[c]);
+    columns = collector->columns();
+    header = collector->header();
+    values = std::move(collector->values());
   }
   if (settings.check_tolerance && over_tolerance > 0)
     throw gm::InputError(

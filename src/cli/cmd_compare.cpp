@@ -5,9 +5,9 @@
 #include "cli/commands.hpp"
 #include "cli/settings_flags.hpp"
 #include "common/status.hpp"
+#include "measure/run_summary.hpp"
 #include "pipeline/run.hpp"
 #include "setup/program_input.hpp"
-#include "trace/run_summary.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>

@@ -78,12 +78,11 @@ void add_report(CLI::App& app, Context& ctx) {
     validate_run_flags(flags->run);
     std::unique_ptr<report::ReportCollector> collector;
     RunHooks hooks;
-    hooks.sample = [&collector](const Run& run) {
-      if (!collector) collector = std::make_unique<report::ReportCollector>(run.config().machine);
-      collector->add(run.last(), run.pipeline().started_motions());
+    hooks.started = [&collector](Run& run) {
+      collector = std::make_unique<report::ReportCollector>(run.config().machine);
+      run.add_sink(*collector);  // fed block by block on the run's consumer thread
     };
     hooks.finished = [&](ProgramInput& program, const Run& run) {
-      if (!collector) collector = std::make_unique<report::ReportCollector>(run.config().machine);
       write_page(*flags, program, run, *collector);
     };
     ctx.exit_code = run_with_flags(flags->run, ctx, hooks);

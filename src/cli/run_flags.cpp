@@ -46,17 +46,13 @@ int run(const RunFlags& f, std::unique_ptr<Run>& run_out, const RunHooks& hooks)
       fmt::print(stderr, "\r{}: t = {:.1f} s, line {}   ", name, r.t_s, r.line);
     };
   o.interrupted = &g_interrupted;
-  // A hook reads every sample's contour error in step(), so the run measures it there.
-  if (hooks.sample) o.consumer_thread = false;
   run_out = std::make_unique<Run>(std::move(o), program.rewind(), opts);
   Run& run = *run_out;
+  if (hooks.started) hooks.started(run);
 
   RunStatus st;
-  if (hooks.sample)
-    while ((st = run.step()) == RunStatus::Working) hooks.sample(run);
-  else
-    while ((st = run.advance()) == RunStatus::Working) {
-    }
+  while ((st = run.advance()) == RunStatus::Working) {
+  }
   if (run.progress_shown()) fmt::print(stderr, "\n");
   if (hooks.finished) hooks.finished(program, run);
 

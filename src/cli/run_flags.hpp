@@ -32,9 +32,8 @@ struct RunFlags {
 
 /// What a caller of run_with_flags() sees besides the printed output (`report` uses both).
 struct RunHooks {
-  /// Called after every produced sample with the run (its last() complete: the run then
-  /// measures the contour on its own thread).
-  std::function<void(const Run&)> sample;
+  /// Called once the run is set up, before its first sample: the place to add_sink().
+  std::function<void(Run&)> started;
   /// Called once the run has ended (finished or unsettled), before the summary is printed,
   /// with the program (rewind() it to read it again).
   std::function<void(ProgramInput&, const Run&)> finished;

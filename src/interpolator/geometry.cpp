@@ -11,14 +11,6 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-double segment_distance_mm(const Vec3& a, const Vec3& b, const Vec3& p) {
-  const Vec3 d = b - a;
-  const double len2 = d.squaredNorm();
-  double t = len2 > 0 ? (p - a).dot(d) / len2 : 0.0;
-  t = std::clamp(t, 0.0, 1.0);
-  return (a + t * d - p).norm();
-}
-
 }  // namespace
 
 PlaneAxes plane_axes(Plane p) {
@@ -158,38 +150,6 @@ AxisVec MotionGeometry::tangent_at_fraction(double u) const {
 
 double MotionGeometry::radial_deviation_mm(const Vec3& p_mm) const {
   return std::hypot(p_mm[ax.a] - center_mm[ax.a], p_mm[ax.b] - center_mm[ax.b]) - r0_mm;
-}
-
-void MotionGeometry::distance(const Vec3& p_mm, double& dist_mm, double& signed_mm) const {
-  if (kind != MotionKind::Arc) {
-    dist_mm = signed_mm = segment_distance_mm(start_mm.head<3>(), end_mm.head<3>(), p_mm);
-    return;
-  }
-  const double dca = p_mm[ax.a] - center_mm[ax.a];
-  const double dcb = p_mm[ax.b] - center_mm[ax.b];
-  const double turn = std::fabs(sweep_rad);
-  if (turn < kTwoPi) {
-    // Is p inside the swept sector? Turning from the start ray towards p, and from p towards
-    // the end ray, in the direction of motion (cross products, no angles): for a sweep up to π
-    // both turns are positive; for more, p is outside only if it lies in the complementary
-    // sector (both turns negative).
-    const double sign = sweep_rad > 0.0 ? 1.0 : -1.0;
-    const double to_p = sign * (s_a * dcb - s_b * dca);
-    const double p_to_end = sign * (dca * e_b - dcb * e_a);
-    const bool inside = turn > std::numbers::pi ? !(to_p < 0.0 && p_to_end < 0.0)
-                                                : (to_p >= 0.0 && p_to_end >= 0.0);
-    if (!inside) {
-      // Beyond the arc's ends: the nearest point of this motion is an end point.
-      dist_mm = signed_mm =
-          std::min((p_mm - start_mm.head<3>()).norm(), (p_mm - end_mm.head<3>()).norm());
-      return;
-    }
-  }
-  const double radial = std::hypot(dca, dcb) - r0_mm;
-  // Axial deviation from the helix is bounded by the lead; for planar arcs it is exact.
-  const double axial = planar ? p_mm[ax.n] - start_mm[ax.n] : 0.0;
-  dist_mm = std::hypot(radial, axial);
-  signed_mm = axial == 0.0 ? radial : std::copysign(dist_mm, radial);
 }
 
 }  // namespace gm

@@ -6,6 +6,10 @@
 #include "common/axis.hpp"
 #include "interp/canon.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
 namespace gm {
 
 /// A point in X, Y and Z: what the contour error is measured in.
@@ -29,6 +33,25 @@ double arc_sweep_rad(const Motion& m);
 /// segment in degrees; for arcs the XYZ helix over the mean of the start and end radii, extra
 /// turns included. Other axes move in proportion.
 double motion_length_mm(const Motion& m);
+
+/// A segment in X, Y and Z with its difference and squared length formed once.
+struct Segment {
+  Vec3 a = Vec3::Zero();  ///< start
+  Vec3 d = Vec3::Zero();  ///< end − start
+  double len2 = 0.0;      ///< |end − start|²
+  static Segment of(const Vec3& start, const Vec3& end) {
+    Segment s;
+    s.a = start;
+    s.d = end - start;
+    s.len2 = s.d.squaredNorm();
+    return s;
+  }
+  /// Distance from `p` to the segment.
+  double distance(const Vec3& p) const {
+    const double t = std::clamp(len2 > 0 ? (p - a).dot(d) / len2 : 0.0, 0.0, 1.0);
+    return (a + t * d - p).norm();
+  }
+};
 
 /// A motion prepared for evaluation: plain data, built once per block.
 struct MotionGeometry {
@@ -69,16 +92,62 @@ struct MotionGeometry {
   /// Unit tangent at path fraction `u` in [0, 1].
   AxisVec tangent_at_fraction(double u) const;
 
+  /// The XYZ segment from start to end (lines and rapids), for distance().
+  Segment segment() const { return Segment::of(start_mm.head<3>(), end_mm.head<3>()); }
   /// Distance from `p_mm` to the motion. Lines: to the segment. Arcs: when p lies in the swept
   /// sector (or the arc is a full turn or more), the radial deviation |p−c|−r0 in the plane
   /// combined with the axial offset from a planar arc (a helix counts the radial part only);
   /// otherwise the distance to the nearer end point. `signed_mm` carries the sign of the radial
   /// deviation (negative = inside) on arcs; on lines it equals `dist_mm`.
   /// Measured in X, Y and Z only (the rotary and U V W axes report their own following error).
-  void distance(const Vec3& p_mm, double& dist_mm, double& signed_mm) const;
+  void distance(const Vec3& p_mm, double& dist_mm, double& signed_mm) const {
+    distance(segment(), p_mm, dist_mm, signed_mm);
+  }
+  /// distance() with segment() formed beforehand (the contour meter keeps it per block).
+  [[gnu::always_inline]] inline void distance(const Segment& seg, const Vec3& p_mm, double& dist_mm,
+                                              double& signed_mm) const;
   /// Signed radial deviation |p−c|−r0 of `p_mm` in the arc's plane (mm); arcs only.
   double radial_deviation_mm(const Vec3& p_mm) const;
 };
+
+inline void MotionGeometry::distance(const Segment& seg, const Vec3& p_mm, double& dist_mm,
+                                     double& signed_mm) const {
+  if (kind != MotionKind::Arc) {
+    dist_mm = signed_mm = seg.distance(p_mm);
+    return;
+  }
+  const double dca = p_mm[ax.a] - center_mm[ax.a];
+  const double dcb = p_mm[ax.b] - center_mm[ax.b];
+  const double turn = std::fabs(sweep_rad);
+  if (turn < 2.0 * std::numbers::pi) {
+    // Is p inside the swept sector? Turning from the start ray towards p, and from p towards
+    // the end ray, in the direction of motion (cross products, no angles): for a sweep up to π
+    // both turns are positive; for more, p is outside only if it lies in the complementary
+    // sector (both turns negative).
+    const double sign = sweep_rad > 0.0 ? 1.0 : -1.0;
+    const double to_p = sign * (s_a * dcb - s_b * dca);
+    const double p_to_end = sign * (dca * e_b - dcb * e_a);
+    const bool inside = turn > std::numbers::pi ? !(to_p < 0.0 && p_to_end < 0.0)
+                                                : (to_p >= 0.0 && p_to_end >= 0.0);
+    if (!inside) {
+      // Beyond the arc's ends: the nearest point of this motion is an end point.
+      dist_mm = signed_mm =
+          std::min((p_mm - start_mm.head<3>()).norm(), (p_mm - end_mm.head<3>()).norm());
+      return;
+    }
+  }
+  const double radial = std::hypot(dca, dcb) - r0_mm;
+  // Axial deviation from the helix is bounded by the lead; for planar arcs it is exact.
+  const double axial = planar ? p_mm[ax.n] - start_mm[ax.n] : 0.0;
+  if (axial == 0.0) {
+    // hypot(x, ±0) is |x| exactly (C Annex F.10.4.3): the call is skipped, not approximated.
+    dist_mm = std::fabs(radial);
+    signed_mm = radial;
+    return;
+  }
+  dist_mm = std::hypot(radial, axial);
+  signed_mm = std::copysign(dist_mm, radial);
+}
 
 /// The interpolator's name for it.
 using BlockGeometry = MotionGeometry;

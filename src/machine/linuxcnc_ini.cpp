@@ -109,7 +109,6 @@ class IniFile {
     const auto k = s->second.find(key);
     return k == s->second.end() ? nullptr : &k->second;
   }
-  bool has_section(const std::string& section) const { return sections_.count(section) != 0; }
 
   /// A number, or nullopt when absent; throws naming the key when it is not one.
   std::optional<double> number(const std::string& section, const std::string& key) const {

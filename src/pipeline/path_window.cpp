@@ -10,47 +10,8 @@ namespace gm {
 namespace {
 
 constexpr std::int64_t kOngoing = std::numeric_limits<std::int64_t>::max();
-constexpr double kTwoPi = 2.0 * std::numbers::pi;  // as geometry.cpp
 
 }  // namespace
-
-__attribute__((always_inline)) inline void PathWindow::distance(const Entry& e, const Vec3& p_mm,
-                                                                double& dist_mm,
-                                                                double& signed_mm) {
-  const MotionGeometry& g = e.geometry;
-  if (g.kind != MotionKind::Arc) {
-    // segment_distance_mm(start, end, p) with d, |d|² formed once per block.
-    double t = e.seg_len2 > 0 ? (p_mm - e.seg_a).dot(e.seg_d) / e.seg_len2 : 0.0;
-    t = std::clamp(t, 0.0, 1.0);
-    dist_mm = signed_mm = (e.seg_a + t * e.seg_d - p_mm).norm();
-    return;
-  }
-  const double dca = p_mm[g.ax.a] - g.center_mm[g.ax.a];
-  const double dcb = p_mm[g.ax.b] - g.center_mm[g.ax.b];
-  const double turn = std::fabs(g.sweep_rad);
-  if (turn < kTwoPi) {
-    const double sign = g.sweep_rad > 0.0 ? 1.0 : -1.0;
-    const double to_p = sign * (g.s_a * dcb - g.s_b * dca);
-    const double p_to_end = sign * (dca * g.e_b - dcb * g.e_a);
-    const bool inside = turn > std::numbers::pi ? !(to_p < 0.0 && p_to_end < 0.0)
-                                                : (to_p >= 0.0 && p_to_end >= 0.0);
-    if (!inside) {
-      dist_mm = signed_mm =
-          std::min((p_mm - g.start_mm.head<3>()).norm(), (p_mm - g.end_mm.head<3>()).norm());
-      return;
-    }
-  }
-  const double radial = std::hypot(dca, dcb) - g.r0_mm;
-  const double axial = g.planar ? p_mm[g.ax.n] - g.start_mm[g.ax.n] : 0.0;
-  if (axial == 0.0) {
-    // hypot(x, ±0) is |x| exactly (C Annex F.10.4.3): the call is skipped, not approximated.
-    dist_mm = std::fabs(radial);
-    signed_mm = radial;
-    return;
-  }
-  dist_mm = std::hypot(radial, axial);
-  signed_mm = std::copysign(dist_mm, radial);
-}
 
 void PathWindow::grow() {
   std::vector<Entry> bigger(2 * ring_.size());
@@ -67,10 +28,7 @@ void PathWindow::push(const Motion& m, std::int64_t k) {
     // The oldest block is about to be overwritten: keep it if it can still be nearest.
     const Entry& oldest = at(count_ - 1);
     if (oldest.last_sample == kOngoing || k - oldest.last_sample <= lag_samples_) {
-      if (capacity() < kMaxCapacity)
-        grow();
-      else
-        ++dropped_in_lag_;
+      if (capacity() < kMaxCapacity) grow();  // past the cap it is dropped
     }
   }
   head_ = (head_ + 1) & (capacity() - 1);
@@ -100,10 +58,7 @@ void PathWindow::push(const Motion& m, std::int64_t k) {
   } else {
     e.sphere_c_mm = 0.5 * (m.start_mm.head<3>() + m.end_mm.head<3>());
     e.sphere_r_mm = 0.5 * Vec3(m.end_mm.head<3>() - m.start_mm.head<3>()).norm();
-    // As segment_distance_mm forms them from MotionGeometry's start and end.
-    e.seg_a = e.geometry.start_mm.head<3>();
-    e.seg_d = Vec3(e.geometry.end_mm.head<3>()) - e.seg_a;
-    e.seg_len2 = e.seg_d.squaredNorm();
+    e.seg = e.geometry.segment();
   }
   e.margin_mm = 1e-9 + 1e-12 * (std::max(e.sphere_r_mm, 0.0) + e.sphere_c_mm.cwiseAbs().maxCoeff());
   if (count_ < capacity()) ++count_;
@@ -113,7 +68,8 @@ void PathWindow::push(const Motion& m, std::int64_t k) {
 
 double PathWindow::only_block(const Vec3& p_mm) {
   double dist = 0.0, signed_dist = 0.0;
-  distance(at(0), p_mm, dist, signed_dist);
+  const Entry& e = at(0);
+  e.geometry.distance(e.seg, p_mm, dist, signed_dist);
   // As search(): a NaN or infinite distance is never taken (0, and no hint).
   const bool taken = dist < std::numeric_limits<double>::infinity();
   hint_age_ = taken ? 0 : -1;
@@ -134,7 +90,8 @@ double PathWindow::search(const Vec3& p_mm, std::int64_t k) {
   int best_age = -1;
   auto consider = [&](int age) {
     double dist = 0.0, signed_dist = 0.0;
-    distance(at(age), p_mm, dist, signed_dist);
+    const Entry& e = at(age);
+    e.geometry.distance(e.seg, p_mm, dist, signed_dist);
     if (dist < best || (dist == best && age < best_age)) {
       best = dist;
       best_signed = signed_dist;

@@ -36,7 +36,6 @@ class PathWindow {
   /// Blocks the ring can hold now.
   int capacity() const { return static_cast<int>(ring_.size()); }
   /// Blocks dropped while still within the lag (only past kMaxCapacity blocks in the lag).
-  std::int64_t dropped_in_lag() const { return dropped_in_lag_; }
 
   /// Records that `m` became the current block at sample `k`.
   void push(const Motion& m, std::int64_t k);
@@ -70,22 +69,15 @@ class PathWindow {
     Vec3 sphere_c_mm = Vec3::Zero();  ///< a sphere holding every point the distance is to
     double sphere_r_mm = -1.0;        ///< < 0: no bound (helix: the distance is radial only)
     double margin_mm = 0.0;           ///< slack for rounding in the bound test
-    // Lines and rapids: the segment as segment_distance_mm (geometry.cpp) forms it per call.
-    Vec3 seg_a = Vec3::Zero();  ///< start (X, Y, Z)
-    Vec3 seg_d = Vec3::Zero();  ///< end − start
-    double seg_len2 = 0.0;      ///< |end − start|²
+    Segment seg;  ///< lines and rapids: geometry.segment(), formed once per block
   };
 
   const Entry& at(int age) const { return ring_[static_cast<std::size_t>((head_ - age) & mask_)]; }
-  /// MotionGeometry::distance with the entry's precomputed parts: the same operations in the
-  /// same order, so the same results (only hypot(x, 0), which is |x| exactly, is not called).
-  static void distance(const Entry& e, const Vec3& p_mm, double& dist_mm, double& signed_mm);
   double only_block(const Vec3& p_mm);              ///< contour_error_mm, a window of one
   double search(const Vec3& p_mm, std::int64_t k);  ///< contour_error_mm, any window
   void grow();  ///< doubles the ring, keeping the entries in age order
 
   std::vector<Entry> ring_;
-  std::int64_t dropped_in_lag_ = 0;
   int count_ = 0;
   int mask_;      ///< capacity − 1
   int head_ = 0;  ///< index of the newest entry

@@ -56,7 +56,6 @@ Pipeline::Pipeline(const RunConfig& cfg, CanonSource& source)
       axes_(cfg.machine.axis_count()),
       lag_samples_(static_cast<std::int64_t>(taps_.integer.size()) +
                    (cfg.servo ? servo_lag_samples(cfg.machine) : 0)),
-      meter_(contour_meter()),
       in_blu_(AxisBlu::Zero()),
       ref_blu_(AxisBlu::Zero()),
       last_cmd_blu_(AxisBlu::Zero()) {
@@ -73,7 +72,6 @@ Pipeline::Pipeline(const RunConfig& cfg, CanonSource& source)
     own_accdec_.push_back({a, FirAccDec(t, AxisBlu::Zero(), FirStructure::Auto, 1)});
   }
   cmd_.pos_blu = AxisBlu::Zero();
-  step_ = with_axis_count(axes_, [](auto n) { return &Pipeline::step_n<decltype(n)::value>; });
 }
 
 void Pipeline::own_accdec_rows(SampleBlock& b, int first, int count) {
@@ -197,20 +195,7 @@ void Pipeline::stages_n(SampleBlock& b, int first, int count) {
   unstaged_ -= count;
 }
 
-template <int N>
-PipelineStatus Pipeline::step_n(const OverrideInput& ovr, SampleRecord& out) {
-  one_.reset(k_);
-  PipelineStatus st = command_n<N>(ovr, one_);
-  if (st == PipelineStatus::Flush) st = command_n<N>(ovr, one_);  // not reached: one row a call
-  if (st != PipelineStatus::Working) return st;
-  stages_n<N>(one_, 0, 1);
-  one_.record<N>(0, cfg_.machine.period_s, out);
-  if (!cfg_.defer_contour) meter_.measure(out, started_);
-  return PipelineStatus::Working;
-}
-
 #define GM_PIPELINE_STEP_N(N)                                                               \
-  template PipelineStatus Pipeline::step_n<N>(const OverrideInput& ovr, SampleRecord& out); \
   template PipelineStatus Pipeline::command_n<N>(const OverrideInput& ovr, SampleBlock& b); \
   template void Pipeline::stages_n<N>(SampleBlock & b, int first, int count);
 GM_FOR_EACH_AXIS_COUNT(GM_PIPELINE_STEP_N)

@@ -7,7 +7,7 @@
 #include "interp/canon.hpp"
 #include "interpolator/interpolator.hpp"
 #include "machine/machine.hpp"
-#include "pipeline/contour_meter.hpp"
+#include "measure/contour_meter.hpp"
 #include "pipeline/sample_block.hpp"
 #include "pipeline/sample_record.hpp"
 #include "servo/servo_bank.hpp"
@@ -25,10 +25,6 @@ struct RunConfig {
   Machine machine;
   bool servo = true;               ///< false: ideal axes, the encoder reads the Acc/Dec output
   double settle_timeout_s = 10.0;  ///< after the program ends, how long the axes may take to settle
-  /// false: step() measures the contour error itself. true: step() leaves contour_err_blu and
-  /// arc_*_dev_blu for a ContourMeter from contour_meter() fed every record with
-  /// started_motions(), e.g. on another thread (the same values, measured elsewhere).
-  bool defer_contour = false;
 };
 
 enum class PipelineStatus {
@@ -49,23 +45,13 @@ enum class PipelineStatus {
 ///     stage after stage.
 /// Once the program has ended, each settling row needs the stages of the rows before it
 /// (whether the axes have settled), so command_n asks for them (Flush) and the caller then takes
-/// one row at a time. step() is both calls for one sample.
+/// one row at a time. The contour is measured by the caller (a ContourMeter from contour_meter()
+/// over the staged rows: Run does it with the outputs).
 class Pipeline {
  public:
   /// `source` is pulled as the interpolator needs blocks. Throws gm::InputError on a bad
   /// machine (profile spec, τ not a multiple of T, ...).
   Pipeline(const RunConfig& cfg, CanonSource& source);
-
-  /// Advances one interpolation period T with override `ovr` and fills `out`; when the status
-  /// is not Working no sample was produced and `out` is left as it was.
-  PipelineStatus step(const OverrideInput& ovr, SampleRecord& out) {
-    return (this->*step_)(ovr, out);
-  }
-  /// step() for a machine of exactly N axes (axis_count()): only entries 0..N-1 of `out`'s
-  /// vectors are written (the rest keep what they had: 0 in a fresh record). Instantiated for
-  /// GM_FOR_EACH_AXIS_COUNT.
-  template <int N>
-  PipelineStatus step_n(const OverrideInput& ovr, SampleRecord& out);
 
   /// Interpolates row b.count of `b` (sample index k0 + count) with override `ovr` and counts it
   /// (Working); or, once the program has ended, a settling row, Finished, Unsettled, or Flush
@@ -89,13 +75,8 @@ class Pipeline {
   const Machine& machine() const { return cfg_.machine; }
   /// Programmed end point of the last motion block (BLU, rounded once).
   const AxisBlu& program_end_blu() const { return last_cmd_blu_; }
-  /// The motion blocks that became current in the last step(), in order (several when blocks
-  /// are shorter than a sample's travel); empty if none did. Valid until the next step().
-  std::span<const Motion> started_motions() const { return started_; }
-  /// The last of them (the block the sample ends in), nullptr if none started.
-  const Motion* started_motion() const { return started_.empty() ? nullptr : &started_.back(); }
-  /// A new meter set up for this pipeline's machine, filter and servo lag: with defer_contour,
-  /// feed it every record of step() with started_motions() to complete the records.
+  /// A new meter set up for this pipeline's machine, filter and servo lag: feed it the staged
+  /// rows (ContourMeter::measure_block) to fill their contour columns.
   ContourMeter contour_meter() const;
 
  private:
@@ -121,20 +102,15 @@ class Pipeline {
   int axes_;  ///< the machine's axis count (entries 0..axes_-1 of the per-axis vectors)
   std::optional<ServoBank> servo_;  ///< every axis's servo (with cfg_.servo)
   std::int64_t lag_samples_;  ///< Acc/Dec length + servo lag: how long a past block can be nearest
-  ContourMeter meter_;        ///< used unless defer_contour
   CommandSample cmd_{};
   AxisBlu in_blu_, ref_blu_, last_cmd_blu_;
   int unstaged_ = 0;  ///< rows commanded and not yet staged
-  SampleBlock one_;   ///< step()'s block of one row
-                      ///< table positions (BLU, continuous) at the sample instant
   std::int64_t k_ = 0;
   std::uint64_t seen_block_ = 0;
-  std::span<const Motion> started_;
+  std::span<const Motion> started_;  ///< the motions that became current in the last row
   bool program_done_ = false;
   std::int64_t done_k_ = 0;
   int quiet_samples_ = 0;
-  /// step_n for the machine's axis count, chosen once in the constructor.
-  PipelineStatus (Pipeline::*step_)(const OverrideInput&, SampleRecord&) = nullptr;
 };
 
 }  // namespace gm

@@ -34,7 +34,6 @@ bool realtime(const RunOptions& o) {
 // The consumer thread is worth it only with a second core, and never paces a real-time run.
 RunOptions with_thread_choice(RunOptions o) {
   o.consumer_thread = o.consumer_thread && !realtime(o) && std::thread::hardware_concurrency() >= 2;
-  o.config.defer_contour = true;  // Run measures the contour with the outputs (consume_rows)
   return o;
 }
 
@@ -58,47 +57,52 @@ std::unique_ptr<TolerancePlanner> make_planner(const Machine& m, bool servo, Can
 
 }  // namespace
 
-Run::Run(RunOptions options, CanonSource& source)
+Run::Run(RunOptions options, CanonSource& source) : Run(std::move(options), &source, nullptr, {}) {}
+
+Run::Run(RunOptions options, std::istream& program, InterpreterOptions opts)
+    : Run(std::move(options), nullptr, &program, std::move(opts)) {}
+
+Run::Run(RunOptions options, CanonSource* source, std::istream* program, InterpreterOptions opts)
     : options_(with_thread_choice(std::move(options))),
-      planner_(make_planner(options_.config.machine, options_.config.servo, source)),
+      stream_(program == nullptr ? nullptr
+                                 : std::make_unique<ProgramStream>(*program, options_.program_name,
+                                                                   stream_options(opts, options_))),
+      planner_(make_planner(options_.config.machine, options_.config.servo,
+                            source != nullptr ? *source : *stream_)),
       pipeline_(options_.config, *planner_),
       summary_(options_.config.machine),
-      tolerance_(options_.config.machine.contour_blu_mm(), encoder_allowance_mm(options_.config)),
+      tolerance_(options_.config.machine.contour_blu_mm(), encoder_allowance_mm(options_.config),
+                 options_.config.machine.period_s),
       player_(options_.schedule, options_.config.machine.period_s, options_.feed_override_pct,
               options_.rapid_override_pct) {
   init();
 }
 
-Run::Run(RunOptions options, std::istream& program, InterpreterOptions opts)
-    : options_(with_thread_choice(std::move(options))),
-      stream_(std::make_unique<ProgramStream>(program, options_.program_name,
-                                              stream_options(opts, options_))),
-      planner_(make_planner(options_.config.machine, options_.config.servo, *stream_)),
-      pipeline_(options_.config, *planner_),
-      summary_(options_.config.machine),
-      tolerance_(options_.config.machine.contour_blu_mm(), encoder_allowance_mm(options_.config)),
-      player_(options_.schedule, options_.config.machine.period_s, options_.feed_override_pct,
-              options_.rapid_override_pct) {
-  init();
+TraceMeta Run::trace_meta() const {
+  const RunOptions& o = options_;
+  TraceMeta meta;
+  meta.program = o.program_name;
+  meta.machine_name = o.config.machine.name;
+  meta.machine_source = o.config.machine.source;
+  meta.profile = o.config.machine.profile;
+  meta.taps = static_cast<int>(pipeline_.taps().integer.size());
+  meta.tau_s = o.config.machine.tau_s;
+  meta.period_s = o.config.machine.period_s;
+  meta.axes = o.config.machine.layout.letters();
+  meta.blu_mm = o.config.machine.blu_mm();
+  meta.servo = o.config.servo;
+  meta.decimate = o.decimate;
+  return meta;
 }
 
 void Run::init() {
   const RunOptions& o = options_;
+  sinks_ = {&summary_, &tolerance_};
   if (!o.trace_path.empty()) {
-    TraceMeta meta;
-    meta.program = o.program_name;
-    meta.machine_name = o.config.machine.name;
-    meta.machine_source = o.config.machine.source;
-    meta.profile = o.config.machine.profile;
-    meta.taps = static_cast<int>(pipeline_.taps().integer.size());
-    meta.tau_s = o.config.machine.tau_s;
-    meta.period_s = o.config.machine.period_s;
-    meta.axes = o.config.machine.layout.letters();
-    meta.blu_mm = o.config.machine.blu_mm();
-    meta.servo = o.config.servo;
-    meta.decimate = o.decimate;
+    TraceMeta meta = trace_meta();
     meta.status_line = o.keep_partial;
     trace_ = std::make_unique<TraceWriter>(o.trace_path, o.trace_format, meta);
+    sinks_.push_back(trace_.get());
   }
   if (realtime(o)) {
     live_ = std::make_unique<LiveOverride>(o.live_fd, o.config.machine.max_override * 100.0);
@@ -128,21 +132,17 @@ Run::~Run() = default;
 template <int N>
 void Run::consume_rows(SampleBlock& b, int first) {
   if (first >= b.count) return;
-  // Column by column: the contour of every row, then the tolerance, the summary and the trace
-  // over them.
+  // Column by column: the contour of every row, then the outputs over them.
   meter_->measure_block(b, first);
-  const double period_s = options_.config.machine.period_s;
-  tolerance_.add_block(b, first, period_s);
-  summary_.add_block(b, first);
-  auto record = [&](int i, SampleRecord& r) {
-    b.record<N>(i, period_s, r);
-    r.contour_err_blu = b.contour_err_blu[i];
-    r.arc_ref_dev_blu = b.arc_ref_dev_blu[i];
-    r.arc_enc_dev_blu = b.arc_enc_dev_blu[i];
-  };
-  if (trace_) trace_->write_block(b, first, period_s);  // read from the columns in place
+  for (BlockSink* sink : sinks_) sink->consume(b, first);
   // Without the consumer thread last() is the consumed row, contour fields included.
-  if (!queue_) record(b.count - 1, rec_);
+  if (!queue_) {
+    const int i = b.count - 1;
+    b.record<N>(i, options_.config.machine.period_s, rec_);
+    rec_.contour_err_blu = b.contour_err_blu[i];
+    rec_.arc_ref_dev_blu = b.arc_ref_dev_blu[i];
+    rec_.arc_enc_dev_blu = b.arc_enc_dev_blu[i];
+  }
 }
 
 template <int N>
@@ -185,23 +185,14 @@ RunStatus Run::fill_n(int max_rows) {
     const int row = b.count - 1;
     ++k_;
     line_ = b.line[row];
-    const double t_s = static_cast<double>(b.k0 + row) * o.config.machine.period_s;
-    if (o.interrupted != nullptr && *o.interrupted != 0)
-      stop = fmt::format("interrupted at t = {:.3f} s (line {}){}", t_s, line_,
-                         o.keep_partial ? "" : "; no trace was kept");
-    else if (o.max_time_s > 0 && t_s > o.max_time_s)
-      stop = fmt::format("run stopped at --max-time {} s (line {}, feed override {} %)",
-                         o.max_time_s, line_, player_.feed_percent());
-    else if ((b.events[row] & kEventHold) != 0 && !live_open_ && !player_.may_change())
-      stop = fmt::format(
-          "feed held at 0 % override at line {} (t = {:.3f} s) and nothing in the override "
-          "schedule resumes it",
-          line_, t_s);
+    stop = stop_rule(b, row);
     if (!stop.empty()) break;
     if (realtime_)
       std::this_thread::sleep_until(
           t0_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                    std::chrono::duration<double>(t_s + o.config.machine.period_s)));
+                    std::chrono::duration<double>(static_cast<double>(b.k0 + row) *
+                                                      o.config.machine.period_s +
+                                                  o.config.machine.period_s)));
     if (pipeline_.program_done()) break;  // one settling row at a time
     // Inside a move, while the override stays as it is, the rows that follow need none of the
     // above per row: the interpolator runs them as one span. (The player has seen the line the
@@ -212,20 +203,12 @@ RunStatus Run::fill_n(int max_rows) {
     if (span == 0) continue;
     const int r0 = b.count - span;
     k_ += span;
-    if (o.interrupted != nullptr && *o.interrupted != 0) {
-      b.count = r0 + 1;  // as if the signal came before the span's first row
-      stop = fmt::format("interrupted at t = {:.3f} s (line {}){}",
-                         static_cast<double>(b.k0 + r0) * o.config.machine.period_s, line_,
-                         o.keep_partial ? "" : "; no trace was kept");
-      break;
-    }
-    if (o.max_time_s > 0 &&
-        static_cast<double>(b.k0 + b.count - 1) * o.config.machine.period_s > o.max_time_s) {
+    // A rule broken in the span is broken first at its first row (an interrupt: as if the
+    // signal came before the span) or at the first row past the time limit.
+    if (!(stop = stop_rule(b, b.count - 1)).empty()) {
       int r = r0;
-      while (!(static_cast<double>(b.k0 + r) * o.config.machine.period_s > o.max_time_s)) ++r;
+      while ((stop = stop_rule(b, r)).empty()) ++r;
       b.count = r + 1;
-      stop = fmt::format("run stopped at --max-time {} s (line {}, feed override {} %)",
-                         o.max_time_s, line_, player_.feed_percent());
       break;
     }
   }
@@ -257,12 +240,28 @@ RunStatus Run::fill_n(int max_rows) {
   return RunStatus::Working;
 }
 
+std::string Run::stop_rule(const SampleBlock& b, int row) const {
+  const RunOptions& o = options_;
+  const double t_s = static_cast<double>(b.k0 + row) * o.config.machine.period_s;
+  if (o.interrupted != nullptr && *o.interrupted != 0)
+    return fmt::format("interrupted at t = {:.3f} s (line {}){}", t_s, line_,
+                       o.keep_partial ? "" : "; no trace was kept");
+  if (o.max_time_s > 0 && t_s > o.max_time_s)
+    return fmt::format("run stopped at --max-time {} s (line {}, feed override {} %)", o.max_time_s,
+                       line_, player_.feed_percent());
+  if ((b.events[row] & kEventHold) != 0 && !live_open_ && !player_.may_change())
+    return fmt::format(
+        "feed held at 0 % override at line {} (t = {:.3f} s) and nothing in the override "
+        "schedule resumes it",
+        line_, t_s);
+  return {};
+}
+
 void Run::finish(RunStatus status) {
   if (queue_) queue_->finish();
-  const bool complete = status == RunStatus::Finished;
-  summary_.finish(rec_, pipeline_.program_end_blu(), complete);
   // An unsettled run's trace is kept partial by the caller when asked for, else completed.
-  if (trace_ && (complete || !options_.keep_partial)) trace_->finish();
+  const RunEnd end{rec_, pipeline_.program_end_blu(), status == RunStatus::Finished};
+  for (BlockSink* sink : sinks_) sink->finish(end);
   if (recorder_) recorder_->finish();
 }
 

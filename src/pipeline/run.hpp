@@ -4,11 +4,13 @@
 
 #include "interp/canon.hpp"
 #include "interp/program.hpp"
+#include "measure/contour_meter.hpp"
+#include "measure/run_summary.hpp"
+#include "measure/tolerance_check.hpp"
 #include "override/override_schedule.hpp"
+#include "pipeline/block_sink.hpp"
 #include "pipeline/pipeline.hpp"
-#include "planner/tolerance_check.hpp"
 #include "planner/tolerance_planner.hpp"
-#include "trace/run_summary.hpp"
 #include "trace/trace_writer.hpp"
 
 #include <chrono>
@@ -19,6 +21,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace gm {
 
@@ -71,6 +74,10 @@ enum class RunStatus {
 /// both give the same samples and outputs. Nothing is allocated per sample. A failed step (stop
 /// rule, servo divergence, a write error) throws gm::InputError; with options.keep_partial call
 /// keep_partial(reason) then.
+///
+/// The outputs are BlockSinks: the contour is measured into each block, then the summary, the
+/// tolerance check, the trace and any sink added with add_sink() consume it, in that order, on
+/// the consumer thread.
 class Run {
  public:
   /// Pulls the canonical moves from `source`. Throws gm::InputError on a bad set-up (machine,
@@ -81,6 +88,13 @@ class Run {
   ~Run();
   Run(const Run&) = delete;
   Run& operator=(const Run&) = delete;
+
+  /// Hands every sample to `sink` too (after the run's own outputs), and ends it with the run.
+  /// Call before the first step() or advance(); `sink` must outlive the run's last call. It runs
+  /// on the consumer thread: read it after the run has ended.
+  void add_sink(BlockSink& sink) { sinks_.push_back(&sink); }
+  /// The header a trace of this run has (trace_header()), with decimate and no status line.
+  TraceMeta trace_meta() const;
 
   /// Advances one interpolation period T.
   RunStatus step() { return (this->*fill_)(1); }
@@ -110,7 +124,11 @@ class Run {
   std::optional<std::string> keep_partial(std::string_view reason) noexcept;
 
  private:
+  /// Both public constructors: the moves from `source`, or else interpreted from `program`.
+  Run(RunOptions options, CanonSource* source, std::istream* program, InterpreterOptions opts);
   void init();
+  /// The stop rule row `row` of `b` breaks, as its message; "" when none does.
+  std::string stop_rule(const SampleBlock& b, int row) const;
   /// Produces up to `max_rows` samples (at most to the end of the current block) for a machine
   /// of N axes: the pipeline's command_n<N> row by row, then its stages_n<N> over them.
   template <int N>
@@ -119,7 +137,8 @@ class Run {
   /// outputs before the error is rethrown.
   template <int N>
   void stage_rows(SampleBlock& b, int first);
-  /// Hands rows first.. of `b` to the outputs (on this thread: no consumer thread).
+  /// Measures the contour of rows first.. of `b` and hands them to the sinks (on the consumer
+  /// thread, or on this one when there is none).
   template <int N>
   void consume_rows(SampleBlock& b, int first);
   void finish(RunStatus status);
@@ -137,6 +156,7 @@ class Run {
   std::unique_ptr<OverrideRecorder> recorder_;
   std::unique_ptr<TraceWriter> trace_;
   std::optional<ContourMeter> meter_;   ///< measures the contour of every row (consume_rows)
+  std::vector<BlockSink*> sinks_;       ///< the outputs, in order: summary, tolerance, trace, added
   std::unique_ptr<SampleQueue> queue_;  ///< last: its thread uses the members above
   std::unique_ptr<SampleBlock> block_;  ///< the block filled without the consumer thread
   OverrideInput ovr_;

@@ -30,26 +30,4 @@ struct SampleRecord {
   double arc_enc_dev_blu = 0.0;
 };
 
-/// `to` = `from` for a machine of N axes: every field, but only entries 0..N-1 of the per-axis
-/// vectors (the rest of `to` keep what they had, 0 in a fresh record). The per-sample copy into
-/// the second thread's queue: 170 bytes for three axes instead of the whole 420-byte record.
-/// A field added to SampleRecord is added here.
-template <int N>
-inline void copy_sample(const SampleRecord& from, SampleRecord& to) {
-  to.k = from.k;
-  to.t_s = from.t_s;
-  to.line = from.line;
-  to.cmd_blu.head<N>() = from.cmd_blu.head<N>();
-  to.ref_blu.head<N>() = from.ref_blu.head<N>();
-  to.enc_blu.head<N>() = from.enc_blu.head<N>();
-  to.ferr_blu.head<N>() = from.ferr_blu.head<N>();
-  to.table_blu.head<N>() = from.table_blu.head<N>();
-  to.contour_err_blu = from.contour_err_blu;
-  to.feed_scale = from.feed_scale;
-  to.events = from.events;
-  to.settling = from.settling;
-  to.arc_ref_dev_blu = from.arc_ref_dev_blu;
-  to.arc_enc_dev_blu = from.arc_enc_dev_blu;
-}
-
 }  // namespace gm

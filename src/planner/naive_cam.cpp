@@ -57,7 +57,6 @@ bool NaiveCamMerger::next(Canon& out) {
     }
     const Motion* m = std::get_if<Motion>(&out);
     if (m == nullptr) return true;
-    ++moves_in_;
     if (!mergeable(*m)) {
       ++moves_out_;
       return true;
@@ -72,7 +71,6 @@ bool NaiveCamMerger::next(Canon& out) {
       break;
     }
     const Motion* m = std::get_if<Motion>(&scratch_);
-    if (m != nullptr) ++moves_in_;
     if (m != nullptr && mergeable(*m)) {
       if (extends(*m)) {
         vertices_.push_back(run_.end_mm);

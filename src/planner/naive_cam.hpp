@@ -23,8 +23,7 @@ class NaiveCamMerger : public CanonSource {
   explicit NaiveCamMerger(CanonSource& upstream, std::size_t max_run = 256)
       : upstream_(upstream), max_run_(max_run) {}
   bool next(Canon& out) override;
-  /// Moves read and moves handed on (equal when nothing was merged).
-  std::size_t moves_in() const { return moves_in_; }
+  /// Moves handed on.
   std::size_t moves_out() const { return moves_out_; }
 
  private:
@@ -40,7 +39,7 @@ class NaiveCamMerger : public CanonSource {
   std::deque<Canon> ready_;
   Canon scratch_;
   bool ended_ = false;
-  std::size_t moves_in_ = 0, moves_out_ = 0;
+  std::size_t moves_out_ = 0;
 };
 
 }  // namespace gm

@@ -67,6 +67,22 @@ void ReportCollector::add_motion(const Motion& m) {
   end_rapid_ = rapid;
 }
 
+void ReportCollector::consume(const SampleBlock& b, int first) {
+  std::size_t m = 0;
+  while (m < b.motions.size() && b.motion_row[m] < first) ++m;
+  with_axis_count(axes_, [&](auto n) {
+    for (int i = first; i < b.count; ++i) {
+      const std::size_t m0 = m;
+      while (m < b.motions.size() && b.motion_row[m] == i) ++m;
+      b.record<decltype(n)::value>(i, period_s_, row_);
+      row_.contour_err_blu = b.contour_err_blu[i];
+      row_.arc_ref_dev_blu = b.arc_ref_dev_blu[i];
+      row_.arc_enc_dev_blu = b.arc_enc_dev_blu[i];
+      add(row_, std::span<const Motion>(b.motions.data() + m0, m - m0));
+    }
+  });
+}
+
 void ReportCollector::add(const SampleRecord& s, std::span<const Motion> started) {
   for (const Motion& m : started) add_motion(m);
   if (first_) prev_ref_ = s.ref_blu;

@@ -4,6 +4,7 @@
 #include "common/axis.hpp"
 #include "interp/canon.hpp"
 #include "machine/machine.hpp"
+#include "pipeline/block_sink.hpp"
 #include "pipeline/sample_record.hpp"
 #include "report/adaptive_bins.hpp"
 #include "report/path_simplifier.hpp"
@@ -40,8 +41,8 @@ struct PathBin {
   void merge(const PathBin& later);
 };
 
-/// Feed every sample (and the motion it started, if any); read the bins at the end.
-class ReportCollector {
+/// A run's BlockSink (or fed every sample and the motions it started); read the bins at the end.
+class ReportCollector final : public BlockSink {
  public:
   /// At most `columns` time columns and `path_columns` path columns; the programmed path keeps
   /// at most `path_points` points.
@@ -49,6 +50,9 @@ class ReportCollector {
                            std::size_t path_columns = 8192, std::size_t path_points = 50000);
 
   void add(const SampleRecord& s, std::span<const Motion> started);
+  /// add() of rows first..count-1 of `b` (contour columns filled), each with the motions
+  /// started in it.
+  void consume(const SampleBlock& b, int first) override;
 
   const AdaptiveBins<SeriesBin>& series() const { return series_; }
   const AdaptiveBins<PathBin>& path() const { return path_; }
@@ -72,6 +76,7 @@ class ReportCollector {
   AdaptiveBins<SeriesBin> series_;
   AdaptiveBins<PathBin> path_;
   PathSimplifier programmed_;
+  SampleRecord row_;  ///< consume()'s record of a row
   bool first_ = true;
   AxisBlu prev_ref_ = AxisBlu::Zero();
   MachineVec prev_v_ = MachineVec::Zero(), prev_a_ = MachineVec::Zero();

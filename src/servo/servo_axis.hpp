@@ -51,7 +51,6 @@ class ServoAxis {
   double drive_command() const { return u_; }  ///< last drive command, drive units (V)
   double velocity_blu_s() const { return plant_.velocity_blu_s(); }  ///< motor velocity now
   bool saturated() const { return saturated_; }  ///< any servo sample of the last step saturated
-  std::int64_t encoder_blu() const { return count_now(); }  ///< motor encoder count now
   double motor_blu() const { return static_cast<double>(start_blu_) + plant_.position_blu(); }
   /// Table ("actual") position, BLU, continuous: the motor position minus the lost motion.
   /// Equal to motor_blu() when backlash_blu = 0. A DBB/linear scale would measure this.

@@ -51,7 +51,7 @@ SweepRow run_one(const SweepSpec& s, const RunPoint& r) {
     RunStatus st;
     while ((st = run.advance()) == RunStatus::Working) {
     }
-    fill_from_summary_json(row, run.summary().json(), m);
+    fill_from_summary(row, run.summary(), m);
     if (st != RunStatus::Finished) row.status = "unsettled", row.error = run.unsettled_reason();
   } catch (const std::exception& e) {
     row.status = "error";

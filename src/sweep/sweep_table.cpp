@@ -1,4 +1,5 @@
-// Sweep rows: read from the summary JSON (local runs and merged cluster runs alike), written out.
+// Sweep rows: read from a run's summary (local) or its summary JSON (merged cluster runs), written
+// out.
 #include "sweep/sweep_table.hpp"
 
 #include <fmt/format.h>
@@ -66,6 +67,31 @@ SweepRow row_setup(const SweepSpec& s, const RunPoint& r, const Machine& m) {
   row.period_s = m.period_s;
   row.override_ = s.overrides[r.override_].label();
   return row;
+}
+
+namespace {
+// A summary value as --summary-json prints it (9 significant digits; null for NaN and infinity)
+// and merge() reads it back.
+double as_printed(double v) {
+  return std::isfinite(v) ? std::strtod(fmt::format("{:.9g}", v).c_str(), nullptr) : std::nan("");
+}
+}  // namespace
+
+void fill_from_summary(SweepRow& row, const RunSummary& summary, const Machine& m) {
+  row.samples = summary.samples;
+  row.cycle_time_s = as_printed(summary.cycle_time_s);
+  row.program_time_s = as_printed(summary.program_time_s);
+  row.contour_max_mm = as_printed(summary.contour_err_blu.value) * m.contour_blu_mm();
+  row.contour_max_line = summary.contour_err_blu.line;
+  row.contour_rms_mm = as_printed(summary.contour_rms_blu) * m.contour_blu_mm();
+  row.following_max_mm = 0.0;
+  for (int a = 0; a < m.axis_count(); ++a) {
+    const auto i = static_cast<std::size_t>(a);
+    row.following_max_mm =
+        std::max(row.following_max_mm,
+                 as_printed(summary.axes[i].following_err_blu.value) * m.axes[i].blu_mm);
+  }
+  row.status = summary.settled ? "ok" : "unsettled";
 }
 
 bool fill_from_summary_json(SweepRow& row, const std::string& j, const Machine& m) {

@@ -1,6 +1,7 @@
-// The sweep's table: one row per run, filled from the run's summary JSON; written as CSV or JSON.
+// The sweep's table: one row per run, filled from the run's summary; written as CSV or JSON.
 #pragma once
 
+#include "measure/run_summary.hpp"
 #include "sweep/sweep_spec.hpp"
 
 #include <cstdint>
@@ -28,8 +29,11 @@ struct SweepRow {
 /// The row of run `r` with its set-up filled (machine after profile and τ), values zero.
 SweepRow row_setup(const SweepSpec& s, const RunPoint& r, const Machine& m);
 
-/// Fills the row's values from a `--summary-json` text of a run on machine `m`; false when the
-/// text lacks a field.
+/// Fills the row's values from the summary of a run on machine `m` (a local run), each value as
+/// `--summary-json` prints it, so that the row is the one merge() reads from that file.
+void fill_from_summary(SweepRow& row, const RunSummary& summary, const Machine& m);
+/// Fills the row's values from a `--summary-json` text of a run on machine `m` (a cluster run,
+/// merged); false when the text lacks a field.
 bool fill_from_summary_json(SweepRow& row, const std::string& json, const Machine& m);
 
 /// The table as CSV (header line, one line per row; texts quoted when they need it).

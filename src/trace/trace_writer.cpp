@@ -91,6 +91,7 @@ TraceWriter::TraceWriter(std::string path, TraceFormat format, const TraceMeta& 
     : path_(std::move(path)),
       format_(format),
       decimate_(meta.decimate < 1 ? 1 : meta.decimate),
+      period_s_(meta.period_s),
       status_line_(meta.status_line),
       axes_(static_cast<int>(meta.axes.size())),
       binary_row_(binary_row_bytes(axes_)) {
@@ -137,18 +138,6 @@ TraceWriter::~TraceWriter() {
     if (!direct_)
       std::remove(tmp_path_.c_str());  // incomplete: leave nothing that looks like a trace
   }
-}
-
-void TraceWriter::write(const SampleRecord& s) {
-  if (s.k % decimate_ != 0) return;
-  const std::size_t at = buf_.size();
-  buf_.resize(at + kMaxRowBytes);
-  char* const p = buf_.data() + at;
-  char* const end =
-      format_ == TraceFormat::Csv ? put_csv_row(p, s, axes_) : put_binary_row(p, s, axes_);
-  buf_.resize(static_cast<std::size_t>(end - buf_.data()));
-  ++rows_;
-  if (buf_.size() >= kFlushBytes) flush_buffer();
 }
 
 void TraceWriter::write_block(const SampleBlock& b, int first, double period_s) {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "common/axis.hpp"
+#include "pipeline/block_sink.hpp"
 #include "pipeline/sample_record.hpp"
 
 #include <fmt/format.h>
@@ -54,25 +55,29 @@ std::string trace_status_line(std::string_view text);
 /// keep_partial() removes its partial file. Throws gm::InputError when the path cannot be opened
 /// or written (the message names it and the reason), and when meta.status_line is asked for a
 /// trace written in place (see written_in_place()).
-class TraceWriter {
+class TraceWriter final : public BlockSink {
  public:
   TraceWriter(std::string path, TraceFormat format, const TraceMeta& meta);
   ~TraceWriter();
   TraceWriter(const TraceWriter&) = delete;
   TraceWriter& operator=(const TraceWriter&) = delete;
 
-  /// Appends sample `s` if it falls on the decimation grid (k % decimate == 0). No allocation
-  /// once the buffer has grown to its working size.
-  void write(const SampleRecord& s);
-  /// Appends rows first..count-1 of block `b` that fall on the decimation grid, the same bytes as
-  /// write() of each row's SampleRecord (SampleBlock::record() and the contour columns), read from
-  /// the block's columns in place; `period_s` is the T of record(). No allocation once the buffer
-  /// has grown to its working size.
+  /// Appends rows first..count-1 of block `b` that fall on the decimation grid
+  /// (k % decimate == 0), each row's SampleRecord (SampleBlock::record() and the contour columns)
+  /// read from the block's columns in place; `period_s` is the T of record(). No allocation once
+  /// the buffer has grown to its working size.
   void write_block(const SampleBlock& b, int first, double period_s);
+  /// write_block() with the header's period.
+  void consume(const SampleBlock& b, int first) override { write_block(b, first, period_s_); }
   /// Flushes, closes and renames the file into place; with a status line, first overwrites it
   /// with "complete". Throws gm::InputError on a write error; with a status line the file then
   /// stays open, for keep_partial().
   void finish();
+  /// The end of a run: finish(), unless the run is unsettled and the trace has a status line
+  /// (the caller keeps it partial then, keep_partial()).
+  void finish(const RunEnd& end) override {
+    if (end.settled || !status_line_) finish();
+  }
   /// For a failed run, with meta.status_line and before finish() has succeeded: writes out the rows
   /// written so far, overwrites the status line with "partial: REASON" and closes the file, which
   /// stays at `path.partial` and ends after its last whole row. Returns that path, or "" when not
@@ -112,6 +117,7 @@ class TraceWriter {
   std::string path_, tmp_path_;
   TraceFormat format_;
   int decimate_;
+  double period_s_;
   std::FILE* file_ = nullptr;
   bool to_stdout_ = false;
   bool direct_ = false;             ///< an existing device or FIFO: written in place

@@ -11,6 +11,7 @@
 #include "pipeline/pipeline.hpp"
 #include "servo/servo_axis.hpp"
 #include "servo/servo_bank.hpp"
+#include "support/sample_stepper.hpp"
 #include "trace/trace_writer.hpp"
 
 #include <benchmark/benchmark.h>
@@ -320,7 +321,7 @@ void BM_Pipeline(benchmark::State& state) {
     gm::RunConfig cfg;
     cfg.machine = m;
     cfg.servo = state.range(0) != 0;
-    gm::Pipeline p(cfg, src);
+    gmtest::SampleStepper p(cfg, src);
     gm::SampleRecord r;
     while (p.step(gm::OverrideInput{}, r) == gm::PipelineStatus::Working) ++samples;
   }
@@ -332,16 +333,28 @@ void BM_TraceCsv(benchmark::State& state) {
   gm::TraceMeta meta;
   meta.period_s = 0.004;
   gm::TraceWriter w("/dev/null", gm::TraceFormat::Csv, meta);
-  gm::SampleRecord s;
-  s.ref_blu = gm::blu3(123456, -7890, 12);
+  // Blocks of rows as a run hands them on: x_cmd climbing, the other columns constant.
+  auto b = std::make_unique<gm::SampleBlock>();
+  b->reset(1);
+  b->count = gm::kBlockSamples;
+  for (int i = 0; i < gm::kBlockSamples; ++i) {
+    for (int a = 0; a < 3; ++a) b->cmd_blu.v[a][i] = b->enc_blu.v[a][i] = 0;
+    b->cmd_blu.v[0][i] = 40 * (i + 1);
+    b->cmd_blu.v[1][i] = -3 * (i + 1);
+    b->cmd_blu.v[2][i] = i + 1;
+    b->ref_blu.v[0][i] = 123456;
+    b->ref_blu.v[1][i] = -7890;
+    b->ref_blu.v[2][i] = 12;
+    b->line[i] = 0;
+    b->feed_scale[i] = 1.0;
+    b->contour_err_blu[i] = 0.0;
+  }
   for (auto _ : state) {
-    ++s.k;
-    s.t_s = static_cast<double>(s.k) * 0.004;
-    s.cmd_blu += gm::blu3(40, -3, 1);
-    w.write(s);
+    w.consume(*b, 0);
+    b->k0 += gm::kBlockSamples;
   }
   w.finish();
-  state.SetItemsProcessed(state.iterations());  // rows
+  state.SetItemsProcessed(state.iterations() * gm::kBlockSamples);  // rows
 }
 BENCHMARK(BM_TraceCsv);
 

@@ -1,8 +1,8 @@
-// gmotion_latency: wall time of each Pipeline::step, one sample at a time as a real-time loop
+// gmotion_latency: wall time of each pipeline step, one sample at a time as a real-time loop
 // would call it (block reading, parsing and interpretation included), as percentiles.
 //
 // Usage: gmotion_latency PROGRAM [MACHINE.toml] [--no-servo] [--summary] [--repeat R]
-//   --summary  also feed each sample to RunSummary (what `gmotion run` does per sample)
+//   --summary  also feed each sample to the run summary, one record at a time
 //   --repeat   run the program R times (default 3) and also report, per sample, the fastest of
 //              the R runs: the pipeline is deterministic, so that removes the steps the machine
 //              interrupted (timer ticks, other processes) and leaves the cost of the work itself
@@ -13,7 +13,8 @@
 #include "interp/program.hpp"
 #include "machine/machine_file.hpp"
 #include "pipeline/pipeline.hpp"
-#include "trace/run_summary.hpp"
+#include "support/sample_stepper.hpp"
+#include "support/summary_reference.hpp"
 
 #include <fmt/format.h>
 
@@ -83,8 +84,8 @@ double timed_run(const Options& o, const gm::RunConfig& cfg, std::vector<std::ui
   gm::InterpreterOptions opts;
   opts.machine = &cfg.machine;
   gm::ProgramStream stream(in, o.program, opts);
-  gm::Pipeline pipeline(cfg, stream);
-  gm::RunSummary summary(cfg.machine);
+  gmtest::SampleStepper pipeline(cfg, stream);
+  gmtest::SummaryReference summary(cfg.machine);
   gm::SampleRecord rec;
   const gm::OverrideInput ovr;
   const bool first = step_ns.empty();

@@ -6,6 +6,7 @@
 #include "interp/canon.hpp"
 #include "machine/machine.hpp"
 #include "pipeline/pipeline.hpp"
+#include "support/sample_stepper.hpp"
 
 #include <algorithm>
 #include <cstddef>
@@ -34,7 +35,7 @@ inline void run_pipeline(const gm::Machine& m, bool servo, std::vector<gm::Canon
                          int max_steps) {
   gm::RunConfig cfg{m, servo, 1.0};
   ListSource source(std::move(program));
-  gm::Pipeline pipeline(cfg, source);
+  gmtest::SampleStepper pipeline(cfg, source);
   gm::SampleRecord rec;
   for (int i = 0; i < max_steps; ++i)
     if (pipeline.step(gm::OverrideInput{}, rec) != gm::PipelineStatus::Working) break;

@@ -2,6 +2,7 @@
 // CSV against its binary twin, row-count and header mismatches.
 #include "support/run_command.hpp"
 #include "support/scratch_dir.hpp"
+#include "support/trace_rows.hpp"
 #include "trace/trace_reader.hpp"
 #include "trace/trace_writer.hpp"
 
@@ -44,7 +45,7 @@ std::string write(const fs::path& p, int rows, int bump_at = -1, int bump = 0,
     s.enc_blu = gm::blu3(8 * k, -3 * k + (k == bump_at ? bump : 0), 1);
     s.ferr_blu = s.ref_blu - s.enc_blu;
     s.contour_err_blu = 0.125 * k;
-    w.write(s);
+    gmtest::write_record(w, s);
   }
   w.finish();
   return p.string();

@@ -6,6 +6,7 @@
 #include "override/override_schedule.hpp"
 #include "pipeline/pipeline.hpp"
 #include "support/run_command.hpp"
+#include "support/sample_stepper.hpp"
 #include "support/scratch_dir.hpp"
 #include "support/test_scale.hpp"
 
@@ -41,7 +42,7 @@ std::vector<gm::SampleRecord> run(const std::string& program, const std::string&
   gm::RunConfig cfg;
   cfg.machine = m;
   cfg.servo = false;
-  gm::Pipeline p(cfg, stream);
+  gmtest::SampleStepper p(cfg, stream);
   std::vector<gm::SampleRecord> out;
   gm::SampleRecord rec;
   for (std::int64_t k = 0;; ++k) {

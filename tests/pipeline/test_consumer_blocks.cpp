@@ -3,10 +3,13 @@
 #include "interp/program.hpp"
 #include "interpolator/interpolator.hpp"
 #include "machine/machine_file.hpp"
-#include "pipeline/contour_meter.hpp"
+#include "measure/contour_meter.hpp"
+#include "measure/run_summary.hpp"
+#include "measure/tolerance_check.hpp"
 #include "pipeline/pipeline.hpp"
-#include "planner/tolerance_check.hpp"
-#include "trace/run_summary.hpp"
+#include "support/sample_stepper.hpp"
+#include "support/summary_reference.hpp"
+#include "support/tolerance_reference.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -38,7 +41,7 @@ bool same_bits(double a, double b) {
   return std::memcmp(&a, &b, sizeof a) == 0;
 }
 
-// Every sample of a program through Pipeline::step with the contour deferred, and the motions
+// Every sample of a program stepped one at a time with the contour left unmeasured, and the motions
 // each sample started: the consumer's input, per record.
 struct Samples {
   gm::RunConfig cfg;
@@ -51,12 +54,11 @@ Samples simulate(const std::string& program, bool servo) {
   Samples s;
   s.cfg.machine = gm::default_machine();
   s.cfg.servo = servo;
-  s.cfg.defer_contour = true;
   std::istringstream in(program);
   gm::InterpreterOptions opts;
   opts.machine = &s.cfg.machine;
   gm::ProgramStream stream(in, "t.nc", opts);
-  gm::Pipeline p(s.cfg, stream);
+  gmtest::SampleStepper p(s.cfg, stream, false);
   s.meter.emplace(p.contour_meter());
   gm::OverrideInput ovr;
   gm::SampleRecord r;
@@ -75,8 +77,8 @@ struct Outputs {
 };
 
 Outputs per_record(const Samples& s, gm::ContourMeter meter) {
-  gm::RunSummary sum(s.cfg.machine);
-  gm::ToleranceCheck tol(s.cfg.machine.contour_blu_mm());
+  gmtest::SummaryReference sum(s.cfg.machine);
+  gmtest::ToleranceReference tol(s.cfg.machine.contour_blu_mm());
   Outputs o;
   for (std::size_t i = 0; i < s.recs.size(); ++i) {
     gm::SampleRecord r = s.recs[i];
@@ -251,7 +253,8 @@ TEST_CASE("consumer blocks: add_block equals add on synthetic rows: ties, huge c
     INFO("scale " << scale);
     std::mt19937_64 rng(static_cast<std::uint64_t>(scale));
     std::uniform_int_distribution<std::int64_t> step(-3, 3);
-    gm::RunSummary a(machine), b(machine);
+    gmtest::SummaryReference a(machine);
+    gm::RunSummary b(machine);
     auto block = std::make_unique<gm::SampleBlock>();
     gm::SampleRecord r;
     for (int blk = 0; blk < 6; ++blk) {

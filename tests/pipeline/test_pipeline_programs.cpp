@@ -7,6 +7,7 @@
 #include "machine/machine_file.hpp"
 #include "pipeline/pipeline.hpp"
 #include "pipeline/run.hpp"
+#include "support/sample_stepper.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -122,7 +123,7 @@ TEST_CASE("the paper's circle test: Acc/Dec radius loss matches the analysis, Eq
     gm::RunConfig cfg;
     cfg.machine = mm;
     cfg.servo = servo;
-    gm::Pipeline p(cfg, stream);
+    gmtest::SampleStepper p(cfg, stream);
     gm::SampleRecord rec;
     double sum = 0;
     int count = 0;

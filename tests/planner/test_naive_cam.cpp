@@ -3,11 +3,13 @@
 #include "accdec/taps.hpp"
 #include "interp/program.hpp"
 #include "machine/machine.hpp"
+#include "measure/tolerance_check.hpp"
 #include "pipeline/pipeline.hpp"
 #include "planner/filter_moments.hpp"
 #include "planner/naive_cam.hpp"
-#include "planner/tolerance_check.hpp"
 #include "planner/tolerance_planner.hpp"
+#include "support/sample_stepper.hpp"
+#include "support/tolerance_reference.hpp"
 
 #include <fmt/format.h>
 #include <catch2/catch.hpp>
@@ -115,8 +117,8 @@ TEST_CASE(
     gm::RunConfig cfg;
     cfg.machine = m;
     cfg.servo = false;
-    gm::Pipeline p(cfg, planner);
-    gm::ToleranceCheck check(m.contour_blu_mm());
+    gmtest::SampleStepper p(cfg, planner);
+    gmtest::ToleranceReference check(m.contour_blu_mm());
     gm::SampleRecord rec;
     Result r;
     std::size_t seg = 0;  // the program's polyline advances monotonically: search near `seg`

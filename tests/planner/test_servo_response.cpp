@@ -9,6 +9,7 @@
 #include "planner/filter_moments.hpp"
 #include "planner/servo_response.hpp"
 #include "servo/servo_axis.hpp"
+#include "support/sample_stepper.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -89,7 +90,7 @@ TEST_CASE("FIR + servo chain: monotone step, unit sum, corner moment matches a s
   gm::RunConfig cfg;
   cfg.machine = m;
   cfg.servo = true;
-  gm::Pipeline p(cfg, stream);
+  gmtest::SampleStepper p(cfg, stream);
   gm::SampleRecord rec;
   double worst_mm = 0.0;
   while (p.step({}, rec) == gm::PipelineStatus::Working)

@@ -4,13 +4,15 @@
 #include "interp/program.hpp"
 #include "machine/machine.hpp"
 #include "machine/machine_file.hpp"
+#include "measure/tolerance_check.hpp"
 #include "pipeline/pipeline.hpp"
 #include "planner/filter_moments.hpp"
 #include "planner/servo_response.hpp"
-#include "planner/tolerance_check.hpp"
 #include "planner/tolerance_planner.hpp"
 #include "support/run_command.hpp"
+#include "support/sample_stepper.hpp"
 #include "support/test_scale.hpp"
+#include "support/tolerance_reference.hpp"
 
 #include <fmt/format.h>
 #include <catch2/catch.hpp>
@@ -65,7 +67,7 @@ class PlannedCanon : public gm::CanonSource {
 };
 
 struct Outcome {
-  gm::ToleranceCheck check{0.001};
+  gmtest::ToleranceReference check{0.001};
   double cycle_s = 0;
   bool finished = false;
   bool end_exact = false;
@@ -95,9 +97,9 @@ Outcome run_program(const std::string& text, const gm::Machine& m, Ovr ovr, bool
   gm::RunConfig cfg;
   cfg.machine = mm;
   cfg.servo = encoder;
-  gm::Pipeline p(cfg, planned);
+  gmtest::SampleStepper p(cfg, planned);
   Outcome o;
-  o.check = gm::ToleranceCheck(m.contour_blu_mm(), encoder ? m.contour_blu_mm() : 0.0);
+  o.check = gmtest::ToleranceReference(m.contour_blu_mm(), encoder ? m.contour_blu_mm() : 0.0);
   gm::SampleRecord rec;
   gm::PipelineStatus st;
   std::int64_t k = 0;

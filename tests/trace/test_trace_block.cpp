@@ -4,6 +4,7 @@
 
 #include "support/read_file.hpp"
 #include "support/scratch_dir.hpp"
+#include "support/trace_rows.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -114,7 +115,7 @@ std::string written(const std::string& name, gm::TraceFormat format, const std::
         for (int i = first; i < b->count; ++i) {
           b->record<decltype(count)::value>(i, kPeriodS, r);
           r.contour_err_blu = b->contour_err_blu[i];
-          w.write(r);
+          gmtest::write_record(w, r, static_cast<int>(axes.size()));
         }
       });
     }

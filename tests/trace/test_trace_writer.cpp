@@ -5,6 +5,7 @@
 
 #include "support/read_file.hpp"
 #include "support/scratch_dir.hpp"
+#include "support/trace_rows.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -57,8 +58,8 @@ TEST_CASE("CSV trace: header then one row per sample, renamed into place by fini
   const fs::path p = temp_dir() / "t.csv";
   {
     gm::TraceWriter w(p.string(), gm::TraceFormat::Csv, meta());
-    w.write(sample(0));
-    w.write(sample(1));
+    gmtest::write_record(w, sample(0));
+    gmtest::write_record(w, sample(1));
     CHECK_FALSE(fs::exists(p));  // only the .partial exists until finish()
     CHECK(fs::exists(p.string() + ".partial"));
     w.finish();
@@ -77,7 +78,7 @@ TEST_CASE("a writer destroyed without finish() leaves no file behind") {
   const fs::path p = temp_dir() / "abandoned.csv";
   {
     gm::TraceWriter w(p.string(), gm::TraceFormat::Csv, meta());
-    w.write(sample(0));
+    gmtest::write_record(w, sample(0));
   }
   CHECK_FALSE(fs::exists(p));
   CHECK_FALSE(fs::exists(p.string() + ".partial"));
@@ -88,7 +89,7 @@ TEST_CASE("decimation keeps every K-th sample") {
   auto m = meta();
   m.decimate = 3;
   gm::TraceWriter w(p.string(), gm::TraceFormat::Csv, m);
-  for (int k = 0; k < 10; ++k) w.write(sample(k));
+  for (int k = 0; k < 10; ++k) gmtest::write_record(w, sample(k));
   w.finish();
   CHECK(w.rows() == 4);  // k = 0, 3, 6, 9
 }
@@ -96,7 +97,7 @@ TEST_CASE("decimation keeps every K-th sample") {
 TEST_CASE("binary trace: magic, header length, fixed little-endian records") {
   const fs::path p = temp_dir() / "t.bin";
   gm::TraceWriter w(p.string(), gm::TraceFormat::Binary, meta());
-  w.write(sample(5));
+  gmtest::write_record(w, sample(5));
   w.finish();
   const std::string b = slurp(p);
   REQUIRE(b.substr(0, 8) == "GMTRACE1");
@@ -163,7 +164,8 @@ TEST_CASE(
             gm::trace_header(plain));
 
       gm::TraceWriter w(p.string(), format, m);
-      for (int k = 0; k < 30000; ++k) w.write(sample(k));  // more than 1 MiB: flushed at least once
+      for (int k = 0; k < 30000; ++k)
+        gmtest::write_record(w, sample(k));  // more than 1 MiB: flushed at least once
       const std::string before = slurp(p.string() + ".partial");
       const std::size_t at = (bin ? 12 : 0) + first;
       REQUIRE(before.size() > at + gm::kTraceStatusWidth);
@@ -201,7 +203,7 @@ TEST_CASE(
       std::string kept;
       {
         gm::TraceWriter w(p.string(), format, m);
-        for (int k = 0; k < 7; ++k) w.write(sample(k));
+        for (int k = 0; k < 7; ++k) gmtest::write_record(w, sample(k));
         kept = w.keep_partial("interrupted at t = 0.028 s (line 7)");
         CHECK_FALSE(w.open());
       }  // the destructor leaves the kept file alone
@@ -248,7 +250,7 @@ TEST_CASE(
   const fs::path p = temp_dir() / "plain.csv";
   {
     gm::TraceWriter w(p.string(), gm::TraceFormat::Csv, meta());
-    w.write(sample(0));
+    gmtest::write_record(w, sample(0));
     CHECK(w.keep_partial("x").empty());
     CHECK(w.open());
   }
@@ -266,7 +268,7 @@ TEST_CASE(
       auto m = meta();
       m.status_line = true;
       gm::TraceWriter w(p.string(), format, m);
-      for (int k = 0; k < 5; ++k) w.write(sample(k));
+      for (int k = 0; k < 5; ++k) gmtest::write_record(w, sample(k));
       const std::string kept = w.keep_partial("run stopped");
       // What a killed run may leave: the status line of a run in progress and half a row.
       std::string text = slurp(kept);

@@ -1,5 +1,5 @@
 // ToleranceCheck: per-sample comparison of the contour error with the block's tolerance.
-#include "planner/tolerance_check.hpp"
+#include "measure/tolerance_check.hpp"
 
 #include <fmt/format.h>
 
@@ -7,29 +7,6 @@
 #include <cmath>
 
 namespace gm {
-
-template <typename Time>
-inline void ToleranceCheck::judge(double contour_err_blu, int line, Time&& t_s) {
-  Worst& w = rapid_block_ ? rapid_ : cut_;
-  const double err = std::abs(contour_err_blu) * blu_mm_;
-  ++w.samples;
-  // A nanometre of slack for the BLU-to-mm products (the bound itself is planned with margin).
-  if (err > tol_mm_ + allowance_mm_ + 1e-9) ++w.over;
-  const double ratio = err / tol_mm_;
-  if (ratio > w.ratio) {
-    w.ratio = ratio;
-    w.err_mm = err;
-    w.tol_mm = tol_mm_;
-    w.line = line;
-    w.t_s = t_s();
-  }
-}
-
-void ToleranceCheck::add(const SampleRecord& r, const Motion* started) {
-  if (started != nullptr) start(*started);
-  if (!(tol_mm_ > 0.0)) return;
-  judge(r.contour_err_blu, r.line, [&] { return r.t_s; });
-}
 
 void ToleranceCheck::add_block(const SampleBlock& b, int first, double period_s) {
   const std::size_t motions = b.motions.size();

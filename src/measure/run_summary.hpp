@@ -3,6 +3,7 @@
 
 #include "common/axis.hpp"
 #include "machine/machine.hpp"
+#include "pipeline/block_sink.hpp"
 #include "pipeline/sample_block.hpp"
 #include "pipeline/sample_record.hpp"
 
@@ -46,18 +47,18 @@ struct AxisSummary {
   std::int64_t final_enc_err_blu = 0;  ///< encoder − programmed end
 };
 
-/// Accumulates statistics over the samples of a run (constant memory).
-class RunSummary {
+/// Accumulates statistics over the samples of a run (constant memory); a run's BlockSink.
+class RunSummary : public BlockSink {
  public:
   explicit RunSummary(const Machine& machine);
 
-  /// Adds one sample (every sample, not only the decimated trace rows).
-  void add(const SampleRecord& s);
-  /// add() of rows first..count-1 of `b` (contour columns filled by ContourMeter::measure_block):
-  /// the same statistics, bit for bit, as add() of b.record() row by row, a column at a time.
+  /// Adds rows first..count-1 of `b` (every sample, not only the decimated trace rows; contour
+  /// columns filled by ContourMeter::measure_block), a column at a time.
   void add_block(const SampleBlock& b, int first);
+  void consume(const SampleBlock& b, int first) override { add_block(b, first); }
   /// Records the end: the last sample, the programmed end point and whether the axes settled.
   void finish(const SampleRecord& last, const AxisBlu& program_end_blu, bool settled);
+  void finish(const RunEnd& end) override { finish(end.last, end.program_end_blu, end.settled); }
 
   /// Human-readable summary, several lines.
   std::string text() const;
@@ -79,7 +80,7 @@ class RunSummary {
   double arc_enc_radial_dev_blu = 0.0;
   std::int64_t arc_samples = 0;
 
- private:
+ protected:  // the running state, which a per-sample reference model (tests/support) updates
   const Machine& machine_;
   int axes_;  ///< the machine's axis count
   MachineVec blu_mm_;

@@ -4,9 +4,11 @@
 
 #include "common/axis.hpp"
 #include "interp/canon.hpp"
+#include "pipeline/block_sink.hpp"
 #include "pipeline/sample_block.hpp"
 #include "pipeline/sample_record.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 
@@ -15,18 +17,19 @@ namespace gm {
 /// Fed every record of a run (with the motion that became current in it, as ContourMeter is),
 /// compares |contour_err| with the path tolerance of the block the sample is in — cutting
 /// moves (G1/G2/G3) and rapids (G0) apart. Blocks with no tolerance (0) are not judged.
-class ToleranceCheck {
+class ToleranceCheck : public BlockSink {
  public:
   /// `contour_blu_mm`: the length of one contour_err_blu unit (the smallest axis BLU), mm.
   /// `allowance_mm`: what a sample may exceed the tolerance by without counting as over (one
   /// BLU with tolerance_on = encoder and the servo on: the encoder's quantisation in the loop).
-  explicit ToleranceCheck(double contour_blu_mm, double allowance_mm = 0.0)
-      : blu_mm_(contour_blu_mm), allowance_mm_(allowance_mm) {}
+  /// `period_s`: the sample period consume() times the rows with (t = k·T).
+  explicit ToleranceCheck(double contour_blu_mm, double allowance_mm = 0.0, double period_s = 0.0)
+      : blu_mm_(contour_blu_mm), allowance_mm_(allowance_mm), period_s_(period_s) {}
 
-  void add(const SampleRecord& r, const Motion* started);
-  /// add() of rows first..count-1 of `b` (contour column filled), each with the last motion
+  /// Judges rows first..count-1 of `b` (contour column filled), each with the last motion
   /// b.motions started in it; `period_s`: the sample period (t = k·T, as SampleBlock::record).
   void add_block(const SampleBlock& b, int first, double period_s);
+  void consume(const SampleBlock& b, int first) override { add_block(b, first, period_s_); }
 
   struct Worst {
     std::int64_t samples = 0;  ///< samples judged (a tolerance was in force)
@@ -47,7 +50,7 @@ class ToleranceCheck {
   /// nothing was judged, so summaries of programs without a tolerance are unchanged).
   std::string json_member() const;
 
- private:
+ protected:  // for a per-sample reference model (tests/support)
   void start(const Motion& m) {
     tol_mm_ = m.path_mode == PathMode::Continuous ? m.path_tolerance_mm : 0.0;
     rapid_block_ = m.kind == MotionKind::Rapid;
@@ -55,10 +58,25 @@ class ToleranceCheck {
   /// Judges one sample against the tolerance in force (> 0); `t_s()` its time, asked only when
   /// it is the worst so far.
   template <typename Time>
-  void judge(double contour_err_blu, int line, Time&& t_s);
+  void judge(double contour_err_blu, int line, Time&& t_s) {
+    Worst& w = rapid_block_ ? rapid_ : cut_;
+    const double err = std::abs(contour_err_blu) * blu_mm_;
+    ++w.samples;
+    // A nanometre of slack for the BLU-to-mm products (the bound itself is planned with margin).
+    if (err > tol_mm_ + allowance_mm_ + 1e-9) ++w.over;
+    const double ratio = err / tol_mm_;
+    if (ratio > w.ratio) {
+      w.ratio = ratio;
+      w.err_mm = err;
+      w.tol_mm = tol_mm_;
+      w.line = line;
+      w.t_s = t_s();
+    }
+  }
 
   double blu_mm_;
   double allowance_mm_ = 0.0;
+  double period_s_ = 0.0;
   double tol_mm_ = 0.0;
   bool rapid_block_ = false;
   Worst cut_, rapid_;

@@ -15,8 +15,8 @@ namespace gm {
 
 /// Measures what the table did against the programmed path: SampleRecord::contour_err_blu and,
 /// on the steady part of an arc, arc_ref_dev_blu and arc_enc_dev_blu. It reads only the record
-/// and the motions handed to it, so it runs inside Pipeline::step or, fed the same records in
-/// the same order, on another thread (gmotion run does that): the results are the same.
+/// and the motions handed to it, so it runs sample by sample or, fed the same rows in the same
+/// order, a block at a time on another thread (gmotion run does that): the results are the same.
 /// Nothing is allocated per sample.
 class ContourMeter {
  public:
@@ -31,7 +31,7 @@ class ContourMeter {
 
   /// Fills r.contour_err_blu, r.arc_ref_dev_blu and r.arc_enc_dev_blu from r.k, r.table_blu,
   /// r.ref_blu, r.enc_blu, r.events and r.settling. `started`: the motion blocks that became
-  /// current in this sample, in order (Pipeline::started_motions()); every one of them is part
+  /// current in this sample, in order (SampleBlock::motions of its row); every one of them is part
   /// of the path measured against. Samples must come in order, each once.
   void measure(SampleRecord& r, std::span<const Motion> started);
   /// measure() of rows first..count-1 of `b`, into its contour_err_blu, arc_ref_dev_blu and

@@ -1,5 +1,5 @@
 // ContourMeter: per-sample contour error and steady-arc radial deviations from a SampleRecord.
-#include "pipeline/contour_meter.hpp"
+#include "measure/contour_meter.hpp"
 
 #include "interpolator/interpolator.hpp"
 
