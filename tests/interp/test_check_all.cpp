@@ -1,0 +1,98 @@
+// Checking every error in one pass: on after a call to a subroutine found nowhere, a note
+// where checking stops.
+#include "gcode_helpers.hpp"
+#include "support/run_command.hpp"
+#include "support/scratch_dir.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+using namespace gmtest;
+
+namespace {
+
+// An unresolved call on line 3, bad words on lines 7 and 12.
+const char* const kThreeErrors =
+    "(three errors, one pass)\n"
+    "G21 G90 G94 F100\n"
+    "o<missing> call\n"
+    "G1 X1\n"
+    "G1 Y1\n"
+    "G1 X2\n"
+    "G1 X3 Y&\n"
+    "G1 Y2\n"
+    "G1 X4\n"
+    "G1 Y3\n"
+    "G1 X5\n"
+    "G1 X6 !7\n"
+    "M2\n";
+
+std::vector<gm::Diagnostic> check_all(const std::string& program, gm::CheckThreads threads,
+                                      const gm::InterpreterOptions& opts = {}) {
+  std::istringstream in(program);
+  std::vector<gm::Diagnostic> d;
+  gm::check_program_diagnostics(in, "t.ngc", opts, d, threads);
+  return d;
+}
+
+std::vector<int> error_lines(const std::vector<gm::Diagnostic>& d) {
+  std::vector<int> out;
+  for (const auto& x : d)
+    if (x.severity == gm::Severity::Error) out.push_back(x.loc.line);
+  return out;
+}
+
+std::string write_temp(const std::string& name, const std::string& text) {
+  const std::string path = (scratch_dir("check-all") / name).string();
+  std::ofstream(path) << text;
+  return path;
+}
+
+}  // namespace
+
+TEST_CASE("check reports every error in one pass: on after a call it cannot resolve") {
+  for (const auto threads : {gm::CheckThreads::Auto, gm::CheckThreads::Single}) {
+    const auto d = check_all(kThreeErrors, threads);
+    REQUIRE(error_lines(d) == std::vector<int>{3, 7, 12});
+    CHECK(d[0].code == code(gm::ErrorCode::UndefinedSubroutine));
+    CHECK(d[0].message.find("o<missing>") != std::string::npos);
+    for (const auto& x : d) CHECK(x.severity == gm::Severity::Error);
+  }
+  // Two unresolved calls, an M98 among them: each reported where it is, the rest read on.
+  const auto d = check_all("G0 X1\no<a> call\nM98 P12\nG1 X2 Y&\nM2\n", gm::CheckThreads::Single);
+  CHECK(error_lines(d) == std::vector<int>{2, 3, 4});
+  // A subroutine defined further down is still found (the check reads on only after a miss).
+  CHECK(error_lines(check_all("o<s> call\nG0 X1\nM2\no<s> sub\nG0 Y1\no<s> endsub\n",
+                              gm::CheckThreads::Single))
+            .empty());
+}
+
+TEST_CASE("check stops at control flow it cannot follow, and says so") {
+  const auto d = check_all("G0 X1\no1 endwhile\nG1 X2 Y&\nM2\n", gm::CheckThreads::Single);
+  REQUIRE(d.size() == 2);
+  CHECK(d[0].severity == gm::Severity::Error);
+  CHECK(d[0].loc.line == 2);
+  CHECK(d[1].severity == gm::Severity::Note);
+  CHECK(d[1].loc.line == 2);
+  CHECK(d[1].message.rfind("checking stopped here", 0) == 0);
+}
+
+TEST_CASE("gmotion check prints all three errors, located; run and moves still refuse") {
+  const std::string path = write_temp("check-all-three.ngc", kThreeErrors);
+  auto r = run_gmotion("check " + path);
+  CHECK(r.code == 1);
+  CHECK(r.out.find("check-all-three.ngc:3:1: error:") != std::string::npos);
+  CHECK(r.out.find("check-all-three.ngc:7:") != std::string::npos);
+  CHECK(r.out.find("check-all-three.ngc:12:") != std::string::npos);
+  CHECK(r.out.find(": 3 errors") != std::string::npos);
+  r = run_gmotion("run " + path);
+  CHECK(r.code == 1);
+  CHECK(r.out.find("check-all-three.ngc:12:") != std::string::npos);
+  r = sh(gmotion_bin() + " moves " + path + " 2>/dev/null");
+  CHECK(r.code == 1);
+  CHECK(r.out.empty());
+}
