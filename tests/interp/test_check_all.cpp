@@ -1,5 +1,5 @@
-// Checking every error in one pass: on after a call to a subroutine found nowhere, a note
-// where checking stops.
+// Checking every error in one pass, and the canonical kinds of G33.1 and G38.x in
+// `gmotion moves`.
 #include "gcode_helpers.hpp"
 #include "support/run_command.hpp"
 #include "support/scratch_dir.hpp"
@@ -95,4 +95,22 @@ TEST_CASE("gmotion check prints all three errors, located; run and moves still r
   r = sh(gmotion_bin() + " moves " + path + " 2>/dev/null");
   CHECK(r.code == 1);
   CHECK(r.out.empty());
+}
+
+TEST_CASE("gmotion moves names G33.1 rigid_tap and G38.x probe moves (RIGID_TAP, STRAIGHT_PROBE)") {
+  const auto r = sh("printf 'G21 G90 F100 S600 M3\\nG33.1 Z-3 K1\\nG38.3 X5\\nG1 Y1\\nM2\\n' | " +
+                    gmotion_bin() + " moves -");
+  CHECK(r.code == 0);
+  CHECK(r.out ==
+        "{\"line\":2,\"kind\":\"rigid_tap\",\"end\":[0,0,-3],\"feed\":600,\"mm_per_rev\":1}\n"
+        "{\"line\":2,\"kind\":\"rigid_tap\",\"end\":[0,0,0],\"feed\":600,\"mm_per_rev\":1}\n"
+        "{\"line\":3,\"kind\":\"probe\",\"end\":[5,0,0],\"feed\":100}\n"
+        "{\"line\":3,\"kind\":\"probe\",\"end\":[4.746,0,0],\"feed\":100}\n"
+        "{\"line\":4,\"kind\":\"line\",\"end\":[4.746,1,0],\"feed\":100}\n");
+  // The pipeline moves them as lines.
+  const auto m = motions("G21 G90 F100 S600 M3\nG33.1 Z-3 K1\nG38.2 X5\nM2\n");
+  REQUIRE(m.size() == 4);
+  for (const auto& x : m) CHECK(x.kind == gm::MotionKind::Line);
+  CHECK(m[0].canon == gm::LineCanon::RigidTap);
+  CHECK(m[3].canon == gm::LineCanon::Probe);
 }
