@@ -1,5 +1,5 @@
-// Checking every error in one pass, and the canonical kinds of G33.1 and G38.x in
-// `gmotion moves`.
+// Checking every error in one pass, the canonical kinds of G33.1 and G38.x in `gmotion moves`,
+// and G74/G84 in G18 and G19.
 #include "gcode_helpers.hpp"
 #include "support/run_command.hpp"
 #include "support/scratch_dir.hpp"
@@ -113,4 +113,20 @@ TEST_CASE("gmotion moves names G33.1 rigid_tap and G38.x probe moves (RIGID_TAP,
   for (const auto& x : m) CHECK(x.kind == gm::MotionKind::Line);
   CHECK(m[0].canon == gm::LineCanon::RigidTap);
   CHECK(m[3].canon == gm::LineCanon::Probe);
+}
+
+// LinuxCNC 2.9's convert_cycle_g74_g84 hands the plane's coordinates to cycle_feed in the wrong
+// order in G18 and G19, so rs274 feeds diagonally (docs/machine-codes.md); gmotion taps along the
+// cycle axis, as in G17 and as every other cycle does.
+TEST_CASE("G84 and G74 in G18 and G19 tap along the cycle axis (rs274 does not)") {
+  const auto g19 = motions("G21 G90 G94 F100 S500 M3\nG0 X1 Y2 Z3\nG19 G98 G84 Y5 Z6 X-4 R8\nM2\n");
+  REQUIRE(g19.size() == 5);  // to the start; up to R, over the hole, in, out (to R: G98 below R)
+  CHECK(g19[3].start_mm.head<3>() == Eigen::Vector3d(8, 5, 6));
+  CHECK(g19[3].end_mm.head<3>() == Eigen::Vector3d(-4, 5, 6));  // rs274: (6, -4, 5)
+  CHECK(g19[4].end_mm.head<3>() == Eigen::Vector3d(8, 5, 6));
+  const auto g18 = motions("G21 G90 G94 F100 S500 M4\nG0 X1 Y2 Z3\nG18 G98 G74 Z5 X6 Y-4 R8\nM2\n");
+  REQUIRE(g18.size() == 5);
+  CHECK(g18[3].start_mm.head<3>() == Eigen::Vector3d(6, 8, 5));
+  CHECK(g18[3].end_mm.head<3>() == Eigen::Vector3d(6, -4, 5));  // rs274: (-4, 5, 6)
+  CHECK(g18[4].end_mm.head<3>() == Eigen::Vector3d(6, 8, 5));
 }
