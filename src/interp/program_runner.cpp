@@ -31,6 +31,7 @@ ProgramRunner::ProgramRunner(std::string filename, const InterpreterOptions& opt
       machine_(opts.machine ? *opts.machine : default_machine_),
       block_delete_(opts.block_delete),
       check_all_(opts.check_all),
+      fanuc_subs_disabled_(opts.fanuc_subs_disabled),
       interp_(machine_),
       system_(interp_, params_, opts.parameter_file),
       files_(opts.subroutine_path),
@@ -184,6 +185,7 @@ bool ProgramRunner::control(Line& l) {
   InterpError err;
   const int depth = flow_.call_depth();
   const grammar::OKind kind = p.block.oword.kind;
+  if (fanuc_sub_refused(l)) return true;
   if ((kind == grammar::OKind::M98 || kind == grammar::OKind::M99) && !flow_.skipping() &&
       p.block.needs_evaluation() && !evaluator_.run(p.block, params_, err))
     return stop(err, l);
@@ -196,6 +198,26 @@ bool ProgramRunner::control(Line& l) {
     return true;
   }
   return ok || stop(err, l);
+}
+
+// [RS274NGC]DISABLE_FANUC_STYLE_SUB: M98, M99 in a subprogram and a bare O-word line are
+// errors, also on lines passed over (rs274 refuses them as it reads the line). The line is
+// not run; the program reads on.
+bool ProgramRunner::fanuc_sub_refused(Line& l) const {
+  const grammar::OWord& o = l.p.block.oword;
+  if (!fanuc_subs_disabled_) return false;
+  const char* what = o.kind == grammar::OKind::M98                             ? "M98"
+                     : o.kind == grammar::OKind::M99 && flow_.call_depth() > 0 ? "M99"
+                     : o.kind == grammar::OKind::Program ? "a bare O-word (a subprogram)"
+                                                         : nullptr;
+  if (what == nullptr) return false;
+  l.diags.push_back(Diagnostic{Severity::Error, static_cast<int>(ErrorCode::SubprogramMisused),
+                               o.loc,
+                               fmt::format("{}: Fanuc-style subprograms are disabled "
+                                           "([RS274NGC]DISABLE_FANUC_STYLE_SUB)",
+                                           what),
+                               echoed_line(l.p.text)});
+  return true;
 }
 
 // ABORT ends the program with a located error; LOG comments write nothing (no log directory

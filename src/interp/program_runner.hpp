@@ -70,6 +70,7 @@ class ProgramRunner {
   bool evaluate(Line& l, bool& more);
   bool run_block(Line& l);
   bool control(Line& l);
+  bool fanuc_sub_refused(Line& l) const;
   bool directive(const grammar::Message& m, Line& l);
   /// The program is over at an error: `err` on the line as a diagnostic; false.
   bool stop(const InterpError& err, Line& l);
@@ -83,6 +84,7 @@ class ProgramRunner {
   const Machine& machine_;
   bool block_delete_;
   bool check_all_;
+  bool fanuc_subs_disabled_;
   int dropped_calls_ = 0;  ///< check_all: calls read on after (kMaxDroppedCalls at most)
   Interpreter interp_;
   ParameterStore params_;

@@ -1,5 +1,5 @@
 // Checking every error in one pass, the canonical kinds of G33.1 and G38.x in `gmotion moves`,
-// and G74/G84 in G18 and G19.
+// G74/G84 in G18 and G19, and [RS274NGC]DISABLE_FANUC_STYLE_SUB.
 #include "gcode_helpers.hpp"
 #include "support/run_command.hpp"
 #include "support/scratch_dir.hpp"
@@ -129,4 +129,21 @@ TEST_CASE("G84 and G74 in G18 and G19 tap along the cycle axis (rs274 does not)"
   CHECK(g18[3].start_mm.head<3>() == Eigen::Vector3d(6, 8, 5));
   CHECK(g18[3].end_mm.head<3>() == Eigen::Vector3d(6, -4, 5));  // rs274: (-4, 5, 6)
   CHECK(g18[4].end_mm.head<3>() == Eigen::Vector3d(6, 8, 5));
+}
+
+TEST_CASE("DISABLE_FANUC_STYLE_SUB: M98, M99 in a subprogram and a bare O-word are errors") {
+  gm::Machine m;
+  gm::InterpreterOptions opts{&m, false};
+  opts.fanuc_subs_disabled = true;
+  const std::string program = "G0 X1\nM98 P100\nG0 X2\nM2\nO100\nG1 X3 F100\nM99\n";
+  const auto d = check_all(program, gm::CheckThreads::Single, opts);
+  REQUIRE(error_lines(d) == std::vector<int>{2});
+  CHECK(d[0].code == code(gm::ErrorCode::SubprogramMisused));
+  CHECK(d[0].message.find("DISABLE_FANUC_STYLE_SUB") != std::string::npos);
+  // A bare O-word is refused even where the program passes over it; M99 in the main program
+  // still ends it.
+  CHECK(error_lines(check_all("o<s> sub\nO100\no<s> endsub\nG0 X1\nM99\n", gm::CheckThreads::Single,
+                              opts)) == std::vector<int>{2});
+  // Allowed by default.
+  CHECK(error_lines(check_all(program, gm::CheckThreads::Single, {&m, false})).empty());
 }
