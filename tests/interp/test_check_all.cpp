@@ -81,7 +81,7 @@ TEST_CASE("check stops at control flow it cannot follow, and says so") {
   CHECK(d[1].message.rfind("checking stopped here", 0) == 0);
 }
 
-TEST_CASE("gmotion check prints all three errors, located; run and moves still refuse") {
+TEST_CASE("gmotion check prints all three errors, located, and run and moves still refuse") {
   const std::string path = write_temp("check-all-three.ngc", kThreeErrors);
   auto r = run_gmotion("check " + path);
   CHECK(r.code == 1);
