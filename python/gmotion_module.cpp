@@ -257,9 +257,7 @@ py::list moves(const std::string& path, const std::string& machine_file, const s
     py::dict d;
     if (const auto* m = std::get_if<gm::Motion>(&c)) {
       d["line"] = m->line;
-      d["kind"] = m->kind == gm::MotionKind::Rapid  ? "rapid"
-                  : m->kind == gm::MotionKind::Line ? "line"
-                                                    : "arc";
+      d["kind"] = gm::motion_kind_name(*m);
       d["end"] = xyz(m->end_mm);
       d["feed"] = m->kind == gm::MotionKind::Rapid ? 0.0 : m->feed_mm_min;
       if (!l.is_xyz()) {

@@ -34,8 +34,9 @@ How rs274 is read (each claim checked against rs274 2.9 output, see --self-test)
   * Only N words are echoed, so the program is fed to rs274 with every line renumbered
     N<file line>, which makes rs274 report source line numbers.
   * STRAIGHT_PROBE (G38.x): rs274's canon (saicanon.cc) moves to the end point without tripping
-    and then, unprinted, backs off 0.254 mm (0.01 in) towards the start; both are taken as feed
-    moves (gmotion moves the same way, interp/steps_probe.cpp).
+    and then, unprinted, backs off 0.254 mm (0.01 in) towards the start; both are taken as moves
+    of kind "probe" (gmotion moves the same way, interp/steps_probe.cpp).
+  * RIGID_TAP (G33.1): in to the point and back out to the start, two moves of kind "rigid_tap".
   * Under cutter radius compensation (between the COMMENTs "interpreter: cutter radius
     compensation on ..." and "... off", or the program end) the interpreter holds each move back
     until the next one fixes its end point, and rs274 prints it with the line being read when it
@@ -64,6 +65,9 @@ RS274_PRINT_HALF_ULP = 0.5e-4  # rs274 prints %.4f
 SKIP = 77
 GMOTION_AXES = ""  # --axes: passed to `gmotion moves`
 IO_RECORDS = False  # --io: spindle/coolant/tool/output/stop records compared too (kind "io")
+# Moves at a feed: STRAIGHT_FEED, ARC_FEED, RIGID_TAP (G33.1) and STRAIGHT_PROBE (G38.x).
+FED_KINDS = ("line", "arc", "rigid_tap", "probe")
+STRAIGHT_KINDS = ("rapid", "line", "rigid_tap", "probe")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -71,7 +75,7 @@ IO_RECORDS = False  # --io: spindle/coolant/tool/output/stop records compared to
 
 @dataclass
 class Move:
-    kind: str                      # rapid | line | arc | dwell
+    kind: str                      # rapid | line | arc | rigid_tap | probe | dwell
     line: int | None = None        # source line (1-based) if known
     end: list | None = None        # [x, y, z] mm
     feed: float | None = None      # mm/min (lines and arcs)
@@ -340,9 +344,9 @@ def parse_rs274_output(text: str) -> list[Move]:
                         [mach(0.0, i) for i in range(3)])
             tol = RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol + tool_tol
             feed, ftol = per_rev_feed(sync_k if sync_k is not None else 0.0)
-            moves.append(Move(kind="line", line=line, end=mach3(v[0:3]),
+            moves.append(Move(kind="rigid_tap", line=line, end=mach3(v[0:3]),
                               feed=feed, feed_tol=ftol, tol_mm=tol, note="G33.1 in", held=held))
-            moves.append(Move(kind="line", line=line, end=list(prev), feed=feed,
+            moves.append(Move(kind="rigid_tap", line=line, end=list(prev), feed=feed,
                               feed_tol=float("inf"), tol_mm=tol, note="G33.1 out", held=held))
         elif name == "STRAIGHT_PROBE":
             v = _floats(args)
@@ -350,13 +354,13 @@ def parse_rs274_output(text: str) -> list[Move]:
             prev = next((m.end for m in reversed(moves) if m.end is not None),
                         [mach(0.0, i) for i in range(3)])
             tol = RS274_PRINT_HALF_ULP * factor + g5x_tol + g92_tol + tool_tol + rot_tol(end)
-            moves.append(Move(kind="line", line=line, end=end, feed=feed_mm_min,
+            moves.append(Move(kind="probe", line=line, end=end, feed=feed_mm_min,
                               feed_tol=feed_tol, tol_mm=tol, note="probe"))
             d = [prev[i] - end[i] for i in range(3)]
             dist = math.sqrt(sum(x * x for x in d))
             if dist != 0.0:
                 back = [end[i] + 0.254 * d[i] / dist for i in range(3)]
-                moves.append(Move(kind="line", line=line, end=back, feed=feed_mm_min,
+                moves.append(Move(kind="probe", line=line, end=back, feed=feed_mm_min,
                                   feed_tol=feed_tol, tol_mm=2 * tol, note="probe back-off"))
         elif name == "ARC_FEED":
             v = _floats(args)
@@ -515,7 +519,7 @@ def parse_gmotion_output(text: str) -> list[Move]:
             d = json.loads(raw)
         except json.JSONDecodeError as e:
             raise ValueError(f"gmotion moves output line {n} is not JSON ({e}): {raw!r}")
-        if d.get("kind") not in ("rapid", "line", "arc", "dwell", "message"):
+        if d.get("kind") not in ("rapid", "line", "arc", "rigid_tap", "probe", "dwell", "message"):
             io = gmotion_io_text(d)
             if io is not None:
                 moves.append(Move(kind="io", line=d.get("line"), text=io))
@@ -677,7 +681,7 @@ def compare_move(ref: Move, got: Move, tol: Tol) -> str | None:
             rtol = tol.mm + RS274_PRINT_HALF_ULP + 1e-9
             if not isinstance(v, (int, float)) or abs(ref.rot[k] - v) > rtol:
                 return f"end {k}: {ref.rot[k]!r} vs {v!r} deg (tol {rtol:.3g})"
-    if ref.kind in ("line", "arc"):
+    if ref.kind in FED_KINDS:
         if got.feed is None:
             return "feed missing"
         ftol = max(tol.feed_rel * abs(ref.feed), ref.feed_tol) + 1e-9
@@ -736,7 +740,7 @@ def drop_zero_length(moves: list[Move], eps_mm: float) -> tuple[list[Move], int]
         # rs274's ends are rounded to 4 decimals in program units: a move that only undoes that
         # rounding (inch mode, then mm) is zero-length too.
         eps = max(eps_mm, 2 * max(m.tol_mm, prev_tol))
-        if m.kind in ("rapid", "line") and m.end is not None and all(
+        if m.kind in STRAIGHT_KINDS and m.end is not None and all(
                 abs(a - b) <= eps for a, b in zip(m.end, prev)) and rot_same:
             dropped += 1
             continue

@@ -136,8 +136,9 @@ def run(program, machine=None, **options):
 
 def moves(program, machine=None, axes="", messages=False, **options):
     """The canonical moves of `program` as `gmotion moves` prints them: a list of dicts with the
-    same keys ("line", "kind" rapid|line|arc|dwell, "end" [x, y, z] mm, "feed" mm/min, "axes"
-    {letter: value} past XYZ, "center"/"dir"/"turns"/"plane" for arcs, "seconds" for dwells;
+    same keys ("line", "kind" rapid|line|arc|rigid_tap|probe|dwell, "end" [x, y, z] mm, "feed"
+    mm/min, "axes" {letter: value} past XYZ, "center"/"dir"/"turns"/"plane" for arcs, "seconds"
+    for dwells;
     with messages=True also "message" records). Options as check() (axes is its own argument).
     Raises InputError if the program has an error."""
     return _core.moves(os.fspath(program), "" if machine is None else os.fspath(machine), axes,

@@ -24,9 +24,7 @@ const char* plane_name(Plane p) {
 // Rapids print "feed":0 (the machine's rapid rate applies; it is not part of the program).
 void print_move(std::FILE* f, const Canon& c, const AxisLayout& axes) {
   if (const auto* m = std::get_if<Motion>(&c)) {
-    const char* kind = m->kind == MotionKind::Rapid  ? "rapid"
-                       : m->kind == MotionKind::Line ? "line"
-                                                     : "arc";
+    const char* kind = motion_kind_name(*m);
     fmt::print(f, "{{\"line\":{},\"kind\":\"{}\",\"end\":[{},{},{}],\"feed\":{}", m->line, kind,
                m->end_mm[0] + 0.0, m->end_mm[1] + 0.0, m->end_mm[2] + 0.0,
                m->kind == MotionKind::Rapid ? 0.0 : m->feed_mm_min);

@@ -4,6 +4,7 @@
 
 #include "common/axis.hpp"
 
+#include <cstdint>
 #include <string>
 #include <variant>
 
@@ -19,6 +20,11 @@ enum class Plane { XY, XZ, YZ };  ///< G17, G18, G19
 enum class PathMode { ExactStop, ExactPath, Continuous };
 
 enum class MotionKind { Rapid, Line, Arc };
+
+/// Which of LinuxCNC's canonical calls a Line is: STRAIGHT_FEED, RIGID_TAP (G33.1, in and out)
+/// or STRAIGHT_PROBE (G38.2..G38.5, the probe move and its back-off). It names the move in
+/// `gmotion moves`; every stage moves a Line the same way whatever it is.
+enum class LineCanon : std::uint8_t { Feed, RigidTap, Probe };
 
 /// One motion block. `start_mm` is where the previous block ended.
 struct Motion {
@@ -36,7 +42,8 @@ struct Motion {
   /// A move the operator makes by hand (G88's retract during its program stop), not one of the
   /// program's canonical moves. (Here, in the padding after `ccw`, to keep Motion's size.)
   bool by_operator = false;
-  int turns = 1;  ///< LinuxCNC P: 1 = the ordinary arc, K adds K-1 full turns
+  LineCanon canon = LineCanon::Feed;  ///< Lines only (also in that padding)
+  int turns = 1;                      ///< LinuxCNC P: 1 = the ordinary arc, K adds K-1 full turns
   Plane plane = Plane::XY;
   // Block end -------------------------------------------------------------------------------
   PathMode path_mode = PathMode::Continuous;  ///< G9 in the block forces ExactStop
@@ -71,6 +78,15 @@ struct Motion {
   /// 0 = no cap.
   double speed_cap_mm_s = 0.0;
 };
+
+/// The move's kind as `gmotion moves` names it: rapid, line, arc, rigid_tap or probe.
+inline const char* motion_kind_name(const Motion& m) {
+  if (m.kind == MotionKind::Rapid) return "rapid";
+  if (m.kind == MotionKind::Arc) return "arc";
+  return m.canon == LineCanon::RigidTap ? "rigid_tap"
+         : m.canon == LineCanon::Probe  ? "probe"
+                                        : "line";
+}
 
 /// G4: zero velocity for `seconds`. Also M0/M1 when the run pauses there (`pause`: the
 /// machine's pause_s, CLI --pause-s).

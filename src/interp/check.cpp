@@ -38,6 +38,7 @@ CheckSummary run_check(std::istream& in, std::string_view filename, const Interp
                        CheckThreads threads, Sink&& sink) {
   InterpreterOptions options = opts;
   options.read_ahead = threads == CheckThreads::Auto && std::thread::hardware_concurrency() >= 2;
+  options.check_all = true;
   LineDriver driver(in, std::string(filename), options);
   CheckSummary sum;
   std::vector<Canon> out;

@@ -548,6 +548,16 @@ bool OwordFlow::closing_percent(SourceLoc at, InterpError& err) const {
                           skip_.shown, skip_.started.line));
 }
 
+bool OwordFlow::drop_missing_call(FlowJump& jump) {
+  if (skip_.mode != Skip::FindSub) return false;
+  skip_ = SkipState{};
+  pending_args_.clear();
+  pending_fanuc_ = pending_again_ = false;
+  m98_loops_[static_cast<std::size_t>(calls_)] = -1;
+  seek_to(jump, pending_return_, true);
+  return true;
+}
+
 bool OwordFlow::at_end(int last_line, InterpError& err, int& err_file) const {
   const std::string label = skip_.label;
   err_file = skip_.started_file;

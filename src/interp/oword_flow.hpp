@@ -73,6 +73,11 @@ class OwordFlow {
 
   int call_depth() const { return calls_; }
 
+  /// After at_end's UndefinedSubroutine: drops the search for the called subroutine and goes on
+  /// after the call line, as if the call had returned at once (`check` reads on). False when no
+  /// search was open.
+  bool drop_missing_call(FlowJump& jump);
+
  private:
   enum class Frame : std::uint8_t { Call, If, While, Do, Repeat };
   struct Open {

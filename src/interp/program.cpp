@@ -8,8 +8,18 @@
 
 namespace gm {
 
+namespace {
+
+// A stream stops at the first error: it never reads on after one.
+InterpreterOptions streamed(InterpreterOptions opts) {
+  opts.check_all = false;
+  return opts;
+}
+
+}  // namespace
+
 ProgramStream::ProgramStream(std::istream& in, std::string filename, InterpreterOptions opts)
-    : runner_(std::make_unique<LineDriver>(in, std::move(filename), opts)),
+    : runner_(std::make_unique<LineDriver>(in, std::move(filename), streamed(opts))),
       save_parameters_(opts.save_parameters) {}
 
 ProgramStream::~ProgramStream() {

@@ -36,6 +36,14 @@ struct InterpreterOptions {
   bool read_ahead = false;
   /// What the program is written for (docs/dialects.md); LinuxCNC: rs274's rules exactly.
   Dialect dialect = Dialect::LinuxCNC;
+  /// LinuxCNC's [RS274NGC]DISABLE_FANUC_STYLE_SUB: M98, M99 returning from a subprogram and a
+  /// bare `O1234` line are errors (Machine::fanuc_subs_disabled).
+  bool fanuc_subs_disabled = false;
+  /// check_program: report every error in one pass. After a call whose subroutine is found
+  /// nowhere the search is dropped and checking goes on after the call line; an error that
+  /// leaves the control flow unknown ends checking with a note saying so. ProgramStream ignores
+  /// it (it stops at the first error).
+  bool check_all = false;
 };
 
 struct CheckSummary {

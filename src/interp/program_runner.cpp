@@ -20,12 +20,18 @@ LinePos position_of(const ParsedLine& p) {
   return LinePos{p.offset, p.next_offset, p.number, p.file};
 }
 
+// check_all reads on after at most this many calls to subroutines found nowhere (each re-reads
+// the rest of the program), then stops checking.
+constexpr int kMaxDroppedCalls = 100;
+
 }  // namespace
 
 ProgramRunner::ProgramRunner(std::string filename, const InterpreterOptions& opts)
     : filename_(std::move(filename)),
       machine_(opts.machine ? *opts.machine : default_machine_),
       block_delete_(opts.block_delete),
+      check_all_(opts.check_all),
+      fanuc_subs_disabled_(opts.fanuc_subs_disabled),
       interp_(machine_),
       system_(interp_, params_, opts.parameter_file),
       files_(opts.subroutine_path),
@@ -190,6 +196,7 @@ bool ProgramRunner::control(Line& l) {
   InterpError err;
   const int depth = flow_.call_depth();
   const grammar::OKind kind = p.block.oword.kind;
+  if (fanuc_sub_refused(l)) return true;
   if ((kind == grammar::OKind::M98 || kind == grammar::OKind::M99) && !flow_.skipping() &&
       p.block.needs_evaluation() && !evaluator_.run(p.block, params_, err))
     return stop(err, l);
@@ -202,6 +209,26 @@ bool ProgramRunner::control(Line& l) {
     return true;
   }
   return ok || stop(err, l);
+}
+
+// [RS274NGC]DISABLE_FANUC_STYLE_SUB: M98, M99 in a subprogram and a bare O-word line are
+// errors, also on lines passed over (rs274 refuses them as it reads the line). The line is
+// not run; the program reads on.
+bool ProgramRunner::fanuc_sub_refused(Line& l) const {
+  const grammar::OWord& o = l.p.block.oword;
+  if (!fanuc_subs_disabled_) return false;
+  const char* what = o.kind == grammar::OKind::M98                             ? "M98"
+                     : o.kind == grammar::OKind::M99 && flow_.call_depth() > 0 ? "M99"
+                     : o.kind == grammar::OKind::Program ? "a bare O-word (a subprogram)"
+                                                         : nullptr;
+  if (what == nullptr) return false;
+  l.diags.push_back(Diagnostic{Severity::Error, static_cast<int>(ErrorCode::SubprogramMisused),
+                               o.loc,
+                               fmt::format("{}: Fanuc-style subprograms are disabled "
+                                           "([RS274NGC]DISABLE_FANUC_STYLE_SUB)",
+                                           what),
+                               echoed_line(l.p.text)});
+  return true;
 }
 
 // ABORT ends the program with a located error; LOG comments write nothing (no log directory
@@ -228,13 +255,27 @@ bool ProgramRunner::directive(const grammar::Message& m, Line& l) {
 
 bool ProgramRunner::stop(const InterpError& err, Line& l) {
   l.diags.push_back(error_diagnostic(err, l.p.text));
+  stopped_here(err.loc, l.diags, "the control flow after this line is unknown");
   done_ = true;
   l.jump.seek = false;
   return false;
 }
 
-void ProgramRunner::end_of_input(int last_line, std::vector<Diagnostic>& diags, int file) {
-  if (start_failed(diags) || done_) return;
+void ProgramRunner::stopped_here(SourceLoc loc, std::vector<Diagnostic>& diags,
+                                 std::string_view why) const {
+  if (!check_all_) return;
+  diags.push_back(Diagnostic{Severity::Note,
+                             0,
+                             loc,
+                             fmt::format("checking stopped here: {}", why),
+                             {},
+                             diags.empty() ? std::string() : diags.back().file});
+}
+
+bool ProgramRunner::end_of_input(int last_line, std::vector<Diagnostic>& diags, FlowJump& jump,
+                                 int file) {
+  jump.seek = false;
+  if (start_failed(diags) || done_) return false;
   done_ = true;
   InterpError err;
   int err_file = 0;
@@ -245,10 +286,19 @@ void ProgramRunner::end_of_input(int last_line, std::vector<Diagnostic>& diags, 
                                err.message,
                                {},
                                files_.file_name(err_file)});
-    return;
+    // The subroutine is nowhere: the rest of the program is read as if the call had returned.
+    if (!check_all_ || err.code != ErrorCode::UndefinedSubroutine) return false;
+    if (++dropped_calls_ > kMaxDroppedCalls) {
+      stopped_here(err.loc, diags,
+                   fmt::format("more than {} calls to missing subroutines", kMaxDroppedCalls));
+      return false;
+    }
+    done_ = !flow_.drop_missing_call(jump);
+    return !done_;
   }
   if (!interp_.state().ended)
     rules_.missing_end(last_line, opened_percent_, last_line_, files_.file_name(file), diags);
+  return false;
 }
 
 void ProgramRunner::cannot_open(int file, int line, int from_file, std::vector<Diagnostic>& diags) {
@@ -290,11 +340,11 @@ void ProgramRunner::remember(const std::string& text) {
 bool LineDriver::step(std::vector<Canon>& out, std::vector<Diagnostic>& diags) {
   if (back_.done()) return false;
   if (ahead_) return step_ahead(out, diags);
-  if (!source_.next(line_)) {
-    back_.end_of_input(source_.last_number(), diags, source_.file());
-    return false;
-  }
   FlowJump jump;
+  if (!source_.next(line_)) {
+    const int last = source_.last_number();
+    return back_.end_of_input(last, diags, jump, source_.file()) && source_.go(jump, last, diags);
+  }
   const bool more = back_.process(line_, out, diags, jump);
   const int number = line_.number;
   line_.trim();
@@ -313,8 +363,8 @@ bool LineDriver::step_ahead(std::vector<Canon>& out, std::vector<Diagnostic>& di
       const int last = batch_->last_number;
       batch_ = nullptr;
       ahead_.reset();
-      back_.end_of_input(last, diags);
-      return false;
+      FlowJump jump;
+      return back_.end_of_input(last, diags, jump) && source_.go(jump, last, diags);
     }
   }
   ParsedLine& p = batch_->lines[next_++];

@@ -36,8 +36,9 @@ class ProgramRunner {
   bool process(ParsedLine& p, std::vector<Canon>& out, std::vector<Diagnostic>& diags,
                FlowJump& jump);
   /// The input (file `file`) ended after line `last_line` (0: empty input): reports a missing
-  /// program end.
-  void end_of_input(int last_line, std::vector<Diagnostic>& diags, int file = 0);
+  /// program end, or what is still open. True when reading goes on where `jump` says: checking
+  /// every error (InterpreterOptions::check_all) after a call whose subroutine was not found.
+  bool end_of_input(int last_line, std::vector<Diagnostic>& diags, FlowJump& jump, int file = 0);
   /// A subroutine file found on the path could not be opened when the program jumped to it.
   void cannot_open(int file, int line, int from_file, std::vector<Diagnostic>& diags);
   /// The driver could not seek where the control flow asked (the input is a pipe).
@@ -69,9 +70,12 @@ class ProgramRunner {
   bool evaluate(Line& l, bool& more);
   bool run_block(Line& l);
   bool control(Line& l);
+  bool fanuc_sub_refused(Line& l) const;
   bool directive(const grammar::Message& m, Line& l);
   /// The program is over at an error: `err` on the line as a diagnostic; false.
   bool stop(const InterpError& err, Line& l);
+  /// check_all: the note after an error that ends checking (the lines after it are not read).
+  void stopped_here(SourceLoc loc, std::vector<Diagnostic>& diags, std::string_view why) const;
   bool start_failed(std::vector<Diagnostic>& diags);
   void remember(const std::string& text);
 
@@ -79,6 +83,9 @@ class ProgramRunner {
   Machine default_machine_;
   const Machine& machine_;
   bool block_delete_;
+  bool check_all_;
+  bool fanuc_subs_disabled_;
+  int dropped_calls_ = 0;  ///< check_all: calls read on after (kMaxDroppedCalls at most)
   Interpreter interp_;
   ParameterStore params_;
   SystemParameters system_;

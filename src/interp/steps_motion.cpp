@@ -319,6 +319,7 @@ bool run_rigid_tap(BlockCtx& ctx, const Code& c) {
   in.end_mm = end;
   set_spindle_feed(ctx, in, k_mm);
   in.spindle_synced = true;
+  in.canon = LineCanon::RigidTap;
   Motion out = in;
   out.start_mm = end;
   out.end_mm = start;

@@ -9,6 +9,12 @@ namespace {
 
 constexpr double kProbeBackoffMm = 0.254;  // rs274 (saicanon.cc): 0.254 mm or 0.01 in
 
+// The moves emitted from `first` on are LinuxCNC's STRAIGHT_PROBE.
+void name_probe_moves(BlockCtx& ctx, std::size_t first) {
+  for (std::size_t i = first; i < ctx.out.size(); ++i)
+    if (auto* m = std::get_if<Motion>(&ctx.out[i])) m->canon = LineCanon::Probe;
+}
+
 }  // namespace
 
 bool run_probe(BlockCtx& ctx, const Code& c) {
@@ -30,7 +36,9 @@ bool run_probe(BlockCtx& ctx, const Code& c) {
   if (must_trip && target == start)
     return ctx.fail(ErrorCode::ValueOutOfRange, loc,
                     fmt::format("{}: the start point is the probe point", name));
+  const std::size_t first = ctx.out.size();
   if (!emit_straight(ctx, MotionKind::Line, target, loc)) return false;
+  name_probe_moves(ctx, first);
   // The probe result, in the program's coordinates and units at this block.
   const Pos9 at = ctx.frame().to_program(target);
   for (int i = 0; i < kProgramAxes; ++i) ctx.results.add(5061 + i, at[i] / ctx.scale());
@@ -40,7 +48,10 @@ bool run_probe(BlockCtx& ctx, const Code& c) {
   if (dist == 0.0) return true;
   Pos9 back = target;
   back.head<3>() += kProbeBackoffMm * d / dist;
-  return emit_straight(ctx, MotionKind::Line, back, loc);
+  const std::size_t back_first = ctx.out.size();
+  if (!emit_straight(ctx, MotionKind::Line, back, loc)) return false;
+  name_probe_moves(ctx, back_first);
+  return true;
 }
 
 }  // namespace gm

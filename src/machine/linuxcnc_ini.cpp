@@ -366,6 +366,8 @@ void read_rs274ngc(const IniFile& ini, const fs::path& dir, Machine& m, Warnings
     else
       warn.push_back(fmt::format("[RS274NGC]PARAMETER_FILE: {} does not exist; not used", file));
   }
+  if (const auto d = ini.number("RS274NGC", "DISABLE_FANUC_STYLE_SUB"))
+    m.fanuc_subs_disabled = *d != 0.0;
   if (const IniValue* u = ini.find("RS274NGC", "USER_M_PATH"))
     warn.push_back(
         fmt::format("[RS274NGC]USER_M_PATH = {}: M100-M199 are recorded, never run", u->value));

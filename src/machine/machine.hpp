@@ -101,6 +101,9 @@ struct Machine {
   /// Where M100..M199 are looked up (a file named M101 makes M101 known; it is recorded, never
   /// run): key `user_mcode_dir` or --user-mcode-dir; empty: every user M code is an error.
   std::string user_mcode_dir;
+  /// LinuxCNC's [RS274NGC]DISABLE_FANUC_STYLE_SUB = 1 (INI only): M98, M99 in a subprogram and a
+  /// bare `O1234` line are errors, as rs274's.
+  bool fanuc_subs_disabled = false;
   /// The units a program starts in (key `program_units` "mm" or "inch"): false = G21, true = G20.
   /// LinuxCNC starts in its configuration's [TRAJ]LINEAR_UNITS; M2/M30 do not change them.
   bool program_inch = false;

@@ -394,6 +394,7 @@ InterpreterOptions interpreter_options(const RunSettings& s, const Machine& mach
   opts.subroutine_path = SubroutinePath::split(s.subroutine_path);
   for (const std::string& dir : machine.subroutine_path) opts.subroutine_path.push_back(dir);
   opts.max_iterations = s.max_iterations;
+  opts.fanuc_subs_disabled = machine.fanuc_subs_disabled;
   opts.parameter_file = s.no_parameter_file         ? std::string()
                         : !s.parameter_file.empty() ? s.parameter_file
                                                     : machine.parameter_file;

@@ -7,6 +7,7 @@
 #include "interp/program.hpp"
 #include "machine/machine_file.hpp"
 #include "pipeline/run.hpp"
+#include "support/run_command.hpp"
 #include "support/scratch_dir.hpp"
 
 #include <catch2/catch.hpp>
@@ -229,6 +230,27 @@ TEST_CASE("ini: a program starts in the configuration's units, as LinuxCNC's INI
   CHECK_FALSE(cm.machine.program_inch);
   CHECK(has_warning(cm, "neither mm nor inch"));
   CHECK_FALSE(has_warning(inch, "neither"));
+}
+
+TEST_CASE("ini: [RS274NGC]DISABLE_FANUC_STYLE_SUB = 1 makes M98 an error, as rs274's") {
+  const fs::path d = gmtest::scratch_dir("ini") / "fanuc-subs";
+  fs::create_directories(d);
+  write(d / "f.ngc", "G0 X1\nM98 P100\nM2\nO100\nG0 X2\nM99\n");
+  const auto check = [&](const std::string& value) {
+    write(d / "f.ini",
+          "[TRAJ]\nCOORDINATES = X Y Z\nLINEAR_UNITS = mm\n[AXIS_X]\nMAX_VELOCITY = 1\n"
+          "MAX_ACCELERATION = 10\n[RS274NGC]\nDISABLE_FANUC_STYLE_SUB = " +
+              value + "\n");
+    CHECK(gm::load_linuxcnc_ini(d / "f.ini").machine.fanuc_subs_disabled == (value == "1"));
+    return gmtest::run_gmotion("check " + (d / "f.ngc").string() + " --machine " +
+                               (d / "f.ini").string());
+  };
+  const auto refused = check("1");
+  CHECK(refused.code == 1);
+  CHECK(refused.out.find("f.ngc:2:1: error: M98: Fanuc-style subprograms are disabled") !=
+        std::string::npos);
+  CHECK(refused.out.find("f.ngc: 1 error") != std::string::npos);
+  CHECK(check("0").code == 0);
 }
 
 TEST_CASE("ini: tau is the time a velocity step takes at the tightest V/A, by the profile's peak") {

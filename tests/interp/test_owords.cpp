@@ -195,7 +195,8 @@ TEST_CASE("rs274 2.9: after a break, the next do ... while loop runs once") {
 
 TEST_CASE("an endless loop stops at --max-iterations with a located error") {
   const auto d = check_with("o1 while [1]\no1 endwhile\nM2\n", 1000);
-  REQUIRE(d.size() == 1);
+  REQUIRE(d.size() == 2);  // the error, then the note that checking stopped there
+  CHECK(d[1].severity == gm::Severity::Note);
   CHECK(d[0].code == code(gm::ErrorCode::TooManyIterations));
   CHECK(d[0].loc.line == 2);
   CHECK_THAT(d[0].message, Catch::Contains("1000"));

@@ -116,7 +116,8 @@ TEST_CASE("a file on the path comes before a definition further down the program
   // a redefinition (rs274: "redefining sub: o|part| already defined in file").
   const std::string p = "o<part> call\no<part> sub\nG0 X1\no<part> endsub\nM2\n";
   const auto d = checked(p, o);
-  REQUIRE(d.size() == 1);
+  REQUIRE(d.size() == 2);  // the error, then the note that checking stopped there
+  CHECK(d[1].severity == gm::Severity::Note);
   CHECK(d[0].code == code(gm::ErrorCode::SubroutineRedefined));
   CHECK(d[0].loc.line == 2);
   // Without a path the later definition is used, as before.
