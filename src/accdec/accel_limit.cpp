@@ -19,17 +19,15 @@ double profile_peak_factor(const std::string& profile) {
   }
 }
 
-double tau_for_accel_limit(const Machine& m, const std::vector<double>& a_max_mm_s2,
-                           double fallback_s) {
+double tau_for_accel_limit(const std::string& profile, double period_s,
+                           const std::vector<double>& v_max_mm_s,
+                           const std::vector<double>& a_max_mm_s2, double fallback_s) {
   double ratio = 0.0;
-  for (int i = 0; i < m.axis_count(); ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    if (k < a_max_mm_s2.size() && a_max_mm_s2[k] > 0.0)
-      ratio = std::max(ratio, m.axes[k].v_max_mm_s / a_max_mm_s2[k]);
-  }
+  for (std::size_t k = 0; k < v_max_mm_s.size() && k < a_max_mm_s2.size(); ++k)
+    if (a_max_mm_s2[k] > 0.0) ratio = std::max(ratio, v_max_mm_s[k] / a_max_mm_s2[k]);
   if (ratio == 0.0) return fallback_s;
-  const double taps = std::ceil(profile_peak_factor(m.profile) * ratio / m.period_s - 1e-9);
-  return std::clamp(taps, 1.0, static_cast<double>(kMaxAccDecTaps)) * m.period_s;
+  const double taps = std::ceil(profile_peak_factor(profile) * ratio / period_s - 1e-9);
+  return std::clamp(taps, 1.0, static_cast<double>(kMaxAccDecTaps)) * period_s;
 }
 
 }  // namespace gm

@@ -2,8 +2,6 @@
 // axis's speed limit stays within the axis's acceleration limit (docs/linuxcnc-ini.md).
 #pragma once
 
-#include "machine/machine.hpp"
-
 #include <string>
 #include <vector>
 
@@ -13,11 +11,12 @@ namespace gm {
 /// V through the filter accelerates at most c·V/τ. 1 for linear; fixed-length profiles give 1.
 double profile_peak_factor(const std::string& profile);
 
-/// The smallest τ (a whole number of periods, 1..kMaxAccDecTaps of them) at which a velocity
-/// step at each axis's v_max_mm_s through m.profile stays within a_max_mm_s2 (machine axis order,
-/// mm/s² or deg/s²): ⌈c·max_i(V_i/A_i)/T⌉·T. Axes with A_i = 0 are skipped; `fallback_s` when
-/// none has a limit.
-double tau_for_accel_limit(const Machine& m, const std::vector<double>& a_max_mm_s2,
-                           double fallback_s);
+/// The smallest τ (a whole number of periods T, 1..kMaxAccDecTaps of them) at which a velocity
+/// step at each axis's v_max_mm_s[i] through `profile` stays within a_max_mm_s2[i] (mm/s² or
+/// deg/s²): ⌈c·max_i(V_i/A_i)/T⌉·T. Axes with A_i = 0 are skipped; `fallback_s` when none has a
+/// limit.
+double tau_for_accel_limit(const std::string& profile, double period_s,
+                           const std::vector<double>& v_max_mm_s,
+                           const std::vector<double>& a_max_mm_s2, double fallback_s);
 
 }  // namespace gm

@@ -4,7 +4,6 @@
 #include "accdec/taps.hpp"
 #include "accdec/window.hpp"
 #include "common/status.hpp"
-#include "machine/machine.hpp"
 
 #include <fmt/format.h>
 

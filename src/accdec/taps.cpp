@@ -5,7 +5,6 @@
 #include "accdec/profile_spec.hpp"
 #include "accdec/profiles.hpp"
 #include "common/status.hpp"
-#include "machine/machine.hpp"
 
 #include <fmt/format.h>
 

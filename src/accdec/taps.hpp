@@ -8,6 +8,10 @@
 
 namespace gm {
 
+/// Most Acc/Dec taps tau/T a filter may have (tau = 100 s at T = 1 ms): beyond it the design and
+/// the filter's history grow without bound, so machine files and flags asking for more are refused.
+inline constexpr int kMaxAccDecTaps = 100000;
+
 /// A designed Acc/Dec filter D(z) = (1/b_s) Σ b_i z^-i, i = 0..N (Eq. 8). Designing is separate
 /// from applying (FirAccDec applies `integer`).
 struct Taps {

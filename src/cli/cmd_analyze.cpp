@@ -148,8 +148,8 @@ struct CornerOptions {
   double tolerance_mm = 0.01;
 };
 
-// Issue 21: the corner error of the Acc/Dec output (FilterMoments) against angle and feed, and
-// the largest feed for a tolerance, slowed (no pause) and paused.
+// G64 P tolerance: the corner error of the Acc/Dec output (FilterMoments) against angle and feed,
+// and the largest feed for a tolerance, slowed (no pause) and paused.
 void run_corner(const CornerOptions& o) {
   if (!(o.tolerance_mm > 0))
     throw InputError(fmt::format("--tolerance {} mm must be > 0", o.tolerance_mm));
@@ -187,7 +187,8 @@ void run_corner(const CornerOptions& o) {
   for (double a : o.angles_deg) {
     const double phi = a * std::numbers::pi / 180.0;
     const double v = fm.largest_corner_speed_mm_s(o.tolerance_mm, phi, 0.0);
-    fmt::print("{:g},{}", a, std::isfinite(v) ? fmt::format("{:.1f}", 60.0 * v) : "inf");
+    fmt::print("{:g},{}", a,
+               std::isfinite(v) ? fmt::format("{:.1f}", units::mm_s_to_mm_min(v)) : "inf");
     for (double f : o.feeds_mm_min)
       fmt::print(",{:.3f}",
                  1e3 * fm.shortest_pause_s(o.tolerance_mm, phi, units::mm_min_to_mm_s(f)));
@@ -247,7 +248,7 @@ void add_analyze(CLI::App& app, Context& ctx) {
   auto* rc = sub->add_subcommand(
       "corner",
       "Corner error of the filter output against angle and feed; largest feed for a tolerance, "
-      "slowed and paused (issue 21)");
+      "slowed and paused (G64 P tolerance)");
   rc->add_option("--profile", c->profile, "profile spec (see gmotion design --help)")
       ->capture_default_str();
   rc->add_option("--tau", c->tau_s, "Acc/Dec time constant, s")->capture_default_str();

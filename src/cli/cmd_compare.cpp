@@ -5,6 +5,7 @@
 #include "cli/commands.hpp"
 #include "cli/settings_flags.hpp"
 #include "common/status.hpp"
+#include "common/units.hpp"
 #include "measure/run_summary.hpp"
 #include "pipeline/run.hpp"
 #include "setup/program_input.hpp"
@@ -76,7 +77,7 @@ ArcFigures arc_figures(ProgramInput& program, const InterpreterOptions& opts, co
   const double blu = m.contour_blu_mm();
   if (a.arc) {
     a.r_blu = (a.arc->start_mm - a.arc->center_mm).norm() / blu;  // planar arcs: in-plane radius
-    a.v_blu_s = a.arc->feed_mm_min / 60.0 / blu;
+    a.v_blu_s = units::mm_min_to_mm_s(a.arc->feed_mm_min) / blu;
   }
   a.kp = m.axes[0].kp_1_s;
   a.servo_eq35 = a.arc ? a.v_blu_s * a.v_blu_s / (2.0 * a.r_blu * a.kp * a.kp) : 0.0;

@@ -2,8 +2,8 @@
 // block carries, and the steps that offset straight moves and arcs by the tool radius.
 #pragma once
 
-#include "interp/canon.hpp"
 #include "interp/program_axes.hpp"
+#include "motion/canon.hpp"
 
 #include <string_view>
 #include <vector>

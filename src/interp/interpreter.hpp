@@ -5,14 +5,14 @@
 #include "common/diagnostic.hpp"
 #include "common/error_codes.hpp"
 #include "grammar/parse.hpp"
-#include "interp/canon.hpp"
 #include "interp/cutter_comp.hpp"
 #include "interp/lathe_profile.hpp"
 #include "interp/program_axes.hpp"
 #include "interp/spline.hpp"
-#include "interpolator/geometry.hpp"  // motion_length_mm, arc_sweep_rad, plane_axes
 #include "machine/machine.hpp"
 #include "machine/tool_table.hpp"
+#include "motion/canon.hpp"
+#include "motion/geometry.hpp"  // motion_length_mm, arc_sweep_rad, plane_axes
 
 #include <array>
 #include <cstdint>
@@ -175,7 +175,7 @@ class Interpreter {
   bool leave_call(int level, int line, std::vector<Canon>& out, InterpError& err);
   const SystemTables& tables() const { return tables_; }
   /// Starts from the persistent parameters of a .var file, as LinuxCNC's Interp::init does
-  /// after reading it (lang's interp/restore_parameters.cpp): G28/G30 positions, G54-G59.3
+  /// after reading it (interp/restore_parameters.cpp): G28/G30 positions, G54-G59.3
   /// offsets, the coordinate system #5220 (1-9, else G54) and G92's offsets, applied if #5210
   /// is set. `par(n)` is #n (mm, degrees).
   void restore_system_parameters(const std::function<double(int)>& par);

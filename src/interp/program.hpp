@@ -2,9 +2,9 @@
 #pragma once
 
 #include "common/diagnostic.hpp"
-#include "interp/canon.hpp"
 #include "interp/dialect.hpp"
 #include "machine/machine.hpp"
+#include "motion/canon.hpp"
 
 #include <cstdint>
 #include <istream>

@@ -27,7 +27,7 @@ struct BlockWords {
   std::array<const Code*, kGroupCount> codes{};  ///< the block's codes in the order written
   std::size_t code_count = 0;
   const grammar::Word* first_axis = nullptr;
-  PolarWords polar;  ///< `@` and `^` (lang's interp/polar.hpp): axis words in place of X and Y
+  PolarWords polar;        ///< `@` and `^` (interp/polar.hpp): axis words in place of X and Y
   grammar::Word x_radius;  ///< G7: the X word halved (value['X'] points here then)
 
   const grammar::Word* operator[](char c) const { return value[static_cast<std::size_t>(c - 'A')]; }

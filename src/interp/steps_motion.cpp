@@ -113,7 +113,7 @@ bool axis_target(BlockCtx& ctx, const Pos9& from_mm, Pos9& target_mm) {
     words[i] = aw->value * unit;
     given |= 1u << i;
   }
-  if (ctx.w.polar.any()) {  // @ radius, ^ angle in place of X, Y (lang's interp/polar.cpp)
+  if (ctx.w.polar.any()) {  // @ radius, ^ angle in place of X, Y (interp/polar.cpp)
     const grammar::Word* pw = ctx.w.polar.first();
     if (ctx.w.has('X') || ctx.w.has('Y'))
       return ctx.fail(ErrorCode::PolarMisused, pw->loc,

@@ -2,6 +2,7 @@
 #include "interpolator/interpolator.hpp"
 
 #include "common/rounding.hpp"
+#include "common/units.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -41,9 +42,10 @@ inline double Interpolator::block_speed_mm_s(const OverrideInput& ovr) const {
   // so no override may take the block faster than the speed its contour error was planned for.
   // G95 under G96: the spindle speeds up as the tool nears the axis, and the feed with it. A
   // spindle with a ramp feeds at the speed it has reached (G97).
-  const double v100 = spindle_ramp_block_ ? block_.mm_per_rev * spindle_rpm_ / 60.0
-                      : css_block_ ? block_.mm_per_rev * block_.spindle_rpm_at(pos_mm_[0]) / 60.0
-                                   : speed_100_mm_s_;
+  const double v100 =
+      spindle_ramp_block_ ? units::mm_min_to_mm_s(block_.mm_per_rev * spindle_rpm_)
+      : css_block_ ? units::mm_min_to_mm_s(block_.mm_per_rev * block_.spindle_rpm_at(pos_mm_[0]))
+                   : speed_100_mm_s_;
   return std::min(v100 * scale, speed_cap_mm_s_);
 }
 
@@ -67,9 +69,9 @@ bool Interpolator::pull_next() {
       synced_block_ = block_.spindle_synced;  // G33: the feed override does not act
       css_block_ = block_.mm_per_rev > 0.0 && block_.css_surface_mm_min > 0.0;
       spindle_ramp_block_ = block_.mm_per_rev > 0.0 && cfg_.spindle_accel_rpm_s > 0.0;
-      speed_100_mm_s_ = rapid_block_                  ? cfg_.rapid_mm_min / 60.0
+      speed_100_mm_s_ = rapid_block_                  ? units::mm_min_to_mm_s(cfg_.rapid_mm_min)
                         : block_.inverse_time_s > 0.0 ? geom_.length_mm / block_.inverse_time_s
-                                                      : block_.feed_mm_min / 60.0;
+                                                      : units::mm_min_to_mm_s(block_.feed_mm_min);
       speed_cap_mm_s_ = block_.speed_cap_mm_s > 0.0 ? block_.speed_cap_mm_s
                                                     : std::numeric_limits<double>::infinity();
       ++block_seq_;
@@ -123,7 +125,7 @@ bool Interpolator::pull_next() {
       case EventKind::SpindleStop:
         spindle_on_ = false;
         break;
-      default:  // spindle, coolant, tools, I/O (interp/canon.hpp): no effect on the motion
+      default:  // spindle, coolant, tools, I/O (motion/canon.hpp): no effect on the motion
         break;
     }
   }

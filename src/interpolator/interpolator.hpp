@@ -4,8 +4,8 @@
 
 #include "common/axis.hpp"
 #include "common/block_columns.hpp"
-#include "interp/canon.hpp"
-#include "interpolator/geometry.hpp"
+#include "motion/canon.hpp"
+#include "motion/geometry.hpp"
 
 #include <cstdint>
 #include <vector>

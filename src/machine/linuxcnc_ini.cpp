@@ -392,6 +392,13 @@ bool is_linuxcnc_ini(const std::filesystem::path& path) {
   return lower(path.extension().string()) == ".ini";
 }
 
+double tau_for_accel_limit(const Machine& m, const std::vector<double>& a_max_mm_s2,
+                           double fallback_s) {
+  std::vector<double> v_max_mm_s;
+  for (const AxisConfig& a : m.axes) v_max_mm_s.push_back(a.v_max_mm_s);
+  return tau_for_accel_limit(m.profile, m.period_s, v_max_mm_s, a_max_mm_s2, fallback_s);
+}
+
 IniImport load_linuxcnc_ini(const std::filesystem::path& path) {
   IniFile ini;
   const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
@@ -442,7 +449,7 @@ std::string machine_to_linuxcnc_ini(const Machine& m) {
   s += fmt::format(
       "\n[TRAJ]\nCOORDINATES = {}\nLINEAR_UNITS = mm\nANGULAR_UNITS = degree\n"
       "MAX_LINEAR_VELOCITY = {}\n",
-      coords, ini_number(m.rapid_mm_min / 60.0));
+      coords, ini_number(units::mm_min_to_mm_s(m.rapid_mm_min)));
   s += fmt::format("\n[KINS]\nKINEMATICS = trivkins coordinates={}\nJOINTS = {}\n",
                    m.layout.letters(), m.axis_count());
   for (int i = 0; i < m.axis_count(); ++i) {

@@ -31,6 +31,11 @@ bool is_linuxcnc_ini(const std::filesystem::path& path);
 /// ..." on a value it needs and cannot read.
 IniImport load_linuxcnc_ini(const std::filesystem::path& path);
 
+/// τ from the acceleration limits (accdec's tau_for_accel_limit) for machine m's profile, period
+/// and axis speed limits.
+double tau_for_accel_limit(const Machine& m, const std::vector<double>& a_max_mm_s2,
+                           double fallback_s);
+
 /// The INI sections a LinuxCNC configuration needs for this machine's axes: [EMCMOT]
 /// SERVO_PERIOD, [TRAJ] (COORDINATES, units mm/degree, MAX_LINEAR_VELOCITY), [KINS] JOINTS,
 /// [DISPLAY] MAX_FEED_OVERRIDE and per axis [AXIS_L] and [JOINT_n] with MAX_VELOCITY,

@@ -10,10 +10,6 @@
 
 namespace gm {
 
-/// Most Acc/Dec taps tau/T a machine file may ask for (tau = 100 s at T = 1 ms): beyond it the
-/// design and the filter's history grow without bound, so the reader refuses the file.
-inline constexpr int kMaxAccDecTaps = 100000;
-
 /// Which controller's arc end-radius tolerance rule the interpreter applies.
 enum class ArcRule { LinuxCnc, Grbl, G2core };
 
@@ -23,7 +19,7 @@ enum class ArcRule { LinuxCnc, Grbl, G2core };
 /// Pi: u = Kvp*e + Kvi*sum(e) (proportional on the error; adds a zero, overshoots ~13-50 %).
 enum class VelocityLoopForm { Ip, Pi };
 
-/// What the contour tolerance (G64 P) is planned for (issue 21): the Acc/Dec output, or the
+/// What the contour tolerance (G64 P) is planned for: the Acc/Dec output, or the
 /// whole linear chain FIR + servo, so that it holds for the table too (within one BLU more).
 enum class ToleranceOn { AccDec, Encoder };
 
@@ -78,7 +74,7 @@ struct Machine {
   double tau_s = 0.164;               ///< Acc/Dec time constant (N+1)T
   ArcRule arc_rule = ArcRule::LinuxCnc;
   /// Contour tolerance under G64 without P, mm (machine key path_tolerance_mm, CLI --tolerance);
-  /// 0 = unbounded, the filter blends corners freely (issue 21).
+  /// 0 = unbounded, the filter blends corners freely.
   double path_tolerance_mm = 0.0;
   /// Machine key tolerance_on ("acc_dec" or "encoder"), CLI --tolerance-on.
   ToleranceOn tolerance_on = ToleranceOn::AccDec;

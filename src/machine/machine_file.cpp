@@ -1,5 +1,6 @@
 // TOML machine file reader/writer (toml++): every error names the key, the file and the line.
 #include "machine/machine_file.hpp"
+#include "accdec/taps.hpp"
 #include "machine/linuxcnc_ini.hpp"
 
 #include "common/path_list.hpp"

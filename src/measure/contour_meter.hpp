@@ -2,10 +2,10 @@
 #pragma once
 
 #include "common/axis.hpp"
-#include "interp/canon.hpp"
-#include "pipeline/path_window.hpp"
-#include "pipeline/sample_block.hpp"
-#include "pipeline/sample_record.hpp"
+#include "measure/path_window.hpp"
+#include "motion/canon.hpp"
+#include "motion/sample_block.hpp"
+#include "motion/sample_record.hpp"
 
 #include <array>
 #include <cstdint>

@@ -3,9 +3,9 @@
 
 #include "common/axis.hpp"
 #include "machine/machine.hpp"
-#include "pipeline/block_sink.hpp"
-#include "pipeline/sample_block.hpp"
-#include "pipeline/sample_record.hpp"
+#include "motion/block_sink.hpp"
+#include "motion/sample_block.hpp"
+#include "motion/sample_record.hpp"
 
 #include <array>
 #include <cstdint>

@@ -3,10 +3,10 @@
 #pragma once
 
 #include "common/axis.hpp"
-#include "interp/canon.hpp"
-#include "pipeline/block_sink.hpp"
-#include "pipeline/sample_block.hpp"
-#include "pipeline/sample_record.hpp"
+#include "motion/block_sink.hpp"
+#include "motion/canon.hpp"
+#include "motion/sample_block.hpp"
+#include "motion/sample_record.hpp"
 
 #include <cmath>
 #include <cstdint>

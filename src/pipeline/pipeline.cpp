@@ -94,7 +94,7 @@ bool Pipeline::settled() const {
   for (const OwnAccDec& o : own_accdec_)
     if (!o.fir.settled()) return false;
   if (!cfg_.servo) return true;
-  return quiet_samples_ >= 25;
+  return quiet_samples_ >= kSettleQuietSamples;
 }
 
 template <int N>

@@ -4,12 +4,12 @@
 #include "accdec/fir_filter.hpp"
 #include "accdec/taps.hpp"
 #include "common/axis.hpp"
-#include "interp/canon.hpp"
 #include "interpolator/interpolator.hpp"
 #include "machine/machine.hpp"
 #include "measure/contour_meter.hpp"
-#include "pipeline/sample_block.hpp"
-#include "pipeline/sample_record.hpp"
+#include "motion/canon.hpp"
+#include "motion/sample_block.hpp"
+#include "motion/sample_record.hpp"
 #include "servo/servo_bank.hpp"
 
 #include <array>
@@ -111,6 +111,9 @@ class Pipeline {
   bool program_done_ = false;
   std::int64_t done_k_ = 0;
   int quiet_samples_ = 0;
+  /// Samples in a row with every axis still (ServoBank::quiet_run) before the servos count as
+  /// settled.
+  static constexpr int kSettleQuietSamples = 25;
 };
 
 }  // namespace gm

@@ -37,7 +37,7 @@ RunOptions with_thread_choice(RunOptions o) {
   return o;
 }
 
-// The tolerance planner over `source` for the machine's filter and overrides (issue 21).
+// The tolerance planner over `source` for the machine's filter and overrides (G64 P).
 // One BLU over the tolerance is allowed when it is planned for the table (tolerance_on = encoder).
 double encoder_allowance_mm(const RunConfig& c) {
   return c.servo && c.machine.tolerance_on == ToleranceOn::Encoder ? c.machine.contour_blu_mm()

@@ -2,13 +2,13 @@
 // and stop rules, advanced a block of samples per advance() or one per step() (ruckig's update()).
 #pragma once
 
-#include "interp/canon.hpp"
 #include "interp/program.hpp"
 #include "measure/contour_meter.hpp"
 #include "measure/run_summary.hpp"
 #include "measure/tolerance_check.hpp"
+#include "motion/block_sink.hpp"
+#include "motion/canon.hpp"
 #include "override/override_schedule.hpp"
-#include "pipeline/block_sink.hpp"
 #include "pipeline/pipeline.hpp"
 #include "planner/tolerance_planner.hpp"
 #include "trace/trace_writer.hpp"
@@ -107,7 +107,7 @@ class Run {
   const SampleRecord& last() const { return rec_; }
   /// Complete once step() has returned Finished or Unsettled.
   const RunSummary& summary() const { return summary_; }
-  /// The contour error against the tolerance in force (issue 21), complete with summary().
+  /// The contour error against the tolerance in force (G64 P), complete with summary().
   const ToleranceCheck& tolerance() const { return tolerance_; }
   const Pipeline& pipeline() const { return pipeline_; }
   const RunConfig& config() const { return options_.config; }
@@ -145,7 +145,7 @@ class Run {
 
   RunOptions options_;
   std::unique_ptr<ProgramStream> stream_;  ///< when the run interprets the program itself
-  /// Issue 21: caps speeds and pauses at corners for blocks with a tolerance; hands every other
+  /// G64 P: caps speeds and pauses at corners for blocks with a tolerance; hands every other
   /// block on unchanged.
   std::unique_ptr<TolerancePlanner> planner_;
   Pipeline pipeline_;

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "common/batch_ring.hpp"
-#include "pipeline/sample_block.hpp"
+#include "motion/sample_block.hpp"
 
 #include <array>
 #include <cstddef>

@@ -1,7 +1,7 @@
 // G64 Q (LinuxCNC's naive-CAM detector): runs of nearly collinear G1 moves merged into one line.
 #pragma once
 
-#include "interp/canon.hpp"
+#include "motion/canon.hpp"
 
 #include <cstddef>
 #include <deque>

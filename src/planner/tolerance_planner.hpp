@@ -1,11 +1,11 @@
 // The tolerance planner: a look-ahead CanonSource that caps speeds and pauses at corners so the
-// Acc/Dec output stays within each block's G64 P tolerance on every sample (issue 21).
+// Acc/Dec output stays within each block's G64 P tolerance on every sample.
 #pragma once
 
 #include "common/axis.hpp"
 #include "common/ring_deque.hpp"
-#include "interp/canon.hpp"
-#include "interpolator/geometry.hpp"
+#include "motion/canon.hpp"
+#include "motion/geometry.hpp"
 #include "planner/filter_moments.hpp"
 #include "planner/naive_cam.hpp"
 

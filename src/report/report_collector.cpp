@@ -1,7 +1,7 @@
 // Gathers a run's samples into the page's data: decimated time series and the XY paths.
 #include "report/report_collector.hpp"
 
-#include "interpolator/geometry.hpp"
+#include "motion/geometry.hpp"
 
 #include <algorithm>
 #include <cmath>

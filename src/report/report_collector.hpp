@@ -2,10 +2,10 @@
 #pragma once
 
 #include "common/axis.hpp"
-#include "interp/canon.hpp"
 #include "machine/machine.hpp"
-#include "pipeline/block_sink.hpp"
-#include "pipeline/sample_record.hpp"
+#include "motion/block_sink.hpp"
+#include "motion/canon.hpp"
+#include "motion/sample_record.hpp"
 #include "report/adaptive_bins.hpp"
 #include "report/path_simplifier.hpp"
 

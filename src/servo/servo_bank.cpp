@@ -390,7 +390,7 @@ int ServoBank::step_block(const BluColumns& ref, BluColumns& enc, RealColumns& t
     have_ref_ = true;
   }
   // Vector width W per instruction set. AVX-512 steps 4-lane (ymm, AVX-512VL) vectors too:
-  // measured on this AMD EPYC (256-bit datapath), 8-lane zmm ran 6 axes at 15 M samples/s and
+  // measured on an AMD EPYC (256-bit datapath), 8-lane zmm ran 6 axes at 15 M samples/s and
   // 9 at 7.7, two or three ymm at 31 and 24.
   constexpr int kW512 = 4;
   int done = 0;

@@ -2,7 +2,7 @@
 #pragma once
 
 #include "common/block_columns.hpp"
-#include "pipeline/sample_block.hpp"
+#include "motion/sample_block.hpp"
 
 #include <cstdint>
 

@@ -2,7 +2,7 @@
 #pragma once
 
 #include "common/axis.hpp"
-#include "pipeline/sample_record.hpp"
+#include "motion/sample_record.hpp"
 #include "trace/trace_schema.hpp"
 
 #include <type_traits>

@@ -2,8 +2,8 @@
 #pragma once
 
 #include "common/axis.hpp"
-#include "pipeline/block_sink.hpp"
-#include "pipeline/sample_record.hpp"
+#include "motion/block_sink.hpp"
+#include "motion/sample_record.hpp"
 
 #include <fmt/format.h>
 

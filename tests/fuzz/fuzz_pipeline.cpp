@@ -73,9 +73,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // it the corner's rounding is judged against that P (G0 X10 / G0 X10 Y1 / G64 P0.1 / G1 X20
   // F3000: 548 % of P; docs/tolerance.md).
   gen.tolerances = false;
-  // No helices: a steep helix into a line overshoots the tolerance by a few percent at high
-  // override (docs/tolerance.md, "Not done").
-  gen.helices = false;
   const std::string program = fuzz::ProgramGen(in, gen).generate();
   if (std::getenv("GMOTION_FUZZ_PRINT")) std::fputs(program.c_str(), stderr);  // to replay by hand
 

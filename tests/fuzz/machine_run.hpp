@@ -3,8 +3,8 @@
 
 #include "accdec/taps.hpp"
 #include "common/status.hpp"
-#include "interp/canon.hpp"
 #include "machine/machine.hpp"
+#include "motion/canon.hpp"
 #include "pipeline/pipeline.hpp"
 #include "support/sample_stepper.hpp"
 

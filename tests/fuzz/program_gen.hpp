@@ -44,7 +44,6 @@ struct GenOptions {
   double extent_mm = 50;            ///< moves stay within about ±extent in X and Y
   double min_tolerance_mm = 0.001;  ///< the smallest G64 P written
   bool tolerances = true;           ///< G64 P… in the program (else only G61, G61.1 and G64)
-  bool helices = true;              ///< arcs with a Z word (helices)
 };
 
 /// Writes a program (G21, G17, absolute) that the generator tracks the position of, so that its
@@ -192,7 +191,7 @@ class ProgramGen {
     out_ += l + "\n";
     move_to(std::stod(num4(x)), std::stod(num4(y)), z);
   }
-  void helix() { arc_ijk(opts_.helices); }
+  void helix() { arc_ijk(true); }
   void arc_r() {
     const double x = xy(-50, 50), y = xy(-50, 50);
     const double chord = std::hypot(x - x_, y - y_);

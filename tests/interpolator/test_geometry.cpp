@@ -1,8 +1,9 @@
 // One motion geometry: sweeps, lengths, points, tangents and distances against closed forms.
-#include "interpolator/geometry.hpp"
+#include "motion/geometry.hpp"
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -118,4 +119,48 @@ TEST_CASE("geometry: a helix of two turns") {
   const AxisVec t = g.tangent_at(0);
   CHECK(near(t, xyz(0, 4 * kPi, 3) / std::hypot(4 * kPi, 3.0), 1e-12));
   CHECK(g.at_fraction(1.0) == m.end_mm);
+}
+
+namespace {
+
+// The nearest point of a helix, found by brute force: the smallest distance to 200,001 points
+// at_fraction() puts along it, refined around the best by a finer scan.
+double brute_helix_distance(const MotionGeometry& g, const gm::Vec3& p) {
+  auto d = [&](double u) { return (g.at_fraction(u).head<3>() - p).norm(); };
+  constexpr int kN = 200000;
+  int best = 0;
+  for (int i = 1; i <= kN; ++i)
+    if (d(static_cast<double>(i) / kN) < d(static_cast<double>(best) / kN)) best = i;
+  double lo = std::max(0.0, (best - 1.0) / kN), hi = std::min(1.0, (best + 1.0) / kN);
+  double dist = d(static_cast<double>(best) / kN);
+  for (int i = 0; i <= 1000; ++i) dist = std::min(dist, d(lo + (hi - lo) * i / 1000.0));
+  return dist;
+}
+
+}  // namespace
+
+TEST_CASE("geometry: distance to a helix is to its nearest point, in 3-D") {
+  // A steep helix (a 3-degree turn of r 4.22 falling 5.98 mm, from a CAM program) and a helix of
+  // two turns: the contour meter's distance against a brute-force search along the helix, from
+  // points around them (inside, outside, above, below, beyond the ends).
+  const Motion steep =
+      arc(xyz(-4.236, 2.844, 5), xyz(-4.1349, 3.054, -0.98), xyz(-7.988, 4.78, 0), true);
+  const Motion two_turns =
+      arc(xyz(1, 0, 0), xyz(1, 0, 3), AxisVec::Zero(), false, gm::Plane::XY, 2);
+  for (const Motion& m : {steep, two_turns}) {
+    const MotionGeometry g = MotionGeometry::of(m);
+    REQUIRE_FALSE(g.planar);
+    for (double u : {-0.1, 0.0, 0.02, 0.3, 0.5, 0.77, 1.0, 1.1}) {
+      const gm::Vec3 on = g.at_fraction(std::clamp(u, 0.0, 1.0)).head<3>();
+      for (const gm::Vec3& off : {gm::Vec3(0.05, 0, 0), gm::Vec3(0, -0.2, 0.1),
+                                  gm::Vec3(0.1, 0.1, -0.3), gm::Vec3(-0.4, 0, 0.2)}) {
+        const gm::Vec3 p = on + off + (u < 0 ? gm::Vec3(0, 0, 0.5) : gm::Vec3::Zero());
+        double dist = 0, signed_dist = 0;
+        g.distance(p, dist, signed_dist);
+        CAPTURE(u, off.transpose(), dist);
+        CHECK(dist == Approx(brute_helix_distance(g, p)).margin(1e-7));
+        CHECK(std::fabs(signed_dist) == dist);
+      }
+    }
+  }
 }

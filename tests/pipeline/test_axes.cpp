@@ -3,8 +3,8 @@
 // and Z sample for sample as they were.
 #include "common/status.hpp"
 #include "interp/program.hpp"
-#include "interpolator/geometry.hpp"
 #include "machine/machine_file.hpp"
+#include "motion/geometry.hpp"
 #include "pipeline/run.hpp"
 #include "support/run_command.hpp"
 

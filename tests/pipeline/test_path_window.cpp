@@ -1,5 +1,5 @@
 // Contour error geometry: distances to lines, signed radial deviation on arcs, arc end handling.
-#include "pipeline/path_window.hpp"
+#include "measure/path_window.hpp"
 
 #include <catch2/catch.hpp>
 

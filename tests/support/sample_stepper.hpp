@@ -2,9 +2,9 @@
 #pragma once
 
 #include "measure/contour_meter.hpp"
+#include "motion/sample_block.hpp"
+#include "motion/sample_record.hpp"
 #include "pipeline/pipeline.hpp"
-#include "pipeline/sample_block.hpp"
-#include "pipeline/sample_record.hpp"
 
 #include <cstdint>
 #include <memory>

@@ -3,7 +3,7 @@
 
 #include "interpolator/interpolator.hpp"
 #include "measure/run_summary.hpp"
-#include "pipeline/sample_record.hpp"
+#include "motion/sample_record.hpp"
 
 #include <cmath>
 #include <cstdlib>

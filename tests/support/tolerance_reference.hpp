@@ -1,9 +1,9 @@
 // Test reference model: ToleranceCheck one SampleRecord at a time, with the motion it started.
 #pragma once
 
-#include "interp/canon.hpp"
 #include "measure/tolerance_check.hpp"
-#include "pipeline/sample_record.hpp"
+#include "motion/canon.hpp"
+#include "motion/sample_record.hpp"
 
 namespace gmtest {
 

@@ -1,8 +1,8 @@
 // Test helper: one SampleRecord into a TraceWriter, as a one-row block.
 #pragma once
 
-#include "pipeline/sample_block.hpp"
-#include "pipeline/sample_record.hpp"
+#include "motion/sample_block.hpp"
+#include "motion/sample_record.hpp"
 #include "trace/trace_writer.hpp"
 
 #include <memory>

@@ -1,5 +1,5 @@
 // TraceWriter::write_block: the same bytes as write() of each row's record, CSV and binary.
-#include "pipeline/sample_block.hpp"
+#include "motion/sample_block.hpp"
 #include "trace/trace_writer.hpp"
 
 #include "support/read_file.hpp"

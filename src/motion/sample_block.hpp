@@ -2,8 +2,8 @@
 #pragma once
 
 #include "common/block_columns.hpp"
-#include "interp/canon.hpp"
-#include "pipeline/sample_record.hpp"
+#include "motion/canon.hpp"
+#include "motion/sample_record.hpp"
 
 #include <cstdint>
 #include <vector>

@@ -4,7 +4,7 @@
 #pragma once
 
 #include "common/axis.hpp"
-#include "interp/canon.hpp"
+#include "motion/canon.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -94,10 +94,10 @@ struct MotionGeometry {
 
   /// The XYZ segment from start to end (lines and rapids), for distance().
   Segment segment() const { return Segment::of(start_mm.head<3>(), end_mm.head<3>()); }
-  /// Distance from `p_mm` to the motion. Lines: to the segment. Arcs: when p lies in the swept
-  /// sector (or the arc is a full turn or more), the radial deviation |p−c|−r0 in the plane
-  /// combined with the axial offset from a planar arc (a helix counts the radial part only);
-  /// otherwise the distance to the nearer end point. `signed_mm` carries the sign of the radial
+  /// Distance from `p_mm` to the motion. Lines: to the segment. Planar arcs: when p lies in the
+  /// swept sector (or the arc is a full turn or more), the radial deviation |p−c|−r0 in the plane
+  /// combined with the axial offset; otherwise the distance to the nearer end point. Helices: to
+  /// the nearest point of the helix (helix_distance). `signed_mm` carries the sign of the radial
   /// deviation (negative = inside) on arcs; on lines it equals `dist_mm`.
   /// Measured in X, Y and Z only (the rotary and U V W axes report their own following error).
   void distance(const Vec3& p_mm, double& dist_mm, double& signed_mm) const {
@@ -106,6 +106,10 @@ struct MotionGeometry {
   /// distance() with segment() formed beforehand (the contour meter keeps it per block).
   [[gnu::always_inline]] inline void distance(const Segment& seg, const Vec3& p_mm, double& dist_mm,
                                               double& signed_mm) const;
+  /// distance() of a helix (an arc with travel along its normal): the nearest point minimises
+  /// |h(u) − p|² over u in [0, 1], found from a few candidates (the ends, p's height, p's angle on
+  /// the turns nearest that height) refined by Newton steps; constant work whatever the turns.
+  void helix_distance(const Vec3& p_mm, double& dist_mm, double& signed_mm) const;
   /// Signed radial deviation |p−c|−r0 of `p_mm` in the arc's plane (mm); arcs only.
   double radial_deviation_mm(const Vec3& p_mm) const;
 };
@@ -114,6 +118,10 @@ inline void MotionGeometry::distance(const Segment& seg, const Vec3& p_mm, doubl
                                      double& signed_mm) const {
   if (kind != MotionKind::Arc) {
     dist_mm = signed_mm = seg.distance(p_mm);
+    return;
+  }
+  if (!planar) [[unlikely]] {
+    helix_distance(p_mm, dist_mm, signed_mm);
     return;
   }
   const double dca = p_mm[ax.a] - center_mm[ax.a];
@@ -137,8 +145,7 @@ inline void MotionGeometry::distance(const Segment& seg, const Vec3& p_mm, doubl
     }
   }
   const double radial = std::hypot(dca, dcb) - r0_mm;
-  // Axial deviation from the helix is bounded by the lead; for planar arcs it is exact.
-  const double axial = planar ? p_mm[ax.n] - start_mm[ax.n] : 0.0;
+  const double axial = p_mm[ax.n] - start_mm[ax.n];
   if (axial == 0.0) {
     // hypot(x, ±0) is |x| exactly (C Annex F.10.4.3): the call is skipped, not approximated.
     dist_mm = std::fabs(radial);

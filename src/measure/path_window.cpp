@@ -1,5 +1,5 @@
 // Contour error against the recent programmed path (lines: distance; arcs: signed radial error).
-#include "pipeline/path_window.hpp"
+#include "measure/path_window.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,8 +1,9 @@
 // Line, arc and helix geometry: sweeps by LinuxCNC's rule, positions from the angle (no drift).
-#include "interpolator/geometry.hpp"
+#include "motion/geometry.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace gm {
@@ -146,6 +147,57 @@ AxisVec MotionGeometry::tangent_at_fraction(double u) const {
   }
   const double norm = d.head<3>().norm();
   return norm > 0.0 ? AxisVec(d / norm) : AxisVec(AxisVec::Zero());
+}
+
+void MotionGeometry::helix_distance(const Vec3& p, double& dist_mm, double& signed_mm) const {
+  // h(u) = centre + r(u)·(cos θ(u), sin θ(u)) in the plane and n0 + u·dn along its normal, with
+  // θ(u) = θ0 + u·sweep and r(u) = r0 + u·dr (at_fraction's parameter); f(u) = |h(u) − p|².
+  const double ca = center_mm[ax.a], cb = center_mm[ax.b];
+  const double n0 = start_mm[ax.n], dn = end_mm[ax.n] - n0;
+  const double dr = r1_mm - r0_mm, sw = sweep_rad;
+  const double pa = p[ax.a], pb = p[ax.b], pn = p[ax.n];
+  auto f = [&](double u, double& d1, double& d2) {  // f(u), and f'(u), f''(u)
+    const double th = theta0_rad + u * sw, r = r0_mm + u * dr;
+    const double c = std::cos(th), s = std::sin(th);
+    const double xa = ca + r * c - pa, xb = cb + r * s - pb, xn = n0 + u * dn - pn;
+    const double ta = dr * c - r * sw * s, tb = dr * s + r * sw * c;  // h'(u)
+    const double qa = -2.0 * dr * sw * s - r * sw * sw * c;           // h''(u)
+    const double qb = 2.0 * dr * sw * c - r * sw * sw * s;
+    d1 = 2.0 * (xa * ta + xb * tb + xn * dn);
+    d2 = 2.0 * (ta * ta + tb * tb + dn * dn + xa * qa + xb * qb);
+    return xa * xa + xb * xb + xn * xn;
+  };
+  // Candidates: the ends, the fraction at p's height, and p's angle on the turns nearest it.
+  double cand[6] = {0.0, 1.0, 0.0, 0.0, 0.0, 0.0};
+  int n = 2;
+  const double uz = dn != 0.0 ? std::clamp((pn - n0) / dn, 0.0, 1.0) : 0.5;
+  cand[n++] = uz;
+  const double turn = std::fabs(sw);
+  if (turn > 0.0) {
+    double phi = std::atan2(pb - cb, pa - ca) - theta0_rad;  // from the start, in travel's sense
+    if (sw < 0.0) phi = -phi;
+    phi = std::fmod(phi, kTwoPi);
+    if (phi < 0.0) phi += kTwoPi;
+    const double k0 = std::round((uz * turn - phi) / kTwoPi);
+    for (double k = k0 - 1.0; k <= k0 + 1.0; k += 1.0)
+      cand[n++] = std::clamp((phi + k * kTwoPi) / turn, 0.0, 1.0);
+  }
+  double best_u = 0.0, best_f = std::numeric_limits<double>::infinity(), d1 = 0.0, d2 = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double fu = f(cand[i], d1, d2);
+    if (fu < best_f) best_f = fu, best_u = cand[i];
+  }
+  for (int it = 0; it < 8; ++it) {  // Newton on f'(u) = 0 in [0, 1], while it improves
+    f(best_u, d1, d2);
+    if (!(d2 > 0.0)) break;
+    const double u = std::clamp(best_u - d1 / d2, 0.0, 1.0);
+    const double fu = f(u, d1, d2);
+    if (!(fu < best_f)) break;
+    best_f = fu, best_u = u;
+  }
+  dist_mm = std::sqrt(best_f);
+  const double radial = std::hypot(pa - ca, pb - cb) - (r0_mm + best_u * dr);
+  signed_mm = std::copysign(dist_mm, radial);
 }
 
 double MotionGeometry::radial_deviation_mm(const Vec3& p_mm) const {

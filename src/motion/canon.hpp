@@ -135,7 +135,7 @@ struct Event {
 
 using Canon = std::variant<Motion, Dwell, Event>;
 
-struct MotionGeometry;  // interpolator/geometry.hpp
+struct MotionGeometry;  // motion/geometry.hpp
 
 /// A pull source of canonical commands (the interpreter over a program stream, or a list in tests).
 class CanonSource {

@@ -2,8 +2,8 @@
 #pragma once
 
 #include "common/axis.hpp"
-#include "pipeline/sample_block.hpp"
-#include "pipeline/sample_record.hpp"
+#include "motion/sample_block.hpp"
+#include "motion/sample_record.hpp"
 
 namespace gm {
 

@@ -2,8 +2,8 @@
 #pragma once
 
 #include "common/axis.hpp"
-#include "interp/canon.hpp"
-#include "interpolator/geometry.hpp"
+#include "motion/canon.hpp"
+#include "motion/geometry.hpp"
 
 #include <cstdint>
 #include <vector>
