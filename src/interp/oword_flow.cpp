@@ -120,8 +120,10 @@ bool OwordFlow::enter_sub(const std::string& label, const LinePos& body, SourceL
   call.again = pending_again_;
   stack_.push_back(call);
   params_.push_frame(!pending_fanuc_);  // M98: #1-#30 stay global
-  for (std::size_t i = 0; i < pending_args_.size(); ++i)
-    params_.set(static_cast<int>(i) + 1, pending_args_[i]);
+  // An O-call starts #1-#30 from its arguments and 0 for those it does not pass (rs274).
+  for (std::size_t i = 0; i < static_cast<std::size_t>(ParameterStore::kArgs); ++i)
+    if (i < pending_args_.size() || !pending_fanuc_)
+      params_.set(static_cast<int>(i) + 1, i < pending_args_.size() ? pending_args_[i] : 0.0);
   ++calls_;
   if (seek) seek_to(jump, body, true);
   return true;

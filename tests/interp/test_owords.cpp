@@ -158,6 +158,13 @@ TEST_CASE("O[expression]: an O-word number computed when the line is read (rs274
   CHECK(d[0].message == "O[...] gives 2.5: an O-word number is a whole number 0..99999999");
 }
 
+TEST_CASE("an O-call starts #1-#30 at 0 past its arguments, the caller's return after it (rs274)") {
+  CHECK(messages("o<s> sub\n(DEBUG, #1 #2 #30)\n#2=9\no<s> endsub\n#1=5 #2=6 #30=7\n"
+                 "o<s> call\no<s> call [1]\n(DEBUG, #1 #2 #30)\nM2\n") ==
+        std::vector<std::string>{"0.000000 0.000000 0.000000", "1.000000 0.000000 0.000000",
+                                 "5.000000 6.000000 7.000000"});
+}
+
 TEST_CASE("a comment between the arguments of a call is passed over (rs274)") {
   CHECK(messages("o<s> sub\n(DEBUG, #1 #2 #3)\no<s> endsub\n"
                  "o<s> call [1] (note) [2](two)[3] (end)\nM2\n") ==
