@@ -143,7 +143,7 @@ void SystemParameters::apply_program_writes() {
 
 void SystemParameters::export_state() {
   const ModalState& s = interp_.state();
-  params_.set_system(5210, s.g92_applied ? 1.0 : 0.0);
+  params_.set_system(5210, s.g92_flag);
   params_.set_system(5220, static_cast<double>(s.coord_system + 1));
   if (interp_.tables_version() == tables_seen_) return;
   tables_seen_ = interp_.tables_version();
