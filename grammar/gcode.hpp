@@ -21,4 +21,9 @@ struct oword_args_class;
 using oword_args_type = x3::rule<oword_args_class>;
 BOOST_SPIRIT_DECLARE(oword_args_type)
 
+struct oword_param_class;
+/// oword_param := '#' parameter (the O-word number of `o#<name> call`)
+using oword_param_type = x3::rule<oword_param_class>;
+BOOST_SPIRIT_DECLARE(oword_param_type)
+
 }  // namespace gm::grammar::parser

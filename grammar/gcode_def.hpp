@@ -255,10 +255,15 @@ inline auto const oword_args_def =
     *x3::omit[x3::eps[actions::begin_arg] >> (x3::lit('[') > expr > close_bracket)]
              [actions::end_arg];
 
+// `o#<name>`: the O-word number read from a parameter, kept as one argument.
+inline oword_param_type const oword_param = "oword parameter";
+inline auto const oword_param_def =
+    x3::omit[x3::eps[actions::begin_arg] >> (x3::lit('#') > param_body)][actions::end_arg];
+
 inline block_type const block = "block";
 inline auto const block_def = *x3::omit[word | comment | line_comment | assignment];
 
 BOOST_SPIRIT_DEFINE(number, close_paren, value, expr, unary, primary, param_body, name, close_name,
-                    open_bracket, close_bracket, slash, equals, block, oword_args)
+                    open_bracket, close_bracket, slash, equals, block, oword_args, oword_param)
 
 }  // namespace gm::grammar::parser

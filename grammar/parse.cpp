@@ -169,13 +169,16 @@ bool BlockParser::parse_oword(Block& out, std::string_view compact, std::size_t 
   o.label.clear();
   o.label_expr = false;
   std::size_t p = k + 1;
-  if (p < compact.size() && compact[p] == '[') {
-    // O[#2*10]: the number is an expression (rs274 2.9), kept as the first argument (one
-    // bracket only: `O[a][b] call` is refused).
+  if (p < compact.size() && (compact[p] == '[' || compact[p] == '#')) {
+    // O[#2*10], o#<name>: the number is an expression or a parameter (rs274 2.9), kept as the
+    // first argument (one bracket only: `O[a][b] call` is refused).
     const char* pos = compact.data() + p;
     ItemFailure number_fail;
-    if (!parse_oword_args(pos, compact.data() + compact.size(), ast_, number_fail) ||
-        ast_.args.size() != 1) {
+    const bool parsed =
+        compact[p] == '['
+            ? parse_oword_args(pos, compact.data() + compact.size(), ast_, number_fail)
+            : parse_oword_param(pos, compact.data() + compact.size(), ast_, number_fail);
+    if (!parsed || ast_.args.size() != 1) {
       add_error(out, ErrorCode::BadOWord, static_cast<int>(p),
                 "bad expression for the O-word number");
       return false;

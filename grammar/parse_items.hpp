@@ -22,4 +22,8 @@ bool parse_items(const char*& first, const char* last, ast::Block& out, ItemFail
 /// expression (`fail` says which and where).
 bool parse_oword_args(const char*& first, const char* last, ast::Block& out, ItemFailure& fail);
 
+/// Parses `#parameter` at `first` (the O-word number of `o#<name> call`) as one argument into
+/// out.args/out.ops. False on a malformed parameter (`fail` says which and where).
+bool parse_oword_param(const char*& first, const char* last, ast::Block& out, ItemFailure& fail);
+
 }  // namespace gm::grammar

@@ -249,10 +249,43 @@ bool Evaluator::evaluate(const grammar::Block& block, grammar::OpRange r,
   return true;
 }
 
+namespace {
+
+// One value as rs274 prints it in a comment: `format` is printf's "%lf", "%.0f" (%d) or "%.Nf";
+// a value within 1e-4 of 0 prints as 0 (rs274 2.9), and a text past 29 characters as "######".
+void append_comment_value(double v, int decimals, std::string& out) {
+  if (std::fabs(v) < 1e-4) v = 0.0;
+  const std::string text = fmt::format("{:.{}f}", v, decimals);
+  out += text.size() < 30 ? text : std::string("######");
+}
+
+}  // namespace
+
 void substitute_parameters(std::string_view text, const ParameterStore& params, std::string& out) {
+  int decimals = 6;  // `%d`, `%f` and `%.Nf` set it for the rest of the comment (rs274)
   std::size_t i = 0;
   while (i < text.size()) {
     const char c = text[i];
+    if (c == '%') {
+      const char f = i + 1 < text.size() ? text[i + 1] : '\0';
+      if (f == 'd' || f == 'f') {
+        decimals = f == 'd' ? 0 : 4;
+        i += 2;
+      } else if (f == '.') {
+        const char digit = i + 2 < text.size() ? text[i + 2] : '\0';
+        if (digit >= '0' && digit <= '9' && i + 3 < text.size() && text[i + 3] == 'f') {
+          decimals = digit - '0';
+          i += 4;
+        } else {  // rs274 drops the '%' of a '%.' that is no format
+          out.push_back('.');
+          i += 2;
+        }
+      } else {
+        out.push_back(c);
+        ++i;
+      }
+      continue;
+    }
     if (c != '#' || i + 1 >= text.size()) {
       out.push_back(c);
       ++i;
@@ -267,8 +300,8 @@ void substitute_parameters(std::string_view text, const ParameterStore& params, 
         ++j;
       }
       if (n <= ParameterStore::kLast)
-        out += fmt::format("{:.6f}",
-                           n >= ParameterStore::kFirst ? params.get(static_cast<int>(n)) : 0.0);
+        append_comment_value(n >= ParameterStore::kFirst ? params.get(static_cast<int>(n)) : 0.0,
+                             decimals, out);
       else
         out += "######";
       i = j;
@@ -287,7 +320,7 @@ void substitute_parameters(std::string_view text, const ParameterStore& params, 
       }
       double v = 0.0;
       if (params.get_named(name, v))
-        out += fmt::format("{:.6f}", v);
+        append_comment_value(v, decimals, out);
       else
         out += "######";
       i = close + 1;
@@ -332,7 +365,8 @@ bool LineEvaluator::run(grammar::Block& block, ParameterStore& params, InterpErr
   }
   // 3. The comment sees the new values.
   auto substitute = [&](grammar::Message& m) {
-    if (m.kind == grammar::CommentKind::Msg || m.text.find('#') == std::string::npos) return;
+    if (m.kind == grammar::CommentKind::Msg || m.text.find_first_of("#%") == std::string::npos)
+      return;
     text_.clear();
     substitute_parameters(m.text, params, text_);
     m.text.swap(text_);

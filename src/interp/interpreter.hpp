@@ -104,8 +104,9 @@ struct ModalState {
   /// copies them then: a program writing #5221.. changes them at the next selection or G10).
   Pos9 g5x_mm = Pos9::Zero();
   double g5x_rotation_deg = 0.0;
-  Pos9 g92_mm = Pos9::Zero();          ///< G92/G52 axis offsets
-  bool g92_applied = false;            ///< #5210: G92/G52/G92.3 on, G92.1/G92.2 off
+  Pos9 g92_mm = Pos9::Zero();  ///< G92/G52 axis offsets
+  bool g92_applied = false;    ///< G92/G52/G92.3 on, G92.1/G92.2 off
+  double g92_flag = 0.0;       ///< #5210: 1 or 0 as those set it, else the parameter file's value
   Pos9 tool_offset_mm = Pos9::Zero();  ///< G43 tool length offset
   int spindle_dir = 0;                 ///< M3 = 1, M4 = -1, M5 = 0
   double spindle_rpm = 0.0;            ///< S

@@ -91,9 +91,14 @@ bool OwordFlow::note_label(const grammar::OWord& o, Frame kind, const LinePos& p
 bool OwordFlow::handle(const grammar::Block& b, const LinePos& pos, FlowJump& jump,
                        InterpError& err) {
   if (b.oword.label_expr) {
-    // O[#2*10]: rs274 2.9 evaluates the number whenever it reads the line, passed over or not.
+    // O[#2*10], o#<name>: rs274 2.9 evaluates the number whenever it reads the line, passed over
+    // or not; inside a sub's definition a name not yet set reads as 0.
     double v = 0.0;
-    if (!eval_.evaluate(b, b.oword.args[0], params_, v, err)) return false;
+    if (!eval_.evaluate(b, b.oword.args[0], params_, v, err)) {
+      if (skip_.mode != Skip::SubBody || err.code != ErrorCode::UndefinedParameter) return false;
+      err = InterpError{};
+      v = 0.0;
+    }
     const double n = std::round(v);
     if (!(std::fabs(v - n) < 1e-4) || n < 0 || n > 99999999)
       return fail(
@@ -120,8 +125,10 @@ bool OwordFlow::enter_sub(const std::string& label, const LinePos& body, SourceL
   call.again = pending_again_;
   stack_.push_back(call);
   params_.push_frame(!pending_fanuc_);  // M98: #1-#30 stay global
-  for (std::size_t i = 0; i < pending_args_.size(); ++i)
-    params_.set(static_cast<int>(i) + 1, pending_args_[i]);
+  // An O-call starts #1-#30 from its arguments and 0 for those it does not pass (rs274).
+  for (std::size_t i = 0; i < static_cast<std::size_t>(ParameterStore::kArgs); ++i)
+    if (i < pending_args_.size() || !pending_fanuc_)
+      params_.set(static_cast<int>(i) + 1, i < pending_args_.size() ? pending_args_[i] : 0.0);
   ++calls_;
   if (seek) seek_to(jump, body, true);
   return true;

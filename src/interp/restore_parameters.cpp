@@ -19,7 +19,8 @@ void Interpreter::restore_system_parameters(const std::function<double(int)>& pa
   // #5210: G92 was in effect when the file was written, so its offsets apply again.
   ModalState& st = state_mut();
   select_coord_system(st, tables_, index - 1);
-  st.g92_applied = par(5210) != 0.0;
+  st.g92_flag = par(5210);  // kept as read: a 2 reads back as 2 (rs274)
+  st.g92_applied = st.g92_flag != 0.0;
   st.g92_mm = st.g92_applied ? tables_.g92_saved_mm : Pos9::Zero();
   ++tables_version_;
 }

@@ -90,6 +90,7 @@ bool run_g92(BlockCtx& ctx, const Code&) {
   const Pos9 here = ctx.frame().to_program(ctx.s.position_mm) + ctx.s.g92_mm;
   Pos9& g92 = ctx.s.g92_mm;
   ctx.s.g92_applied = true;
+  ctx.s.g92_flag = 1.0;
   for (int i = 0; i < kProgramAxes; ++i) {
     const auto* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]];
     if (!aw) continue;
@@ -109,6 +110,7 @@ bool run_g52(BlockCtx& ctx, const Code&) {
   if (!comp_forbids(ctx, ctx.loc_of(Group::NonModal), "change axis offsets")) return false;
   Pos9& g92 = ctx.s.g92_mm;  // LinuxCNC keeps the G52 local offset in the G92 offsets
   ctx.s.g92_applied = true;
+  ctx.s.g92_flag = 1.0;
   for (int i = 0; i < kProgramAxes; ++i)
     if (const auto* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]])
       g92[i] = aw->value * (axis_is_rotary(i) ? 1.0 : ctx.scale());
@@ -119,6 +121,7 @@ bool run_g52(BlockCtx& ctx, const Code&) {
 bool run_g92_x(BlockCtx& ctx, const Code& c) {
   if (!comp_forbids(ctx, ctx.loc_of(Group::NonModal), "change axis offsets")) return false;
   ctx.s.g92_applied = c.number10 == 923;
+  ctx.s.g92_flag = ctx.s.g92_applied ? 1.0 : 0.0;
   switch (c.number10) {
     case 921:  // reset, parameters too
       ctx.s.g92_mm.setZero();

@@ -24,7 +24,7 @@ bool StateParameters::axis_parameter(std::string_view name, double& v) const {
       return true;
     }
     if (name == kAbsAxes[i]) {
-      v = s.position_mm[i] / units;
+      v = s.position_mm[i] / (axis_is_rotary(i) ? 1.0 : units);  // A, B, C: degrees
       return true;
     }
   }
@@ -118,7 +118,8 @@ bool StateParameters::live(int n, double& v) const {
 
 double StateParameters::program_position(int i) const {
   const ModalState& s = interp_.state();
-  return Frame(s).to_program(s.position_mm)[i] / (s.inch ? 25.4 : 1.0);
+  // A, B and C are degrees in either unit mode (rs274).
+  return Frame(s).to_program(s.position_mm)[i] / (s.inch && !axis_is_rotary(i) ? 25.4 : 1.0);
 }
 
 SystemParameters::SystemParameters(Interpreter& interp, ParameterStore& params, std::string file)
@@ -142,7 +143,7 @@ void SystemParameters::apply_program_writes() {
 
 void SystemParameters::export_state() {
   const ModalState& s = interp_.state();
-  params_.set_system(5210, s.g92_applied ? 1.0 : 0.0);
+  params_.set_system(5210, s.g92_flag);
   params_.set_system(5220, static_cast<double>(s.coord_system + 1));
   if (interp_.tables_version() == tables_seen_) return;
   tables_seen_ = interp_.tables_version();

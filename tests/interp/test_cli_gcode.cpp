@@ -51,3 +51,14 @@ TEST_CASE("gmotion check --arc-rule selects the tolerance rule") {
   CHECK(sh(prog + gmtest::gmotion_bin() + " check - --arc-rule grbl 2>/dev/null").code == 1);
   CHECK(sh(prog + gmtest::gmotion_bin() + " check - --arc-rule nonsense 2>/dev/null").code == 2);
 }
+
+TEST_CASE("under G20 the current position of A, B and C stays in degrees (rs274)") {
+  const auto r =
+      sh("printf 'G20\\nG0 X1 A10 B20 C30\\n(DEBUG,#5420 #5423 #5424 #5425 #<_b> "
+         "#<_abs_c>)\\nM2\\n' | " +
+         gmtest::gmotion_bin() + " moves --axes XYZABC --messages - | grep message");
+  CHECK(r.code == 0);
+  CHECK(r.out ==
+        "{\"line\":3,\"kind\":\"message\",\"text\":\"1.000000 10.000000 20.000000 30.000000 "
+        "20.000000 30.000000\"}\n");
+}

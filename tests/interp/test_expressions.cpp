@@ -102,6 +102,21 @@ TEST_CASE("named parameters, EXISTS and predefined ones (rs274)") {
         "2.000000 1.000000 3.000000");
 }
 
+TEST_CASE("%d, %f and %.Nf in DEBUG/PRINT comments format the values after them (rs274 2.9)") {
+  // A format holds for the rest of the comment; a '%' that starts none is text ('%.' loses it);
+  // a value within 1e-4 of 0 prints as 0; MSG is never formatted.
+  const auto m = messages(
+      "#<v>=2.71828 #2=2.5 #3=-0.00005\n"
+      "(DEBUG, i %d#<v> f %f#<v> n %.2f#<v> k %.8f#3 #2)\n"
+      "(DEBUG, h %d#2 100% %.q #2 %%)\n"
+      "(PRINT, p %.1f#<v>)\n(MSG, m %d#<v>)\nM2\n");
+  REQUIRE(m.size() == 4);
+  CHECK(m[0] == "i 3 f 2.7183 n 2.72 k 0.00000000 2.50000000");
+  CHECK(m[1] == "h 2 100% .q 2 %%");
+  CHECK(m[2] == "p 2.7");
+  CHECK(m[3] == "m %d#<v>");
+}
+
 TEST_CASE("EXISTS of a numbered parameter: 1 for every parameter number (rs274 2.9)") {
   // #1 set, #123 never set, #[1+1] computed: numbers 1..5601 exist; #0 and #99999 do not; an
   // unknown global name does not, the predefined #<_x> does.

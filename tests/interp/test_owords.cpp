@@ -158,6 +158,22 @@ TEST_CASE("O[expression]: an O-word number computed when the line is read (rs274
   CHECK(d[0].message == "O[...] gives 2.5: an O-word number is a whole number 0..99999999");
 }
 
+TEST_CASE("an O-call starts #1-#30 at 0 past its arguments, the caller's return after it (rs274)") {
+  CHECK(messages("o<s> sub\n(DEBUG, #1 #2 #30)\n#2=9\no<s> endsub\n#1=5 #2=6 #30=7\n"
+                 "o<s> call\no<s> call [1]\n(DEBUG, #1 #2 #30)\nM2\n") ==
+        std::vector<std::string>{"0.000000 0.000000 0.000000", "1.000000 0.000000 0.000000",
+                                 "5.000000 6.000000 7.000000"});
+}
+
+TEST_CASE("o#<name> and o#n: an O-word number held by a parameter (rs274 2.9)") {
+  CHECK(messages("o7 sub\n(DEBUG, seven #1)\no7 endsub\no8 sub\n(DEBUG, eight #1)\no8 endsub\n"
+                 "#<which>=8\no#<which> call [3]\n#5=7\no#5 call [4]\nM2\n") ==
+        std::vector<std::string>{"eight 3.000000", "seven 4.000000"});
+  // Inside a definition the name is read before it is set: 0 there, 8 when the sub runs.
+  CHECK(messages("o8 sub\n(DEBUG, eight #1)\no8 endsub\no<m> sub\n#<w>=8\no#<w> call [5]\n"
+                 "o<m> endsub\no<m> call\nM2\n") == std::vector<std::string>{"eight 5.000000"});
+}
+
 TEST_CASE("a comment between the arguments of a call is passed over (rs274)") {
   CHECK(messages("o<s> sub\n(DEBUG, #1 #2 #3)\no<s> endsub\n"
                  "o<s> call [1] (note) [2](two)[3] (end)\nM2\n") ==

@@ -89,6 +89,24 @@ TEST_CASE("parameter file: #5220 selects the coordinate system, #5210 re-applies
   CHECK(text.find("5220\t1.000000\n") != std::string::npos);                   // M2: G54
 }
 
+TEST_CASE("parameter file: #5210 keeps the value read until G92.. sets 1 or 0 (rs274)") {
+  Scratch s;
+  std::ofstream(s.var()) << "5210\t2\n5211\t-3\n";
+  const std::string prog =
+      s.program("p.ngc", "(DEBUG,#5210)\nG0 X0\nG92.3\n(DEBUG,#5210)\nG92.2\n(DEBUG,#5210)\nM2\n");
+  const auto r = sh(gmtest::gmotion_bin() + " moves --messages " + prog + " --machine " +
+                    s.machine() + " | grep -v rapid");
+  REQUIRE(r.code == 0);
+  CHECK(r.out ==
+        "{\"line\":1,\"kind\":\"message\",\"text\":\"2.000000\"}\n"
+        "{\"line\":4,\"kind\":\"message\",\"text\":\"1.000000\"}\n"
+        "{\"line\":6,\"kind\":\"message\",\"text\":\"0.000000\"}\n");
+  std::ofstream(s.var()) << "5210\t2\n5211\t-3\n";
+  const std::string keep = s.program("k.ngc", "G0 X0\nM2\n");
+  REQUIRE(sh(gmtest::gmotion_bin() + " moves " + keep + " --machine " + s.machine()).code == 0);
+  CHECK(slurp(s.var()).find("5210\t2.000000\n") != std::string::npos);  // written back as read
+}
+
 TEST_CASE("parameter file: a corrupt file is a located error and is not overwritten") {
   Scratch s;
   const std::string corrupt = "5221\t1.0\n5161\t2.0\n";
