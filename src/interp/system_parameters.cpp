@@ -8,7 +8,17 @@
 namespace gm {
 
 bool StateParameters::predefined(std::string_view name, double& v) const {
-  return axis_parameter(name, v) || mode_parameter(name, v);
+  return axis_parameter(name, v) || mode_parameter(name, v) || ini_parameter(name, v);
+}
+
+// #<_ini[SECTION]NAME>: the machine INI's value (LinuxCNC's INI_VARS), read-only.
+bool StateParameters::ini_parameter(std::string_view name, double& v) const {
+  if (!name.starts_with("_ini[")) return false;
+  const auto& vars = interp_.machine().ini_vars;
+  const auto it = vars.find(name);
+  if (it == vars.end()) return false;
+  v = it->second;
+  return true;
 }
 
 bool StateParameters::axis_parameter(std::string_view name, double& v) const {

@@ -18,6 +18,7 @@
 #include <map>
 #include <numbers>
 #include <optional>
+#include <sstream>
 
 namespace gm {
 namespace {
@@ -111,6 +112,22 @@ class IniFile {
   }
   bool has_section(const std::string& section) const { return sections_.count(section) != 0; }
 
+  /// The values that are whole numbers in LinuxCNC's reading (no hex, nothing after them),
+  /// under upper-case sections and keys, as "_ini[section]key" in lower case: what a program
+  /// reads as #<_ini[SECTION]KEY> (rs274 looks the upper-cased name up).
+  std::map<std::string, double, std::less<>> ini_parameters() const {
+    std::map<std::string, double, std::less<>> out;
+    for (const auto& [section, keys] : sections_)
+      for (const auto& [key, v] : keys) {
+        if (upper(section) != section || upper(key) != key) continue;
+        std::istringstream in(v.value);
+        double d = 0.0;
+        if ((in >> d) && in.eof() && std::isfinite(d))
+          out.emplace("_ini[" + lower_case(section) + "]" + lower_case(key), d);
+      }
+    return out;
+  }
+
   /// A number, or nullopt when absent; throws naming the key when it is not one.
   std::optional<double> number(const std::string& section, const std::string& key) const {
     const IniValue* v = find(section, key);
@@ -127,6 +144,15 @@ class IniFile {
     const IniValue* v = find(section, key);
     throw InputError(v ? fmt::format("{}:{}: [{}]{}: {}", v->file, v->line, section, key, msg)
                        : fmt::format("[{}]{}: {}", section, key, msg));
+  }
+
+  static std::string upper(std::string s) {
+    for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    return s;
+  }
+  static std::string lower_case(std::string s) {
+    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
   }
 
   static std::string trim(std::string_view s) {
@@ -367,6 +393,8 @@ void read_rs274ngc(const IniFile& ini, const fs::path& dir, Machine& m, Warnings
     else
       warn.push_back(fmt::format("[RS274NGC]PARAMETER_FILE: {} does not exist; not used", file));
   }
+  // INI_VARS (rs274's default 1): the INI's numbers are #<_ini[SECTION]NAME> to programs.
+  if (ini.number("RS274NGC", "INI_VARS").value_or(1.0) != 0.0) m.ini_vars = ini.ini_parameters();
   if (const IniValue* u = ini.find("RS274NGC", "USER_M_PATH"))
     warn.push_back(
         fmt::format("[RS274NGC]USER_M_PATH = {}: M100-M199 are recorded, never run", u->value));

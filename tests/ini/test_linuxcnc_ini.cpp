@@ -391,3 +391,46 @@ TEST_CASE("ini: the shipped 9-axis sim moves all of X Y Z A B C U V W") {
   CHECK(s.axes[5].velocity_mm_s.value > 0.0);
   for (std::size_t i = 0; i < 9; ++i) CHECK(std::abs(s.axes[i].final_enc_err_blu) <= 1);
 }
+
+namespace {
+
+// The diagnostics `gmotion check` gives the program on machine `m`.
+std::vector<gm::Diagnostic> diagnostics(const gm::Machine& m, const std::string& text) {
+  std::istringstream in(text);
+  gm::InterpreterOptions opts;
+  opts.machine = &m;
+  std::vector<gm::Diagnostic> out;
+  gm::check_program_diagnostics(in, "ini.ngc", opts, out);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("ini: #<_ini[SECTION]NAME> reads the INI's numbers, read-only, as rs274 (INI_VARS)") {
+  const fs::path d = gmtest::scratch_dir("ini") / "ini-vars";
+  fs::create_directories(d);
+  const std::string body =
+      "[TRAJ]\nCOORDINATES = X Y Z\nLINEAR_UNITS = mm\n"
+      "[PROBE]\nSAFE_Z = 12.5\nCLEAR = 1e2\nHEX = 0x10\nTEXT = 7 mm\nlow = 3\n";
+  write(d / "on.ini", "[RS274NGC]\n" + body);
+  const gm::Machine on = gm::load_linuxcnc_ini(d / "on.ini").machine;
+  // rs274 looks the upper-cased name up; a value that is not a whole number is not defined.
+  CHECK(ends_xy(on, "G0 X#<_ini[PROBE]SAFE_Z> Y#<_ini[ probe ] clear >\nM2\n") ==
+        std::vector<std::pair<double, double>>{{12.5, 100.0}});
+  for (const char* undefined : {"HEX", "TEXT", "low", "NONE"}) {
+    const auto diags = diagnostics(on, "G0 X#<_ini[PROBE]" + std::string(undefined) + ">\nM2\n");
+    REQUIRE(diags.size() == 1);
+    CHECK(diags[0].message.find("is not defined") != std::string::npos);
+  }
+  // Assigning one is rs274's error; a name the INI lacks is an ordinary global.
+  const auto set = diagnostics(on, "#<_ini[PROBE]SAFE_Z> = 2\nM2\n");
+  REQUIRE(set.size() == 1);
+  CHECK(set[0].message == "Cannot assign to read-only parameter #<_ini[probe]safe_z>");
+  CHECK(ends_xy(on, "#<_ini[PROBE]NONE> = 2\nG0 X#<_ini[PROBE]NONE>\nM2\n") ==
+        std::vector<std::pair<double, double>>{{2.0, 0.0}});
+  // INI_VARS = 0 turns them off; a machine file has none.
+  write(d / "off.ini", "[RS274NGC]\nINI_VARS = 0\n" + body);
+  const gm::Machine off = gm::load_linuxcnc_ini(d / "off.ini").machine;
+  CHECK(off.ini_vars.empty());
+  CHECK(diagnostics(off, "G0 X#<_ini[PROBE]SAFE_Z>\nM2\n").size() == 1);
+}
