@@ -140,6 +140,9 @@ bool SystemParameters::load(Diagnostic& error) {
   if (file_.empty()) return true;
   if (!params_.load_var_file(file_, error)) return false;
   loaded_ = true;
+  // LinuxCNC's DISABLE_G92_PERSISTENCE: the file's G92 offsets are read as 0 (and written so).
+  if (!interp_.machine().g92_persistent)
+    for (int n = 5210; n <= 5219; ++n) params_.set_system(n, 0.0);
   interp_.restore_system_parameters([this](int n) { return params_.get(n); });
   export_state();
   return true;

@@ -101,6 +101,9 @@ struct Machine {
   /// program as `#<_ini[SECTION]NAME>`; keyed by the parameter's name in lower case
   /// ("_ini[section]name"). Empty for machine files.
   std::map<std::string, double, std::less<>> ini_vars;
+  /// False: the parameter file's G92 offsets (#5210-#5219) are cleared when it is read
+  /// (LinuxCNC's [RS274NGC]DISABLE_G92_PERSISTENCE = 1).
+  bool g92_persistent = true;
   /// What programs for this machine are written in (key `dialect`: "linuxcnc", "fanuc",
   /// "grbl"; docs/dialects.md); empty: linuxcnc. --dialect overrides it.
   std::string dialect;

@@ -434,3 +434,44 @@ TEST_CASE("ini: #<_ini[SECTION]NAME> reads the INI's numbers, read-only, as rs27
   CHECK(off.ini_vars.empty());
   CHECK(diagnostics(off, "G0 X#<_ini[PROBE]SAFE_Z>\nM2\n").size() == 1);
 }
+
+TEST_CASE("ini: DISABLE_G92_PERSISTENCE starts without the parameter file's G92 offset") {
+  const fs::path d = gmtest::scratch_dir("ini") / "g92-persistence";
+  fs::create_directories(d);
+  // The X end of `G0 X1` on the INI's machine, the file holding G92 X4 Y0.5 (in effect).
+  const auto end_x = [&](const std::string& rs274ngc) {
+    write(d / "m.var", "5210\t1.000000\n5211\t4.000000\n5212\t0.500000\n5220\t1.000000\n");
+    write(d / "m.ini",
+          "[TRAJ]\nCOORDINATES = X Y Z\nLINEAR_UNITS = mm\n[RS274NGC]\n"
+          "PARAMETER_FILE = m.var\n" +
+              rs274ngc);
+    const gm::Machine m = gm::load_linuxcnc_ini(d / "m.ini").machine;
+    std::istringstream in("G0 X1\nM2\n");
+    gm::InterpreterOptions opts;
+    opts.machine = &m;
+    opts.parameter_file = m.parameter_file;
+    opts.save_parameters = true;
+    double x = -1.0;
+    {
+      gm::ProgramStream stream(in, "g92.ngc", opts);
+      gm::Canon c;
+      while (stream.next(c))
+        if (const auto* mo = std::get_if<gm::Motion>(&c)) x = mo->end_mm[0];
+    }
+    return x;
+  };
+  const auto saved = [&](const std::string& number) {
+    std::ifstream in(d / "m.var");
+    for (std::string n, v; in >> n >> v;)
+      if (n == number) return v;
+    return std::string("<none>");
+  };
+  CHECK(end_x("") == Approx(5.0));  // restored, as LinuxCNC does by default
+  CHECK(saved("5211") == "4.000000");
+  CHECK(end_x("DISABLE_G92_PERSISTENCE = 0\n") == Approx(5.0));
+  CHECK(end_x("DISABLE_G92_PERSISTENCE = 1\n") == Approx(1.0));
+  // rs274 reads #5210-#5219 as 0 and writes them back so.
+  CHECK(saved("5210") == "0.000000");
+  CHECK(saved("5211") == "0.000000");
+  CHECK(saved("5220") == "1.000000");  // the rest of the file stays
+}
