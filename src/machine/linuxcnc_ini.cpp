@@ -397,6 +397,8 @@ void read_rs274ngc(const IniFile& ini, const fs::path& dir, Machine& m, Warnings
   if (ini.number("RS274NGC", "INI_VARS").value_or(1.0) != 0.0) m.ini_vars = ini.ini_parameters();
   // DISABLE_G92_PERSISTENCE: the G92 offsets are not restored from the parameter file.
   m.g92_persistent = ini.number("RS274NGC", "DISABLE_G92_PERSISTENCE").value_or(0.0) == 0.0;
+  // ORIENT_OFFSET: added to M19's R in ORIENT_SPINDLE.
+  m.orient_offset_deg = ini.number("RS274NGC", "ORIENT_OFFSET").value_or(0.0);
   if (const IniValue* u = ini.find("RS274NGC", "USER_M_PATH"))
     warn.push_back(
         fmt::format("[RS274NGC]USER_M_PATH = {}: M100-M199 are recorded, never run", u->value));

@@ -104,6 +104,8 @@ struct Machine {
   /// False: the parameter file's G92 offsets (#5210-#5219) are cleared when it is read
   /// (LinuxCNC's [RS274NGC]DISABLE_G92_PERSISTENCE = 1).
   bool g92_persistent = true;
+  /// Added to M19's R, degrees (LinuxCNC's [RS274NGC]ORIENT_OFFSET).
+  double orient_offset_deg = 0.0;
   /// What programs for this machine are written in (key `dialect`: "linuxcnc", "fanuc",
   /// "grbl"; docs/dialects.md); empty: linuxcnc. --dialect overrides it.
   std::string dialect;

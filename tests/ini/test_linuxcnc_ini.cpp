@@ -475,3 +475,25 @@ TEST_CASE("ini: DISABLE_G92_PERSISTENCE starts without the parameter file's G92 
   CHECK(saved("5211") == "0.000000");
   CHECK(saved("5220") == "1.000000");  // the rest of the file stays
 }
+
+TEST_CASE("ini: ORIENT_OFFSET is added to M19's R, as rs274's ORIENT_SPINDLE prints it") {
+  const fs::path d = gmtest::scratch_dir("ini") / "orient-offset";
+  fs::create_directories(d);
+  write(d / "o.ini",
+        "[TRAJ]\nCOORDINATES = X Y Z\nLINEAR_UNITS = mm\n[RS274NGC]\n"
+        "ORIENT_OFFSET = 12.5\n");
+  const gm::Machine m = gm::load_linuxcnc_ini(d / "o.ini").machine;
+  CHECK(m.orient_offset_deg == 12.5);
+  // rs274: ORIENT_SPINDLE(0, 22.5000, 0), (0, 362.5000, 1), (0, 12.5000, 2); bare M19 none.
+  std::istringstream in("M19 R10\nM19 R350 P1\nM19 P2\nM19\nM2\n");
+  gm::InterpreterOptions opts;
+  opts.machine = &m;
+  gm::ProgramStream stream(in, "orient.ngc", opts);
+  std::vector<std::pair<double, int>> orients;
+  gm::Canon c;
+  while (stream.next(c))
+    if (const auto* e = std::get_if<gm::Event>(&c))
+      if (e->kind == gm::EventKind::SpindleOrient) orients.emplace_back(e->value, e->index);
+  CHECK(orients == std::vector<std::pair<double, int>>{{22.5, 0}, {362.5, 1}, {12.5, 2}});
+  CHECK(gm::default_machine().orient_offset_deg == 0.0);
+}
