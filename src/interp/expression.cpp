@@ -348,10 +348,12 @@ bool LineEvaluator::run(grammar::Block& block, ParameterStore& params, InterpErr
       if (ParameterStore::read_only(p.number))
         return fail(err, ErrorCode::ParameterReadOnly, a.loc,
                     fmt::format("parameter #{} is read-only", p.number));
-    } else if (params.predefined(block.name_of(a.name, a.name_size))) {
+    } else if (const std::string_view name = block.name_of(a.name, a.name_size);
+               params.predefined(name)) {
       return fail(err, ErrorCode::ParameterReadOnly, a.loc,
-                  fmt::format("#<{}> is a predefined read-only parameter",
-                              block.name_of(a.name, a.name_size)));
+                  name.starts_with("_ini[")
+                      ? fmt::format("Cannot assign to read-only parameter #<{}>", name)
+                      : fmt::format("#<{}> is a predefined read-only parameter", name));
     }
     if (!eval_.evaluate(block, a.value, params, p.value, err)) return false;
     pending_.push_back(p);

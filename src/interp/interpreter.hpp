@@ -161,6 +161,7 @@ class Interpreter {
  public:
   /// `machine` supplies tool lengths, work offsets and the arc rule; it must outlive this.
   explicit Interpreter(const Machine& machine);
+  const Machine& machine() const { return machine_; }
 
   /// Interprets `block` (which must have no syntax errors). On success appends its canonical
   /// commands to `out` (in mm, mm/min, s, machine coordinates) and returns true; on failure

@@ -49,7 +49,8 @@ bool run_spindle(BlockCtx& ctx, const Code& c) {
 }
 
 // M19 [R<angle>] [P<direction mode>] [Q<timeout>]: the spindle stops turning; ORIENT_SPINDLE only
-// with R or P (LinuxCNC's orient offset is 0), the wait only with Q > 0.
+// with R or P, at R plus the machine's orient offset (LinuxCNC's ORIENT_OFFSET), the wait only
+// with Q > 0.
 bool run_orient(BlockCtx& ctx, const Code&) {
   const auto& w = ctx.w;
   if (w.has('Q') && !(w['Q']->value > 0.0))
@@ -57,7 +58,8 @@ bool run_orient(BlockCtx& ctx, const Code&) {
                     fmt::format("M19 Q{:g}: Q (the timeout) must be more than 0", w['Q']->value));
   ctx.s.spindle_dir = 0;
   if (w.has('R') || w.has('P'))
-    emit_io(ctx, EventKind::SpindleOrient, static_cast<int>(std::lround(w.get('P'))), w.get('R'));
+    emit_io(ctx, EventKind::SpindleOrient, static_cast<int>(std::lround(w.get('P'))),
+            w.get('R') + ctx.machine.orient_offset_deg);
   if (w.has('Q')) emit_io(ctx, EventKind::OrientWait, 0, w['Q']->value);
   return true;
 }

@@ -8,7 +8,17 @@
 namespace gm {
 
 bool StateParameters::predefined(std::string_view name, double& v) const {
-  return axis_parameter(name, v) || mode_parameter(name, v);
+  return axis_parameter(name, v) || mode_parameter(name, v) || ini_parameter(name, v);
+}
+
+// #<_ini[SECTION]NAME>: the machine INI's value (LinuxCNC's INI_VARS), read-only.
+bool StateParameters::ini_parameter(std::string_view name, double& v) const {
+  if (!name.starts_with("_ini[")) return false;
+  const auto& vars = interp_.machine().ini_vars;
+  const auto it = vars.find(name);
+  if (it == vars.end()) return false;
+  v = it->second;
+  return true;
 }
 
 bool StateParameters::axis_parameter(std::string_view name, double& v) const {
@@ -131,6 +141,9 @@ bool SystemParameters::load(Diagnostic& error) {
   if (file_.empty()) return true;
   if (!params_.load_var_file(file_, error)) return false;
   loaded_ = true;
+  // LinuxCNC's DISABLE_G92_PERSISTENCE: the file's G92 offsets are read as 0 (and written so).
+  if (!interp_.machine().g92_persistent)
+    for (int n = 5210; n <= 5219; ++n) params_.set_system(n, 0.0);
   interp_.restore_system_parameters([this](int n) { return params_.get(n); });
   export_state();
   return true;

@@ -26,6 +26,7 @@ class StateParameters : public ParameterProvider {
  private:
   bool axis_parameter(std::string_view name, double& v) const;
   bool mode_parameter(std::string_view name, double& v) const;
+  bool ini_parameter(std::string_view name, double& v) const;
   // Current position in the program's coordinate system and units (axis `i` in X..W order).
   double program_position(int i) const;
   const Interpreter& interp_;

@@ -18,6 +18,7 @@
 #include <map>
 #include <numbers>
 #include <optional>
+#include <sstream>
 
 namespace gm {
 namespace {
@@ -110,6 +111,22 @@ class IniFile {
     return k == s->second.end() ? nullptr : &k->second;
   }
 
+  /// The values that are whole numbers in LinuxCNC's reading (no hex, nothing after them),
+  /// under upper-case sections and keys, as "_ini[section]key" in lower case: what a program
+  /// reads as #<_ini[SECTION]KEY> (rs274 looks the upper-cased name up).
+  std::map<std::string, double, std::less<>> ini_parameters() const {
+    std::map<std::string, double, std::less<>> out;
+    for (const auto& [section, keys] : sections_)
+      for (const auto& [key, v] : keys) {
+        if (upper(section) != section || upper(key) != key) continue;
+        std::istringstream in(v.value);
+        double d = 0.0;
+        if ((in >> d) && in.eof() && std::isfinite(d))
+          out.emplace("_ini[" + lower_case(section) + "]" + lower_case(key), d);
+      }
+    return out;
+  }
+
   /// A number, or nullopt when absent; throws naming the key when it is not one.
   std::optional<double> number(const std::string& section, const std::string& key) const {
     const IniValue* v = find(section, key);
@@ -126,6 +143,15 @@ class IniFile {
     const IniValue* v = find(section, key);
     throw InputError(v ? fmt::format("{}:{}: [{}]{}: {}", v->file, v->line, section, key, msg)
                        : fmt::format("[{}]{}: {}", section, key, msg));
+  }
+
+  static std::string upper(std::string s) {
+    for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    return s;
+  }
+  static std::string lower_case(std::string s) {
+    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
   }
 
   static std::string trim(std::string_view s) {
@@ -368,6 +394,12 @@ void read_rs274ngc(const IniFile& ini, const fs::path& dir, Machine& m, Warnings
   }
   if (const auto d = ini.number("RS274NGC", "DISABLE_FANUC_STYLE_SUB"))
     m.fanuc_subs_disabled = *d != 0.0;
+  // INI_VARS (rs274's default 1): the INI's numbers are #<_ini[SECTION]NAME> to programs.
+  if (ini.number("RS274NGC", "INI_VARS").value_or(1.0) != 0.0) m.ini_vars = ini.ini_parameters();
+  // DISABLE_G92_PERSISTENCE: the G92 offsets are not restored from the parameter file.
+  m.g92_persistent = ini.number("RS274NGC", "DISABLE_G92_PERSISTENCE").value_or(0.0) == 0.0;
+  // ORIENT_OFFSET: added to M19's R in ORIENT_SPINDLE.
+  m.orient_offset_deg = ini.number("RS274NGC", "ORIENT_OFFSET").value_or(0.0);
   if (const IniValue* u = ini.find("RS274NGC", "USER_M_PATH"))
     warn.push_back(
         fmt::format("[RS274NGC]USER_M_PATH = {}: M100-M199 are recorded, never run", u->value));

@@ -5,6 +5,8 @@
 #include "machine/tool_table.hpp"
 
 #include <array>
+#include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -91,6 +93,15 @@ struct Machine {
   /// LinuxCNC `.var` parameter file read at the start and written at the end of a run (key
   /// `parameter_file`, relative to the machine file); empty: none.
   std::string parameter_file;
+  /// LinuxCNC's [RS274NGC]INI_VARS (on unless 0): the INI's numeric values, read-only to a
+  /// program as `#<_ini[SECTION]NAME>`; keyed by the parameter's name in lower case
+  /// ("_ini[section]name"). Empty for machine files.
+  std::map<std::string, double, std::less<>> ini_vars;
+  /// False: the parameter file's G92 offsets (#5210-#5219) are cleared when it is read
+  /// (LinuxCNC's [RS274NGC]DISABLE_G92_PERSISTENCE = 1).
+  bool g92_persistent = true;
+  /// Added to M19's R, degrees (LinuxCNC's [RS274NGC]ORIENT_OFFSET).
+  double orient_offset_deg = 0.0;
   /// What programs for this machine are written in (key `dialect`: "linuxcnc", "fanuc",
   /// "grbl"; docs/dialects.md); empty: linuxcnc. --dialect overrides it.
   std::string dialect;

@@ -413,3 +413,109 @@ TEST_CASE("ini: the shipped 9-axis sim moves all of X Y Z A B C U V W") {
   CHECK(s.axes[5].velocity_mm_s.value > 0.0);
   for (std::size_t i = 0; i < 9; ++i) CHECK(std::abs(s.axes[i].final_enc_err_blu) <= 1);
 }
+
+namespace {
+
+// The diagnostics `gmotion check` gives the program on machine `m`.
+std::vector<gm::Diagnostic> diagnostics(const gm::Machine& m, const std::string& text) {
+  std::istringstream in(text);
+  gm::InterpreterOptions opts;
+  opts.machine = &m;
+  std::vector<gm::Diagnostic> out;
+  gm::check_program_diagnostics(in, "ini.ngc", opts, out);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("ini: #<_ini[SECTION]NAME> reads the INI's numbers, read-only, as rs274 (INI_VARS)") {
+  const fs::path d = gmtest::scratch_dir("ini") / "ini-vars";
+  fs::create_directories(d);
+  const std::string body =
+      "[TRAJ]\nCOORDINATES = X Y Z\nLINEAR_UNITS = mm\n"
+      "[PROBE]\nSAFE_Z = 12.5\nCLEAR = 1e2\nHEX = 0x10\nTEXT = 7 mm\nlow = 3\n";
+  write(d / "on.ini", "[RS274NGC]\n" + body);
+  const gm::Machine on = gm::load_linuxcnc_ini(d / "on.ini").machine;
+  // rs274 looks the upper-cased name up; a value that is not a whole number is not defined.
+  CHECK(ends_xy(on, "G0 X#<_ini[PROBE]SAFE_Z> Y#<_ini[ probe ] clear >\nM2\n") ==
+        std::vector<std::pair<double, double>>{{12.5, 100.0}});
+  for (const char* undefined : {"HEX", "TEXT", "low", "NONE"}) {
+    const auto diags = diagnostics(on, "G0 X#<_ini[PROBE]" + std::string(undefined) + ">\nM2\n");
+    REQUIRE(diags.size() == 1);
+    CHECK(diags[0].message.find("is not defined") != std::string::npos);
+  }
+  // Assigning one is rs274's error; a name the INI lacks is an ordinary global.
+  const auto set = diagnostics(on, "#<_ini[PROBE]SAFE_Z> = 2\nM2\n");
+  REQUIRE(set.size() == 1);
+  CHECK(set[0].message == "Cannot assign to read-only parameter #<_ini[probe]safe_z>");
+  CHECK(ends_xy(on, "#<_ini[PROBE]NONE> = 2\nG0 X#<_ini[PROBE]NONE>\nM2\n") ==
+        std::vector<std::pair<double, double>>{{2.0, 0.0}});
+  // INI_VARS = 0 turns them off; a machine file has none.
+  write(d / "off.ini", "[RS274NGC]\nINI_VARS = 0\n" + body);
+  const gm::Machine off = gm::load_linuxcnc_ini(d / "off.ini").machine;
+  CHECK(off.ini_vars.empty());
+  CHECK(diagnostics(off, "G0 X#<_ini[PROBE]SAFE_Z>\nM2\n").size() == 1);
+}
+
+TEST_CASE("ini: DISABLE_G92_PERSISTENCE starts without the parameter file's G92 offset") {
+  const fs::path d = gmtest::scratch_dir("ini") / "g92-persistence";
+  fs::create_directories(d);
+  // The X end of `G0 X1` on the INI's machine, the file holding G92 X4 Y0.5 (in effect).
+  const auto end_x = [&](const std::string& rs274ngc) {
+    write(d / "m.var", "5210\t1.000000\n5211\t4.000000\n5212\t0.500000\n5220\t1.000000\n");
+    write(d / "m.ini",
+          "[TRAJ]\nCOORDINATES = X Y Z\nLINEAR_UNITS = mm\n[RS274NGC]\n"
+          "PARAMETER_FILE = m.var\n" +
+              rs274ngc);
+    const gm::Machine m = gm::load_linuxcnc_ini(d / "m.ini").machine;
+    std::istringstream in("G0 X1\nM2\n");
+    gm::InterpreterOptions opts;
+    opts.machine = &m;
+    opts.parameter_file = m.parameter_file;
+    opts.save_parameters = true;
+    double x = -1.0;
+    {
+      gm::ProgramStream stream(in, "g92.ngc", opts);
+      gm::Canon c;
+      while (stream.next(c))
+        if (const auto* mo = std::get_if<gm::Motion>(&c)) x = mo->end_mm[0];
+    }
+    return x;
+  };
+  const auto saved = [&](const std::string& number) {
+    std::ifstream in(d / "m.var");
+    for (std::string n, v; in >> n >> v;)
+      if (n == number) return v;
+    return std::string("<none>");
+  };
+  CHECK(end_x("") == Approx(5.0));  // restored, as LinuxCNC does by default
+  CHECK(saved("5211") == "4.000000");
+  CHECK(end_x("DISABLE_G92_PERSISTENCE = 0\n") == Approx(5.0));
+  CHECK(end_x("DISABLE_G92_PERSISTENCE = 1\n") == Approx(1.0));
+  // rs274 reads #5210-#5219 as 0 and writes them back so.
+  CHECK(saved("5210") == "0.000000");
+  CHECK(saved("5211") == "0.000000");
+  CHECK(saved("5220") == "1.000000");  // the rest of the file stays
+}
+
+TEST_CASE("ini: ORIENT_OFFSET is added to M19's R, as rs274's ORIENT_SPINDLE prints it") {
+  const fs::path d = gmtest::scratch_dir("ini") / "orient-offset";
+  fs::create_directories(d);
+  write(d / "o.ini",
+        "[TRAJ]\nCOORDINATES = X Y Z\nLINEAR_UNITS = mm\n[RS274NGC]\n"
+        "ORIENT_OFFSET = 12.5\n");
+  const gm::Machine m = gm::load_linuxcnc_ini(d / "o.ini").machine;
+  CHECK(m.orient_offset_deg == 12.5);
+  // rs274: ORIENT_SPINDLE(0, 22.5000, 0), (0, 362.5000, 1), (0, 12.5000, 2); bare M19 none.
+  std::istringstream in("M19 R10\nM19 R350 P1\nM19 P2\nM19\nM2\n");
+  gm::InterpreterOptions opts;
+  opts.machine = &m;
+  gm::ProgramStream stream(in, "orient.ngc", opts);
+  std::vector<std::pair<double, int>> orients;
+  gm::Canon c;
+  while (stream.next(c))
+    if (const auto* e = std::get_if<gm::Event>(&c))
+      if (e->kind == gm::EventKind::SpindleOrient) orients.emplace_back(e->value, e->index);
+  CHECK(orients == std::vector<std::pair<double, int>>{{22.5, 0}, {362.5, 1}, {12.5, 2}});
+  CHECK(gm::default_machine().orient_offset_deg == 0.0);
+}
