@@ -109,7 +109,8 @@ TEST_CASE("a sub defined inside another sub's body is an error (rs274: nested de
   auto d = diagnose(
       "o<outer> sub\n  G0 X1\n  o<inner> sub\n  G0 X2\n  o<inner> endsub\n"
       "o<outer> endsub\no<outer> call\nM2\n");
-  REQUIRE(d.size() == 1);
+  REQUIRE(d.size() == 2);  // the error, then the note that checking stopped there
+  CHECK(d[1].severity == gm::Severity::Note);
   CHECK(d[0].code == code(gm::ErrorCode::ControlMismatch));
   CHECK(d[0].loc.line == 3);
   CHECK(d[0].loc.column == 3);
@@ -118,7 +119,8 @@ TEST_CASE("a sub defined inside another sub's body is an error (rs274: nested de
         "defined outside every other sub");
   // Reached while the sub runs (called before its definition): the same error, at that line.
   d = diagnose("o20 call\nM2\no20 sub\nG0 X1\n o21 sub\no21 endsub\no20 endsub\n");
-  REQUIRE(d.size() == 1);
+  REQUIRE(d.size() == 2);  // the error, then the note that checking stopped there
+  CHECK(d[1].severity == gm::Severity::Note);
   CHECK(d[0].loc.line == 5);
   CHECK(d[0].loc.column == 2);
   CHECK(d[0].message ==
@@ -135,7 +137,8 @@ TEST_CASE("a sub after the program end: found after M2, not after the closing % 
   CHECK(diagnose("%\nG0 X1\n%\no<late> sub\nG0 X3\no<late> endsub\n").empty());
   // Called, after the closing '%': rs274 "Failed to find sub 'Olate' before EOF", at the '%'.
   const auto d = diagnose("%\nG0 X1\no<late> call\n%\no<late> sub\nG0 X3\no<late> endsub\n");
-  REQUIRE(d.size() == 1);
+  REQUIRE(d.size() == 2);  // the error, then the note that checking stopped there
+  CHECK(d[1].severity == gm::Severity::Note);
   CHECK(d[0].code == code(gm::ErrorCode::UndefinedSubroutine));
   CHECK(d[0].loc.line == 4);
   CHECK(d[0].loc.column == 1);
@@ -151,7 +154,8 @@ TEST_CASE("O[expression]: an O-word number computed when the line is read (rs274
   CHECK(xs("#1=0\nO[5] while [#1 LT 2]\n#1=[#1+1]\nG0 X#1\nO[2+3] endwhile\nM2\n") ==
         std::vector<double>{1, 2});
   const auto d = diagnose("#2=0.25\nO[#2*10] call\nM2\n");
-  REQUIRE(d.size() == 1);
+  REQUIRE(d.size() == 2);  // the error, then the note that checking stopped there
+  CHECK(d[1].severity == gm::Severity::Note);
   CHECK(d[0].code == code(gm::ErrorCode::BadOWord));
   CHECK(d[0].loc.line == 2);
   CHECK(d[0].loc.column == 1);
