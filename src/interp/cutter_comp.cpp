@@ -516,17 +516,38 @@ double arc_block_feed(const BlockCtx& ctx, const Pos9& from, const Pos9& target,
   return block_feed(ctx, motion_length_mm(prog));
 }
 
+// What both arc moves under compensation start from: the plane, the tool radius, the signed
+// direction and turns, whether the tool is inside the arc, and the arc's start and end in the
+// plane.
+struct ArcFrame {
+  PlaneAxes ax;
+  double r;
+  bool ccw;  ///< G3
+  int turn;
+  bool tool_inside;
+  P2 c, e;
+};
+
+ArcFrame arc_frame(const BlockCtx& ctx, const Code& code, const Pos9& target, int turns) {
+  const CutterComp& cc = ctx.s.comp;
+  const PlaneAxes ax = plane_axes(ctx.s.plane);
+  const bool ccw = code.number10 == 30;
+  const int turn = ccw ? turns : -turns;
+  return ArcFrame{ax,
+                  cc.radius_mm,
+                  ccw,
+                  turn,
+                  inside(cc.side, turn),
+                  in_plane(ctx.s.position_mm, ax),
+                  in_plane(target, ax)};
+}
+
 // The entry arc: through the programmed end, tangent to the tool.
 bool comp_arc_entry(BlockCtx& ctx, const Code& code, const Pos9& target, int turns,
                     const Pos9* centre_mm) {
   CutterComp& cc = ctx.s.comp;
   ModalState& s = ctx.s;
-  const PlaneAxes ax = plane_axes(s.plane);
-  const double r = cc.radius_mm;
-  const bool ccw = code.number10 == 30;
-  const int turn = ccw ? turns : -turns;
-  const bool tool_inside = inside(cc.side, turn);
-  const P2 c = in_plane(s.position_mm, ax), e = in_plane(target, ax);
+  const auto [ax, r, ccw, turn, tool_inside, c, e] = arc_frame(ctx, code, target, turns);
   const double d = dist(c, e);
   if (d <= r) return tool_too_large(ctx, "the radius of the cutter compensation entry arc", d);
   if (ctx.w.has('R') && tool_inside && std::fabs(ctx.w['R']->value) * ctx.scale() <= r)
@@ -626,12 +647,7 @@ bool comp_arc(BlockCtx& ctx, const Code& code, const Pos9& target, int turns,
   CutterComp& cc = ctx.s.comp;
   ModalState& s = ctx.s;
   if (cc.first_move) return comp_arc_entry(ctx, code, target, turns, centre_mm);
-  const PlaneAxes ax = plane_axes(s.plane);
-  const double r = cc.radius_mm;
-  const bool ccw = code.number10 == 30;
-  const int turn = ccw ? turns : -turns;
-  const bool tool_inside = inside(cc.side, turn);
-  const P2 c = in_plane(s.position_mm, ax), e = in_plane(target, ax);
+  const auto [ax, r, ccw, turn, tool_inside, c, e] = arc_frame(ctx, code, target, turns);
 
   const P2 o{cc.prog_a, cc.prog_b};
   const Pos9 o9 = comp_program_point(ctx);
