@@ -214,7 +214,7 @@ inline auto const primary_def =
     x3::raw[unsigned_number][actions::emit_number] | (x3::lit('#') > param_body) |
     (x3::lit('[') > expr > close_bracket) |
     x3::raw[x3::lit("ATAN") > bracketed > slash > bracketed][emit<Op::Atan2>] |
-    x3::omit[x3::lit("EXISTS") >> x3::lit("[#<") > name > close_name > close_bracket]
+    x3::omit[(x3::lit("EXISTS") >> x3::lit("[#<")) > name > close_name > close_bracket]
             [actions::emit_exists] |
     x3::raw[x3::lit("EXISTS") > open_bracket > x3::lit('#') > primary > close_bracket]
            [emit<Op::ExistsNumber>] |
