@@ -64,6 +64,7 @@ MM_PER_INCH = 25.4
 RS274_PRINT_HALF_ULP = 0.5e-4  # rs274 prints %.4f
 SKIP = 77
 GMOTION_AXES = ""  # --axes: passed to `gmotion moves`
+WRAPPED = ""  # --wrapped: rotary axes that wrap in both (INI for rs274, flag for gmotion)
 IO_RECORDS = False  # --io: spindle/coolant/tool/output/stop records compared too (kind "io")
 # Moves at a feed: STRAIGHT_FEED, ARC_FEED, RIGID_TAP (G33.1) and STRAIGHT_PROBE (G38.x).
 FED_KINDS = ("line", "arc", "rigid_tap", "probe")
@@ -476,6 +477,8 @@ def run_rs274(rs274: str, program_text: str, timeout: float = 120.0,
             # its scratch working directory holds no .ngc, so only the path can supply a sub.
             dirs = ":".join(os.path.abspath(d) for d in subroutine_path.split(":") if d)
             ini_text += f"[RS274NGC]\nSUBROUTINE_PATH = {dirs}\n"
+        for letter in WRAPPED:
+            ini_text += f"[AXIS_{letter}]\nWRAPPED_ROTARY = 1\n"
         if VAR_STATE is not None:
             # The parameter file chained from program to program: -v names it, rs274 reads it at
             # start and writes it at exit (Interp::init, Interp::exit), in inches (VarState).
@@ -599,6 +602,8 @@ def run_gmotion(gmotion: str, path: str, timeout: float = 120.0,
     tools = ["--tool-table", tool_table_path] if tool_table_path else []
     if GMOTION_AXES:
         tools += ["--axes", GMOTION_AXES]
+    if WRAPPED:
+        tools += ["--wrapped-rotary", WRAPPED]
     if SUBROUTINE_PATH:
         tools += ["--subroutine-path", SUBROUTINE_PATH]
     if IO_RECORDS:
@@ -837,6 +842,10 @@ def rs274_error_line(error_text: str, program_text: str | None = None) -> int | 
 
 def gmotion_first_error(gmotion: str, path: str, tool_table_path: str | None) -> tuple[int | None, str]:
     cmd = [gmotion, "check", path] + (["--tool-table", tool_table_path] if tool_table_path else [])
+    if GMOTION_AXES:
+        cmd += ["--axes", GMOTION_AXES]
+    if WRAPPED:
+        cmd += ["--wrapped-rotary", WRAPPED]
     p = subprocess.run(cmd, stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=120)
     if p.returncode == 0:
         return None, "accepted"
@@ -1196,6 +1205,9 @@ def main(argv=None) -> int:
     ap.add_argument("--axes", default="",
                     help="gmotion's machine axes (gmotion --axes), e.g. XYZA: its A/B/C ends are "
                          "compared with rs274's too")
+    ap.add_argument("--wrapped", default="", metavar="LETTERS",
+                    help="rotary axes that wrap: [AXIS_L]WRAPPED_ROTARY = 1 in rs274's INI, "
+                         "--wrapped-rotary for gmotion")
     ap.add_argument("--subroutine-path", metavar="DIR[:DIR]",
                     help="subroutine files for both sides (rs274: an INI's SUBROUTINE_PATH)")
     ap.add_argument("--io", action="store_true",
@@ -1207,8 +1219,9 @@ def main(argv=None) -> int:
                          "files written compared at the end ('-': start without one)")
     ap.add_argument("-v", "--verbose", action="store_true")
     args = ap.parse_args(argv)
-    global GMOTION_AXES, SUBROUTINE_PATH, VAR_STATE, IO_RECORDS, RS274_TIMEOUT
+    global GMOTION_AXES, SUBROUTINE_PATH, VAR_STATE, IO_RECORDS, RS274_TIMEOUT, WRAPPED
     GMOTION_AXES = args.axes
+    WRAPPED = args.wrapped.upper()
     RS274_TIMEOUT = args.rs274_timeout
     IO_RECORDS = args.io
     SUBROUTINE_PATH = args.subroutine_path

@@ -15,4 +15,13 @@ constexpr double mm_s_to_mm_min(double v_mm_s) {
   return v_mm_s * kSecondsPerMinute;
 }
 
+inline constexpr double kMmPerMetre = 1000.0;
+inline constexpr double kDegPerRadian = 57.295779513082320876798154814105;  // 180/π
+
+/// An axis's unit (mm, or degrees on a rotary axis) per SI unit (metre, radian): what its
+/// positions, speeds and accelerations are divided by before mass/inertia and damping act.
+constexpr double unit_per_si(bool rotary) {
+  return rotary ? kDegPerRadian : kMmPerMetre;
+}
+
 }  // namespace gm::units

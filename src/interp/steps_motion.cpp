@@ -1,6 +1,7 @@
 // The motion steps: G0/G1 straight moves and G2/G3 arcs and helices, in machine coordinates.
 #include "common/units.hpp"
 #include "interp/arc.hpp"
+#include "interp/rotary_wrap.hpp"
 #include "interp/steps.hpp"
 
 #include <algorithm>
@@ -100,6 +101,31 @@ bool check_feed(BlockCtx& ctx, int code10, SourceLoc loc) {
   return true;
 }
 
+namespace {
+
+// Wrapped rotary axes given in absolute words (G90, G53): the word names an angle modulo 360,
+// turned to in the direction of its sign from where the axis is (in the program's coordinates,
+// as LinuxCNC's unwrap_rotary). `target_mm` holds the plain targets; wrapped ones are replaced.
+bool unwrap_targets(BlockCtx& ctx, const Pos9& from_mm, unsigned given, Pos9& target_mm) {
+  for (int i = 3; i <= 5; ++i) {
+    if (!(given & (1u << i)) || !axis_wraps(ctx.machine, i)) continue;
+    const grammar::Word* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]];
+    if (!wrapped_word_ok(aw->value))
+      return ctx.fail(
+          ErrorCode::ValueOutOfRange, aw->loc,
+          fmt::format("{}{:g}: a wrapped rotary axis takes an absolute angle within one "
+                      "turn (-360 < {} < 360)",
+                      kProgramAxisLetters[static_cast<std::size_t>(i)], aw->value,
+                      kProgramAxisLetters[static_cast<std::size_t>(i)]));
+    const double offset = target_mm[i] - aw->value;  // program -> machine on this axis
+    const double from_program = from_mm[i] - offset;
+    target_mm[i] = unwrap_rotary_deg(aw->value, aw->value, from_program) + offset;
+  }
+  return true;
+}
+
+}  // namespace
+
 bool axis_target(BlockCtx& ctx, const Pos9& from_mm, Pos9& target_mm) {
   const double scale = ctx.scale();
   const Frame frame = ctx.frame();
@@ -141,6 +167,7 @@ bool axis_target(BlockCtx& ctx, const Pos9& from_mm, Pos9& target_mm) {
     }
   } else if (given != 0) {
     target_mm = frame.to_machine(target_mm, words, given);
+    if (!unwrap_targets(ctx, from_mm, given, target_mm)) return false;
   }
   for (int i = 0; i < kProgramAxes; ++i) {
     const char letter = kProgramAxisLetters[static_cast<std::size_t>(i)];
@@ -168,6 +195,16 @@ bool machine_target(BlockCtx& ctx, Pos9& target_mm) {
     const auto* aw = ctx.w[letter];
     if (!aw) continue;
     target_mm[i] = aw->value * (axis_is_rotary(i) ? 1.0 : ctx.scale());
+    if (axis_wraps(ctx.machine, i)) {  // the word less the offsets, unwrapped from here
+      if (!wrapped_word_ok(aw->value))
+        return ctx.fail(ErrorCode::ValueOutOfRange, aw->loc,
+                        fmt::format("{}{:g}: a wrapped rotary axis takes an absolute angle within "
+                                    "one turn (-360 < {} < 360)",
+                                    letter, aw->value, letter));
+      const double offset = ctx.offset()[i];
+      target_mm[i] =
+          unwrap_rotary_deg(aw->value, aw->value - offset, ctx.s.position_mm[i] - offset) + offset;
+    }
     if (!within(target_mm[i], kMaxPositionMm))
       return ctx.fail(ErrorCode::ValueOutOfRange, aw->loc,
                       fmt::format("{} would move to {:g} mm, outside -{:g}..{:g} mm", letter,

@@ -1,8 +1,28 @@
 // The offset and reference-point steps: G54..G59.3, G10 L2/L20, G92/G92.1/G92.2/G92.3, G52,
 // G28/G28.1/G30/G30.1, as LinuxCNC 2.9 runs them. Positions are machine coordinates (mm).
+#include "interp/rotary_wrap.hpp"
 #include "interp/steps.hpp"
 
 namespace gm {
+
+namespace {
+
+// G92, G52 and G10 L20 name where the current point is: on a wrapped axis, an angle within one
+// turn (LinuxCNC refuses the rest likewise).
+bool wrapped_words_ok(BlockCtx& ctx, const char* code) {
+  for (int i = 3; i <= 5; ++i) {
+    const char letter = kProgramAxisLetters[static_cast<std::size_t>(i)];
+    const grammar::Word* aw = ctx.w[letter];
+    if (aw && axis_wraps(ctx.machine, i) && !wrapped_word_ok(aw->value))
+      return ctx.fail(ErrorCode::ValueOutOfRange, aw->loc,
+                      fmt::format("{} {}{:g}: a wrapped rotary axis takes an angle within one "
+                                  "turn (-360 < {} < 360)",
+                                  code, letter, aw->value, letter));
+  }
+  return true;
+}
+
+}  // namespace
 
 bool run_coord_system(BlockCtx& ctx, const Code& c) {
   if (!comp_forbids(ctx, ctx.loc_of(Group::CoordSystem), "change coordinate systems")) return false;
@@ -34,6 +54,7 @@ bool run_g10(BlockCtx& ctx, const Code&) {
   if (ctx.w.has('I') || ctx.w.has('J'))
     return ctx.fail(ErrorCode::UnusedWord, ctx.w.has('I') ? ctx.w['I']->loc : ctx.w['J']->loc,
                     fmt::format("G10 L{:g}: I and J words are not allowed", l));
+  if (l == 20 && !wrapped_words_ok(ctx, "G10 L20")) return false;
   const auto* rw = ctx.w['R'];
   if (rw && l == 20)
     return ctx.fail(ErrorCode::UnusedWord, rw->loc,
@@ -82,6 +103,7 @@ bool run_g10(BlockCtx& ctx, const Code&) {
 
 bool run_g92(BlockCtx& ctx, const Code&) {
   if (!comp_forbids(ctx, ctx.loc_of(Group::NonModal), "change axis offsets")) return false;
+  if (!wrapped_words_ok(ctx, "G92")) return false;
   if (!ctx.w.first_axis)
     return ctx.fail(ErrorCode::G92WithoutAxes, ctx.loc_of(Group::NonModal),
                     "G92 without axis words");
@@ -108,6 +130,7 @@ bool run_g92(BlockCtx& ctx, const Code&) {
 
 bool run_g52(BlockCtx& ctx, const Code&) {
   if (!comp_forbids(ctx, ctx.loc_of(Group::NonModal), "change axis offsets")) return false;
+  if (!wrapped_words_ok(ctx, "G52")) return false;
   Pos9& g92 = ctx.s.g92_mm;  // LinuxCNC keeps the G52 local offset in the G92 offsets
   ctx.s.g92_applied = true;
   ctx.s.g92_flag = 1.0;
@@ -138,7 +161,10 @@ bool run_g92_x(BlockCtx& ctx, const Code& c) {
 }
 
 bool run_home_set(BlockCtx& ctx, const Code& c) {
-  (c.number10 == 281 ? ctx.tables_w().g28_mm : ctx.tables_w().g30_mm) = ctx.s.position_mm;
+  Pos9& home = c.number10 == 281 ? ctx.tables_w().g28_mm : ctx.tables_w().g30_mm;
+  home = ctx.s.position_mm;
+  for (int i = 3; i <= 5; ++i)  // a wrapped axis stores its angle within one turn
+    if (axis_wraps(ctx.machine, i)) home[i] = wrap_360(home[i]);
   return true;
 }
 

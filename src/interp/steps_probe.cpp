@@ -1,6 +1,7 @@
 // G38.2..G38.5 straight probing, simulated as LinuxCNC's standalone interpreter (rs274) does
 // with no probe input: the probe feeds to its end point without tripping, stops there and backs
 // off 0.254 mm (0.010 in) towards where it started; #5061-#5069 get that end point, #5070 = 0.
+#include "interp/rotary_wrap.hpp"
 #include "interp/steps.hpp"
 
 namespace gm {
@@ -41,7 +42,10 @@ bool run_probe(BlockCtx& ctx, const Code& c) {
   name_probe_moves(ctx, first);
   // The probe result, in the program's coordinates and units at this block.
   const Pos9 at = ctx.frame().to_program(target);
-  for (int i = 0; i < kProgramAxes; ++i) ctx.results.add(5061 + i, at[i] / ctx.scale());
+  for (int i = 0; i < kProgramAxes; ++i) {  // angles in degrees whatever the units
+    const double v = axis_is_rotary(i) ? at[i] : at[i] / ctx.scale();
+    ctx.results.add(5061 + i, axis_wraps(ctx.machine, i) ? wrap_360(v) : v);
+  }
   ctx.results.add(5070, 0.0);  // not tripped
   const Eigen::Vector3d d = (start - target).head<3>();
   const double dist = d.norm();

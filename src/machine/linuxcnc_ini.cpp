@@ -317,6 +317,19 @@ bool read_ini_axis(const IniFile& ini, const std::string& coords, double unit, M
                          "positions up to ±1e12 would not fit int64 counts",
                          *l.scale, ac.blu_mm, rotary ? "deg" : "mm"));
   if (l.backlash && *l.backlash > 0.0) ac.backlash_blu = std::round(*l.backlash * unit / ac.blu_mm);
+  // WRAPPED_ROTARY, read as LinuxCNC's findBoolV reads it (1/0, TRUE/FALSE, YES/NO, ON/OFF).
+  if (const IniValue* w = ini.find(axis_sec, "WRAPPED_ROTARY")) {
+    std::string v = w->value;
+    for (char& ch : v) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+    const bool on = v == "1" || v == "TRUE" || v == "YES" || v == "ON";
+    if (!on && v != "0" && v != "FALSE" && v != "NO" && v != "OFF")
+      warn.push_back(
+          fmt::format("[{}]WRAPPED_ROTARY = {}: not a boolean; taken as 0", axis_sec, w->value));
+    if (on && !rotary)
+      warn.push_back(
+          fmt::format("[{}]WRAPPED_ROTARY: {} is linear; it does not wrap", axis_sec, letter));
+    ac.wrapped_rotary = on && rotary;
+  }
   return l.soft_limits;
 }
 
@@ -489,6 +502,7 @@ std::string machine_to_linuxcnc_ini(const Machine& m) {
     const double acc = c * a.v_max_mm_s / m.tau_s;
     s += fmt::format("\n[AXIS_{}]\nMAX_VELOCITY = {}\nMAX_ACCELERATION = {}\n", m.layout.letter(i),
                      ini_number(a.v_max_mm_s), ini_number(acc));
+    if (a.wrapped_rotary) s += "WRAPPED_ROTARY = 1\n";
     s += fmt::format(
         "\n[JOINT_{}]\nTYPE = {}\nMAX_VELOCITY = {}\nMAX_ACCELERATION = {}\nINPUT_SCALE = {}\n"
         "BACKLASH = {}\n",

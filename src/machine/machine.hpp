@@ -25,7 +25,9 @@ enum class VelocityLoopForm { Ip, Pi };
 /// whole linear chain FIR + servo, so that it holds for the table too (within one BLU more).
 enum class ToleranceOn { AccDec, Encoder };
 
-/// One axis: resolution, limits (Eq. 7 and 26 of the paper), plant and servo gains.
+/// One axis: resolution, limits (Eq. 7 and 26 of the paper), plant and servo gains. On a rotary
+/// axis (A, B, C) every `_mm` quantity is in degrees, and mass, damping and the force limit are
+/// the rotary drive's inertia (kg·m²), damping (N·m·s/rad) and torque limit (N·m).
 struct AxisConfig {
   double blu_mm = 0.001;        ///< basic length unit: one encoder count, mm
   double v_max_mm_s = 1000.0;   ///< velocity limit V_max
@@ -33,6 +35,11 @@ struct AxisConfig {
   double p_max_W = 500.0;       ///< power limit P_max
   double mass_kg = 500.0;       ///< equivalent mass m
   double damping_kg_s = 500.0;  ///< equivalent viscous damping c
+  /// A, B or C (set from the machine's layout by Machine::set_axes): degrees, inertia, torque.
+  bool rotary = false;
+  /// LinuxCNC's [AXIS_n]WRAPPED_ROTARY (rotary axes only, key `wrapped_rotary`): an absolute
+  /// angle is a position modulo 360°, reached in the direction of its sign.
+  bool wrapped_rotary = false;
   /// Plant G(s) = num(s)/den(s) from drive command to motor velocity, highest power first.
   /// The paper's first-order plant b/(s+a) is num = {b}, den = {1, a}.
   std::vector<double> plant_num{33.518};
@@ -149,17 +156,31 @@ struct Machine {
     return lin > 0.0 ? lin : any;
   }
   /// Gives the machine the axes `l`: an axis it already has keeps its settings, a new one
-  /// takes `fresh`.
+  /// takes `fresh` (a new rotary one: fresh's servo with rotary_axis_limits()).
   void set_axes(const AxisLayout& l, const AxisConfig& fresh) {
     std::vector<AxisConfig> next;
     for (int a = 0; a < l.count; ++a) {
       const AxisConfig* kept = nullptr;
       for (int b = 0; b < layout.count; ++b)
         if (layout.program(b) == l.program(a)) kept = &axes[static_cast<std::size_t>(b)];
-      next.push_back(kept ? *kept : fresh);
+      const bool rotary = axis_is_rotary(l.program(a));
+      next.push_back(kept ? *kept : rotary ? rotary_axis_limits(fresh) : fresh);
+      next.back().rotary = rotary;
     }
     layout = l;
     axes = std::move(next);
+  }
+  /// `servo` with a rotary drive's default limits and load: 360 °/s (60 rpm), 200 N·m, 750 W,
+  /// inertia 0.5 kg·m², damping 1 N·m·s/rad (a 4th-axis table with its part, at the table).
+  static AxisConfig rotary_axis_limits(const AxisConfig& servo) {
+    AxisConfig a = servo;
+    a.v_max_mm_s = 360.0;
+    a.f_max_N = 200.0;
+    a.p_max_W = 750.0;
+    a.mass_kg = 0.5;
+    a.damping_kg_s = 1.0;
+    a.wrapped_rotary = false;
+    return a;
   }
 };
 

@@ -117,6 +117,23 @@ class Reader {
     out = static_cast<int>(v);
     return true;
   }
+  bool boolean(std::string_view k, bool& out) {
+    const toml::node* n = get(k, false);
+    if (n == nullptr) return false;
+    auto b = n->as_boolean();
+    if (!b)
+      fail_at(n->source(), full(k), fmt::format("must be true or false (got {})", type_name(*n)));
+    out = b->get();
+    return true;
+  }
+  /// The key a rotary axis may name in its own units instead of `linear` (both: an error).
+  template <class Check>
+  void number_or(std::string_view linear, std::string_view rotary, double& out, Check check) {
+    if (const toml::node* n = t_.get(rotary); n && t_.get(linear))
+      fail_at(n->source(), full(rotary),
+              fmt::format("gives what '{}' gives: name one of them", full(linear)));
+    if (!number(rotary, out, false, check)) number(linear, out, false, check);
+  }
   bool string(std::string_view k, std::string& out, bool required) {
     const toml::node* n = get(k, required);
     if (n == nullptr) return false;
@@ -221,12 +238,23 @@ void read_axis(Reader& r, AxisConfig& a, double machine_blu_mm, double period_s,
               [period_s](double v) { return tau_problem(v, period_s); });
     ar.reject_unknown();
   }
-  r.number("blu_mm", a.blu_mm, false, blu_range);
-  r.number("v_max_mm_s", a.v_max_mm_s, false, positive);
-  r.number("f_max_N", a.f_max_N, false, positive);
+  if (a.rotary) {  // degrees, torque, inertia: the rotary names, or the linear ones (same fields)
+    r.number_or("blu_mm", "blu_deg", a.blu_mm, blu_range);
+    r.number_or("v_max_mm_s", "v_max_deg_s", a.v_max_mm_s, positive);
+    r.number_or("f_max_N", "torque_max_Nm", a.f_max_N, positive);
+    r.number_or("mass_kg", "inertia_kg_m2", a.mass_kg, positive);
+    r.number_or("damping_kg_s", "damping_Nm_s_rad", a.damping_kg_s, non_negative);
+    r.boolean("wrapped_rotary", a.wrapped_rotary);
+  } else {
+    r.number("blu_mm", a.blu_mm, false, blu_range);
+    r.number("v_max_mm_s", a.v_max_mm_s, false, positive);
+    r.number("f_max_N", a.f_max_N, false, positive);
+    r.number("mass_kg", a.mass_kg, false, positive);
+    r.number("damping_kg_s", a.damping_kg_s, false, non_negative);
+    if (const toml::node* w = r.tbl().get("wrapped_rotary"))
+      r.fail_at(w->source(), r.full("wrapped_rotary"), "only a rotary axis (A, B, C) wraps");
+  }
   r.number("p_max_W", a.p_max_W, false, positive);
-  r.number("mass_kg", a.mass_kg, false, positive);
-  r.number("damping_kg_s", a.damping_kg_s, false, non_negative);
   r.numbers("plant_num", a.plant_num, true, 1, DiscretePlant::kMaxOrder);
   r.numbers("plant_den", a.plant_den, true, 2, DiscretePlant::kMaxOrder + 1);
   r.number("kvp", a.kvp, true, non_negative);
@@ -441,11 +469,21 @@ std::string toml_top_keys(const Machine& m) {
 // One [axes.<letter>] table, and its [axes.<letter>.accdec] when it has its own Acc/Dec.
 std::string toml_axis_table(const AxisConfig& a, char letter) {
   std::string s = fmt::format("\n[axes.{}]\n", letter);
-  s += fmt::format("blu_mm = {}\nv_max_mm_s = {}\nf_max_N = {}\np_max_W = {}\n",
-                   fmt_double(a.blu_mm), fmt_double(a.v_max_mm_s), fmt_double(a.f_max_N),
-                   fmt_double(a.p_max_W));
-  s += fmt::format("mass_kg = {}\ndamping_kg_s = {}\nplant_num = {}\nplant_den = {}\n",
-                   fmt_double(a.mass_kg), fmt_double(a.damping_kg_s), toml_list(a.plant_num),
+  if (a.rotary) {
+    s += fmt::format("blu_deg = {}\nv_max_deg_s = {}\ntorque_max_Nm = {}\np_max_W = {}\n",
+                     fmt_double(a.blu_mm), fmt_double(a.v_max_mm_s), fmt_double(a.f_max_N),
+                     fmt_double(a.p_max_W));
+    s += fmt::format("inertia_kg_m2 = {}\ndamping_Nm_s_rad = {}\n", fmt_double(a.mass_kg),
+                     fmt_double(a.damping_kg_s));
+    if (a.wrapped_rotary) s += "wrapped_rotary = true\n";
+  } else {
+    s += fmt::format("blu_mm = {}\nv_max_mm_s = {}\nf_max_N = {}\np_max_W = {}\n",
+                     fmt_double(a.blu_mm), fmt_double(a.v_max_mm_s), fmt_double(a.f_max_N),
+                     fmt_double(a.p_max_W));
+    s += fmt::format("mass_kg = {}\ndamping_kg_s = {}\n", fmt_double(a.mass_kg),
+                     fmt_double(a.damping_kg_s));
+  }
+  s += fmt::format("plant_num = {}\nplant_den = {}\n", toml_list(a.plant_num),
                    toml_list(a.plant_den));
   s += fmt::format("kvp = {}\nkvi = {}\nkp_1_s = {}\nbacklash_blu = {}\ncoulomb_N = {}\n",
                    fmt_double(a.kvp), fmt_double(a.kvi), fmt_double(a.kp_1_s),

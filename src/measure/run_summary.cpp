@@ -28,6 +28,7 @@ RunSummary::RunSummary(const Machine& machine)
     s.p_limit.limit = ac.p_max_W;
     mass_kg_[a] = ac.mass_kg;
     damping_kg_s_[a] = ac.damping_kg_s;
+    unit_per_si_[a] = units::unit_per_si(axis_is_rotary(machine.layout.program(a)));
   }
 }
 
@@ -58,6 +59,7 @@ struct AxisPeaks {
 
 struct AxisConsts {
   double blu, T, mass, damping, v_lim, f_lim, p_lim;
+  double unit_per_si;  ///< mm per metre, or degrees per radian on a rotary axis
 };
 
 // Vectors pass by reference: a 32-byte vector by value changes the psABI without AVX.
@@ -120,7 +122,7 @@ __attribute__((always_inline)) inline void axis_rows(AxisRows& r, int n, const A
     if (d != 0) r.moved = std::max(r.moved, j);
   }
   const Lanes zero = {};
-  const Lanes blu = zero + c.blu, T = zero + c.T, k1000 = zero + 1000.0;
+  const Lanes blu = zero + c.blu, T = zero + c.T, per_si = zero + c.unit_per_si;
   Lanes x, y;
   for (int j = 0; j < n4; j += 4) {
     load(x, r.dref + j);
@@ -149,7 +151,7 @@ __attribute__((always_inline)) inline void axis_rows(AxisRows& r, int n, const A
     vabs(vel);
     vabs(accel);
     vabs(jerk);
-    const Lanes v_m_s = v / k1000, a_m_s2 = acc / k1000;
+    const Lanes v_m_s = v / per_si, a_m_s2 = acc / per_si;  // m or rad
     Lanes force = mass * a_m_s2 + damping * v_m_s;
     vabs(force);
     Lanes power = force * v_m_s;
@@ -176,7 +178,7 @@ __attribute__((always_inline)) inline void axis_rows(AxisRows& r, int n, const A
     r.vel[j] = std::abs(v);
     r.accel[j] = std::abs(acc);
     r.jerk[j] = std::abs(jerk);
-    const double v_m_s = v / 1000.0, a_m_s2 = acc / 1000.0;
+    const double v_m_s = v / c.unit_per_si, a_m_s2 = acc / c.unit_per_si;
     r.force[j] = std::abs(c.mass * a_m_s2 + c.damping * v_m_s);
     r.power[j] = std::abs(r.force[j] * v_m_s);
     pk.ferr = std::max(pk.ferr, r.ferr[j]);
@@ -239,7 +241,8 @@ void RunSummary::add_block(const SampleBlock& b, int first) {
                        damping_kg_s_[a],
                        ax.v_limit.limit * (1 + 1e-9),
                        ax.f_limit.limit * (1 + 1e-9),
-                       ax.p_limit.limit * (1 + 1e-9)};
+                       ax.p_limit.limit * (1 + 1e-9),
+                       unit_per_si_[a]};
     AxisPeaks pk{ax.following_err_blu.value, ax.velocity_mm_s.value, ax.v_limit.worst.value,
                  ax.accel_mm_s2.value,       ax.jerk_mm_s3.value,    ax.f_limit.worst.value,
                  ax.p_limit.worst.value};
@@ -317,24 +320,37 @@ std::string RunSummary::text() const {
     fmt::format_to(
         out, "arcs, steady radial deviation  Acc/Dec output {:+.2f} BLU  encoder {:+.2f} BLU\n",
         arc_ref_radial_dev_blu, arc_enc_radial_dev_blu);
-  fmt::format_to(out,
-                 "axis  ferr max BLU (line)   v max mm/s (line)   a max mm/s2 (line)   j max mm/s3 "
-                 "(line)   final ref/enc err BLU\n");
-  for (int a = 0; a < machine_.axis_count(); ++a) {
-    const AxisSummary& s = axes[static_cast<std::size_t>(a)];
-    fmt::format_to(out,
-                   "{:<4}  {:>8.0f} ({:>5})   {:>9.3f} ({:>5})   {:>10.1f} ({:>5})   {:>10.0f} "
-                   "({:>5})   {:+d} / {:+d}\n",
-                   machine_.layout.letter(a), s.following_err_blu.value, s.following_err_blu.line,
-                   s.velocity_mm_s.value, s.velocity_mm_s.line, s.accel_mm_s2.value,
-                   s.accel_mm_s2.line, s.jerk_mm_s3.value, s.jerk_mm_s3.line, s.final_ref_err_blu,
-                   s.final_enc_err_blu);
+  // Linear axes in mm, then rotary axes in degrees, each under its own header.
+  for (const bool rotary : {false, true}) {
+    bool header = false;
+    for (int a = 0; a < machine_.axis_count(); ++a) {
+      if (axis_is_rotary(machine_.layout.program(a)) != rotary) continue;
+      if (!header)
+        t += rotary ? "rotary  ferr max BLU (line)  v max deg/s (line)  a max deg/s2 (line)  j max "
+                      "deg/s3 (line)  final ref/enc err BLU\n"
+                    : "axis  ferr max BLU (line)   v max mm/s (line)   a max mm/s2 (line)   j max "
+                      "mm/s3 (line)   final ref/enc err BLU\n";
+      header = true;
+      const AxisSummary& s = axes[static_cast<std::size_t>(a)];
+      fmt::format_to(
+          out,
+          fmt::runtime(rotary ? "{:<6}  {:>8.0f} ({:>5})  {:>10.3f} ({:>5})  {:>11.1f} ({:>5})  "
+                                "{:>11.0f} ({:>5})  {:+d} / {:+d}\n"
+                              : "{:<4}  {:>8.0f} ({:>5})   {:>9.3f} ({:>5})   {:>10.1f} ({:>5})   "
+                                "{:>10.0f} ({:>5})   {:+d} / {:+d}\n"),
+          machine_.layout.letter(a), s.following_err_blu.value, s.following_err_blu.line,
+          s.velocity_mm_s.value, s.velocity_mm_s.line, s.accel_mm_s2.value, s.accel_mm_s2.line,
+          s.jerk_mm_s3.value, s.jerk_mm_s3.line, s.final_ref_err_blu, s.final_enc_err_blu);
+    }
   }
   bool any = false;
   for (int a = 0; a < machine_.axis_count(); ++a) {
     const AxisSummary& s = axes[static_cast<std::size_t>(a)];
+    const bool rotary = axis_is_rotary(machine_.layout.program(a));
     const std::pair<const char*, const LimitCheck*> checks[] = {
-        {"velocity mm/s", &s.v_limit}, {"force N", &s.f_limit}, {"power W", &s.p_limit}};
+        {rotary ? "velocity deg/s" : "velocity mm/s", &s.v_limit},
+        {rotary ? "torque Nm" : "force N", &s.f_limit},
+        {"power W", &s.p_limit}};
     for (const auto& [name, c] : checks) {
       if (c->violations == 0) continue;
       any = true;
@@ -374,15 +390,18 @@ std::string RunSummary::json(const std::string& extra_member) const {
                  num(arc_ref_radial_dev_blu), num(arc_enc_radial_dev_blu));
   for (int a = 0; a < machine_.axis_count(); ++a) {
     const AxisSummary& s = axes[static_cast<std::size_t>(a)];
+    // A rotary axis's members say degrees and torque.
+    const bool rotary = axis_is_rotary(machine_.layout.program(a));
+    const char* unit = rotary ? "deg" : "mm";
     fmt::format_to(
         out,
-        "{}\"{}\":{{\"following_err_max_blu\":{},\"velocity_max_mm_s\":{},\"accel_max_mm_s2\":{},"
-        "\"jerk_max_mm_s3\":{},\"limits\":{{\"velocity\":{},\"force\":{},\"power\":{}}},"
+        "{}\"{}\":{{\"following_err_max_blu\":{},\"velocity_max_{}_s\":{},\"accel_max_{}_s2\":{},"
+        "\"jerk_max_{}_s3\":{},\"limits\":{{\"velocity\":{},\"{}\":{},\"power\":{}}},"
         "\"final_ref_err_blu\":{},\"final_enc_err_blu\":{}}}",
         a == 0 ? "" : ",", static_cast<char>(machine_.layout.letter(a) - 'A' + 'a'),
-        peak(s.following_err_blu), peak(s.velocity_mm_s), peak(s.accel_mm_s2), peak(s.jerk_mm_s3),
-        limit(s.v_limit), limit(s.f_limit), limit(s.p_limit), s.final_ref_err_blu,
-        s.final_enc_err_blu);
+        peak(s.following_err_blu), unit, peak(s.velocity_mm_s), unit, peak(s.accel_mm_s2), unit,
+        peak(s.jerk_mm_s3), limit(s.v_limit), rotary ? "torque" : "force", limit(s.f_limit),
+        limit(s.p_limit), s.final_ref_err_blu, s.final_enc_err_blu);
   }
   j += "}";
   if (!extra_member.empty()) j += "," + extra_member;

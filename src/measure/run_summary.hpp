@@ -2,6 +2,7 @@
 #pragma once
 
 #include "common/axis.hpp"
+#include "common/units.hpp"
 #include "machine/machine.hpp"
 #include "motion/block_sink.hpp"
 #include "motion/sample_block.hpp"
@@ -84,7 +85,10 @@ class RunSummary : public BlockSink {
   const Machine& machine_;
   int axes_;  ///< the machine's axis count
   MachineVec blu_mm_;
+  /// Mass (kg) and damping (kg/s) of a linear axis; inertia (kg·m²) and damping (N·m·s/rad)
+  /// of a rotary one.
   MachineVec mass_kg_ = MachineVec::Zero(), damping_kg_s_ = MachineVec::Zero();
+  MachineVec unit_per_si_ = MachineVec::Constant(units::kMmPerMetre);  ///< units::unit_per_si
   double period_s_;
   double contour_sq_sum_ = 0.0;
   std::int64_t hold_samples_ = 0;

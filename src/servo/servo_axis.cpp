@@ -3,6 +3,7 @@
 
 #include "common/rounding.hpp"
 #include "common/status.hpp"
+#include "common/units.hpp"
 
 #include <fmt/format.h>
 
@@ -36,7 +37,9 @@ ServoAxis::ServoAxis(const AxisConfig& axis, double period_s, int substeps, std:
   if (n_per_unit_ == 0.0) {
     if (plant_.accel_gain_blu_s2() == 0.0)
       throw InputError("servo: drive_N_per_unit must be given for a plant of relative degree > 1");
-    n_per_unit_ = axis.mass_kg * plant_.accel_gain_blu_s2() * axis.blu_mm * 1e-3;
+    // N per unit from m/s² (kg), or N·m per unit from rad/s² (kg·m²) on a rotary axis.
+    const double si_per_unit = axis.rotary ? 1.0 / units::kDegPerRadian : 1e-3;
+    n_per_unit_ = axis.mass_kg * plant_.accel_gain_blu_s2() * axis.blu_mm * si_per_unit;
   }
   if (!(n_per_unit_ > 0.0))
     throw InputError(fmt::format("servo: drive_N_per_unit must be > 0 (got {})", n_per_unit_));

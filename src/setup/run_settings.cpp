@@ -56,6 +56,11 @@ void add_machine_rows(std::vector<SettingRow>& rows) {
                      "Machine axes, a subsequence of XYZABCUVW (e.g. XYZA; A B C "
                      "rotary, degrees); default: the machine's (built-in: XYZ)",
                      &S::axes, kCheckMachine));
+  rows.push_back(row("--wrapped-rotary",
+                     "Rotary axes that wrap (LinuxCNC's WRAPPED_ROTARY), e.g. A: an absolute "
+                     "angle is a position modulo 360, turned to by its sign; default: the "
+                     "machine's",
+                     &S::wrapped_rotary, kCheckMachine));
   rows.push_back(row("--profile",
                      "Acc/Dec profile: " + profile_forms(" | ") + " (C = cutoff or max)",
                      &S::profile, kMachineGroup));
@@ -365,6 +370,23 @@ void apply_axes(Machine& m, const std::string& letters) {
   m.set_axes(*l, default_machine().axes[0]);
 }
 
+void apply_wrapped_rotary(Machine& m, const std::string& letters) {
+  if (letters.empty()) return;
+  for (AxisConfig& a : m.axes) a.wrapped_rotary = false;
+  for (const char c : letters) {
+    const char letter = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    int found = -1;
+    for (int i = 0; i < m.axis_count(); ++i)
+      if (m.layout.letter(i) == letter) found = i;
+    if (found < 0 || !axis_is_rotary(m.layout.program(found)))
+      throw InputError(
+          fmt::format("--wrapped-rotary {}: {} is not a rotary axis (A, B, C) of the "
+                      "machine (axes {})",
+                      letters, c, m.layout.letters()));
+    m.axes[static_cast<std::size_t>(found)].wrapped_rotary = true;
+  }
+}
+
 Machine resolve_machine(const RunSettings& s, IniNotes notes) {
   std::optional<IniImport> ini;
   if (!s.machine_file.empty() && is_linuxcnc_ini(s.machine_file)) {
@@ -380,6 +402,7 @@ Machine resolve_machine(const RunSettings& s, IniNotes notes) {
               : s.machine_file.empty() ? default_machine()
                                        : load_machine_file(s.machine_file);
   apply_axes(m, s.axes);
+  apply_wrapped_rotary(m, s.wrapped_rotary);
   apply_machine_settings(s, m);
   // An INI's τ follows its limits, the profile and T: suggested again for the settings' ones.
   if (ini && !s.tau_s && s.axes.empty() && (s.profile || s.period_s))

@@ -21,6 +21,7 @@ struct RunSettings {
   // The machine choice.
   std::string machine_file;            ///< --machine (empty: the built-in machine)
   std::string axes;                    ///< --axes LETTERS (else the machine's)
+  std::string wrapped_rotary;          ///< --wrapped-rotary LETTERS (else the machine's)
   std::optional<std::string> profile;  ///< --profile NAME
   std::optional<double> tau_s;         ///< --tau S
   std::optional<double> period_s;      ///< --period S
@@ -107,6 +108,11 @@ double validate(const RunSettings& s, const Machine& m);
 /// already has keeps its settings, a new one takes the built-in machine's X axis. No-op when
 /// `letters` is empty. Throws gm::InputError on bad letters.
 void apply_axes(Machine& m, const std::string& letters);
+
+/// --wrapped-rotary LETTERS: those rotary axes of `m` wrap (LinuxCNC's WRAPPED_ROTARY), the
+/// others not. No-op when `letters` is empty. Throws gm::InputError on a letter that is not a
+/// rotary axis of `m`.
+void apply_wrapped_rotary(Machine& m, const std::string& letters);
 
 /// How resolve_machine reports the LinuxCNC INI keys it could not map.
 enum class IniNotes { Print, Quiet };

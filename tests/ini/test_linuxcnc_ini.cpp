@@ -253,6 +253,38 @@ TEST_CASE("ini: [RS274NGC]DISABLE_FANUC_STYLE_SUB = 1 makes M98 an error, as rs2
   CHECK(check("0").code == 0);
 }
 
+TEST_CASE("ini: [AXIS_A]WRAPPED_ROTARY wraps A as LinuxCNC's findBoolV reads it") {
+  const fs::path d = gmtest::scratch_dir("ini") / "wrapped";
+  fs::create_directories(d);
+  write(d / "w.ngc", "G0 A300\nG0 A10\nM2\n");
+  const auto machine_of = [&](const std::string& axis, const std::string& value) {
+    write(d / "w.ini",
+          "[TRAJ]\nCOORDINATES = X Y Z A\nLINEAR_UNITS = mm\nANGULAR_UNITS = degree\n[AXIS_" +
+              axis + "]\nWRAPPED_ROTARY = " + value + "\n");
+    return gm::load_linuxcnc_ini(d / "w.ini");
+  };
+  for (const char* on : {"1", "TRUE", "yes", "On"})
+    CHECK(machine_of("A", on).machine.axes[3].wrapped_rotary);
+  for (const char* off : {"0", "FALSE", "no"})
+    CHECK_FALSE(machine_of("A", off).machine.axes[3].wrapped_rotary);
+  const auto bad = machine_of("A", "maybe");
+  CHECK_FALSE(bad.machine.axes[3].wrapped_rotary);
+  CHECK(has_warning(bad, "WRAPPED_ROTARY = maybe: not a boolean"));
+  const auto linear = machine_of("X", "1");
+  CHECK_FALSE(linear.machine.axes[0].wrapped_rotary);
+  CHECK(has_warning(linear, "X is linear; it does not wrap"));
+  // A10 after A300 turns forward to 370 on the wrapped axis (rs274 with that INI does the same:
+  // tests/diff/wrapped), and back to 10 on a plain one.
+  machine_of("A", "1");
+  const auto moves = gmtest::run_gmotion("moves " + (d / "w.ngc").string() + " --machine " +
+                                         (d / "w.ini").string());
+  CHECK(moves.out.find("\"A\":370") != std::string::npos);
+  machine_of("A", "0");
+  const auto plain = gmtest::run_gmotion("moves " + (d / "w.ngc").string() + " --machine " +
+                                         (d / "w.ini").string());
+  CHECK(plain.out.find("\"A\":10}") != std::string::npos);
+}
+
 TEST_CASE("ini: tau is the time a velocity step takes at the tightest V/A, by the profile's peak") {
   const gm::IniImport imp = gm::load_linuxcnc_ini(router_dir() / "router.ini");
   gm::Machine m = imp.machine;

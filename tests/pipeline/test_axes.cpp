@@ -147,11 +147,13 @@ TEST_CASE("machine file: axes.letters, a table per axis, written back the same")
   const gm::Machine m = gm::load_machine_file(kRepo / "programs/machines/rotary-a.toml");
   CHECK(m.layout.letters() == "XYZA");
   REQUIRE(m.axes.size() == 4);
-  CHECK(m.axes[3].v_max_mm_s == 3000.0);
-  CHECK(m.axes[3].mass_kg == 50.0);
+  CHECK(m.axes[3].rotary);
+  CHECK(m.axes[3].v_max_mm_s == 360.0);  // v_max_deg_s
+  CHECK(m.axes[3].mass_kg == 0.5);       // inertia_kg_m2
+  CHECK(m.axes[3].f_max_N == 200.0);     // torque_max_Nm
   const gm::Machine back = gm::parse_machine_toml(gm::machine_to_toml(m), "back.toml");
   CHECK(back.layout.letters() == "XYZA");
-  CHECK(back.axes[3].v_max_mm_s == 3000.0);
+  CHECK(back.axes[3].v_max_mm_s == 360.0);
   CHECK(gm::machine_to_toml(back) == gm::machine_to_toml(m));
 
   std::ifstream src(kRepo / "programs/machines/rotary-a.toml");
@@ -171,6 +173,71 @@ TEST_CASE("machine file: axes.letters, a table per axis, written back the same")
   bad.replace(bad.find("\"XYZA\""), 6, "\"XYAZ\"");
   CHECK_THAT(error_of(bad),
              Catch::Contains("key 'axes.letters': must be axis letters in the order XYZABCUVW"));
+}
+
+TEST_CASE("rotary keys: degrees, torque and inertia, and wrapped_rotary on rotary axes only") {
+  std::ifstream src(kRepo / "programs/machines/rotary-a.toml");
+  const std::string text((std::istreambuf_iterator<char>(src)), std::istreambuf_iterator<char>());
+  auto error_of = [](const std::string& t) -> std::string {
+    try {
+      gm::parse_machine_toml(t, "t.toml");
+    } catch (const gm::InputError& e) {
+      return e.what();
+    }
+    return "<no error>";
+  };
+  std::string wrapped = text;
+  wrapped.insert(wrapped.find("damping_Nm_s_rad"), "wrapped_rotary = true\n");
+  const gm::Machine w = gm::parse_machine_toml(wrapped, "w.toml");
+  CHECK(w.axes[3].wrapped_rotary);
+  CHECK(gm::machine_to_toml(w).find("wrapped_rotary = true") != std::string::npos);
+  std::string both = text;
+  both.insert(both.find("damping_Nm_s_rad"), "mass_kg = 3\n");
+  CHECK_THAT(error_of(both), Catch::Contains("key 'axes.a.inertia_kg_m2': gives what "
+                                             "'axes.a.mass_kg' gives: name one of them"));
+  std::string on_x = text;
+  on_x.insert(on_x.find("mass_kg = "), "wrapped_rotary = true\n");
+  CHECK_THAT(error_of(on_x),
+             Catch::Contains("key 'axes.x.wrapped_rotary': only a rotary axis (A, B, C) wraps"));
+}
+
+TEST_CASE("a rotary axis reports degrees, torque and power from its inertia, not a linear mass") {
+  // A turns 3600 degrees at F36000 (600 deg/s, rotary-only: F in deg/min) on --axes XYZA: the
+  // new A takes the rotary defaults (360 deg/s, 200 N m, 750 W, 0.5 kg m2, 1 N m s/rad).
+  const fs::path d = fs::temp_directory_path() / "gmotion-test-rotary-units";
+  fs::create_directories(d);
+  { std::ofstream(d / "r.nc") << "G21 G90 G94\nG1 A3600 F36000\nM2\n"; }
+  const auto r =
+      gmtest::run_gmotion("run " + (d / "r.nc").string() +
+                          " --axes XYZA --no-servo --summary-json " + (d / "r.json").string());
+  CHECK(r.code == 0);
+  CHECK(r.out.find("rotary  ferr max BLU (line)  v max deg/s (line)") != std::string::npos);
+  CHECK(r.out.find("LIMIT A velocity deg/s: ") != std::string::npos);
+  CHECK(r.out.find("torque") == std::string::npos);  // within 200 N m
+  std::ifstream js(d / "r.json");
+  const std::string j((std::istreambuf_iterator<char>(js)), std::istreambuf_iterator<char>());
+  CHECK(j.find("\"a\":{\"following_err_max_blu\"") != std::string::npos);
+  CHECK(j.find("\"velocity_max_deg_s\":{\"value\":600,") != std::string::npos);
+  CHECK(j.find("\"x\":{\"following_err_max_blu\":{\"value\":0,\"line\":0},\"velocity_max_mm_s\"") !=
+        std::string::npos);
+  // The torque's worst sample lies between J·a_max and J·a_max + c·v_max (rad units), a_max
+  // being the summary's own deg/s² peak.
+  const auto number_after = [&](const std::string& key) {
+    const std::size_t at = j.find(key, j.find("\"a\":{"));
+    REQUIRE(at != std::string::npos);
+    return std::stod(j.substr(at + key.size()));
+  };
+  const double k = 180.0 / 3.14159265358979323846;
+  const double a_max = number_after("\"accel_max_deg_s2\":{\"value\":");
+  const double torque =
+      number_after("\"torque\":{\"limit\":200,\"violations\":0,\"worst\":{\"value\":");
+  CHECK(torque >= 0.5 * a_max / k);
+  CHECK(torque <= 0.5 * a_max / k + 1.0 * 600.0 / k);
+  // At 600 deg/s the damping alone takes c·ω² = (600/k)² W.
+  const double power =
+      number_after("\"power\":{\"limit\":750,\"violations\":0,\"worst\":{\"value\":");
+  CHECK(power >= (600.0 / k) * (600.0 / k));
+  fs::remove_all(d);
 }
 
 TEST_CASE("an idle fourth axis leaves X, Y and Z sample for sample as on three axes") {
