@@ -130,7 +130,10 @@ bool run_g7x(BlockCtx& ctx, const Code& c) {
   g.incremental = ctx.s.incremental;
   g.ijk_absolute = ctx.s.ijk_absolute;
   g.diameter = ctx.s.lathe_diameter;
-  g.motion = ctx.motion_before;
+  // LinuxCNC reads the profile in G0 mode: the cycle's rapid to its start (convert_straight G0,
+  // made whether or not the line has X or Z) leaves G0 in force, so a profile block without
+  // G0-G3 is a straight segment.
+  g.motion = 0;
   g.at = Pt(g.z, g.x);
   g.start = g.at;
   if (w.first_axis != nullptr) {
