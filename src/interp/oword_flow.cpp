@@ -336,7 +336,15 @@ bool OwordFlow::define_sub(const grammar::Block& b, const LinePos& pos, InterpEr
                             label_of(o), caller));
   }
   const auto [it, added] = subs_.emplace(o.label, SubDef{pos, false});
-  if (!added && (it->second.pos.file != pos.file || it->second.pos.offset != pos.offset))
+  // The flow reaches a definition it has seen at this very line: a call's search found it
+  // further down (or a loop came back to it), so the program runs on into its own subs.
+  if (!added && it->second.pos.file == pos.file && it->second.pos.offset == pos.offset)
+    return fail(err, ErrorCode::ControlMismatch, o.loc,
+                fmt::format("{} sub found in illegal location: the program runs into the "
+                            "definition of a subroutine it has already called or defined (end "
+                            "the main program with M2 or M30 before its subroutines)",
+                            label_of(o)));
+  if (!added)
     return fail(err, ErrorCode::SubroutineRedefined, o.loc,
                 fmt::format("redefining subroutine {}: already defined at {}line {}", label_of(o),
                             it->second.pos.file > 0 && finder_ != nullptr
