@@ -190,7 +190,7 @@ void add_design(CLI::App& app, Context& ctx) {
     }
     if (tau->count() == 0) {
       // Fixed-length profiles define tau themselves.
-      if (const int fixed = parse_profile_spec(o->profile).fixed_length(); fixed > 0)
+      if (const int fixed = parse_profile_spec(o->profile).fixed_length(o->period_s); fixed > 0)
         o->tau_s = fixed * o->period_s;
     }
     const auto attempts =
@@ -203,7 +203,7 @@ void add_design(CLI::App& app, Context& ctx) {
       std::fflush(stdout);
       fmt::print(stderr, "gmotion: error: the limits are not met by profile '{}' at tau = {} s{}\n",
                  o->profile, attempts.back().tau_s,
-                 parse_profile_spec(o->profile).fixed_length() > 0
+                 parse_profile_spec(o->profile).fixed_length(o->period_s) > 0
                      ? " (its length is fixed, tau cannot grow)"
                  : !attempts.back().v_ok ? " (V'max = V exceeds V_max whatever tau)"
                                          : " (attempts exhausted)");
