@@ -271,7 +271,7 @@ void run_vibration(VibrationOptions o) {
   const VibrationFigures v = vibration_figures(o.profile, o.tau_s, o.period_s, o.freq_hz, o.damping,
                                                o.feed_mm_min, o.limit_pct / 100);
   const VibrationRobustness& r = v.robustness;
-  fmt::print("# residual vibration: profile={} tau={} s T={} s taps={} b_s={}\n", t.profile,
+  fmt::print("# residual vibration: profile={} tau={:.6g} s T={} s taps={} b_s={}\n", t.profile,
              o.tau_s, o.period_s, t.integer.size(), t.b_s);
   fmt::print(
       "# V(f) = e^(-zeta w t_n) |sum h_i e^(zeta w t_i) e^(j w_d t_i)| / sum h_i, t_i = i T, "
@@ -292,7 +292,8 @@ void run_vibration(VibrationOptions o) {
       "# smoothing: sigma = {:.4f} ms, D(0) = {:.4f} ms, 90 deg corner error at F{:g} = "
       "{:.4f} mm\n",
       1e3 * v.sigma_s, 1e3 * v.corner_moment_s, o.feed_mm_min, v.corner_error_mm);
-  fmt::print("f_hz,vibration_pct{}\n", std::isfinite(v.v_continuous) ? ",continuous_pct" : "");
+  fmt::print("f_hz,vibration_pct{}\n",
+             std::isfinite(v.v_continuous) ? ",shapers_continuous_pct" : "");
   const auto shapers = spec_shapers(spec);
   for (int j = 0; j < o.points; ++j) {
     const double f = grid(j);

@@ -214,7 +214,8 @@ void run_mode(const DesignOptions& o, bool tau_given) {
   std::vector<ModeRow> rows{{"as designed", o.profile, tau0}};
   if (fixed == 0 && spec.stages.empty()) {
     const int n = notch_taps(o.profile, n0, o.period_s, f, z);
-    rows.push_back({"notch on f (tau moved)", o.profile, n * o.period_s});
+    rows.push_back(
+        {n == n0 ? "notch on f (tau kept)" : "notch on f (tau moved)", o.profile, n * o.period_s});
   }
   for (const char* shaper : {"zv", "mzv", "zvd", "ei", "2hei"}) {
     const std::string part = fmt::format("{}:{}", shaper, mode);
