@@ -148,7 +148,7 @@ TEST_CASE("shaper taps: linear split between samples, non-negative, integer sum 
   }
 }
 
-TEST_CASE("ZVD is ZV convolved with itself; compositions convolve and their V multiplies") {
+TEST_CASE("ZVD is ZV convolved with itself, compositions convolve and their V multiplies") {
   const gm::ShaperImpulses zvd = gm::shaper_impulses(ShaperKind::ZVD, 40, 0.1);
   const gm::ShaperImpulses zv = gm::shaper_impulses(ShaperKind::ZV, 40, 0.1);
   REQUIRE(zvd.amplitude.size() == 3);
