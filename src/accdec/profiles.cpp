@@ -162,12 +162,16 @@ std::vector<double> shaper_design(const ProfileSpec& spec, const TapRequest& r, 
         "shaper '{}' at {} Hz is at or above the Nyquist frequency 1/(2T) = {:.6g} Hz of "
         "T = {} s; its impulses cannot be placed on the samples",
         spec.text, f, 0.5 / r.period_s, r.period_s));
-  return shaper_taps(spec_impulses<Kind>(spec), r.period_s);
+  const ShaperImpulses imp = spec_impulses<Kind>(spec);
+  if (shaper_tap_count(imp, r.period_s, kMaxAccDecTaps + 1) > kMaxAccDecTaps)
+    throw InputError(fmt::format("shaper '{}' lasts {:.6g} s, more than {} taps of T = {} s",
+                                 spec.text, imp.duration_s(), kMaxAccDecTaps, r.period_s));
+  return shaper_taps(imp, r.period_s);
 }
 
 template <ShaperKind Kind>
 void shaper_arg(ProfileSpec& p, bool has_arg, std::string_view arg) {
-  const std::string_view name = p.text.substr(0, p.text.find(':'));
+  const std::string name = p.text.substr(0, p.text.find(':'));
   if (!has_arg || arg.empty())
     profile_spec_error(p.text, fmt::format("{} needs its frequency in Hz, e.g. {}", name,
                                            find_profile(name)->example));
@@ -192,7 +196,7 @@ void shaper_arg(ProfileSpec& p, bool has_arg, std::string_view arg) {
 
 // --- compositions "P1+P2+...": the convolution of the parts' taps --------------------------
 
-std::vector<double> convolve(const std::vector<double>& a, const std::vector<double>& b) {
+std::vector<double> convolve_taps(const std::vector<double>& a, const std::vector<double>& b) {
   std::vector<double> c(a.size() + b.size() - 1, 0.0);
   for (std::size_t i = 0; i < a.size(); ++i)
     for (std::size_t j = 0; j < b.size(); ++j) c[i + j] += a[i] * b[j];
@@ -231,22 +235,20 @@ std::vector<double> composition_taps(const ProfileSpec& spec, const TapRequest& 
   for (const ProfileSpec& s : spec.stages)
     if (const int len = s.fixed_length(r.period_s); len > 0) fixed_extra += len - 1;
   const long long n_free = r.n - fixed_extra;
+  if (n_free < 1)
+    throw InputError(fmt::format(
+        "profile '{}': its fixed parts take {} taps beyond the first, so tau must be more "
+        "than {} x T = {:.6g} s; got tau = {} s",
+        spec.text, fixed_extra, fixed_extra + 1, static_cast<double>(fixed_extra + 1) * r.period_s,
+        r.tau_s));
   std::vector<double> b{1.0};
   for (const ProfileSpec& s : spec.stages) {
     int n = s.fixed_length(r.period_s);
-    if (n == 0) {
-      if (n_free < 1)
-        throw InputError(fmt::format(
-            "profile '{}': its fixed parts take {} taps beyond the first, so tau must be more "
-            "than {} x T = {:.6g} s; got tau = {} s",
-            spec.text, fixed_extra, fixed_extra + 1,
-            static_cast<double>(fixed_extra + 1) * r.period_s, r.tau_s));
-      n = static_cast<int>(n_free);
-    }
+    if (n == 0) n = static_cast<int>(n_free);
     Taps part;
     part.N = n - 1;
     part.cutoff = part.max_nonneg_cutoff = std::numeric_limits<double>::quiet_NaN();
-    b = convolve(b, s.row->design(s, TapRequest{n, n * r.period_s, r.period_s}, part));
+    b = convolve_taps(b, s.row->design(s, TapRequest{n, n * r.period_s, r.period_s}, part));
     if (s.row->fixed_length == nullptr) {
       t.cutoff = part.cutoff;
       t.max_nonneg_cutoff = part.max_nonneg_cutoff;

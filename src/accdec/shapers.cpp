@@ -10,7 +10,7 @@ namespace gm {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+constexpr double kShaperPi = std::numbers::pi;
 
 // Polynomial c0 + c1·ζ + c2·ζ² + c3·ζ³.
 double poly3(const std::array<double, 4>& c, double z) {
@@ -70,7 +70,7 @@ ShaperImpulses shaper_impulses(ShaperKind kind, double freq_hz, double damping) 
   const double z = damping;
   const double df = std::sqrt(1.0 - z * z);
   const double t_d = 1.0 / (freq_hz * df);
-  const double k = std::exp(-z * kPi / df);
+  const double k = std::exp(-z * kShaperPi / df);
   ShaperImpulses s;
   switch (kind) {
     case ShaperKind::ZV:
@@ -83,7 +83,7 @@ ShaperImpulses shaper_impulses(ShaperKind kind, double freq_hz, double damping) 
       s = {{1.0, 3 * k, 3 * k * k, k * k * k}, {0.0, t_d / 2, t_d, 1.5 * t_d}};
       break;
     case ShaperKind::MZV: {
-      const double k34 = std::exp(-0.75 * z * kPi / df);
+      const double k34 = std::exp(-0.75 * z * kShaperPi / df);
       const double a1 = 1.0 - 1.0 / std::numbers::sqrt2;
       s = {{a1, (std::numbers::sqrt2 - 1.0) * k34, a1 * k34 * k34}, {0.0, 0.375 * t_d, 0.75 * t_d}};
       break;

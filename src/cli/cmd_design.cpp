@@ -194,7 +194,7 @@ int notch_taps(const std::string& profile, int n0, double period_s, double f, do
   return best;
 }
 
-void run_mode(const DesignOptions& o, bool tau_given) {
+void run_design_mode(const DesignOptions& o, bool tau_given) {
   const auto at = o.mode.find('@');
   const double f = parse_profile_number("--mode", o.mode.substr(0, at), "mode frequency");
   const double z = at == std::string::npos
@@ -292,7 +292,7 @@ void add_design(CLI::App& app, Context& ctx) {
       return;
     }
     if (!o->mode.empty()) {
-      run_mode(*o, tau->count() > 0);
+      run_design_mode(*o, tau->count() > 0);
       ctx.exit_code = 0;
       return;
     }

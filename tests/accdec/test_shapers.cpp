@@ -19,13 +19,13 @@
 namespace {
 
 using gm::ShaperKind;
-constexpr double kPi = std::numbers::pi;
+constexpr double kShaperTestPi = std::numbers::pi;
 
 double v_cont(ShaperKind k, double f_design, double z_design, double f, double z) {
   return gm::residual_vibration(gm::shaper_impulses(k, f_design, z_design), f, z);
 }
 
-std::vector<double> conv(const std::vector<double>& a, const std::vector<double>& b) {
+std::vector<double> conv_taps(const std::vector<double>& a, const std::vector<double>& b) {
   std::vector<double> c(a.size() + b.size() - 1, 0.0);
   for (std::size_t i = 0; i < a.size(); ++i)
     for (std::size_t j = 0; j < b.size(); ++j) c[i + j] += a[i] * b[j];
@@ -49,7 +49,7 @@ TEST_CASE("ZV cancels its mode exactly in continuous time, damped or not") {
 TEST_CASE("ZV, ZVD, ZVDD at ±20 % frequency error: |cos(πr/2)|^n (Singer & Seering 1990)") {
   // Undamped, r = f/f0: ZV's V = |cos(πr/2)|, ZVD = ZV², ZVDD = ZV³. At r = 1.2 and 0.8:
   // cos(0.6π) = -0.30902 (ZV 30.9 %, ZVD 9.55 %, ZVDD 2.95 %).
-  const double c = std::abs(std::cos(0.6 * kPi));
+  const double c = std::abs(std::cos(0.6 * kShaperTestPi));
   CHECK(c == Approx(0.309017).epsilon(1e-5));
   for (double r : {0.8, 1.2}) {
     CHECK(v_cont(ShaperKind::ZV, 50, 0, 50 * r, 0) == Approx(c).epsilon(1e-12));
@@ -60,7 +60,7 @@ TEST_CASE("ZV, ZVD, ZVDD at ±20 % frequency error: |cos(πr/2)|^n (Singer & See
   const double a1 = 1 - 1 / std::numbers::sqrt2, a2 = std::numbers::sqrt2 - 1;
   for (double r : {0.8, 0.95, 1.2})
     CHECK(v_cont(ShaperKind::MZV, 50, 0, 50 * r, 0) ==
-          Approx(std::abs(2 * a1 * std::cos(0.75 * kPi * r) + a2)).epsilon(1e-12));
+          Approx(std::abs(2 * a1 * std::cos(0.75 * kShaperTestPi * r) + a2)).epsilon(1e-12));
 }
 
 TEST_CASE("EI: V at its design frequency is its 5 % tolerance, about 5 % at ±20 %") {
@@ -70,7 +70,7 @@ TEST_CASE("EI: V at its design frequency is its 5 % tolerance, about 5 % at ±20
   // its fit error.
   const double tol = gm::kEiVibrationTolerance;
   auto exact = [&](double r) {
-    return std::abs((1 + tol) / 2 * std::cos(kPi * r) + (1 - tol) / 2);
+    return std::abs((1 + tol) / 2 * std::cos(kShaperTestPi * r) + (1 - tol) / 2);
   };
   CHECK(exact(1.0) == Approx(0.05).epsilon(1e-12));
   CHECK(exact(1.2) == Approx(0.050266).epsilon(1e-4));
@@ -108,7 +108,9 @@ TEST_CASE("a moving average of N·T = 1/f has V(f) = 0 for ζ = 0, as impulses a
   // The second zero at 2/τ, and not a zero between (V = |sin(πfτ)/(N sin(πfT))|).
   CHECK(gm::residual_vibration(lin.real, T, 80.0, 0.0) < 1e-14);
   CHECK(gm::residual_vibration(lin.real, T, 60.0, 0.0) ==
-        Approx(std::abs(std::sin(kPi * 60 * n * T) / (n * std::sin(kPi * 60 * T)))).epsilon(1e-12));
+        Approx(
+            std::abs(std::sin(kShaperTestPi * 60 * n * T) / (n * std::sin(kShaperTestPi * 60 * T))))
+            .epsilon(1e-12));
 }
 
 TEST_CASE("shaper taps: linear split between samples, non-negative, integer sum b_s") {
@@ -124,7 +126,7 @@ TEST_CASE("shaper taps: linear split between samples, non-negative, integer sum 
   for (int i = 1; i < 11; ++i) CHECK(t.real[static_cast<std::size_t>(i)] == 0.0);
   // The sampled ZV's residual at f (what the split costs):
   // V = |1/2 + 1/2·((1-p)e^(jω11T) + p·e^(jω12T))|, ω = 2π·45 — 0.197 % here.
-  const double w = 2 * kPi * 45;
+  const double w = 2 * kShaperTestPi * 45;
   const std::complex<double> s =
       0.5 + 0.5 * ((1 - p) * std::polar(1.0, w * 11 * T) + p * std::polar(1.0, w * 12 * T));
   CHECK(gm::residual_vibration(t.real, T, 45, 0) == Approx(std::abs(s)).epsilon(1e-12));
@@ -163,7 +165,7 @@ TEST_CASE("ZVD is ZV convolved with itself, compositions convolve and their V mu
   const gm::Taps m = gm::design_taps("mzv:45", 6 * T, T);
   const gm::Taps c = gm::design_taps("blackman+mzv:45", 46 * T, T);
   CHECK(gm::parse_profile_spec("blackman+mzv:45").fixed_length(T) == 0);
-  const auto expect = conv(b.real, m.real);
+  const auto expect = conv_taps(b.real, m.real);
   REQUIRE(c.real.size() == 46);
   for (std::size_t i = 0; i < expect.size(); ++i)
     CHECK(c.real[i] == Approx(expect[i]).margin(1e-15));
@@ -208,7 +210,12 @@ TEST_CASE("shaper and composition errors name the problem") {
              Catch::Contains("has 4 taps, so tau must be 4 x T"));
   CHECK_THAT(message([] { gm::design_taps("linear+zvdd:20", 0.004 * 5, 0.004); }),
              Catch::Contains("fixed parts take"));
-  // A frequency so low its taps would exceed the limit is refused by the length check.
+  // A frequency so low its taps would exceed the limit is refused by the length check, alone
+  // or as a part (before any taps are laid out).
+  CHECK_THAT(message([] { gm::design_taps("zv:1e-9+blackman", 0.164, 0.001); }),
+             Catch::Contains("fixed parts take 100000 taps"));
+  CHECK_THAT(message([] { gm::parse_profile_spec("ei:45@0.5"); }),
+             Catch::Contains("outside [0, 0.4] for ei"));
   CHECK_THAT(message([] { gm::design_taps("zv:0.001", 1, 0.001); }), Catch::Contains("taps"));
 }
 
@@ -219,11 +226,11 @@ TEST_CASE("robustness: the band around f where V <= 5 % (ZV on the sample grid)"
   const gm::Taps t = gm::design_taps("zv:50@0", 0.011, T);
   REQUIRE(t.real.size() == 11);
   const gm::VibrationRobustness r = gm::vibration_robustness(t.real, T, 50, 0.0);
-  const double half = 50 * 2 / kPi * std::asin(0.05);
+  const double half = 50 * 2 / kShaperTestPi * std::asin(0.05);
   const gm::FrequencyBand b = r.band_at_f(50);
   CHECK(b.lo_hz == Approx(50 - half).margin(1e-4));
   CHECK(b.hi_hz == Approx(50 + half).margin(1e-4));
-  CHECK(r.v_plus_20 == Approx(std::abs(std::cos(0.6 * kPi))).epsilon(1e-12));
+  CHECK(r.v_plus_20 == Approx(std::abs(std::cos(0.6 * kShaperTestPi))).epsilon(1e-12));
   // Only the notch at f within [f/2, 2f] (the next is at 3f).
   CHECK(r.bands.size() == 1);
 }
