@@ -38,7 +38,7 @@ DesignAttempt check_limits(const Taps& taps, double tau_s, double period_s,
 std::vector<DesignAttempt> design_procedure(std::string_view profile_spec, double tau_s,
                                             double period_s, const DesignLimits& limits,
                                             int max_attempts) {
-  const bool fixed = parse_profile_spec(profile_spec).fixed_length() > 0;
+  const bool fixed = parse_profile_spec(profile_spec).fixed_length(period_s) > 0;
   std::vector<DesignAttempt> attempts;
   int n = tap_count(tau_s, period_s);
   for (int k = 0; k < std::max(1, max_attempts); ++k, ++n) {

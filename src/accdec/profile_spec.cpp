@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -42,8 +43,39 @@ std::vector<std::string_view> split_profile_list(std::string_view s) {
   return parts;
 }
 
-int ProfileSpec::fixed_length() const {
-  return row != nullptr && row->fixed_length != nullptr ? row->fixed_length(*this) : 0;
+namespace {
+
+// A '+' joining profiles, not the sign of an exponent ("1e+3": 'e' after a digit or '.').
+bool joins_profiles(std::string_view s, std::size_t i) {
+  if (s[i] != '+') return false;
+  if (i >= 2 && (s[i - 1] == 'e' || s[i - 1] == 'E') &&
+      (std::isdigit(static_cast<unsigned char>(s[i - 2])) != 0 || s[i - 2] == '.'))
+    return false;
+  return true;
+}
+
+}  // namespace
+
+bool is_composition(std::string_view spec) {
+  for (std::size_t i = 0; i < spec.size(); ++i)
+    if (joins_profiles(spec, i)) return true;
+  return false;
+}
+
+std::vector<std::string_view> split_composition(std::string_view spec) {
+  std::vector<std::string_view> parts;
+  std::size_t start = 0;
+  for (std::size_t i = 0; i < spec.size(); ++i)
+    if (joins_profiles(spec, i)) {
+      parts.push_back(spec.substr(start, i - start));
+      start = i + 1;
+    }
+  parts.push_back(spec.substr(start));
+  return parts;
+}
+
+int ProfileSpec::fixed_length(double period_s) const {
+  return row != nullptr && row->fixed_length != nullptr ? row->fixed_length(*this, period_s) : 0;
 }
 
 std::string_view ProfileSpec::name() const {
@@ -53,6 +85,11 @@ std::string_view ProfileSpec::name() const {
 ProfileSpec parse_profile_spec(std::string_view spec) {
   ProfileSpec p;
   p.text = std::string(spec);
+  if (is_composition(spec)) {
+    p.row = find_profile(kCompositionName);
+    p.row->parse_arg(p, true, spec);
+    return p;
+  }
   std::string_view head = spec;
   std::string_view arg;
   bool has_arg = false;
@@ -65,7 +102,10 @@ ProfileSpec parse_profile_spec(std::string_view spec) {
   std::string_view cutoff_text;
   bool has_cutoff = false;
   std::string_view& carrier = has_arg ? arg : head;
-  if (const auto at = carrier.find('@'); at != std::string_view::npos) {
+  const ProfileRow* damping_row = find_profile(head);
+  if (damping_row != nullptr && damping_row->takes_damping && has_arg) {
+    // A shaper: "@Z" is its damping ratio, parsed with its argument.
+  } else if (const auto at = carrier.find('@'); at != std::string_view::npos) {
     cutoff_text = carrier.substr(at + 1);
     carrier = carrier.substr(0, at);
     has_cutoff = true;

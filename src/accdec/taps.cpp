@@ -91,7 +91,7 @@ Taps design_taps(std::string_view profile_spec, double tau_s, double period_s) {
   t.N = n - 1;
   t.cutoff = kNaN;
   t.max_nonneg_cutoff = kNaN;
-  if (const int fixed = spec.fixed_length(); fixed > 0 && fixed != n)
+  if (const int fixed = spec.fixed_length(period_s); fixed > 0 && fixed != n)
     throw InputError(
         fmt::format("profile '{}' has {} taps, so tau must be {} x T = {:.6g} s; got tau = {} s "
                     "(tau/T = {})",

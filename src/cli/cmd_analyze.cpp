@@ -1,9 +1,13 @@
-// gmotion analyze — radius error (Table 1, Fig. 13) and amplitude response (Fig. 8c, 12c) of taps.
+// gmotion analyze — radius error (Table 1, Fig. 13), amplitude response (Fig. 8c, 12c), corner
+// error and residual vibration of taps.
 #include "accdec/analysis.hpp"
 #include "accdec/profile_spec.hpp"
+#include "accdec/profiles.hpp"
 #include "accdec/taps.hpp"
+#include "accdec/vibration.hpp"
 #include "cli/commands.hpp"
 #include "cli/json_number.hpp"
+#include "cli/vibration_figures.hpp"
 #include "common/status.hpp"
 #include "common/units.hpp"
 #include "planner/filter_moments.hpp"
@@ -11,6 +15,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <memory>
 #include <numbers>
 #include <string>
@@ -202,11 +207,113 @@ void run_corner(const CornerOptions& o) {
     fmt::print("{:g},{:.6g}\n", 1e3 * k * o.period_s, 1e3 * fm.corner_moment_s(k * o.period_s));
 }
 
+struct VibrationOptions {
+  std::string profile = "mzv:45";
+  double tau_s = 0;  // 0: the profile's fixed length x T
+  double period_s = 0.001;
+  std::string freq_range = "5:200";
+  int points = 196;
+  double damping = 0.1;
+  double freq_hz = 0;  // 0: the first shaper's frequency, else where V is least in the range
+  double feed_mm_min = 6000;
+  double limit_pct = 5;
+};
+
+// The residual vibration V(f) of the applied taps over a frequency range (CSV), the robustness
+// around the mode and the smoothing.
+void run_vibration(VibrationOptions o) {
+  const auto colon = o.freq_range.find(':');
+  if (colon == std::string::npos)
+    throw InputError(fmt::format("--freq-range '{}' is not LO:HI (Hz)", o.freq_range));
+  auto number = [&](const std::string& text) {
+    char* end = nullptr;
+    const double x = std::strtod(text.c_str(), &end);
+    if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(x))
+      throw InputError(fmt::format("--freq-range '{}' is not LO:HI (Hz)", o.freq_range));
+    return x;
+  };
+  const double lo = number(o.freq_range.substr(0, colon));
+  const double hi = number(o.freq_range.substr(colon + 1));
+  if (!(lo > 0 && hi > lo))
+    throw InputError(fmt::format("--freq-range {}:{} needs 0 < LO < HI", lo, hi));
+  if (o.points < 2) throw InputError(fmt::format("--points {} must be >= 2", o.points));
+  if (!(o.damping >= 0 && o.damping < 1))
+    throw InputError(fmt::format("--damping {} must be in [0, 1)", o.damping));
+  if (!(o.limit_pct > 0)) throw InputError(fmt::format("--limit {} % must be > 0", o.limit_pct));
+  const ProfileSpec spec = parse_profile_spec(o.profile);
+  if (o.tau_s == 0) {
+    const int fixed = spec.fixed_length(o.period_s);
+    o.tau_s = fixed > 0 ? fixed * o.period_s : 0.164;
+  }
+  const Taps t = design_taps(o.profile, o.tau_s, o.period_s);
+  const auto applied = as_double(t.integer);
+  auto grid = [&](int j) { return lo + (hi - lo) * j / (o.points - 1); };
+  if (o.freq_hz == 0) {
+    const auto shapers = spec_shapers(spec);
+    if (!spec.stages.empty())
+      for (const ProfileSpec& s : spec.stages)
+        if (!spec_shapers(s).empty()) {
+          o.freq_hz = s.args.at(0);
+          break;
+        }
+    if (o.freq_hz == 0 && spec.stages.empty() && !shapers.empty()) o.freq_hz = spec.args.at(0);
+    if (o.freq_hz == 0) {
+      double best = 2.0;
+      for (int j = 0; j < o.points; ++j)
+        if (const double v = residual_vibration(applied, o.period_s, grid(j), o.damping);
+            v < best) {
+          best = v;
+          o.freq_hz = grid(j);
+        }
+    }
+  }
+  if (!(o.freq_hz > 0)) throw InputError(fmt::format("--freq {} Hz must be > 0", o.freq_hz));
+  const VibrationFigures v = vibration_figures(o.profile, o.tau_s, o.period_s, o.freq_hz, o.damping,
+                                               o.feed_mm_min, o.limit_pct / 100);
+  const VibrationRobustness& r = v.robustness;
+  fmt::print("# residual vibration: profile={} tau={:.6g} s T={} s taps={} b_s={}\n", t.profile,
+             o.tau_s, o.period_s, t.integer.size(), t.b_s);
+  fmt::print(
+      "# V(f) = e^(-zeta w t_n) |sum h_i e^(zeta w t_i) e^(j w_d t_i)| / sum h_i, t_i = i T, "
+      "w = 2 pi f, w_d = w sqrt(1 - zeta^2), zeta = {}\n",
+      o.damping);
+  fmt::print("# mode f = {:g} Hz: V(f) = {:.4f} %   V(0.8 f) = {:.4f} %   V(1.2 f) = {:.4f} %\n",
+             o.freq_hz, 100 * r.v_at_f, 100 * r.v_minus_20, 100 * r.v_plus_20);
+  if (std::isfinite(v.v_continuous))
+    fmt::print("# the shapers as continuous impulses (no sampling): V(f) = {:.4f} %\n",
+               100 * v.v_continuous);
+  if (r.bands.empty()) fmt::print("# V <= {:g} % nowhere in [f/2, 2f]\n", o.limit_pct);
+  for (const FrequencyBand& b : r.bands)
+    fmt::print("# V <= {:g} % from {:.3f} to {:.3f} Hz ({:+.1f} % .. {:+.1f} % of f){}\n",
+               o.limit_pct, b.lo_hz, b.hi_hz, 100 * (b.lo_hz / o.freq_hz - 1),
+               100 * (b.hi_hz / o.freq_hz - 1),
+               b.lo_hz <= o.freq_hz && o.freq_hz <= b.hi_hz ? "" : " (not holding f)");
+  fmt::print(
+      "# smoothing: sigma = {:.4f} ms, D(0) = {:.4f} ms, 90 deg corner error at F{:g} = "
+      "{:.4f} mm\n",
+      1e3 * v.sigma_s, 1e3 * v.corner_moment_s, o.feed_mm_min, v.corner_error_mm);
+  fmt::print("f_hz,vibration_pct{}\n",
+             std::isfinite(v.v_continuous) ? ",shapers_continuous_pct" : "");
+  const auto shapers = spec_shapers(spec);
+  for (int j = 0; j < o.points; ++j) {
+    const double f = grid(j);
+    fmt::print("{:.6g},{:.6f}", f, 100 * residual_vibration(applied, o.period_s, f, o.damping));
+    if (std::isfinite(v.v_continuous)) {
+      double c = 1.0;
+      for (const ShaperImpulses& s : shapers) c *= residual_vibration(s, f, o.damping);
+      fmt::print(",{:.6f}", 100 * c);
+    }
+    fmt::print("\n");
+  }
+}
+
 }  // namespace
 
 void add_analyze(CLI::App& app, Context& ctx) {
   auto* sub =
-      app.add_subcommand("analyze", "Analyse Acc/Dec taps: radius error, amplitude response");
+      app.add_subcommand("analyze",
+                         "Analyse Acc/Dec taps: radius error, amplitude response, corner error, "
+                         "residual vibration");
   sub->require_subcommand(1);
 
   auto r = std::make_shared<RadiusOptions>();
@@ -262,6 +369,30 @@ void add_analyze(CLI::App& app, Context& ctx) {
   rc->add_option("--tolerance", c->tolerance_mm, "contour tolerance, mm")->capture_default_str();
   rc->callback([c, &ctx] {
     run_corner(*c);
+    ctx.exit_code = 0;
+  });
+  auto vo = std::make_shared<VibrationOptions>();
+  auto* rv = sub->add_subcommand(
+      "vibration",
+      "Residual vibration V(f) of the taps for a mode of damping zeta over a frequency range "
+      "(CSV, the input-shaper graph), with V at f and f +- 20 %, the band where V <= 5 % and "
+      "the smoothing (docs/vibration.md)");
+  rv->add_option("--profile", vo->profile, "profile spec (see gmotion design --help)")
+      ->capture_default_str();
+  rv->add_option("--tau", vo->tau_s,
+                 "Acc/Dec time constant, s (default: taps x T for fixed-length profiles, else "
+                 "0.164)");
+  rv->add_option("--period", vo->period_s, "sampling period T, s")->capture_default_str();
+  rv->add_option("--freq-range", vo->freq_range, "LO:HI, Hz")->capture_default_str();
+  rv->add_option("--points", vo->points, "number of grid frequencies")->capture_default_str();
+  rv->add_option("--damping", vo->damping, "damping ratio zeta of the mode")->capture_default_str();
+  rv->add_option("--freq", vo->freq_hz,
+                 "mode frequency f, Hz (default: the first shaper's, else where V is least)");
+  rv->add_option("--feed", vo->feed_mm_min, "feed for the corner error, mm/min")
+      ->capture_default_str();
+  rv->add_option("--limit", vo->limit_pct, "vibration limit of the band, %")->capture_default_str();
+  rv->callback([vo, &ctx] {
+    run_vibration(*vo);
     ctx.exit_code = 0;
   });
 }

@@ -6,9 +6,12 @@
 #include "accdec/taps.hpp"
 #include "cli/commands.hpp"
 #include "cli/json_number.hpp"
+#include "cli/vibration_figures.hpp"
+#include "common/status.hpp"
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -28,6 +31,8 @@ struct DesignOptions {
   int max_attempts = 2000;
   bool json = false;
   bool list_profiles = false;
+  std::string mode;  ///< "F[@Z]": design against a mode instead of the Fig. 9 procedure
+  double feed_mm_min = 6000;
 };
 
 // A JSON number (shortest round-trip form), or null when not finite.
@@ -151,6 +156,98 @@ void print_human(const DesignOptions& o, const std::vector<DesignAttempt>& attem
              a.tau_s);
 }
 
+// --- design against a mode (f, ζ): a notch of the profile on f, or a shaper added ------------
+
+struct ModeRow {
+  std::string label;
+  std::string spec;
+  double tau_s;
+};
+
+// The tap count near n0 whose taps put a notch nearest f: the local minimum of V(f) over
+// n0 ± one notch spacing (1/f) closest to n0 (the shorter on a tie); n0 itself when its V(f) is
+// below 0.1 % already.
+int notch_taps(const std::string& profile, int n0, double period_s, double f, double z) {
+  const int m = static_cast<int>(std::ceil(1.0 / (f * period_s))) + 1;
+  const int lo = std::max(1, n0 - m), hi = std::min(kMaxAccDecTaps, n0 + m);
+  std::vector<double> v(static_cast<std::size_t>(hi - lo + 1), 2.0);
+  for (int n = lo; n <= hi; ++n) try {
+      const Taps t = design_taps(profile, n * period_s, period_s);
+      v[static_cast<std::size_t>(n - lo)] =
+          residual_vibration(as_double(t.integer), period_s, f, z);
+    } catch (const InputError&) {
+      // too short for this profile (e.g. an S-curve below 2 taps): not a candidate
+    }
+  // Below 0.1 % already (a mode in the profile's stop band): nothing to move.
+  if (v[static_cast<std::size_t>(n0 - lo)] < 1e-3) return n0;
+  int best = n0;
+  double best_v = 2.0;
+  for (int n = lo; n <= hi; ++n) {
+    const auto i = static_cast<std::size_t>(n - lo);
+    const bool local = (i == 0 || v[i] <= v[i - 1]) && (i + 1 == v.size() || v[i] <= v[i + 1]);
+    if (!local || v[i] >= 1.0) continue;
+    if (best_v > 1.0 || std::abs(n - n0) < std::abs(best - n0)) {
+      best = n;
+      best_v = v[i];
+    }
+  }
+  return best;
+}
+
+void run_design_mode(const DesignOptions& o, bool tau_given) {
+  const auto at = o.mode.find('@');
+  const double f = parse_profile_number("--mode", o.mode.substr(0, at), "mode frequency");
+  const double z = at == std::string::npos
+                       ? 0.1
+                       : parse_profile_number("--mode", o.mode.substr(at + 1), "damping ratio");
+  if (!(f > 0 && 2 * f * o.period_s < 1))
+    throw InputError(fmt::format("--mode {}: the frequency must be in (0, 1/(2T)) = (0, {:.6g}) Hz",
+                                 o.mode, 0.5 / o.period_s));
+  if (!(z >= 0 && z < 1))
+    throw InputError(fmt::format("--mode {}: the damping ratio must be in [0, 1)", o.mode));
+  const ProfileSpec spec = parse_profile_spec(o.profile);
+  const int fixed = spec.fixed_length(o.period_s);
+  const double tau0 = !tau_given && fixed > 0 ? fixed * o.period_s : o.tau_s;
+  const int n0 = tap_count(tau0, o.period_s);
+  const std::string mode = fmt::format("{:g}@{:g}", f, z);
+
+  std::vector<ModeRow> rows{{"as designed", o.profile, tau0}};
+  if (fixed == 0 && spec.stages.empty()) {
+    const int n = notch_taps(o.profile, n0, o.period_s, f, z);
+    rows.push_back(
+        {n == n0 ? "notch on f (tau kept)" : "notch on f (tau moved)", o.profile, n * o.period_s});
+  }
+  for (const char* shaper : {"zv", "mzv", "zvd", "ei", "2hei"}) {
+    const std::string part = fmt::format("{}:{}", shaper, mode);
+    const int len = parse_profile_spec(part).fixed_length(o.period_s);
+    rows.push_back(
+        {fmt::format("+ {} shaper", shaper), o.profile + "+" + part, (n0 + len - 1) * o.period_s});
+  }
+  fmt::print(
+      "Acc/Dec against a mode f = {:g} Hz, zeta = {:g}: profile {}, T = {} s, tau = {:.6g} s\n"
+      "V = residual vibration of the applied taps (docs/vibration.md); band = where V <= 5 % "
+      "around f, searched within [f/2, 2f]; sigma, corner = smoothing (90 deg corner at F{:g}, no "
+      "pause); "
+      "cost = tau added to every stop\n\n",
+      f, z, o.profile, o.period_s, tau0, o.feed_mm_min);
+  fmt::print("{:<24}  {:<28}  {:>8}  {:>9}  {:>8}  {:>9}  {:>9}  {:>17}  {:>8}  {:>9}\n", "design",
+             "profile", "tau s", "cost ms", "V(f) %", "V(.8f) %", "V(1.2f) %", "band Hz",
+             "sigma ms", "corner mm");
+  for (const ModeRow& r : rows) {
+    const VibrationFigures v =
+        vibration_figures(r.spec, r.tau_s, o.period_s, f, z, o.feed_mm_min, 0.05);
+    const FrequencyBand b = v.robustness.band_at_f(f);
+    const std::string band =
+        b.hi_hz > b.lo_hz ? fmt::format("{:.2f}-{:.2f}", b.lo_hz, b.hi_hz) : std::string("-");
+    fmt::print(
+        "{:<24}  {:<28}  {:>8.4f}  {:>+9.1f}  {:>8.3f}  {:>9.3f}  {:>9.3f}  {:>17}  {:>8.3f}  "
+        "{:>9.4f}\n",
+        r.label, r.spec, r.tau_s, 1e3 * (r.tau_s - tau0), 100 * v.robustness.v_at_f,
+        100 * v.robustness.v_minus_20, 100 * v.robustness.v_plus_20, band, 1e3 * v.sigma_s,
+        v.corner_error_mm);
+  }
+}
+
 }  // namespace
 
 void add_design(CLI::App& app, Context& ctx) {
@@ -179,6 +276,12 @@ void add_design(CLI::App& app, Context& ctx) {
   sub->add_option("--max-attempts", o->max_attempts, "give up after this many tau values")
       ->capture_default_str();
   sub->add_flag("--json", o->json, "print one JSON object instead of the table");
+  sub->add_option("--mode", o->mode,
+                  "F[@Z]: a mode at F Hz, damping ratio Z (default 0.1); print the profile's "
+                  "residual vibration, smoothing and cost with a notch moved onto F and with "
+                  "shapers added, instead of the Fig. 9 procedure");
+  sub->add_option("--feed", o->feed_mm_min, "feed of --mode's corner error, mm/min")
+      ->capture_default_str();
   sub->add_flag("--list-profiles", o->list_profiles,
                 "print the profile registry (form, paper's set or not, taps) and exit");
   sub->callback([o, tau, &ctx] {
@@ -188,9 +291,14 @@ void add_design(CLI::App& app, Context& ctx) {
       ctx.exit_code = 0;
       return;
     }
+    if (!o->mode.empty()) {
+      run_design_mode(*o, tau->count() > 0);
+      ctx.exit_code = 0;
+      return;
+    }
     if (tau->count() == 0) {
       // Fixed-length profiles define tau themselves.
-      if (const int fixed = parse_profile_spec(o->profile).fixed_length(); fixed > 0)
+      if (const int fixed = parse_profile_spec(o->profile).fixed_length(o->period_s); fixed > 0)
         o->tau_s = fixed * o->period_s;
     }
     const auto attempts =
@@ -203,7 +311,7 @@ void add_design(CLI::App& app, Context& ctx) {
       std::fflush(stdout);
       fmt::print(stderr, "gmotion: error: the limits are not met by profile '{}' at tau = {} s{}\n",
                  o->profile, attempts.back().tau_s,
-                 parse_profile_spec(o->profile).fixed_length() > 0
+                 parse_profile_spec(o->profile).fixed_length(o->period_s) > 0
                      ? " (its length is fixed, tau cannot grow)"
                  : !attempts.back().v_ok ? " (V'max = V exceeds V_max whatever tau)"
                                          : " (attempts exhausted)");

@@ -45,7 +45,12 @@ const std::vector<Case> kCases{{"linear", 41},        {"linear", 1},
                                {"kaiser:6", 33},      {"custom:0.5,1,2,1,0.5", 5},
                                {"custom:0,3,0,1", 4}, {"custom:1,1", 2},
                                {"custom:3", 1},       {"cascade:21,21", 41},
-                               {"cascade:7,5,3", 13}, {"cascade:1", 1}};
+                               {"cascade:7,5,3", 13}, {"cascade:1", 1},
+                               {"zv:45", 4},          {"zvd:40", 8},
+                               {"zvdd:40", 11},       {"mzv:45", 6},
+                               {"ei:45", 7},          {"2hei:60", 8},
+                               {"3hei:80", 8},        {"blackman+mzv:45", 46},
+                               {"zv:45@0+zv:70@0", 6}};
 
 std::vector<Isa> isas() {
   std::vector<Isa> out{Isa::Portable};

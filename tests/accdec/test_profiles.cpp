@@ -17,9 +17,10 @@ TEST_CASE("profile registry: every row's example designs non-negative taps of DC
     const gm::ProfileSpec spec = gm::parse_profile_spec(row.example);
     CHECK(spec.row == &row);
     CHECK(gm::find_profile(row.name) == &row);
-    const int fixed = spec.fixed_length();
-    CHECK((fixed > 0) == (row.fixed_length != nullptr));
     const double T = 0.004;
+    const int fixed = spec.fixed_length(T);
+    // A composition of a tau-following profile and a shaper follows tau.
+    CHECK((fixed > 0) == (row.fixed_length != nullptr && row.name != gm::kCompositionName));
     const gm::Taps t = gm::design_taps(row.example, (fixed > 0 ? fixed : 41) * T, T);
     CHECK(t.real.size() == static_cast<std::size_t>(fixed > 0 ? fixed : 41));
     double sum = 0;
@@ -32,7 +33,13 @@ TEST_CASE("profile registry: every row's example designs non-negative taps of DC
     if (row.parse_arg == nullptr)
       CHECK_THROWS_WITH(gm::parse_profile_spec(std::string(row.name) + ":1"),
                         Catch::Matchers::Contains("takes no ':' argument"));
-    if (!row.takes_cutoff)
+    if (row.takes_damping) {
+      CHECK(gm::parse_profile_spec(std::string(row.example) + "@0.15").args.at(1) == 0.15);
+      CHECK_THROWS_WITH(gm::parse_profile_spec(std::string(row.example) + "@1.5"),
+                        Catch::Matchers::Contains("damping ratio 1.5 is outside"));
+    } else if (row.name == gm::kCompositionName)
+      CHECK(gm::parse_profile_spec(std::string(row.example) + "@0.15").stages.size() == 2);
+    else if (!row.takes_cutoff)
       CHECK_THROWS_WITH(gm::parse_profile_spec(std::string(row.example) + "@0.1"),
                         Catch::Matchers::Contains("takes no '@cutoff'"));
     else
