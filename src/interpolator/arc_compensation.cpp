@@ -35,7 +35,7 @@ ArcCompensation::ArcCompensation(const std::vector<double>& weights, double peri
   for (int k = 0; k <= kTableSteps; ++k)
     table_[static_cast<std::size_t>(k)] =
         gain_exact(limit_ * static_cast<double>(k) / static_cast<double>(kTableSteps));
-  ramp_samples_ = std::max(1, static_cast<int>(h_.size()) / 2);
+  ramp_samples_ = static_cast<int>(h_.size());
 }
 
 double ArcCompensation::gain_exact(double omega_t) const {

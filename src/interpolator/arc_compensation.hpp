@@ -23,7 +23,7 @@ namespace gm {
 class ArcCompensation {
  public:
   static constexpr double kMinGain = 0.5;
-  static constexpr int kBlendSamples = 4;
+  static constexpr int kBlendSamples = 2;
   static constexpr int kTableSteps = 1024;
 
   ArcCompensation() = default;  ///< off: enabled() is false

@@ -423,7 +423,7 @@ void TolerancePlanner::decide_arc(Element& e, double share) const {
   double v = largest_speed_within(e.vmax, share, load);
   e.comp_speed = 0.0;
   if (v < e.vmax && precomp_) {
-    const double vc = precomp_arc_speed(e, share);
+    const double vc = precomp_arc_speed(e, share, v);
     if (vc > v) {
       v = vc;
       e.comp_speed = vc;
@@ -434,7 +434,7 @@ void TolerancePlanner::decide_arc(Element& e, double share) const {
   e.z1 = zone_fwd(e.s1, tau, e.cap);
 }
 
-double TolerancePlanner::precomp_arc_speed(const Element& e, double share) const {
+double TolerancePlanner::precomp_arc_speed(const Element& e, double share, double floor) const {
   if (!(e.radius > 0.0) || !(e.sweep > 0.0)) return 0.0;
   const double tau = filter_.tau_s(), L = e.s1 - e.s0;
   // The isolated arc's term (transitions at its ends, the ramp's transient) against its share
@@ -445,10 +445,10 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share) const
            zone_weight(e.s0 - v * tau, e.s1 + v * tau);
   };
   const double vlim = std::min(e.vmax, precomp_->speed_limit_mm_s(e.sweep, L));
-  if (!(vlim > 0.0)) return 0.0;
+  if (!(vlim > floor)) return 0.0;
   if (load(vlim) <= share) return vlim;
-  double lo = 0.0, hi = vlim;
-  for (int it = 0; it < 16; ++it) {
+  double lo = floor, hi = vlim;  // lo: no better than the curvature cap until shown
+  for (int it = 0; it < 10; ++it) {
     const double mid = 0.5 * (lo + hi);
     (load(mid) <= share ? lo : hi) = mid;
   }

@@ -43,8 +43,8 @@ TEST_CASE("A(ωT): a moving average's closed form by hand, and the table", "[arc
   }
   CHECK(rule.gain(10.0) == Approx(gm::ArcCompensation::kMinGain).margin(1e-12));  // clamped
   CHECK(f.compensated_radius_mm(2.0, 0.08) == Approx(2.0 / f.amplitude(0.08)).epsilon(1e-15));
-  // Blend: linear in and out over ℓ = 4 samples of travel, never more than half the arc.
-  CHECK(rule.blend_length_mm(10.0, 50.0) == Approx(4 * 0.004 * 50.0));
+  // Blend: linear in and out over ℓ = 2 samples of travel, never more than half the arc.
+  CHECK(rule.blend_length_mm(10.0, 50.0) == Approx(2 * 0.004 * 50.0));
   CHECK(rule.blend_length_mm(0.5, 50.0) == Approx(0.25));
   CHECK(gm::ArcCompensation::blend(0.0, 10.0, 0.8) == 0.0);
   CHECK(gm::ArcCompensation::blend(0.2, 10.0, 0.8) == Approx(0.25));
@@ -105,13 +105,17 @@ TEST_CASE("the planner's check: steady arcs cost nothing, the transitions a frac
   const double iso = check.isolated_mm(R, th, L, v, v, 0.25);
   const double ramp = check.ramp_mm(R, th, L, v);
   CAPTURE(loss, bound, iso, ramp);
-  CHECK(iso < 0.5 * loss);
-  CHECK(ramp < 0.2 * loss);
+  CHECK(iso < 0.25 * loss);  // 21 %
+  CHECK(ramp < 0.1 * loss);  // 6 %
   CHECK(check.error_mm(R, th, L, v) >= iso + ramp);
   // A helix of the same circle (L longer by its lead) at the same in-plane rate: the same term.
   const double Lh = std::hypot(L, 3.0), vh = v * Lh / L;
   CHECK(check.isolated_mm(R, th, Lh, vh, vh, 0.25) == Approx(iso).epsilon(1e-9));
-  // The speed limit: A(ωT) = kMinGain at ω = v·|θ|/L.
+  // The speed limit: A(ωT) = kMinGain at ω = v·|θ|/L; on the default machine ωT ≈ 0.21, about
+  // 52 mm/s on R 1 mm (docs/tolerance.md).
   const double vlim = check.speed_limit_mm_s(th, L);
+  WARN("A = 0.5 at ωT = " << check.rule().limit_omega_t());
+  CHECK(check.rule().limit_omega_t() > 0.20);
+  CHECK(check.rule().limit_omega_t() < 0.22);
   CHECK(f.amplitude(vlim * th / L * 0.004) == Approx(gm::ArcCompensation::kMinGain).margin(1e-9));
 }

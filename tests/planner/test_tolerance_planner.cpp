@@ -345,7 +345,7 @@ TEST_CASE("property: pre-compensated arcs hold G64 P on every sample under rando
 }
 
 TEST_CASE("property-1000: 1,000 random programs, servo off, pre-compensated arcs",
-          "[.][property-1000]") {
+          "[.][property-1000][precomp-1000]") {
   property(1000, false, 20261123, true);
 }
 
