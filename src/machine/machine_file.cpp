@@ -424,7 +424,7 @@ std::string toml_top_keys(const Machine& m) {
   if (m.path_tolerance_mm > 0.0)
     s += fmt::format("path_tolerance_mm = {}\n", fmt_double(m.path_tolerance_mm));
   if (m.tolerance_on == ToleranceOn::Encoder) s += "tolerance_on = \"encoder\"\n";
-  if (m.arc_precompensation) s += "arc_precompensation = \"on\"\n";
+  if (!m.arc_precompensation) s += "arc_precompensation = \"off\"\n";
   if (!m.subroutine_path.empty()) {
     std::string dirs;
     for (const std::string& d : m.subroutine_path) {

@@ -31,7 +31,7 @@ struct PlannerConfig {
   /// Pre-compensated arcs (docs/tolerance.md): an arc whose cap the curvature bound lowers is
   /// commanded on R + c (Motion::comp_speed_mm_s) and capped by the residual of its transitions
   /// instead, when that is faster. Only for symmetric FIR weights (not an overshooting chain).
-  bool precompensate_arcs = false;
+  bool precompensate_arcs = false;  // the machine's arc_precompensation (on by default)
 };
 
 /// Reads canon from `upstream` (through NaiveCamMerger: G64 Q) and hands on the same program with,
@@ -136,8 +136,9 @@ class TolerancePlanner : public CanonSource {
   void decide(Element& e);
   double tolerance_near(const Element& e) const;
   void decide_arc(Element& e, double share) const;
-  /// The cap of arc e pre-compensated within `share` (0 when it cannot be), mm/s.
-  double precomp_arc_speed(const Element& e, double share) const;
+  /// The cap of arc e pre-compensated within `share`, mm/s: `floor` (the curvature bound's
+  /// cap) or less when compensating is no faster.
+  double precomp_arc_speed(const Element& e, double share, double floor) const;
   void decide_run(Element& e, double share) const;
   void decide_corner(Element& e, double share);
   /// Time a corner costs with a pause of pause_s (D(pause) = d): the pause added plus the
