@@ -74,6 +74,13 @@ bool Interpolator::pull_next() {
                                                       : units::mm_min_to_mm_s(block_.feed_mm_min);
       speed_cap_mm_s_ = block_.speed_cap_mm_s > 0.0 ? block_.speed_cap_mm_s
                                                     : std::numeric_limits<double>::infinity();
+      comp_block_ = cfg_.arc_comp.enabled() && block_.kind == MotionKind::Arc &&
+                    block_.comp_speed_mm_s > 0.0 && geom_.length_mm > 0.0;
+      if (comp_block_) {
+        comp_blend_mm_ = cfg_.arc_comp.blend_length_mm(geom_.length_mm, block_.comp_speed_mm_s);
+        comp_rad_per_mm_ = std::abs(geom_.sweep_rad) / geom_.length_mm;
+        comp_speed_step_ = cfg_.arc_comp.speed_step_mm_s(block_.comp_speed_mm_s);
+      }
       ++block_seq_;
       started_.push_back(block_);
       pending_events_ |= kEventBlockStart;
@@ -132,6 +139,19 @@ bool Interpolator::pull_next() {
   return false;
 }
 
+void Interpolator::apply_arc_comp(double v) {
+  const double w = ArcCompensation::blend(s_mm_, geom_.length_mm, comp_blend_mm_);
+  if (!(w > 0.0)) return;
+  const int a = geom_.ax.a, b = geom_.ax.b;
+  const double da = pos_mm_[a] - geom_.center_mm[a], db = pos_mm_[b] - geom_.center_mm[b];
+  const double r = std::hypot(da, db);
+  if (!(r > 0.0)) return;
+  // Radial in the arc's plane; ω from the sample's in-plane angular rate.
+  const double k = w * cfg_.arc_comp.correction_mm(r, v * comp_rad_per_mm_) / r;
+  pos_mm_[a] += k * da;
+  pos_mm_[b] += k * db;
+}
+
 template <int N, bool Identity>
 InterpStatus Interpolator::step_n(const OverrideInput& ovr, CommandSample& out) {
   // The program axes the machine reads: 0..N-1 in program order, else any of the nine.
@@ -144,6 +164,7 @@ InterpStatus Interpolator::step_n(const OverrideInput& ovr, CommandSample& out) 
   const double dt_eps = 1e-9 * cfg_.period_s;
   constexpr double kLengthEps = 1e-9;
   bool moved_or_waited = false;
+  double sample_speed = 0.0;  // the path speed of the last motion in this sample
 
   // The spindle ramps towards its commanded speed, one sample's acceleration at a time.
   if (cfg_.spindle_accel_rpm_s > 0.0) {
@@ -185,7 +206,8 @@ InterpStatus Interpolator::step_n(const OverrideInput& ovr, CommandSample& out) 
       moved_or_waited = true;
       break;
     }
-    const double v = block_speed_mm_s(ovr);
+    const double v = comp_block_ ? comp_ramped_speed(block_speed_mm_s(ovr)) : block_speed_mm_s(ovr);
+    sample_speed = v;
     if (!(v > 0.0)) {
       if (geom_.length_mm <= 0.0) {  // zero-length move: done, no time spent
         in_motion_ = false;
@@ -200,6 +222,7 @@ InterpStatus Interpolator::step_n(const OverrideInput& ovr, CommandSample& out) 
       s_mm_ += v * dt;
       dt = 0.0;
       geom_.at_fraction_head<kComputedAxes>(s_mm_ / geom_.length_mm, pos_mm_);
+      if (comp_block_) apply_arc_comp(v);
       moved_or_waited = true;
     } else {
       dt = std::max(0.0, dt - left / v);
@@ -216,6 +239,7 @@ InterpStatus Interpolator::step_n(const OverrideInput& ovr, CommandSample& out) 
       }
     }
   }
+  last_speed_mm_s_ = sample_speed;
   events |= pending_events_;
   pending_events_ = 0;
   if (!moved_or_waited && ended_ && !in_motion_ && dwell_left_s_ <= 0.0 && settle_left_ == 0) {
@@ -241,7 +265,7 @@ int Interpolator::span_n(const OverrideInput& ovr, int max, BluColumns& out, int
   // What step_n does in a sample that starts and ends inside the current motion: nothing waits,
   // nothing is pulled, the speed does not depend on the position or on the spindle's ramp.
   if (finished_ || settle_left_ > 0 || dwell_left_s_ > 0.0 || !in_motion_ || pending_events_ != 0 ||
-      spindle_ramp_block_ || css_block_)
+      spindle_ramp_block_ || css_block_ || comp_block_)
     return 0;
   if (cfg_.spindle_accel_rpm_s > 0.0 &&
       (spindle_rpm_ != spindle_target_rpm() || block_.css_surface_mm_min > 0.0))
@@ -289,6 +313,7 @@ int Interpolator::span_n(const OverrideInput& ovr, int max, BluColumns& out, int
     if (n > 0) geom_.at_fraction_head<kComputedAxes>(s_mm_ / L, pos_mm_);
   }
   if (n > 0) {
+    last_speed_mm_s_ = v;
     for (int a = 0; a < N; ++a) last.pos_blu[a] = out.v[a][row0 + n - 1];
     last.line = line_;
     last.block_seq = block_seq_;

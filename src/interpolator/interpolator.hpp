@@ -4,6 +4,7 @@
 
 #include "common/axis.hpp"
 #include "common/block_columns.hpp"
+#include "interpolator/arc_compensation.hpp"
 #include "motion/canon.hpp"
 #include "motion/geometry.hpp"
 
@@ -23,6 +24,9 @@ struct InterpolatorConfig {
   /// commanded speed at once. With a ramp, feeds per revolution (G95) follow the speed it has
   /// reached and a synchronised move (G33, G76, G33.1) waits until it is at speed.
   double spindle_accel_rpm_s = 0.0;
+  /// Pre-compensated arcs (Motion::comp_speed_mm_s > 0): the rule of the machine's Acc/Dec
+  /// filter; off by default (such arcs are then commanded on their radius).
+  ArcCompensation arc_comp{};
 };
 
 /// Overrides for one sample; 1.0 = 100 %. Ignored (taken as 1.0) while the program has
@@ -134,8 +138,26 @@ class Interpolator {
   }
   double speed_100_mm_s_ = 0.0;  ///< its speed at 100 % override
   double speed_cap_mm_s_ = 0.0;  ///< the planner's cap (infinity: none)
-  double s_mm_ = 0.0;            ///< path length done in the current block
-  double dwell_left_s_ = 0.0;    ///< remaining dwell time
+  // A pre-compensated arc (arc_compensation.hpp): commanded on R + c, its speed ramped.
+  bool comp_block_ = false;
+  double comp_blend_mm_ = 0.0;    ///< blend length at each end
+  double comp_rad_per_mm_ = 0.0;  ///< in-plane angle per path length, |sweep| / L
+  double comp_speed_step_ = 0.0;  ///< largest speed change per sample, mm/s
+  double last_speed_mm_s_ = 0.0;  ///< path speed of the last sample (0 after a stop)
+  /// The speed of a compensated arc's sample: `target` ramped from the last sample's speed.
+  double comp_ramped_speed(double target) const {
+    const double lo =
+        last_speed_mm_s_ > comp_speed_step_ ? last_speed_mm_s_ - comp_speed_step_ : 0.0;
+    const double v = target < lo ? lo
+                     : target > last_speed_mm_s_ + comp_speed_step_
+                         ? last_speed_mm_s_ + comp_speed_step_
+                         : target;
+    return v < speed_cap_mm_s_ ? v : speed_cap_mm_s_;
+  }
+  /// Moves pos_mm_ (on the arc at s_mm_) radially by the blended correction for speed v.
+  void apply_arc_comp(double v);
+  double s_mm_ = 0.0;          ///< path length done in the current block
+  double dwell_left_s_ = 0.0;  ///< remaining dwell time
   int dwell_line_ = 0;
   std::uint32_t dwell_event_ = kEventDwell;  ///< what the wait is: a dwell or an M66 wait
   int settle_left_ = 0;                      ///< exact-stop hold samples still to emit

@@ -87,6 +87,10 @@ struct Machine {
   double path_tolerance_mm = 0.0;
   /// Machine key tolerance_on ("acc_dec" or "encoder"), CLI --tolerance-on.
   ToleranceOn tolerance_on = ToleranceOn::AccDec;
+  /// Machine key arc_precompensation ("on", the default, or "off"): arcs under a tolerance are
+  /// commanded on R + c so that the Acc/Dec output lies on R (docs/tolerance.md,
+  /// "Pre-compensated arcs").
+  bool arc_precompensation = true;
   /// The machine's axes (key `axes.letters`, CLI --axes): a subsequence of XYZABCUVW. Rotary
   /// axes (A, B, C) count in degrees: their `_mm` quantities are degrees (blu_mm = degrees per
   /// count, v_max_mm_s = deg/s). Kinematics are trivial: each axis is one joint.

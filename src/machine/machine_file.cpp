@@ -329,6 +329,13 @@ void read_run_keys(Reader& r, const toml::table& root, Machine& m) {
       r.fail_at(root.get("tolerance_on")->source(), "tolerance_on",
                 fmt::format("must be \"acc_dec\" or \"encoder\" (got \"{}\")", tol_on));
   }
+  std::string precomp;
+  if (r.string("arc_precompensation", precomp, false)) {
+    if (precomp != "off" && precomp != "on")
+      r.fail_at(root.get("arc_precompensation")->source(), "arc_precompensation",
+                fmt::format("must be \"off\" or \"on\" (got \"{}\")", precomp));
+    m.arc_precompensation = precomp == "on";
+  }
 }
 
 // [accdec]: profile and τ; without tau_s the period must suit the default τ.
@@ -445,6 +452,7 @@ std::string toml_top_keys(const Machine& m) {
   if (m.path_tolerance_mm > 0.0)
     s += fmt::format("path_tolerance_mm = {}\n", fmt_double(m.path_tolerance_mm));
   if (m.tolerance_on == ToleranceOn::Encoder) s += "tolerance_on = \"encoder\"\n";
+  if (!m.arc_precompensation) s += "arc_precompensation = \"off\"\n";
   if (!m.subroutine_path.empty()) {
     std::string dirs;
     for (const std::string& d : m.subroutine_path) {

@@ -77,6 +77,10 @@ struct Motion {
   /// Largest path speed the interpolator may use in this block, mm/s, whatever the override;
   /// 0 = no cap.
   double speed_cap_mm_s = 0.0;
+  /// Arcs: > 0 when the arc is pre-compensated (interpolator/arc_compensation.hpp): commanded on
+  /// radius R + c so that the Acc/Dec output lies on R, its speed ramped; the speed its blend
+  /// and ramp were planned for, mm/s. 0 = commanded on its programmed radius.
+  double comp_speed_mm_s = 0.0;
 };
 
 /// The move's kind as `gmotion moves` names it: rapid, line, arc, rigid_tap or probe.

@@ -12,7 +12,7 @@
 namespace gm {
 namespace {
 
-InterpolatorConfig interpolator_config(const Machine& m, int settle_samples) {
+InterpolatorConfig interpolator_config(const Machine& m, const Taps& taps, int settle_samples) {
   InterpolatorConfig c;
   c.period_s = m.period_s;
   c.axes = m.layout;
@@ -21,6 +21,10 @@ InterpolatorConfig interpolator_config(const Machine& m, int settle_samples) {
   c.settle_samples = settle_samples;
   c.spindle_accel_rpm_s = m.spindle_accel_rpm_s;
   c.start_mm = AxisVec::Zero();
+  // Pre-compensated arcs follow the filter's rule (only arcs the planner marks use it).
+  std::vector<double> h;
+  for (auto b : taps.integer) h.push_back(static_cast<double>(b) / static_cast<double>(taps.b_s));
+  c.arc_comp = ArcCompensation(h, m.period_s);
   return c;
 }
 
@@ -51,7 +55,7 @@ std::int64_t servo_lag_samples(const Machine& m) {
 Pipeline::Pipeline(const RunConfig& cfg, CanonSource& source)
     : cfg_(cfg),
       taps_(design_taps(cfg.machine.profile, cfg.machine.tau_s, cfg.machine.period_s)),
-      interp_(interpolator_config(cfg.machine, longest_filter(cfg.machine, taps_)), source),
+      interp_(interpolator_config(cfg.machine, taps_, longest_filter(cfg.machine, taps_)), source),
       accdec_(taps_, AxisBlu::Zero(), FirStructure::Auto, cfg.machine.axis_count()),
       axes_(cfg.machine.axis_count()),
       lag_samples_(static_cast<std::int64_t>(taps_.integer.size()) +

@@ -52,6 +52,7 @@ std::unique_ptr<TolerancePlanner> make_planner(const Machine& m, bool servo, Can
   double truncation_mm = 0.0;
   const FilterMoments moments(planned_chain(m, servo, truncation_mm, &c.speed_error_s), m.period_s);
   c.rounding_mm = m.xyz_blu_mm().norm() + truncation_mm;
+  c.precompensate_arcs = m.arc_precompensation;
   return std::make_unique<TolerancePlanner>(moments, c, source);
 }
 

@@ -127,6 +127,23 @@ double FilterMoments::corner_moment_closed_s(double pause_s) const {
   return period_s_ * d;
 }
 
+double FilterMoments::amplitude(double omega_t) const {
+  double a = 0.0;
+  for (std::size_t i = 0; i < h_.size(); ++i)
+    a += h_[i] * std::cos((static_cast<double>(i) - centre_) * omega_t);
+  return a;
+}
+
+bool FilterMoments::symmetric() const {
+  // The weights end in zeros when an overshooting chain was lengthened: compare the support.
+  std::size_t lo = 0, hi = h_.size();
+  while (lo < hi && h_[lo] == 0.0) ++lo;
+  while (hi > lo && h_[hi - 1] == 0.0) --hi;
+  for (std::size_t i = lo, j = hi; i < j; ++i)
+    if (h_[i] != h_[--j]) return false;
+  return true;
+}
+
 double FilterMoments::corner_error_mm(double speed_mm_s, double turn_rad, double pause_s) const {
   return speed_mm_s * corner_moment_s(pause_s) * std::sin(turn_rad);
 }

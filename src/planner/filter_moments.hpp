@@ -55,6 +55,17 @@ class FilterMoments {
   /// D(P) by the symmetric closed form T·Σ h_i·max(i − m − P/(2T), 0).
   double corner_moment_closed_s(double pause_s) const;
 
+  /// A(ωT) = Σ h_i·cos((i − m)·ωT): for symmetric taps D(e^{jωT}) = e^{−jωmT}·A(ωT), so a circle
+  /// of radius r taken at angular rate ω comes out of the filter on radius r·A(ωT) in steady
+  /// state, delayed by mT (Eq. 13/14).
+  double amplitude(double omega_t) const;
+  /// The radius to command so that the steady output lies on `radius_mm`: R / A(ωT).
+  double compensated_radius_mm(double radius_mm, double omega_t) const {
+    return radius_mm / amplitude(omega_t);
+  }
+  /// b_i = b_{N−i} (the output of a circle is then a circle, only scaled and delayed).
+  bool symmetric() const;
+
   /// Contour error (distance to the two legs) of an isolated corner turning by `turn_rad` taken
   /// at `speed_mm_s` with a pause `pause_s` at the vertex: V·D(P)·sin φ (φ ≤ π).
   double corner_error_mm(double speed_mm_s, double turn_rad, double pause_s) const;

@@ -44,7 +44,13 @@ double largest_speed_within(double vmax, double share, Load&& load) {
 
 TolerancePlanner::TolerancePlanner(const FilterMoments& filter, const PlannerConfig& cfg,
                                    CanonSource& upstream)
-    : filter_(filter), cfg_(cfg), merger_(upstream) {}
+    : filter_(filter), cfg_(cfg), merger_(upstream) {
+  if (cfg_.precompensate_arcs && filter_.symmetric() && filter_.overshoot_s() == 0.0 &&
+      filter_.undershoot_s() == 0.0) {
+    precomp_.emplace(filter_.weights(), filter_.period_s());
+    if (!precomp_->enabled()) precomp_.reset();
+  }
+}
 
 const std::vector<double>& TolerancePlanner::grid_d() {
   // Built at the first corner: a program without a tolerance never pays for it.
@@ -186,6 +192,11 @@ TolerancePlanner::Element TolerancePlanner::arc_element(const Block& b) {
   e.kappa = r > 0.0 ? 1.0 / r : kInf;
   e.vmax = b.vmax;
   e.v100 = b.v100;
+  // A circle (the start and end radii within 0.1 µm), not a spiral, may be pre-compensated.
+  if (r > 0.0 && std::abs(b.g.r0_mm - b.g.r1_mm) <= 1e-4 && !b.g.rest_moves) {
+    e.radius = r;
+    e.sweep = std::abs(b.g.sweep_rad);
+  }
   return e;
 }
 
@@ -409,10 +420,39 @@ void TolerancePlanner::decide_arc(Element& e, double share) const {
     return 0.5 * e.kappa * v * v * filter_.variance_s2() *
            zone_weight(e.s0 - v * tau, e.s1 + v * tau);
   };
-  const double v = largest_speed_within(e.vmax, share, load);
+  double v = largest_speed_within(e.vmax, share, load);
+  e.comp_speed = 0.0;
+  if (v < e.vmax && precomp_) {
+    const double vc = precomp_arc_speed(e, share, v);
+    if (vc > v) {
+      v = vc;
+      e.comp_speed = vc;
+    }
+  }
   if (v < e.vmax) e.cap = v;
   e.z0 = zone_back(e.s0, tau, e.cap);
   e.z1 = zone_fwd(e.s1, tau, e.cap);
+}
+
+double TolerancePlanner::precomp_arc_speed(const Element& e, double share, double floor) const {
+  if (!(e.radius > 0.0) || !(e.sweep > 0.0)) return 0.0;
+  const double tau = filter_.tau_s(), L = e.s1 - e.s0;
+  // The isolated arc's term (transitions at its ends, the ramp's transient) against its share
+  // share/W, W the weight of its zone, as the curvature term was; the speed where A(ωT) falls
+  // to ArcCompensation::kMinGain at most. The term grows with the speed: bisection.
+  auto load = [&](double v) {
+    return precomp_->error_mm(e.radius, e.sweep, L, v) *
+           zone_weight(e.s0 - v * tau, e.s1 + v * tau);
+  };
+  const double vlim = std::min(e.vmax, precomp_->speed_limit_mm_s(e.sweep, L));
+  if (!(vlim > floor)) return 0.0;
+  if (load(vlim) <= share) return vlim;
+  double lo = floor, hi = vlim;  // lo: no better than the curvature cap until shown
+  for (int it = 0; it < 10; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (load(mid) <= share ? lo : hi) = mid;
+  }
+  return lo;
 }
 
 void TolerancePlanner::decide_run(Element& e, double share) const {
@@ -611,6 +651,9 @@ void TolerancePlanner::emit_pieces(const Block& b) {
       if (b.m.inverse_time_s > 0.0) p.inverse_time_s = b.m.inverse_time_s * (q.c - q.a) / L;
     }
     if (q.cap < b.vmax * (1.0 - 1e-12)) p.speed_cap_mm_s = q.cap;
+    if (b.m.kind == MotionKind::Arc)  // arcs are handed on whole
+      for (const Element& e : elems_)
+        if (e.kind == ElementKind::Arc && e.seq == b.seq) p.comp_speed_mm_s = e.comp_speed;
   }
 }
 

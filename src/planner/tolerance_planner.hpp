@@ -6,10 +6,12 @@
 #include "common/ring_deque.hpp"
 #include "motion/canon.hpp"
 #include "motion/geometry.hpp"
+#include "planner/arc_precomp.hpp"
 #include "planner/filter_moments.hpp"
 #include "planner/naive_cam.hpp"
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace gm {
@@ -26,6 +28,10 @@ struct PlannerConfig {
   /// reserve/this, and so is every block the chain still holds when it starts. 0: none.
   double speed_error_s = 0.0;
   std::size_t capacity = 4096;  ///< most motion blocks held for look-ahead (memory bound)
+  /// Pre-compensated arcs (docs/tolerance.md): an arc whose cap the curvature bound lowers is
+  /// commanded on R + c (Motion::comp_speed_mm_s) and capped by the residual of its transitions
+  /// instead, when that is faster. Only for symmetric FIR weights (not an overshooting chain).
+  bool precompensate_arcs = false;  // the machine's arc_precompensation (on by default)
 };
 
 /// Reads canon from `upstream` (through NaiveCamMerger: G64 Q) and hands on the same program with,
@@ -105,6 +111,10 @@ class TolerancePlanner : public CanonSource {
     double z0 = 0, z1 = 0;  ///< zone in path length where the cap applies
     double weight = 0;      ///< share weight: Corner, Stop |Δu|, Arc 1, Run its error per D(0)
     double cum = 0;         ///< weights of all elements before it (prefix sum)
+    // Arc: for pre-compensation (arc_precomp.hpp).
+    double radius = 0;      ///< Arc: radius, mm (0: not a circle, never compensated)
+    double sweep = 0;       ///< Arc: |θ|, rad
+    double comp_speed = 0;  ///< Arc: > 0 when compensated, the speed it was planned for, mm/s
   };
 
   void pull();  ///< one item from upstream into the window
@@ -126,6 +136,9 @@ class TolerancePlanner : public CanonSource {
   void decide(Element& e);
   double tolerance_near(const Element& e) const;
   void decide_arc(Element& e, double share) const;
+  /// The cap of arc e pre-compensated within `share`, mm/s: `floor` (the curvature bound's
+  /// cap) or less when compensating is no faster.
+  double precomp_arc_speed(const Element& e, double share, double floor) const;
   void decide_run(Element& e, double share) const;
   void decide_corner(Element& e, double share);
   /// Time a corner costs with a pause of pause_s (D(pause) = d): the pause added plus the
@@ -193,6 +206,7 @@ class TolerancePlanner : public CanonSource {
   double weight_total_ = 0.0;     ///< weights of all elements pushed so far
   PendingRun run_;
   std::uint64_t runs_ = 0;
+  std::optional<ArcPrecompCheck> precomp_;  ///< set when arcs may be pre-compensated
 };
 
 }  // namespace gm

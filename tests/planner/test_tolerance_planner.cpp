@@ -30,6 +30,7 @@ gm::PlannerConfig planner_config(const gm::Machine& m) {
   c.max_override = m.max_override;
   c.rapid_mm_min = m.rapid_mm_min;
   c.rounding_mm = m.xyz_blu_mm().norm();
+  c.precompensate_arcs = m.arc_precompensation;
   return c;
 }
 
@@ -44,6 +45,7 @@ class PlannedCanon : public gm::CanonSource {
     if (const auto* mo = std::get_if<gm::Motion>(&out)) {
       const bool capped = mo->speed_cap_mm_s > 0.0;
       capped_pieces += capped ? 1 : 0;
+      compensated_arcs += mo->comp_speed_mm_s > 0.0 ? 1 : 0;
       if (line_ != 0 && mo->line != line_ && (capped_ || paused_ || capped)) ++planned_vertices;
       line_ = mo->line;
       capped_ = capped;
@@ -59,6 +61,7 @@ class PlannedCanon : public gm::CanonSource {
   std::int64_t capped_pieces = 0;
   std::int64_t pauses = 0;
   std::int64_t planned_vertices = 0;
+  std::int64_t compensated_arcs = 0;
 
  private:
   gm::CanonSource& planner_;
@@ -74,6 +77,7 @@ struct Outcome {
   std::int64_t capped_pieces = 0;     ///< pieces handed on with a speed cap
   std::int64_t pauses = 0;            ///< dwells the planner added
   std::int64_t planned_vertices = 0;  ///< vertices with a capped piece or a pause beside them
+  std::int64_t compensated_arcs = 0;  ///< arcs handed on pre-compensated
 };
 
 // Runs `text` through planner and pipeline, the servo off, or on with the tolerance planned
@@ -111,6 +115,7 @@ Outcome run_program(const std::string& text, const gm::Machine& m, Ovr ovr, bool
   o.capped_pieces = planned.capped_pieces;
   o.pauses = planned.pauses;
   o.planned_vertices = planned.planned_vertices;
+  o.compensated_arcs = planned.compensated_arcs;
   return o;
 }
 
@@ -201,7 +206,7 @@ namespace {
 // Random CAM-like programs (lines, arcs, helices, rapids, chord polylines, feeds, tolerances
 // changed mid-program) under random override schedules; every sample within the tolerance (servo
 // off) or within the tolerance + 1 BLU on the table (servo on, tolerance_on = encoder).
-void property(int kPrograms, bool encoder, std::uint64_t seed) {
+void property(int kPrograms, bool encoder, std::uint64_t seed, bool precomp = false) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> U(0.0, 1.0);
   auto pick = [&](int n) { return std::min(n - 1, static_cast<int>(U(rng) * n)); };
@@ -211,11 +216,12 @@ void property(int kPrograms, bool encoder, std::uint64_t seed) {
   const double taus[] = {0.164, 0.1, 0.08, 0.12};
   const double tols[] = {0.003, 0.005, 0.01, 0.02, 0.05, 0.1, 0.3};
   int arcs = 0, rapids = 0, lines = 0, polylines = 0;
-  std::int64_t samples = 0, rapid_samples = 0, paused = 0, capped = 0;
+  std::int64_t samples = 0, rapid_samples = 0, paused = 0, capped = 0, compensated = 0;
   double worst_ratio = 0;
   for (int prog = 0; prog < kPrograms; ++prog) {
     // Encoder: the built-in machine, whose Y servo differs from X and Z (speed_error_s).
     gm::Machine m = encoder ? gm::default_machine() : gm::Machine{};
+    m.arc_precompensation = precomp;
     const int pi = pick(4);
     m.profile = profiles[pi];
     m.tau_s = taus[pi];
@@ -294,6 +300,7 @@ void property(int kPrograms, bool encoder, std::uint64_t seed) {
     worst_ratio = std::max({worst_ratio, o.check.cutting().ratio, o.check.rapids().ratio});
     paused += o.pauses;
     capped += o.capped_pieces;
+    compensated += o.compensated_arcs;
   }
   // What the run covered (printed with -s; figures in docs/tolerance.md).
   INFO(fmt::format(
@@ -308,10 +315,12 @@ void property(int kPrograms, bool encoder, std::uint64_t seed) {
   CHECK(paused > 0);
   CHECK(capped > 0);
   CHECK(polylines > 0);
+  CHECK((compensated > 0) == precomp);
   WARN(fmt::format(
       "{} programs ({} polylines), {} cutting + {} rapid samples, worst {:.1f} % of tolerance, "
-      "{} pauses, {} capped pieces",
-      kPrograms, polylines, samples, rapid_samples, 100 * worst_ratio, paused, capped));
+      "{} pauses, {} capped pieces, {} arcs pre-compensated",
+      kPrograms, polylines, samples, rapid_samples, 100 * worst_ratio, paused, capped,
+      compensated));
 }
 
 }  // namespace
@@ -328,6 +337,16 @@ TEST_CASE("property: with the servo on and tolerance_on = encoder, the table hol
 
 TEST_CASE("property-1000: 1,000 random programs, servo off", "[.][property-1000]") {
   property(1000, false, 20261123);
+}
+
+TEST_CASE("property: pre-compensated arcs hold G64 P on every sample under random overrides",
+          "[precomp]") {
+  property(gmtest::scaled(200), false, 20261123, true);
+}
+
+TEST_CASE("property-1000: 1,000 random programs, servo off, pre-compensated arcs",
+          "[.][property-1000][precomp-1000]") {
+  property(1000, false, 20261123, true);
 }
 
 TEST_CASE("property-1000: 1,000 random programs, servo on, tolerance_on = encoder",

@@ -1,0 +1,52 @@
+// ArcCompensation: the table of A(ωT), the blend at an arc's ends and the speed ramp.
+#include "interpolator/arc_compensation.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace gm {
+
+ArcCompensation::ArcCompensation(const std::vector<double>& weights, double period_s)
+    : h_(weights), period_s_(period_s) {
+  if (h_.empty() || !(period_s > 0.0)) return;
+  double sum = 0.0;
+  for (std::size_t i = 0; i < h_.size(); ++i) {
+    centre_ += static_cast<double>(i) * h_[i];
+    sum += h_[i];
+  }
+  for (std::size_t i = 0, j = h_.size(); i < j; ++i)
+    if (std::abs(h_[i] - h_[--j]) > 1e-12 || h_[i] < 0.0) return;  // not symmetric: off
+  if (std::abs(sum - 1.0) > 1e-9 || h_.size() < 2) return;
+  // The first crossing of kMinGain: scanned in steps of π/(64·N), then bisected.
+  const double step = std::acos(-1.0) / (64.0 * static_cast<double>(h_.size() - 1));
+  double lo = 0.0, hi = step;
+  while (gain_exact(hi) >= kMinGain) {
+    lo = hi;
+    hi += step;
+    if (hi > std::acos(-1.0)) return;  // a filter that barely filters: nothing to do
+  }
+  for (int it = 0; it < 100; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (gain_exact(mid) >= kMinGain ? lo : hi) = mid;
+  }
+  limit_ = lo;
+  inv_step_ = static_cast<double>(kTableSteps) / limit_;
+  table_.resize(kTableSteps + 1);
+  for (int k = 0; k <= kTableSteps; ++k)
+    table_[static_cast<std::size_t>(k)] =
+        gain_exact(limit_ * static_cast<double>(k) / static_cast<double>(kTableSteps));
+  ramp_samples_ = static_cast<int>(h_.size());
+}
+
+double ArcCompensation::gain_exact(double omega_t) const {
+  double a = 0.0;
+  for (std::size_t i = 0; i < h_.size(); ++i)
+    a += h_[i] * std::cos((static_cast<double>(i) - centre_) * omega_t);
+  return a;
+}
+
+double ArcCompensation::blend_length_mm(double length_mm, double planned_mm_s) const {
+  return std::min(0.5 * length_mm, kBlendSamples * period_s_ * planned_mm_s);
+}
+
+}  // namespace gm

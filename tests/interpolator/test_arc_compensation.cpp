@@ -1,0 +1,196 @@
+// Pre-compensated arcs in the interpolator: the commanded radius R + c from the sample's speed,
+// blended in and out, the speed ramp, exact ends, helices in another plane.
+#include "accdec/taps.hpp"
+#include "interpolator/interpolator.hpp"
+#include "planner/filter_moments.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <vector>
+
+namespace {
+
+using gm::AxisVec;
+using gm::Canon;
+using gm::Motion;
+using gm::xyz;
+
+constexpr double kPi = 3.14159265358979323846;
+
+class ListSource : public gm::CanonSource {
+ public:
+  explicit ListSource(std::vector<Canon> v) : v_(std::move(v)) {}
+  bool next(Canon& out) override {
+    if (i_ >= v_.size()) return false;
+    out = v_[i_++];
+    return true;
+  }
+
+ private:
+  std::vector<Canon> v_;
+  std::size_t i_ = 0;
+};
+
+const gm::Taps& blackman() {
+  static const gm::Taps t = gm::design_taps("blackman", 0.164, 0.004);
+  return t;
+}
+
+std::vector<double> weights() {
+  std::vector<double> h;
+  for (auto b : blackman().integer)
+    h.push_back(static_cast<double>(b) / static_cast<double>(blackman().b_s));
+  return h;
+}
+
+gm::InterpolatorConfig config() {
+  gm::InterpolatorConfig c;
+  c.period_s = 0.004;
+  c.blu_mm = AxisVec::Constant(0.001);
+  c.arc_comp = gm::ArcCompensation(weights(), 0.004);
+  return c;
+}
+
+// A half circle of radius 5 about (5, 0) from the origin, G3 in XY, F3000 (50 mm/s).
+Motion half_circle(double comp_speed) {
+  Motion m;
+  m.kind = gm::MotionKind::Arc;
+  m.start_mm = AxisVec::Zero();
+  m.end_mm = xyz(10, 0, 0);
+  m.center_mm = xyz(5, 0, 0);
+  m.ccw = true;
+  m.feed_mm_min = 3000;
+  m.path_tolerance_mm = 0.01;
+  m.comp_speed_mm_s = comp_speed;
+  return m;
+}
+
+std::vector<gm::CommandSample> run(std::vector<Canon> canon, double (*scale)(std::int64_t)) {
+  ListSource src(std::move(canon));
+  gm::Interpolator ip(config(), src);
+  std::vector<gm::CommandSample> out;
+  gm::CommandSample s;
+  for (std::int64_t k = 0; k < 1'000'000; ++k) {
+    gm::OverrideInput o;
+    o.feed_scale = scale(k);
+    if (ip.step(o, s) == gm::InterpStatus::Finished) break;
+    out.push_back(s);
+  }
+  return out;
+}
+
+double full(std::int64_t) {
+  return 1.0;
+}
+
+// The closed form's correction for radius r at ωT (planner/filter_moments).
+double correction_mm(double r, double omega_t) {
+  const gm::FilterMoments f(blackman(), 0.004);
+  return f.compensated_radius_mm(r, omega_t) - r;
+}
+
+double radius_of(const gm::CommandSample& s, double cx, double cy) {
+  return std::hypot(s.pos_blu[0] * 0.001 - cx, s.pos_blu[1] * 0.001 - cy);
+}
+
+}  // namespace
+
+TEST_CASE("compensated arc: radius R + c(v) at speed, ramped from rest, blended, ends exact") {
+  const auto plain = run({half_circle(0.0)}, full);
+  const auto comp = run({half_circle(50.0)}, full);
+  // Uncompensated: on R = 5 within a BLU, 50 mm/s from the first sample.
+  for (const auto& s : plain) CHECK(radius_of(s, 5, 0) == Approx(5.0).margin(0.0011));
+  // From rest the speed ramps by 50/41 mm/s a sample (ramp_samples = N + 1 = 41, τ): the path
+  // angle advanced after k samples is Σ min(50, 50·j/41)·T / R.
+  const double c50 = correction_mm(5.0, 50.0 * 0.004 / 5.0);
+  CHECK(c50 == Approx(5.0 * (1.0 / gm::FilterMoments(blackman(), 0.004).amplitude(0.04) - 1.0)));
+  CHECK(c50 > 0.04);  // 5 mm at 50 mm/s under Blackman 0.164 s: about 43 µm
+  double s_mm = 0.0;
+  double last_r = 5.0;
+  for (std::size_t k = 0; k + 1 < comp.size(); ++k) {
+    const double v = std::min(50.0, 50.0 / 41.0 * static_cast<double>(k + 1));
+    s_mm += v * 0.004;
+    const double ang = s_mm / 5.0;  // from the start ray (−1, 0) of the circle
+    const double w = std::min({1.0, s_mm / (2 * 0.004 * 50.0), (5.0 * kPi - s_mm) / 0.4});
+    const double r = 5.0 + w * correction_mm(5.0, v * 0.004 / 5.0);
+    CAPTURE(k, v, s_mm, w);
+    CHECK(comp[k].pos_blu[0] * 0.001 == Approx(5.0 - r * std::cos(ang)).margin(0.0006));
+    CHECK(comp[k].pos_blu[1] * 0.001 == Approx(-r * std::sin(ang)).margin(0.0006));
+    // No jump: the radius moves by at most a blend step (c/2) and rounding per sample.
+    const double rk = radius_of(comp[k], 5, 0);
+    CHECK(std::abs(rk - last_r) <= c50 / 2.0 + 0.0015);
+    last_r = rk;
+  }
+  CHECK(comp.back().pos_blu == gm::blu3(10000, 0, 0));  // the programmed end point exactly
+  CHECK(comp.size() > plain.size());                    // the ramp from rest
+}
+
+namespace {
+double hold_after_200(std::int64_t k) {
+  return k < 200 ? 1.0 : 0.0;
+}
+}  // namespace
+
+TEST_CASE("compensated arc: an override step is a ramp, and at rest the radius is R") {
+  Motion m = half_circle(50.0);
+  m.end_mm = m.start_mm;  // a full circle, three turns
+  m.turns = 3;
+  const auto s = run({m}, hold_after_200);
+  // The path advance per sample changes by at most 50/41 mm/s·T = 0.0049 mm per sample.
+  double prev_adv = 0.0;
+  double angle_prev = std::atan2(0.0, -5.0);
+  int still = 0;
+  for (std::size_t k = 0; k < s.size() && k < 400; ++k) {
+    const double a = std::atan2(s[k].pos_blu[1] * 0.001, s[k].pos_blu[0] * 0.001 - 5.0);
+    double d = a - angle_prev;
+    while (d < -kPi) d += 2 * kPi;
+    while (d > kPi) d -= 2 * kPi;
+    angle_prev = a;
+    const double adv = std::abs(d) * 5.0;  // mm along the circle (radius changes aside)
+    CAPTURE(k, adv, prev_adv);
+    CHECK(std::abs(adv - prev_adv) <= 0.2 / 41.0 + 0.002);  // + rounding of two samples
+    prev_adv = adv;
+    if (k > 250) {
+      ++still;
+      CHECK(adv == Approx(0.0).margin(1e-9));                      // held
+      CHECK(radius_of(s[k], 5, 0) == Approx(5.0).margin(0.0011));  // c(0) = 0
+    }
+  }
+  CHECK(still > 100);
+}
+
+TEST_CASE("compensated helix in G18: the correction is radial in ZX, Y follows its lead") {
+  // XZ plane: in-plane axes (Z, X), normal Y. Centre (0, 0, 4), from (0,0,0) round to (0,0,8)
+  // with 6 mm of Y.
+  Motion m;
+  m.kind = gm::MotionKind::Arc;
+  m.plane = gm::Plane::XZ;
+  m.start_mm = xyz(0, 0, 0);
+  m.end_mm = xyz(0, 6, 8);
+  m.center_mm = xyz(0, 0, 4);
+  m.ccw = true;
+  m.feed_mm_min = 3000;
+  m.comp_speed_mm_s = 50.0;
+  const auto s = run({m}, full);
+  const double th = kPi, R = 4.0, L = std::hypot(R * th, 6.0);
+  const double c = correction_mm(R, 50.0 * th / L * 0.004);
+  int steady = 0;
+  for (std::size_t k = 0; k + 1 < s.size(); ++k) {
+    const double x = s[k].pos_blu[0] * 0.001, y = s[k].pos_blu[1] * 0.001,
+                 z = s[k].pos_blu[2] * 0.001;
+    const double r = std::hypot(x, z - 4.0);
+    const double frac = y / 6.0;  // Y is linear in the path fraction
+    const double s_mm = frac * L;
+    if (s_mm > 42 * 50.0 * 0.004 && s_mm < L - 0.4) {  // past the ramp and the blend
+      ++steady;
+      CHECK(r == Approx(R + c).margin(0.0012));
+      // The point lies on the ray of its path fraction (radial correction only).
+      const double ang = frac * th;
+      // Half a BLU in Y moves the angle by π·0.0005/6, in Z and X by 0.0005·√2/R.
+      CHECK(std::atan2(-x, -(z - 4.0)) == Approx(ang).margin(0.0006));
+    }
+  }
+  CHECK(steady > 20);
+  CHECK(s.back().pos_blu == gm::blu3(0, 6000, 8000));
+}

@@ -1,0 +1,121 @@
+// Pre-compensated arcs: A(ωT) and R/A against the real FIR, the table, the planner's check.
+#include "accdec/fir_filter.hpp"
+#include "accdec/taps.hpp"
+#include "interpolator/arc_compensation.hpp"
+#include "planner/arc_precomp.hpp"
+#include "planner/filter_moments.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::vector<double> weights(const gm::Taps& t) {
+  std::vector<double> h;
+  for (auto b : t.integer) h.push_back(static_cast<double>(b) / static_cast<double>(t.b_s));
+  return h;
+}
+
+}  // namespace
+
+TEST_CASE("A(ωT): a moving average's closed form by hand, and the table", "[arc-precomp]") {
+  // n equal taps: A(x) = sin(n·x/2) / (n·sin(x/2)) (Dirichlet kernel).
+  const gm::Taps lin = gm::design_taps("linear", 0.1, 0.004);  // 25 taps
+  const gm::FilterMoments f(lin, 0.004);
+  const gm::ArcCompensation rule(weights(lin), 0.004);
+  REQUIRE(f.symmetric());
+  REQUIRE(rule.enabled());
+  for (double x : {0.01, 0.03, 0.08, 0.2}) {
+    const double dirichlet = std::sin(25.0 * x / 2.0) / (25.0 * std::sin(x / 2.0));
+    CHECK(f.amplitude(x) == Approx(dirichlet).epsilon(1e-12));
+    CHECK(rule.gain_exact(x) == Approx(dirichlet).epsilon(1e-12));
+  }
+  CHECK(rule.gain_exact(rule.limit_omega_t()) ==
+        Approx(gm::ArcCompensation::kMinGain).margin(1e-12));
+  for (int k = 0; k <= 100; ++k) {
+    const double x = rule.limit_omega_t() * k / 100.3;
+    CHECK(rule.gain(x) == Approx(rule.gain_exact(x)).margin(1e-6));
+  }
+  CHECK(rule.gain(10.0) == Approx(gm::ArcCompensation::kMinGain).margin(1e-12));  // clamped
+  CHECK(f.compensated_radius_mm(2.0, 0.08) == Approx(2.0 / f.amplitude(0.08)).epsilon(1e-15));
+  // Blend: linear in and out over ℓ = 2 samples of travel, never more than half the arc.
+  CHECK(rule.blend_length_mm(10.0, 50.0) == Approx(2 * 0.004 * 50.0));
+  CHECK(rule.blend_length_mm(0.5, 50.0) == Approx(0.25));
+  CHECK(gm::ArcCompensation::blend(0.0, 10.0, 0.8) == 0.0);
+  CHECK(gm::ArcCompensation::blend(0.2, 10.0, 0.8) == Approx(0.25));
+  CHECK(gm::ArcCompensation::blend(5.0, 10.0, 0.8) == 1.0);
+  CHECK(gm::ArcCompensation::blend(9.6, 10.0, 0.8) == Approx(0.5));
+  CHECK(gm::ArcCompensation::blend(10.0, 10.0, 0.8) == 0.0);
+  // An asymmetric filter is not compensated.
+  CHECK_FALSE(gm::ArcCompensation({0.5, 0.3, 0.2}, 0.004).enabled());
+  CHECK_FALSE(gm::FilterMoments(std::vector<double>{0.5, 0.3, 0.2}, 0.004).symmetric());
+}
+
+TEST_CASE("a steady circle commanded on R/A(ωT) leaves the real FIR on R within 2 BLU",
+          "[arc-precomp]") {
+  for (const char* prof : {"linear", "blackman"}) {
+    const gm::Taps t = gm::design_taps(prof, 0.164, 0.004);
+    const gm::FilterMoments f(t, 0.004);
+    const gm::ArcCompensation rule(weights(t), 0.004);
+    const double near_limit = 0.97 * rule.limit_omega_t();
+    for (double wT : {0.01, 0.03, 0.08, near_limit}) {
+      const double R = 2.0e6;  // BLU (2 m at 1 µm)
+      const double Rc = f.compensated_radius_mm(R, wT);
+      gm::FirAccDec fir(t, gm::AxisBlu::Zero());
+      gm::AxisBlu in = gm::AxisBlu::Zero(), out;
+      double lo = 1e300, hi = -1e300;
+      const int n = static_cast<int>(t.integer.size());
+      const int samples = static_cast<int>(4 * kPi / wT) + 3 * n;
+      for (int k = 0; k < samples; ++k) {
+        in[0] = std::llround(Rc * std::cos(wT * k));
+        in[1] = std::llround(Rc * std::sin(wT * k));
+        fir.step(in, out);
+        if (k > 2 * n) {
+          const double r = std::hypot(static_cast<double>(out[0]), static_cast<double>(out[1]));
+          lo = std::min(lo, r);
+          hi = std::max(hi, r);
+        }
+      }
+      CAPTURE(prof, wT, Rc - R);
+      CHECK(Rc - R > (wT < 0.02 ? 50.0 : 1000.0));  // the correction is far above the rounding
+      CHECK(lo >= R - 2.0);
+      CHECK(hi <= R + 2.0);
+      // The interpolator's correction from the table: R·(1/A − 1).
+      CHECK(rule.correction_mm(R, wT / 0.004) == Approx(Rc - R).margin(1e-6 * R));  // table
+    }
+  }
+}
+
+TEST_CASE("the planner's check: steady arcs cost nothing, the transitions a fraction of κV²σ²/2",
+          "[arc-precomp]") {
+  const gm::Taps t = gm::design_taps("blackman", 0.164, 0.004);
+  const gm::FilterMoments f(t, 0.004);
+  const gm::ArcPrecompCheck check(weights(t), 0.004);
+  REQUIRE(check.enabled());
+  // R 2 mm, a half turn, F3000 (50 mm/s): uncompensated the steady loss is R(1 − A).
+  const double R = 2.0, th = kPi, L = R * th, v = 50.0;
+  const double loss = R * (1.0 - f.amplitude(v * 0.004 / R));
+  const double bound = v * v * f.variance_s2() / (2.0 * R);
+  CHECK(loss <= bound);
+  const double iso = check.isolated_mm(R, th, L, v, v, 0.25);
+  const double ramp = check.ramp_mm(R, th, L, v);
+  CAPTURE(loss, bound, iso, ramp);
+  CHECK(iso < 0.25 * loss);  // 21 %
+  CHECK(ramp < 0.1 * loss);  // 6 %
+  CHECK(check.error_mm(R, th, L, v) >= iso + ramp);
+  // A helix of the same circle (L longer by its lead) at the same in-plane rate: the same term.
+  const double Lh = std::hypot(L, 3.0), vh = v * Lh / L;
+  CHECK(check.isolated_mm(R, th, Lh, vh, vh, 0.25) == Approx(iso).epsilon(1e-9));
+  // The speed limit: A(ωT) = kMinGain at ω = v·|θ|/L; on the default machine ωT ≈ 0.21, about
+  // 52 mm/s on R 1 mm (docs/tolerance.md).
+  const double vlim = check.speed_limit_mm_s(th, L);
+  WARN("A = 0.5 at ωT = " << check.rule().limit_omega_t());
+  CHECK(check.rule().limit_omega_t() > 0.20);
+  CHECK(check.rule().limit_omega_t() < 0.22);
+  CHECK(f.amplitude(vlim * th / L * 0.004) == Approx(gm::ArcCompensation::kMinGain).margin(1e-9));
+}
