@@ -195,8 +195,9 @@ void Pipeline::stages_n(SampleBlock& b, int first, int count) {
   unstaged_ -= count;
 }
 
-#define GM_PIPELINE_STEP_N(N)                                                               \
-  template PipelineStatus Pipeline::command_n<N>(const OverrideInput& ovr, SampleBlock& b); \
+#define GM_PIPELINE_STEP_N(N)                                                                  \
+  template PipelineStatus Pipeline::command_n<N>(const OverrideInput& ovr, SampleBlock& b);    \
+  template int Pipeline::command_span_n<N>(const OverrideInput& ovr, SampleBlock& b, int max); \
   template void Pipeline::stages_n<N>(SampleBlock & b, int first, int count);
 GM_FOR_EACH_AXIS_COUNT(GM_PIPELINE_STEP_N)
 #undef GM_PIPELINE_STEP_N
