@@ -75,7 +75,11 @@ void TolerancePlanner::pull() {
   const Block* prev = window_.size() >= 2 ? &window_[window_.size() - 2] : nullptr;
   if (prev != nullptr) add_corner(*prev, b);
   if (b.m.kind == MotionKind::Arc) end_run();
-  if (b.m.kind == MotionKind::Arc && b.m.path_tolerance_mm > 0.0) push_element(arc_element(b));
+  if (b.m.kind == MotionKind::Arc && b.m.path_tolerance_mm > 0.0) {
+    Element e = arc_element(b);
+    e.split = splits(b.m);
+    push_element(e);
+  }
   // Exact stop (G61.1, G9) stops here; exact path (G61) when the next item is known.
   if (b.m.path_mode == PathMode::ExactStop) mark_stop(b);
 }
@@ -582,9 +586,10 @@ double TolerancePlanner::corner_cost_s(const Element& e, double pause_s, double 
   const double slow =
       (v > 0.0 ? std::max(0.0, side / v - side / v_ref) : kInf) / std::max(1.0, zone_count(z0, z1));
   double cost = (pause_s - e.pause0) + 2.0 * slow;
-  // An arc the zone touches takes the cap whole (arcs are not split): its slowing counts too.
+  // An arc of several turns the zone touches takes the cap whole (it is not split): its
+  // slowing counts too.
   for (const Element& f : elems_)
-    if (f.kind == ElementKind::Arc && f.s1 > z0 && f.s0 < z1 && v < f.v100)
+    if (f.kind == ElementKind::Arc && !f.split && f.s1 > z0 && f.s0 < z1 && v < f.v100)
       cost += (f.s1 - f.s0) * (1.0 / v - 1.0 / f.v100);
   return cost;
 }
@@ -664,10 +669,11 @@ void TolerancePlanner::decide_reachable(const Block& b) {
 
 void TolerancePlanner::cut_pieces(const Block& b) {
   // Pieces of the block between zone boundaries, each with the smallest cap over it.
-  const bool is_arc = b.m.kind == MotionKind::Arc;
+  // An arc of several turns is not split: it takes the smallest cap of the zones touching it.
+  const bool whole = b.m.kind == MotionKind::Arc && !splits(b.m);
   std::vector<double>& cuts = cuts_;
   cuts.assign({b.s0, b.s1});
-  if (!is_arc)
+  if (!whole)
     for (const Element& e : elems_)
       if (e.decided && e.cap < kInf)
         for (double z : {e.z0, e.z1})
@@ -686,7 +692,7 @@ void TolerancePlanner::cut_pieces(const Block& b) {
     for (const Element& e : elems_) {
       if (!e.decided || !(e.cap < kInf)) continue;
       const bool covers =
-          is_arc ? (e.z0 < c && e.z1 > a) : (e.z0 <= 0.5 * (a + c) && 0.5 * (a + c) <= e.z1);
+          whole ? (e.z0 < c && e.z1 > a) : (e.z0 <= 0.5 * (a + c) && 0.5 * (a + c) <= e.z1);
       if (covers) cap = std::min(cap, e.cap);
     }
     if (!pieces.empty() && pieces.back().cap == cap)

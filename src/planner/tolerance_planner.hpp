@@ -112,8 +112,12 @@ class TolerancePlanner : public CanonSource {
     /// A near-tangent corner (|Δu| <= kClaimTurn) may take its error at full speed as a claim
     /// instead of a share (assign_claims): claim = vmax·D(pause0)·|Δu|, no cap, no pause.
     enum class Claim : std::uint8_t { Unassigned, Claimant, Share } claim_state = Claim::Unassigned;
-    double claim = 0;  ///< Claimant: its error bound, mm
+    double claim = 0;    ///< Claimant: its error bound, mm
+    bool split = false;  ///< Arc: cut at zone boundaries like a line (splits)
   };
+  /// An arc is cut at zone boundaries into arcs of the same centre when it turns at most once
+  /// (K/P full turns: it takes the smallest cap of the zones touching it whole).
+  static bool splits(const Motion& m) { return m.kind != MotionKind::Arc || m.turns == 1; }
 
   void pull();  ///< one item from upstream into the window
   /// pull() of an item that is not a block of the path: held after the window's last block.

@@ -543,3 +543,39 @@ TEST_CASE("the planner hands on each whole block's geometry, equal to MotionGeom
     if (tolerance) REQUIRE(with_geometry < motions);  // and some cut into pieces
   }
 }
+
+TEST_CASE("an arc is cut at zone boundaries into exact arcs of the same centre") {
+  // A 90° corner into a quarter circle of R 200 (κ = 0.005/mm: at P0.3 the arc alone may run
+  // at √(2·0.298/(0.005·σ²)) = 491 mm/s, faster than F6000 at 200 %) at F6000: the corner's zone
+  // is capped lower, over some mm, so the arc is cut there and only its first piece takes the
+  // corner's cap.
+  const gm::Machine m;
+  const auto canon =
+      canon_of("G21 G90 G17 G64 P0.3\nG1 X200 Y0 F6000\nG3 X0 Y200 I-200 J0\nM2\n", m, true);
+  std::vector<gm::Motion> arc;
+  for (const auto& c : canon)
+    if (const auto* mo = std::get_if<gm::Motion>(&c); mo != nullptr && mo->line == 3)
+      arc.push_back(*mo);
+  REQUIRE(arc.size() >= 2);
+  gm::AxisVec at = gm::AxisVec::Zero();
+  at[0] = 200;
+  double swept = 0;
+  for (const gm::Motion& p : arc) {
+    CAPTURE(p.start_mm.head<2>().transpose(), p.end_mm.head<2>().transpose());
+    CHECK(p.kind == gm::MotionKind::Arc);
+    CHECK(p.ccw);
+    CHECK(p.center_mm == gm::AxisVec::Zero());
+    CHECK(p.start_mm == at);  // each piece starts where the one before it ended
+    CHECK(std::hypot(p.end_mm[0], p.end_mm[1]) == Approx(200).epsilon(1e-12));
+    swept += std::atan2(p.end_mm[1], p.end_mm[0]) - std::atan2(p.start_mm[1], p.start_mm[0]);
+    at = p.end_mm;
+  }
+  gm::AxisVec end = gm::AxisVec::Zero();
+  end[1] = 200;
+  CHECK(arc.back().end_mm == end);  // the program's end point, exactly
+  CHECK(swept == Approx(3.141592653589793 / 2).epsilon(1e-12));
+  // The first piece (near the corner) is capped below the last one.
+  const double first = arc.front().speed_cap_mm_s, last = arc.back().speed_cap_mm_s;
+  CHECK(first > 0.0);
+  CHECK((last == 0.0 || first < last));
+}
