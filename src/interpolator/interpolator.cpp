@@ -231,9 +231,10 @@ InterpStatus Interpolator::step_n(const OverrideInput& ovr, CommandSample& out) 
       in_motion_ = false;
       moved_or_waited = true;
       if (block_.path_mode != PathMode::Continuous) {
-        // Exact stop (G61.1, G9) and exact path (G61): with the Acc/Dec after interpolation the
-        // path is followed exactly only if the filter drains at the block end, so both drop the
-        // rest of this sample and hold while it does.
+        // Exact stop (G61.1, G9) and exact path (G61) at a join that is not tangent (the planner
+        // hands a G61 block with a tangent join on as continuous): with the Acc/Dec after
+        // interpolation the path is followed exactly only if the filter drains at the block end,
+        // so both drop the rest of this sample and hold while it does.
         settle_left_ = cfg_.settle_samples;
         break;
       }

@@ -16,7 +16,9 @@ enum class Plane { XY, XZ, YZ };  ///< G17, G18, G19
 /// (G61) and continuous (G64). With the Acc/Dec after interpolation a path is followed exactly
 /// only if the filter drains at each block end, so the interpolator holds the next block until
 /// the Acc/Dec output has settled in both exact modes; continuous mode runs blocks back to back
-/// and lets the filter blend the corners.
+/// and lets the filter blend the corners. Exact path passes a tangent join as LinuxCNC's does:
+/// the tolerance planner hands such a block on as Continuous, the join planned within the BLU
+/// rounding (docs/tolerance.md, "G61: exact path"); the interpreter's canon keeps ExactPath.
 enum class PathMode { ExactStop, ExactPath, Continuous };
 
 enum class MotionKind { Rapid, Line, Arc };

@@ -19,6 +19,9 @@ constexpr double kMinTurn = 1e-9;
 /// and the line before it is shorter than τ of travel. A run of fewer than kMinRunVertices
 /// vertices is planned corner by corner.
 constexpr double kRunTurn = 0.1;
+/// A corner turning by at most this (|Δu|, about 0.57°: CAM output rounded to 3 decimals turns
+/// 0 to 0.13° at joins meant to be tangent) may claim its error at full speed (assign_claims).
+constexpr double kClaimTurn = 0.01;
 constexpr int kMinRunVertices = 3;
 constexpr double kRunDeltaShare = 4.0;
 
@@ -63,20 +66,74 @@ const std::vector<double>& TolerancePlanner::grid_d() {
 void TolerancePlanner::pull() {
   if (!merger_.next(scratch_)) {
     ended_ = true;
+    end_exact_path(nullptr, nullptr);
     return;
   }
   const Motion* m = std::get_if<Motion>(&scratch_);
   if (m != nullptr) pulled_g_ = BlockGeometry::of(*m);
   if (m == nullptr || !(pulled_g_.length_mm > 0.0)) {  // not a block of the path
+    end_exact_path(nullptr, nullptr);
     hold_after_last();
     return;
   }
+  end_exact_path(m, &pulled_g_);
   Block& b = push_block(*m);
   const Block* prev = window_.size() >= 2 ? &window_[window_.size() - 2] : nullptr;
   if (prev != nullptr) add_corner(*prev, b);
   if (b.m.kind == MotionKind::Arc) end_run();
-  if (b.m.kind == MotionKind::Arc && b.m.path_tolerance_mm > 0.0) push_element(arc_element(b));
-  if (b.m.path_mode != PathMode::Continuous) mark_stop(b);
+  if (b.m.kind == MotionKind::Arc && b.m.path_tolerance_mm > 0.0) {
+    Element e = arc_element(b);
+    e.split = splits(b.m);
+    push_element(e);
+  }
+  // Exact stop (G61.1, G9) stops here; exact path (G61) when the next item is known.
+  if (b.m.path_mode == PathMode::ExactStop) mark_stop(b);
+}
+
+void TolerancePlanner::end_exact_path(const Motion* next, const BlockGeometry* next_g) {
+  if (window_.empty()) return;
+  Block& last = window_.back();
+  if (last.m.path_mode != PathMode::ExactPath || last.stop_after || last.tangent_exit) return;
+  if (next != nullptr && last.after.empty() && exact_path_passes(last, *next, *next_g))
+    last.tangent_exit = true;
+  else
+    mark_stop(last);
+}
+
+bool TolerancePlanner::exact_path_passes(const Block& prev, const Motion& next,
+                                         const BlockGeometry& next_g) const {
+  // LinuxCNC (src/emc/tp/tp.c, tpSetupTangent, and handleModeChange before it): no tangency
+  // between a rapid and a feed move, with a rotary axis moving, or at a reversal within 2°.
+  // Otherwise the velocity step v·(u2 − u1) at the join, taken within one period T, must
+  // accelerate each axis by less than the kink ratio 0.1 of its acceleration limit a:
+  // max_i |u2_i − u1_i|·(v/T + a)/a < 0.1, halved (BLEND_ACC_RATIO_TANGENTIAL 0.5) when an arc
+  // takes part; v is the slower of the two blocks at the largest override. Here a is the
+  // filter's mean acceleration to the rapid speed, V_rapid/τ (610 mm/s² on the default machine),
+  // the same on every axis, and T the interpolation period.
+  if ((prev.m.kind == MotionKind::Rapid) != (next.kind == MotionKind::Rapid)) return false;
+  constexpr int kLinear = 3;
+  const AxisVec d_prev = prev.m.end_mm - prev.m.start_mm, d_next = next.end_mm - next.start_mm;
+  if (d_prev.tail<kMaxAxes - kLinear>().cwiseAbs().maxCoeff() > 0.0 ||
+      d_next.tail<kMaxAxes - kLinear>().cwiseAbs().maxCoeff() > 0.0)
+    return false;
+  const AxisVec u1 = prev.g.tangent_at_fraction(1.0), u2 = next_g.tangent_at_fraction(0.0);
+  constexpr double kSharpCornerRad = 2.0 * 3.14159265358979323846 / 180.0;
+  if ((u1 + u2).squaredNorm() < kSharpCornerRad * kSharpCornerRad) return false;
+  const double v_next = speed_at_100_mm_s(next, next_g.length_mm) * cfg_.max_override;
+  // An arc keeps today's G61 (full feed, the filter's steady shrink κ·V²·σ²/2): one at least τ
+  // of travel long reaches that shrink between stops as well, so passing its joins adds nothing
+  // to its error; a shorter one (a fillet) passed at speed would be blended like a corner of its
+  // whole turn, so its joins stop.
+  const double tau = filter_.tau_s();
+  if (prev.m.kind == MotionKind::Arc && prev.g.length_mm < prev.vmax * tau) return false;
+  if (next.kind == MotionKind::Arc && next_g.length_mm < v_next * tau) return false;
+  const double v = std::min(prev.vmax, v_next);
+  const double a = units::mm_min_to_mm_s(cfg_.rapid_mm_min) / tau;
+  const double a_inst = v / filter_.period_s() + a;
+  double scale = (u2 - u1).cwiseAbs().maxCoeff() * a_inst / a;
+  constexpr double kTangentialAccRatio = 0.5, kKinkRatio = 0.1;
+  if (prev.m.kind == MotionKind::Arc || next.kind == MotionKind::Arc) scale /= kTangentialAccRatio;
+  return scale < kKinkRatio;
 }
 
 void TolerancePlanner::hold_after_last() {
@@ -116,6 +173,7 @@ TolerancePlanner::Block& TolerancePlanner::push_block(const Motion& m) {
   b.dwell_after_s = 0.0;
   b.stop_after = false;
   b.forced_stop = false;
+  b.tangent_exit = false;
   const double L = g.length_mm;
   b.v100 = speed_at_100_mm_s(m, L);
   b.vmax = b.v100 * cfg_.max_override;
@@ -141,7 +199,9 @@ TolerancePlanner::Block& TolerancePlanner::push_block(const Motion& m) {
 }
 
 void TolerancePlanner::add_corner(const Block& prev, const Block& b) {
-  const double tol = min_positive(prev.m.path_tolerance_mm, b.m.path_tolerance_mm);
+  double tol = min_positive(prev.m.path_tolerance_mm, b.m.path_tolerance_mm);
+  // A tangent G61 join rounds by no more than the BLU rounding does: planned within it.
+  if (prev.tangent_exit) tol = min_positive(tol, exact_path_tolerance());
   // The turn matters to a corner with a tolerance, and without one only to a run of small turns
   // being gathered (it ends the run); otherwise its tangents are not computed.
   if (prev.stop_after || !(tol > 0.0 || run_.open || run_.vertices > 0)) return;
@@ -280,8 +340,11 @@ bool TolerancePlanner::lookahead_enough() const {
   const double tau = filter_.tau_s();
   const Block& f = window_.front();
   double need = f.t1 + 2.0 * tau;
+  // Near-tangent corners waiting for their claim (assign_claims, through τ past a decision)
+  // need the blocks within τ after them.
+  const double reach = claim_candidates_ > 0 ? 2.0 * tau : tau;
   for (const Element& e : elems_)
-    if (!e.decided && e.t0 < f.t1 + tau) need = std::max(need, e.t1 + tau);
+    if (!e.decided && e.t0 < f.t1 + tau) need = std::max(need, e.t1 + reach);
   // A chunk being gathered spans at most τ: it is closed before it is needed.
   if (run_.open && run_.chunk.t0 < f.t1 + tau) need = std::max(need, run_.chunk.t0 + 2.0 * tau);
   return window_.back().t1 >= need;
@@ -342,6 +405,9 @@ void TolerancePlanner::push_element(Element e) {
     e.weight = e.kind == ElementKind::Arc ? 1.0 : e.turn;
   e.cum = weight_total_;
   weight_total_ += e.weight;
+  e.claim_state = Element::Claim::Unassigned;
+  e.claim = 0.0;
+  if (e.kind == ElementKind::Corner && e.turn <= kClaimTurn) ++claim_candidates_;
   elems_.push_back(e);
 }
 
@@ -387,7 +453,51 @@ double TolerancePlanner::tolerance_near(const Element& e) const {
   return tol;
 }
 
+void TolerancePlanner::assign_claims(double t_until) {
+  const double tau = filter_.tau_s();
+  for (; claim_cursor_ < elems_.size() && elems_[claim_cursor_].t0 <= t_until; ++claim_cursor_) {
+    Element& g = elems_[claim_cursor_];
+    if (g.claim_state != Element::Claim::Unassigned) continue;
+    g.claim_state = Element::Claim::Share;
+    if (!(g.kind == ElementKind::Corner && g.turn <= kClaimTurn)) continue;
+    --claim_candidates_;
+    // The claim must hold against the tolerance of every block the filter holds g in: those
+    // blocks must be in the window.
+    if (!ended_ && window_.back().t1 < g.t1 + tau) continue;
+    const double tol = tolerance_near(g);
+    const double share = share_of(tol) - reserve_of(tol);
+    // Claims active with g lie within τ of it; those after g are assigned after it and count g.
+    double claims = g.vmax * filter_.corner_moment_s(g.pause0) * g.turn;
+    for (std::size_t i = claim_cursor_; i-- > 0 && elems_[i].t1 >= g.t0 - tau;)
+      if (elems_[i].claim_state == Element::Claim::Claimant) claims += elems_[i].claim;
+    if (claims > 0.5 * share) continue;
+    g.claim_state = Element::Claim::Claimant;
+    g.claim = g.vmax * filter_.corner_moment_s(g.pause0) * g.turn;
+    ++claimants_;
+  }
+}
+
+double TolerancePlanner::zone_claims(double z0, double z1) const {
+  if (claimants_ == 0) return 0.0;
+  const double tau = filter_.tau_s();
+  auto first = std::lower_bound(elems_.begin(), elems_.end(), z0 - 1e-9,
+                                [](const Element& f, double z) { return f.s1 <= z; });
+  auto last = std::lower_bound(first, elems_.end(), z1 + 1e-9,
+                               [](const Element& f, double z) { return f.s0 < z; });
+  double best = 0.0, sum = 0.0;
+  auto lo = first;
+  for (auto it = first; it != last; ++it) {
+    if (it->claim_state != Element::Claim::Claimant) continue;
+    sum += it->claim;
+    for (; lo->t1 < it->t0 - tau; ++lo)
+      if (lo->claim_state == Element::Claim::Claimant) sum -= lo->claim;
+    best = std::max(best, sum);
+  }
+  return best;
+}
+
 void TolerancePlanner::decide(Element& e) {
+  assign_claims(e.t1 + filter_.tau_s());
   const double tol = tolerance_near(e);
   const double share = share_of(tol) - reserve_of(tol);
   // Sharing: an element f whose contribution overlaps e's in time lies in e's zone (the speed
@@ -399,9 +509,16 @@ void TolerancePlanner::decide(Element& e) {
   // load(v) <= share, by bisection (largest_speed_within).
   e.decided = true;
   e.cap = kInf;
+  if (e.claim_state == Element::Claim::Claimant) {  // its claim is counted by every neighbour
+    e.pause = e.pause0;
+    e.z0 = e.z1 = e.s0;
+    return;
+  }
+  // Every other element takes the claims that can be active beside it off its share:
+  // (share − claims)·w_e/W_e, so that with the claimants any instant stays within the share.
   switch (e.kind) {
     case ElementKind::Arc:
-      decide_arc(e, share);
+      decide_arc_beside_claims(e, share);
       return;
     case ElementKind::Run:
       decide_run(e, share);
@@ -455,6 +572,18 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
   return lo;
 }
 
+void TolerancePlanner::decide_arc_beside_claims(Element& e, double share) const {
+  decide_arc(e, share);
+  if (claimants_ == 0) return;
+  // The claims within the zone of the cap found without them: the final cap is no faster, so
+  // its zone holds no more of them.
+  const double tau = filter_.tau_s();
+  const double v0 = e.cap < kInf ? e.cap : e.vmax;
+  const double claims = zone_claims(e.s0 - v0 * tau, e.s1 + v0 * tau);
+  if (!(claims > 0.0)) return;
+  decide_arc(e, std::max(share - claims, 0.25 * share));
+}
+
 void TolerancePlanner::decide_run(Element& e, double share) const {
   const double tau = filter_.tau_s();
   // (κ·v²·σ²/2 + δ·v·M₁)·W <= share, κ and δ the largest of the run's chunks within reach (a
@@ -471,7 +600,8 @@ void TolerancePlanner::decide_run(Element& e, double share) const {
     const double z0 = e.s0 - v * tau, z1 = e.s1 + v * tau;
     const double w = zone_weight(z0, z1) - same_run_weight(e, z0, z1) + e.weight;
     return (0.5 * kappa * v * v * filter_.variance_s2() + delta * v * filter_.abs_moment_s()) * w /
-           e.weight;  // error <= share·w_e/W
+               e.weight +
+           zone_claims(z0, z1);  // error <= (share − claims)·w_e/W
   };
   const double v = largest_speed_within(e.vmax, share, load);
   if (v < e.vmax) e.cap = v;
@@ -483,7 +613,9 @@ double TolerancePlanner::corner_cost_s(const Element& e, double pause_s, double 
                                        double v_ref, double& v) const {
   const double zt = std::max(filter_.zone_floor_s(), filter_.tau_s() - pause_s);
   auto weight = [&](double s) { return zone_weight(e.s0 - s * zt, e.s1 + s * zt); };
-  auto load = [&](double s) { return s * d * weight(s); };
+  auto load = [&](double s) {
+    return s * d * weight(s) + zone_claims(e.s0 - s * zt, e.s1 + s * zt);
+  };
   v = d > 0.0 ? largest_speed_within(e.vmax, share, load) : e.vmax;
   // The slowing is shared by the elements in the zone (a run of short segments slows once);
   // the pause is e's alone.
@@ -494,9 +626,10 @@ double TolerancePlanner::corner_cost_s(const Element& e, double pause_s, double 
   const double slow =
       (v > 0.0 ? std::max(0.0, side / v - side / v_ref) : kInf) / std::max(1.0, zone_count(z0, z1));
   double cost = (pause_s - e.pause0) + 2.0 * slow;
-  // An arc the zone touches takes the cap whole (arcs are not split): its slowing counts too.
+  // An arc of several turns the zone touches takes the cap whole (it is not split): its
+  // slowing counts too.
   for (const Element& f : elems_)
-    if (f.kind == ElementKind::Arc && f.s1 > z0 && f.s0 < z1 && v < f.v100)
+    if (f.kind == ElementKind::Arc && !f.split && f.s1 > z0 && f.s0 < z1 && v < f.v100)
       cost += (f.s1 - f.s0) * (1.0 / v - 1.0 / f.v100);
   return cost;
 }
@@ -538,8 +671,10 @@ void TolerancePlanner::decide_corner(Element& e, double share) {
 void TolerancePlanner::emit_front() {
   const double tau = filter_.tau_s();
   if (!ended_ && window_.size() >= cfg_.capacity && !window_.back().stop_after) {
-    mark_stop(window_.back());
-    window_.back().forced_stop = true;
+    Block& last = window_.back();
+    const bool exact_path = last.m.path_mode == PathMode::ExactPath && !last.tangent_exit;
+    mark_stop(last);
+    last.forced_stop = !exact_path;  // an exact-path end stops as it is
   }
   Block& b = window_.front();
   decide_reachable(b);
@@ -554,8 +689,10 @@ void TolerancePlanner::emit_front() {
   window_.pop_front();
   // Elements that can no longer reach a block still to come, nor be counted by one.
   const double keep_from = window_.empty() ? kInf : window_.front().t0 - 2.0 * tau;
-  while (!elems_.empty() && elems_.front().decided && elems_.front().t1 < keep_from)
+  while (!elems_.empty() && elems_.front().decided && elems_.front().t1 < keep_from) {
     elems_.pop_front();
+    if (claim_cursor_ > 0) --claim_cursor_;
+  }
 }
 
 void TolerancePlanner::decide_reachable(const Block& b) {
@@ -572,10 +709,16 @@ void TolerancePlanner::decide_reachable(const Block& b) {
 
 void TolerancePlanner::cut_pieces(const Block& b) {
   // Pieces of the block between zone boundaries, each with the smallest cap over it.
-  const bool is_arc = b.m.kind == MotionKind::Arc;
+  // An arc of several turns is not split: it takes the smallest cap of the zones touching it.
+  // Nor is a pre-compensated arc: its correction blends in and out at its ends only, which its
+  // plan (precomp_arc_speed) judged.
+  bool whole = b.m.kind == MotionKind::Arc && !splits(b.m);
+  if (b.m.kind == MotionKind::Arc)
+    for (const Element& e : elems_)
+      if (e.kind == ElementKind::Arc && e.seq == b.seq && e.comp_speed > 0.0) whole = true;
   std::vector<double>& cuts = cuts_;
   cuts.assign({b.s0, b.s1});
-  if (!is_arc)
+  if (!whole)
     for (const Element& e : elems_)
       if (e.decided && e.cap < kInf)
         for (double z : {e.z0, e.z1})
@@ -594,7 +737,7 @@ void TolerancePlanner::cut_pieces(const Block& b) {
     for (const Element& e : elems_) {
       if (!e.decided || !(e.cap < kInf)) continue;
       const bool covers =
-          is_arc ? (e.z0 < c && e.z1 > a) : (e.z0 <= 0.5 * (a + c) && 0.5 * (a + c) <= e.z1);
+          whole ? (e.z0 < c && e.z1 > a) : (e.z0 <= 0.5 * (a + c) && 0.5 * (a + c) <= e.z1);
       if (covers) cap = std::min(cap, e.cap);
     }
     if (!pieces.empty() && pieces.back().cap == cap)
@@ -651,9 +794,11 @@ void TolerancePlanner::emit_pieces(const Block& b) {
       if (b.m.inverse_time_s > 0.0) p.inverse_time_s = b.m.inverse_time_s * (q.c - q.a) / L;
     }
     if (q.cap < b.vmax * (1.0 - 1e-12)) p.speed_cap_mm_s = q.cap;
-    if (b.m.kind == MotionKind::Arc)  // arcs are handed on whole
+    if (b.m.kind == MotionKind::Arc)  // a compensated arc is handed on whole (cut_pieces)
       for (const Element& e : elems_)
         if (e.kind == ElementKind::Arc && e.seq == b.seq) p.comp_speed_mm_s = e.comp_speed;
+    // Only the block's end stops (G61.1, G9, G61 at a join that is not tangent).
+    if (i + 1 < pieces.size() || b.tangent_exit) p.path_mode = PathMode::Continuous;
   }
 }
 

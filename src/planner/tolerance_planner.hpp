@@ -10,6 +10,7 @@
 #include "planner/filter_moments.hpp"
 #include "planner/naive_cam.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -84,6 +85,9 @@ class TolerancePlanner : public CanonSource {
     double dwell_after_s = 0;  ///< dwells in `after`
     bool stop_after = false;   ///< the filter drains after it (exact stop, forced stop)
     bool forced_stop = false;  ///< the planner adds the stop (window full)
+    /// G61 (exact path): the join to the next block is tangent (exact_path_passes), so the
+    /// block is handed on as continuous and the join planned as a corner within the rounding.
+    bool tangent_exit = false;
   };
   /// What an element of the path is; the fields marked with kinds apply to those only.
   enum class ElementKind {
@@ -115,7 +119,15 @@ class TolerancePlanner : public CanonSource {
     double radius = 0;      ///< Arc: radius, mm (0: not a circle, never compensated)
     double sweep = 0;       ///< Arc: |θ|, rad
     double comp_speed = 0;  ///< Arc: > 0 when compensated, the speed it was planned for, mm/s
+    /// A near-tangent corner (|Δu| <= kClaimTurn) may take its error at full speed as a claim
+    /// instead of a share (assign_claims): claim = vmax·D(pause0)·|Δu|, no cap, no pause.
+    enum class Claim : std::uint8_t { Unassigned, Claimant, Share } claim_state = Claim::Unassigned;
+    double claim = 0;    ///< Claimant: its error bound, mm
+    bool split = false;  ///< Arc: cut at zone boundaries like a line (splits)
   };
+  /// An arc is cut at zone boundaries into arcs of the same centre when it turns at most once
+  /// (K/P full turns: it takes the smallest cap of the zones touching it whole).
+  static bool splits(const Motion& m) { return m.kind != MotionKind::Arc || m.turns == 1; }
 
   void pull();  ///< one item from upstream into the window
   /// pull() of an item that is not a block of the path: held after the window's last block.
@@ -128,8 +140,16 @@ class TolerancePlanner : public CanonSource {
   static Element corner_element(const Block& prev, const Block& b, double turn, double tol);
   static Element arc_element(const Block& b);
   void mark_stop(Block& b);  ///< the filter drains after b (and the overshoot is planned for)
+  /// G61: the window's last block, when it is exact path and its end is not yet decided, either
+  /// passes a tangent join to `next` (a block of the path) or stops (next == nullptr: anything
+  /// else follows, or nothing).
+  void end_exact_path(const Motion* next, const BlockGeometry* next_g);
+  /// LinuxCNC's tangency (tpSetupTangent): the kink's acceleration within a tenth of the machine's.
+  bool exact_path_passes(const Block& prev, const Motion& next, const BlockGeometry& next_g) const;
   /// Tolerance `tol` less the rounding, and the part of it kept for speed_error_s.
   double share_of(double tol) const;
+  /// What a tangent G61 join is planned within: the rounding margin (share_of gives it whole).
+  double exact_path_tolerance() const { return std::max(cfg_.rounding_mm, 1e-6); }
   double reserve_of(double tol) const;
   bool lookahead_enough() const;
   /// The cap, zone and (corners) pause of e within its share of the tolerance.
@@ -139,6 +159,8 @@ class TolerancePlanner : public CanonSource {
   /// The cap of arc e pre-compensated within `share`, mm/s: `floor` (the curvature bound's
   /// cap) or less when compensating is no faster.
   double precomp_arc_speed(const Element& e, double share, double floor) const;
+  /// decide_arc with the claims beside the arc taken off its share.
+  void decide_arc_beside_claims(Element& e, double share) const;
   void decide_run(Element& e, double share) const;
   void decide_corner(Element& e, double share);
   /// Time a corner costs with a pause of pause_s (D(pause) = d): the pause added plus the
@@ -149,6 +171,12 @@ class TolerancePlanner : public CanonSource {
   double zone_fwd(double s_from, double time_s, double cap) const;
   double zone_weight(double z0, double z1) const;
   double zone_count(double z0, double z1) const;
+  /// Near-tangent corners: claimants are assigned in path order through time `t_until`; a
+  /// claimant's claims within τ (either side) stay within half its share.
+  void assign_claims(double t_until);
+  /// The largest sum of claims within τ of each other among the claimants in [z0, z1]: what can
+  /// be active at one instant beside an element with that zone, taken off its share.
+  double zone_claims(double z0, double z1) const;
   void push_element(Element e);
   const std::vector<double>& grid_d();  ///< grid_d_, built on first use
   /// Hands on the window's front block: as pieces with their caps, then its pauses and what
@@ -207,6 +235,9 @@ class TolerancePlanner : public CanonSource {
   PendingRun run_;
   std::uint64_t runs_ = 0;
   std::optional<ArcPrecompCheck> precomp_;  ///< set when arcs may be pre-compensated
+  std::size_t claim_cursor_ = 0;            ///< elems_[0, claim_cursor_) have their claim assigned
+  std::uint64_t claimants_ = 0;             ///< claimants so far (none: zone_claims is 0 at once)
+  std::uint64_t claim_candidates_ = 0;      ///< near-tangent corners pushed, not yet assigned
 };
 
 }  // namespace gm

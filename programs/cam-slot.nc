@@ -1,0 +1,34 @@
+%
+(cam-slot.nc: exact path G61 on a CAM-style part, 3-decimal coordinates: a slot with R 2.5 ends,)
+(a plate with R 5 corners whose sides are split in two at tabs, and a sharp-cornered notch;)
+(the line-arc-line joins are tangent, the notch's corners are not)
+G21 G90 G17 G61
+G0 Z5.000
+G0 X11.288 Y7.857
+G1 Z-1.000 F300
+G1 X28.431 Y18.158 F1200
+G3 X25.856 Y22.444 I-1.288 J2.143
+G1 X8.712 Y12.143
+G3 X11.288 Y7.857 I1.288 J-2.143
+G0 Z5.000
+G0 X43.960 Y6.891
+G1 Z-1.000 F300
+G3 X49.891 Y3.040 I4.891 J1.040 F1200
+G1 X62.607 Y5.742
+G1 X75.323 Y8.445
+G3 X79.174 Y14.376 I-1.040 J4.891
+G1 X77.926 Y20.244
+G1 X76.679 Y26.113
+G3 X70.749 Y29.965 I-4.891 J-1.040
+G1 X58.033 Y27.262
+G1 X45.317 Y24.559
+G3 X41.466 Y18.629 I1.040 J-4.891
+G1 X42.089 Y15.694
+G1 X45.024 Y16.318
+G1 X46.271 Y10.449
+G1 X43.337 Y9.825
+G1 X43.960 Y6.891
+G0 Z5.000
+G0 X0.000 Y0.000
+M2
+%
