@@ -197,7 +197,8 @@ void Pipeline::stages_n(SampleBlock& b, int first, int count) {
 
 #define GM_PIPELINE_STEP_N(N)                                                               \
   template PipelineStatus Pipeline::command_n<N>(const OverrideInput& ovr, SampleBlock& b); \
-  template void Pipeline::stages_n<N>(SampleBlock & b, int first, int count);
+  template void Pipeline::stages_n<N>(SampleBlock & b, int first, int count);               \
+  template int Pipeline::command_span_n<N>(const OverrideInput& ovr, SampleBlock& b, int max);
 GM_FOR_EACH_AXIS_COUNT(GM_PIPELINE_STEP_N)
 #undef GM_PIPELINE_STEP_N
 
