@@ -42,6 +42,13 @@ struct AxisConfig {
   double kp_1_s = 30.0;       ///< position-loop gain, 1/s
   double backlash_blu = 0.0;  ///< lost motion (off by default)
   double coulomb_N = 0.0;     ///< Coulomb friction (off by default)
+  /// Velocity feedforward (LinuxCNC's pid FF1, its output a velocity in position units per
+  /// second): the velocity command gets ff1 × the reference's velocity, its backward difference
+  /// over T. 1 = the whole velocity (no velocity lag in a P loop); 0 (default) = the paper's loop.
+  double ff1 = 0.0;
+  /// Acceleration feedforward (LinuxCNC's pid FF2), s: the velocity command gets ff2_s × the
+  /// reference's acceleration, its second backward difference over T. 0 by default.
+  double ff2_s = 0.0;
   /// The axis's own Acc/Dec ([axes.<letter>.accdec], axes past X, Y and Z only): profile spec and
   /// τ; "" and 0 take the machine's [accdec]. X, Y and Z share one filter, which the contour
   /// error and the tolerance planner assume.
