@@ -49,6 +49,11 @@ struct AxisConfig {
   /// Acceleration feedforward (LinuxCNC's pid FF2), s: the velocity command gets ff2_s × the
   /// reference's acceleration, its second backward difference over T. 0 by default.
   double ff2_s = 0.0;
+  /// Structural modes between motor and table (two-mass oscillators in series, at most 4):
+  /// natural frequency, Hz, and damping ratio of each; none by default. The encoder stays on
+  /// the motor; the table position (contour error) includes them (servo/flexible_modes.hpp).
+  std::vector<double> mode_hz;
+  std::vector<double> mode_damping;
   /// The axis's own Acc/Dec ([axes.<letter>.accdec], axes past X, Y and Z only): profile spec and
   /// τ; "" and 0 take the machine's [accdec]. X, Y and Z share one filter, which the contour
   /// error and the tolerance planner assume.

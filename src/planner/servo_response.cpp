@@ -4,6 +4,7 @@
 
 #include "common/status.hpp"
 #include "servo/discrete_plant.hpp"
+#include "servo/flexible_modes.hpp"
 
 #include <fmt/format.h>
 
@@ -23,10 +24,12 @@ std::vector<double> servo_step_response(const AxisConfig& axis, double period_s,
   // Feedforward gains on the reference's differences, as ServoAxis computes them.
   const double ff1 = axis.ff1 * kv / period_s, ff2 = axis.ff2_s * kv / (period_s * period_s);
   double integ = 0.0, prev_pos = 0.0, prev_ref = 0.0, prev_delta = 0.0;
+  FlexibleModes modes(axis.mode_hz, axis.mode_damping, h, 0.0);
   std::vector<double> s;
   s.reserve(static_cast<std::size_t>(samples));
   for (int k = 0; k < samples; ++k) {
-    s.push_back(plant.position_blu());  // at the start of the period, as the trace records it
+    s.push_back(modes.count() > 0 ? modes.output() : plant.position_blu());  // the table, at the
+                                                                             // period's start
     const double ref = 1.0, delta = ref - prev_ref;
     const double ff = ff1 * delta + ff2 * (delta - prev_delta);
     for (int j = 0; j < substeps; ++j) {
@@ -39,6 +42,7 @@ std::vector<double> servo_step_response(const AxisConfig& axis, double period_s,
       const double u = axis.kv_form == VelocityLoopForm::Ip ? axis.kvi * integ - axis.kvp * y
                                                             : axis.kvp * e + axis.kvi * integ;
       plant.step(u);
+      if (modes.count() > 0) modes.step(plant.position_blu());
     }
     prev_ref = ref;
     prev_delta = delta;
@@ -106,7 +110,8 @@ namespace {
 bool same_servo(const AxisConfig& a, const AxisConfig& b) {
   return a.plant_num == b.plant_num && a.plant_den == b.plant_den && a.kvp == b.kvp &&
          a.kvi == b.kvi && a.kp_1_s == b.kp_1_s && a.kv_period_s == b.kv_period_s &&
-         a.kv_form == b.kv_form && a.ff1 == b.ff1 && a.ff2_s == b.ff2_s &&
+         a.kv_form == b.kv_form && a.ff1 == b.ff1 && a.ff2_s == b.ff2_s && a.mode_hz == b.mode_hz &&
+         a.mode_damping == b.mode_damping &&
          a.plant_blu_s_per_unit * a.blu_mm == b.plant_blu_s_per_unit * b.blu_mm;
 }
 

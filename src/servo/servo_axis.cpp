@@ -49,6 +49,8 @@ ServoAxis::ServoAxis(const AxisConfig& axis, double period_s, int substeps, std:
     throw InputError("servo: ff1 and ff2_s must be finite");
   ff1_kv_ = axis.ff1 * kv_period_s_ / period_s;
   ff2_kv_ = axis.ff2_s * kv_period_s_ / (period_s * period_s);
+  if (!axis.mode_hz.empty() || !axis.mode_damping.empty())
+    modes_ = FlexibleModes(axis.mode_hz, axis.mode_damping, h_s_, 0.0);
 }
 
 std::int64_t ServoAxis::count_now() const {
@@ -124,6 +126,8 @@ inline void ServoAxis::servo_sample(std::int64_t count, double pos_ref_blu, doub
     table_rel_ = p - half_backlash_;
   else if (p - table_rel_ < -half_backlash_)
     table_rel_ = p + half_backlash_;
+  if (modes_.count() > 0) [[unlikely]]
+    modes_.step(table_rel_);
 }
 
 inline void ServoAxis::plant_step(double u) {

@@ -3,6 +3,7 @@
 
 #include "machine/machine.hpp"
 #include "servo/discrete_plant.hpp"
+#include "servo/flexible_modes.hpp"
 
 #include <cstdint>
 #include <string>
@@ -24,7 +25,9 @@ namespace gm {
 ///     u = Kvp (r_v - y) + Kvi I; u saturates at +-u_max = f_max_N / drive_N_per_unit with
 ///     conditional integration (the sum is not updated while it would deepen saturation);
 ///  5. plant: u held over h (exact ZOH), minus Coulomb friction (stick-slip) if enabled;
-///  6. lost motion: the table follows the motor inside a dead band of width backlash_blu.
+///  6. lost motion: the table follows the motor inside a dead band of width backlash_blu;
+///  7. structural modes (mode_hz, mode_damping): the table follows that through two-mass
+///     oscillators (FlexibleModes); the encoder stays on the motor (semi-closed loop).
 /// The drive command u is in plant input units (volts in the paper: 10 V = rated torque).
 /// Construction may allocate; step() allocates nothing (but the exception when the loop diverges).
 class ServoAxis {
@@ -56,7 +59,11 @@ class ServoAxis {
   double motor_blu() const { return static_cast<double>(start_blu_) + plant_.position_blu(); }
   /// Table ("actual") position, BLU, continuous: the motor position minus the lost motion.
   /// Equal to motor_blu() when backlash_blu = 0. A DBB/linear scale would measure this.
-  double table_blu() const { return static_cast<double>(start_blu_) + table_rel_; }
+  double table_blu() const {
+    return static_cast<double>(start_blu_) + (modes_.count() > 0 ? modes_.output() : table_rel_);
+  }
+  /// The axis has structural modes (ServoBank then steps it as ServoAxis, not in lanes).
+  bool has_modes() const { return modes_.count() > 0; }
   double drive_limit() const { return u_max_; }  ///< saturation level of the drive command
   /// Everything step() changes, for ServoBank (the axes in SIMD lanes): it copies an axis's
   /// state out to its lanes and back when a sample must run here instead.
@@ -109,6 +116,7 @@ class ServoAxis {
   void plant_step(double u);
 
   DiscretePlant plant_;
+  FlexibleModes modes_;
   VelocityLoopForm form_;
   double kvp_, kvi_, kp_;
   double h_s_, kv_period_s_;

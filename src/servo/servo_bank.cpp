@@ -291,7 +291,7 @@ ServoBank::ServoBank(const Machine& m, int axes, double period_s, int substeps)
   order_ = axes_.empty() ? 0 : axes_[0].plant().order();
   bool alike = axes >= 1 && axes <= kMaxLanes && (order_ == 1 || order_ == 2);
   for (const ServoAxis& s : axes_)
-    alike = alike && s.plant().order() == order_ && !(s.coulomb_drive() > 0.0);
+    alike = alike && s.plant().order() == order_ && !(s.coulomb_drive() > 0.0) && !s.has_modes();
   if (!alike) return;
   lanes_ = 1;
   const int m_size = order_ + 1;

@@ -48,6 +48,8 @@ void require_equal(const Machine& a, const Machine& b) {
     CHECK(x.coulomb_N == y.coulomb_N);
     CHECK(x.ff1 == y.ff1);
     CHECK(x.ff2_s == y.ff2_s);
+    CHECK(x.mode_hz == y.mode_hz);
+    CHECK(x.mode_damping == y.mode_damping);
     CHECK(x.plant_blu_s_per_unit == y.plant_blu_s_per_unit);
     CHECK(x.kv_period_s == y.kv_period_s);
     CHECK(x.kv_form == y.kv_form);
@@ -155,6 +157,8 @@ TEST_CASE("machine_to_toml round-trips the default and a modified machine", "[ma
   m.axes[2].drive_N_per_unit = 123.0;
   m.axes[0].ff1 = 0.857;
   m.axes[2].ff2_s = 0.01431;
+  m.axes[1].mode_hz = {40.0, 123.5};
+  m.axes[1].mode_damping = {0.0, 0.02};
   m.program_inch = true;
   m.spindle_accel_rpm_s = 250.0;
   require_equal(gm::parse_machine_toml(gm::machine_to_toml(m), "rt.toml"), m);
@@ -223,6 +227,11 @@ TEST_CASE("out-of-range value: exact message with key, file and line", "[machine
         "t.toml:10: key 'axes.y.ff1': must be in -10..10 (got 11)");
   CHECK(error_of(replace(kMinimal, "[axes.y]\n", "[axes.y]\nff2_s = -2\n")) ==
         "t.toml:10: key 'axes.y.ff2_s': must be in -1..1 s (got -2)");
+  CHECK(error_of(replace(kMinimal, "[axes.y]\n",
+                         "[axes.y]\nmode_hz = [40, 0]\nmode_damping = [0, 0]\n")) ==
+        "t.toml:10: key 'axes.y.mode_hz': every frequency must be > 0 Hz (got 0)");
+  CHECK(error_of(replace(kMinimal, "[axes.y]\n", "[axes.y]\nmode_hz = [40]\n")) ==
+        "t.toml:10: key 'axes.y.mode_damping': needs one damping ratio per mode_hz (0 against 1)");
   CHECK(error_of(
             replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\narc_rule = \"fanuc\"\n")) ==
         "t.toml:3: key 'arc_rule': must be \"linuxcnc\", \"grbl\" or \"g2core\" (got \"fanuc\")");
