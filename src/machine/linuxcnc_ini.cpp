@@ -268,6 +268,8 @@ std::string read_coordinates(const IniFile& ini, Warnings& warn) {
 // What [AXIS_L] and the [JOINT_n] that drive L give one axis (the tighter of axis and joints).
 struct AxisLimits {
   std::optional<double> v, a, scale, backlash;
+  std::optional<double> ff1, ff2;  ///< the pid's feedforward gains, of the first joint naming them
+  std::string ff1_section, ff2_section;
   std::string scale_section;  ///< the joint INPUT_SCALE came from
   bool soft_limits = false;   ///< MIN_LIMIT or MAX_LIMIT named
 };
@@ -284,6 +286,8 @@ AxisLimits axis_limits(const IniFile& ini, const std::string& coords, char lette
     l.a = min_of(l.a, ini.number(js, "MAX_ACCELERATION"));
     if (!l.scale && (l.scale = ini.number(js, "INPUT_SCALE"))) l.scale_section = js;
     if (!l.backlash) l.backlash = ini.number(js, "BACKLASH");
+    if (!l.ff1 && (l.ff1 = ini.number(js, "FF1"))) l.ff1_section = js;
+    if (!l.ff2 && (l.ff2 = ini.number(js, "FF2"))) l.ff2_section = js;
     l.soft_limits = l.soft_limits || ini.find(js, "MIN_LIMIT") || ini.find(js, "MAX_LIMIT");
   }
   l.soft_limits =
@@ -329,6 +333,17 @@ bool read_ini_axis(const IniFile& ini, const std::string& coords, double unit, M
       warn.push_back(
           fmt::format("[{}]WRAPPED_ROTARY: {} is linear; it does not wrap", axis_sec, letter));
     ac.wrapped_rotary = on && rotary;
+  }
+  // The pid's FF1 (output per unit/s) and FF2 (output per unit/s^2) with its output a velocity
+  // in units/s, as the pid's manual takes it for a position loop: ff1 and ff2_s, whatever the
+  // units (the ratios do not change with them).
+  if (l.ff1) {
+    if (!(std::abs(*l.ff1) <= 10.0)) ini.fail(l.ff1_section, "FF1", "must be in -10..10");
+    ac.ff1 = *l.ff1;
+  }
+  if (l.ff2) {
+    if (!(std::abs(*l.ff2) <= 1.0)) ini.fail(l.ff2_section, "FF2", "must be in -1..1 s");
+    ac.ff2_s = *l.ff2;
   }
   return l.soft_limits;
 }
@@ -508,6 +523,8 @@ std::string machine_to_linuxcnc_ini(const Machine& m) {
         "BACKLASH = {}\n",
         i, axis_is_rotary(m.layout.program(i)) ? "ANGULAR" : "LINEAR", ini_number(a.v_max_mm_s),
         ini_number(acc), ini_number(1.0 / a.blu_mm), ini_number(a.backlash_blu * a.blu_mm));
+    if (a.ff1 != 0.0) s += fmt::format("FF1 = {}\n", ini_number(a.ff1));
+    if (a.ff2_s != 0.0) s += fmt::format("FF2 = {}\n", ini_number(a.ff2_s));
   }
   return s;
 }

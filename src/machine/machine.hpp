@@ -49,6 +49,18 @@ struct AxisConfig {
   double kp_1_s = 30.0;       ///< position-loop gain, 1/s
   double backlash_blu = 0.0;  ///< lost motion (off by default)
   double coulomb_N = 0.0;     ///< Coulomb friction (off by default)
+  /// Velocity feedforward (LinuxCNC's pid FF1, its output a velocity in position units per
+  /// second): the velocity command gets ff1 × the reference's velocity, its backward difference
+  /// over T. 1 = the whole velocity (no velocity lag in a P loop); 0 (default) = the paper's loop.
+  double ff1 = 0.0;
+  /// Acceleration feedforward (LinuxCNC's pid FF2), s: the velocity command gets ff2_s × the
+  /// reference's acceleration, its second backward difference over T. 0 by default.
+  double ff2_s = 0.0;
+  /// Structural modes between motor and table (two-mass oscillators in series, at most 4):
+  /// natural frequency, Hz, and damping ratio of each; none by default. The encoder stays on
+  /// the motor; the table position (contour error) includes them (servo/flexible_modes.hpp).
+  std::vector<double> mode_hz;
+  std::vector<double> mode_damping;
   /// The axis's own Acc/Dec ([axes.<letter>.accdec], axes past X, Y and Z only): profile spec and
   /// τ; "" and 0 take the machine's [accdec]. X, Y and Z share one filter, which the contour
   /// error and the tolerance planner assume.

@@ -262,6 +262,27 @@ void read_axis(Reader& r, AxisConfig& a, double machine_blu_mm, double period_s,
   // Five position-loop time constants (5/kp) are the servo lag a run counts in samples.
   r.number("kp_1_s", a.kp_1_s, true,
            [](double v) { return v >= kMinKp ? "" : "must be >= 0.001 1/s"; });
+  r.number("ff1", a.ff1, false,
+           [](double v) { return v >= -10.0 && v <= 10.0 ? "" : "must be in -10..10"; });
+  r.number("ff2_s", a.ff2_s, false,
+           [](double v) { return v >= -1.0 && v <= 1.0 ? "" : "must be in -1..1 s"; });
+  if (r.numbers("mode_hz", a.mode_hz, false, 0, 4))
+    for (double f : a.mode_hz)
+      if (!(f > 0.0))
+        r.fail_at(r.tbl().get("mode_hz")->source(), r.full("mode_hz"),
+                  fmt::format("every frequency must be > 0 Hz (got {})", fmt_double(f)));
+  if (r.numbers("mode_damping", a.mode_damping, false, 0, 4))
+    for (double z : a.mode_damping)
+      if (!(z >= 0.0))
+        r.fail_at(r.tbl().get("mode_damping")->source(), r.full("mode_damping"),
+                  fmt::format("every damping ratio must be >= 0 (got {})", fmt_double(z)));
+  if (a.mode_hz.size() != a.mode_damping.size()) {
+    const toml::node* n =
+        r.tbl().get("mode_hz") ? r.tbl().get("mode_hz") : r.tbl().get("mode_damping");
+    r.fail_at(n->source(), r.full("mode_damping"),
+              fmt::format("needs one damping ratio per mode_hz ({} against {})",
+                          a.mode_damping.size(), a.mode_hz.size()));
+  }
   r.number("backlash_blu", a.backlash_blu, false, non_negative);
   r.number("coulomb_N", a.coulomb_N, false, non_negative);
   r.number("plant_blu_s_per_unit", a.plant_blu_s_per_unit, false, positive);
@@ -496,6 +517,12 @@ std::string toml_axis_table(const AxisConfig& a, char letter) {
   s += fmt::format("kvp = {}\nkvi = {}\nkp_1_s = {}\nbacklash_blu = {}\ncoulomb_N = {}\n",
                    fmt_double(a.kvp), fmt_double(a.kvi), fmt_double(a.kp_1_s),
                    fmt_double(a.backlash_blu), fmt_double(a.coulomb_N));
+  // The feedforward only when set: files of machines without it read as before.
+  if (a.ff1 != 0.0) s += fmt::format("ff1 = {}\n", fmt_double(a.ff1));
+  if (a.ff2_s != 0.0) s += fmt::format("ff2_s = {}\n", fmt_double(a.ff2_s));
+  if (!a.mode_hz.empty())
+    s += fmt::format("mode_hz = {}\nmode_damping = {}\n", toml_list(a.mode_hz),
+                     toml_list(a.mode_damping));
   s += fmt::format(
       "plant_blu_s_per_unit = {}\nkv_period_s = {}\nkv_form = \"{}\"\ndrive_N_per_unit = {}\n",
       fmt_double(a.plant_blu_s_per_unit), fmt_double(a.kv_period_s),

@@ -4,6 +4,7 @@
 
 #include "common/status.hpp"
 #include "servo/discrete_plant.hpp"
+#include "servo/flexible_modes.hpp"
 
 #include <fmt/format.h>
 
@@ -20,30 +21,37 @@ std::vector<double> servo_step_response(const AxisConfig& axis, double period_s,
   const double h = period_s / substeps;
   DiscretePlant plant(axis.plant_num, axis.plant_den, axis.plant_blu_s_per_unit, h);
   const double kv = axis.kv_period_s;
-  double integ = 0.0, prev_pos = 0.0, prev_ref = 0.0;
+  // Feedforward gains on the reference's differences, as ServoAxis computes them.
+  const double ff1 = axis.ff1 * kv / period_s, ff2 = axis.ff2_s * kv / (period_s * period_s);
+  double integ = 0.0, prev_pos = 0.0, prev_ref = 0.0, prev_delta = 0.0;
+  FlexibleModes modes(axis.mode_hz, axis.mode_damping, h, 0.0);
   std::vector<double> s;
   s.reserve(static_cast<std::size_t>(samples));
   for (int k = 0; k < samples; ++k) {
-    s.push_back(plant.position_blu());  // at the start of the period, as the trace records it
+    s.push_back(modes.count() > 0 ? modes.output() : plant.position_blu());  // the table, at the
+                                                                             // period's start
     const double ref = 1.0, delta = ref - prev_ref;
+    const double ff = ff1 * delta + ff2 * (delta - prev_delta);
     for (int j = 0; j < substeps; ++j) {
       const double r = ref + delta * j / substeps;
       const double pos = plant.position_blu();
       const double y = (pos - prev_pos) * kv / h;
       prev_pos = pos;
-      const double e = axis.kp_1_s * (r - pos) * kv - y;
+      const double e = axis.kp_1_s * (r - pos) * kv + ff - y;
       integ += e * h / kv;
       const double u = axis.kv_form == VelocityLoopForm::Ip ? axis.kvi * integ - axis.kvp * y
                                                             : axis.kvp * e + axis.kvi * integ;
       plant.step(u);
+      if (modes.count() > 0) modes.step(plant.position_blu());
     }
     prev_ref = ref;
+    prev_delta = delta;
   }
   return s;
 }
 
 ChainResponse chain_response(const Taps& taps, const AxisConfig& axis, double period_s,
-                             int substeps, double tail_area_s) {
+                             int substeps, double tail_area_s, double clip_area_s) {
   if (taps.integer.empty() || taps.b_s <= 0) throw InputError("chain response: no taps");
   // Long enough for any stable loop we accept: grow until the tail is below the limit.
   for (int len = 256;; len *= 2) {
@@ -81,6 +89,18 @@ ChainResponse chain_response(const Taps& taps, const AxisConfig& axis, double pe
       r.overshoot_s += period_s * std::max(step[k] - 1.0, 0.0);
       r.undershoot_s += period_s * std::max(-step[k], 0.0);
     }
+    if (r.overshoot_s + r.undershoot_s > 0.0 && r.overshoot_s + r.undershoot_s <= clip_area_s) {
+      // S_k into [0, 1]: the weights become the clipped step response's differences (Σ = 1
+      // still, the last weight 1 − S'_{K−2}); the output moves by at most V·clipped_s.
+      r.clipped_s = r.overshoot_s + r.undershoot_s;
+      double prev = 0.0;
+      for (std::size_t k = 0; k + 1 < K; ++k) {
+        const double s = std::clamp(step[k], 0.0, 1.0);
+        r.weights[k] = s - prev;
+        prev = s;
+      }
+      r.weights.back() = 1.0 - prev;
+    }
     return r;
   }
 }
@@ -90,7 +110,8 @@ namespace {
 bool same_servo(const AxisConfig& a, const AxisConfig& b) {
   return a.plant_num == b.plant_num && a.plant_den == b.plant_den && a.kvp == b.kvp &&
          a.kvi == b.kvi && a.kp_1_s == b.kp_1_s && a.kv_period_s == b.kv_period_s &&
-         a.kv_form == b.kv_form &&
+         a.kv_form == b.kv_form && a.ff1 == b.ff1 && a.ff2_s == b.ff2_s && a.mode_hz == b.mode_hz &&
+         a.mode_damping == b.mode_damping &&
          a.plant_blu_s_per_unit * a.blu_mm == b.plant_blu_s_per_unit * b.blu_mm;
 }
 
@@ -145,12 +166,13 @@ std::vector<double> planned_chain(const Machine& m, bool servo, double& extra_ma
     }
     *speed_error_s = mismatch;
   }
-  // Truncation allowance: 0.05 BLU at 2 m/s (scales with speed; docs/tolerance.md).
+  // Truncation allowance: 0.05 BLU at 2 m/s (scales with speed; docs/tolerance.md); a step
+  // response outside [0, 1] by at most half a BLU at 2 m/s is clipped into it.
   constexpr double kFastMmS = 2000.0;
   const double blu = m.contour_blu_mm();
-  const ChainResponse r =
-      chain_response(taps, *ref, m.period_s, m.servo_substeps, 0.05 * blu / kFastMmS);
-  extra_margin_mm = kFastMmS * r.tail_area_s;
+  const ChainResponse r = chain_response(taps, *ref, m.period_s, m.servo_substeps,
+                                         0.05 * blu / kFastMmS, 0.5 * blu / kFastMmS);
+  extra_margin_mm = kFastMmS * (r.tail_area_s + r.clipped_s);
   return r.weights;
 }
 

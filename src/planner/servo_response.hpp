@@ -12,8 +12,9 @@ namespace gm {
 /// table_blu) for a unit step of the position reference at k = 0, the axis at rest before.
 /// ServoAxis without its nonlinear parts: no encoder rounding (the feedback reads the motor
 /// position), no saturation, no friction, no lost motion. Everything else as ServoAxis::step:
-/// substeps, linear extrapolation of the reference within T, P position loop, PI/IP velocity
-/// loop on the backward difference, the exact ZOH plant.
+/// substeps, linear extrapolation of the reference within T, P position loop with its velocity
+/// and acceleration feedforward (ff1, ff2_s), PI/IP velocity loop on the backward difference,
+/// the exact ZOH plant.
 std::vector<double> servo_step_response(const AxisConfig& axis, double period_s, int substeps,
                                         int samples);
 
@@ -23,15 +24,19 @@ std::vector<double> servo_step_response(const AxisConfig& axis, double period_s,
 /// T·Σ_{k≥K} |1 − S_k| ≤ tail_area_s (S the chain's step response), the tail lumped into the
 /// last weight so that Σ c_k = 1 exactly. Truncating moves the output by at most V·tail_area_s
 /// (Abel summation of the dropped tail against path increments ≤ V·T): the caller adds that to
-/// its rounding margin.
+/// its rounding margin. A step response that leaves [0, 1] by an area of at most clip_area_s
+/// (the ringing a feedforward leaves, e.g.) is clipped into [0, 1], which moves the output by at
+/// most V·clipped_s in the same way: the caller adds that too, and the planner then plans the
+/// chain as one without overshoot.
 struct ChainResponse {
   std::vector<double> weights;
   double tail_area_s = 0.0;   ///< T·Σ |1 − S_k| over the dropped tail (≤ the limit asked for)
   double overshoot_s = 0.0;   ///< T·Σ max(S_k − 1, 0): area of the step response above 1
   double undershoot_s = 0.0;  ///< T·Σ max(−S_k, 0): area below 0
+  double clipped_s = 0.0;     ///< overshoot_s + undershoot_s when clipped away, else 0
 };
 ChainResponse chain_response(const Taps& taps, const AxisConfig& axis, double period_s,
-                             int substeps, double tail_area_s);
+                             int substeps, double tail_area_s, double clip_area_s = 0.0);
 
 /// T·Σ_k |S^a_k − S^ref_k| of each servo `a` against `ref` (step responses of
 /// servo_step_response, long enough to settle), combined as a Euclidean norm over the axes, s.
@@ -43,8 +48,9 @@ double servo_mismatch_s(const std::vector<const AxisConfig*>& axes, const AxisCo
 
 /// The chain the planner plans against for `m`: the FIR alone (tolerance_on = acc_dec, or the
 /// servo off), or FIR + servo (tolerance_on = encoder). `extra_margin_mm` receives the
-/// truncation allowance V_fastest·tail_area. A servo whose step response overshoots is planned
-/// with absolute moments (FilterMoments, docs/tolerance.md). When X, Y and Z have different
+/// truncation allowance V_fastest·(tail_area + clipped). A chain whose step response leaves
+/// [0, 1] by at most half a BLU at V_fastest is clipped into it; one that overshoots more is
+/// planned with absolute moments (FilterMoments, docs/tolerance.md). When X, Y and Z have different
 /// servos the chain is that of the reference axis (the one closest to the others) and
 /// `*speed_error_s` receives servo_mismatch_s: the planner keeps V·(that) of each tolerance for
 /// it (PlannerConfig::speed_error_s). Without `speed_error_s` different servos are an error.

@@ -48,6 +48,12 @@ ServoAxis::ServoAxis(const AxisConfig& axis, double period_s, int substeps, std:
   half_backlash_ = 0.5 * axis.backlash_blu;
   kv_over_h_ = kv_period_s_ / h_s_;
   h_over_kv_ = h_s_ / kv_period_s_;
+  if (!std::isfinite(axis.ff1) || !std::isfinite(axis.ff2_s))
+    throw InputError("servo: ff1 and ff2_s must be finite");
+  ff1_kv_ = axis.ff1 * kv_period_s_ / period_s;
+  ff2_kv_ = axis.ff2_s * kv_period_s_ / (period_s * period_s);
+  if (!axis.mode_hz.empty() || !axis.mode_damping.empty())
+    modes_ = FlexibleModes(axis.mode_hz, axis.mode_damping, h_s_, 0.0);
 }
 
 std::int64_t ServoAxis::count_now() const {
@@ -60,16 +66,22 @@ std::int64_t ServoAxis::step(std::int64_t ref_blu) {
     have_ref_ = true;
   }
   const std::int64_t count0 = count_now();
-  const double delta = static_cast<double>(ref_blu - prev_ref_);
+  const std::int64_t d = ref_blu - prev_ref_;
+  const double delta = static_cast<double>(d);
+  // Feedforward of the line the substeps extrapolate along: its velocity (ref[k]-ref[k-1])/T
+  // and the change of that velocity, constant over the period. Gains 0 add +-0.0: the loop
+  // without feedforward is bit for bit what it was.
+  const double ff = ff1_kv_ * delta + ff2_kv_ * static_cast<double>(d - prev_delta_);
   saturated_ = false;
   // j = 0 gives ref + 0.0 = ref exactly, so one substep needs no extrapolation arithmetic.
-  servo_sample(count0, static_cast<double>(ref_blu), true,
+  servo_sample(count0, static_cast<double>(ref_blu), ff, true,
                0.0);  // the plant has not moved since count0
   for (int j = 1; j < substeps_; ++j) {
     const double r = static_cast<double>(ref_blu) + delta * j / substeps_;
-    servo_sample(count_now(), r, true, 0.0);
+    servo_sample(count_now(), r, ff, true, 0.0);
   }
   prev_ref_ = ref_blu;
+  prev_delta_ = d;
   // An unstable loop (plant, gains or period) sends the motor off without bound; stop before
   // the counts leave the range where they are exact and ref - count cannot overflow.
   if (!(std::fabs(plant_.position_blu()) < kMaxPositionBlu))
@@ -86,17 +98,17 @@ std::string ServoAxis::divergence_message(double position_blu, std::int64_t ref_
 
 void ServoAxis::step_velocity(double v_ref_blu_s) {
   saturated_ = false;
-  for (int j = 0; j < substeps_; ++j) servo_sample(count_now(), 0.0, false, v_ref_blu_s);
+  for (int j = 0; j < substeps_; ++j) servo_sample(count_now(), 0.0, 0.0, false, v_ref_blu_s);
 }
 
-inline void ServoAxis::servo_sample(std::int64_t count, double pos_ref_blu, bool position_loop,
-                                    double v_ref_blu_s) {
+inline void ServoAxis::servo_sample(std::int64_t count, double pos_ref_blu, double ff,
+                                    bool position_loop, double v_ref_blu_s) {
   // Velocity feedback and reference in encoder counts per kv_period_s.
   const double y = static_cast<double>(count - prev_count_) * kv_over_h_;
   prev_count_ = count;
   const double vref_blu_s =
       position_loop ? kp_ * (pos_ref_blu - static_cast<double>(count)) : v_ref_blu_s;
-  const double r_v = vref_blu_s * kv_period_s_;
+  const double r_v = vref_blu_s * kv_period_s_ + ff;
   const double e = r_v - y;
   const double di = e * h_over_kv_;
   double integ = integ_ + di;
@@ -117,6 +129,8 @@ inline void ServoAxis::servo_sample(std::int64_t count, double pos_ref_blu, bool
     table_rel_ = p - half_backlash_;
   else if (p - table_rel_ < -half_backlash_)
     table_rel_ = p + half_backlash_;
+  if (modes_.count() > 0) [[unlikely]]
+    modes_.step(table_rel_);
 }
 
 inline void ServoAxis::plant_step(double u) {

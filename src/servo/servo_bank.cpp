@@ -53,11 +53,11 @@ struct Lanes {
   using I = typename LaneTypes<W>::I;
 
   struct State {
-    V z[M], integ, u, table_rel, prev_count, prev_ref;
+    V z[M], integ, u, table_rel, prev_count, prev_ref, prev_delta;
   };
   State s;  // what a sample changes (saved before a row, to take it back)
   V a[M * M], bd[M];
-  V kp, kvp, kvi, kv_period, kv_over_h, h_over_kv, u_max, hb;
+  V kp, kvp, kvi, kv_period, kv_over_h, h_over_kv, u_max, hb, ff1, ff2;
   I ip;
 
   template <typename T, typename S>
@@ -76,6 +76,7 @@ struct Lanes {
     load(s.table_rel, from.table_rel + o);
     load(s.prev_count, from.prev_count + o);
     load(s.prev_ref, from.prev_ref + o);
+    load(s.prev_delta, from.prev_delta + o);
   }
   GM_INLINE void store_state(ServoBank::LaneState& to, int o) const {
     for (int k = 0; k < M; ++k) store(to.z[k] + o, s.z[k]);
@@ -84,6 +85,7 @@ struct Lanes {
     store(to.table_rel + o, s.table_rel);
     store(to.prev_count + o, s.prev_count);
     store(to.prev_ref + o, s.prev_ref);
+    store(to.prev_delta + o, s.prev_delta);
   }
   GM_INLINE void load_params(const ServoBank::LaneParams& p, int o) {
     for (int k = 0; k < M * M; ++k) load(a[k], p.a[k] + o);
@@ -96,6 +98,8 @@ struct Lanes {
     load(h_over_kv, p.h_over_kv + o);
     load(u_max, p.u_max + o);
     load(hb, p.hb + o);
+    load(ff1, p.ff1 + o);
+    load(ff2, p.ff2 + o);
     load(ip, p.ip + o);
   }
 
@@ -129,11 +133,11 @@ struct Lanes {
   }
 
   // ServoAxis::servo_sample, lane by lane in its order.
-  GM_INLINE void sample(const V& count, const V& pos_ref) {
+  GM_INLINE void sample(const V& count, const V& pos_ref, const V& ff) {
     const V y = (count - s.prev_count) * kv_over_h;
     s.prev_count = count;
     const V vref = kp * (pos_ref - count);
-    const V r_v = vref * kv_period;
+    const V r_v = vref * kv_period + ff;
     const V e = r_v - y;
     const V di = e * h_over_kv;
     V in = s.integ + di;
@@ -188,7 +192,7 @@ GM_INLINE int lane_rows(ServoBank::LaneState& st, const ServoBank::LaneParams& p
     // The row's references, a lane each (unused lanes stay at 0, at rest).
     double r[L] = {};
     for (int a = 0; a < N; ++a) r[a] = static_cast<double>(ref.v[a][i]);
-    V refd[P], delta[P], count0[P], count[P];
+    V refd[P], delta[P], ff[P], count0[P], count[P];
     double tab[L];
     I bad = I{} + 0;
     for (int q = 0; q < P; ++q) {
@@ -200,18 +204,21 @@ GM_INLINE int lane_rows(ServoBank::LaneState& st, const ServoBank::LaneParams& p
       std::memcpy(tab + q * W, &table_now, sizeof(V));
       K::round(k[q].s.z[M - 1], count0[q], bad);
       delta[q] = refd[q] - k[q].s.prev_ref;  // exact: both below 2^51, as ref - prev_ref in int64
-      k[q].sample(count0[q], refd[q]);
+      // Feedforward (ServoAxis::step): delta - prev_delta is exact too (both below 2^52).
+      ff[q] = k[q].ff1 * delta[q] + k[q].ff2 * (delta[q] - k[q].s.prev_delta);
+      k[q].sample(count0[q], refd[q], ff[q]);
     }
     for (int a = 0; a < N; ++a) table.v[a][i] = tab[a];
     for (int j = 1; j < substeps; ++j)
       for (int q = 0; q < P; ++q) {
         K::round(k[q].s.z[M - 1], count[q], bad);
-        k[q].sample(count[q], refd[q] + delta[q] * static_cast<double>(j) / sub);
+        k[q].sample(count[q], refd[q] + delta[q] * static_cast<double>(j) / sub, ff[q]);
       }
     // The row's tests as lane masks, one reduction each (unused lanes are at rest: 0 in all).
     I far = I{} + 0, loud = I{} + 0;
     for (int q = 0; q < P; ++q) {
       k[q].s.prev_ref = refd[q];
+      k[q].s.prev_delta = delta[q];
       far |= ~(GM_ABS(k[q].s.z[M - 1]) < ServoAxis::kMaxPositionBlu);  // NaN too
       loud |= ~(GM_ABS(count0[q] - refd[q]) <= 1.0);                   // exact: both below 2^51
     }
@@ -284,7 +291,7 @@ ServoBank::ServoBank(const Machine& m, int axes, double period_s, int substeps)
   order_ = axes_.empty() ? 0 : axes_[0].plant().order();
   bool alike = axes >= 1 && axes <= kMaxLanes && (order_ == 1 || order_ == 2);
   for (const ServoAxis& s : axes_)
-    alike = alike && s.plant().order() == order_ && !(s.coulomb_drive() > 0.0);
+    alike = alike && s.plant().order() == order_ && !(s.coulomb_drive() > 0.0) && !s.has_modes();
   if (!alike) return;
   lanes_ = 1;
   const int m_size = order_ + 1;
@@ -302,6 +309,8 @@ ServoBank::ServoBank(const Machine& m, int axes, double period_s, int substeps)
     params_.h_over_kv[l] = s.h_over_kv();
     params_.u_max[l] = s.drive_limit();
     params_.hb[l] = s.half_backlash_blu();
+    params_.ff1[l] = s.ff1_gain();
+    params_.ff2[l] = s.ff2_gain();
     params_.ip[l] = s.form() == VelocityLoopForm::Ip ? -1 : 0;
   }
   from_axes(state_);
@@ -334,6 +343,7 @@ void ServoBank::to_axes(const LaneState& s) {
     for (int k = 0; k <= order_; ++k) d.z[k] = s.z[k][a];
     d.prev_count = static_cast<std::int64_t>(s.prev_count[a]);
     d.prev_ref = static_cast<std::int64_t>(s.prev_ref[a]);
+    d.prev_delta = static_cast<std::int64_t>(s.prev_delta[a]);
     d.have_ref = have_ref_;
     d.integ = s.integ[a];
     d.u = s.u[a];
@@ -350,6 +360,7 @@ void ServoBank::from_axes(LaneState& s) const {
     for (int k = 0; k <= order_; ++k) s.z[k][l] = used ? d.z[k] : 0.0;
     s.prev_count[l] = used ? static_cast<double>(d.prev_count) : 0.0;
     s.prev_ref[l] = used ? static_cast<double>(d.prev_ref) : 0.0;
+    s.prev_delta[l] = used ? static_cast<double>(d.prev_delta) : 0.0;
     s.integ[l] = used ? d.integ : 0.0;
     s.u[l] = used ? d.u : 0.0;
     s.table_rel[l] = used ? d.table_rel : 0.0;

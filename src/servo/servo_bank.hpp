@@ -55,7 +55,7 @@ class ServoBank {
   struct alignas(64) LaneState {
     double z[3][kMaxLanes];
     double integ[kMaxLanes], u[kMaxLanes], table_rel[kMaxLanes];
-    double prev_count[kMaxLanes], prev_ref[kMaxLanes];
+    double prev_count[kMaxLanes], prev_ref[kMaxLanes], prev_delta[kMaxLanes];
   };
   /// The lanes' parameters (unused lanes copy lane 0's and stay at rest).
   struct alignas(64) LaneParams {
@@ -63,7 +63,8 @@ class ServoBank {
     double bd[3][kMaxLanes];  ///< Bd
     double kp[kMaxLanes], kvp[kMaxLanes], kvi[kMaxLanes], kv_period[kMaxLanes];
     double kv_over_h[kMaxLanes], h_over_kv[kMaxLanes], u_max[kMaxLanes], hb[kMaxLanes];
-    std::int64_t ip[kMaxLanes];  ///< -1: Ip form, 0: Pi form
+    double ff1[kMaxLanes], ff2[kMaxLanes];  ///< ServoAxis::ff1_gain(), ff2_gain()
+    std::int64_t ip[kMaxLanes];             ///< -1: Ip form, 0: Pi form
   };
 
  private:

@@ -334,6 +334,28 @@ TEST_CASE("ini: an INPUT_SCALE finer than 1 nm a count is refused by file, line 
   CHECK(gm::load_linuxcnc_ini(d / "nm.ini").machine.axes[0].blu_mm == 1e-6);
 }
 
+TEST_CASE("ini: [JOINT_n]FF1 and FF2 are the servo's ff1 and ff2_s, in any units") {
+  // The pid's output for a position loop is a velocity in the joint's units per second: FF1
+  // (output per unit/s) is a pure number and FF2 (output per unit/s²) seconds, in inches as in
+  // mm. A joint without them keeps the paper's loop (0).
+  const fs::path d = gmtest::scratch_dir("ini");
+  write(d / "ff.ini",
+        "[KINS]\nKINEMATICS = trivkins coordinates=XYZ\nJOINTS = 3\n[TRAJ]\nLINEAR_UNITS = "
+        "inch\n[JOINT_0]\nMAX_VELOCITY = 1\nMAX_ACCELERATION = 10\nFF1 = 0.857\nFF2 = "
+        "0.01431\n[JOINT_2]\nFF1 = 1\n");
+  const gm::Machine m = gm::load_linuxcnc_ini(d / "ff.ini").machine;
+  CHECK(m.axes[0].ff1 == 0.857);
+  CHECK(m.axes[0].ff2_s == 0.01431);
+  CHECK(m.axes[1].ff1 == 0.0);
+  CHECK(m.axes[1].ff2_s == 0.0);
+  CHECK(m.axes[2].ff1 == 1.0);
+  CHECK(m.axes[2].ff2_s == 0.0);
+  write(d / "ffbad.ini",
+        "[KINS]\nKINEMATICS = trivkins coordinates=XYZ\nJOINTS = 3\n[JOINT_1]\nFF2 = 3\n");
+  CHECK(load_error(d / "ffbad.ini") ==
+        (d / "ffbad.ini").string() + ":5: [JOINT_1]FF2: must be in -1..1 s");
+}
+
 TEST_CASE("ini: #INCLUDE fan-out ends after 256 files read, not 10^8") {
   // f0 includes f1 ten times, f1 includes f2 ten times, ... f7: within the depth limit, 10^8
   // files read unbounded.
@@ -376,6 +398,9 @@ TEST_CASE("ini: export writes the axis sections that read back to the same machi
   m.axes[3].v_max_mm_s = 720;
   m.axes[3].blu_mm = 0.0005;
   m.axes[2].backlash_blu = 3;
+  m.axes[0].ff1 = 0.857;
+  m.axes[0].ff2_s = 0.01431;
+  m.axes[1].ff1 = 1.0;
   const fs::path p = gmtest::scratch_dir("ini") / "exported.ini";
   write(p, gm::machine_to_linuxcnc_ini(m));
   const gm::IniImport back = gm::load_linuxcnc_ini(p);
@@ -390,6 +415,8 @@ TEST_CASE("ini: export writes the axis sections that read back to the same machi
     CHECK(b.axes[i].v_max_mm_s == Approx(m.axes[i].v_max_mm_s));
     CHECK(b.axes[i].blu_mm == Approx(m.axes[i].blu_mm));
     CHECK(b.axes[i].backlash_blu == m.axes[i].backlash_blu);
+    CHECK(b.axes[i].ff1 == m.axes[i].ff1);  // [JOINT_n]FF1, FF2: the pid's feedforward
+    CHECK(b.axes[i].ff2_s == m.axes[i].ff2_s);
   }
   CHECK(back.warnings.empty());
 }

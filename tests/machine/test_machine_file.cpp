@@ -46,6 +46,10 @@ void require_equal(const Machine& a, const Machine& b) {
     CHECK(x.kp_1_s == y.kp_1_s);
     CHECK(x.backlash_blu == y.backlash_blu);
     CHECK(x.coulomb_N == y.coulomb_N);
+    CHECK(x.ff1 == y.ff1);
+    CHECK(x.ff2_s == y.ff2_s);
+    CHECK(x.mode_hz == y.mode_hz);
+    CHECK(x.mode_damping == y.mode_damping);
     CHECK(x.plant_blu_s_per_unit == y.plant_blu_s_per_unit);
     CHECK(x.kv_period_s == y.kv_period_s);
     CHECK(x.kv_form == y.kv_form);
@@ -151,6 +155,10 @@ TEST_CASE("machine_to_toml round-trips the default and a modified machine", "[ma
   m.axes[2].plant_num = {2.0};
   m.axes[2].plant_den = {1.0, 3.0, 2.0};
   m.axes[2].drive_N_per_unit = 123.0;
+  m.axes[0].ff1 = 0.857;
+  m.axes[2].ff2_s = 0.01431;
+  m.axes[1].mode_hz = {40.0, 123.5};
+  m.axes[1].mode_damping = {0.0, 0.02};
   m.program_inch = true;
   m.spindle_accel_rpm_s = 250.0;
   require_equal(gm::parse_machine_toml(gm::machine_to_toml(m), "rt.toml"), m);
@@ -173,6 +181,17 @@ TEST_CASE("minimal file: optional keys take the documented defaults", "[machine]
   CHECK(m.axes[0].blu_mm == 0.001);
   CHECK(m.axes[0].plant_blu_s_per_unit == 34000.0);
   CHECK(m.axes[0].kv_form == gm::VelocityLoopForm::Ip);
+  CHECK(m.axes[0].ff1 == 0.0);  // no feedforward: the paper's loop
+  CHECK(m.axes[0].ff2_s == 0.0);
+  // A machine without feedforward writes no ff keys (files and goldens read as before).
+  CHECK(gm::machine_to_toml(gm::default_machine()).find("ff1") == std::string::npos);
+  CHECK(gm::machine_to_toml(gm::default_machine()).find("ff2_s") == std::string::npos);
+  const Machine f = gm::parse_machine_toml(
+      replace(kMinimal, "[axes.y]\n", "ff1 = 0.857\nff2_s = 0.01431\n[axes.y]\n"), "t.toml");
+  CHECK(f.axes[0].ff1 == 0.857);
+  CHECK(f.axes[0].ff2_s == 0.01431);
+  CHECK(f.axes[1].ff1 == 0.0);
+  CHECK(gm::machine_to_toml(f).find("ff1 = 0.857\nff2_s = 0.01431\n") != std::string::npos);
   CHECK_FALSE(m.program_inch);  // programs start in G21
   CHECK(gm::parse_machine_toml(
             replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\nprogram_units = \"inch\"\n"),
@@ -204,6 +223,15 @@ TEST_CASE("out-of-range value: exact message with key, file and line", "[machine
         "t.toml:8: key 'axes.x.kp_1_s': must be >= 0.001 1/s (got -30)");
   CHECK(error_of(replace(kMinimal, "[axes.y]\n", "[axes.y]\ncoulomb_N = -5\n")) ==
         "t.toml:10: key 'axes.y.coulomb_N': must be >= 0 (got -5)");
+  CHECK(error_of(replace(kMinimal, "[axes.y]\n", "[axes.y]\nff1 = 11\n")) ==
+        "t.toml:10: key 'axes.y.ff1': must be in -10..10 (got 11)");
+  CHECK(error_of(replace(kMinimal, "[axes.y]\n", "[axes.y]\nff2_s = -2\n")) ==
+        "t.toml:10: key 'axes.y.ff2_s': must be in -1..1 s (got -2)");
+  CHECK(error_of(replace(kMinimal, "[axes.y]\n",
+                         "[axes.y]\nmode_hz = [40, 0]\nmode_damping = [0, 0]\n")) ==
+        "t.toml:10: key 'axes.y.mode_hz': every frequency must be > 0 Hz (got 0)");
+  CHECK(error_of(replace(kMinimal, "[axes.y]\n", "[axes.y]\nmode_hz = [40]\n")) ==
+        "t.toml:10: key 'axes.y.mode_damping': needs one damping ratio per mode_hz (0 against 1)");
   CHECK(error_of(
             replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\narc_rule = \"fanuc\"\n")) ==
         "t.toml:3: key 'arc_rule': must be \"linuxcnc\", \"grbl\" or \"g2core\" (got \"fanuc\")");

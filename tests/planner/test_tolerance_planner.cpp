@@ -205,8 +205,10 @@ namespace {
 
 // Random CAM-like programs (lines, arcs, helices, rapids, chord polylines, feeds, tolerances
 // changed mid-program) under random override schedules; every sample within the tolerance (servo
-// off) or within the tolerance + 1 BLU on the table (servo on, tolerance_on = encoder).
-void property(int kPrograms, bool encoder, std::uint64_t seed, bool precomp = false) {
+// off) or within the tolerance + 1 BLU on the table (servo on, tolerance_on = encoder; the
+// built-in machine, or `encoder_machine` when given); arcs pre-compensated when `precomp`.
+void property(int kPrograms, bool encoder, std::uint64_t seed, bool precomp = false,
+              const gm::Machine* encoder_machine = nullptr) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> U(0.0, 1.0);
   auto pick = [&](int n) { return std::min(n - 1, static_cast<int>(U(rng) * n)); };
@@ -220,7 +222,8 @@ void property(int kPrograms, bool encoder, std::uint64_t seed, bool precomp = fa
   double worst_ratio = 0;
   for (int prog = 0; prog < kPrograms; ++prog) {
     // Encoder: the built-in machine, whose Y servo differs from X and Z (speed_error_s).
-    gm::Machine m = encoder ? gm::default_machine() : gm::Machine{};
+    gm::Machine m =
+        encoder ? (encoder_machine ? *encoder_machine : gm::default_machine()) : gm::Machine{};
     m.arc_precompensation = precomp;
     const int pi = pick(4);
     m.profile = profiles[pi];
@@ -323,6 +326,12 @@ void property(int kPrograms, bool encoder, std::uint64_t seed, bool precomp = fa
       compensated));
 }
 
+// The shipped feedforward machine (its chain clipped into [0, 1], docs/tolerance.md).
+gm::Machine feedforward_machine() {
+  return gm::load_machine_file(std::string(GMOTION_TESTS_DIR) +
+                               "/../programs/machines/default-ff.toml");
+}
+
 }  // namespace
 
 // CI runs a prefix of the issue's sweeps (same seeds); the full 1,000 programs each are hidden
@@ -333,6 +342,18 @@ TEST_CASE("property: random programs hold G64 P on every sample under random ove
 
 TEST_CASE("property: with the servo on and tolerance_on = encoder, the table holds G64 P + 1 BLU") {
   property(gmtest::scaled(24), true, 20261124);
+}
+
+TEST_CASE(
+    "property: the feedforward machine's table holds G64 P + 1 BLU (tolerance_on = encoder)") {
+  const gm::Machine ff = feedforward_machine();
+  property(gmtest::scaled(24), true, 20261124, false, &ff);
+}
+
+TEST_CASE("property-1000: 1,000 random programs, feedforward machine, tolerance_on = encoder",
+          "[.][property-1000]") {
+  const gm::Machine ff = feedforward_machine();
+  property(1000, true, 20261124, false, &ff);
 }
 
 TEST_CASE("property-1000: 1,000 random programs, servo off", "[.][property-1000]") {

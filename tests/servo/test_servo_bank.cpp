@@ -26,8 +26,8 @@ namespace {
 
 constexpr double kBankT = 0.004;
 
-// A machine of `n` axes whose servos differ (gains, plant, form, backlash, drive limit), with
-// plants of order `order` (1 or 2, or 3 for the fallback).
+// A machine of `n` axes whose servos differ (gains, plant, form, backlash, drive limit,
+// feedforward), with plants of order `order` (1 or 2, or 3 for the fallback).
 gm::Machine varied_machine(int n, int order, std::mt19937_64& rng, bool coulomb = false) {
   gm::Machine m = gm::default_machine();
   m.set_axes(*gm::AxisLayout::of(std::string("XYZABCUVW").substr(0, static_cast<std::size_t>(n))),
@@ -43,6 +43,9 @@ gm::Machine varied_machine(int n, int order, std::mt19937_64& rng, bool coulomb 
     c.backlash_blu = a % 3 == 1 ? 3.0 : 0.0;
     c.f_max_N = a % 4 == 2 ? 300.0 : 4000.0;  // saturates on fast moves
     c.coulomb_N = coulomb && a == 1 ? 40.0 : 0.0;
+    // Feedforward on some axes (none, the shipped pair, velocity only, acceleration only).
+    c.ff1 = a % 4 == 1 ? 0.857 : a % 4 == 2 ? 1.0 : 0.0;
+    c.ff2_s = a % 4 == 1 ? 0.01431 : a % 4 == 3 ? 0.02 : 0.0;
     const double p = 14.45 * f(rng);
     if (order == 1) {
       c.plant_num = {33.518};
