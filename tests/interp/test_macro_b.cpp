@@ -9,7 +9,9 @@
 #include <array>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -265,4 +267,26 @@ TEST_CASE("macro-b: linuxcnc reads none of it") {
   // the same program reads as Fanuc Macro B
   CHECK(macro_check(macro_program("lc4.nc", "#1 = 1\nIF [#1 EQ 1] GOTO 5\nG0 X1\nN5 M30\n")).code ==
         0);
+}
+
+TEST_CASE("macro-b: #500-#999 are kept in the parameter file, #100-#199 are not (II-15.1)") {
+  // First run: #500 vacant -> 5, then 6, saved; second run reads 6 -> 7. #100 set each run
+  // starts vacant again (the IF sets it to 1 both times); a vacant #501 is not written.
+  const std::string var = (gmtest::scratch_dir("macro-b") / "kept.var").string();
+  std::filesystem::remove(var);
+  const std::string f = macro_program("kept.nc",
+                                      "G21 G90\n"
+                                      "IF [#500 EQ #0] THEN #500 = 5\n"
+                                      "#500 = #500 + 1\n"
+                                      "IF [#100 EQ #0] THEN #100 = 1\n"
+                                      "#100 = #100 + 1\n"
+                                      "G0 X#500 Y#100 Z#501\n"
+                                      "M30\n");
+  check_ends(macro_moves(f, "--dialect fanuc --parameter-file " + var), {{6, 2, 0}});
+  check_ends(macro_moves(f, "--dialect fanuc --parameter-file " + var), {{7, 2, 0}});
+  std::ifstream in(var);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  CHECK(text.find("500\t7.000000\n") != std::string::npos);
+  CHECK(text.find("\n100\t") == std::string::npos);
+  CHECK(text.find("\n501\t") == std::string::npos);
 }
