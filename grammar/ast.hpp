@@ -66,6 +66,7 @@ struct Block : x3::position_tagged {
   std::vector<Arg> args;  ///< O-word arguments (`o100 call [1] [2]`, `o1 if [#1 GT 0]`)
   int arg_first = 0;
   Open open = Open::None;
+  bool macro_b = false;      ///< Fanuc Macro B: `#1 = #2 + #3`, Fanuc's operator precedence
   std::size_t open_ops = 0;  ///< ops.size() when the open item began
 
   void reset(const char* line_start) {

@@ -44,15 +44,19 @@ enum class Op : std::uint8_t {
   And,
   Or,
   Xor,
+  // Fanuc Macro B's logical operators: bit by bit on the integer values (--dialect fanuc)
+  BitAnd,
+  BitOr,
+  BitXor,
 };
 
 /// The names of the operators and functions as written, by Op. At namespace scope: a table local
 /// to op_name was copied onto the stack at every call (264 bytes per operator evaluated).
 inline constexpr const char* kOpNames[] = {
-    "number", "#",   "#<>", "EXISTS", "EXISTS", "-",  "ABS", "ACOS", "ASIN",
-    "COS",    "EXP", "FIX", "FUP",    "ROUND",  "LN", "SIN", "SQRT", "TAN",
-    "ATAN",   "**",  "*",   "/",      "MOD",    "+",  "-",   "EQ",   "NE",
-    "GT",     "GE",  "LT",  "LE",     "AND",    "OR", "XOR"};
+    "number", "#",   "#<>", "EXISTS", "EXISTS", "-",   "ABS",  "ACOS", "ASIN", "COS",
+    "EXP",    "FIX", "FUP", "ROUND",  "LN",     "SIN", "SQRT", "TAN",  "ATAN", "**",
+    "*",      "/",   "MOD", "+",      "-",      "EQ",  "NE",   "GT",   "GE",   "LT",
+    "LE",     "AND", "OR",  "XOR",    "AND",    "OR",  "XOR"};
 
 /// The name of an operator or function as written (for messages).
 constexpr const char* op_name(Op op) {

@@ -38,6 +38,8 @@ struct open_bracket_class;
 struct close_bracket_class;
 struct slash_class;
 struct equals_class;
+struct assign_value_class;
+struct macro_expr_class;
 inline x3::rule<number_class> const number{kNumberRule.data()};
 inline x3::rule<close_paren_class> const close_paren{kCloseParenRule.data()};
 inline x3::rule<value_class> const value{kNumberRule.data()};
@@ -51,6 +53,20 @@ inline x3::rule<open_bracket_class> const open_bracket{kOpenBracketRule.data()};
 inline x3::rule<close_bracket_class> const close_bracket{kCloseBracketRule.data()};
 inline x3::rule<slash_class> const slash{kSlashRule.data()};
 inline x3::rule<equals_class> const equals{kEqualsRule.data()};
+inline x3::rule<assign_value_class> const assign_value{kExpressionRule.data()};
+inline x3::rule<macro_expr_class> const macro_expr{kExpressionRule.data()};
+
+/// Matches nothing, and succeeds only while the block is read as Fanuc Macro B (--dialect
+/// fanuc): the Macro B forms stay behind one flag test.
+struct macro_b_parser : x3::parser<macro_b_parser> {
+  using attribute_type = x3::unused_type;
+  static bool const has_attribute = false;
+  template <typename It, typename Ctx, typename RCtx, typename Attr>
+  bool parse(It&, It const&, Ctx const&, RCtx&, Attr&) const {
+    return B().macro_b;
+  }
+};
+inline macro_b_parser const macro_b{};
 
 /// A real number: optional sign, digits with an optional point (leading or trailing). No
 /// exponent: E is a word letter (M66/M67/M68 E<channel>), so X1E5 is X1 then E5, as in rs274.
@@ -194,6 +210,16 @@ struct rel_ops_ : x3::symbols<Op> {
 struct logic_ops_ : x3::symbols<Op> {
   logic_ops_() { add("AND", Op::And)("OR", Op::Or)("XOR", Op::Xor); }
 };
+/// Fanuc Macro B: AND is a multiplication-level operator, OR and XOR addition-level ones, all
+/// bit by bit (FANUC 16i/18i-MB operator's manual B-63534EN, II-15.3, Table 15.3(a)).
+struct macro_mul_ops_ : x3::symbols<Op> {
+  macro_mul_ops_() { add("*", Op::Mul)("/", Op::Div)("MOD", Op::Mod)("AND", Op::BitAnd); }
+};
+struct macro_add_ops_ : x3::symbols<Op> {
+  macro_add_ops_() { add("+", Op::Add)("-", Op::Sub)("OR", Op::BitOr)("XOR", Op::BitXor); }
+};
+inline macro_mul_ops_ const macro_mul_ops;
+inline macro_add_ops_ const macro_add_ops;
 inline functions_ const functions;
 inline mul_ops_ const mul_ops;
 inline add_ops_ const add_ops;
@@ -227,17 +253,28 @@ inline auto const power_level = unary >> *(x3::raw[x3::lit("**") > unary][emit<O
 inline auto const mul_level = power_level >> *(x3::raw[mul_ops[hold] > power_level][emit_held]);
 inline auto const add_level = mul_level >> *(x3::raw[add_ops[hold] > mul_level][emit_held]);
 inline auto const rel_level = add_level >> *(x3::raw[rel_ops[hold] > add_level][emit_held]);
-inline auto const expr_def = rel_level >> *(x3::raw[logic_ops[hold] > rel_level][emit_held]);
+inline auto const linuxcnc_expr = rel_level >> *(x3::raw[logic_ops[hold] > rel_level][emit_held]);
+// Fanuc Macro B's precedence (B-63534EN II-15.3): functions; * / MOD AND; + - OR XOR; EQ NE GT
+// GE LT LE. LinuxCNC's ** stays (a Fanuc program never writes it).
+inline auto const macro_mul_level = power_level >>
+                                    *(x3::raw[macro_mul_ops[hold] > power_level][emit_held]);
+inline auto const macro_add_level = macro_mul_level >>
+                                    *(x3::raw[macro_add_ops[hold] > macro_mul_level][emit_held]);
+inline auto const macro_expr_def = macro_add_level >>
+                                   *(x3::raw[rel_ops[hold] > macro_add_level][emit_held]);
+inline auto const expr_def = (macro_b > macro_expr) | linuxcnc_expr;
 
 /// A word's value: a plain number (the fast path of every ordinary line) or an expression.
 inline auto const value_def =
     x3::raw[number][actions::end_word] | x3::raw[unary][actions::end_expr_word];
 
 inline auto const word = letter[actions::begin_word] > value;
+/// A setting's value: LinuxCNC's one operand (`#1=[#2+#3]`), Fanuc's whole expression (`#1=#2+#3`).
+inline auto const assign_value_def = (macro_b > macro_expr) | unary;
 inline auto const assignment = x3::lit('#')[actions::begin_assign] >
                                (x3::omit[named][actions::assign_name] |
                                 primary[actions::assign_index]) > equals
-                               > unary[actions::end_assign];
+                               > assign_value[actions::end_assign];
 inline auto const comment = x3::lit('(')[actions::begin_comment] >
                             x3::raw[*(x3::char_ - x3::char_("()"))][actions::comment_text] >
                             close_paren;
@@ -264,6 +301,7 @@ inline block_type const block = "block";
 inline auto const block_def = *x3::omit[word | comment | line_comment | assignment];
 
 BOOST_SPIRIT_DEFINE(number, close_paren, value, expr, unary, primary, param_body, name, close_name,
-                    open_bracket, close_bracket, slash, equals, block, oword_args, oword_param)
+                    open_bracket, close_bracket, slash, equals, assign_value, macro_expr, block,
+                    oword_args, oword_param)
 
 }  // namespace gm::grammar::parser

@@ -155,10 +155,11 @@ OKind oword_keyword(std::string_view word) {
 }  // namespace
 
 const char* okind_name(OKind k) {
-  constexpr const char* kNames[] = {"",         "sub",    "endsub", "call",      "return",
-                                    "if",       "elseif", "else",   "endif",     "while",
-                                    "endwhile", "do",     "repeat", "endrepeat", "break",
-                                    "continue", "",       "M98",    "M99"};
+  constexpr const char* kNames[] = {
+      "",      "sub",          "endsub", "call",     "return", "if",          "elseif",
+      "else",  "endif",        "while",  "endwhile", "do",     "repeat",      "endrepeat",
+      "break", "continue",     "",       "M98",      "M99",    "IF ... GOTO", "IF ... THEN",
+      "GOTO",  "WHILE ... DO", "DO",     "END",      "G65"};
   return kNames[static_cast<int>(k)];
 }
 
@@ -262,16 +263,35 @@ void BlockParser::add_error(Block& out, ErrorCode code, int offset, std::string 
 // The phases of a line, in order. Each phase on the path of every line is always inlined: the
 // phases are named for the reader, and the parse of a line stays one function for the compiler
 // (the hot loop of a check; separate calls cost 2 % of a check's instructions).
-void BlockParser::parse(std::string_view text, int line, Block& out) {
+template <bool kMacroB>
+[[gnu::always_inline]] inline void BlockParser::parse_line(std::string_view text, int line,
+                                                           Block& out) {
   line_ = line;
   clear_block(out);
+  if constexpr (kMacroB) {
+    out.sequence = -1;
+    out.remark.clear();
+  }
   if (!text.empty() && text.back() == '\r') text.remove_suffix(1);
   const std::string_view compact = compact_line(text);
   std::size_t start = 0;
-  if (!read_line_start(out, compact, start)) return;
+  if (!read_line_start<kMacroB>(out, compact, start)) return;
   read_items(out, compact, start);
   convert(out, compact.data());
   active_comment(out, compact.data());
+}
+
+void BlockParser::parse(std::string_view text, int line, Block& out) {
+  if (macro_b_) {
+    parse_macro_b(text, line, out);
+    return;
+  }
+  parse_line<false>(text, line, out);
+}
+
+// Fanuc Macro B's lines apart: the LinuxCNC parse above is compiled without its statements.
+[[gnu::noinline]] void BlockParser::parse_macro_b(std::string_view text, int line, Block& out) {
+  parse_line<true>(text, line, out);
 }
 
 [[gnu::always_inline]] inline SourceLoc BlockParser::loc_at(int offset) const {
@@ -329,6 +349,7 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
 // The line's start: '/' (block delete), '%', then, after an optional N word, an O-word line
 // `O<label> keyword [args]` (comments may follow) or M98/M99 first on the line. `start` is
 // where the items begin. False when the O-word is malformed: the line is not parsed further.
+template <bool kMacroB>
 [[gnu::always_inline]] inline bool BlockParser::read_line_start(Block& out,
                                                                 std::string_view compact,
                                                                 std::size_t& start) {
@@ -354,6 +375,14 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
     for (++k; k < compact.size() && ((compact[k] >= '0' && compact[k] <= '9') || compact[k] == '.');
          ++k) {
     }
+  if constexpr (kMacroB) {  // Fanuc Macro B: the sequence number, then IF, GOTO, WHILE, DO, END,
+                            // G65, ':'
+    if (!read_macro_statement(out, compact, k, start)) {
+      out.oword.kind = OKind::None;
+      return false;
+    }
+    if (out.oword.kind != OKind::None) return true;
+  }
   if (k < compact.size() && compact[k] == 'O') {
     std::size_t after = 0;
     if (!parse_oword(out, compact, k, after)) return false;
@@ -361,6 +390,154 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
   } else if (k + 2 < compact.size() && compact[k] == 'M') {
     read_flow_m_code(out, compact, k);
   }
+  return true;
+}
+
+namespace {
+bool at(std::string_view compact, std::size_t k, std::string_view word) {
+  if (k >= compact.size() || compact[k] != word[0]) return false;  // most lines: one compare
+  return compact.substr(k, word.size()) == word;
+}
+bool is_digit(std::string_view compact, std::size_t k) {
+  return k < compact.size() && compact[k] >= '0' && compact[k] <= '9';
+}
+}  // namespace
+
+// One argument of a Macro B statement at `p`: `[expression]`, `#variable` or a number (GOTO's
+// target), appended to out.oword.args' source (ast_.args). False with the error.
+bool BlockParser::macro_arg(Block& out, std::string_view compact, std::size_t& p,
+                            const char* what) {
+  const char* pos = compact.data() + p;
+  const char* const end = compact.data() + compact.size();
+  const std::size_t before = ast_.args.size();
+  ItemFailure fail;
+  bool ok = false;
+  if (p < compact.size() && compact[p] == '[') {
+    ok = parse_oword_args(pos, end, ast_, fail) && ast_.args.size() == before + 1;
+  } else if (p < compact.size() && compact[p] == '#') {
+    ok = parse_oword_param(pos, end, ast_, fail);
+  } else if (is_digit(compact, p)) {
+    std::size_t q = p;
+    while (is_digit(compact, q)) ++q;
+    const int first = static_cast<int>(p), last = static_cast<int>(q);
+    ast_.args.push_back(
+        ast::Block::Arg{static_cast<int>(ast_.ops.size()), static_cast<int>(ast_.ops.size()) + 1});
+    ast_.ops.push_back(ast::ExprOp{Op::Number, first, last});
+    pos = compact.data() + q;
+    ok = true;
+  }
+  if (!ok) {
+    add_error(out, ErrorCode::BadExpression,
+              static_cast<int>(fail.where != nullptr ? fail.where - compact.data() : p),
+              std::string("expected [expression], #variable or a number ") + what);
+    return false;
+  }
+  p = static_cast<std::size_t>(pos - compact.data());
+  return true;
+}
+
+// Fanuc Macro B's statements at `k` (after an optional N): IF [c] GOTO n, IF [c] THEN #i = e,
+// GOTO n, WHILE [c] DO m, DO m, END m (FANUC 16i/18i-MB operator's manual B-63534EN, II-15.5),
+// G65 (II-15.6.1) and `:1234` (the program number's tape form). out.oword.kind stays None when the
+// line is none of these. False (with the error) when one is malformed.
+[[gnu::noinline]] bool BlockParser::read_macro_statement(Block& out, std::string_view compact,
+                                                         std::size_t k, std::size_t& start) {
+  if (k > start) {  // the sequence number N (its fraction, N10.1, is dropped)
+    long n = 0;
+    for (std::size_t d = start + 1; d < k && compact[d] != '.'; ++d)
+      if (n < 100000000) n = n * 10 + (compact[d] - '0');
+    out.sequence = n;
+  }
+  OWord& o = out.oword;
+  const auto begin = [&](OKind kind) {
+    o.kind = kind;
+    o.loc = SourceLoc{line_, columns_[k]};
+    o.named = false;
+    o.label_expr = false;
+    o.label.clear();
+  };
+  const auto loop_number = [&](std::size_t& p, const char* what) {
+    if (!is_digit(compact, p)) {
+      add_error(out, ErrorCode::BadOWord, static_cast<int>(p),
+                std::string("expected the loop number (1, 2 or 3) after ") + what);
+      return false;
+    }
+    const std::size_t first = p;
+    long m = 0;
+    while (is_digit(compact, p)) {
+      if (m < 1000) m = m * 10 + (compact[p] - '0');
+      ++p;
+    }
+    if (m < 1 || m > 3) {
+      add_error(out, ErrorCode::BadOWord, static_cast<int>(first - std::strlen(what)),
+                std::string(what) + std::to_string(m) +
+                    ": the loop number is 1, 2 or 3 (Fanuc: WHILE [...] DO m ... END m)");
+      return false;
+    }
+    o.label = std::to_string(m);
+    return true;
+  };
+  std::size_t p = k;
+  if (p < compact.size() && compact[p] == ':') {  // `:1234`, Fanuc's tape form of O1234
+    std::size_t after = 0;
+    if (!parse_oword(out, compact, k, after)) return false;
+    if (o.kind != OKind::Program) {
+      add_error(out, ErrorCode::BadOWord, static_cast<int>(k),
+                "':' opens a program number (:1234), nothing else");
+      return false;
+    }
+    start = after;
+    return true;
+  }
+  if (at(compact, p, "IF[")) {
+    begin(OKind::IfGoto);
+    p += 2;
+    if (!macro_arg(out, compact, p, "after IF")) return false;
+    if (at(compact, p, "GOTO")) {
+      p += 4;
+      if (!macro_arg(out, compact, p, "after GOTO")) return false;
+    } else if (at(compact, p, "THEN")) {
+      o.kind = OKind::IfThen;
+      p += 4;
+    } else {
+      add_error(out, ErrorCode::BadOWord, static_cast<int>(p),
+                "expected GOTO or THEN after IF [condition]");
+      return false;
+    }
+  } else if (at(compact, p, "GOTO")) {
+    begin(OKind::Goto);
+    p += 4;
+    if (!macro_arg(out, compact, p, "after GOTO")) return false;
+  } else if (at(compact, p, "WHILE[")) {
+    begin(OKind::WhileDo);
+    p += 5;
+    if (!macro_arg(out, compact, p, "after WHILE")) return false;
+    if (!at(compact, p, "DO")) {
+      add_error(out, ErrorCode::BadOWord, static_cast<int>(p),
+                "expected DO m after WHILE [condition]");
+      return false;
+    }
+    p += 2;
+    if (!loop_number(p, "DO")) return false;
+  } else if (at(compact, p, "DO") && is_digit(compact, p + 2)) {
+    begin(OKind::MacroDo);
+    p += 2;
+    if (!loop_number(p, "DO")) return false;
+  } else if (at(compact, p, "END") && is_digit(compact, p + 3)) {
+    begin(OKind::EndDo);
+    p += 3;
+    if (!loop_number(p, "END")) return false;
+  } else if (p < compact.size() && compact[p] == 'G') {
+    std::size_t d = p + 1;
+    while (d < compact.size() && compact[d] == '0') ++d;
+    if (at(compact, d, "65") && !is_digit(compact, d + 2) &&
+        !(d + 2 < compact.size() && compact[d + 2] == '.'))
+      begin(OKind::G65);  // the words, G65 included, are read as items
+    return true;
+  } else {
+    return true;
+  }
+  start = p;
   return true;
 }
 
@@ -403,8 +580,19 @@ void BlockParser::read_flow_m_code(Block& out, std::string_view compact, std::si
     while (pos != end && !starts_item(*pos)) ++pos;
   }
 
-  if (out.oword.kind != OKind::None && out.oword.kind != OKind::M98 &&
-      out.oword.kind != OKind::M99 && (ast_.word_count > 0 || !ast_.assigns.empty())) {
+  if (out.oword.kind != OKind::None) [[unlikely]]
+    check_oword_items(out, compact);
+}
+
+// What may follow an O-word (comments), M98/M99 and G65 (words), IF ... THEN (one setting).
+[[gnu::noinline]] void BlockParser::check_oword_items(Block& out, std::string_view compact) {
+  const OKind kind = out.oword.kind;
+  if (kind == OKind::IfThen && (ast_.word_count > 0 || ast_.assigns.empty())) {
+    add_error(out, ErrorCode::BadOWord,
+              ast_.word_count > 0 ? ast_.words[0].id_first : static_cast<int>(compact.size()),
+              "IF [condition] THEN takes one setting, #i = expression");
+  } else if (kind != OKind::M98 && kind != OKind::M99 && kind != OKind::G65 &&
+             kind != OKind::IfThen && (ast_.word_count > 0 || !ast_.assigns.empty())) {
     const int at = ast_.word_count > 0 ? ast_.words[0].id_first : ast_.assigns[0].pos;
     add_error(out, ErrorCode::BadOWord, at, "nothing but comments may follow an O-word");
   }
@@ -594,6 +782,7 @@ void BlockParser::drop_open_comment(Block& out, const char* begin, const ItemFai
   if (ast_.comment_count == 0) return;
   const ast::Comment& c = ast_.comments[ast_.comment_count - 1];
   std::string_view t(begin + c.text_first, static_cast<std::size_t>(c.text_last - c.text_first));
+  if (macro_b_) out.remark.assign(t);
   while (!t.empty() && (t.front() == ' ' || t.front() == '\t')) t.remove_prefix(1);
   struct Keyword {
     std::string_view word;

@@ -102,6 +102,14 @@ enum class OKind : std::uint8_t {
   Program,  ///< a bare `O1234`: a Fanuc-style (sub)program start, ended by M99
   M98,      ///< `M98 P... L...` first on the line: call a Fanuc-style subprogram
   M99,      ///< `M99` first on the line: return from it (in the main program: program end)
+  // Fanuc Macro B (--dialect fanuc), after an optional N: the condition is args[0]
+  IfGoto,   ///< `IF [cond] GOTO n`: args[1] is n
+  IfThen,   ///< `IF [cond] THEN #i = expr`: the setting is in Block::assignments
+  Goto,     ///< `GOTO n`: args[0] is n
+  WhileDo,  ///< `WHILE [cond] DO m`: label "m" (1..3)
+  MacroDo,  ///< `DO m` without WHILE: an endless loop (label "m")
+  EndDo,    ///< `END m` (label "m")
+  G65,      ///< `G65 P... L... <arguments>` first on the line: a macro call (words in Block::words)
 };
 const char* okind_name(OKind k);
 
@@ -137,6 +145,10 @@ struct Block {
   std::string names;                    ///< parameter names, lower case, back to back
   OWord oword;                          ///< kind None on ordinary lines
   std::vector<SyntaxError> errors;
+  /// Fanuc Macro B only: the line's sequence number (its leading N), -1 without one; the text
+  /// of its last comment (`#3000 = 1 (TOOL BROKEN)` shows it).
+  long sequence = -1;
+  std::string remark;
 
   bool has_errors() const { return !errors.empty(); }
   /// True when something must be evaluated before the interpreter sees the words.
@@ -161,13 +173,29 @@ class BlockParser {
   /// Parses `text` (one line without '\n'; a trailing '\r' is ignored), numbered `line`
   /// (1-based), into `out`, replacing its previous content.
   void parse(std::string_view text, int line, Block& out);
+  /// Reads Fanuc Macro B (--dialect fanuc): `#1 = #2 + #3`, Fanuc's operator precedence, IF,
+  /// GOTO, WHILE/DO/END, G65 and `:1234` at the start of a line.
+  void set_macro_b(bool on) {
+    macro_b_ = on;
+    ast_.macro_b = on;
+  }
+  bool macro_b() const { return macro_b_; }
 
  private:
-  // The phases of parse, in order: clear, compact, line start (O-word), items, convert, comment.
+  // The phases of parse, in order: clear, compact, line start (O-word; Fanuc Macro B's statements
+  // with kMacroB), items, convert, comment.
   void clear_block(Block& out) const;
   std::string_view compact_line(std::string_view text);
+  template <bool kMacroB>
+  void parse_line(std::string_view text, int line, Block& out);
+  void parse_macro_b(std::string_view text, int line, Block& out);
+  template <bool kMacroB>
   bool read_line_start(Block& out, std::string_view compact, std::size_t& start);
   void read_flow_m_code(Block& out, std::string_view compact, std::size_t k);
+  bool read_macro_statement(Block& out, std::string_view compact, std::size_t k,
+                            std::size_t& start);
+  bool macro_arg(Block& out, std::string_view compact, std::size_t& p, const char* what);
+  void check_oword_items(Block& out, std::string_view compact);
   bool parse_oword(Block& out, std::string_view compact, std::size_t k, std::size_t& after);
   void read_items(Block& out, std::string_view compact, std::size_t start);
   void report_stray_character(Block& out, const char* begin, const char* pos);
@@ -187,6 +215,7 @@ class BlockParser {
   std::vector<int> columns_;  ///< 1-based source column of each compact_ character (+1 sentinel)
   ast::Block ast_;
   int line_ = 0;
+  bool macro_b_ = false;
 };
 
 }  // namespace gm::grammar

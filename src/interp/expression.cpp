@@ -49,6 +49,10 @@ bool declared_before(const grammar::Block& block, std::string_view name, std::ui
 
 }  // namespace
 
+bool detail::declared_before(const grammar::Block& block, std::string_view name, std::uint32_t i) {
+  return gm::declared_before(block, name, i);
+}
+
 bool parameter_number(double v, SourceLoc loc, int& n, InterpError& err) {
   const double r = std::round(v);
   if (!(std::fabs(v - r) < 1e-4))
@@ -65,8 +69,9 @@ bool parameter_number(double v, SourceLoc loc, int& n, InterpError& err) {
 namespace {
 
 // A function or unary operator `o` applied to `b` (Param reads parameter #b).
-bool apply_unary(const grammar::ExprOp& o, double b, const ParameterStore& params, double& result,
-                 InterpError& err) {
+[[gnu::always_inline]] inline bool apply_unary(const grammar::ExprOp& o, double b,
+                                               const ParameterStore& params, double& result,
+                                               InterpError& err) {
   switch (o.op) {
     case Op::Param: {
       int n = 0;
@@ -134,7 +139,8 @@ bool apply_unary(const grammar::ExprOp& o, double b, const ParameterStore& param
 }
 
 // A binary operator `o` (or ATAN) applied to `a` and `b`.
-bool apply_binary(const grammar::ExprOp& o, double a, double b, double& result, InterpError& err) {
+[[gnu::always_inline]] inline bool apply_binary(const grammar::ExprOp& o, double a, double b,
+                                                double& result, InterpError& err) {
   switch (o.op) {
     case Op::Atan2:
       result = to_degrees(std::atan2(a, b));
@@ -199,8 +205,19 @@ bool apply_binary(const grammar::ExprOp& o, double a, double b, double& result, 
 
 }  // namespace
 
+bool detail::apply_unary(const grammar::ExprOp& o, double b, const ParameterStore& params,
+                         double& result, InterpError& err) {
+  return gm::apply_unary(o, b, params, result, err);
+}
+
+bool detail::apply_binary(const grammar::ExprOp& o, double a, double b, double& result,
+                          InterpError& err) {
+  return gm::apply_binary(o, a, b, result, err);
+}
+
 bool Evaluator::evaluate(const grammar::Block& block, grammar::OpRange r,
                          const ParameterStore& params, double& out, InterpError& err) {
+  if (macro_ != nullptr) return evaluate_macro(block, r, params, out, err);
   stack_.clear();
   for (std::uint32_t i = r.first; i < r.last; ++i) {
     const grammar::ExprOp& o = block.ops[i];
@@ -332,6 +349,7 @@ void substitute_parameters(std::string_view text, const ParameterStore& params, 
 }
 
 bool LineEvaluator::run(grammar::Block& block, ParameterStore& params, InterpError& err) {
+  if (macro_ != nullptr) return run_macro(block, params, err);
   // 1. Every value on the line, with the parameters as they were before the line.
   for (const grammar::WordExpr& we : block.word_exprs) {
     double v = 0.0;
@@ -377,6 +395,19 @@ bool LineEvaluator::run(grammar::Block& block, ParameterStore& params, InterpErr
   for (std::size_t i = 0; i < block.directive_count; ++i)
     if (block.directives[i].kind == grammar::CommentKind::Abort) substitute(block.directives[i]);
   return true;
+}
+
+void LineEvaluator::substitute_comments(grammar::Block& block, const ParameterStore& params) {
+  auto substitute = [&](grammar::Message& m) {
+    if (m.kind == grammar::CommentKind::Msg || m.text.find_first_of("#%") == std::string::npos)
+      return;
+    text_.clear();
+    substitute_parameters(m.text, params, text_);
+    m.text.swap(text_);
+  };
+  for (std::size_t i = 0; i < block.message_count; ++i) substitute(block.messages[i]);
+  for (std::size_t i = 0; i < block.directive_count; ++i)
+    if (block.directives[i].kind == grammar::CommentKind::Abort) substitute(block.directives[i]);
 }
 
 }  // namespace gm

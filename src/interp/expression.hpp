@@ -10,6 +10,8 @@
 
 namespace gm {
 
+class MacroVariables;
+
 /// LinuxCNC's tolerance for EQ and NE.
 inline constexpr double kEqualTolerance = 1e-4;
 
@@ -21,10 +23,27 @@ class Evaluator {
   /// Evaluates ops `r` of `block`. False with `err` set (located at the operator at fault).
   bool evaluate(const grammar::Block& block, grammar::OpRange r, const ParameterStore& params,
                 double& out, InterpError& err);
+  /// Evaluates with Fanuc Macro B's rules from now on (--dialect fanuc; null: LinuxCNC's).
+  void set_macro(const MacroVariables* m) { macro_ = m; }
 
  private:
+  /// Fanuc Macro B's rules (interp/macro_expression.cpp): vacant values, Fanuc's variable
+  /// numbers, FIX/FUP/ATAN/ASIN as Fanuc, AND/OR/XOR bit by bit.
+  bool evaluate_macro(const grammar::Block& block, grammar::OpRange r, const ParameterStore& params,
+                      double& out, InterpError& err);
   std::vector<double> stack_;
+  const MacroVariables* macro_ = nullptr;
 };
+
+namespace detail {
+/// A function or unary operator applied to `b` with LinuxCNC's rules (Param reads #b).
+bool apply_unary(const grammar::ExprOp& o, double b, const ParameterStore& params, double& result,
+                 InterpError& err);
+/// A binary operator (or ATAN) applied to `a` and `b` with LinuxCNC's rules.
+bool apply_binary(const grammar::ExprOp& o, double a, double b, double& result, InterpError& err);
+/// True if a setting `#<name>=` comes before op `i` on the line.
+bool declared_before(const grammar::Block& block, std::string_view name, std::uint32_t i);
+}  // namespace detail
 
 /// Resolves a parameter number computed as a double: it must be within 1e-4 of an integer in
 /// 1..5601. False with `err` set at `loc`.
@@ -40,8 +59,17 @@ void substitute_parameters(std::string_view text, const ParameterStore& params, 
 class LineEvaluator {
  public:
   bool run(grammar::Block& block, ParameterStore& params, InterpError& err);
+  /// Fanuc Macro B's rules from now on (null: LinuxCNC's): a vacant value omits its word,
+  /// settings go through `m` (#3000's alarm, read-only system variables).
+  void set_macro(MacroVariables* m) {
+    macro_ = m;
+    eval_.set_macro(m);
+  }
 
  private:
+  bool run_macro(grammar::Block& block, ParameterStore& params, InterpError& err);
+  void substitute_comments(grammar::Block& block, const ParameterStore& params);
+  MacroVariables* macro_ = nullptr;
   Evaluator eval_;
   struct Pending {
     bool named;

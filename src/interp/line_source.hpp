@@ -41,7 +41,11 @@ struct ParsedLine {
 /// another thread.
 class LineParser {
  public:
-  explicit LineParser(std::istream& in) : reader_(in, grammar::kMaxLineLength) {}
+  /// `macro_b`: read Fanuc Macro B (--dialect fanuc; grammar::BlockParser::set_macro_b).
+  explicit LineParser(std::istream& in, bool macro_b = false)
+      : reader_(in, grammar::kMaxLineLength) {
+    parser_.set_macro_b(macro_b);
+  }
   /// Reads and parses the next line into `p`. False at end of input.
   bool next(ParsedLine& p);
   /// Number of the last line read (0 before the first).
@@ -113,7 +117,8 @@ class ParallelFront {
     int last_number = 0;  ///< with eof: the last line number read
   };
 
-  explicit ParallelFront(std::istream& in) : front_(in), thread_([this] { produce(); }) {}
+  explicit ParallelFront(std::istream& in, bool macro_b = false)
+      : front_(in, macro_b), thread_([this] { produce(); }) {}
   ~ParallelFront() {
     ring_.stop();
     thread_.join();

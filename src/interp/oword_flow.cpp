@@ -81,7 +81,7 @@ bool OwordFlow::note_label(const grammar::OWord& o, Frame kind, const LinePos& p
   if (kind == Frame::Do || it->second.line == pos.line ||
       (kind == Frame::While && it->second.kind == Frame::Do))
     return true;
-  constexpr const char* kNames[] = {"call", "if", "while", "do", "repeat"};
+  constexpr const char* kNames[] = {"call", "if", "while", "do", "repeat", "DO"};
   return fail(err, ErrorCode::ControlMismatch, o.loc,
               fmt::format("duplicate O-word label {}: line {} already used it for a {} (LinuxCNC "
                           "needs its own label for each if, while, do and repeat)",
@@ -123,11 +123,18 @@ bool OwordFlow::enter_sub(const std::string& label, const LinePos& body, SourceL
   Open call{Frame::Call, label, pending_return_};
   call.fanuc = pending_fanuc_;
   call.again = pending_again_;
+  call.macro = pending_macro_;
   stack_.push_back(call);
-  params_.push_frame(!pending_fanuc_);  // M98: #1-#30 stay global
+  if (pending_macro_) {  // G65: #1-#33 its own, vacant but for the arguments
+    params_.push_frame(true, ParameterStore::kMacroLocals);
+    for (int i = 0; i < ParameterStore::kMacroLocals; ++i)
+      params_.set_system(i + 1, pending_locals_[static_cast<std::size_t>(i)]);
+  } else {
+    params_.push_frame(!pending_fanuc_);  // M98: #1-#30 stay global
+  }
   // An O-call starts #1-#30 from its arguments and 0 for those it does not pass (rs274).
   for (std::size_t i = 0; i < static_cast<std::size_t>(ParameterStore::kArgs); ++i)
-    if (i < pending_args_.size() || !pending_fanuc_)
+    if (!pending_macro_ && (i < pending_args_.size() || !pending_fanuc_))
       params_.set(static_cast<int>(i) + 1, i < pending_args_.size() ? pending_args_[i] : 0.0);
   ++calls_;
   if (seek) seek_to(jump, body, true);
@@ -146,6 +153,12 @@ bool OwordFlow::leave_sub(const grammar::Block& b, FlowJump& jump, InterpError& 
     return fail(
         err, ErrorCode::ControlMismatch, o.loc,
         fmt::format("{} {} outside a called subroutine", label_of(o), grammar::okind_name(o.kind)));
+  if (macro_ != nullptr && o.kind == OKind::M99)  // Fanuc's M99 P n returns to N n: not read
+    for (const grammar::Word& w : b.words)
+      if (w.letter == 'P')
+        return fail(err, ErrorCode::NotInDialect, w.loc,
+                    "M99 P (return to a sequence number of the caller) is not read: return to "
+                    "the block after the call");
   // rs274 returns from the current call whatever the label of `return`/`endsub` (its
   // sample retval.ngc returns from o1000 with `o1010 return`).
   const Open call = stack_[static_cast<std::size_t>(at)];
@@ -205,10 +218,16 @@ bool m98_words(const grammar::Block& b, std::string& label, const grammar::Word*
 }  // namespace
 
 bool OwordFlow::m98(const grammar::Block& b, const LinePos& pos, FlowJump& jump, InterpError& err) {
-  const grammar::OWord& o = b.oword;
   std::string label;
   const grammar::Word* l = nullptr;
   if (!m98_words(b, label, l, err)) return false;
+  pending_macro_ = false;
+  return fanuc_call(b.oword, label, l, pos, jump, err);
+}
+
+bool OwordFlow::fanuc_call(const grammar::OWord& o, const std::string& label,
+                           const grammar::Word* l, const LinePos& pos, FlowJump& jump,
+                           InterpError& err) {
   // LinuxCNC: the caller's frame counts the L repeats down; while some are left, the return
   // comes back to this line, which calls again. `M98 L0` calls nothing.
   pending_again_ = false;
@@ -231,9 +250,10 @@ bool OwordFlow::m98(const grammar::Block& b, const LinePos& pos, FlowJump& jump,
   if (const auto it = subs_.find(label); it != subs_.end()) {
     if (!it->second.fanuc)
       return fail(err, ErrorCode::SubprogramMisused, o.loc,
-                  fmt::format("M98 P{} calls o{} sub (line {}): an 'o... sub' is called with "
-                              "'o... call'; M98 calls a bare O{} ... M99",
-                              label, label, it->second.pos.line, label));
+                  fmt::format("{} P{} calls o{} sub (line {}): an 'o... sub' is called with "
+                              "'o... call'; {} calls a bare O{} ... M99",
+                              grammar::okind_name(o.kind), label, label, it->second.pos.line,
+                              grammar::okind_name(o.kind), label));
     return enter_sub(label, it->second.pos, o.loc, jump, true, err);
   }
   if (calls_ >= kMaxCallDepth) return enter_sub(label, pos, o.loc, jump, false, err);
@@ -302,6 +322,14 @@ bool OwordFlow::normal(const grammar::Block& b, const LinePos& pos, FlowJump& ju
       return m98(b, pos, jump, err);
     case OKind::M99:
       return leave_sub(b, jump, err);
+    case OKind::IfGoto:
+    case OKind::IfThen:
+    case OKind::Goto:
+    case OKind::WhileDo:
+    case OKind::MacroDo:
+    case OKind::EndDo:
+    case OKind::G65:
+      return macro_statement(b, pos, jump, err);
     case OKind::Program:  // reached in the flow, not by M98: LinuxCNC runs on into it
     case OKind::None:
       break;
@@ -369,6 +397,7 @@ bool OwordFlow::call_sub(const grammar::Block& b, const LinePos& pos, FlowJump& 
   pending_return_ = pos;
   pending_fanuc_ = false;
   pending_again_ = false;
+  pending_macro_ = false;
   skip_.fanuc = false;
   const auto it = subs_.find(o.label);
   if (it != subs_.end()) {
@@ -504,6 +533,8 @@ bool OwordFlow::leave_loop(const grammar::Block& b, const LinePos& pos, FlowJump
 bool OwordFlow::skipped(const grammar::Block& b, const LinePos& pos, FlowJump& jump,
                         InterpError& err) {
   const grammar::OWord& o = b.oword;
+  if (skip_.mode == Skip::MacroLoopEnd || skip_.mode == Skip::FindSequence)
+    return macro_skipped(b, pos, jump, err);
   // rs274 2.9 (read_o): a `sub` while a definition is open is "Nested subroutine definition".
   if (o.kind == OKind::Sub && skip_.mode == Skip::SubBody)
     return fail(err, ErrorCode::ControlMismatch, o.loc,
@@ -549,6 +580,8 @@ bool OwordFlow::skipped(const grammar::Block& b, const LinePos& pos, FlowJump& j
         return normal(b, pos, jump, err);
       }
       return true;
+    case Skip::MacroLoopEnd:
+    case Skip::FindSequence:
     case Skip::None:
       break;
   }
@@ -567,7 +600,7 @@ bool OwordFlow::drop_missing_call(FlowJump& jump) {
   if (skip_.mode != Skip::FindSub) return false;
   skip_ = SkipState{};
   pending_args_.clear();
-  pending_fanuc_ = pending_again_ = false;
+  pending_fanuc_ = pending_again_ = pending_macro_ = false;
   m98_loops_[static_cast<std::size_t>(calls_)] = -1;
   seek_to(jump, pending_return_, true);
   return true;
@@ -593,7 +626,12 @@ bool OwordFlow::at_end(int last_line, InterpError& err, int& err_file) const {
   if (!stack_.empty()) {
     const Open& f = stack_.back();
     err_file = f.pos.file;
-    constexpr const char* kNames[] = {"call", "if", "while", "do", "repeat"};
+    constexpr const char* kNames[] = {"call", "if", "while", "do", "repeat", "DO"};
+    if (f.kind == Frame::MacroLoop)
+      return fail(err, ErrorCode::UnterminatedControl, SourceLoc{f.pos.line, 1},
+                  fmt::format("the program ends inside the loop DO{} (no END{}; line {} is the "
+                              "last)",
+                              f.label, f.label, last_line));
     return fail(err, ErrorCode::UnterminatedControl, SourceLoc{f.pos.line, 1},
                 fmt::format("the program ends inside {} {} (line {} is the last)", f.label,
                             kNames[static_cast<int>(f.kind)], last_line));

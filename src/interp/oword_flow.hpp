@@ -15,6 +15,8 @@
 
 namespace gm {
 
+class MacroVariables;
+
 /// Where a line is in the program text.
 struct LinePos {
   std::uint64_t offset = 0;  ///< first byte of the line
@@ -73,21 +75,43 @@ class OwordFlow {
 
   int call_depth() const { return calls_; }
 
+  // Fanuc Macro B (--dialect fanuc; interp/macro_flow.cpp) -------------------------------------
+  /// Reads Fanuc Macro B from now on: variables through `m`, G65 calls with #1-#33 locals.
+  void set_macro(MacroVariables* m);
+  /// `IF [cond] THEN ...`: the condition's value (vacant is false).
+  bool condition(const grammar::Block& b, bool& holds, InterpError& err);
+  /// True while a GOTO searches for its sequence number: every line's N matters.
+  bool finding_sequence() const { return skip_.mode == Skip::FindSequence; }
+  /// ... and has come round to the program's start.
+  bool sequence_wrapped() const { return skip_.wrapped; }
+  /// During that search, the line at `pos` with sequence number `n` (-1: none): 1 when it is
+  /// the target (the search ends and the line runs), 0 to pass it over, -1 on an error (the
+  /// search came round to the GOTO line without finding it).
+  int sequence_line(long n, const LinePos& pos, InterpError& err);
+  /// The search met the program's end (the input's end or its closing '%'): it continues from
+  /// the program's start (true, `jump` set), or, having done so already, fails.
+  bool sequence_end(FlowJump& jump, InterpError& err);
+  /// The program number of the program being run (#4115): the innermost M98/G65 call's, else
+  /// the main program's `O` line (`main_program`, -1 when it has none).
+  double program_number(long main_program) const;
+
   /// After at_end's UndefinedSubroutine: drops the search for the called subroutine and goes on
   /// after the call line, as if the call had returned at once (`check` reads on). False when no
   /// search was open.
   bool drop_missing_call(FlowJump& jump);
 
  private:
-  enum class Frame : std::uint8_t { Call, If, While, Do, Repeat };
+  enum class Frame : std::uint8_t { Call, If, While, Do, Repeat, MacroLoop };
   struct Open {
     Frame kind;
     std::string label;
     LinePos pos;           ///< the opening line (call: the call line)
     double remaining = 0;  ///< repeat: iterations left
     bool branch_taken = false;
-    bool fanuc = false;  ///< call: an M98 subprogram (ends with M99)
-    bool again = false;  ///< call: M98 L with repeats left returns to the call line itself
+    bool fanuc = false;     ///< call: an M98 subprogram (ends with M99)
+    bool again = false;     ///< call: M98 L with repeats left returns to the call line itself
+    bool macro = false;     ///< call: a G65 macro call (locals #1-#33 of its own)
+    std::uint64_t end = 0;  ///< MacroLoop: the offset of its END line once seen (0: not yet)
   };
   /// A subroutine seen: its `sub` line, or its bare `O1234` line (Fanuc-style, for M98).
   struct SubDef {
@@ -96,12 +120,14 @@ class OwordFlow {
   };
   enum class Skip : std::uint8_t {
     None,
-    SubBody,    ///< passing over a definition: to its endsub
-    FindSub,    ///< searching forward for a called sub
-    IfBranch,   ///< condition false: to the next elseif/else/endif
-    IfDone,     ///< a branch ran: to endif
-    LoopEnd,    ///< break/false: past the loop's end line
-    ToLoopEnd,  ///< continue in do/repeat: to the loop's end line, then run it
+    SubBody,       ///< passing over a definition: to its endsub
+    FindSub,       ///< searching forward for a called sub
+    IfBranch,      ///< condition false: to the next elseif/else/endif
+    IfDone,        ///< a branch ran: to endif
+    LoopEnd,       ///< break/false: past the loop's end line
+    ToLoopEnd,     ///< continue in do/repeat: to the loop's end line, then run it
+    MacroLoopEnd,  ///< a false WHILE [..] DO m: past its END m
+    FindSequence,  ///< GOTO n: to the line numbered N n in the same program
   };
   struct SkipState {
     Skip mode = Skip::None;
@@ -112,6 +138,9 @@ class OwordFlow {
     int started_file = 0;  ///< the file of the line that began the skip
     int file = 0;          ///< FindSub: the file searched
     bool fanuc = false;    ///< FindSub: an M98 call (looks for a bare `O1234`)
+    long sequence = -1;    ///< FindSequence: the N searched for
+    bool wrapped = false;  ///< FindSequence: searching from the program's start again
+    LinePos from;          ///< FindSequence: the GOTO line
   };
 
   bool evaluate_arg(const grammar::Block& b, std::size_t i, double& v, InterpError& err);
@@ -132,6 +161,20 @@ class OwordFlow {
   bool enter_sub(const std::string& label, const LinePos& body, SourceLoc loc, FlowJump& jump,
                  bool seek, InterpError& err);
   bool m98(const grammar::Block& b, const LinePos& pos, FlowJump& jump, InterpError& err);
+  /// M98 and G65 after their words: L repeats, then enter or search for O`label`.
+  bool fanuc_call(const grammar::OWord& o, const std::string& label, const grammar::Word* l,
+                  const LinePos& pos, FlowJump& jump, InterpError& err);
+  // Fanuc Macro B's statements (interp/macro_flow.cpp).
+  bool macro_statement(const grammar::Block& b, const LinePos& pos, FlowJump& jump,
+                       InterpError& err);
+  bool macro_goto(const grammar::Block& b, std::size_t arg, const LinePos& pos, FlowJump& jump,
+                  InterpError& err);
+  bool macro_loop(const grammar::Block& b, const LinePos& pos, FlowJump& jump, InterpError& err);
+  bool macro_end(const grammar::Block& b, const LinePos& pos, FlowJump& jump, InterpError& err);
+  bool g65(const grammar::Block& b, const LinePos& pos, FlowJump& jump, InterpError& err);
+  bool macro_skipped(const grammar::Block& b, const LinePos& pos, FlowJump& jump, InterpError& err);
+  /// The line after the current program's `O` line (the file's start for the main program).
+  LinePos program_start() const;
   bool found_sub(const grammar::OWord& o, const LinePos& pos, FlowJump& jump, InterpError& err);
   bool leave_sub(const grammar::Block& b, FlowJump& jump, InterpError& err);
   bool count_iteration(SourceLoc loc, InterpError& err);
@@ -168,6 +211,10 @@ class OwordFlow {
   LinePos pending_return_;            ///< FindSub: the call line
   bool pending_fanuc_ = false;        ///< the pending call is an M98
   bool pending_again_ = false;        ///< ... whose return re-reads the call line (L repeats)
+  bool pending_macro_ = false;        ///< the pending call is a G65 (locals #1-#33 its own)
+  /// G65: #1-#33 on entry (vacant but for the arguments).
+  std::array<double, ParameterStore::kMacroLocals> pending_locals_{};
+  MacroVariables* macro_ = nullptr;
   /// M98 L repeats left, by the caller's call depth (LinuxCNC m98_loop_counter); -1: none.
   std::array<int, kMaxCallDepth + 1> m98_loops_ = make_loops();
   static std::array<int, kMaxCallDepth + 1> make_loops() {

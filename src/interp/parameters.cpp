@@ -67,18 +67,18 @@ bool ParameterStore::set_named(std::string_view name, double value) {
   return true;
 }
 
-void ParameterStore::push_frame(bool save_args) {
+void ParameterStore::push_frame(bool save_args, int saved) {
   Frame& f = frames_.emplace_back();
-  f.restores_args = save_args;
-  if (save_args)
-    for (int i = 0; i < kArgs; ++i) f.saved_args[static_cast<std::size_t>(i)] = numbered_[i + 1];
+  f.restores = save_args ? saved : 0;
+  for (int i = 0; i < f.restores; ++i)
+    f.saved_args[static_cast<std::size_t>(i)] = numbered_[static_cast<std::size_t>(i) + 1];
 }
 
 void ParameterStore::pop_frame() {
   if (frames_.size() <= 1) return;
   const Frame& f = frames_.back();
-  if (f.restores_args)
-    for (int i = 0; i < kArgs; ++i) numbered_[i + 1] = f.saved_args[static_cast<std::size_t>(i)];
+  for (int i = 0; i < f.restores; ++i)
+    numbered_[static_cast<std::size_t>(i) + 1] = f.saved_args[static_cast<std::size_t>(i)];
   frames_.pop_back();
 }
 
@@ -156,7 +156,9 @@ bool ParameterStore::load_var_file(const std::string& path, Diagnostic& error) {
 bool ParameterStore::save_var_file(const std::string& path, std::string& error) const {
   std::string text;
   for (int n = kFirst; n <= kLast; ++n)
-    if (persistent(n) || from_file_[static_cast<std::size_t>(n)])
+    if ((persistent(n) || from_file_[static_cast<std::size_t>(n)] ||
+         (n >= kept_first_ && n <= kept_last_)) &&
+        !std::isnan(numbered_[static_cast<std::size_t>(n)]))
       text += fmt::format("{}\t{:.6f}\n", n, numbered_[static_cast<std::size_t>(n)]);
   std::ofstream out(path, std::ios::trunc);
   if (!out || !(out << text) || !out.flush()) {

@@ -39,6 +39,7 @@ class ParameterStore {
   static constexpr int kFirst = 1;
   static constexpr int kLast = 5601;
   static constexpr int kArgs = 30;                      ///< #1-#30: subroutine arguments
+  static constexpr int kMacroLocals = 33;               ///< Fanuc Macro B's locals #1-#33
   static constexpr std::size_t kMaxSystemWrites = 256;  ///< per line (a line holds fewer)
 
   ParameterStore();
@@ -89,8 +90,9 @@ class ParameterStore {
   }
 
   /// Call frames (O-word subroutines): a new frame has no named locals and saves #1-#30 (an
-  /// M98 subprogram's does not: #1-#30 stay global, LinuxCNC's Fanuc-style rule).
-  void push_frame(bool save_args = true);
+  /// M98 subprogram's does not: #1-#30 stay global, LinuxCNC's Fanuc-style rule); a G65 macro
+  /// call's saves #1-#33 (`saved` = kMacroLocals). pop_frame restores what was saved.
+  void push_frame(bool save_args = true, int saved = kArgs);
   void pop_frame();
   std::size_t depth() const { return frames_.size() - 1; }
 
@@ -104,6 +106,14 @@ class ParameterStore {
   /// Writes the persistent parameters and those loaded, in increasing order, `number<TAB>%f`
   /// (Interp::save_parameters' lines). Writes that one file only (no backup, no temporary).
   bool save_var_file(const std::string& path, std::string& error) const;
+  /// True when #n was read from the parameter file.
+  bool from_file(int n) const { return from_file_[static_cast<std::size_t>(n)]; }
+  /// Also saves #first..#last (Fanuc's kept commons #500-#999) in the parameter file, those not
+  /// vacant (NaN).
+  void keep_in_file(int first, int last) {
+    kept_first_ = first;
+    kept_last_ = last;
+  }
 
  private:
   struct Hash {
@@ -113,8 +123,8 @@ class ParameterStore {
   using NameMap = std::unordered_map<std::string, double, Hash, std::equal_to<>>;
   struct Frame {
     NameMap locals;
-    std::array<double, kArgs> saved_args{};
-    bool restores_args = true;
+    std::array<double, kMacroLocals> saved_args{};
+    int restores = kArgs;  ///< how many of #1.. pop_frame restores
   };
 
   std::vector<double> numbered_;
@@ -125,6 +135,7 @@ class ParameterStore {
   const ParameterProvider* provider_ = nullptr;
   double value_ = 0.0;
   double value_returned_ = 0.0;
+  int kept_first_ = 1, kept_last_ = 0;
 };
 
 }  // namespace gm

@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include <cstdlib>
+
 namespace gm {
 
 namespace {
@@ -43,6 +45,12 @@ ProgramRunner::ProgramRunner(std::string filename, const InterpreterOptions& opt
   // an error there is reported with the first line processed and stops the program.
   Diagnostic error;
   if (!system_.load(error)) start_error_.push_back(std::move(error));
+  if (opts.dialect == Dialect::Fanuc) {  // Fanuc Macro B: vacant variables, IF/GOTO/WHILE, G65
+    macro_vars_.start();
+    evaluator_.set_macro(&macro_vars_);
+    flow_.set_macro(&macro_vars_);
+    files_.set_macro_b(true);
+  }
   grammar::Block start;
   if (rules_.start_block(start)) {
     std::vector<Canon> none;
@@ -71,6 +79,11 @@ bool ProgramRunner::process_line(Line& l) {
   remember(p.text);
   if (!rules_.line_fits(p.next_offset - p.offset, p.truncated, p.number, p.text, l.diags))
     return true;
+  if (flow_.finding_sequence()) {
+    bool handled = false;
+    const bool more = sequence_search(l, handled);
+    if (handled) return more;
+  }
   if (flow_.skipping()) return skipped_line(l);
   if (rules_.passed_over(p.text, p.truncated, p.number, l.diags)) return true;
   if (p.truncated) return truncated_line(l);
@@ -103,6 +116,23 @@ bool ProgramRunner::skipped_line(Line& l) {
     return stop(err, l);
   if (p.truncated || p.block.oword.kind == grammar::OKind::None) return true;
   return control(l);
+}
+
+// A GOTO's search for its sequence number (Fanuc Macro B): the line numbered N n runs (not
+// `handled`); others are passed over; the program's closing '%' sends the search to its start.
+bool ProgramRunner::sequence_search(Line& l, bool& handled) {
+  const ParsedLine& p = l.p;
+  InterpError err;
+  handled = true;
+  const int found = p.truncated ? 0 : flow_.sequence_line(p.block.sequence, position_of(p), err);
+  if (found < 0) return stop(err, l);
+  if (found > 0) {
+    handled = false;
+    return true;
+  }
+  if (p.block.percent && p.file == 0 && opened_percent_ && !flow_.sequence_wrapped())
+    return flow_.sequence_end(l.jump, err) || stop(err, l);
+  return skipped_line(l);
 }
 
 bool ProgramRunner::truncated_line(Line& l) {
@@ -168,6 +198,11 @@ bool ProgramRunner::evaluate(Line& l, bool& more) {
   system_.set_line(l.p.number);
   if (!evaluator_.run(block, params_, err)) {
     l.diags.push_back(error_diagnostic(err, l.p.text));
+    if (err.code == ErrorCode::CommentAbort) {  // Fanuc's #3000 alarm stops the program
+      stopped_here(err.loc, l.diags, "an alarm stops the program");
+      done_ = true;
+      more = false;
+    }
     return false;
   }
   system_.apply_program_writes();
@@ -182,6 +217,7 @@ bool ProgramRunner::run_block(Line& l) {
     l.diags.push_back(error_diagnostic(err, l.p.text));
     return true;
   }
+  if (l.p.block.sequence >= 0) macro_vars_.set_sequence(l.p.block.sequence);  // #4114
   system_.export_state();
   if (g7x_.pending() && !g7x_.start(position_of(l.p), l.jump, err)) return stop(err, l);
   if (!interp_.state().ended) return true;
@@ -197,10 +233,15 @@ bool ProgramRunner::control(Line& l) {
   const int depth = flow_.call_depth();
   const grammar::OKind kind = p.block.oword.kind;
   if (fanuc_sub_refused(l)) return true;
-  if ((kind == grammar::OKind::M98 || kind == grammar::OKind::M99) && !flow_.skipping() &&
-      p.block.needs_evaluation() && !evaluator_.run(p.block, params_, err))
+  if (kind == grammar::OKind::IfThen && !flow_.skipping()) return macro_then(l);
+  if ((kind == grammar::OKind::M98 || kind == grammar::OKind::M99 || kind == grammar::OKind::G65) &&
+      !flow_.skipping() && p.block.needs_evaluation() && !evaluator_.run(p.block, params_, err))
     return stop(err, l);
+  if (kind == grammar::OKind::Program && depth == 0 && main_program_ < 0 && !flow_.skipping())
+    main_program_ = std::atol(p.block.oword.label.c_str());
   bool ok = flow_.handle(p.block, position_of(p), l.jump, err);
+  if (ok && flow_.call_depth() != depth)
+    macro_vars_.set_program(flow_.program_number(main_program_));  // #4115
   // The interpreter keeps M70/M73 modes per call level (machine's, interp/saved_modes.cpp).
   if (ok && flow_.call_depth() > depth) interp_.enter_call(flow_.call_depth());
   if (ok && flow_.call_depth() < depth) ok = interp_.leave_call(depth, p.number, l.out, err);
@@ -209,6 +250,17 @@ bool ProgramRunner::control(Line& l) {
     return true;
   }
   return ok || stop(err, l);
+}
+
+// `IF [condition] THEN #i = expression` (Fanuc Macro B, B-63534EN II-15.5.2): the setting is
+// made when the condition holds.
+bool ProgramRunner::macro_then(Line& l) {
+  InterpError err;
+  bool holds = false;
+  if (!flow_.condition(l.p.block, holds, err)) return stop(err, l);
+  if (!holds) return true;
+  l.p.block.oword.kind = grammar::OKind::None;
+  return content(l);
 }
 
 // [RS274NGC]DISABLE_FANUC_STYLE_SUB: M98, M99 in a subprogram and a bare O-word line are
@@ -276,6 +328,18 @@ bool ProgramRunner::end_of_input(int last_line, std::vector<Diagnostic>& diags, 
                                  int file) {
   jump.seek = false;
   if (start_failed(diags) || done_) return false;
+  if (flow_.finding_sequence()) {  // a GOTO's search met the end: from the program's start
+    InterpError err;
+    if (flow_.sequence_end(jump, err)) return true;
+    diags.push_back(Diagnostic{Severity::Error,
+                               static_cast<int>(err.code),
+                               err.loc,
+                               err.message,
+                               {},
+                               files_.file_name(file)});
+    done_ = true;
+    return false;
+  }
   done_ = true;
   InterpError err;
   int err_file = 0;

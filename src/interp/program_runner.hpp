@@ -8,6 +8,7 @@
 #include "interp/g7x_driver.hpp"
 #include "interp/interpreter.hpp"
 #include "interp/line_source.hpp"
+#include "interp/macro_variables.hpp"
 #include "interp/oword_flow.hpp"
 #include "interp/parameters.hpp"
 #include "interp/program.hpp"
@@ -70,6 +71,8 @@ class ProgramRunner {
   bool evaluate(Line& l, bool& more);
   bool run_block(Line& l);
   bool control(Line& l);
+  bool macro_then(Line& l);
+  bool sequence_search(Line& l, bool& handled);
   bool fanuc_sub_refused(Line& l) const;
   bool directive(const grammar::Message& m, Line& l);
   /// The program is over at an error: `err` on the line as a diagnostic; false.
@@ -88,6 +91,8 @@ class ProgramRunner {
   int dropped_calls_ = 0;  ///< check_all: calls read on after (kMaxDroppedCalls at most)
   Interpreter interp_;
   ParameterStore params_;
+  MacroVariables macro_vars_{params_};  ///< --dialect fanuc: Macro B's variables
+  long main_program_ = -1;              ///< the main program's O number (#4115), -1: none
   SystemParameters system_;
   LineEvaluator evaluator_;
   SubroutineFiles files_;
@@ -110,8 +115,11 @@ class ProgramRunner {
 class LineDriver {
  public:
   LineDriver(std::istream& in, std::string filename, const InterpreterOptions& opts)
-      : front_(in), back_(std::move(filename), opts), source_(front_, back_) {
-    if (opts.read_ahead) ahead_ = std::make_unique<ParallelFront>(in);  // front_ reads nothing yet
+      : front_(in, opts.dialect == Dialect::Fanuc),
+        back_(std::move(filename), opts),
+        source_(front_, back_) {
+    if (opts.read_ahead)  // front_ reads nothing yet
+      ahead_ = std::make_unique<ParallelFront>(in, opts.dialect == Dialect::Fanuc);
   }
   /// Reads, parses and interprets one line; false when the program is over.
   bool step(std::vector<Canon>& out, std::vector<Diagnostic>& diags);

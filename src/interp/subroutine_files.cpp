@@ -33,7 +33,7 @@ LineParser* SubroutineFiles::parser(int id) {
     f.in.reset();
     return nullptr;
   }
-  f.parser = std::make_unique<LineParser>(*f.in);
+  f.parser = std::make_unique<LineParser>(*f.in, macro_b_);
   return f.parser.get();
 }
 

@@ -33,6 +33,8 @@ class SubroutineFiles : public SubroutineFinder {
 
   /// The reader of file `id`, opened if needed; null if it cannot be opened.
   LineParser* parser(int id);
+  /// Files are read as Fanuc Macro B (--dialect fanuc).
+  void set_macro_b(bool on) { macro_b_ = on; }
 
  private:
   struct File {
@@ -44,6 +46,7 @@ class SubroutineFiles : public SubroutineFinder {
   SubroutinePath path_;
   std::vector<File> files_;
   std::uint64_t clock_ = 0;
+  bool macro_b_ = false;
 };
 
 }  // namespace gm
