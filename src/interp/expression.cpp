@@ -53,6 +53,54 @@ bool detail::declared_before(const grammar::Block& block, std::string_view name,
   return gm::declared_before(block, name, i);
 }
 
+bool detail::store_result(const grammar::ExprOp& o, double result, std::vector<double>& stack,
+                          InterpError& err) {
+  if (!std::isfinite(result))
+    return fail(err, ErrorCode::NotANumber, o.loc,
+                fmt::format("{} resulted in {}", grammar::op_name(o.op),
+                            std::isnan(result) ? "not a number" : "infinity"));
+  stack.back() = result;
+  return true;
+}
+
+bool detail::single_result(const std::vector<double>& stack, double& out, InterpError& err) {
+  if (stack.size() != 1)
+    return fail(err, ErrorCode::BadExpression, err.loc, "malformed expression");
+  out = stack.back();
+  return true;
+}
+
+detail::Leaf detail::push_leaf(const grammar::Block& block, std::uint32_t i,
+                               const ParameterStore& params, std::vector<double>& stack,
+                               InterpError& err) {
+  const grammar::ExprOp& o = block.ops[i];
+  switch (o.op) {
+    case Op::Number:
+      stack.push_back(o.value);
+      return Leaf::Pushed;
+    case Op::Named: {
+      const std::string_view name = block.name_of(o.name, o.name_size);
+      // LinuxCNC creates a named parameter (value 0) when it reads `#<name>=` on the line:
+      // reads written after that see 0 until the line's settings apply.
+      double v = 0.0;
+      if (!params.get_named(name, v) && !gm::declared_before(block, name, i)) {
+        fail(err, ErrorCode::UndefinedParameter, o.loc,
+             fmt::format("named parameter #<{}> is not defined", name));
+        return Leaf::Failed;
+      }
+      stack.push_back(v);
+      return Leaf::Pushed;
+    }
+    case Op::Exists: {
+      double v = 0.0;
+      stack.push_back(params.get_named(block.name_of(o.name, o.name_size), v) ? 1.0 : 0.0);
+      return Leaf::Pushed;
+    }
+    default:
+      return Leaf::NotLeaf;
+  }
+}
+
 bool parameter_number(double v, SourceLoc loc, int& n, InterpError& err) {
   const double r = std::round(v);
   if (!(std::fabs(v - r) < 1e-4))
@@ -221,28 +269,11 @@ bool Evaluator::evaluate(const grammar::Block& block, grammar::OpRange r,
   stack_.clear();
   for (std::uint32_t i = r.first; i < r.last; ++i) {
     const grammar::ExprOp& o = block.ops[i];
-    double result = 0.0;  // also the value of a named parameter declared earlier on the line
-    switch (o.op) {
-      case Op::Number:
-        stack_.push_back(o.value);
-        continue;
-      case Op::Named: {
-        const std::string_view name = block.name_of(o.name, o.name_size);
-        // LinuxCNC creates a named parameter (value 0) when it reads `#<name>=` on the line:
-        // reads written after that see 0 until the line's settings apply.
-        if (!params.get_named(name, result) && !declared_before(block, name, i))
-          return fail(err, ErrorCode::UndefinedParameter, o.loc,
-                      fmt::format("named parameter #<{}> is not defined", name));
-        stack_.push_back(result);
-        continue;
-      }
-      case Op::Exists: {
-        double v = 0.0;
-        stack_.push_back(params.get_named(block.name_of(o.name, o.name_size), v) ? 1.0 : 0.0);
-        continue;
-      }
-      default:
-        break;
+    double result = 0.0;
+    if (const detail::Leaf leaf = detail::push_leaf(block, i, params, stack_, err);
+        leaf != detail::Leaf::NotLeaf) {
+      if (leaf == detail::Leaf::Failed) return false;
+      continue;
     }
     const bool binary = o.op >= Op::Atan2;
     if (stack_.size() < (binary ? 2u : 1u))  // cannot happen for parsed input
@@ -254,16 +285,9 @@ bool Evaluator::evaluate(const grammar::Block& block, grammar::OpRange r,
     } else if (!apply_unary(o, b, params, result, err)) {
       return false;
     }
-    if (!std::isfinite(result))
-      return fail(err, ErrorCode::NotANumber, o.loc,
-                  fmt::format("{} resulted in {}", grammar::op_name(o.op),
-                              std::isnan(result) ? "not a number" : "infinity"));
-    stack_.back() = result;
+    if (!detail::store_result(o, result, stack_, err)) return false;
   }
-  if (stack_.size() != 1)
-    return fail(err, ErrorCode::BadExpression, err.loc, "malformed expression");
-  out = stack_.back();
-  return true;
+  return detail::single_result(stack_, out, err);
 }
 
 namespace {
@@ -384,16 +408,7 @@ bool LineEvaluator::run(grammar::Block& block, ParameterStore& params, InterpErr
       params.set(p.number, p.value);
   }
   // 3. The comment sees the new values.
-  auto substitute = [&](grammar::Message& m) {
-    if (m.kind == grammar::CommentKind::Msg || m.text.find_first_of("#%") == std::string::npos)
-      return;
-    text_.clear();
-    substitute_parameters(m.text, params, text_);
-    m.text.swap(text_);
-  };
-  for (std::size_t i = 0; i < block.message_count; ++i) substitute(block.messages[i]);
-  for (std::size_t i = 0; i < block.directive_count; ++i)
-    if (block.directives[i].kind == grammar::CommentKind::Abort) substitute(block.directives[i]);
+  substitute_comments(block, params);
   return true;
 }
 

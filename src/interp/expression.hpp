@@ -43,6 +43,17 @@ bool apply_unary(const grammar::ExprOp& o, double b, const ParameterStore& param
 bool apply_binary(const grammar::ExprOp& o, double a, double b, double& result, InterpError& err);
 /// True if a setting `#<name>=` comes before op `i` on the line.
 bool declared_before(const grammar::Block& block, std::string_view name, std::uint32_t i);
+/// What push_leaf did with op `i`: pushed its value, failed (`err` set), or left it (an operator).
+enum class Leaf { Pushed, Failed, NotLeaf };
+/// Pushes the value of a leaf op (a number, a named parameter, EXISTS[...]) as every dialect
+/// reads it; an undefined named parameter fails unless `#<name>=` comes before it on the line.
+Leaf push_leaf(const grammar::Block& block, std::uint32_t i, const ParameterStore& params,
+               std::vector<double>& stack, InterpError& err);
+/// Puts op o's `result` on top of the stack; a result that is not finite fails, located at o.
+bool store_result(const grammar::ExprOp& o, double result, std::vector<double>& stack,
+                  InterpError& err);
+/// The expression's value: the one value left on the stack (else "malformed expression").
+bool single_result(const std::vector<double>& stack, double& out, InterpError& err);
 }  // namespace detail
 
 /// Resolves a parameter number computed as a double: it must be within 1e-4 of an integer in

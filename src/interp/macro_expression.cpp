@@ -78,25 +78,10 @@ bool Evaluator::evaluate_macro(const grammar::Block& block, grammar::OpRange r,
   for (std::uint32_t i = r.first; i < r.last; ++i) {
     const grammar::ExprOp& o = block.ops[i];
     double result = 0.0;
-    switch (o.op) {
-      case Op::Number:
-        stack_.push_back(o.value);
-        continue;
-      case Op::Named: {
-        const std::string_view name = block.name_of(o.name, o.name_size);
-        if (!params.get_named(name, result) && !detail::declared_before(block, name, i))
-          return fail(err, ErrorCode::UndefinedParameter, o.loc,
-                      fmt::format("named parameter #<{}> is not defined", name));
-        stack_.push_back(result);
-        continue;
-      }
-      case Op::Exists: {
-        double v = 0.0;
-        stack_.push_back(params.get_named(block.name_of(o.name, o.name_size), v) ? 1.0 : 0.0);
-        continue;
-      }
-      default:
-        break;
+    if (const detail::Leaf leaf = detail::push_leaf(block, i, params, stack_, err);
+        leaf != detail::Leaf::NotLeaf) {
+      if (leaf == detail::Leaf::Failed) return false;
+      continue;
     }
     const bool binary = o.op >= Op::Atan2;
     if (stack_.size() < (binary ? 2u : 1u))
@@ -123,16 +108,9 @@ bool Evaluator::evaluate_macro(const grammar::Block& block, grammar::OpRange r,
     } else if (!macro_unary(o, vacant_as_zero(b), params, result, err)) {
       return false;
     }
-    if (!std::isfinite(result))
-      return fail(err, ErrorCode::NotANumber, o.loc,
-                  fmt::format("{} resulted in {}", grammar::op_name(o.op),
-                              std::isnan(result) ? "not a number" : "infinity"));
-    stack_.back() = result;
+    if (!detail::store_result(o, result, stack_, err)) return false;
   }
-  if (stack_.size() != 1)
-    return fail(err, ErrorCode::BadExpression, err.loc, "malformed expression");
-  out = stack_.back();
-  return true;
+  return detail::single_result(stack_, out, err);
 }
 
 bool LineEvaluator::run_macro(grammar::Block& block, ParameterStore& params, InterpError& err) {
