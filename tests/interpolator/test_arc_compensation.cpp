@@ -4,9 +4,12 @@
 #include "interpolator/interpolator.hpp"
 #include "planner/filter_moments.hpp"
 
+#include "support/canon_list.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <numbers>
 #include <vector>
 
 namespace {
@@ -15,22 +18,6 @@ using gm::AxisVec;
 using gm::Canon;
 using gm::Motion;
 using gm::xyz;
-
-constexpr double kPi = 3.14159265358979323846;
-
-class ListSource : public gm::CanonSource {
- public:
-  explicit ListSource(std::vector<Canon> v) : v_(std::move(v)) {}
-  bool next(Canon& out) override {
-    if (i_ >= v_.size()) return false;
-    out = v_[i_++];
-    return true;
-  }
-
- private:
-  std::vector<Canon> v_;
-  std::size_t i_ = 0;
-};
 
 const gm::Taps& blackman() {
   static const gm::Taps t = gm::design_taps("blackman", 0.164, 0.004);
@@ -44,7 +31,7 @@ std::vector<double> weights() {
   return h;
 }
 
-gm::InterpolatorConfig config() {
+gm::InterpolatorConfig compensated_config() {
   gm::InterpolatorConfig c;
   c.period_s = 0.004;
   c.blu_mm = AxisVec::Constant(0.001);
@@ -67,8 +54,8 @@ Motion half_circle(double comp_speed) {
 }
 
 std::vector<gm::CommandSample> run(std::vector<Canon> canon, double (*scale)(std::int64_t)) {
-  ListSource src(std::move(canon));
-  gm::Interpolator ip(config(), src);
+  gmtest::CanonList src(std::move(canon));
+  gm::Interpolator ip(compensated_config(), src);
   std::vector<gm::CommandSample> out;
   gm::CommandSample s;
   for (std::int64_t k = 0; k < 1'000'000; ++k) {
@@ -112,7 +99,8 @@ TEST_CASE("compensated arc: radius R + c(v) at speed, ramped from rest, blended,
     const double v = std::min(50.0, 50.0 / 41.0 * static_cast<double>(k + 1));
     s_mm += v * 0.004;
     const double ang = s_mm / 5.0;  // from the start ray (−1, 0) of the circle
-    const double w = std::min({1.0, s_mm / (2 * 0.004 * 50.0), (5.0 * kPi - s_mm) / 0.4});
+    const double w =
+        std::min({1.0, s_mm / (2 * 0.004 * 50.0), (5.0 * std::numbers::pi - s_mm) / 0.4});
     const double r = 5.0 + w * correction_mm(5.0, v * 0.004 / 5.0);
     CAPTURE(k, v, s_mm, w);
     CHECK(comp[k].pos_blu[0] * 0.001 == Approx(5.0 - r * std::cos(ang)).margin(0.0006));
@@ -144,8 +132,8 @@ TEST_CASE("compensated arc: an override step is a ramp, and at rest the radius i
   for (std::size_t k = 0; k < s.size() && k < 400; ++k) {
     const double a = std::atan2(s[k].pos_blu[1] * 0.001, s[k].pos_blu[0] * 0.001 - 5.0);
     double d = a - angle_prev;
-    while (d < -kPi) d += 2 * kPi;
-    while (d > kPi) d -= 2 * kPi;
+    while (d < -std::numbers::pi) d += 2 * std::numbers::pi;
+    while (d > std::numbers::pi) d -= 2 * std::numbers::pi;
     angle_prev = a;
     const double adv = std::abs(d) * 5.0;  // mm along the circle (radius changes aside)
     CAPTURE(k, adv, prev_adv);
@@ -173,7 +161,7 @@ TEST_CASE("compensated helix in G18: the correction is radial in ZX, Y follows i
   m.feed_mm_min = 3000;
   m.comp_speed_mm_s = 50.0;
   const auto s = run({m}, full);
-  const double th = kPi, R = 4.0, L = std::hypot(R * th, 6.0);
+  const double th = std::numbers::pi, R = 4.0, L = std::hypot(R * th, 6.0);
   const double c = correction_mm(R, 50.0 * th / L * 0.004);
   int steady = 0;
   for (std::size_t k = 0; k + 1 < s.size(); ++k) {

@@ -3,6 +3,8 @@
 // override steps and holds, G93; plus a seeded random property test.
 #include "interpolator/interpolator.hpp"
 
+#include "support/canon_list.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -20,20 +22,6 @@ using gm::Motion;
 using gm::MotionKind;
 
 namespace {
-
-class VectorSource : public gm::CanonSource {
- public:
-  explicit VectorSource(std::vector<Canon> v) : v_(std::move(v)) {}
-  bool next(Canon& out) override {
-    if (i_ >= v_.size()) return false;
-    out = v_[i_++];
-    return true;
-  }
-
- private:
-  std::vector<Canon> v_;
-  std::size_t i_ = 0;
-};
 
 Motion line(AxisVec a, AxisVec b, double f_mm_min, int line_no = 1) {
   Motion m;
@@ -72,7 +60,7 @@ gm::InterpolatorConfig config(double blu = 0.001, int settle = 0) {
 std::vector<gm::CommandSample> samples(std::vector<Canon> canon,
                                        gm::InterpolatorConfig cfg = config(),
                                        double (*scale)(std::int64_t) = nullptr) {
-  VectorSource src(std::move(canon));
+  gmtest::CanonList src(std::move(canon));
   gm::Interpolator ip(cfg, src);
   std::vector<gm::CommandSample> out;
   gm::CommandSample s;
@@ -241,7 +229,7 @@ TEST_CASE("rapids run at the rapid rate times the rapid override, G93 takes its 
   r.kind = MotionKind::Rapid;
   // 6000 mm/min = 100 mm/s: 0.4 mm a sample, 25 samples; at 50 % rapid override 50 samples.
   CHECK(samples({r}).size() == 25);
-  VectorSource src({r});
+  gmtest::CanonList src({r});
   gm::Interpolator ip(config(), src);
   gm::CommandSample cs;
   gm::OverrideInput o;
@@ -409,7 +397,7 @@ TEST_CASE("property: random chains end every block exactly and never outrun the 
       return q;
     };
     gm::InterpolatorConfig cfg = config(blu_mm, exact ? 2 : 0);
-    VectorSource src(canon);
+    gmtest::CanonList src(canon);
     gm::Interpolator ip(cfg, src);
     gm::CommandSample s, prev;
     prev.pos_blu = AxisBlu::Zero();

@@ -9,11 +9,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <vector>
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 std::vector<double> weights(const gm::Taps& t) {
   std::vector<double> h;
@@ -70,7 +69,7 @@ TEST_CASE("a steady circle commanded on R/A(ωT) leaves the real FIR on R within
       gm::AxisBlu in = gm::AxisBlu::Zero(), out;
       double lo = 1e300, hi = -1e300;
       const int n = static_cast<int>(t.integer.size());
-      const int samples = static_cast<int>(4 * kPi / wT) + 3 * n;
+      const int samples = static_cast<int>(4 * std::numbers::pi / wT) + 3 * n;
       for (int k = 0; k < samples; ++k) {
         in[0] = std::llround(Rc * std::cos(wT * k));
         in[1] = std::llround(Rc * std::sin(wT * k));
@@ -98,7 +97,7 @@ TEST_CASE("the planner's check: steady arcs cost nothing, the transitions a frac
   const gm::ArcPrecompCheck check(weights(t), 0.004);
   REQUIRE(check.enabled());
   // R 2 mm, a half turn, F3000 (50 mm/s): uncompensated the steady loss is R(1 − A).
-  const double R = 2.0, th = kPi, L = R * th, v = 50.0;
+  const double R = 2.0, th = std::numbers::pi, L = R * th, v = 50.0;
   const double loss = R * (1.0 - f.amplitude(v * 0.004 / R));
   const double bound = v * v * f.variance_s2() / (2.0 * R);
   CHECK(loss <= bound);

@@ -6,6 +6,7 @@
 #include "pipeline/pipeline.hpp"
 #include "planner/filter_moments.hpp"
 #include "planner/tolerance_planner.hpp"
+#include "support/planner_config.hpp"
 #include "support/read_file.hpp"
 #include "support/sample_stepper.hpp"
 #include "support/tolerance_reference.hpp"
@@ -14,21 +15,12 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <numbers>
 #include <sstream>
 #include <string>
 #include <vector>
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
-gm::PlannerConfig planner_config(const gm::Machine& m) {
-  gm::PlannerConfig c;
-  c.max_override = m.max_override;
-  c.rapid_mm_min = m.rapid_mm_min;
-  c.rounding_mm = m.xyz_blu_mm().norm();
-  return c;
-}
 
 // The planner's canon for `text` on machine `m`.
 std::vector<gm::Canon> planned_canon(const std::string& text, const gm::Machine& m) {
@@ -37,7 +29,7 @@ std::vector<gm::Canon> planned_canon(const std::string& text, const gm::Machine&
   opts.machine = &m;
   gm::ProgramStream stream(in, "p.nc", opts);
   const gm::FilterMoments fm(gm::design_taps(m.profile, m.tau_s, m.period_s), m.period_s);
-  gm::TolerancePlanner planner(fm, planner_config(m), stream);
+  gm::TolerancePlanner planner(fm, gmtest::fir_planner_config(m, false), stream);
   std::vector<gm::Canon> out;
   gm::Canon c;
   while (planner.next(c)) out.push_back(c);
@@ -85,7 +77,7 @@ Run run(const std::string& text, const gm::Machine& m) {
   opts.machine = &m;
   gm::ProgramStream stream(in, "p.nc", opts);
   const gm::FilterMoments fm(gm::design_taps(m.profile, m.tau_s, m.period_s), m.period_s);
-  gm::TolerancePlanner planner(fm, planner_config(m), stream);
+  gm::TolerancePlanner planner(fm, gmtest::fir_planner_config(m, false), stream);
   Run r;
   Counting counting(planner, r);
   gm::RunConfig cfg;
@@ -142,7 +134,7 @@ TEST_CASE("G61: LinuxCNC's tangency, worked by hand on the default machine") {
   // with an arc the ratio halves: θ < 0.16464°.
   const gm::Machine m;
   auto lines = [](double deg) {
-    const double a = deg * kPi / 180.0;
+    const double a = deg * std::numbers::pi / 180.0;
     return fmt::format("G21 G90 G17 G61\nG1 X10 Y0 F1200\nG1 X{:.9f} Y{:.9f}\nM2\n",
                        10 + 10 * std::cos(a), 10 * std::sin(a));
   };
@@ -150,7 +142,8 @@ TEST_CASE("G61: LinuxCNC's tangency, worked by hand on the default machine") {
   CHECK(block_stops(planned_canon(lines(0.3306), m), 2));
   // A line into an arc of radius 10 whose start tangent is turned by θ from the line.
   auto line_arc = [](double deg) {
-    const double a = deg * kPi / 180.0;  // the arc's centre is at 10·(−sin a, cos a) from (10,0)
+    const double a =
+        deg * std::numbers::pi / 180.0;  // the arc's centre is at 10·(−sin a, cos a) from (10,0)
     const double cx = 10 - 10 * std::sin(a), cy = 10 * std::cos(a);
     return fmt::format("G21 G90 G17 G61\nG1 X10 Y0 F1200\nG3 X{:.9f} Y{:.9f} I{:.9f} J{:.9f}\nM2\n",
                        cx + 10, cy, cx - 10, cy);
@@ -159,7 +152,7 @@ TEST_CASE("G61: LinuxCNC's tangency, worked by hand on the default machine") {
   CHECK(block_stops(planned_canon(line_arc(0.1654), m), 2));
   // At F600 (v = 20 mm/s) the line–line limit is sin θ < 0.1·609.756/5,609.756: θ < 0.62279°.
   auto slow = [](double deg) {
-    const double a = deg * kPi / 180.0;
+    const double a = deg * std::numbers::pi / 180.0;
     return fmt::format("G21 G90 G17 G61\nG1 X10 Y0 F600\nG1 X{:.9f} Y{:.9f}\nM2\n",
                        10 + 10 * std::cos(a), 10 * std::sin(a));
   };
@@ -229,7 +222,7 @@ TEST_CASE("a 0.1° join beside R 0.5 fillets: no pause at F3000 under P0.01") {
   // V·D(0)·|Δu| = 100 mm/s · 8.94 ms · 0.001745 = 1.56 µm, within half the share
   // (0.01 − 0.00173)/2 = 4.1 µm: it claims that and needs neither a cap nor a pause.
   const gm::Machine m;
-  const double a = 0.1 * kPi / 180.0, s = std::sin(a), c = std::cos(a);
+  const double a = 0.1 * std::numbers::pi / 180.0, s = std::sin(a), c = std::cos(a);
   const double x2 = 6 + 6 * c, y2 = 1 + 6 * s;
   const std::string text = fmt::format(
       "G21 G90 G17 G64 P0.01\nG1 X0 Y0.5 F3000\nG2 X0.5 Y1 I0.5 J0\nG1 X6 Y1\n"

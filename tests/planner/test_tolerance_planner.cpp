@@ -9,6 +9,7 @@
 #include "planner/filter_moments.hpp"
 #include "planner/servo_response.hpp"
 #include "planner/tolerance_planner.hpp"
+#include "support/planner_config.hpp"
 #include "support/run_command.hpp"
 #include "support/sample_stepper.hpp"
 #include "support/test_scale.hpp"
@@ -26,12 +27,7 @@
 namespace {
 
 gm::PlannerConfig planner_config(const gm::Machine& m) {
-  gm::PlannerConfig c;
-  c.max_override = m.max_override;
-  c.rapid_mm_min = m.rapid_mm_min;
-  c.rounding_mm = m.xyz_blu_mm().norm();
-  c.precompensate_arcs = m.arc_precompensation;
-  return c;
+  return gmtest::fir_planner_config(m, m.arc_precompensation);
 }
 
 // Hands on the planner's canon and counts what the planning put into it: pieces with a speed

@@ -15,7 +15,7 @@ using gm::ServoAxis;
 
 namespace {
 
-constexpr double kT = 0.004;
+constexpr double kFfPeriodS = 0.004;
 
 // The paper's x axis, written out (independently of the defaults).
 AxisConfig paper_x(double ff1, double ff2_s) {
@@ -42,7 +42,7 @@ struct Following {
 };
 template <class Ref>
 Following following(const AxisConfig& ax, int substeps, Ref ref, int n0, int n) {
-  ServoAxis s(ax, kT, substeps, 0);
+  ServoAxis s(ax, kFfPeriodS, substeps, 0);
   Following f;
   for (int k = 0; k < n0 + n; ++k) {
     const std::int64_t r = ref(k);
@@ -65,7 +65,8 @@ TEST_CASE("velocity feedforward: the ramp's following error is (1 − ff1)·V/Kp
       for (double ff2 : {0.0, 0.0143}) {
         const double v = 15000.0;  // 60 BLU per period
         const Following f = following(
-            paper_x(ff1, ff2), substeps, [&](int k) { return std::llround(v * k * kT); }, 500, 500);
+            paper_x(ff1, ff2), substeps, [&](int k) { return std::llround(v * k * kFfPeriodS); },
+            500, 500);
         const double expected = (1.0 - ff1) * v / 30.0;
         CAPTURE(substeps, ff1, ff2, f.mean, f.lo, f.hi, expected);
         CHECK(f.mean == Approx(expected).margin(0.5));
@@ -85,7 +86,7 @@ TEST_CASE("acceleration feedforward: with ff1 = 1 a parabola's error is A·(c1 �
   // lag, 2ζ/ωn of the continuous loop (docs/servo.md: 19.3 ms).
   const double a = 14.45, g = 33.518 * 34000.0, c1 = (a / g + 0.0422 * 0.004) / 0.0094;
   CHECK(c1 == Approx(0.019306).epsilon(1e-4));
-  const double acc = 2.0 / (kT * kT);
+  const double acc = 2.0 / (kFfPeriodS * kFfPeriodS);
   for (double ff2 : {0.0, c1 / 2, c1, 0.0143}) {
     // 400 samples: 200000 BLU/s at the end, the drive well inside its limit.
     const Following f = following(
@@ -102,12 +103,12 @@ TEST_CASE("acceleration feedforward: with ff1 = 1 a parabola's error is A·(c1 �
 TEST_CASE("feedforward gains in the velocity loop's units", "[servo][ff]") {
   // ff1·(ref[k] − ref[k−1])/T BLU/s in counts per kv_period_s: ff1·kv/T per BLU of difference;
   // ff2_s·(Δref[k] − Δref[k−1])/T² likewise.
-  const ServoAxis s(paper_x(0.857, 0.0143), kT, 4, 0);
+  const ServoAxis s(paper_x(0.857, 0.0143), kFfPeriodS, 4, 0);
   CHECK(s.ff1_gain() == Approx(0.857 * 0.004 / 0.004));
   CHECK(s.ff2_gain() == Approx(0.0143 * 0.004 / (0.004 * 0.004)));
   const ServoAxis t(paper_x(1.0, 0.0), 0.001, 1, 0);  // T = 1 ms, kv_period_s 4 ms
   CHECK(t.ff1_gain() == Approx(4.0));
   CHECK(t.ff2_gain() == 0.0);
   AxisConfig bad = paper_x(std::nan(""), 0.0);
-  CHECK_THROWS_AS(ServoAxis(bad, kT, 1, 0), gm::InputError);
+  CHECK_THROWS_AS(ServoAxis(bad, kFfPeriodS, 1, 0), gm::InputError);
 }
