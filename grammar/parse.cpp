@@ -311,6 +311,7 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
   out.assignments.clear();
   out.names.clear();
   out.oword.kind = OKind::None;
+  out.oword.label_expr = false;  // else an M98 line after an O[expr] line read a stale number
   out.oword.args.clear();
   out.errors.clear();
 }
