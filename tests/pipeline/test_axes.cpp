@@ -31,6 +31,22 @@ AxisVec at(std::initializer_list<std::pair<char, double>> values) {
   return v;
 }
 
+// programs/machines/rotary-a.toml as text.
+std::string rotary_a_text() {
+  std::ifstream src(kRepo / "programs/machines/rotary-a.toml");
+  return std::string((std::istreambuf_iterator<char>(src)), std::istreambuf_iterator<char>());
+}
+
+// The error a machine file's text gives, or "<no error>".
+std::string error_of(const std::string& t) {
+  try {
+    gm::parse_machine_toml(t, "t.toml");
+  } catch (const gm::InputError& e) {
+    return e.what();
+  }
+  return "<no error>";
+}
+
 gm::Motion line_motion(const AxisVec& a, const AxisVec& b) {
   gm::Motion m;
   m.kind = gm::MotionKind::Line;
@@ -156,16 +172,7 @@ TEST_CASE("machine file: axes.letters, a table per axis, written back the same")
   CHECK(back.axes[3].v_max_mm_s == 360.0);
   CHECK(gm::machine_to_toml(back) == gm::machine_to_toml(m));
 
-  std::ifstream src(kRepo / "programs/machines/rotary-a.toml");
-  const std::string text((std::istreambuf_iterator<char>(src)), std::istreambuf_iterator<char>());
-  auto error_of = [](const std::string& t) -> std::string {
-    try {
-      gm::parse_machine_toml(t, "t.toml");
-    } catch (const gm::InputError& e) {
-      return e.what();
-    }
-    return "<no error>";
-  };
+  const std::string text = rotary_a_text();
   std::string no_a =
       text.substr(0, text.find("[axes.a]")) + text.substr(text.find("[work_offsets]"));
   CHECK_THAT(error_of(no_a), Catch::Contains("axes.a"));
@@ -176,16 +183,7 @@ TEST_CASE("machine file: axes.letters, a table per axis, written back the same")
 }
 
 TEST_CASE("rotary keys: degrees, torque and inertia, and wrapped_rotary on rotary axes only") {
-  std::ifstream src(kRepo / "programs/machines/rotary-a.toml");
-  const std::string text((std::istreambuf_iterator<char>(src)), std::istreambuf_iterator<char>());
-  auto error_of = [](const std::string& t) -> std::string {
-    try {
-      gm::parse_machine_toml(t, "t.toml");
-    } catch (const gm::InputError& e) {
-      return e.what();
-    }
-    return "<no error>";
-  };
+  const std::string text = rotary_a_text();
   std::string wrapped = text;
   wrapped.insert(wrapped.find("damping_Nm_s_rad"), "wrapped_rotary = true\n");
   const gm::Machine w = gm::parse_machine_toml(wrapped, "w.toml");
