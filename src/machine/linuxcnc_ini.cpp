@@ -376,8 +376,9 @@ void read_rapid(const IniFile& ini, double lin, Machine& m) {
   if (fastest > 0.0) m.rapid_mm_min = units::mm_s_to_mm_min(fastest);
 }
 
-// [DISPLAY]MAX_FEED_OVERRIDE.
+// [DISPLAY]MAX_FEED_OVERRIDE and LATHE (a lathe: axis's lathe view; gmotion's machine kind).
 void read_display(const IniFile& ini, Machine& m, Warnings& warn) {
+  if (const auto l = ini.number("DISPLAY", "LATHE")) m.lathe = *l != 0.0;
   if (const auto o = ini.number("DISPLAY", "MAX_FEED_OVERRIDE")) {
     if (*o >= 1.0 && *o <= 10.0)
       m.max_override = *o;
@@ -506,6 +507,7 @@ std::string machine_to_linuxcnc_ini(const Machine& m) {
     coords += m.layout.letter(i);
   }
   s += fmt::format("\n[DISPLAY]\nMAX_FEED_OVERRIDE = {}\n", ini_number(m.max_override));
+  if (m.lathe) s += "LATHE = 1\n";
   s += fmt::format(
       "\n[TRAJ]\nCOORDINATES = {}\nLINEAR_UNITS = mm\nANGULAR_UNITS = degree\n"
       "MAX_LINEAR_VELOCITY = {}\n",

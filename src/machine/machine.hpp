@@ -128,6 +128,11 @@ struct Machine {
   /// What programs for this machine are written in (key `dialect`: "linuxcnc", "fanuc",
   /// "grbl"; docs/dialects.md); empty: linuxcnc. --dialect overrides it.
   std::string dialect;
+  /// A lathe (key `kind = "lathe"`, default "mill"; LinuxCNC's [DISPLAY]LATHE = 1; --lathe):
+  /// under --dialect fanuc the program is read with Fanuc/Haas lathe conventions (X a diameter,
+  /// U/W incremental, T0101, G50, G71/G70, G76; docs/dialects.md "Fanuc/Haas lathe"). Under
+  /// linuxcnc nothing changes (G7/G8 as rs274).
+  bool lathe = false;
   /// Where M100..M199 are looked up (a file named M101 makes M101 known; it is recorded, never
   /// run): key `user_mcode_dir` or --user-mcode-dir; empty: every user M code is an error.
   std::string user_mcode_dir;

@@ -420,6 +420,13 @@ void read_program_keys(Reader& r, const toml::table& root, const std::string& sr
       r.fail_at(root.get("dialect")->source(), "dialect",
                 fmt::format("must be \"linuxcnc\", \"fanuc\" or \"grbl\" (got \"{}\")", d));
   }
+  if (std::string k; r.string("kind", k, false)) {
+    if (k == "mill" || k == "lathe")
+      m.lathe = k == "lathe";
+    else
+      r.fail_at(root.get("kind")->source(), "kind",
+                fmt::format("must be \"mill\" or \"lathe\" (got \"{}\")", k));
+  }
   if (std::string ud; r.string("user_mcode_dir", ud, false)) m.user_mcode_dir = beside(ud);
   if (std::string u; r.string("program_units", u, false)) {
     if (u == "mm" || u == "inch")
@@ -485,6 +492,7 @@ std::string toml_top_keys(const Machine& m) {
   if (!m.parameter_file.empty())
     s += fmt::format("parameter_file = {}\n", toml_string(m.parameter_file));
   if (!m.dialect.empty()) s += fmt::format("dialect = {}\n", toml_string(m.dialect));
+  if (m.lathe) s += "kind = \"lathe\"\n";
   if (!m.user_mcode_dir.empty())
     s += fmt::format("user_mcode_dir = {}\n", toml_string(m.user_mcode_dir));
   if (m.pause_s > 0.0) s += fmt::format("pause_s = {}\n", fmt_double(m.pause_s));

@@ -72,6 +72,11 @@ void add_machine_rows(std::vector<SettingRow>& rows) {
                      kMachineGroup));
   rows.push_back(
       row("--block-delete", "Skip blocks that start with '/'", &S::block_delete, kCheckMachine));
+  rows.push_back(row("--lathe",
+                     "The machine is a lathe (as kind = \"lathe\"): with --dialect fanuc, "
+                     "Fanuc/Haas lathe words (X diameter, U/W, T0101, G50, G71/G70, G76); "
+                     "docs/dialects.md",
+                     &S::lathe, kCheckMachine));
   rows.push_back(row("--tool-table",
                      "LinuxCNC tool table (T1 P1 Z50 D6 ;comment), mm; default: "
                      "the machine's",
@@ -217,6 +222,7 @@ void positive(const char* flag, double v) {
 void apply_machine_settings(const RunSettings& s, Machine& m) {
   if (!s.tool_table.empty()) m.tool_table = load_tool_table(s.tool_table);
   if (!s.user_mcode_dir.empty()) m.user_mcode_dir = s.user_mcode_dir;
+  if (s.lathe) m.lathe = true;
   if (s.pause_s) {
     if (!(*s.pause_s >= 0.0) || *s.pause_s > 1e6)
       throw InputError(fmt::format("--pause-s {} is outside 0..1e6 s", *s.pause_s));

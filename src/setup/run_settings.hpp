@@ -28,9 +28,10 @@ struct RunSettings {
   std::optional<double> blu_mm;        ///< --blu MM (every axis)
   bool no_servo = false;               ///< --no-servo: ideal axes
   bool block_delete = false;           ///< --block-delete: honour '/'
-  std::string tool_table;              ///< --tool-table FILE (else the machine's)
-  std::string user_mcode_dir;          ///< --user-mcode-dir DIR (else the machine's)
-  std::optional<double> pause_s;       ///< --pause-s S (else the machine's)
+  bool lathe = false;             ///< --lathe: the machine is a lathe (else the machine's kind)
+  std::string tool_table;         ///< --tool-table FILE (else the machine's)
+  std::string user_mcode_dir;     ///< --user-mcode-dir DIR (else the machine's)
+  std::optional<double> pause_s;  ///< --pause-s S (else the machine's)
   // The language.
   std::string subroutine_path;               ///< --subroutine-path DIR[:DIR...], then the machine's
   std::int64_t max_iterations = 10'000'000;  ///< --max-iterations N

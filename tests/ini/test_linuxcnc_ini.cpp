@@ -169,6 +169,14 @@ TEST_CASE("ini: a gantry router in inches maps onto mm, the tightest joint and t
   CHECK(m.axes[1].blu_mm == 0.001);  // no INPUT_SCALE: gmotion's default
   CHECK(m.rapid_mm_min == Approx(4 * 25.4 * 60));
   CHECK(m.max_override == 1.5);
+  CHECK_FALSE(m.lathe);  // no [DISPLAY]LATHE: a mill
+  {                      // [DISPLAY]LATHE = 1: a lathe (the machine kind Fanuc lathe programs need)
+    std::ifstream in(d / "router.ini");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    text.replace(text.find("[DISPLAY]\n"), 10, "[DISPLAY]\nLATHE = 1\n");
+    write(d / "router-lathe.ini", text);
+    CHECK(gm::load_linuxcnc_ini(d / "router-lathe.ini").machine.lathe);
+  }
   // The tool table is in inches like the INI.
   REQUIRE(m.tool_table.find(1) != nullptr);
   CHECK(m.tool_table.find(1)->offset_mm[2] == Approx(38.1));
@@ -446,6 +454,7 @@ TEST_CASE("ini: the shipped lathe sim (X Z, inches) turns a shoulder") {
   const gm::IniImport imp = gm::load_linuxcnc_ini(kSim / "lathe.ini");
   const gm::Machine& m = imp.machine;
   CHECK(m.layout.letters() == "XZ");
+  CHECK(m.lathe);  // its [DISPLAY]LATHE = 1
   CHECK(m.axes[0].v_max_mm_s == Approx(3.333333 * 25.4));
   CHECK(imp.a_max_mm_s2[1] == Approx(20 * 25.4));
   CHECK(m.tool_table.tools.size() == 10);

@@ -28,6 +28,7 @@ void require_equal(const Machine& a, const Machine& b) {
   for (std::size_t g = 0; g < 6; ++g) CHECK(a.work_offsets_mm[g] == b.work_offsets_mm[g]);
   CHECK(a.layout.letters() == b.layout.letters());
   CHECK(a.program_inch == b.program_inch);
+  CHECK(a.lathe == b.lathe);
   CHECK(a.spindle_accel_rpm_s == b.spindle_accel_rpm_s);
   REQUIRE(a.axes.size() == b.axes.size());
   for (std::size_t i = 0; i < a.axes.size(); ++i) {
@@ -160,6 +161,7 @@ TEST_CASE("machine_to_toml round-trips the default and a modified machine", "[ma
   m.axes[1].mode_hz = {40.0, 123.5};
   m.axes[1].mode_damping = {0.0, 0.02};
   m.program_inch = true;
+  m.lathe = true;
   m.spindle_accel_rpm_s = 250.0;
   require_equal(gm::parse_machine_toml(gm::machine_to_toml(m), "rt.toml"), m);
   // Names with TOML's special characters (found by fuzz_machine: backslashes did not survive).
@@ -193,6 +195,11 @@ TEST_CASE("minimal file: optional keys take the documented defaults", "[machine]
   CHECK(f.axes[1].ff1 == 0.0);
   CHECK(gm::machine_to_toml(f).find("ff1 = 0.857\nff2_s = 0.01431\n") != std::string::npos);
   CHECK_FALSE(m.program_inch);  // programs start in G21
+  CHECK_FALSE(m.lathe);         // kind = "mill"
+  CHECK(
+      gm::parse_machine_toml(
+          replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\nkind = \"lathe\"\n"), "t.toml")
+          .lathe);
   CHECK(gm::parse_machine_toml(
             replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\nprogram_units = \"inch\"\n"),
             "t.toml")
@@ -249,6 +256,9 @@ TEST_CASE("out-of-range value: exact message with key, file and line", "[machine
   CHECK(error_of(replace(kMinimal, "period_s = 0.004\n",
                          "period_s = 0.004\nprogram_units = \"in\"\n")) ==
         "t.toml:3: key 'program_units': must be \"mm\" or \"inch\" (got \"in\")");
+  CHECK(error_of(
+            replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\nkind = \"mill-turn\"\n")) ==
+        "t.toml:3: key 'kind': must be \"mill\" or \"lathe\" (got \"mill-turn\")");
   CHECK(error_of(replace(kMinimal, "period_s = 0.004\n",
                          "period_s = 0.004\nspindle_accel_rpm_s = -1\n")) ==
         "t.toml:3: key 'spindle_accel_rpm_s': must be 0..1e7 rpm/s (got -1)");
