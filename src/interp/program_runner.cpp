@@ -51,6 +51,14 @@ ProgramRunner::ProgramRunner(std::string filename, const InterpreterOptions& opt
     flow_.set_macro(&macro_vars_);
     files_.set_macro_b(true);
   }
+  fanuc_lathe_ = opts.dialect == Dialect::Fanuc && machine_.lathe;
+  if (fanuc_lathe_) {  // X words are diameters and the plane is ZX from the start
+    grammar::Block lathe;
+    FanucLathe::start_block(lathe);
+    std::vector<Canon> none;
+    InterpError err;
+    interp_.execute(lathe, none, err);
+  }
   grammar::Block start;
   if (rules_.start_block(start)) {
     std::vector<Canon> none;
@@ -79,6 +87,11 @@ bool ProgramRunner::process_line(Line& l) {
   remember(p.text);
   if (!rules_.line_fits(p.next_offset - p.offset, p.truncated, p.number, p.text, l.diags))
     return true;
+  if (fanuc_lathe_) {
+    if (p.file == 0 && !p.truncated && p.block.sequence >= 0)
+      lathe_.note_sequence(p.block.sequence, FanucLathe::Seen{p.offset, p.next_offset, p.number});
+    if (lathe_read_ != LatheRead::None) return lathe_profile_line(l);
+  }
   if (flow_.finding_sequence()) {
     bool handled = false;
     const bool more = sequence_search(l, handled);
@@ -213,6 +226,11 @@ bool ProgramRunner::evaluate(Line& l, bool& more) {
 
 bool ProgramRunner::run_block(Line& l) {
   InterpError err;
+  if (fanuc_lathe_) {
+    bool handled = false;
+    const bool more = lathe_block(l, handled);
+    if (handled) return more;
+  }
   if (!interp_.execute(l.p.block, l.out, err)) {
     l.diags.push_back(error_diagnostic(err, l.p.text));
     return true;
@@ -223,6 +241,103 @@ bool ProgramRunner::run_block(Line& l) {
   if (!interp_.state().ended) return true;
   done_ = true;
   return false;
+}
+
+// A block under Fanuc/Haas lathe conventions: rewritten (U/W, T0101, G50, ...) and run by the
+// caller (not `handled`), or a cycle's first block (recorded), G76 (run here) or G70-G72 with P Q
+// (its profile Nns..Nnf is read next: forward, or from where N ns was seen above).
+bool ProgramRunner::lathe_block(Line& l, bool& handled) {
+  InterpError err;
+  FanucLathe::Outcome o = FanucLathe::Outcome::Run;
+  handled = true;
+  if (!lathe_.rewrite(l.p.block, interp_.state(), o, err)) {
+    l.diags.push_back(error_diagnostic(err, l.p.text));
+    return true;
+  }
+  switch (o) {
+    case FanucLathe::Outcome::Run:
+      handled = false;
+      return true;
+    case FanucLathe::Outcome::Recorded:
+      return true;
+    case FanucLathe::Outcome::Moves:
+      lathe_cycle_text_ = l.p.text;
+      lathe_moves(l);
+      return true;
+    case FanucLathe::Outcome::Profile:
+      break;
+  }
+  lathe_cycle_pos_ = position_of(l.p);
+  lathe_cycle_text_ = l.p.text;
+  lathe_read_ = LatheRead::Searching;
+  const FanucLathe::Seen* above = l.p.file == 0 ? lathe_.seen(lathe_.profile_first()) : nullptr;
+  if (above != nullptr && above->offset >= l.p.offset) above = nullptr;
+  lathe_return_ = above != nullptr || lathe_.cycle_code() == 70;
+  if (above != nullptr) {
+    l.jump.seek = true;
+    l.jump.offset = above->offset;
+    l.jump.line = above->line;
+    l.jump.file = 0;
+  }
+  return true;
+}
+
+// A line while a G70-G72 profile is read: passed over until N ns, then collected up to N nf,
+// when the cycle's moves run (and reading goes back after the cycle's line if it must).
+bool ProgramRunner::lathe_profile_line(Line& l) {
+  ParsedLine& p = l.p;
+  if (lathe_read_ == LatheRead::Searching) {
+    if (p.truncated || p.file != lathe_cycle_pos_.file ||
+        p.block.sequence != lathe_.profile_first())
+      return true;
+    lathe_read_ = LatheRead::Collecting;
+  }
+  if (p.truncated) return truncated_line(l);
+  if (!well_formed(l)) {
+    lathe_read_ = LatheRead::None;
+    stopped_here(SourceLoc{p.number, 1}, l.diags, "a profile block is wrong");
+    done_ = true;
+    return false;
+  }
+  if (p.block.needs_evaluation()) {
+    bool more = true;
+    if (!evaluate(l, more) && !more) return false;
+  }
+  InterpError err;
+  if (!lathe_.collect(p.block, err)) {
+    lathe_read_ = LatheRead::None;
+    return stop(err, l);
+  }
+  if (p.block.sequence != lathe_.profile_last()) return true;
+  lathe_read_ = LatheRead::None;
+  if (!lathe_.finish_profile(err)) {
+    l.diags.push_back(
+        error_diagnostic(err, err.loc.line == lathe_cycle_pos_.line ? lathe_cycle_text_ : p.text));
+  } else {
+    lathe_moves(l);
+  }
+  if (lathe_return_) {
+    l.jump.seek = true;
+    l.jump.offset = lathe_cycle_pos_.next;
+    l.jump.line = lathe_cycle_pos_.line + 1;
+    l.jump.file = lathe_cycle_pos_.file;
+  }
+  return true;
+}
+
+// The moves of the cycle just read, run as G0-G3/G33 blocks of the cycle's line.
+bool ProgramRunner::lathe_moves(Line& l) {
+  std::vector<grammar::Block> blocks;
+  lathe_.move_blocks(interp_.state(), blocks);
+  for (const grammar::Block& b : blocks) {
+    InterpError err;
+    if (!interp_.execute(b, l.out, err)) {
+      l.diags.push_back(error_diagnostic(err, lathe_cycle_text_));
+      return false;
+    }
+  }
+  system_.export_state();
+  return true;
 }
 
 // An O-word line: control flow. An error there ends the program (the flow state is lost).
@@ -341,6 +456,17 @@ bool ProgramRunner::end_of_input(int last_line, std::vector<Diagnostic>& diags, 
     return false;
   }
   done_ = true;
+  if (lathe_read_ != LatheRead::None) {  // the input ended inside a lathe cycle's profile
+    diags.push_back(Diagnostic{
+        Severity::Error, static_cast<int>(ErrorCode::CycleMisused), lathe_.cycle_loc(),
+        lathe_read_ == LatheRead::Searching
+            ? fmt::format("{}: no block N{} {}", lathe_.cycle_name(), lathe_.profile_first(),
+                          lathe_return_ ? "in the program" : "after the cycle's line")
+            : fmt::format("{}: the profile from N{} has no last block N{}", lathe_.cycle_name(),
+                          lathe_.profile_first(), lathe_.profile_last()),
+        echoed_line(lathe_cycle_text_), files_.file_name(lathe_cycle_pos_.file)});
+    return false;
+  }
   InterpError err;
   int err_file = 0;
   if (!flow_.at_end(last_line, err, err_file)) {

@@ -7,6 +7,7 @@
 #include "interp/expression.hpp"
 #include "interp/g7x_driver.hpp"
 #include "interp/interpreter.hpp"
+#include "interp/lathe_fanuc.hpp"
 #include "interp/line_source.hpp"
 #include "interp/macro_variables.hpp"
 #include "interp/oword_flow.hpp"
@@ -74,6 +75,10 @@ class ProgramRunner {
   bool macro_then(Line& l);
   bool sequence_search(Line& l, bool& handled);
   bool fanuc_sub_refused(Line& l) const;
+  // Fanuc/Haas lathe (--dialect fanuc on a lathe machine; interp/lathe_fanuc.hpp).
+  bool lathe_block(Line& l, bool& handled);
+  bool lathe_profile_line(Line& l);
+  bool lathe_moves(Line& l);
   bool directive(const grammar::Message& m, Line& l);
   /// The program is over at an error: `err` on the line as a diagnostic; false.
   bool stop(const InterpError& err, Line& l);
@@ -106,6 +111,14 @@ class ProgramRunner {
   bool first_content_seen_ = false;
   std::int64_t blocks_ = 0;
   std::vector<Diagnostic> start_error_;
+  // Fanuc/Haas lathe conventions: on when the dialect is fanuc and the machine a lathe.
+  bool fanuc_lathe_ = false;
+  FanucLathe lathe_;
+  enum class LatheRead : std::uint8_t { None, Searching, Collecting };
+  LatheRead lathe_read_ = LatheRead::None;  ///< reading a G70-G72 profile Nns..Nnf
+  LinePos lathe_cycle_pos_;                 ///< the cycle's line
+  std::string lathe_cycle_text_;            ///< ... its text (for its errors)
+  bool lathe_return_ = false;  ///< after the profile, back to the line after the cycle's
 };
 
 /// Both halves, what ProgramStream pulls a line at a time: on one thread, or with read-ahead
