@@ -62,18 +62,32 @@ bool FanucLathe::rewrite(grammar::Block& b, const ModalState& s, Outcome& outcom
   for (const int code : {700, 710, 720})
     if (find_g(b, code) != kNone) return profile_cycle(b, code / 10, s, outcome, err);
   if (find_g(b, 760) != kNone) return thread_cycle(b, s, outcome, err);
-  for (const int code : {730, 740, 750})
-    if (const std::size_t i = find_g(b, code); i != kNone)
-      return located(err, ErrorCode::NotInDialect, b.words[i].loc,
-                     fmt::format("G{} (Fanuc lathe {}) is not modelled on a lathe under "
-                                 "--dialect fanuc",
-                                 code / 10,
-                                 code == 730   ? "pattern repeating"
-                                 : code == 740 ? "end face peck drilling"
-                                               : "outer/inner diameter grooving"));
+  for (const int code : {740, 750})
+    if (find_g(b, code) != kNone) return peck_cycle(b, code / 10, s, outcome, err);
+  if (const std::size_t i = find_g(b, 730); i != kNone)
+    return located(err, ErrorCode::NotInDialect, b.words[i].loc,
+                   "G73 (Fanuc lathe pattern repeating) is not modelled on a lathe under "
+                   "--dialect fanuc");
 
-  // G50: S the spindle clamp (B-63834EN-style "maximum spindle speed"), X Z a coordinate
-  // setting as G92.
+  // G-code system A's single cycles take axis words: G90 (outer/inner diameter cutting), G92
+  // (threading), G94 (end face cutting). Without axis words the codes keep LinuxCNC's meaning.
+  const bool axes = find_letter(b, 'X') != kNone || find_letter(b, 'Z') != kNone ||
+                    find_letter(b, 'U') != kNone || find_letter(b, 'W') != kNone;
+  for (const int code : {900, 920, 940})
+    if (const std::size_t i = find_g(b, code); i != kNone && axes)
+      return located(err, ErrorCode::NotInDialect, b.words[i].loc,
+                     fmt::format("G{} with axis words is the Fanuc lathe's {} cycle (G-code "
+                                 "system A), not modelled: write the moves, or G71/G76",
+                                 code / 10,
+                                 code == 900   ? "outer/inner diameter cutting"
+                                 : code == 920 ? "threading"
+                                               : "end face cutting"));
+  // G32: thread cutting, F the lead (LinuxCNC's G33 K).
+  if (const std::size_t g32 = find_g(b, 320); g32 != kNone) {
+    b.words[g32].value = 33.0;
+    if (const std::size_t f = find_letter(b, 'F'); f != kNone) b.words[f].letter = 'K';
+  }
+  // G50: S the spindle clamp (the maximum spindle speed), X Z a coordinate setting as G92.
   if (const std::size_t g50 = find_g(b, 500); g50 != kNone) {
     if (const std::size_t si = find_letter(b, 'S'); si != kNone) {
       if (!(b.words[si].value >= 0.0))

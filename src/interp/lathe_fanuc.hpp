@@ -38,7 +38,7 @@ class FanucLathe {
     Run,       ///< the rewritten block is to be run
     Recorded,  ///< a first cycle block or a bare G50 S: its values are kept, nothing runs
     Profile,   ///< G70/G71/G72 with P Q: the profile Nns..Nnf is to be read (profile())
-    Moves,     ///< G76: moves() holds the cycle's moves
+    Moves,     ///< G74, G75, G76: moves() holds the cycle's moves
   };
 
   /// The block run before the program's first line: G7 (X words are diameters) G18 (ZX plane).
@@ -94,6 +94,8 @@ class FanucLathe {
   bool profile_cycle(grammar::Block& b, int code, const ModalState& s, Outcome& outcome,
                      InterpError& err);
   bool thread_cycle(grammar::Block& b, const ModalState& s, Outcome& outcome, InterpError& err);
+  bool peck_cycle(grammar::Block& b, int code, const ModalState& s, Outcome& outcome,
+                  InterpError& err);
 
   double clamp_rpm_ = 0.0;  ///< G50 S (0: none)
   // The first blocks of the two-block cycles (modal, as Fanuc keeps them).
@@ -101,6 +103,7 @@ class FanucLathe {
   double g72_depth_ = 0.0, g72_retract_ = 0.0;
   int g76_finish_passes_ = 1, g76_chamfer_ = 0, g76_angle_deg_ = 60;
   double g76_min_depth_ = 0.0, g76_allowance_ = 0.0;
+  double g74_retract_ = 0.0, g75_retract_ = 0.0;
   struct Cycle {
     int code = 0;  ///< 70, 71, 72
     long ns = -1, nf = -1;

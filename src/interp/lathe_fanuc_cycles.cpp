@@ -540,6 +540,103 @@ bool FanucLathe::thread_cycle(grammar::Block& b, const ModalState& s, Outcome& o
   return true;
 }
 
+// G74 (end face peck drilling: pecks along Z, steps along X) and G75 (outer/inner diameter
+// grooving: pecks along X, steps along Z), two blocks: G74 R(e) / G74 X(U) Z(W) P(Δi) Q(Δk) F.
+bool FanucLathe::peck_cycle(grammar::Block& b, int code, const ModalState& s, Outcome& outcome,
+                            InterpError& err) {
+  const Words w(b);
+  const SourceLoc at =
+      b.words[0].letter == 'N' && b.words.size() > 1 ? b.words[1].loc : b.words[0].loc;
+  const double least = s.mm_per_unit() == 1.0 ? 0.001 : 0.0001;
+  const bool second =
+      w.has('X') || w.has('Z') || w.has('U') || w.has('W') || w.has('P') || w.has('Q');
+  double& retract = code == 74 ? g74_retract_ : g75_retract_;
+  if (!second) {  // G74 R(e): the retract after each peck
+    if (!only_words(b, code, "R", err)) return false;
+    if (!(w.get('R') >= 0.0))
+      return fail(err, ErrorCode::ValueOutOfRange, w['R']->loc,
+                  fmt::format("G{} R{:g}: the retract is negative", code, w.get('R')));
+    retract = w.get('R');
+    outcome = Outcome::Recorded;
+    return true;
+  }
+  if (!only_words(b, code, "XZUWPQRF", err)) return false;
+  if (w.has('X') && w.has('U'))
+    return fail(err, ErrorCode::DuplicateWord, w['U']->loc,
+                "U and X in one block: on a Fanuc lathe U is X's incremental word");
+  if (w.has('Z') && w.has('W'))
+    return fail(err, ErrorCode::DuplicateWord, w['W']->loc,
+                "W and Z in one block: on a Fanuc lathe W is Z's incremental word");
+  if (w.has('R') && w.get('R') != 0.0)
+    return fail(err, ErrorCode::NotInDialect, w['R']->loc,
+                fmt::format("G{} R{:g}: the relief at the bottom is not modelled (R0 or none)",
+                            code, w.get('R')));
+  if (s.comp.active())
+    return fail(err, ErrorCode::CutterCompMisused, at,
+                fmt::format("G{} with tool nose radius compensation on (G41/G42)", code));
+  Cycle c;
+  c.code = code;
+  c.loc = at;
+  program_point(s, c.z0, c.x0);
+  const double xs = s.lathe_diameter ? 0.5 : 1.0;
+  double xe = c.x0, ze = c.z0;
+  if (w.has('X')) xe = w.get('X') * xs;
+  if (w.has('U')) xe += w.get('U') * xs;
+  if (w.has('Z')) ze = w.get('Z');
+  if (w.has('W')) ze += w.get('W');
+  // (a, b): a the peck axis (Z for G74, X for G75), b the step axis.
+  const bool face = code == 74;
+  const double a0 = face ? c.z0 : c.x0, b0 = face ? c.x0 : c.z0;
+  const double ae = face ? ze : xe, be = face ? xe : ze;
+  const double peck = std::fabs(w.get(face ? 'Q' : 'P')) * least;
+  const double step = std::fabs(w.get(face ? 'P' : 'Q')) * least;
+  if (std::fabs(ae - a0) < kTol)
+    return fail(err, ErrorCode::CycleMisused, at,
+                fmt::format("G{}: no depth: the end {} is the start's", code, face ? "Z" : "X"));
+  if (!(peck > 0.0))
+    return fail(err, ErrorCode::MissingWord, at,
+                fmt::format("G{} needs {} (the depth of each peck, in the least increment)", code,
+                            face ? "Q" : "P"));
+  if (std::fabs(be - b0) > kTol && !(step > 0.0))
+    return fail(err, ErrorCode::MissingWord, at,
+                fmt::format("G{} needs {} (the step between grooves, in the least increment)", code,
+                            face ? "P" : "Q"));
+  const double da = ae > a0 ? 1.0 : -1.0, db = be > b0 ? 1.0 : -1.0;
+  const double pecks = std::fabs(ae - a0) / peck;
+  const double steps = step > 0.0 ? std::fabs(be - b0) / step : 0.0;
+  if (pecks * (steps + 1) > static_cast<double>(kMaxLayers))
+    return fail(err, ErrorCode::CycleMisused, at,
+                fmt::format("G{} would make more than {} pecks", code, kMaxLayers));
+  moves_.clear();
+  auto add = [&](Kind k, double a, double bb, double f) {
+    LatheMove m;
+    m.kind = k;
+    m.z = face ? a : bb;
+    m.x = face ? bb : a;
+    m.f = f;
+    moves_.push_back(m);
+  };
+  const double feed = w.has('F') ? w.get('F') : -1.0;
+  for (double bpos = b0;; bpos += db * step) {
+    if (db * (bpos - be) > -kTol) bpos = be;
+    add(Kind::Rapid, a0, bpos, -1.0);
+    for (long n = 1;; ++n) {  // peck in, back off by e, on from there
+      double depth = a0 + da * peck * static_cast<double>(n);
+      const bool bottom = da * (depth - ae) >= -kTol;
+      if (bottom) depth = ae;
+      add(Kind::Feed, depth, bpos, feed);
+      if (bottom) break;
+      add(Kind::Rapid, depth - da * retract, bpos, -1.0);
+    }
+    add(Kind::Rapid, a0, bpos, -1.0);
+    if (std::fabs(bpos - be) < kTol) break;
+  }
+  add(Kind::Rapid, a0, b0, -1.0);
+  cycle_ = std::move(c);
+  outcome = Outcome::Moves;
+  return true;
+}
+
 void FanucLathe::move_blocks(const ModalState& s, std::vector<grammar::Block>& out) const {
   const SourceLoc loc = cycle_.loc;
   const double xs = s.lathe_diameter ? 2.0 : 1.0;

@@ -122,7 +122,7 @@ TEST_CASE("lathe-fanuc: U and X in one block is an error at U") {
 // cncprogramminghub.com "What is T0101 in CNC programming?": T0101 tool 1 with offset 1, the
 // offset active when the command is read; T0100 selects tool 1 and cancels the offsets. The
 // turret indexes with the spindle turning.
-TEST_CASE("lathe-fanuc: T0101 changes the tool and applies offset 01; T0100 cancels it") {
+TEST_CASE("lathe-fanuc: T0101 changes the tool and applies offset 01, T0100 cancels it") {
   const auto run = lathe_run("M3 S500\nT0101\nG0 X40 Z2\nT0100\nG0 X40 Z2\nT0202\nG0 X40 Z2\nM30\n",
                              lathe_machine());
   bool stopped = false;
@@ -175,7 +175,7 @@ TEST_CASE("lathe-fanuc: G99 feeds per revolution, G98 per minute") {
   CHECK(mv[2].feed_mm_min == Approx(150.0));
 }
 
-TEST_CASE("lathe-fanuc: G50 X Z sets the coordinates as G92; G28 U0 W0 homes from here") {
+TEST_CASE("lathe-fanuc: G50 X Z sets the coordinates as G92, G28 U0 W0 homes from here") {
   const auto mv = lathe_moves("G0 X40 Z10\nG50 X100 Z50\nG0 X80 Z40\nG28 U0 W0\nM30\n");
   REQUIRE(mv.size() == 3);
   require_end(mv[1], gm::MotionKind::Rapid, 0.0, 10.0);  // 10 radius and 10 in Z less
@@ -387,4 +387,76 @@ TEST_CASE("lathe-fanuc: the bundled shaft program, read ahead or not") {
   // G71 (line 12), G70 (line 25) and G76 (line 32) each made moves.
   for (const double line : {12.0, 25.0, 32.0})
     CHECK(std::count_if(one.begin(), one.end(), [&](const auto& e) { return e[0] == line; }) > 3);
+}
+
+// cncprograming.blogspot.com "G72" (G72 W(cutting depth) R(escape); P Q U W F as G71);
+// zanotowane.pl "G72": G71's cycle with the cuts along the other axis.
+TEST_CASE("lathe-fanuc: G72 facing, layers along Z worked by hand") {
+  const auto mv = lathe_moves(
+      "G98 G0 X84 Z2\nG72 W2 R0.5\nG72 P10 Q20 F200\nN10 G0 Z-6\nG1 X40\nZ-2\nN20 X0\nM30\n");
+  // Start A: Z2, r42. Profile (Z-6, r42) (Z-6, r20) (Z-2, r20) (Z-2, r0). Layers every 2 mm
+  // of Z from Z2: Z0 (across the whole face: the profile never rises to it), Z-2, Z-4 (both
+  // end at the step, r20); Z-6 is the profile's own start.
+  using K = gm::MotionKind;
+  REQUIRE(mv.size() == 1 + 3 * 4 + 4 + 1);
+  require_end(mv[1], K::Rapid, 0.0, 42.0);
+  require_end(mv[2], K::Line, 0.0, 0.0);
+  CHECK(mv[2].feed_mm_min == Approx(200.0));
+  require_end(mv[3], K::Rapid, 0.5, 0.5);
+  require_end(mv[4], K::Rapid, 0.5, 42.0);
+  require_end(mv[5], K::Rapid, -2.0, 42.0);
+  require_end(mv[6], K::Line, -2.0, 20.0);
+  require_end(mv[7], K::Rapid, -1.5, 20.5);
+  require_end(mv[10], K::Line, -4.0, 20.0);
+  require_end(mv[13], K::Rapid, -6.0, 42.0);
+  require_end(mv[14], K::Line, -6.0, 20.0);
+  require_end(mv[15], K::Line, -2.0, 20.0);
+  require_end(mv[16], K::Line, -2.0, 0.0);
+  require_end(mv[17], K::Rapid, 2.0, 42.0);
+}
+
+TEST_CASE("lathe-fanuc: G32 threads as G33, system A's G90/G92/G94 cycles are refused") {
+  const auto mv = lathe_moves("G97 S500 M3\nG0 X20 Z5\nG32 Z-20 F1.5\nM30\n");
+  REQUIRE(mv.size() == 2);
+  CHECK(mv[1].spindle_synced);
+  CHECK(mv[1].mm_per_rev == Approx(1.5));
+  require_end(mv[1], gm::MotionKind::Line, -20.0, 10.0);
+  for (const char* code : {"G90", "G92", "G94"}) {
+    INFO(code);
+    const auto d = lathe_check(std::string("G0 X40 Z2\n") + code + " X30 Z-20 F100\nM30\n");
+    REQUIRE(errors(d) == 1);
+    CHECK(d[0].code == static_cast<int>(gm::ErrorCode::NotInDialect));
+    CHECK(d[0].loc.line == 2);
+    CHECK(d[0].loc.column == 1);
+  }
+  // Without axis words G90 and G94 are LinuxCNC's (absolute, feed per minute).
+  CHECK(errors(lathe_check("G90 G94\nG0 X40 Z2\nM30\n")) == 0);
+}
+
+// images.elk.pl "G74 End Face Peck Drilling Cycle" (G74 R(return); G74 X(U) Z(W) P Q R F, P the
+// X step and Q the peck in microns; without X, P and R: pecks of Q down to Z).
+TEST_CASE("lathe-fanuc: G74 peck drilling and G75 grooving, pecks by hand") {
+  using K = gm::MotionKind;
+  const auto drill = lathe_moves("G98 G0 X0 Z2\nG74 R1\nG74 Z-10 Q4000 F100\nM30\n");
+  // Pecks of 4 from Z2, back 1 after each: Z-2 (Z-1), Z-6 (Z-5), Z-10; out to Z2.
+  REQUIRE(drill.size() == 1 + 6);
+  require_end(drill[1], K::Line, -2.0, 0.0);
+  CHECK(drill[1].feed_mm_min == Approx(100.0));
+  require_end(drill[2], K::Rapid, -1.0, 0.0);
+  require_end(drill[3], K::Line, -6.0, 0.0);
+  require_end(drill[4], K::Rapid, -5.0, 0.0);
+  require_end(drill[5], K::Line, -10.0, 0.0);
+  require_end(drill[6], K::Rapid, 2.0, 0.0);
+  // G75: pecks of 2 (radius) from r25 to r20, grooves 2 apart from Z-10 to Z-14.
+  const auto groove = lathe_moves("G98 G0 X50 Z-10\nG75 R0.5\nG75 X40 Z-14 P2000 Q2000 F50\nM30\n");
+  REQUIRE(groove.size() == 1 + 6 + 7 + 7 + 1);
+  require_end(groove[1], K::Line, -10.0, 23.0);
+  require_end(groove[2], K::Rapid, -10.0, 23.5);
+  require_end(groove[3], K::Line, -10.0, 21.0);
+  require_end(groove[5], K::Line, -10.0, 20.0);
+  require_end(groove[6], K::Rapid, -10.0, 25.0);
+  require_end(groove[7], K::Rapid, -12.0, 25.0);
+  require_end(groove[8], K::Line, -12.0, 23.0);
+  require_end(groove[20], K::Rapid, -14.0, 25.0);
+  require_end(groove[21], K::Rapid, -10.0, 25.0);
 }
