@@ -59,6 +59,8 @@ void FanucLathe::start_block(grammar::Block& block) {
 bool FanucLathe::rewrite(grammar::Block& b, const ModalState& s, Outcome& outcome,
                          InterpError& err) {
   outcome = Outcome::Run;
+  for (const grammar::Word& w : b.words)  // (the evaluator refuses these; kept out of cycles)
+    if (!std::isfinite(w.value)) return located(err, ErrorCode::NotANumber, w.loc, "not a number");
   for (const int code : {700, 710, 720})
     if (find_g(b, code) != kNone) return profile_cycle(b, code / 10, s, outcome, err);
   if (find_g(b, 760) != kNone) return thread_cycle(b, s, outcome, err);

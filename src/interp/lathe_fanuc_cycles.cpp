@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace gm {
@@ -15,6 +16,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kTol = 1e-9;
 constexpr long kMaxLayers = 100000;
+constexpr double kMaxProfileWork = 5e7;  ///< layers x profile elements one G71/G72 may walk
 constexpr int kMaxThreadPasses = 10000;
 
 using Kind = LatheMove::Kind;
@@ -350,8 +352,15 @@ bool FanucLathe::rough(const RoughInput& in, std::vector<LatheMove>& out, std::s
     return m;
   };
   const double qmax = q_of(first);
-  if (qmax / in.depth > static_cast<double>(kMaxLayers)) {
-    why = fmt::format("more than {} layers of depth {:g}", kMaxLayers, in.depth);
+  // Bounded work and moves: each layer walks the profile once and makes four moves.
+  const double layers = qmax / in.depth;
+  if (!(layers <= static_cast<double>(kMaxLayers)) ||
+      layers * static_cast<double>(p.size()) > kMaxProfileWork ||
+      4 * layers + static_cast<double>(p.size()) > static_cast<double>(lathe::kMaxCycleMoves)) {
+    why = fmt::format(
+        "{:g} layers of depth {:g} over {} profile elements: more than one cycle may "
+        "make ({} moves)",
+        std::ceil(layers), in.depth, p.size(), lathe::kMaxCycleMoves);
     return false;
   }
   const Kind plunge = p.front().move.kind == Kind::Rapid ? Kind::Rapid : Kind::Feed;
@@ -604,9 +613,9 @@ bool FanucLathe::peck_cycle(grammar::Block& b, int code, const ModalState& s, Ou
   const double da = ae > a0 ? 1.0 : -1.0, db = be > b0 ? 1.0 : -1.0;
   const double pecks = std::fabs(ae - a0) / peck;
   const double steps = step > 0.0 ? std::fabs(be - b0) / step : 0.0;
-  if (pecks * (steps + 1) > static_cast<double>(kMaxLayers))
+  if (!(pecks * (steps + 1) <= static_cast<double>(lathe::kMaxCycleMoves) / 2))
     return fail(err, ErrorCode::CycleMisused, at,
-                fmt::format("G{} would make more than {} pecks", code, kMaxLayers));
+                fmt::format("G{} would make more than {} pecks", code, lathe::kMaxCycleMoves / 2));
   moves_.clear();
   auto add = [&](Kind k, double a, double bb, double f) {
     LatheMove m;

@@ -309,6 +309,13 @@ TEST_CASE("lathe-fanuc: cycle errors are located and specific") {
     CHECK(d[0].loc.line == 7);
     CHECK(d[0].message.find("not monotone") != std::string::npos);
   }
+  SECTION("a depth of cut that would make too many layers") {
+    const auto d = lathe_check(
+        "G98 G0 X40 Z2\nG71 U0.00001 R0\nG71 P10 Q20 F300\nN10 G0 X10\nG1 Z-10\nN20 X40\nM30\n");
+    REQUIRE(errors(d) == 1);
+    CHECK(d[0].loc.line == 3);
+    CHECK(d[0].message.find("layers") != std::string::npos);
+  }
   SECTION("the first profile block must move in G00 or G01") {
     const auto d =
         lathe_check("G98 G0 X40 Z2\nG71 U2 R1\nG71 P10 Q20 F300\nN10 X10\nG1 Z-10\nN20 X40\nM30\n");
