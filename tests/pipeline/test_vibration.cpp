@@ -6,6 +6,7 @@
 #include "pipeline/run.hpp"
 #include "trace/trace_reader.hpp"
 
+#include "support/run_command.hpp"
 #include "support/scratch_dir.hpp"
 
 #include <catch2/catch.hpp>
@@ -14,7 +15,10 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <memory>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -167,4 +171,51 @@ TEST_CASE("without modes: no tip column, no vibration in the summary", "[vibrati
   gm::TraceReader r(trace);
   for (const std::string& c : r.columns()) CHECK(c.find("tip") == std::string::npos);
   CHECK(r.header_value("units").find("tip") == std::string::npos);
+}
+
+TEST_CASE("gmotion compare: the tool tip columns are the runs' summaries", "[vibration][compare]") {
+  // Each row's residual vibration and settling are the worst axis's of `gmotion run` with that
+  // profile and tau; the cycle time is the run's.
+  const std::string repo = kRepo.string();
+  const std::string machine = repo + "/programs/machines/ringing-40hz.toml";
+  const std::string program = repo + "/programs/ringing.nc";
+  const auto c =
+      gmtest::run_gmotion("compare " + program + " --machine " + machine +
+                          " --profiles linear,linear+zv:40@0.02 --taus 0.06,0.073 --json");
+  REQUIRE(c.code == 0);
+  const std::regex row(
+      R"re("profile":"([^"]+)".*?"cycle_time_s":([0-9.e+-]+).*?"tau_s":([0-9.e+-]+),"residual_vibration_max_blu":([0-9.e+-]+),"settle_max_blu":([0-9.e+-]+))re");
+  const std::regex run_residual(R"("residual_max_blu":\{"value":([0-9.e+-]+))");
+  const std::regex run_settle(R"("settle_max_blu":\{"value":([0-9.e+-]+))");
+  const std::regex run_cycle(R"("cycle_time_s":([0-9.e+-]+))");
+  int rows = 0;
+  for (auto it = std::sregex_iterator(c.out.begin(), c.out.end(), row);
+       it != std::sregex_iterator(); ++it, ++rows) {
+    const std::smatch& m = *it;
+    const std::string json = (gmtest::scratch_dir("vibration") / "cmp.json").string();
+    REQUIRE(gmtest::run_gmotion("run " + program + " --machine " + machine + " --profile " +
+                                m[1].str() + " --tau " + m[3].str() + " --summary-json " + json)
+                .code == 0);
+    std::ifstream in(json);
+    const std::string s((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    double residual = 0, settle = 0;
+    for (auto r = std::sregex_iterator(s.begin(), s.end(), run_residual);
+         r != std::sregex_iterator(); ++r)
+      residual = std::max(residual, std::stod((*r)[1].str()));
+    for (auto r = std::sregex_iterator(s.begin(), s.end(), run_settle); r != std::sregex_iterator();
+         ++r)
+      settle = std::max(settle, std::stod((*r)[1].str()));
+    std::smatch cyc;
+    REQUIRE(std::regex_search(s, cyc, run_cycle));
+    INFO(m[1].str());
+    CHECK(std::stod(m[4].str()) == Approx(residual).epsilon(1e-5));
+    CHECK(std::stod(m[5].str()) == Approx(settle).epsilon(1e-5));
+    CHECK(std::stod(m[2].str()) == Approx(std::stod(cyc[1].str())).epsilon(1e-6));
+    CHECK(residual > 1.0);
+  }
+  CHECK(rows == 2);
+  // The default machine has no modes: no such columns.
+  const auto plain = gmtest::run_gmotion("compare " + repo + "/programs/square.nc --json");
+  REQUIRE(plain.code == 0);
+  CHECK(plain.out.find("residual_vibration") == std::string::npos);
 }
