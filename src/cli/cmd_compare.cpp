@@ -191,7 +191,7 @@ void print_table(const std::vector<Row>& rows, const std::string& name, const Ma
   if (modes)
     fmt::print(
         "The machine has structural modes: max contour is measured at the tool tip; residual vib "
-        "= the worst\nstop's max |tip - motor side| (the modes' ringing) and settling its max "
+        "= the worst\nstop's max |tip - motor side| (the modes' deflection) and settling its max "
         "|tip - ref|, over {:.3f} s after\nthe Acc/Dec output rests, worst axis (docs/"
         "vibration.md).\n",
         VibrationMeter::kDefaultWindowS);
