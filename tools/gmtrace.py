@@ -31,18 +31,19 @@ KINDS = {
     "fixed3": ("d", lambda v: f"{v:.3f}"),
     "percent": ("d", lambda v: f"{v:.6g}"),
 }
-_COLUMN = re.compile(r'^GM_TRACE_COLUMN\((\w+),\s*(\w+),\s*(\w+),\s*(.*),\s*"(.*)",\s*([0-9.e+-]+)\)\s*$')
+_COLUMN = re.compile(r'^GM_TRACE_COLUMN\((\w+),\s*(\w+),\s*(\w+),\s*(.*),\s*"(.*)",\s*([0-9.e+-]+),\s*(\w+)\)\s*$')
 
 
 def schema():
-    """The columns of trace_columns.def: a list of dicts section, name, kind, unit, resolution."""
+    """The columns of trace_columns.def: a list of dicts section, name, kind, unit, resolution,
+    when ("always", or the optional set a column belongs to, e.g. "modes": the tool tip)."""
     cols = []
     with open(SCHEMA_FILE) as f:
         for line in f:
             m = _COLUMN.match(line.strip())
             if m:
                 cols.append({"section": m[1], "name": m[2], "kind": m[3], "unit": m[5],
-                             "resolution": float(m[6])})
+                             "resolution": float(m[6]), "when": m[7]})
     if not cols:
         raise SystemExit(f"{SCHEMA_FILE}: no GM_TRACE_COLUMN lines")
     return cols

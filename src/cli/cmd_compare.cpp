@@ -1,5 +1,5 @@
 // gmotion compare: one program through several Acc/Dec profiles, measured against the analysis
-// (the paper's circle test: Fig. 13, Eq. 34/35).
+// (the paper's circle test: Fig. 13, Eq. 34/35), and at the tool tip on a machine with modes.
 #include "accdec/analysis.hpp"
 #include "accdec/profiles.hpp"
 #include "cli/commands.hpp"
@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -29,6 +30,7 @@ struct CompareFlags {
   std::string program;
   setup::RunSettings settings;  ///< the machine choice and the language
   std::vector<std::string> profiles = paper_profiles();
+  std::vector<double> taus;  ///< one τ per profile; empty: the machine's for each
   bool json = false;
 };
 
@@ -61,8 +63,12 @@ struct Row {
   std::string profile;
   std::size_t taps = 0;
   double analysis_blu = 0, accdec_blu = 0, total_blu = 0, additive_blu = 0, predicted_total_blu = 0;
-  double cycle_s = 0, contour_max_blu = 0;
+  double tau_s = 0, cycle_s = 0, contour_max_blu = 0;
   bool settled = false;
+  /// On a machine with modes (servo on): the worst stop's residual vibration and settling at
+  /// the tool tip over the axes (RunSummary::vibration()).
+  bool modes = false;
+  double residual_blu = 0, settle_blu = 0;
 };
 
 // The first arc's radius and tangent speed in BLU, and Eq. 35's servo radius loss for them.
@@ -85,13 +91,16 @@ ArcFigures arc_figures(ProgramInput& program, const InterpreterOptions& opts, co
 }
 
 // One profile's row: the run without servo (Acc/Dec alone), then with it unless --no-servo.
-Row profile_row(const std::string& profile, const Machine& base, bool servo, ProgramInput& program,
-                const InterpreterOptions& opts, const ArcFigures& a, double servo_alone_blu) {
+Row profile_row(const std::string& profile, double tau_s, const Machine& base, bool servo,
+                ProgramInput& program, const InterpreterOptions& opts, const ArcFigures& a,
+                double servo_alone_blu) {
   Row row;
   row.profile = profile;
+  row.tau_s = tau_s;
   RunConfig cfg;
   cfg.machine = base;
   cfg.machine.profile = profile;
+  cfg.machine.tau_s = tau_s;
   cfg.servo = false;
   std::vector<double> real_taps;
   const RunSummary ideal = run_once(cfg, program, opts, &row.taps, &real_taps);
@@ -108,6 +117,13 @@ Row profile_row(const std::string& profile, const Machine& base, bool servo, Pro
   row.cycle_s = shown->cycle_time_s;
   row.contour_max_blu = shown->contour_err_blu.value;
   row.settled = shown->settled;
+  if (const VibrationMeter* v = shown->vibration()) {
+    row.modes = true;
+    for (int x = 0; x < v->axes(); ++x) {
+      row.residual_blu = std::max(row.residual_blu, v->axis(x).residual_blu);
+      row.settle_blu = std::max(row.settle_blu, v->axis(x).settle_blu);
+    }
+  }
   row.additive_blu = row.accdec_blu + servo_alone_blu;
   row.predicted_total_blu = row.analysis_blu + a.servo_eq35;
   return row;
@@ -121,9 +137,13 @@ void print_json(const std::vector<Row>& rows, const ArcFigures& a, double servo_
         "{}{{\"profile\":\"{}\",\"taps\":{},\"analysis_blu\":{:.6g},\"accdec_blu\":{:.6g},"
         "\"total_blu\":{:.6g},"
         "\"additive_blu\":{:.6g},\"predicted_total_blu\":{:.6g},\"cycle_time_s\":{:.6g},"
-        "\"contour_err_max_blu\":{:.6g},\"settled\":{}}}",
+        "\"contour_err_max_blu\":{:.6g},\"settled\":{}{}}}",
         i ? "," : "", r.profile, r.taps, r.analysis_blu, r.accdec_blu, r.total_blu, r.additive_blu,
-        r.predicted_total_blu, r.cycle_s, r.contour_max_blu, r.settled ? "true" : "false");
+        r.predicted_total_blu, r.cycle_s, r.contour_max_blu, r.settled ? "true" : "false",
+        r.modes ? fmt::format(",\"tau_s\":{:.6g},\"residual_vibration_max_blu\":{:.6g},"
+                              "\"settle_max_blu\":{:.6g}",
+                              r.tau_s, r.residual_blu, r.settle_blu)
+                : "");
   }
   j += fmt::format(
       "],\"radius_blu\":{:.6g},\"v_tan_blu_s\":{:.6g},\"servo_alone_blu\":{:.6g},\"servo_eq35_"
@@ -143,15 +163,22 @@ void print_table(const std::vector<Row>& rows, const std::string& name, const Ma
   fmt::print("Steady-state radius loss on arcs, BLU (positive = radius decreased):\n");
   fmt::print("  {:<10} {:>5} {:>12} {:>12}", "profile", "taps", "analysis", "Acc/Dec");
   if (servo) fmt::print(" {:>11} {:>14} {:>14}", "with servo", "Acc/Dec+servo", "analysis+Eq35");
-  fmt::print(" {:>10} {:>14}\n", "cycle s", "max contour");
+  fmt::print(" {:>10} {:>14}", "cycle s", "max contour");
+  // A machine with modes: the tool tip's columns (the contour is the tip's then).
+  const bool modes = !rows.empty() && rows.front().modes;
+  std::size_t width = 10;
+  for (const Row& r : rows) width = std::max(width, r.profile.size());
+  if (modes) fmt::print(" {:>8} {:>12} {:>12}", "tau s", "residual vib", "settling");
+  fmt::print("\n");
   for (const Row& r : rows) {
-    fmt::print("  {:<10} {:>5} {:>12.2f} {:>12.2f}", r.profile, r.taps, r.analysis_blu,
-               r.accdec_blu);
+    fmt::print("  {:<{}} {:>5} {:>12.2f} {:>12.2f}", r.profile, modes ? width : 10, r.taps,
+               r.analysis_blu, r.accdec_blu);
     if (servo)
       fmt::print(" {:>11.2f} {:>14.2f} {:>14.2f}", r.total_blu, r.additive_blu,
                  r.predicted_total_blu);
-    fmt::print(" {:>10.3f} {:>14.2f}{}\n", r.cycle_s, r.contour_max_blu,
-               r.settled ? "" : "  (not settled)");
+    fmt::print(" {:>10.3f} {:>14.2f}", r.cycle_s, r.contour_max_blu);
+    if (modes) fmt::print(" {:>8.4f} {:>12.2f} {:>12.2f}", r.tau_s, r.residual_blu, r.settle_blu);
+    fmt::print("{}\n", r.settled ? "" : "  (not settled)");
   }
   fmt::print(
       "analysis = R(1-|D(e^jwT)|), w = V/R (Eq. 13/14); Acc/Dec = measured on the filter output "
@@ -161,6 +188,13 @@ void print_table(const std::vector<Row>& rows, const std::string& name, const Ma
       "(Acc/Dec off): {:.2f} BLU; analysis+Eq35 = Eq. 34 with Eq. 35's V^2/(2 R Kp^2) = {:.2f} BLU "
       "(Kp = {} 1/s).\n",
       servo_alone_blu, a.servo_eq35, a.kp);
+  if (modes)
+    fmt::print(
+        "The machine has structural modes: max contour is measured at the tool tip; residual vib "
+        "= the worst\nstop's max |tip - motor side| (the modes' deflection) and settling its max "
+        "|tip - ref|, over {:.3f} s after\nthe Acc/Dec output rests, worst axis (docs/"
+        "vibration.md).\n",
+        VibrationMeter::kDefaultWindowS);
 }
 
 int compare(const CompareFlags& f) {
@@ -180,9 +214,13 @@ int compare(const CompareFlags& f) {
     cfg.machine.tau_s = base.period_s;
     servo_alone_blu = -run_once(cfg, program, opts, nullptr, nullptr).arc_enc_radial_dev_blu;
   }
+  if (!f.taus.empty() && f.taus.size() != f.profiles.size())
+    throw InputError(fmt::format("--taus: one tau per profile ({} profiles, {} taus)",
+                                 f.profiles.size(), f.taus.size()));
   std::vector<Row> rows;
-  for (const std::string& profile : f.profiles)
-    rows.push_back(profile_row(profile, base, servo, program, opts, a, servo_alone_blu));
+  for (std::size_t i = 0; i < f.profiles.size(); ++i)
+    rows.push_back(profile_row(f.profiles[i], f.taus.empty() ? base.tau_s : f.taus[i], base, servo,
+                               program, opts, a, servo_alone_blu));
   if (f.json)
     print_json(rows, a, servo_alone_blu);
   else
@@ -201,6 +239,9 @@ void add_compare(CLI::App& app, Context& ctx) {
   sub->add_option("--profiles", flags->profiles,
                   "Comma-separated profiles; default: the paper's (" +
                       fmt::format("{}", fmt::join(paper_profiles(), ",")) + ")")
+      ->delimiter(',');
+  sub->add_option("--taus", flags->taus,
+                  "Comma-separated tau, s, one per profile (default: the machine's for each)")
       ->delimiter(',');
   sub->add_flag("--json", flags->json, "Print the table as JSON");
   sub->callback([flags, &ctx] { ctx.exit_code = compare(*flags); });

@@ -55,6 +55,7 @@ void write_page(const ReportFlags& f, ProgramInput& program, const Run& run,
       run.summary().settled ? "the program finished and the axes settled" : run.unsettled_reason();
   in.taps = &run.pipeline().taps();
   in.line_texts = line_texts(program, collector.lines());
+  in.vibration = run.summary().vibration();
   const std::string page = report::render_page(collector, in);
   std::ofstream out(f.output, std::ios::binary);
   out << page;

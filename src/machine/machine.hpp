@@ -28,6 +28,9 @@ enum class ToleranceOn { AccDec, Encoder };
 /// One axis: resolution, limits (Eq. 7 and 26 of the paper), plant and servo gains. On a rotary
 /// axis (A, B, C) every `_mm` quantity is in degrees, and mass, damping and the force limit are
 /// the rotary drive's inertia (kg·m²), damping (N·m·s/rad) and torque limit (N·m).
+/// Where an axis's position encoder reads (AxisConfig::encoder).
+enum class EncoderSite { Motor, Table };
+
 struct AxisConfig {
   double blu_mm = 0.001;        ///< basic length unit: one encoder count, mm
   double v_max_mm_s = 1000.0;   ///< velocity limit V_max
@@ -57,10 +60,14 @@ struct AxisConfig {
   /// reference's acceleration, its second backward difference over T. 0 by default.
   double ff2_s = 0.0;
   /// Structural modes between motor and table (two-mass oscillators in series, at most 4):
-  /// natural frequency, Hz, and damping ratio of each; none by default. The encoder stays on
-  /// the motor; the table position (contour error) includes them (servo/flexible_modes.hpp).
+  /// natural frequency, Hz, and damping ratio of each; none by default. The table position (the
+  /// tool tip: contour error, trace column `tip`) includes them (servo/flexible_modes.hpp).
   std::vector<double> mode_hz;
   std::vector<double> mode_damping;
+  /// Where the position loop's encoder sits (key `encoder`): on the motor (semi-closed loop,
+  /// default) or on the table (full-closed loop: a linear scale after the lost motion and the
+  /// modes; the velocity loop keeps the motor's encoder).
+  EncoderSite encoder = EncoderSite::Motor;
   /// The axis's own Acc/Dec ([axes.<letter>.accdec], axes past X, Y and Z only): profile spec and
   /// τ; "" and 0 take the machine's [accdec]. X, Y and Z share one filter, which the contour
   /// error and the tolerance planner assume.
@@ -152,6 +159,13 @@ struct Machine {
                                          AxisVec::Zero(), AxisVec::Zero(), AxisVec::Zero()};
 
   int axis_count() const { return layout.count; }
+  /// Some axis has structural modes (mode_hz): the trace gets the tool tip per axis and the
+  /// summary the vibration at it.
+  bool has_modes() const {
+    for (int i = 0; i < layout.count; ++i)
+      if (!axes[static_cast<std::size_t>(i)].mode_hz.empty()) return true;
+    return false;
+  }
   /// Per-axis BLU in the machine's axis order (0 past the count), mm (degrees on rotary axes).
   MachineVec blu_mm() const {
     MachineVec b = MachineVec::Zero();

@@ -298,6 +298,16 @@ void read_axis(Reader& r, AxisConfig& a, double machine_blu_mm, double period_s,
       r.fail_at(r.tbl().get("kv_form")->source(), r.full("kv_form"),
                 fmt::format("must be \"ip\" or \"pi\" (got \"{}\")", form));
   }
+  std::string site;
+  if (r.string("encoder", site, false)) {
+    if (site == "motor")
+      a.encoder = EncoderSite::Motor;
+    else if (site == "table")
+      a.encoder = EncoderSite::Table;
+    else
+      r.fail_at(r.tbl().get("encoder")->source(), r.full("encoder"),
+                fmt::format("must be \"motor\" or \"table\" (got \"{}\")", site));
+  }
   // The plant must discretise; the drive mapping must be derivable.
   const toml::node* den = r.tbl().get("plant_den");
   try {
@@ -531,6 +541,7 @@ std::string toml_axis_table(const AxisConfig& a, char letter) {
   if (!a.mode_hz.empty())
     s += fmt::format("mode_hz = {}\nmode_damping = {}\n", toml_list(a.mode_hz),
                      toml_list(a.mode_damping));
+  if (a.encoder == EncoderSite::Table) s += "encoder = \"table\"\n";
   s += fmt::format(
       "plant_blu_s_per_unit = {}\nkv_period_s = {}\nkv_form = \"{}\"\ndrive_N_per_unit = {}\n",
       fmt_double(a.plant_blu_s_per_unit), fmt_double(a.kv_period_s),

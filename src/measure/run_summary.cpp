@@ -32,6 +32,10 @@ RunSummary::RunSummary(const Machine& machine)
   }
 }
 
+void RunSummary::measure_vibration(int filter_samples, double window_s) {
+  vibration_.emplace(axes_, filter_samples, period_s_, window_s);
+}
+
 namespace {
 
 __extension__ typedef double Lanes __attribute__((vector_size(32)));
@@ -290,6 +294,8 @@ void RunSummary::add_block(const SampleBlock& b, int first) {
   arc_samples += arcs;
   hold_samples_ += holds;
   samples += n;
+  if (vibration_) [[unlikely]]
+    vibration_->add_block(b, first);
 }
 
 void RunSummary::finish(const SampleRecord& last, const AxisBlu& program_end_blu, bool is_settled) {
@@ -305,6 +311,7 @@ void RunSummary::finish(const SampleRecord& last, const AxisBlu& program_end_blu
   const double nan = std::numeric_limits<double>::quiet_NaN();
   arc_ref_radial_dev_blu = arc_samples > 0 ? arc_ref_sum_ / static_cast<double>(arc_samples) : nan;
   arc_enc_radial_dev_blu = arc_samples > 0 ? arc_enc_sum_ / static_cast<double>(arc_samples) : nan;
+  if (vibration_) vibration_->finish();
 }
 
 std::string RunSummary::text() const {
@@ -316,6 +323,25 @@ std::string RunSummary::text() const {
                  settled ? "" : "  NOT SETTLED");
   fmt::format_to(out, "contour error  max {:.2f} BLU (line {})  rms {:.2f} BLU\n",
                  contour_err_blu.value, contour_err_blu.line, contour_rms_blu);
+  if (vibration_) {
+    const VibrationMeter& v = *vibration_;
+    fmt::format_to(out,
+                   "tool tip (structural modes): the contour error is measured at the tool tip; "
+                   "after each stop, {:.3f} s of residual vibration |tip - motor side| and "
+                   "settling |tip - ref|\n",
+                   v.window_s());
+    t += "axis  stops  residual vib BLU (line, at s)   settling BLU (line)   path deflection "
+         "BLU (line)\n";
+    for (int a = 0; a < machine_.axis_count(); ++a) {
+      const AxisVibration& x = v.axis(a);
+      fmt::format_to(out,
+                     "{:<4}  {:>5}  {:>10.2f} ({:>5}, {:>7.3f})   {:>10.2f} ({:>5})   {:>10.2f} "
+                     "({:>5})\n",
+                     machine_.layout.letter(a), x.stops, x.residual_blu, x.residual_line,
+                     x.residual_t_s, x.settle_blu, x.settle_line, x.deflection_blu,
+                     x.deflection_line);
+    }
+  }
   if (arc_samples > 0)
     fmt::format_to(
         out, "arcs, steady radial deviation  Acc/Dec output {:+.2f} BLU  encoder {:+.2f} BLU\n",
@@ -404,6 +430,24 @@ std::string RunSummary::json(const std::string& extra_member) const {
         limit(s.p_limit), s.final_ref_err_blu, s.final_enc_err_blu);
   }
   j += "}";
+  if (vibration_) {
+    const VibrationMeter& v = *vibration_;
+    fmt::format_to(out,
+                   ",\"vibration\":{{\"contour_measured_at\":\"tool tip\",\"window_s\":{},"
+                   "\"axes\":{{",
+                   num(v.window_s()));
+    for (int a = 0; a < machine_.axis_count(); ++a) {
+      const AxisVibration& x = v.axis(a);
+      fmt::format_to(out,
+                     "{}\"{}\":{{\"stops\":{},\"residual_max_blu\":{{\"value\":{},\"line\":{}}},"
+                     "\"residual_t_s\":{},\"settle_max_blu\":{{\"value\":{},\"line\":{}}},"
+                     "\"deflection_max_blu\":{{\"value\":{},\"line\":{}}}}}",
+                     a == 0 ? "" : ",", static_cast<char>(machine_.layout.letter(a) - 'A' + 'a'),
+                     x.stops, num(x.residual_blu), x.residual_line, num(x.residual_t_s),
+                     num(x.settle_blu), x.settle_line, num(x.deflection_blu), x.deflection_line);
+    }
+    j += "}}";
+  }
   if (!extra_member.empty()) j += "," + extra_member;
   j += "}\n";
   return j;

@@ -4,12 +4,14 @@
 #include "common/axis.hpp"
 #include "common/units.hpp"
 #include "machine/machine.hpp"
+#include "measure/vibration_meter.hpp"
 #include "motion/block_sink.hpp"
 #include "motion/sample_block.hpp"
 #include "motion/sample_record.hpp"
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 namespace gm {
@@ -52,6 +54,12 @@ struct AxisSummary {
 class RunSummary : public BlockSink {
  public:
   explicit RunSummary(const Machine& machine);
+  /// Measures the vibration at the tool tip too (a machine with structural modes, servo on):
+  /// VibrationMeter with the Acc/Dec filter's `filter_samples` taps; text() and json() then
+  /// report it and say that the contour error is the tool tip's.
+  void measure_vibration(int filter_samples, double window_s = VibrationMeter::kDefaultWindowS);
+  /// The vibration figures (measure_vibration() was called), or nullptr.
+  const VibrationMeter* vibration() const { return vibration_ ? &*vibration_ : nullptr; }
 
   /// Adds rows first..count-1 of `b` (every sample, not only the decimated trace rows; contour
   /// columns filled by ContourMeter::measure_block), a column at a time.
@@ -96,6 +104,7 @@ class RunSummary : public BlockSink {
   AxisBlu prev_ref_ = AxisBlu::Zero();
   MachineVec prev_v_ = MachineVec::Zero(), prev_a_ = MachineVec::Zero();
   std::int64_t last_motion_k_ = 0;
+  std::optional<VibrationMeter> vibration_;
 };
 
 }  // namespace gm

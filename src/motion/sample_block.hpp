@@ -22,6 +22,9 @@ struct SampleBlock {
   BluColumns ref_blu;     ///< Acc/Dec output
   BluColumns enc_blu;     ///< encoder counts
   RealColumns table_blu;  ///< table position at the sample instant (BLU, continuous)
+  /// The structural modes' deflection (table − motor side, BLU) at the sample instant; written
+  /// only when the machine has modes and the servo runs (Machine::has_modes), else unset.
+  RealColumns defl_blu;
   int line[kBlockSamples];
   std::uint32_t events[kBlockSamples];
   double feed_scale[kBlockSamples];

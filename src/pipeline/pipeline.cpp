@@ -65,6 +65,7 @@ Pipeline::Pipeline(const RunConfig& cfg, CanonSource& source)
       last_cmd_blu_(AxisBlu::Zero()) {
   if (cfg_.servo)
     servo_.emplace(cfg_.machine, axes_, cfg_.machine.period_s, cfg_.machine.servo_substeps);
+  modes_ = cfg_.servo && cfg_.machine.has_modes();
   // Axes with their own Acc/Dec (past X, Y, Z; machine_file.cpp refuses it for the path axes):
   // a one-axis filter each, whose output replaces the shared filter's for that axis.
   for (int a = 0; a < axes_; ++a) {
@@ -176,7 +177,8 @@ void Pipeline::stages_n(SampleBlock& b, int first, int count) {
   if (!own_accdec_.empty()) [[unlikely]]
     own_accdec_rows(b, first, count);
   if (cfg_.servo) {
-    const int done = servo_->step_block<N>(b.ref_blu, b.enc_blu, b.table_blu, first, count);
+    const int done = servo_->step_block<N>(b.ref_blu, b.enc_blu, b.table_blu, first, count,
+                                           modes_ ? &b.defl_blu : nullptr);
     if (done < count) {
       const int i = first + done;
       b.count = i;  // the rows before the divergence are complete

@@ -93,12 +93,15 @@ TraceMeta Run::trace_meta() const {
   meta.blu_mm = o.config.machine.blu_mm();
   meta.servo = o.config.servo;
   meta.decimate = o.decimate;
+  if (o.config.servo && o.config.machine.has_modes()) meta.columns = kTraceModes;
   return meta;
 }
 
 void Run::init() {
   const RunOptions& o = options_;
   sinks_ = {&summary_, &tolerance_};
+  if (o.config.servo && o.config.machine.has_modes())
+    summary_.measure_vibration(static_cast<int>(pipeline_.taps().integer.size()));
   if (!o.trace_path.empty()) {
     TraceMeta meta = trace_meta();
     meta.status_line = o.keep_partial;

@@ -214,6 +214,45 @@ std::string decimation_note(const ReportCollector& c) {
 
 }  // namespace
 
+std::string ringing_plot(const VibrationMeter& v, const std::string& axis_letters) {
+  double lo = 0, hi = 0, t0 = 0, t1 = 0;
+  bool any = false;
+  for (int a = 0; a < v.axes(); ++a) {
+    const auto rec = v.worst_record(a);
+    if (rec.empty() || !(v.axis(a).residual_blu > 0)) continue;
+    any = true;
+    const double rest = v.axis(a).residual_t_s;
+    t0 = std::min(t0, v.worst_record_t0_s(a) - rest);
+    t1 = std::max(t1,
+                  v.worst_record_t0_s(a) - rest + static_cast<double>(rec.size()) * v.period_s());
+    for (const double d : rec) lo = std::min(lo, d), hi = std::max(hi, d);
+  }
+  if (!any) return "";
+  const auto [y0, y1] = padded_range(lo, hi);
+  const Frame f = Frame::of(t0, t1, y0, y1, 1000, 220);
+  std::string s = R"(<svg id="ringing" viewBox="0 0 1000 220">)";
+  s += f.axes("t since the Acc/Dec output rests, s", "tip − ref, BLU");
+  s += fmt::format(
+      R"(<line x1="{0}" x2="{0}" y1="{1}" y2="{2}" stroke="#888" stroke-dasharray="4 3"/>)",
+      coord(f.x(0.0), 1), coord(f.y.p1, 1), coord(f.y.p0, 1));
+  for (int a = 0; a < v.axes(); ++a) {
+    const auto rec = v.worst_record(a);
+    if (rec.empty() || !(v.axis(a).residual_blu > 0)) continue;
+    const double start = v.worst_record_t0_s(a) - v.axis(a).residual_t_s;
+    std::vector<std::pair<double, double>> pts;
+    pts.reserve(rec.size());
+    for (std::size_t i = 0; i < rec.size(); ++i)
+      pts.emplace_back(f.x(start + static_cast<double>(i) * v.period_s()), f.y(rec[i]));
+    s +=
+        fmt::format(R"(<polyline class="act" stroke="{}" points="{}"><title>{}</title></polyline>)",
+                    kAxisColours[static_cast<std::size_t>(a)], points_attr(pts, 1),
+                    a < static_cast<int>(axis_letters.size())
+                        ? std::string(1, axis_letters[static_cast<std::size_t>(a)])
+                        : "");
+  }
+  return s + "</svg>";
+}
+
 std::string xy_plot(const ReportCollector& c) {
   const PathSimplifier& prog = c.programmed();
   double x0 = prog.min_x, x1 = prog.max_x, y0 = prog.min_y, y1 = prog.max_y;
@@ -320,6 +359,30 @@ std::string render_page(const ReportCollector& c, const PageInput& in) {
   }
   h +=
       R"(<p class="note">Finite differences of the Acc/Dec output (the commanded motion) per sample period, as the summary computes its peaks; rotary axes in degrees.</p>)";
+
+  // 3b. The tool tip's ringing at the worst stops (a machine with modes).
+  if (in.vibration != nullptr) {
+    const std::string plot = ringing_plot(*in.vibration, c.axis_letters());
+    h += "<h2>Tool tip ringing at the worst stop</h2>\n";
+    if (plot.empty()) {
+      h += "<p>The machine has structural modes, but no axis stopped with vibration.</p>\n";
+    } else {
+      h += axis_legend(c) + plot;
+      std::string worst;
+      for (int a = 0; a < in.vibration->axes(); ++a) {
+        const AxisVibration& x = in.vibration->axis(a);
+        if (!(x.residual_blu > 0)) continue;
+        worst += fmt::format(
+            "{}{}: residual vibration {:.2f} BLU after line {} (rest at {:.3f} s), "
+            "settling {:.2f} BLU",
+            worst.empty() ? "" : "; ", c.axis_letters()[static_cast<std::size_t>(a)],
+            x.residual_blu, x.residual_line, x.residual_t_s, x.settle_blu);
+      }
+      h += fmt::format(
+          R"(<p class="note">The tool tip (the table with its structural modes) minus the Acc/Dec output, from {} s before to {} s after the output came to rest at each axis's worst stop (the largest deflection of its modes in that window). {}.</p>)",
+          num(VibrationMeter::kLeadS), num(in.vibration->window_s()), html_escape(worst));
+    }
+  }
 
   // 4. The summary.
   h += "<h2>Summary</h2>\n<table id=\"summary-table\"><tr><th>value</th><th></th></tr></table>\n";

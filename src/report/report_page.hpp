@@ -2,6 +2,7 @@
 #pragma once
 
 #include "accdec/taps.hpp"
+#include "measure/vibration_meter.hpp"
 #include "report/report_collector.hpp"
 
 #include <map>
@@ -20,7 +21,15 @@ struct PageInput {
   std::string status;        ///< "finished" or why the run did not settle
   const Taps* taps = nullptr;
   std::map<int, std::string> line_texts;  ///< source line -> its text (lines the page names)
+  /// The tool tip's vibration (RunSummary::vibration(): a machine with modes), or nullptr: the
+  /// page then plots tip − ref around each axis's worst stop.
+  const VibrationMeter* vibration = nullptr;
 };
+
+/// The ringing plot alone (an <svg> element): tip − ref (BLU) against the time since the
+/// Acc/Dec output came to rest at each axis's worst stop, one line per axis that rang; "" when
+/// no axis has a recorded stop.
+std::string ringing_plot(const VibrationMeter& v, const std::string& axis_letters);
 
 /// The XY plot's view box side and margin (SVG user units): a path's larger extent spans
 /// side - 2 margin units, the smaller one is centred.

@@ -1,4 +1,4 @@
-// Per-axis semi-closed-loop servo: encoder, P position loop, PI velocity loop, ZOH plant.
+// Per-axis servo: encoder (motor or table), P position loop, PI velocity loop, ZOH plant.
 #include "servo/servo_axis.hpp"
 
 #include "common/rounding.hpp"
@@ -24,7 +24,8 @@ ServoAxis::ServoAxis(const AxisConfig& axis, double period_s, int substeps, std:
       substeps_(substeps),
       start_blu_(start_blu),
       prev_count_(start_blu),
-      prev_ref_(start_blu) {
+      prev_ref_(start_blu),
+      table_encoder_(axis.encoder == EncoderSite::Table) {
   if (!(period_s > 0.0))
     throw InputError(fmt::format("servo: period must be > 0 (got {})", period_s));
   if (substeps < 1)
@@ -56,8 +57,14 @@ ServoAxis::ServoAxis(const AxisConfig& axis, double period_s, int substeps, std:
     modes_ = FlexibleModes(axis.mode_hz, axis.mode_damping, h_s_, 0.0);
 }
 
-std::int64_t ServoAxis::count_now() const {
+std::int64_t ServoAxis::motor_count() const {
   return start_blu_ + round_half_away(plant_.position_blu());
+}
+
+std::int64_t ServoAxis::count_now() const {
+  if (table_encoder_) [[unlikely]]
+    return start_blu_ + round_half_away(modes_.count() > 0 ? modes_.output() : table_rel_);
+  return motor_count();
 }
 
 std::int64_t ServoAxis::step(std::int64_t ref_blu) {
@@ -103,9 +110,11 @@ void ServoAxis::step_velocity(double v_ref_blu_s) {
 
 inline void ServoAxis::servo_sample(std::int64_t count, double pos_ref_blu, double ff,
                                     bool position_loop, double v_ref_blu_s) {
-  // Velocity feedback and reference in encoder counts per kv_period_s.
-  const double y = static_cast<double>(count - prev_count_) * kv_over_h_;
-  prev_count_ = count;
+  // Velocity feedback and reference in encoder counts per kv_period_s; the velocity from the
+  // motor's encoder (the same count unless the position encoder is on the table).
+  const std::int64_t vcount = table_encoder_ ? motor_count() : count;
+  const double y = static_cast<double>(vcount - prev_count_) * kv_over_h_;
+  prev_count_ = vcount;
   const double vref_blu_s =
       position_loop ? kp_ * (pos_ref_blu - static_cast<double>(count)) : v_ref_blu_s;
   const double r_v = vref_blu_s * kv_period_s_ + ff;

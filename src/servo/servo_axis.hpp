@@ -1,4 +1,4 @@
-// One axis of the semi-closed-loop servo: P position loop, PI velocity loop, plant, encoder.
+// One axis of the servo: P position loop, PI velocity loop, plant, encoder on motor or table.
 #pragma once
 
 #include "machine/machine.hpp"
@@ -27,7 +27,11 @@ namespace gm {
 ///  5. plant: u held over h (exact ZOH), minus Coulomb friction (stick-slip) if enabled;
 ///  6. lost motion: the table follows the motor inside a dead band of width backlash_blu;
 ///  7. structural modes (mode_hz, mode_damping): the table follows that through two-mass
-///     oscillators (FlexibleModes); the encoder stays on the motor (semi-closed loop).
+///     oscillators (FlexibleModes).
+/// The position encoder (step 1) reads the motor (`encoder = "motor"`, semi-closed loop, the
+/// paper's) or the table after 6 and 7 (`encoder = "table"`, full-closed loop: a linear scale,
+/// so the position loop sees the lost motion and the modes); the velocity feedback (step 2)
+/// always differences the motor's encoder.
 /// The drive command u is in plant input units (volts in the paper: 10 V = rated torque).
 /// Construction may allocate; step() allocates nothing (but the exception when the loop diverges).
 class ServoAxis {
@@ -64,6 +68,11 @@ class ServoAxis {
   }
   /// The axis has structural modes (ServoBank then steps it as ServoAxis, not in lanes).
   bool has_modes() const { return modes_.count() > 0; }
+  /// The position encoder is on the table (full-closed loop; ServoBank then steps it as ServoAxis).
+  bool table_encoder() const { return table_encoder_; }
+  /// The modes' deflection now: table (tool tip) minus the motor side after the lost motion, BLU
+  /// (0 without modes).
+  double deflection_blu() const { return modes_.count() > 0 ? modes_.output() - table_rel_ : 0.0; }
   double drive_limit() const { return u_max_; }  ///< saturation level of the drive command
   /// Everything step() changes, for ServoBank (the axes in SIMD lanes): it copies an axis's
   /// state out to its lanes and back when a sample must run here instead.
@@ -107,7 +116,8 @@ class ServoAxis {
   double drive_N_per_unit() const { return n_per_unit_; }  ///< force per drive unit, N
 
  private:
-  std::int64_t count_now() const;
+  std::int64_t count_now() const;    ///< the position encoder's count now
+  std::int64_t motor_count() const;  ///< the motor encoder's count now
   /// One servo period; `count` is the encoder count now (count_now(), passed in when the caller
   /// already has it).
   /// `ff`: the feedforward, counts per kv_period_s, added to the position loop's output.
@@ -134,6 +144,7 @@ class ServoAxis {
   double u_ = 0.0;
   double table_rel_ = 0.0;
   bool saturated_ = false;
+  bool table_encoder_ = false;
 };
 
 }  // namespace gm

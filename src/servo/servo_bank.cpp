@@ -291,7 +291,8 @@ ServoBank::ServoBank(const Machine& m, int axes, double period_s, int substeps)
   order_ = axes_.empty() ? 0 : axes_[0].plant().order();
   bool alike = axes >= 1 && axes <= kMaxLanes && (order_ == 1 || order_ == 2);
   for (const ServoAxis& s : axes_)
-    alike = alike && s.plant().order() == order_ && !(s.coulomb_drive() > 0.0) && !s.has_modes();
+    alike = alike && s.plant().order() == order_ && !(s.coulomb_drive() > 0.0) && !s.has_modes() &&
+            !s.table_encoder();
   if (!alike) return;
   lanes_ = 1;
   const int m_size = order_ + 1;
@@ -369,12 +370,13 @@ void ServoBank::from_axes(LaneState& s) const {
 
 template <int N>
 int ServoBank::step_axes(const BluColumns& ref, BluColumns& enc, RealColumns& table, int first,
-                         int n) {
+                         int n, RealColumns* deflection) {
   for (int i = first; i < first + n; ++i) {
     bool quiet = true;
     for (int a = 0; a < N; ++a) {
       ServoAxis& s = axes_[static_cast<std::size_t>(a)];
       table.v[a][i] = s.table_blu();  // at the start of the period, the instant the count is read
+      if (deflection != nullptr) deflection->v[a][i] = s.deflection_blu();
       try {
         enc.v[a][i] = s.step(ref.v[a][i]);
       } catch (const InputError& e) {
@@ -392,8 +394,8 @@ int ServoBank::step_axes(const BluColumns& ref, BluColumns& enc, RealColumns& ta
 
 template <int N>
 int ServoBank::step_block(const BluColumns& ref, BluColumns& enc, RealColumns& table, int first,
-                          int n) {
-  if (lanes_ == 0) return step_axes<N>(ref, enc, table, first, n);
+                          int n, RealColumns* deflection) {
+  if (lanes_ == 0) return step_axes<N>(ref, enc, table, first, n, deflection);
   if (!have_ref_ && n > 0) {  // ServoAxis::step's first call: the reference has no past yet
     // (Converted like every reference; a first reference of 2^51 or more makes that row run
     // in ServoAxis, which then finds prev_ref inexact: the range check below turns the lanes off.)
@@ -439,7 +441,7 @@ int ServoBank::step_block(const BluColumns& ref, BluColumns& enc, RealColumns& t
     }
     if (bad_row >= 0) {  // a sample the lanes cannot round exactly: ServoAxis runs it
       to_axes(state_);
-      const int one = step_axes<N>(ref, enc, table, bad_row, 1);
+      const int one = step_axes<N>(ref, enc, table, bad_row, 1, deflection);
       if (one == 0) return done;
       ++done;
       // The lanes carry counts as doubles, exact below 2^51: if this row left a count or a
@@ -453,7 +455,7 @@ int ServoBank::step_block(const BluColumns& ref, BluColumns& enc, RealColumns& t
       }
       if (!exact) {
         lanes_ = 0;
-        return done + step_axes<N>(ref, enc, table, first + done, n - done);
+        return done + step_axes<N>(ref, enc, table, first + done, n - done, deflection);
       }
       from_axes(state_);
     }
@@ -463,7 +465,8 @@ int ServoBank::step_block(const BluColumns& ref, BluColumns& enc, RealColumns& t
 
 #define GM_SERVO_BANK_STEP(N)                                                   \
   template int ServoBank::step_block<N>(const BluColumns& ref, BluColumns& enc, \
-                                        RealColumns& table, int first, int n);
+                                        RealColumns& table, int first, int n,   \
+                                        RealColumns* deflection);
 GM_FOR_EACH_AXIS_COUNT(GM_SERVO_BANK_STEP)
 #undef GM_SERVO_BANK_STEP
 

@@ -27,11 +27,14 @@ class ServoBank {
   ServoBank(const Machine& m, int axes, double period_s, int substeps);
 
   /// Rows first .. first+n-1 (first + n ≤ kBlockSamples): for each row and axis, table = the
-  /// table position at the start of the period, enc = the count ServoAxis::step(ref) returns.
+  /// table position at the start of the period, enc = the count ServoAxis::step(ref) returns
+  /// and, when `deflection` is given, the modes' deflection (ServoAxis::deflection_blu()) at the
+  /// start of the period (0 on an axis without modes).
   /// Returns n, or the number of rows done before the row in which an axis diverged (see
   /// divergence()); the bank is not to be stepped again after that.
   template <int N>
-  int step_block(const BluColumns& ref, BluColumns& enc, RealColumns& table, int first, int n);
+  int step_block(const BluColumns& ref, BluColumns& enc, RealColumns& table, int first, int n,
+                 RealColumns* deflection = nullptr);
 
   /// Samples in a row, up to the last one stepped, in which every axis read within one count of
   /// its reference (the pipeline's settling rule).
@@ -69,7 +72,8 @@ class ServoBank {
 
  private:
   template <int N>
-  int step_axes(const BluColumns& ref, BluColumns& enc, RealColumns& table, int first, int n);
+  int step_axes(const BluColumns& ref, BluColumns& enc, RealColumns& table, int first, int n,
+                RealColumns* deflection);
   void to_axes(const LaneState& s);    ///< lanes -> ServoAxis objects
   void from_axes(LaneState& s) const;  ///< ServoAxis objects -> lanes
 

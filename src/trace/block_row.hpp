@@ -18,6 +18,12 @@ struct BlockRow {
     int i;
     std::int64_t operator[](int a) const { return v[a][i]; }
   };
+  /// A per-axis column of real values (RealColumns) at one row.
+  struct RealColumn {
+    const double (*v)[kBlockSamples];
+    int i;
+    double operator[](int a) const { return v[a][i]; }
+  };
   /// ref − enc per axis (SampleRecord::ferr_blu).
   struct FollowingError {
     Column ref, enc;
@@ -29,6 +35,7 @@ struct BlockRow {
   int line;
   Column cmd_blu, ref_blu, enc_blu;
   FollowingError ferr_blu;
+  RealColumn table_blu;  ///< the table (tool tip) position, SampleRecord::table_blu
   double contour_err_blu;
   double feed_scale;
 
@@ -40,6 +47,7 @@ struct BlockRow {
         ref_blu{b.ref_blu.v, i},
         enc_blu{b.enc_blu.v, i},
         ferr_blu{{b.ref_blu.v, i}, {b.enc_blu.v, i}},
+        table_blu{b.table_blu.v, i},
         contour_err_blu(b.contour_err_blu[i]),
         feed_scale(b.feed_scale[i]) {}
 };

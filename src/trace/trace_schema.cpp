@@ -11,25 +11,26 @@ char lower(char c) {
 
 }  // namespace
 
-std::vector<std::string> trace_column_names(std::string_view axis_letters) {
+std::vector<std::string> trace_column_names(std::string_view axis_letters, TraceColumnSet set) {
   std::vector<std::string> names;
   for (TraceSection section : {TraceSection::Head, TraceSection::Axis, TraceSection::Tail}) {
     if (section == TraceSection::Axis) {
       for (char a : axis_letters)
         for (const TraceColumn& c : kTraceColumns)
-          if (c.section == section)
+          if (c.section == section && c.in(set))
             names.push_back(std::string(1, lower(a)) + "_" + std::string(c.name));
     } else {
       for (const TraceColumn& c : kTraceColumns)
-        if (c.section == section) names.emplace_back(c.name);
+        if (c.section == section && c.in(set)) names.emplace_back(c.name);
     }
   }
   return names;
 }
 
-std::string trace_units_text() {
+std::string trace_units_text(TraceColumnSet set) {
   std::string out;
   for (const TraceColumn& c : kTraceColumns) {
+    if (!c.in(set)) continue;
     if (!out.empty()) out += "; ";
     if (c.section == TraceSection::Axis) out += "*_";
     out += c.name;

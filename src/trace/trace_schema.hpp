@@ -15,6 +15,12 @@ namespace gm {
 enum class TraceKind { Time, Line, Count, Fixed3, Percent };
 /// Where a column sits in a row: before the axes, once per axis, after the axes.
 enum class TraceSection { Head, Axis, Tail };
+/// The optional column sets (trace_columns.def's WHEN), as bits of a trace's column set; a
+/// column of set `when` is in a trace whose set holds all of its bits (`always`: none).
+using TraceColumnSet = unsigned;
+inline constexpr TraceColumnSet kTraceAlways = 0;
+/// The machine has structural modes: the tool tip per axis.
+inline constexpr TraceColumnSet kTraceModes = 1;
 
 struct TraceColumn {
   TraceSection section;
@@ -22,6 +28,9 @@ struct TraceColumn {
   TraceKind kind;
   std::string_view unit;
   double csv_resolution;
+  TraceColumnSet when;  ///< the optional set the column belongs to (kTraceAlways: every trace)
+  /// In a trace of column set `set`.
+  constexpr bool in(TraceColumnSet set) const { return (when & set) == when; }
 };
 
 /// The spellings trace_columns.def uses for sections and kinds.
@@ -30,12 +39,13 @@ inline constexpr TraceSection head = TraceSection::Head, axis = TraceSection::Ax
                               tail = TraceSection::Tail;
 inline constexpr TraceKind time = TraceKind::Time, line = TraceKind::Line, count = TraceKind::Count,
                            fixed3 = TraceKind::Fixed3, percent = TraceKind::Percent;
+inline constexpr TraceColumnSet always = kTraceAlways, modes = kTraceModes;
 }  // namespace trace_def
 
 /// Every column of the schema, in row order (axis columns once, for the axis block).
 inline constexpr std::array kTraceColumns{
-#define GM_TRACE_COLUMN(section, name, kind, value, unit, res) \
-  TraceColumn{trace_def::section, #name, trace_def::kind, unit, res},
+#define GM_TRACE_COLUMN(section, name, kind, value, unit, res, when) \
+  TraceColumn{trace_def::section, #name, trace_def::kind, unit, res, trace_def::when},
 #include "trace/trace_columns.def"
 #undef GM_TRACE_COLUMN
 };
@@ -53,10 +63,12 @@ constexpr std::size_t trace_binary_bytes(TraceKind k) {
   return k == TraceKind::Line ? 4 : 8;
 }
 
-/// The column names of a trace of these axes ("t_s", "line", "x_cmd", ...), in row order.
-std::vector<std::string> trace_column_names(std::string_view axis_letters);
-/// The `# units:` header text after "# units: ".
-std::string trace_units_text();
+/// The column names of a trace of these axes ("t_s", "line", "x_cmd", ...) and column set, in
+/// row order.
+std::vector<std::string> trace_column_names(std::string_view axis_letters,
+                                            TraceColumnSet set = kTraceAlways);
+/// The `# units:` header text after "# units: " (the columns of the set).
+std::string trace_units_text(TraceColumnSet set = kTraceAlways);
 /// The schema column of a trace column name ("x_cmd" -> the axis column "cmd"), or nullptr.
 const TraceColumn* find_trace_column(std::string_view column_name);
 

@@ -22,12 +22,13 @@ namespace {
 constexpr std::size_t kFlushBytes = 1u << 20;
 constexpr char kBinaryMagic[8] = {'G', 'M', 'T', 'R', 'A', 'C', 'E', '1'};
 
-// Bytes of a binary row (the schema's fields, the axis columns once per axis).
-constexpr std::int64_t binary_row_bytes(int axes) {
+// Bytes of a binary row (the schema's fields of the set, the axis columns once per axis).
+constexpr std::int64_t binary_row_bytes(int axes, TraceColumnSet set) {
   std::int64_t n = 0;
   for (const TraceColumn& c : kTraceColumns)
-    n += static_cast<std::int64_t>(trace_binary_bytes(c.kind)) *
-         (c.section == TraceSection::Axis ? axes : 1);
+    if (c.in(set))
+      n += static_cast<std::int64_t>(trace_binary_bytes(c.kind)) *
+           (c.section == TraceSection::Axis ? axes : 1);
   return n;
 }
 
@@ -59,8 +60,8 @@ std::string trace_header(const TraceMeta& m) {
                  fmt::join(m.blu_mm.data(), m.blu_mm.data() + m.axes.size(), ","));
   fmt::format_to(out, "# servo: {}\n", m.servo ? "on" : "off (encoder reads the Acc/Dec output)");
   fmt::format_to(out, "# decimate: {}\n", m.decimate);
-  fmt::format_to(out, "# units: {}\n", trace_units_text());
-  fmt::format_to(out, "{}\n", fmt::join(trace_column_names(m.axes), ","));
+  fmt::format_to(out, "# units: {}\n", trace_units_text(m.columns));
+  fmt::format_to(out, "{}\n", fmt::join(trace_column_names(m.axes, m.columns), ","));
   return h;
 }
 
@@ -94,7 +95,8 @@ TraceWriter::TraceWriter(std::string path, TraceFormat format, const TraceMeta& 
       period_s_(meta.period_s),
       status_line_(meta.status_line),
       axes_(static_cast<int>(meta.axes.size())),
-      binary_row_(binary_row_bytes(axes_)) {
+      columns_(meta.columns),
+      binary_row_(binary_row_bytes(axes_, meta.columns)) {
   struct stat st {};
   const bool special = path_ != "-" && ::stat(path_.c_str(), &st) == 0 && !S_ISREG(st.st_mode);
   if (status_line_ && written_in_place(path_))
@@ -141,25 +143,31 @@ TraceWriter::~TraceWriter() {
 }
 
 void TraceWriter::write_block(const SampleBlock& b, int first, double period_s) {
-  with_axis_count(axes_, [&](auto n) { write_rows<decltype(n)::value>(b, first, period_s); });
+  with_axis_count(axes_, [&](auto n) {
+    if (columns_ & kTraceModes)
+      write_rows<decltype(n)::value, kTraceModes>(b, first, period_s);
+    else
+      write_rows<decltype(n)::value, kTraceAlways>(b, first, period_s);
+  });
 }
 
-template <int N>
+template <int N, TraceColumnSet Set>
 void TraceWriter::write_rows(const SampleBlock& b, int first, double period_s) {
   if (first >= b.count) return;
   // The first row on the grid, then every decimate_-th.
   const auto off = static_cast<int>((b.k0 + first) % decimate_);
   first += off == 0 ? 0 : decimate_ - off;
+  if (first >= b.count) return;  // no row of this block is on the grid
   const std::size_t at = buf_.size();
   buf_.resize(at + static_cast<std::size_t>(b.count - first + 1) * kMaxRowBytes);
   char* p = buf_.data() + at;
   constexpr std::integral_constant<int, N> axes;
   if (format_ == TraceFormat::Csv) {
     for (int i = first; i < b.count; i += decimate_)
-      p = put_csv_row(p, BlockRow(b, i, period_s), axes);
+      p = put_csv_row<Set>(p, BlockRow(b, i, period_s), axes);
   } else {
     for (int i = first; i < b.count; i += decimate_)
-      p = put_binary_row(p, BlockRow(b, i, period_s), axes);
+      p = put_binary_row<Set>(p, BlockRow(b, i, period_s), axes);
   }
   if (first < b.count) rows_ += (b.count - 1 - first) / decimate_ + 1;
   buf_.resize(static_cast<std::size_t>(p - buf_.data()));
@@ -172,12 +180,12 @@ void TraceWriter::format_percent(double pct) {
   last_pct_size_ = std::min(r.size, last_pct_text_.size());
 }
 
-template <typename Row, typename Axes>
+template <TraceColumnSet Set, typename Row, typename Axes>
 char* TraceWriter::put_csv_row(char* p, const Row& s, Axes axes) {
   // The schema's columns (trace_columns.def), each followed by ','; the last ',' becomes '\n'.
   // Same text as fmt "{:.6f}" (time), "{}" (line, count), "{:.3f}" (fixed3), "{:.6g}" (percent),
   // written by hand in place (put_int/put_fixed are exact; see csv_number.hpp).
-  visit_trace_row(s, axes, [&](auto kind, auto value) {
+  visit_trace_row<Set>(s, axes, [&](auto kind, auto value) {
     if constexpr (kind() == TraceKind::Time) {
       p = put_fixed_n<6>(p, value);
     } else if constexpr (kind() == TraceKind::Line || kind() == TraceKind::Count) {
@@ -199,9 +207,9 @@ char* TraceWriter::put_csv_row(char* p, const Row& s, Axes axes) {
 
 // Binary row: the schema's fields in row order, little-endian, no padding (trace_columns.def:
 // time as the int64 sample index k, line int32, count int64, fixed3 and percent float64).
-template <typename Row, typename Axes>
+template <TraceColumnSet Set, typename Row, typename Axes>
 char* TraceWriter::put_binary_row(char* p, const Row& s, Axes axes) const {
-  visit_trace_row(s, axes, [&](auto kind, auto value) {
+  visit_trace_row<Set>(s, axes, [&](auto kind, auto value) {
     if constexpr (kind() == TraceKind::Time)
       p = put_raw(p, static_cast<std::int64_t>(s.k));
     else if constexpr (kind() == TraceKind::Line)

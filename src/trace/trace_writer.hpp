@@ -4,6 +4,7 @@
 #include "common/axis.hpp"
 #include "motion/block_sink.hpp"
 #include "motion/sample_record.hpp"
+#include "trace/trace_schema.hpp"
 
 #include <fmt/format.h>
 
@@ -37,6 +38,8 @@ struct TraceMeta {
   /// --keep-partial: a `# status:` line of fixed width right after the first line, saying
   /// "partial, run in progress" until finish() or keep_partial() overwrites it in place.
   bool status_line = false;
+  /// The optional columns written (trace_schema.hpp): kTraceModes adds the tool tip per axis.
+  TraceColumnSet columns = kTraceAlways;
 };
 
 /// Width in bytes of the `# status: ...` header line, without its '\n'.
@@ -99,7 +102,7 @@ class TraceWriter final : public BlockSink {
   void flush_buffer();
   void count_whole_rows(std::size_t n);  ///< after a short write of n bytes of buf_
   void patch_status(std::string_view text);
-  template <int N>
+  template <int N, TraceColumnSet Set>
   void write_rows(const SampleBlock& b, int first, double period_s);
   /// Row `s` (a SampleRecord or a BlockRow) of `axes` axis blocks at p; returns its end.
   /// "{:.6g}" of pct, kept from the last call while pct is the same (the override changes rarely).
@@ -109,9 +112,9 @@ class TraceWriter final : public BlockSink {
     return {last_pct_text_.data(), last_pct_size_};
   }
   void format_percent(double pct);  ///< sets last_pct_ and last_pct_text_
-  template <typename Row, typename Axes>
+  template <TraceColumnSet Set, typename Row, typename Axes>
   char* put_csv_row(char* p, const Row& s, Axes axes);
-  template <typename Row, typename Axes>
+  template <TraceColumnSet Set, typename Row, typename Axes>
   char* put_binary_row(char* p, const Row& s, Axes axes) const;
 
   std::string path_, tmp_path_;
@@ -120,20 +123,21 @@ class TraceWriter final : public BlockSink {
   double period_s_;
   std::FILE* file_ = nullptr;
   bool to_stdout_ = false;
-  bool direct_ = false;             ///< an existing device or FIFO: written in place
-  bool status_line_ = false;        ///< the header has a `# status:` line (--keep-partial)
-  int axes_ = 3;                    ///< axis blocks per row
-  std::int64_t binary_row_ = 0;     ///< bytes of a binary row
-  std::int64_t status_offset_ = 0;  ///< its byte offset in the file
-  std::int64_t header_bytes_ = 0;   ///< magic, length and header: the file before the first row
-  std::int64_t written_ = 0;        ///< bytes of whole rows (and header) written to the file
+  bool direct_ = false;                    ///< an existing device or FIFO: written in place
+  bool status_line_ = false;               ///< the header has a `# status:` line (--keep-partial)
+  int axes_ = 3;                           ///< axis blocks per row
+  TraceColumnSet columns_ = kTraceAlways;  ///< the optional columns written
+  std::int64_t binary_row_ = 0;            ///< bytes of a binary row
+  std::int64_t status_offset_ = 0;         ///< its byte offset in the file
+  std::int64_t header_bytes_ = 0;  ///< magic, length and header: the file before the first row
+  std::int64_t written_ = 0;       ///< bytes of whole rows (and header) written to the file
   fmt::memory_buffer buf_;
   std::int64_t rows_ = 0;
   /// Room for a row and the 8 (16 for the override) bytes a number's store may write past
   /// its text. CSV, nine axes: 38 integers of up to 20 characters, t_s and contour_err up to
-  /// 350 each (fmt's "%.6f" of DBL_MAX), the override up to 13, 42 separators: 1,555.
-  /// Binary: 308.
-  static constexpr std::size_t kMaxRowBytes = 2048;
+  /// 350 each (fmt's "%.6f" of DBL_MAX), the override up to 13, 42 separators: 1,555; with the
+  /// tool tip (fixed3, up to 350 each) nine more: 4,714. Binary: 308, 380 with the tool tip.
+  static constexpr std::size_t kMaxRowBytes = 6144;
   double last_pct_ = std::numeric_limits<double>::quiet_NaN();  ///< override of the cached text
   /// "{:.6g}" of last_pct_ (at most 13 characters, "-1.23457e+308"), in a buffer a row copies
   /// 16 bytes of at once.

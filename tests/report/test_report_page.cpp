@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -181,4 +182,48 @@ TEST_CASE("report: takes run's flags, refuses a page it cannot write, errors loc
   CHECK(r.code == 1);
   CHECK(r.out.find("bad.nc:2:") != std::string::npos);
   CHECK(!std::filesystem::exists(dir / "bad.html"));
+}
+
+TEST_CASE("report: the tool tip's ringing on a machine with modes, none without", "[report][tip]") {
+  const auto dir = gmtest::scratch_dir("report");
+  const std::string repo = std::filesystem::path(GMOTION_TESTS_DIR).parent_path().string();
+  const auto page_path = dir / "ringing.html";
+  const auto json_path = dir / "ringing.json";
+  const auto r = gmtest::run_gmotion("report " + repo + "/programs/ringing.nc --machine " + repo +
+                                     "/programs/machines/ringing-40hz.toml -o " +
+                                     page_path.string() + " --summary-json " + json_path.string());
+  REQUIRE(r.code == 0);
+  const std::string page = gmtest::slurp(page_path);
+  const auto at = page.find("<svg id=\"ringing\"");
+  REQUIRE(at != std::string::npos);
+  const std::string svg = page.substr(at, page.find("</svg>", at) - at);
+  // X and Y have the mode: a line each; Z (no mode, no deflection) none.
+  std::size_t lines = 0;
+  for (auto p = svg.find("<polyline"); p != std::string::npos; p = svg.find("<polyline", p + 1))
+    ++lines;
+  CHECK(lines == 2);
+  // The note names each axis's worst stop with the summary's values.
+  const std::string json = gmtest::slurp(json_path);
+  const std::regex x_residual(
+      R"("x":\{"stops":\d+,"residual_max_blu":\{"value":([0-9.]+),"line":(\d+)\})");
+  std::smatch m;
+  REQUIRE(std::regex_search(json, m, x_residual));
+  char expect[96];
+  std::snprintf(expect, sizeof expect, "X: residual vibration %.2f BLU after line %s",
+                std::stod(m[1].str()), m[2].str().c_str());
+  CHECK(page.find(expect) != std::string::npos);
+  // A worst stop's record: 50 ms before the rest and up to the 0.2 s window, every T = 1 ms.
+  const auto pts = svg.find("points=\"");
+  REQUIRE(pts != std::string::npos);
+  const std::string first = svg.substr(pts + 8, svg.find('"', pts + 8) - pts - 8);
+  const auto n = static_cast<std::size_t>(std::count(first.begin(), first.end(), ' ')) + 1;
+  CHECK(n > 50);
+  CHECK(n <= 250);
+
+  const auto plain = dir / "plain.html";
+  const auto prog = write_program("plain.nc", "G21 G90\nG1 X5 F600\nM2\n");
+  REQUIRE(gmtest::run_gmotion("report " + prog.string() + " -o " + plain.string()).code == 0);
+  const std::string plain_page = gmtest::slurp(plain);
+  CHECK(plain_page.find("id=\"ringing\"") == std::string::npos);
+  CHECK(plain_page.find("Tool tip ringing") == std::string::npos);
 }

@@ -1,5 +1,6 @@
 // TraceWriter::write_block: the same bytes as write() of each row's record, CSV and binary.
 #include "motion/sample_block.hpp"
+#include "trace/trace_reader.hpp"
 #include "trace/trace_writer.hpp"
 
 #include "support/read_file.hpp"
@@ -173,4 +174,66 @@ TEST_CASE("write_block: the CSV text of known rows") {
         "t_s,line,x_cmd,x_ref,x_enc,x_ferr,y_cmd,y_ref,y_enc,y_ferr,contour_err,override\n"
         "1.000000,12,123456789,-5,4,-9,0,99999999,-1,100000000,-0.000,100\n"
         "1.004000,12,-7,10,10,0,100000000,-3,-3,0,1234.568,37.5\n");
+}
+
+TEST_CASE("the tool tip columns: written with the modes' column set only, read back by name",
+          "[trace][tip]") {
+  // The same two rows with and without kTraceModes: with it each axis block gains `tip`
+  // (fixed3) after `ferr` and the units line its unit; without it the trace is the one above.
+  for (const bool modes : {false, true}) {
+    for (const auto format : {gm::TraceFormat::Csv, gm::TraceFormat::Binary}) {
+      const std::string name = std::string(modes ? "tip" : "no-tip") +
+                               (format == gm::TraceFormat::Csv ? ".csv" : ".bin");
+      INFO(name);
+      const auto path = (gmtest::scratch_dir("trace-block") / name).string();
+      {
+        gm::TraceMeta m = meta("XY", 1);
+        if (modes) m.columns = gm::kTraceModes;
+        gm::TraceWriter w(path, format, m);
+        auto b = std::make_unique<gm::SampleBlock>();
+        b->reset(250);
+        b->count = 2;
+        for (int i = 0; i < 2; ++i) {
+          b->line[i] = 7;
+          b->feed_scale[i] = 1.0;
+          b->contour_err_blu[i] = 0.5 * i;
+          for (int a = 0; a < 2; ++a) {
+            b->cmd_blu.v[a][i] = 100 * (a + 1) + i;
+            b->ref_blu.v[a][i] = 90 * (a + 1) + i;
+            b->enc_blu.v[a][i] = 80 * (a + 1) + i;
+            b->table_blu.v[a][i] = 80.25 * (a + 1) - 3.0625 * i;  // exact in binary
+          }
+        }
+        w.write_block(*b, 0, kPeriodS);
+        w.finish();
+      }
+      gm::TraceReader r(path);
+      const std::vector<std::string> want =
+          modes ? std::vector<std::string>{"t_s",    "line",  "x_cmd",       "x_ref",   "x_enc",
+                                           "x_ferr", "x_tip", "y_cmd",       "y_ref",   "y_enc",
+                                           "y_ferr", "y_tip", "contour_err", "override"}
+                : std::vector<std::string>{"t_s",   "line",   "x_cmd",       "x_ref",
+                                           "x_enc", "x_ferr", "y_cmd",       "y_ref",
+                                           "y_enc", "y_ferr", "contour_err", "override"};
+      CHECK(r.columns() == want);
+      const std::string units = r.header_value("units");
+      CHECK((units.find("*_tip tool tip BLU") != std::string::npos) == modes);
+      std::vector<double> v;
+      REQUIRE(r.next(v));
+      REQUIRE(v.size() == want.size());
+      CHECK(v[2] == 100.0);
+      CHECK(v[5] == 10.0);  // x_ferr = 90 − 80
+      if (modes) {
+        CHECK(v[6] == 80.25);
+        CHECK(v[11] == 160.5);
+      }
+      REQUIRE(r.next(v));
+      if (modes) {
+        CHECK(v[6] == Approx(77.1875).margin(1e-3));  // CSV "77.188": fixed3
+        CHECK(v[11] == Approx(157.4375).margin(1e-3));
+      }
+      CHECK(v[v.size() - 2] == 0.5);
+      CHECK_FALSE(r.next(v));
+    }
+  }
 }
