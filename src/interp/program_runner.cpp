@@ -45,11 +45,12 @@ ProgramRunner::ProgramRunner(std::string filename, const InterpreterOptions& opt
   // an error there is reported with the first line processed and stops the program.
   Diagnostic error;
   if (!system_.load(error)) start_error_.push_back(std::move(error));
-  if (opts.dialect == Dialect::Fanuc) {  // Fanuc Macro B: vacant variables, IF/GOTO/WHILE, G65
+  if (fanuc_family(opts.dialect)) {  // Fanuc Macro B: vacant variables, IF/GOTO/WHILE, G65
     macro_vars_.start();
     evaluator_.set_macro(&macro_vars_);
     flow_.set_macro(&macro_vars_);
     files_.set_macro_b(true);
+    interp_.allow_comp_reissue();
   }
   grammar::Block start;
   if (rules_.start_block(start)) {
@@ -147,7 +148,7 @@ bool ProgramRunner::truncated_line(Line& l) {
 // The grammar's errors, then what the dialect refuses: reported, and the line is not run.
 bool ProgramRunner::well_formed(Line& l) {
   grammar::Block& block = l.p.block;
-  if (block.percent_text && rules_.dialect() == Dialect::Fanuc) {  // `% vfd enable`: a tape marker
+  if (block.percent_text && fanuc_family(rules_.dialect())) {  // `% vfd enable`: a tape marker
     l.diags.push_back(Diagnostic{Severity::Warning, 0, block.errors[0].loc,
                                  "text after a '%' tape marker is passed over (--dialect fanuc)",
                                  echoed_line(l.p.text)});
@@ -181,6 +182,8 @@ bool ProgramRunner::content(Line& l) {
     bool more = true;
     if (!evaluate(l, more)) return more;
   }
+  if (rules_.dialect() == Dialect::Haas && HaasCodes::local_call(block)) return local_call(l);
+  if (rules_.dialect() != Dialect::LinuxCNC && !dialect_rewrite(l)) return true;
   if (!rules_.machine_codes(block, l.p.text, l.diags)) return true;
   InterpError err;
   if (g7x_.collecting()) {  // a G7x profile: read, not run
@@ -188,6 +191,37 @@ bool ProgramRunner::content(Line& l) {
     return true;
   }
   return run_block(l);
+}
+
+// Haas's M97 P n L k: a call of the blocks from N n of this program to M99.
+bool ProgramRunner::local_call(Line& l) {
+  InterpError err;
+  const int depth = flow_.call_depth();
+  system_.set_line(l.p.number);
+  if (!flow_.m97(l.p.block, position_of(l.p), err)) return stop(err, l);
+  if (flow_.call_depth() > depth) interp_.enter_call(flow_.call_depth());
+  return true;
+}
+
+// What the dialect reads apart from LinuxCNC (Haas's codes, Mach3's, Fanuc's modal rules, tools
+// missing from the table), rewritten into the block the interpreter runs. False when the line
+// is done: an error reported, or nothing left to run.
+bool ProgramRunner::dialect_rewrite(Line& l) {
+  grammar::Block& block = l.p.block;
+  const Dialect d = rules_.dialect();
+  InterpError err;
+  bool ok = true;
+  if (d == Dialect::Haas) ok = haas_.apply(block, interp_, l.p.text, l.out, l.diags, err);
+  if (d == Dialect::Mach3) rules_.mach3_codes(block, l.p.text, l.diags);
+  if (ok && fanuc_family(d) && !g7x_.collecting()) ok = fanuc_.apply(block, interp_.state(), err);
+  if (!ok) {
+    l.diags.push_back(error_diagnostic(err, l.p.text));
+    return false;
+  }
+  std::vector<ToolEntry> add;
+  rules_.missing_tools(block, interp_.tables().tools, l.p.text, l.diags, add);
+  for (const ToolEntry& e : add) interp_.add_tool(e);
+  return !(block.words.empty() && block.message_count == 0);
 }
 
 // Expressions, parameter settings and the directive comments; false when nothing is left to

@@ -5,7 +5,9 @@
 #include "common/diagnostic.hpp"
 #include "interp/dialect.hpp"
 #include "interp/expression.hpp"
+#include "interp/fanuc_modal.hpp"
 #include "interp/g7x_driver.hpp"
+#include "interp/haas_codes.hpp"
 #include "interp/interpreter.hpp"
 #include "interp/line_source.hpp"
 #include "interp/macro_variables.hpp"
@@ -68,6 +70,8 @@ class ProgramRunner {
   bool well_formed(Line& l);
   void main_m99_ends(grammar::Block& block) const;
   bool content(Line& l);
+  bool local_call(Line& l);
+  bool dialect_rewrite(Line& l);
   bool evaluate(Line& l, bool& more);
   bool run_block(Line& l);
   bool control(Line& l);
@@ -99,6 +103,8 @@ class ProgramRunner {
   OwordFlow flow_;
   G7xDriver g7x_;
   DialectRules rules_;
+  HaasCodes haas_;    ///< --dialect haas: G154, G187, M97, ...
+  FanucModal fanuc_;  ///< --dialect fanuc, haas: G16, G68, G51, G51.1, G80's group 01
   std::string last_line_;
   bool log_warned_ = false;
   bool done_ = false;
@@ -115,11 +121,11 @@ class ProgramRunner {
 class LineDriver {
  public:
   LineDriver(std::istream& in, std::string filename, const InterpreterOptions& opts)
-      : front_(in, opts.dialect == Dialect::Fanuc),
+      : front_(in, fanuc_family(opts.dialect)),
         back_(std::move(filename), opts),
         source_(front_, back_) {
     if (opts.read_ahead)  // front_ reads nothing yet
-      ahead_ = std::make_unique<ParallelFront>(in, opts.dialect == Dialect::Fanuc);
+      ahead_ = std::make_unique<ParallelFront>(in, fanuc_family(opts.dialect));
   }
   /// Reads, parses and interprets one line; false when the program is over.
   bool step(std::vector<Canon>& out, std::vector<Diagnostic>& diags);
