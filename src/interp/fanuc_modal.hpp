@@ -29,6 +29,9 @@ class FanucModal {
   /// The transform in force (identity when none).
   Affine transform() const;
   bool active() const { return polar_ || rotating_ || scaling_ || mirroring(); }
+  bool scaling() const { return scaling_; }
+  bool rotating() const { return rotating_; }
+  bool polar() const { return polar_; }
 
  private:
   bool mirroring() const { return mirror_[0] || mirror_[1] || mirror_[2]; }

@@ -213,7 +213,10 @@ bool ProgramRunner::dialect_rewrite(Line& l) {
   bool ok = true;
   if (d == Dialect::Haas) ok = haas_.apply(block, interp_, l.p.text, l.out, l.diags, err);
   if (d == Dialect::Mach3) rules_.mach3_codes(block, l.p.text, l.diags);
-  if (ok && fanuc_family(d) && !g7x_.collecting()) ok = fanuc_.apply(block, interp_.state(), err);
+  if (ok && fanuc_family(d) && !g7x_.collecting()) {
+    ok = fanuc_.apply(block, interp_.state(), err);
+    macro_vars_.set_transforms(fanuc_.scaling(), fanuc_.rotating(), fanuc_.polar());
+  }
   if (!ok) {
     l.diags.push_back(error_diagnostic(err, l.p.text));
     return false;

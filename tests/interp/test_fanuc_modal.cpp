@@ -227,3 +227,20 @@ TEST_CASE("fanuc-modal: G41 D again with compensation on changes the tool (Linux
   CHECK(l.code == 1);
   CHECK(l.out.find("cutter radius compensation is already on") != std::string::npos);
 }
+
+TEST_CASE("fanuc-modal: #4011 #4016 #4017 read the transforms in force (B-63534EN II-15.2)") {
+  // Modal information: #4011 G50/G51, #4016 G68/G69, #4017 G15/G16 of the blocks before.
+  const std::string file = modal_program("modal_vars.nc",
+                                         "G21 G90 G17\n"
+                                         "#1 = #4011 * 10000 + #4016 * 100 + #4017\n"
+                                         "G51 X0 Y0 Z0 P1.\n"
+                                         "G68 X0 Y0 R0.\n"
+                                         "G16\n"
+                                         "#2 = #4011 * 10000 + #4016 * 100 + #4017\n"
+                                         "G15 G69 G50\n"
+                                         "G0 X#1 Y#2\n"
+                                         "M30\n");
+  const CliMoves m = cli_moves(file, "--dialect fanuc");
+  CHECK(m.code == 0);
+  check_points(m, m.ends, {{506915, 516816, 0}});
+}

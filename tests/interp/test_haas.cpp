@@ -181,3 +181,41 @@ TEST_CASE("haas: a tool missing from the table is a zero-length tool with one wa
   CHECK(l.code == 1);
   CHECK(l.out.find("tool 20 is not in the tool table") != std::string::npos);
 }
+
+TEST_CASE(
+    "haas: the bundled flange program (G154 P12, M97 P1000 L3, G68 R45., G16 bolt "
+    "circle), moves worked by hand") {
+  // Work offset G154 P12 = (100, 50, 0); tool 3 is 45 long, tool 2 60 (the default table); so
+  // machine = work + (100, 50, 0) + (0, 0, length).
+  const std::string file = std::string(GMOTION_TESTS_DIR) + "/../programs/dialects/haas_flange.nc";
+  const CliMoves m = cli_moves(file, "--dialect haas");
+  CHECK(m.code == 0);
+  const auto at = [](double x, double y, double z, double length) {
+    return Point3{100 + x, 50 + y, z + length};
+  };
+  std::vector<Point3> want{{80, 30, 0}, at(-20, -20, 5, 45), at(-20, -20, 0, 45)};
+  for (int pass = 1; pass <= 3; ++pass) {  // M97 P1000 L3: the square, 2 mm deeper each time
+    const double z = -2.0 * pass;
+    for (const auto& xy :
+         {std::array<double, 2>{-20, -20}, {20, -20}, {20, 20}, {-20, 20}, {-20, -20}})
+      want.push_back(at(xy[0], xy[1], z, 45));
+  }
+  const double s = 15.0 * std::sqrt(0.5);  // G68 R45.: X-15. Y0 -> (-s, -s), X15. -> (s, s)
+  want.push_back(at(-20, -20, 5, 45));
+  want.push_back(at(-s, -s, 5, 45));
+  want.push_back(at(-s, -s, -2, 45));
+  want.push_back(at(s, s, -2, 45));
+  want.push_back(at(s, s, 5, 45));
+  want.push_back(at(s, s, 25, 60));
+  const double h = 30.0 * std::sqrt(0.5);  // G16: R30 at 45, 135, 225, 315 degrees
+  for (const auto& xy : {std::array<double, 2>{h, h}, {-h, h}, {-h, -h}, {h, -h}}) {
+    want.push_back(at(xy[0], xy[1], 25, 60));  // G98: from and back to the initial Z25
+    want.push_back(at(xy[0], xy[1], 2, 60));
+    want.push_back(at(xy[0], xy[1], -8, 60));
+    want.push_back(at(xy[0], xy[1], 25, 60));
+  }
+  want.push_back({100 + h, 50 - h, 0});  // G91 G28 Z0.: machine Z0
+  check_points(m, m.ends, want);
+  CHECK(count(m.out, "warning") == 2);                  // G187 P2, M31
+  CHECK(cli_moves(file, "--dialect fanuc").code == 1);  // M97, G154: Haas's
+}
