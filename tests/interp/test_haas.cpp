@@ -114,7 +114,7 @@ TEST_CASE("haas: G154 P1-P99 work offsets set by G10 L20 (haas.co.uk, Programmab
 
 TEST_CASE(
     "haas: G187 E is the path tolerance, G103 and machine M codes passed over, M41/M42 "
-    "recorded (haas.co.uk Smooth Operator; 96-8000 M codes)") {
+    "recorded (haas.co.uk Smooth Operator, 96-8000 M codes)") {
   // haas.co.uk "Smooth Operator": G187 P1/P2/P3 = rough/medium/finish (Setting 191); E is the
   // corner accuracy: G64 P. 96-8000 M CODES: M41 low gear, M42 high gear override (no motion).
   const std::string file = haas_program("g187.nc",
