@@ -24,8 +24,10 @@ constexpr double kDegToRad = std::numbers::pi / 180.0;
 
 // The code x 10 of G word `w` (G51.1 = 511), -1 when it is not a tenth.
 int code10(const grammar::Word& w) {
-  const long n = std::lround(w.value * 10.0);
-  return std::fabs(w.value * 10.0 - static_cast<double>(n)) < 1e-6 ? static_cast<int>(n) : -1;
+  const double t = w.value * 10.0;
+  if (!(t >= 0.0 && t < 1e5)) return -1;
+  const int n = static_cast<int>(t + 0.5);
+  return std::fabs(t - n) < 1e-6 ? n : -1;
 }
 
 bool ours(int n10) {
@@ -143,18 +145,28 @@ FanucModal::Affine FanucModal::transform() const {
 }
 
 bool FanucModal::apply(grammar::Block& block, const ModalState& s, InterpError& err) {
-  bool has_ours = false;
-  for (const grammar::Word& w : block.words)
-    if (w.letter == 'G' && ours(code10(w))) has_ours = true;
+  bool has_ours = false, g80 = false;
+  for (const grammar::Word& w : block.words) {
+    if (w.letter != 'G') continue;
+    const int n = code10(w);
+    if (n == 0 || n == 10 || n == 20 || n == 30) {
+      group01_ = n;
+    } else {
+      g80 = g80 || n == 800;
+      has_ours = has_ours || ours(n);
+    }
+  }
+  // The G80 rule looks at the block only after G80, with it, or after a mirrored arc.
+  const bool modal = g80 || s.motion == 800 || swapped_;
   if (!has_ours && !active()) {
-    group01(block, s);
+    if (modal) group01(block, s);
     return true;
   }
   const V3 q_cur = interpreter_point(s);
   V3 p_cur = q_cur;  // the programmed point under the transform before this block
   if (Affine inv; transform().invert(inv)) p_cur = inv.map(q_cur);
   if (has_ours && !modes(block, s, q_cur, p_cur, err)) return false;
-  group01(block, s);  // on the axis words the transform codes left
+  if (modal) group01(block, s);  // on the axis words the transform codes left
   if (!active()) return true;
   Affine inv;
   if (!transform().invert(inv))
@@ -174,6 +186,11 @@ void FanucModal::group01(grammar::Block& block, const ModalState& s) {
     if (axis_letter(w.letter)) axes = true;
     if (w.letter != 'G') continue;
     const int n = code10(w);
+    if (n == 0 || n == 10 || n == 20 || n == 30 || n == 800) {  // (the common ones first)
+      motion = n;
+      at = i;
+      continue;
+    }
     const Code* c = n < 0 ? nullptr : find_code('G', n);
     if (c == nullptr) continue;
     if (c->group == Group::Motion) {
@@ -182,7 +199,6 @@ void FanucModal::group01(grammar::Block& block, const ModalState& s) {
     }
     if (c->uses_axes || n == 530) axis_user = true;
   }
-  if (motion == 0 || motion == 10 || motion == 20 || motion == 30) group01_ = motion;
   if (!axes || axis_user || group01_ < 0) return;
   const bool restore = swapped_ && s.motion != group01_ && s.motion >= 0 && s.motion <= 30;
   swapped_ = false;

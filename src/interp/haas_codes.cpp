@@ -115,6 +115,16 @@ bool HaasCodes::g10_l20(grammar::Block& block, Interpreter& interp, InterpError&
 
 bool HaasCodes::apply(grammar::Block& block, Interpreter& interp, const std::string& text,
                       std::vector<Canon>& out, std::vector<Diagnostic>& diags, InterpError& err) {
+  bool any = false;  // (most blocks have none of these: looked at once)
+  for (const grammar::Word& w : block.words) {
+    const double v = w.value;
+    if (w.letter == 'G')
+      any = any || v == 154.0 || v == 10.0 || v == 187.0 || v == 103.0 ||
+            (active_ != 0 && v >= 54.0 && v <= 59.35);
+    else if (w.letter == 'M')
+      any = any || v == 19.0 || v == 41.0 || v == 42.0;
+  }
+  if (!any) return true;
   if (const std::size_t i = be::find_code(block, 'G', 1540); i != be::kNone) {
     if (!g154(block, i, interp, err)) return false;
   } else if (be::find_code(block, 'G', 100) != be::kNone) {

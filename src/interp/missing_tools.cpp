@@ -12,9 +12,22 @@ void DialectRules::missing_tools(const grammar::Block& block, const ToolTable& t
                                  const std::string& text, std::vector<Diagnostic>& diags,
                                  std::vector<ToolEntry>& add) const {
   if (dialect_ == Dialect::LinuxCNC) return;
-  bool comp = false;  // D names a tool on G41/G42 only (G41.1 D is a diameter, G96 D a speed)
-  for (const grammar::Word& w : block.words)
-    comp = comp || (w.letter == 'G' && (w.value == 41.0 || w.value == 42.0));
+  bool named = false, comp = false;  // D names a tool on G41/G42 only (G41.1 D: a diameter)
+  for (const grammar::Word& w : block.words) {
+    switch (w.letter) {
+      case 'T':
+      case 'H':
+      case 'D':
+        named = true;
+        break;
+      case 'G':
+        comp = comp || w.value == 41.0 || w.value == 42.0;
+        break;
+      default:
+        break;
+    }
+  }
+  if (!named) return;
   for (const grammar::Word& w : block.words) {
     if (w.letter != 'T' && w.letter != 'H' && !(w.letter == 'D' && comp)) continue;
     const double n = std::round(w.value);

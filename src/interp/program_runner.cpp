@@ -182,9 +182,11 @@ bool ProgramRunner::content(Line& l) {
     bool more = true;
     if (!evaluate(l, more)) return more;
   }
-  if (rules_.dialect() == Dialect::Haas && HaasCodes::local_call(block)) return local_call(l);
-  if (rules_.dialect() != Dialect::LinuxCNC && !dialect_rewrite(l)) return true;
-  if (!rules_.machine_codes(block, l.p.text, l.diags)) return true;
+  if (rules_.dialect() != Dialect::LinuxCNC) {  // (LinuxCNC: none of these, nothing looked at)
+    if (rules_.dialect() == Dialect::Haas && HaasCodes::local_call(block)) return local_call(l);
+    if (!dialect_rewrite(l)) return true;
+    if (!rules_.machine_codes(block, l.p.text, l.diags)) return true;
+  }
   InterpError err;
   if (g7x_.collecting()) {  // a G7x profile: read, not run
     if (!g7x_.collect(block, err)) l.diags.push_back(error_diagnostic(err, l.p.text));
