@@ -192,7 +192,24 @@ bool ProgramRunner::content(Line& l) {
     if (!g7x_.collect(block, err)) l.diags.push_back(error_diagnostic(err, l.p.text));
     return true;
   }
-  return run_block(l);
+  const grammar::Block* macro =
+      fanuc_family(rules_.dialect()) ? modal_call_.after(block, flow_.call_depth()) : nullptr;
+  if (macro == nullptr) return run_block(l);
+  const std::size_t reported = l.diags.size();
+  if (!run_block(l)) return false;
+  for (std::size_t i = reported; i < l.diags.size(); ++i)
+    if (l.diags[i].severity == Severity::Error) return true;  // the move failed: no call
+  return modal_macro(l, *macro);
+}
+
+// G66's call after a block that moved: as a G65 line (II-15.6.1) after it.
+bool ProgramRunner::modal_macro(Line& l, const grammar::Block& call) {
+  InterpError err;
+  const int depth = flow_.call_depth();
+  if (!flow_.handle(call, position_of(l.p), l.jump, err)) return stop(err, l);
+  if (flow_.call_depth() != depth) macro_vars_.set_program(flow_.program_number(main_program_));
+  if (flow_.call_depth() > depth) interp_.enter_call(flow_.call_depth());
+  return true;
 }
 
 // Haas's M97 P n L k: a call of the blocks from N n of this program to M99.
@@ -215,6 +232,7 @@ bool ProgramRunner::dialect_rewrite(Line& l) {
   bool ok = true;
   if (d == Dialect::Haas) ok = haas_.apply(block, interp_, l.p.text, l.out, l.diags, err);
   if (d == Dialect::Mach3) rules_.mach3_codes(block, l.p.text, l.diags);
+  if (ok && fanuc_family(d)) ok = modal_call_.take(block, flow_.call_depth(), err);
   if (ok && fanuc_family(d) && !g7x_.collecting()) {
     ok = fanuc_.apply(block, interp_.state(), err);
     macro_vars_.set_transforms(fanuc_.scaling(), fanuc_.rotating(), fanuc_.polar());

@@ -10,6 +10,7 @@
 #include "interp/haas_codes.hpp"
 #include "interp/interpreter.hpp"
 #include "interp/line_source.hpp"
+#include "interp/macro_modal_call.hpp"
 #include "interp/macro_variables.hpp"
 #include "interp/oword_flow.hpp"
 #include "interp/parameters.hpp"
@@ -72,6 +73,7 @@ class ProgramRunner {
   bool content(Line& l);
   bool local_call(Line& l);
   bool dialect_rewrite(Line& l);
+  bool modal_macro(Line& l, const grammar::Block& call);
   bool evaluate(Line& l, bool& more);
   bool run_block(Line& l);
   bool control(Line& l);
@@ -103,8 +105,9 @@ class ProgramRunner {
   OwordFlow flow_;
   G7xDriver g7x_;
   DialectRules rules_;
-  HaasCodes haas_;    ///< --dialect haas: G154, G187, M97, ...
-  FanucModal fanuc_;  ///< --dialect fanuc, haas: G16, G68, G51, G51.1, G80's group 01
+  HaasCodes haas_;             ///< --dialect haas: G154, G187, M97, ...
+  ModalMacroCall modal_call_;  ///< --dialect fanuc, haas: G66/G67
+  FanucModal fanuc_;           ///< --dialect fanuc, haas: G16, G68, G51, G51.1, G80's group 01
   std::string last_line_;
   bool log_warned_ = false;
   bool done_ = false;

@@ -244,3 +244,41 @@ TEST_CASE("fanuc-modal: #4011 #4016 #4017 read the transforms in force (B-63534E
   CHECK(m.code == 0);
   check_points(m, m.ends, {{506915, 516816, 0}});
 }
+
+TEST_CASE(
+    "fanuc-modal: G66 modal macro call after each move, G67 cancels (Mitsubishi M700V "
+    "13.5, modal call A)") {
+  // Mitsubishi M700V 13.5 "User macro specifications": with modal call A (G66) the macro is
+  // called every time a movement command is executed; YASNAC LX3 2.8.23.1: G66 modal call, G67
+  // cancel. Arguments as G65's (specification I): R #18, Z #26. Not in the macro's own moves.
+  const std::string file = modal_program("g66.nc",
+                                         "O0001\n"
+                                         "G21 G90 G17\n"
+                                         "G0 X0 Y0 Z10.\n"
+                                         "G66 P9100 R2. Z-5.\n"
+                                         "X10. Y10.\n"
+                                         "X20.\n"
+                                         "G67\n"
+                                         "X30.\n"
+                                         "M30\n"
+                                         "O9100\n"
+                                         "G1 Z#26 F100.\n"
+                                         "G0 Z#18\n"
+                                         "M99\n");
+  const CliMoves m = cli_moves(file, "--dialect fanuc");
+  CHECK(m.code == 0);
+  check_points(m, m.ends,
+               {{0, 0, 10},
+                {10, 10, 10},
+                {10, 10, -5},
+                {10, 10, 2},
+                {20, 10, 2},
+                {20, 10, -5},
+                {20, 10, 2},
+                {30, 10, 2}});
+  CHECK(m.kinds[2] == "line");
+  const std::string l2 = modal_program("g66_l.nc", "G66 P9100 L2 R2.\nM30\n");
+  const CliMoves e = cli_moves(l2, "--dialect fanuc");
+  CHECK(e.code == 1);
+  CHECK(e.out.find("G66 L (repeats of each call) is not read") != std::string::npos);
+}
