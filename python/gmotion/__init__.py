@@ -111,7 +111,7 @@ def _paths(options):
 def check(program, machine=None, **options):
     """Checks `program` (a path) as `gmotion check` does, on `machine` (a machine file path;
     None = the built-in machine). Options (options("check")): block_delete, max_iterations,
-    subroutine_path ("DIR[:DIR...]"), dialect ("linuxcnc", "fanuc", "grbl"), parameter_file,
+    subroutine_path ("DIR[:DIR...]"), dialect ("linuxcnc", "fanuc", "haas", "grbl", "mach3"), parameter_file,
     no_parameter_file, axes, tool_table, user_mcode_dir.
     Returns a CheckResult; raises ProgramError at the first error."""
     d = _core.check(os.fspath(program), "" if machine is None else os.fspath(machine),

@@ -164,8 +164,9 @@ class LanguageOptions(unittest.TestCase):
             with self.assertRaises(gmotion.ProgramError):
                 gmotion.check(prog)
             self.assertEqual(gmotion.check(prog, dialect="fanuc").moves, 1)
+            self.assertEqual(gmotion.check(prog, dialect="haas").moves, 1)
             with self.assertRaises(gmotion.InputError):
-                gmotion.check(prog, dialect="haas")
+                gmotion.check(prog, dialect="heidenhain")
 
     def test_parameter_file_read_and_written_or_not(self):
         with tempfile.TemporaryDirectory() as d:

@@ -68,8 +68,10 @@ enum class Step : std::uint8_t {
 
 /// The dialects a code belongs to (docs/dialects.md), one bit each (bit 1 << Dialect).
 using DialectSet = std::uint8_t;
-inline constexpr DialectSet kLinuxCncBit = 1, kFanucBit = 2, kGrblBit = 4;
-inline constexpr DialectSet kAllDialects = kLinuxCncBit | kFanucBit | kGrblBit;
+inline constexpr DialectSet kLinuxCncBit = 1, kFanucBit = 2, kGrblBit = 4, kHaasBit = 8,
+                            kMach3Bit = 16;
+inline constexpr DialectSet kAllDialects =
+    kLinuxCncBit | kFanucBit | kGrblBit | kHaasBit | kMach3Bit;
 
 struct BlockCtx;
 struct Code;

@@ -341,9 +341,10 @@ bool run_cutter_comp(BlockCtx& ctx, const Code& c) {
                     fmt::format("{}: cutter radius compensation works in the XY (G17) and XZ (G18) "
                                 "planes only",
                                 name));
-  if (cc.on())
+  if (cc.on() && !cc.reissue)
     return ctx.fail(ErrorCode::CutterCompMisused, loc,
                     fmt::format("{}: cutter radius compensation is already on", name));
+  if (cc.on() && !comp_off(ctx)) return false;  // Fanuc: started again with the new D
   int side = c.number10 / 10 == 41 ? 1 : -1;
   double radius_mm = 0.0;
   int orientation = 0;

@@ -43,6 +43,9 @@ struct CutterComp {
   /// After G40 the interpreter's point is the programmed one while the tool is still where the
   /// last compensated move left it: the next move starts from `emitted_mm`.
   bool detached = false;
+  /// Fanuc, Haas: G41/G42 with compensation on starts it again (a new side or D) from the next
+  /// move, as G40 then G41/G42 would; LinuxCNC refuses it.
+  bool reissue = false;
 
   bool on() const { return side != 0; }
   bool active() const { return side != 0 && radius_mm > 0.0; }

@@ -22,6 +22,10 @@ bool parse_dialect(std::string_view text, Dialect& out) {
     out = Dialect::Fanuc;
   } else if (t == "grbl") {
     out = Dialect::Grbl;
+  } else if (t == "haas") {
+    out = Dialect::Haas;
+  } else if (t == "mach3") {
+    out = Dialect::Mach3;
   } else {
     return false;
   }
@@ -34,6 +38,10 @@ const char* dialect_name(Dialect d) {
       return "fanuc";
     case Dialect::Grbl:
       return "grbl";
+    case Dialect::Haas:
+      return "haas";
+    case Dialect::Mach3:
+      return "mach3";
     case Dialect::LinuxCNC:
       break;
   }
@@ -169,7 +177,7 @@ bool DialectRules::accepts(const grammar::Block& block, const std::string& text,
 
 bool DialectRules::machine_codes(grammar::Block& block, const std::string& text,
                                  std::vector<Diagnostic>& diags) {
-  if (dialect_ != Dialect::Fanuc) return true;
+  if (!fanuc_family(dialect_) && dialect_ != Dialect::Mach3) return true;
   auto& words = block.words;
   for (std::size_t i = 0; i < words.size();) {
     const grammar::Word& w = words[i];
@@ -192,8 +200,8 @@ bool DialectRules::machine_codes(grammar::Block& block, const std::string& text,
       fanuc_warned_[static_cast<std::size_t>(m)] = true;
       diags.push_back(Diagnostic{Severity::Warning, 0, w.loc,
                                  fmt::format("M{} is a machine function LinuxCNC does not have: "
-                                             "passed over (--dialect fanuc; warned once)",
-                                             m),
+                                             "passed over (--dialect {}; warned once)",
+                                             m, dialect_name(dialect_)),
                                  echoed_line(text)});
     }
     words.erase(words.begin() + static_cast<std::ptrdiff_t>(i));
@@ -208,8 +216,12 @@ void DialectRules::missing_end(int last_line, bool opened_percent, const std::st
     case Dialect::Grbl:  // grbl streams: no end
       return;
     case Dialect::Fanuc:
+    case Dialect::Haas:
+    case Dialect::Mach3:
       diags.push_back(Diagnostic{Severity::Warning, 0, at,
-                                 "the program ends without M2/M30 (ended here, --dialect fanuc)",
+                                 fmt::format("the program ends without M2/M30 (ended here, "
+                                             "--dialect {})",
+                                             dialect_name(dialect_)),
                                  last_text, file});
       return;
     case Dialect::LinuxCNC:

@@ -4,6 +4,7 @@
 
 #include "common/diagnostic.hpp"
 #include "grammar/parse.hpp"
+#include "machine/tool_table.hpp"
 
 #include <array>
 #include <cstdint>
@@ -16,12 +17,18 @@ namespace gm {
 /// What a program is written for (docs/dialects.md). LinuxCNC: exactly rs274's rules. Fanuc:
 /// LinuxCNC's plus a program without M2/M30 ends with a warning and machine M-codes LinuxCNC
 /// does not know are passed over (one warning each). Grbl: grbl 1.1's subset ('$' lines passed
-/// over, no program end needed, G0 in effect at the start, what grbl rejects rejected).
-enum class Dialect { LinuxCNC, Fanuc, Grbl };
+/// over, no program end needed, G0 in effect at the start, what grbl rejects rejected). Haas:
+/// Fanuc's and what Haas mills define apart (M97, G154, G187, ...; interp/haas_codes.hpp).
+/// Mach3: LinuxCNC's language as Mach3 reads it (G31, M47; interp/mach3_codes.cpp).
+enum class Dialect { LinuxCNC, Fanuc, Grbl, Haas, Mach3 };
 
-/// "linuxcnc", "fanuc", "grbl" (any case); false for anything else.
+/// "linuxcnc", "fanuc", "grbl", "haas", "mach3" (any case); false for anything else.
 bool parse_dialect(std::string_view text, Dialect& out);
 const char* dialect_name(Dialect d);
+/// Fanuc and Haas: Fanuc Macro B, Fanuc's modal rules (interp/fanuc_modal.hpp), machine M codes.
+inline bool fanuc_family(Dialect d) {
+  return d == Dialect::Fanuc || d == Dialect::Haas;
+}
 
 /// A grbl setting or command line (`$H`, `$$`, `$110=500`, `$J=...`): first non-blank is '$'.
 bool grbl_dollar_line(std::string_view text);
@@ -66,6 +73,13 @@ class DialectRules {
   /// local subprogram call) is refused. False when nothing is left to execute.
   bool machine_codes(grammar::Block& block, const std::string& text,
                      std::vector<Diagnostic>& diags);
+  /// Mach3 (interp/mach3_codes.cpp): G31 is G38.2; M47 (repeat from the first line) ends the
+  /// program as M2, with a warning.
+  void mach3_codes(grammar::Block& block, const std::string& text, std::vector<Diagnostic>& diags);
+  /// Every dialect but LinuxCNC (interp/missing_tools.cpp): a T, H or D naming a tool `tools`
+  /// lacks is a zero-length tool, added to `add` with a warning.
+  void missing_tools(const grammar::Block& block, const ToolTable& tools, const std::string& text,
+                     std::vector<Diagnostic>& diags, std::vector<ToolEntry>& add) const;
   /// The input ended after line `last_line` (0: empty) without M2/M30 or a closing '%':
   /// LinuxCNC's error, Fanuc's warning, nothing for grbl (it streams). `opened_percent`: the
   /// program opened with '%'; `last_text` and `file` locate it.
@@ -78,6 +92,7 @@ class DialectRules {
  private:
   Dialect dialect_;
   bool dollar_warned_ = false;
+  bool m47_warned_ = false;
   std::array<bool, 100> fanuc_warned_{};
 };
 

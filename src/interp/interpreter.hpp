@@ -187,6 +187,13 @@ class Interpreter {
   bool write_system_parameter(int n, double v);
   /// Where a committed block's result parameters (#5061-#5070, #5399) are written; null: nowhere.
   void set_result_parameters(ParameterStore* params) { result_params_ = params; }
+  /// Fanuc, Haas: G41/G42 with compensation on starts it again with the new D (CutterComp).
+  void allow_comp_reissue() { state_mut().comp.reissue = true; }
+  /// Adds `e` to the tool table (a dialect's zero-length tool for a number the table lacks).
+  void add_tool(const ToolEntry& e) {
+    tables_.tools.set(e);
+    ++tables_version_;
+  }
   /// Changes whenever a block changed the tables (so their parameters need writing again).
   std::uint64_t tables_version() const { return tables_version_; }
 

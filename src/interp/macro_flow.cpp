@@ -87,6 +87,7 @@ bool OwordFlow::macro_goto(const grammar::Block& b, std::size_t arg, const LineP
 LinePos OwordFlow::program_start() const {
   for (auto f = stack_.rbegin(); f != stack_.rend(); ++f) {
     if (f->kind != Frame::Call) continue;
+    if (!f->label.empty() && f->label[0] == 'N') continue;  // M97: the caller's program
     const auto it = subs_.find(f->label);
     if (it == subs_.end()) break;
     const LinePos& d = it->second.pos;
@@ -111,9 +112,9 @@ int OwordFlow::sequence_line(long n, const LinePos& pos, InterpError& err) {
   }
   if (skip_.wrapped && pos.file == skip_.from.file && pos.offset >= skip_.from.offset) {
     fail(err, ErrorCode::ControlMismatch, skip_.started,
-         fmt::format("GOTO {}: no block N{} in this program (searched to its end and from its "
+         fmt::format("{}: no block N{} in this program (searched to its end and from its "
                      "start)",
-                     skip_.sequence, skip_.sequence));
+                     skip_.shown, skip_.sequence));
     return -1;
   }
   return 0;
@@ -126,7 +127,7 @@ bool OwordFlow::sequence_end(FlowJump& jump, InterpError& err) {
     return true;
   }
   return fail(err, ErrorCode::ControlMismatch, skip_.started,
-              fmt::format("GOTO {}: no block N{} in this program", skip_.sequence, skip_.sequence));
+              fmt::format("{}: no block N{} in this program", skip_.shown, skip_.sequence));
 }
 
 // O-word lines met while passing over lines for a false WHILE or a GOTO's search.
@@ -257,7 +258,8 @@ bool OwordFlow::g65(const grammar::Block& b, const LinePos& pos, FlowJump& jump,
 
 double OwordFlow::program_number(long main_program) const {
   for (auto f = stack_.rbegin(); f != stack_.rend(); ++f)
-    if (f->kind == Frame::Call) return f->fanuc ? std::strtod(f->label.c_str(), nullptr) : kVacant;
+    if (f->kind == Frame::Call && (f->label.empty() || f->label[0] != 'N'))  // M97: the caller's
+      return f->fanuc ? std::strtod(f->label.c_str(), nullptr) : kVacant;
   return main_program < 0 ? kVacant : static_cast<double>(main_program);
 }
 

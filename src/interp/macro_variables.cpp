@@ -81,8 +81,8 @@ bool MacroVariables::modal(int n, double& v) const {
     case 4010:
       v = named("_retract_r_plane") != 0.0 ? 99.0 : 98.0;
       return true;
-    case 4011:  // no scaling (G51) in gmotion
-      v = 50.0;
+    case 4011:  // scaling (G51, interp/fanuc_modal.hpp)
+      v = scaling_ ? 51.0 : 50.0;
       return true;
     case 4012:  // no modal macro call (G66)
       v = 67.0;
@@ -93,11 +93,11 @@ bool MacroVariables::modal(int n, double& v) const {
     case 4014:
       v = named("_coord_system") / 10.0;
       return true;
-    case 4016:  // no coordinate rotation (G68)
-      v = 69.0;
+    case 4016:  // coordinate rotation (G68)
+      v = rotation_ ? 68.0 : 69.0;
       return true;
-    case 4017:  // no polar coordinate command (G16)
-      v = 15.0;
+    case 4017:  // polar coordinate command (G16)
+      v = polar_ ? 16.0 : 15.0;
       return true;
     case 4109:
       v = named("_feed");

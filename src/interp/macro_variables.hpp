@@ -32,6 +32,12 @@ class MacroVariables {
   /// The sequence number (N) and program number (O) of the block before (#4114, #4115).
   void set_sequence(long n) { sequence_ = n; }
   void set_program(double o) { program_ = o; }
+  /// Fanuc's transforms in force (interp/fanuc_modal.hpp): #4011 51, #4016 68, #4017 16.
+  void set_transforms(bool scaling, bool rotation, bool polar) {
+    scaling_ = scaling;
+    rotation_ = rotation;
+    polar_ = polar;
+  }
 
   /// The variable number `v` as computed (`#[#1+2]`): an integer >= 0 (a vacant index is #0).
   static bool number(double v, SourceLoc loc, int& n, InterpError& err);
@@ -50,6 +56,7 @@ class MacroVariables {
 
   ParameterStore& params_;
   long sequence_ = -1;
+  bool scaling_ = false, rotation_ = false, polar_ = false;
   double program_ = kVacant;
 };
 

@@ -95,6 +95,10 @@ class OwordFlow {
   /// the main program's `O` line (`main_program`, -1 when it has none).
   double program_number(long main_program) const;
 
+  /// Haas's `M97 P n [L k]` at `pos` (interp/haas_flow.cpp): calls the blocks from N n of the
+  /// same program to M99 (L: k times). False with `err` on an error.
+  bool m97(const grammar::Block& b, const LinePos& pos, InterpError& err);
+
   /// After at_end's UndefinedSubroutine: drops the search for the called subroutine and goes on
   /// after the call line, as if the call had returned at once (`check` reads on). False when no
   /// search was open.

@@ -45,13 +45,15 @@ ProgramRunner::ProgramRunner(std::string filename, const InterpreterOptions& opt
   // an error there is reported with the first line processed and stops the program.
   Diagnostic error;
   if (!system_.load(error)) start_error_.push_back(std::move(error));
-  if (opts.dialect == Dialect::Fanuc) {  // Fanuc Macro B: vacant variables, IF/GOTO/WHILE, G65
+  if (fanuc_family(opts.dialect)) {  // Fanuc Macro B: vacant variables, IF/GOTO/WHILE, G65
     macro_vars_.start();
     evaluator_.set_macro(&macro_vars_);
     flow_.set_macro(&macro_vars_);
     files_.set_macro_b(true);
+    interp_.allow_comp_reissue();
   }
-  fanuc_lathe_ = opts.dialect == Dialect::Fanuc && machine_.lathe;
+  fanuc_lathe_ = fanuc_family(opts.dialect) && machine_.lathe;
+  fanuc_.set_lathe(fanuc_lathe_);
   if (fanuc_lathe_) {  // X words are diameters and the plane is ZX from the start
     grammar::Block lathe;
     FanucLathe::start_block(lathe);
@@ -160,7 +162,7 @@ bool ProgramRunner::truncated_line(Line& l) {
 // The grammar's errors, then what the dialect refuses: reported, and the line is not run.
 bool ProgramRunner::well_formed(Line& l) {
   grammar::Block& block = l.p.block;
-  if (block.percent_text && rules_.dialect() == Dialect::Fanuc) {  // `% vfd enable`: a tape marker
+  if (block.percent_text && fanuc_family(rules_.dialect())) {  // `% vfd enable`: a tape marker
     l.diags.push_back(Diagnostic{Severity::Warning, 0, block.errors[0].loc,
                                  "text after a '%' tape marker is passed over (--dialect fanuc)",
                                  echoed_line(l.p.text)});
@@ -194,13 +196,69 @@ bool ProgramRunner::content(Line& l) {
     bool more = true;
     if (!evaluate(l, more)) return more;
   }
-  if (!rules_.machine_codes(block, l.p.text, l.diags)) return true;
+  if (rules_.dialect() != Dialect::LinuxCNC) {  // (LinuxCNC: none of these, nothing looked at)
+    if (rules_.dialect() == Dialect::Haas && HaasCodes::local_call(block)) return local_call(l);
+    if (!dialect_rewrite(l)) return true;
+    if (!rules_.machine_codes(block, l.p.text, l.diags)) return true;
+  }
   InterpError err;
   if (g7x_.collecting()) {  // a G7x profile: read, not run
     if (!g7x_.collect(block, err)) l.diags.push_back(error_diagnostic(err, l.p.text));
     return true;
   }
-  return run_block(l);
+  const grammar::Block* macro =
+      fanuc_family(rules_.dialect()) ? modal_call_.after(block, flow_.call_depth()) : nullptr;
+  if (macro == nullptr) return run_block(l);
+  const std::size_t reported = l.diags.size();
+  if (!run_block(l)) return false;
+  for (std::size_t i = reported; i < l.diags.size(); ++i)
+    if (l.diags[i].severity == Severity::Error) return true;  // the move failed: no call
+  return modal_macro(l, *macro);
+}
+
+// G66's call after a block that moved: as a G65 line (II-15.6.1) after it.
+bool ProgramRunner::modal_macro(Line& l, const grammar::Block& call) {
+  InterpError err;
+  const int depth = flow_.call_depth();
+  if (!flow_.handle(call, position_of(l.p), l.jump, err)) return stop(err, l);
+  if (flow_.call_depth() != depth) macro_vars_.set_program(flow_.program_number(main_program_));
+  if (flow_.call_depth() > depth) interp_.enter_call(flow_.call_depth());
+  return true;
+}
+
+// Haas's M97 P n L k: a call of the blocks from N n of this program to M99.
+bool ProgramRunner::local_call(Line& l) {
+  InterpError err;
+  const int depth = flow_.call_depth();
+  system_.set_line(l.p.number);
+  if (!flow_.m97(l.p.block, position_of(l.p), err)) return stop(err, l);
+  if (flow_.call_depth() > depth) interp_.enter_call(flow_.call_depth());
+  return true;
+}
+
+// What the dialect reads apart from LinuxCNC (Haas's codes, Mach3's, Fanuc's modal rules, tools
+// missing from the table), rewritten into the block the interpreter runs. False when the line
+// is done: an error reported, or nothing left to run.
+bool ProgramRunner::dialect_rewrite(Line& l) {
+  grammar::Block& block = l.p.block;
+  const Dialect d = rules_.dialect();
+  InterpError err;
+  bool ok = true;
+  if (d == Dialect::Haas) ok = haas_.apply(block, interp_, l.p.text, l.out, l.diags, err);
+  if (d == Dialect::Mach3) rules_.mach3_codes(block, l.p.text, l.diags);
+  if (ok && fanuc_family(d)) ok = modal_call_.take(block, flow_.call_depth(), err);
+  if (ok && fanuc_family(d) && !g7x_.collecting()) {
+    ok = fanuc_.apply(block, interp_.state(), err);
+    macro_vars_.set_transforms(fanuc_.scaling(), fanuc_.rotating(), fanuc_.polar());
+  }
+  if (!ok) {
+    l.diags.push_back(error_diagnostic(err, l.p.text));
+    return false;
+  }
+  std::vector<ToolEntry> add;
+  rules_.missing_tools(block, interp_.tables().tools, l.p.text, l.diags, add);
+  for (const ToolEntry& e : add) interp_.add_tool(e);
+  return !(block.words.empty() && block.message_count == 0);
 }
 
 // Expressions, parameter settings and the directive comments; false when nothing is left to

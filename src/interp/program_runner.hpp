@@ -5,10 +5,13 @@
 #include "common/diagnostic.hpp"
 #include "interp/dialect.hpp"
 #include "interp/expression.hpp"
+#include "interp/fanuc_modal.hpp"
 #include "interp/g7x_driver.hpp"
+#include "interp/haas_codes.hpp"
 #include "interp/interpreter.hpp"
 #include "interp/lathe_fanuc.hpp"
 #include "interp/line_source.hpp"
+#include "interp/macro_modal_call.hpp"
 #include "interp/macro_variables.hpp"
 #include "interp/oword_flow.hpp"
 #include "interp/parameters.hpp"
@@ -69,6 +72,9 @@ class ProgramRunner {
   bool well_formed(Line& l);
   void main_m99_ends(grammar::Block& block) const;
   bool content(Line& l);
+  bool local_call(Line& l);
+  bool dialect_rewrite(Line& l);
+  bool modal_macro(Line& l, const grammar::Block& call);
   bool evaluate(Line& l, bool& more);
   bool run_block(Line& l);
   bool control(Line& l);
@@ -104,6 +110,9 @@ class ProgramRunner {
   OwordFlow flow_;
   G7xDriver g7x_;
   DialectRules rules_;
+  HaasCodes haas_;             ///< --dialect haas: G154, G187, M97, ...
+  ModalMacroCall modal_call_;  ///< --dialect fanuc, haas: G66/G67
+  FanucModal fanuc_;           ///< --dialect fanuc, haas: G16, G68, G51, G51.1, G80's group 01
   std::string last_line_;
   bool log_warned_ = false;
   bool done_ = false;
@@ -128,11 +137,11 @@ class ProgramRunner {
 class LineDriver {
  public:
   LineDriver(std::istream& in, std::string filename, const InterpreterOptions& opts)
-      : front_(in, opts.dialect == Dialect::Fanuc),
+      : front_(in, fanuc_family(opts.dialect)),
         back_(std::move(filename), opts),
         source_(front_, back_) {
     if (opts.read_ahead)  // front_ reads nothing yet
-      ahead_ = std::make_unique<ParallelFront>(in, opts.dialect == Dialect::Fanuc);
+      ahead_ = std::make_unique<ParallelFront>(in, fanuc_family(opts.dialect));
   }
   /// Reads, parses and interprets one line; false when the program is over.
   bool step(std::vector<Canon>& out, std::vector<Diagnostic>& diags);

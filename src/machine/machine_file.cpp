@@ -424,11 +424,13 @@ void read_program_keys(Reader& r, const toml::table& root, const std::string& sr
     for (const std::string& dir : split_path_list(sp)) m.subroutine_path.push_back(beside(dir));
   if (std::string pf; r.string("parameter_file", pf, false)) m.parameter_file = beside(pf);
   if (std::string d; r.string("dialect", d, false)) {
-    if (d == "linuxcnc" || d == "fanuc" || d == "grbl")
+    if (d == "linuxcnc" || d == "fanuc" || d == "grbl" || d == "haas" || d == "mach3")
       m.dialect = d;
     else
       r.fail_at(root.get("dialect")->source(), "dialect",
-                fmt::format("must be \"linuxcnc\", \"fanuc\" or \"grbl\" (got \"{}\")", d));
+                fmt::format("must be \"linuxcnc\", \"fanuc\", \"grbl\", \"haas\" or \"mach3\" "
+                            "(got \"{}\")",
+                            d));
   }
   if (std::string k; r.string("kind", k, false)) {
     if (k == "mill" || k == "lathe")

@@ -104,10 +104,10 @@ void add_language_rows(std::vector<SettingRow>& rows) {
                                       &S::max_iterations, kLanguageGroup)));
   rows.push_back(one_of(row("--dialect",
                             "what the program is written for: linuxcnc (default: "
-                            "rs274's rules), fanuc (Fanuc/Haas posts), grbl (grbl 1.1); "
-                            "docs/dialects.md",
+                            "rs274's rules), fanuc (Fanuc posts), haas (Haas mill posts), "
+                            "grbl (grbl 1.1), mach3 (Mach3 posts); docs/dialects.md",
                             &S::dialect, kLanguageGroup),
-                        {"linuxcnc", "fanuc", "grbl"}, true));
+                        {"linuxcnc", "fanuc", "grbl", "haas", "mach3"}, true));
   rows.push_back(row("--parameter-file",
                      "LinuxCNC .var parameter file read before the program "
                      "and written after it (run, moves; check only reads), instead of the "

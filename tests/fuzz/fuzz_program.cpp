@@ -15,5 +15,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (text.find_first_of("#:") != std::string::npos || text.find("GOTO") != std::string::npos ||
       text.find("G65") != std::string::npos)
     fuzz::check_and_stream(text, false, gm::Dialect::Fanuc);
+  // Haas's codes and Fanuc's modal rules (G15/G16, G50/G51, G68/G69, M97, G154, G187), Mach3's.
+  for (const char* code : {"G1", "G5", "G6", "M97"})
+    if (text.find(code) != std::string::npos) {
+      fuzz::check_and_stream(text, false, gm::Dialect::Haas);
+      fuzz::check_and_stream(text, false, gm::Dialect::Mach3);
+      break;
+    }
   return 0;
 }

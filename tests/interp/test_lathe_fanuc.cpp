@@ -467,3 +467,20 @@ TEST_CASE("lathe-fanuc: G74 peck drilling and G75 grooving, pecks by hand") {
   require_end(groove[20], K::Rapid, -14.0, 25.0);
   require_end(groove[21], K::Rapid, -10.0, 25.0);
 }
+
+// Haas's lathe manual uses the same G-code system A words: under --dialect haas a lathe reads
+// G50 X Z and G50 S as under fanuc (the mill's "G50: scaling off" does not apply on a lathe).
+TEST_CASE("lathe-fanuc: haas on a lathe reads G50 as the lathe's, not the end of scaling") {
+  const gm::Machine m = lathe_machine();
+  gm::InterpreterOptions o{&m, false};
+  o.dialect = gm::Dialect::Haas;
+  std::istringstream in("G0 X40 Z10\nG50 X100 Z50\nG0 X80 Z40\nM30\n");
+  gm::ProgramStream s(in, "lathe.nc", o);
+  std::vector<gm::Motion> mv;
+  gm::Canon c;
+  while (s.next(c))
+    if (const auto* mo = std::get_if<gm::Motion>(&c)) mv.push_back(*mo);
+  REQUIRE(mv.size() == 2);
+  require_end(mv[0], gm::MotionKind::Rapid, 10.0, 20.0);  // X40 is a diameter
+  require_end(mv[1], gm::MotionKind::Rapid, 0.0, 10.0);   // as the fanuc test above
+}
