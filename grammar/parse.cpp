@@ -4,6 +4,7 @@
 
 #include "grammar/compact_line.hpp"
 #include "grammar/parse_items.hpp"
+#include "grammar/plain_words.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -276,6 +277,11 @@ template <bool kMacroB>
   const std::string_view compact = compact_line(text);
   std::size_t start = 0;
   if (!read_line_start<kMacroB>(out, compact, start)) return;
+  // Most lines are letters and plain numbers only: read without the block rule, the same words.
+  if (plain_fast_path_ && out.oword.kind == OKind::None &&
+      read_plain_words(compact, start, columns_.data(), line_, out.words))
+    return;
+  out.words.clear();
   read_items(out, compact, start);
   convert(out, compact.data());
   active_comment(out, compact.data());

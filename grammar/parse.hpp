@@ -180,6 +180,10 @@ class BlockParser {
     ast_.macro_b = on;
   }
   bool macro_b() const { return macro_b_; }
+  /// Lines of only letters and plain numbers are read by a hand-written scanner
+  /// (read_plain_words) that gives the block rule's result; off: every line takes the block rule
+  /// (the tests compare both).
+  void set_plain_fast_path(bool on) { plain_fast_path_ = on; }
 
  private:
   // The phases of parse, in order: clear, compact, line start (O-word; Fanuc Macro B's statements
@@ -216,6 +220,7 @@ class BlockParser {
   ast::Block ast_;
   int line_ = 0;
   bool macro_b_ = false;
+  bool plain_fast_path_ = true;
 };
 
 }  // namespace gm::grammar

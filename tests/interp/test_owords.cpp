@@ -243,3 +243,20 @@ TEST_CASE("check on two threads gives what one thread gives when the program loo
   CHECK(da[0].loc.line == 3006);
   CHECK(db[0].loc.line == 3006);
 }
+
+TEST_CASE("a loop's lines from the parse cache keep their comments, expressions and errors") {
+  // Lines 3-5 are parsed on the first pass and taken from the parse cache on the next two.
+  const std::string body = "#1=0\no1 while [#1 LT 3]\n(DEBUG, pass #1)\nG0 X[#1+1] (MSG, moving)\n";
+  CHECK(messages(body + "#1=[#1+1]\no1 endwhile\nM2\n") ==
+        std::vector<std::string>{"pass 0.000000", "moving", "pass 1.000000", "moving",
+                                 "pass 2.000000", "moving"});
+  CHECK(xs(body + "#1=[#1+1]\no1 endwhile\nM2\n") == std::vector<double>{1, 2, 3});
+  // A line with a syntax error is reported on every pass, at the same place.
+  const auto d = check_with(body + "G0 Y1 $\n#1=[#1+1]\no1 endwhile\nM2\n", 1000);
+  REQUIRE(d.size() == 3);
+  for (const auto& e : d) {
+    CHECK(e.loc.line == 5);
+    CHECK(e.loc.column == 7);
+    CHECK(e.message == "unexpected character '$'");
+  }
+}
