@@ -43,17 +43,19 @@ for t in "${targets[@]}"; do
 done
 
 llvm-profdata-14 merge -sparse build-cov/prof/*.profraw -o build-cov/fuzz.profdata
-# The first -object is the binary, the others follow as -object; only our own sources count.
+# The first -object is the binary, the others follow as -object; only our own sources count
+# (selected below: a ccache build with base_dir names them build-cov/../src/..., which a
+# source-path filter here would not match).
 llvm-cov-14 export -summary-only -instr-profile build-cov/fuzz.profdata "${objects[@]:1}" \
-  "$PWD/src" "$PWD/grammar" >build-cov/coverage.json
+  >build-cov/coverage.json
 
 python3 - "$PWD" <<'EOF'
-import json, sys, collections
+import json, os, sys, collections
 top = sys.argv[1] + "/"
 data = json.load(open("build-cov/coverage.json"))["data"][0]["files"]
 rows, stages = [], collections.defaultdict(lambda: [0, 0, 0, 0])
 for f in data:
-    name = f["filename"].replace(top, "")
+    name = os.path.normpath(f["filename"]).replace(top, "")
     if not (name.startswith("src/") or name.startswith("grammar/")):
         continue
     lines, funcs = f["summary"]["lines"], f["summary"]["functions"]

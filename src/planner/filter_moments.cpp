@@ -47,13 +47,24 @@ FilterMoments::FilterMoments(std::vector<double> weights, double period_s)
 void FilterMoments::init() {
   for (std::size_t i = 0; i < h_.size(); ++i) centre_ += static_cast<double>(i) * h_[i];
   const bool signed_weights = std::any_of(h_.begin(), h_.end(), [](double c) { return c < 0.0; });
+  // With signed weights, Σ_j |c_j|·|i − j| for every i from running sums of |c_j| and j·|c_j| on
+  // either side of i: linear in the length (a lightly damped structural mode in the encoder plan's
+  // chain gives 55,638 weights, which the double sum took 34 s over).
+  double right = 0.0, right_moment = 0.0, left = 0.0, left_moment = 0.0;
+  if (signed_weights)
+    for (std::size_t j = 0; j < h_.size(); ++j) {
+      right += std::abs(h_[j]);
+      right_moment += static_cast<double>(j) * std::abs(h_[j]);
+    }
   for (std::size_t i = 0; i < h_.size(); ++i) {
     double d = (static_cast<double>(i) - centre_) * period_s_;
+    const double x = static_cast<double>(i);
     if (signed_weights) {  // |s_i − s̄| ≤ V·T·Σ_j |c_j|·|i − j|
-      d = 0.0;
-      for (std::size_t j = 0; j < h_.size(); ++j)
-        d += std::abs(h_[j]) * std::abs(static_cast<double>(i) - static_cast<double>(j));
-      d *= period_s_;
+      right -= std::abs(h_[i]);
+      right_moment -= x * std::abs(h_[i]);
+      d = (x * left - left_moment + right_moment - x * right) * period_s_;
+      left += std::abs(h_[i]);
+      left_moment += x * std::abs(h_[i]);
     }
     variance_s2_ += std::abs(h_[i]) * d * d;
     abs_moment_s_ += std::abs(h_[i]) * std::abs(d);

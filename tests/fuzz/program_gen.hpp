@@ -44,6 +44,9 @@ struct GenOptions {
   double extent_mm = 50;            ///< moves stay within about ±extent in X and Y
   double min_tolerance_mm = 0.001;  ///< the smallest G64 P written
   bool tolerances = true;           ///< G64 P… in the program (else only G61, G61.1 and G64)
+  /// Rotary axis letters ("A", "BC", ...) the machine has: lines and rapids now and then turn
+  /// them too, in degrees (none: the program is the same as without this option).
+  std::string rotary_axes;
 };
 
 /// Writes a program (G21, G17, absolute) that the generator tracks the position of, so that its
@@ -163,13 +166,20 @@ class ProgramGen {
       z = in_.in(-5, 5);
       l += " Z" + num(z);
     }
-    out_ += l + "\n";
+    out_ += l + rotary() + "\n";
     move_to(x, y, z);
   }
   void rapid() {
     const double x = xy(-50, 50), y = xy(-50, 50), z = in_.in(0, 10);
-    out_ += fmt::format("G0 X{} Y{} Z{}\n", num(x), num(y), num(z));
+    out_ += fmt::format("G0 X{} Y{} Z{}{}\n", num(x), num(y), num(z), rotary());
     move_to(x, y, z);
+  }
+  // Words turning the rotary axes (when the options name some): " A12.5", degrees.
+  std::string rotary() {
+    std::string w;
+    for (const char c : opts_.rotary_axes)
+      if (in_.chance(40)) w += fmt::format(" {}{}", c, num(in_.in(-360, 360)));
+    return w;
   }
   // An arc from here about a centre at (i, j) from here, ending on its circle (G17, G90).
   void arc_ijk(bool helix = false) {

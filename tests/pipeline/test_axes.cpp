@@ -6,6 +6,7 @@
 #include "machine/machine_file.hpp"
 #include "motion/geometry.hpp"
 #include "pipeline/run.hpp"
+#include "support/repo_root.hpp"
 #include "support/run_command.hpp"
 
 #include <catch2/catch.hpp>
@@ -23,8 +24,6 @@ using gm::AxisVec;
 
 namespace {
 
-const fs::path kRepo = fs::path(GMOTION_TESTS_DIR).parent_path();
-
 AxisVec at(std::initializer_list<std::pair<char, double>> values) {
   AxisVec v = AxisVec::Zero();
   for (const auto& [letter, x] : values) v[gm::axis_index(letter)] = x;
@@ -33,7 +32,7 @@ AxisVec at(std::initializer_list<std::pair<char, double>> values) {
 
 // programs/machines/rotary-a.toml as text.
 std::string rotary_a_text() {
-  std::ifstream src(kRepo / "programs/machines/rotary-a.toml");
+  std::ifstream src(gm::test::kRepoRoot / "programs/machines/rotary-a.toml");
   return std::string((std::istreambuf_iterator<char>(src)), std::istreambuf_iterator<char>());
 }
 
@@ -160,7 +159,8 @@ TEST_CASE("an axis word for an axis the machine lacks is a located error naming 
 }
 
 TEST_CASE("machine file: axes.letters, a table per axis, written back the same") {
-  const gm::Machine m = gm::load_machine_file(kRepo / "programs/machines/rotary-a.toml");
+  const gm::Machine m =
+      gm::load_machine_file(gm::test::kRepoRoot / "programs/machines/rotary-a.toml");
   CHECK(m.layout.letters() == "XYZA");
   REQUIRE(m.axes.size() == 4);
   CHECK(m.axes[3].rotary);
@@ -239,7 +239,7 @@ TEST_CASE("a rotary axis reports degrees, torque and power from its inertia, not
 }
 
 TEST_CASE("an idle fourth axis leaves X, Y and Z sample for sample as on three axes") {
-  const fs::path prog = kRepo / "programs" / "square.nc";
+  const fs::path prog = gm::test::kRepoRoot / "programs" / "square.nc";
   const auto three = records(prog, gm::default_machine());
   const auto four = records(prog, with_axes("XYZA"));
   REQUIRE(three.size() == four.size());
@@ -255,7 +255,7 @@ TEST_CASE("an idle fourth axis leaves X, Y and Z sample for sample as on three a
 TEST_CASE("nine axes: each ends exactly on its programmed end, rotary in its own BLU") {
   gm::Machine m = with_axes("XYZABCUVW");
   m.axes[3].blu_mm = 0.01;  // A: 0.01 degree per count
-  const auto recs = records(kRepo / "tests/golden/programs/nine-axis.nc", m);
+  const auto recs = records(gm::test::kRepoRoot / "tests/golden/programs/nine-axis.nc", m);
   REQUIRE(!recs.empty());
   const auto mv = motions("G0 X1.5 Y2 Z3 A45.67 B-30 C720 U4 V-5 W6\nM2\n",
                           m);  // the same machine, a direct check

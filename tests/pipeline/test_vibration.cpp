@@ -4,6 +4,7 @@
 #include "measure/run_summary.hpp"
 #include "measure/vibration_meter.hpp"
 #include "pipeline/run.hpp"
+#include "support/repo_root.hpp"
 #include "trace/trace_reader.hpp"
 
 #include "support/run_command.hpp"
@@ -26,8 +27,6 @@
 namespace fs = std::filesystem;
 
 namespace {
-
-const fs::path kRepo = fs::path(GMOTION_TESTS_DIR).parent_path();
 
 // Rows k0.. of one axis into a block.
 void rows(gm::SampleBlock& b, std::int64_t k0, const std::vector<std::int64_t>& cmd,
@@ -105,7 +104,8 @@ TEST_CASE("a run on a machine with a 40 Hz mode: the summary against the samples
   // 0.2 s after the Acc/Dec output rests, which is 59 samples (60 taps) after the last change
   // of X's interpolator output: computed here from the run's own samples.
   gm::RunOptions o;
-  o.config.machine = gm::load_machine_file(kRepo / "programs/machines/ringing-40hz.toml");
+  o.config.machine =
+      gm::load_machine_file(gm::test::kRepoRoot / "programs/machines/ringing-40hz.toml");
   o.program_name = "tiny.nc";
   o.consumer_thread = false;
   const std::string trace = (gmtest::scratch_dir("vibration") / "tiny.csv").string();
@@ -156,7 +156,8 @@ TEST_CASE("a run on a machine with a 40 Hz mode: the summary against the samples
 
 TEST_CASE("without modes: no tip column, no vibration in the summary", "[vibration][summary]") {
   gm::RunOptions o;
-  o.config.machine = gm::load_machine_file(kRepo / "programs/machines/default-ff.toml");
+  o.config.machine =
+      gm::load_machine_file(gm::test::kRepoRoot / "programs/machines/default-ff.toml");
   o.program_name = "tiny.nc";
   o.consumer_thread = false;
   const std::string trace = (gmtest::scratch_dir("vibration") / "plain.csv").string();
@@ -176,7 +177,7 @@ TEST_CASE("without modes: no tip column, no vibration in the summary", "[vibrati
 TEST_CASE("gmotion compare: the tool tip columns are the runs' summaries", "[vibration][compare]") {
   // Each row's residual vibration and settling are the worst axis's of `gmotion run` with that
   // profile and tau; the cycle time is the run's.
-  const std::string repo = kRepo.string();
+  const std::string repo = gm::test::kRepoRoot.string();
   const std::string machine = repo + "/programs/machines/ringing-40hz.toml";
   const std::string program = repo + "/programs/ringing.nc";
   const auto c =

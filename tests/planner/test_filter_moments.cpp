@@ -155,3 +155,36 @@ TEST_CASE("arc: steady radius loss of the real FIR equals Eq. 13/14 and stays be
     }
   }
 }
+
+TEST_CASE("signed weights: variance and absolute moment of Σ_j |c_j|·|i − j| (hand-worked, long)") {
+  // {0.5, 0.7, −0.2} at T = 1 s: Σ_j |c_j|·|i − j| = 1.1, 0.7, 1.7 for i = 0, 1, 2 (the two zero
+  // weights the 0.2 s overshoot appends add nothing), so the variance is
+  // 0.5·1.21 + 0.7·0.49 + 0.2·2.89 = 1.526 s² and the absolute moment 0.55 + 0.49 + 0.34 = 1.38 s.
+  const gm::FilterMoments small({0.5, 0.7, -0.2}, 1.0);
+  CHECK(small.variance_s2() == Approx(1.526).epsilon(1e-12));
+  CHECK(small.abs_moment_s() == Approx(1.38).epsilon(1e-12));
+
+  // A long ringing chain (5,000 weights: a decaying oscillation, first weight set for Σ = 1)
+  // against the double sum written out.
+  const int n = 5000;
+  std::vector<double> w(n);
+  double rest = 1.0;
+  for (int k = 1; k < n; ++k) {
+    w[k] = 0.01 * std::exp(-k / 800.0) * std::cos(k * 0.05);
+    rest -= w[k];
+  }
+  w[0] = rest;
+  const gm::FilterMoments long_chain(w, 0.001);
+  const std::vector<double>& h = long_chain.weights();
+  double variance = 0.0, abs_moment = 0.0;
+  for (std::size_t i = 0; i < h.size(); ++i) {
+    double d = 0.0;
+    for (std::size_t j = 0; j < h.size(); ++j)
+      d += std::abs(h[j]) * std::abs(static_cast<double>(i) - static_cast<double>(j));
+    d *= 0.001;
+    variance += std::abs(h[i]) * d * d;
+    abs_moment += std::abs(h[i]) * d;
+  }
+  CHECK(long_chain.variance_s2() == Approx(variance).epsilon(1e-10));
+  CHECK(long_chain.abs_moment_s() == Approx(abs_moment).epsilon(1e-10));
+}

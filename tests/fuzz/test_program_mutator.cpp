@@ -1,0 +1,62 @@
+// The structure-aware program mutator: splices keep the lines in order before the program's end,
+// and most mutants of a valid program stay valid.
+#include "program_mutator.hpp"
+
+#include "interp/program.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cstdint>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+TEST_CASE("a crossover inserts the other program's line before M2, keeping the rest in order") {
+  // One line to take (first 0, count 1) and three places before "M2": nothing else can come out.
+  const std::set<std::string> possible = {"C\nA\nB\nM2\n", "A\nC\nB\nM2\n", "A\nB\nC\nM2\n"};
+  std::set<std::string> seen;
+  for (std::uint32_t seed = 1; seed <= 64; ++seed) {
+    fuzz::ProgramMutator m(seed);
+    const std::string out = m.cross("A\nB\nM2\n", "C\n");
+    CHECK(possible.count(out) == 1);
+    seen.insert(out);
+  }
+  CHECK(seen == possible);  // 64 seeds reach each place
+}
+
+TEST_CASE("a mutant of one line changes one number or code, or adds whole lines") {
+  // "G1 X10 Y20" has the numbers 1, 10 and 20 and the code G1: a number or code mutation leaves
+  // one line, with its letters in place.
+  for (std::uint32_t seed = 1; seed <= 200; ++seed) {
+    fuzz::ProgramMutator m(seed);
+    const std::string out = m.mutate("G1 X10 Y20\n");
+    REQUIRE(!out.empty());
+    CHECK(out.back() == '\n');
+    if (std::count(out.begin(), out.end(), '\n') == 1 && out.find('X') != std::string::npos) {
+      CHECK(out.find(" X") != std::string::npos);
+      CHECK(out.find(" Y") != std::string::npos);
+    }
+  }
+}
+
+TEST_CASE("most mutants of a valid program are valid programs") {
+  const std::string program =
+      "G21 G17 G90 G40 G80\nF600\nG0 X0 Y0 Z5\nG1 Z-1\nG1 X10 Y0\nG2 X20 Y0 I5 J0\n"
+      "G1 X20 Y10\n#1 = 3\no100 repeat [#1]\nG91 G1 X-1\nG90\no100 endrepeat\nG0 Z5\nM2\n";
+  int valid = 0;
+  const int n = 300;
+  gm::InterpreterOptions opts;
+  opts.max_iterations = 1000;
+  for (int seed = 1; seed <= n; ++seed) {
+    fuzz::ProgramMutator m(static_cast<std::uint32_t>(seed));
+    std::istringstream in(m.mutate(program));
+    std::vector<gm::Diagnostic> diags;
+    if (gm::check_program_diagnostics(in, "mutant.nc", opts, diags, gm::CheckThreads::Single)
+            .errors == 0)
+      ++valid;
+  }
+  // Measured: 273 of 300 (91 %): most of the rest moved the start of an absolute arc.
+  CHECK(valid >= n / 2);
+}
