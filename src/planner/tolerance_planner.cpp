@@ -66,6 +66,7 @@ const std::vector<double>& TolerancePlanner::grid_d() {
 void TolerancePlanner::pull() {
   if (!merger_.next(scratch_)) {
     ended_ = true;
+    untoleranced_.clear();  // no block with a tolerance follows them
     end_exact_path(nullptr, nullptr);
     return;
   }
@@ -78,16 +79,51 @@ void TolerancePlanner::pull() {
   }
   end_exact_path(m, &pulled_g_);
   Block& b = push_block(*m);
+  const bool toleranced = b.m.path_tolerance_mm > 0.0;
+  if (toleranced && !untoleranced_.empty()) plan_untoleranced(b);
   const Block* prev = window_.size() >= 2 ? &window_[window_.size() - 2] : nullptr;
   if (prev != nullptr) add_corner(*prev, b);
   if (b.m.kind == MotionKind::Arc) end_run();
-  if (b.m.kind == MotionKind::Arc && b.m.path_tolerance_mm > 0.0) {
+  if (b.m.kind == MotionKind::Arc && toleranced) {
     Element e = arc_element(b);
     e.split = splits(b.m);
     push_element(e);
+  } else if (b.m.kind == MotionKind::Arc) {
+    untoleranced_.push_back(Untoleranced{b.seq, true, b.t0, b.t1});
   }
   // Exact stop (G61.1, G9) stops here; exact path (G61) when the next item is known.
   if (b.m.path_mode == PathMode::ExactStop) mark_stop(b);
+  if (!toleranced) drop_untoleranced(b.t1);
+}
+
+void TolerancePlanner::plan_untoleranced(const Block& b) {
+  // b starts less than τ after what each of them leaves in the filter: b's samples see it, so
+  // it is planned for b's tolerance (tolerance_near then takes the smallest around it).
+  const double tau = filter_.tau_s();
+  const double tol = b.m.path_tolerance_mm;
+  const std::uint64_t first = window_.front().seq;
+  for (const Untoleranced& c : untoleranced_) {
+    if (!(b.t0 < c.t1 + tau) || c.seq < first) continue;
+    const std::size_t i = static_cast<std::size_t>(c.seq - first);
+    const Block& p = window_[i];
+    if (c.arc) {
+      Element e = arc_element(p);
+      e.tol_mm = tol;
+      e.split = splits(p.m);
+      push_element(e);
+      continue;
+    }
+    const Block& n = window_[i + 1];
+    const double turn = (n.g.tangent_at_fraction(0.0) - p.g.tangent_at_fraction(1.0)).norm();
+    if (turn > kMinTurn) push_element(corner_element(p, n, turn, tol));
+  }
+  untoleranced_.clear();
+}
+
+void TolerancePlanner::drop_untoleranced(double t_s) {
+  // A block starting from t_s on no longer sees what ended τ before it.
+  const double tau = filter_.tau_s();
+  while (!untoleranced_.empty() && untoleranced_.front().t1 + tau <= t_s) untoleranced_.pop_front();
 }
 
 void TolerancePlanner::end_exact_path(const Motion* next, const BlockGeometry* next_g) {
@@ -202,15 +238,19 @@ void TolerancePlanner::add_corner(const Block& prev, const Block& b) {
   double tol = min_positive(prev.m.path_tolerance_mm, b.m.path_tolerance_mm);
   // A tangent G61 join rounds by no more than the BLU rounding does: planned within it.
   if (prev.tangent_exit) tol = min_positive(tol, exact_path_tolerance());
-  // The turn matters to a corner with a tolerance, and without one only to a run of small turns
-  // being gathered (it ends the run); otherwise its tangents are not computed.
-  if (prev.stop_after || !(tol > 0.0 || run_.open || run_.vertices > 0)) return;
-  const double turn = (b.g.tangent_at_fraction(0.0) - prev.g.tangent_at_fraction(1.0)).norm();
-  if (!(turn > kMinTurn)) return;
+  if (prev.stop_after) return;
   if (!(tol > 0.0)) {
-    end_run();  // a turn without a tolerance: the run's bound does not cover it
+    // Without a tolerance the turn matters only to a run of small turns being gathered (a turn
+    // ends it: the run's bound does not cover it), and to a block with a tolerance that may
+    // start within τ (plan_untoleranced computes it then).
+    if ((run_.open || run_.vertices > 0) &&
+        (b.g.tangent_at_fraction(0.0) - prev.g.tangent_at_fraction(1.0)).norm() > kMinTurn)
+      end_run();
+    untoleranced_.push_back(Untoleranced{prev.seq, false, prev.t1, b.t0});
     return;
   }
+  const double turn = (b.g.tangent_at_fraction(0.0) - prev.g.tangent_at_fraction(1.0)).norm();
+  if (!(turn > kMinTurn)) return;
   const Element e = corner_element(prev, b, turn, tol);
   const double seg = prev.s1 - prev.s0;
   if (prev.m.kind == MotionKind::Line && b.m.kind == MotionKind::Line && turn <= kRunTurn &&
@@ -347,6 +387,10 @@ bool TolerancePlanner::lookahead_enough() const {
     if (!e.decided && e.t0 < f.t1 + tau) need = std::max(need, e.t1 + reach);
   // A chunk being gathered spans at most τ: it is closed before it is needed.
   if (run_.open && run_.chunk.t0 < f.t1 + tau) need = std::max(need, run_.chunk.t0 + 2.0 * tau);
+  // A corner or arc without a tolerance that a decision can see must first be planned or let go
+  // (plan_untoleranced), which takes the blocks to τ past it: every one still waiting has
+  // t1 + τ > the window's end (drop_untoleranced), so none may fall before `need`.
+  if (!untoleranced_.empty() && untoleranced_.front().t0 < need) return false;
   return window_.back().t1 >= need;
 }
 
