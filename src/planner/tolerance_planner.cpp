@@ -601,17 +601,19 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
   // The isolated arc's term (transitions at its ends, the ramp's transient) against its share
   // share/W, W the weight of its zone, as the curvature term was; the speed where A(ωT) falls
   // to ArcCompensation::kMinGain at most. The term grows with the speed: bisection.
-  auto load = [&](double v) {
-    return precomp_->error_mm(e.radius, e.sweep, L, v) *
-           zone_weight(e.s0 - v * tau, e.s1 + v * tau);
+  // within(v): error_mm(v)·W(v) <= share, decided without finishing the simulation when a
+  // part of it already exceeds (error_within).
+  auto within = [&](double v) {
+    return precomp_->error_within(e.radius, e.sweep, L, v,
+                                  zone_weight(e.s0 - v * tau, e.s1 + v * tau), share);
   };
   const double vlim = std::min(e.vmax, precomp_->speed_limit_mm_s(e.sweep, L));
   if (!(vlim > floor)) return 0.0;
-  if (load(vlim) <= share) return vlim;
+  if (within(vlim)) return vlim;
   double lo = floor, hi = vlim;  // lo: no better than the curvature cap until shown
   for (int it = 0; it < 10; ++it) {
     const double mid = 0.5 * (lo + hi);
-    (load(mid) <= share ? lo : hi) = mid;
+    (within(mid) ? lo : hi) = mid;
   }
   return lo;
 }
