@@ -374,9 +374,9 @@ TEST_CASE("property-1000: 1,000 random programs, servo on, tolerance_on = encode
   property(1000, true, 20261124);
 }
 
-TEST_CASE("property: P changes between blocks, P0 among them: every sample within its own P",
+TEST_CASE("property: P changes between blocks, P0 among them, arcs pre-compensated: within P",
           "[untoleranced]") {
-  property(gmtest::scaled(200), false, 20261129, false, nullptr, true);
+  property(gmtest::scaled(200), false, 20261129, true, nullptr, true);
 }
 
 TEST_CASE("property: P0 among the tolerances, servo on, tolerance_on = encoder: P + 1 BLU",
@@ -386,7 +386,7 @@ TEST_CASE("property: P0 among the tolerances, servo on, tolerance_on = encoder: 
 
 TEST_CASE("property-1000: 1,000 random programs with P0 among the tolerances, servo off",
           "[.][property-1000][untoleranced-1000]") {
-  property(1000, false, 20261129, false, nullptr, true);
+  property(1000, false, 20261129, true, nullptr, true);
 }
 
 namespace {
