@@ -89,7 +89,7 @@ void TolerancePlanner::pull() {
     e.split = splits(b.m);
     push_element(e);
   } else if (b.m.kind == MotionKind::Arc) {
-    untoleranced_.push_back(Untoleranced{b.seq, true, b.t0, b.t1});
+    untoleranced_.push_back(Untoleranced{b.seq, true, b.t0, b.t1 + filter_.tau_s()});
   }
   // Exact stop (G61.1, G9) stops here; exact path (G61) when the next item is known.
   if (b.m.path_mode == PathMode::ExactStop) mark_stop(b);
@@ -97,13 +97,12 @@ void TolerancePlanner::pull() {
 }
 
 void TolerancePlanner::plan_untoleranced(const Block& b) {
-  // b starts less than τ after what each of them leaves in the filter: b's samples see it, so
-  // it is planned for b's tolerance (tolerance_near then takes the smallest around it).
-  const double tau = filter_.tau_s();
+  // What b starts before the end of is in b's samples: planned for b's tolerance
+  // (tolerance_near then takes the smallest around it).
   const double tol = b.m.path_tolerance_mm;
   const std::uint64_t first = window_.front().seq;
   for (const Untoleranced& c : untoleranced_) {
-    if (!(b.t0 < c.t1 + tau) || c.seq < first) continue;
+    if (!(b.t0 < c.end) || c.seq < first) continue;
     const std::size_t i = static_cast<std::size_t>(c.seq - first);
     const Block& p = window_[i];
     if (c.arc) {
@@ -121,9 +120,8 @@ void TolerancePlanner::plan_untoleranced(const Block& b) {
 }
 
 void TolerancePlanner::drop_untoleranced(double t_s) {
-  // A block starting from t_s on no longer sees what ended τ before it.
-  const double tau = filter_.tau_s();
-  while (!untoleranced_.empty() && untoleranced_.front().t1 + tau <= t_s) untoleranced_.pop_front();
+  // A block starting from t_s on no longer sees what ended before it.
+  while (!untoleranced_.empty() && untoleranced_.front().end <= t_s) untoleranced_.pop_front();
 }
 
 void TolerancePlanner::end_exact_path(const Motion* next, const BlockGeometry* next_g) {
@@ -246,7 +244,7 @@ void TolerancePlanner::add_corner(const Block& prev, const Block& b) {
     if ((run_.open || run_.vertices > 0) &&
         (b.g.tangent_at_fraction(0.0) - prev.g.tangent_at_fraction(1.0)).norm() > kMinTurn)
       end_run();
-    untoleranced_.push_back(Untoleranced{prev.seq, false, prev.t1, b.t0});
+    untoleranced_.push_back(Untoleranced{prev.seq, false, prev.t1, prev.t1 + filter_.tau_s()});
     return;
   }
   const double turn = (b.g.tangent_at_fraction(0.0) - prev.g.tangent_at_fraction(1.0)).norm();
@@ -383,14 +381,19 @@ bool TolerancePlanner::lookahead_enough() const {
   // Near-tangent corners waiting for their claim (assign_claims, through τ past a decision)
   // need the blocks within τ after them.
   const double reach = claim_candidates_ > 0 ? 2.0 * tau : tau;
+  double horizon = f.t1 + tau;  // what the decisions emitting f see, and zones reaching f
   for (const Element& e : elems_)
-    if (!e.decided && e.t0 < f.t1 + tau) need = std::max(need, e.t1 + reach);
+    if (!e.decided && e.t0 < f.t1 + tau) {
+      need = std::max(need, e.t1 + reach);
+      horizon = std::max(horizon, e.t1 + tau);
+    }
   // A chunk being gathered spans at most τ: it is closed before it is needed.
   if (run_.open && run_.chunk.t0 < f.t1 + tau) need = std::max(need, run_.chunk.t0 + 2.0 * tau);
-  // A corner or arc without a tolerance that a decision can see must first be planned or let go
-  // (plan_untoleranced), which takes the blocks to τ past it: every one still waiting has
-  // t1 + τ > the window's end (drop_untoleranced), so none may fall before `need`.
-  if (!untoleranced_.empty() && untoleranced_.front().t0 < need) return false;
+  // A corner or arc without a tolerance that these decisions can see, or whose zone (at most τ
+  // of travel before it) can reach f, is first planned or let go (plan_untoleranced,
+  // drop_untoleranced): the window must reach its end, and every one still waiting ends past
+  // the window's end.
+  if (!untoleranced_.empty() && untoleranced_.front().t0 <= horizon) return false;
   return window_.back().t1 >= need;
 }
 

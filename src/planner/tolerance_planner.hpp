@@ -245,12 +245,13 @@ class TolerancePlanner : public CanonSource {
   std::size_t claim_cursor_ = 0;            ///< elems_[0, claim_cursor_) have their claim assigned
   std::uint64_t claimants_ = 0;             ///< claimants so far (none: zone_claims is 0 at once)
   std::uint64_t claim_candidates_ = 0;      ///< near-tangent corners pushed, not yet assigned
-  /// A vertex (after block `seq`) or an arc (block `seq`) without a tolerance, in path order,
-  /// whose contribution ends at t1 + τ (fastest travel time).
+  /// A vertex (after block `seq`) or an arc (block `seq`) without a tolerance, in path order:
+  /// where it starts and where what it leaves in the filter ends (fastest travel time): τ after
+  /// the vertex is reached (the window no longer holds samples before it), τ after the arc.
   struct Untoleranced {
     std::uint64_t seq;
     bool arc;
-    double t0, t1;
+    double t0, end;
   };
   RingDeque<Untoleranced> untoleranced_;
 };
