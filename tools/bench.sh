@@ -10,6 +10,8 @@
 #     (gen_bench_program.py --long: every move >= 100 samples), and per profile family on the
 #     long-move program;
 #   - `gmotion run` on the same program with A, B, C moving on a six-axis machine (--axes XYZABC);
+#   - `gmotion run` on a 40,000-block program of the same kind at `G64 P0.01` (the tolerance
+#     planner) against without P: samples/s and their ratio;
 #   - `gmotion run --trace`: CSV rows/s to /dev/null and to a file, binary rows/s to a file;
 #   - with --instructions: callgrind's instructions per sample on each thread of the long-move
 #     run, and the per-stage breakdown of the main thread (valgrind; slow: about a minute);
@@ -103,6 +105,19 @@ prog6=$work/bench-$blocks-abc.nc
 measure 3 "$bin/gmotion" run "$prog6" --axes XYZABC --summary-json "$work/summary6.json"
 samples6=$(samples_of "$work/summary6.json")
 rows+=("| \`gmotion run --axes XYZABC\`, six axes moving, no trace | $(calc "%.2f" "$samples6 / 1e6 / $secs") M samples/s | $samples6 samples in $secs s, peak RSS $((rss_kb / 1024)) MB |")
+
+# Planning: the same kind of program, 40,000 blocks, with `G64 P0.01` (the tolerance planner,
+# arcs pre-compensated) against without P: samples/s of each and their ratio.
+plan_prog=$work/bench-40000.nc
+gen 40000 "$plan_prog"
+plan_p=$work/bench-40000-p001.nc
+[[ -s "$plan_p" ]] || sed 's/^G21 G90 G17 G94$/G21 G90 G17 G94 G64 P0.01/' "$plan_prog" >"$plan_p"
+measure 3 "$bin/gmotion" run "$plan_prog" --summary-json "$work/summary-plan0.json"
+free_rate=$(calc "%.4f" "$(samples_of "$work/summary-plan0.json") / 1e6 / $secs")
+measure 3 "$bin/gmotion" run "$plan_p" --summary-json "$work/summary-plan.json"
+psamples=$(samples_of "$work/summary-plan.json")
+plan_rate=$(calc "%.4f" "$psamples / 1e6 / $secs")
+rows+=("| \`gmotion run\`, \`G64 P0.01\` (40,000 blocks, planned) | $(calc "%.2f" "$plan_rate") M samples/s, $(calc "%.2f" "$plan_rate / $free_rate")x the rate without P | $psamples samples in $secs s, peak RSS $((rss_kb / 1024)) MB; without P $(calc "%.2f" "$free_rate") M samples/s |")
 
 # Long moves: every move takes at least 100 samples (what the block engine's headline is on).
 long=$work/long-20000.nc

@@ -2,14 +2,36 @@
 #include "planner/arc_precomp.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <utility>
 
 namespace gm {
+namespace {
+
+constexpr std::size_t kCacheSlots = 256;  // a power of two
+
+std::size_t cache_slot(double r, double sweep, double len, double v) {
+  std::uint64_t h = 0x9e3779b97f4a7c15ULL;
+  for (double x : {r, sweep, len, v}) {
+    h ^= std::bit_cast<std::uint64_t>(x);
+    h *= 0xff51afd7ed558ccdULL;
+    h ^= h >> 33;
+  }
+  return static_cast<std::size_t>(h) & (kCacheSlots - 1);
+}
+
+}  // namespace
 
 ArcPrecompCheck::ArcPrecompCheck(const std::vector<double>& weights, double period_s)
     : h_(weights), period_s_(period_s), rule_(weights, period_s) {
   ring_.resize(h_.size());
   ring_p_.resize(h_.size());
+  fork_ring_.resize(h_.size());
+  fork_ring_p_.resize(h_.size());
+  cache_.resize(kCacheSlots);
+  nonnegative_ = std::all_of(h_.begin(), h_.end(), [](double h) { return h >= 0.0; });
 }
 
 double ArcPrecompCheck::speed_limit_mm_s(double sweep_abs_rad, double length_mm) const {
@@ -24,53 +46,122 @@ Eigen::Vector2d ArcPrecompCheck::point(double p) const {
   return {r_ * std::sin(th) + d * std::cos(th), r_ - r_ * std::cos(th) + d * std::sin(th)};
 }
 
+void ArcPrecompCheck::window_output(std::size_t head, Eigen::Vector2d& y, double& pbar) const {
+  // Σ h_i·x_i and Σ h_i·p_i, i = 0..n−1 in this order, x_i at ring slot (head + i) mod n: the
+  // slots from head to the end, then from 0 (no wrap test in the loops).
+  // Local sums (the outputs may alias the rings for all the compiler knows).
+  const std::size_t n = h_.size(), first = n - head;
+  const double* h = h_.data();
+  const Eigen::Vector2d* x = ring_.data();
+  const double* p = ring_p_.data();
+  double yx = 0.0, yy = 0.0, pb = 0.0;
+  for (std::size_t i = 0; i < first; ++i) {
+    yx += h[i] * x[head + i].x();
+    yy += h[i] * x[head + i].y();
+    pb += h[i] * p[head + i];
+  }
+  for (std::size_t i = first; i < n; ++i) {
+    yx += h[i] * x[i - first].x();
+    yy += h[i] * x[i - first].y();
+    pb += h[i] * p[i - first];
+  }
+  y = Eigen::Vector2d(yx, yy);
+  pbar = pb;
+}
+
+double ArcPrecompCheck::advance(SimState& s) const {
+  if (s.rest > 0) {
+    --s.rest;
+    return 0.0;
+  }
+  if (s.v < v_) {
+    s.v = std::min(v_, s.v + dv_);
+    s.p += q_ * s.v * period_s_;
+    return rule_.correction_mm(r_, s.v * q_ / r_);
+  }
+  s.p += dp_;  // a sample at speed v
+  return c_;
+}
+
+void ArcPrecompCheck::push_sample(SimState& s, double c) const {
+  const std::size_t n = h_.size();
+  Eigen::Vector2d x;
+  if (s.p > 0.0 && s.p < lp_) {  // point(p) and the radial direction from one sine and cosine
+    const double sn = std::sin(s.p / r_), cs = std::cos(s.p / r_);
+    x = Eigen::Vector2d(r_ * sn, r_ - r_ * cs);
+    const double w = ArcCompensation::blend(s.p / q_, len_, blend_);
+    x += w * c * Eigen::Vector2d(sn, -cs);
+  } else {
+    x = point(s.p);
+  }
+  s.head = s.head == 0 ? n - 1 : s.head - 1;  // newest at head, h_0 on it
+  ring_[s.head] = x;
+  ring_p_[s.head] = s.p;
+  if (++s.count < n) return;
+  // A window wholly on the line before the arc (p nondecreasing, so every p_i <= 0, with
+  // weights >= 0 also p̄ <= 0): x_i = (p_i, 0), y = (Σ h_i p_i, 0) by the same operations as
+  // p̄, and x(p̄) = (p̄, 0): the distance is exactly 0.
+  if (s.p <= 0.0 && nonnegative_) return;
+  Eigen::Vector2d y;
+  double pbar;
+  window_output(s.head, y, pbar);
+  const double d = (y - point(pbar)).norm();
+  if (d > s.worst) {
+    s.worst = d;
+    if (over(d)) stopped_ = true;
+  }
+}
+
 double ArcPrecompCheck::run_segment(double p_from, double p_to, double phase, Start start,
                                     End end) const {
   const std::size_t n = h_.size();
-  double worst = 0.0;
-  std::size_t count = 0, head = 0, at_end = 0;
+  SimState s;
   // From rest: n samples at the arc's start, then the interpolator's ramp from 0 to v.
-  double p = start == Start::FromRest ? 0.0 : p_from - static_cast<double>(n) * dp_ + phase * dp_;
-  double v = start == Start::FromRest ? 0.0 : v_;
-  std::size_t rest = start == Start::FromRest ? n : 0;
-  while (p <= p_to && at_end < n) {
-    double c = c_;
-    if (rest > 0) {
-      --rest;
-      c = 0.0;
-    } else if (v < v_) {
-      v = std::min(v_, v + dv_);
-      p += q_ * v * period_s_;
-      c = rule_.correction_mm(r_, v * q_ / r_);
-    } else {
-      p += dp_;  // a sample at speed v
+  s.p = start == Start::FromRest ? 0.0 : p_from - static_cast<double>(n) * dp_ + phase * dp_;
+  s.v = start == Start::FromRest ? 0.0 : v_;
+  s.rest = start == Start::FromRest ? n : 0;
+  const bool stop = end == End::Stop, both = end == End::Both;
+  std::size_t at_end = 0;
+  SimState fork;
+  double fork_c = 0.0;
+  bool forked = false;
+  while (s.p <= p_to && at_end < n && !stopped_) {
+    const double c = advance(s);
+    if (both && !forked && s.p >= lp_) {  // the runs part here: the moving one goes on first
+      fork = s;
+      fork_c = c;
+      std::copy(ring_.begin(), ring_.end(), fork_ring_.begin());
+      std::copy(ring_p_.begin(), ring_p_.end(), fork_ring_p_.begin());
+      forked = true;
     }
-    if (end == End::Stop && p >= lp_) {  // the interpolator stops on the arc's end point
-      p = lp_;
+    if (stop && s.p >= lp_) {  // the interpolator stops on the arc's end point
+      s.p = lp_;
       ++at_end;
     }
-    Eigen::Vector2d x = point(p);
-    if (p > 0.0 && p < lp_) {
-      const double w = ArcCompensation::blend(p / q_, len_, blend_);
-      x += w * c * Eigen::Vector2d(std::sin(p / r_), -std::cos(p / r_));
-    }
-    head = head == 0 ? n - 1 : head - 1;  // newest at head, h_0 on it
-    ring_[head] = x;
-    ring_p_[head] = p;
-    if (++count < n) continue;
-    Eigen::Vector2d y = Eigen::Vector2d::Zero();
-    double pbar = 0.0;
-    for (std::size_t i = 0, j = head; i < n; ++i, j = j + 1 == n ? 0 : j + 1) {
-      y += h_[i] * ring_[j];
-      pbar += h_[i] * ring_p_[j];
-    }
-    worst = std::max(worst, (y - point(pbar)).norm());
+    push_sample(s, c);
   }
-  return worst;
+  if (!forked || stopped_) return s.worst;
+  // The stopping run, from the sample where the command reached the end.
+  const double moving = s.worst;
+  s = fork;
+  std::swap(ring_, fork_ring_);
+  std::swap(ring_p_, fork_ring_p_);
+  s.p = lp_;
+  at_end = 1;
+  push_sample(s, fork_c);
+  while (s.p <= p_to && at_end < n && !stopped_) {
+    const double c = advance(s);
+    if (s.p >= lp_) {
+      s.p = lp_;
+      ++at_end;
+    }
+    push_sample(s, c);
+  }
+  return std::max(moving, s.worst);
 }
 
-double ArcPrecompCheck::isolated_mm(double radius_mm, double sweep_abs_rad, double length_mm,
-                                    double v_plan, double v, double phase) const {
+void ArcPrecompCheck::set_arc(double radius_mm, double sweep_abs_rad, double length_mm,
+                              double v_plan, double v) const {
   r_ = radius_mm;
   len_ = length_mm;
   lp_ = radius_mm * sweep_abs_rad;
@@ -80,21 +171,48 @@ double ArcPrecompCheck::isolated_mm(double radius_mm, double sweep_abs_rad, doub
   blend_ = rule_.blend_length_mm(length_mm, v_plan);
   c_ = rule_.correction_mm(radius_mm, v * sweep_abs_rad / length_mm);
   dp_ = q_ * v * period_s_;
+}
+
+double ArcPrecompCheck::isolated_runs(double v, double phase, bool paired) const {
   const double W = static_cast<double>(h_.size()) * dp_, lb = q_ * blend_;
   // Between moving tangent lines, from rest at its start, to rest at its end.
-  if (lp_ <= 2.0 * (lb + 2.0 * W))
+  if (lp_ <= 2.0 * (lb + 2.0 * W)) {
+    if (paired) {
+      const double a = run_segment(-W, lp_ + 2.0 * W, phase, Start::Moving, End::Both);
+      if (stopped_) return a;
+      return std::max(a, run_segment(0.0, lp_ + 2.0 * W, phase, Start::FromRest, End::Both));
+    }
     return std::max({run_segment(-W, lp_ + 2.0 * W, phase, Start::Moving, End::Moving),
                      run_segment(0.0, lp_ + 2.0 * W, phase, Start::FromRest, End::Stop),
                      run_segment(0.0, lp_ + 2.0 * W, phase, Start::FromRest, End::Moving),
                      run_segment(-W, lp_ + 2.0 * W, phase, Start::Moving, End::Stop)});
-  return std::max(
-      {run_segment(-W, lb + 2.0 * W, phase, Start::Moving, End::Moving),
-       run_segment(0.0, lb + 2.0 * W + v * static_cast<double>(h_.size()) * q_ * period_s_, phase,
-                   Start::FromRest, End::Moving),
-       run_segment(lp_ - lb - W, lp_ + 2.0 * W, phase, Start::Moving, End::Moving),
-       run_segment(lp_ - lb - W, lp_ + 2.0 * W, phase, Start::Moving, End::Stop)});
+  }
+  const double start_moving = run_segment(-W, lb + 2.0 * W, phase, Start::Moving, End::Moving);
+  if (stopped_) return start_moving;
+  const double from_rest =
+      run_segment(0.0, lb + 2.0 * W + v * static_cast<double>(h_.size()) * q_ * period_s_, phase,
+                  Start::FromRest, End::Moving);
+  if (stopped_) return std::max(start_moving, from_rest);
+  if (paired)
+    return std::max({start_moving, from_rest,
+                     run_segment(lp_ - lb - W, lp_ + 2.0 * W, phase, Start::Moving, End::Both)});
+  return std::max({start_moving, from_rest,
+                   run_segment(lp_ - lb - W, lp_ + 2.0 * W, phase, Start::Moving, End::Moving),
+                   run_segment(lp_ - lb - W, lp_ + 2.0 * W, phase, Start::Moving, End::Stop)});
 }
 
+double ArcPrecompCheck::isolated_mm(double radius_mm, double sweep_abs_rad, double length_mm,
+                                    double v_plan, double v, double phase) const {
+  set_arc(radius_mm, sweep_abs_rad, length_mm, v_plan, v);
+  return isolated_runs(v, phase, true);
+}
+
+double ArcPrecompCheck::isolated_unpaired_mm(double radius_mm, double sweep_abs_rad,
+                                             double length_mm, double v_plan, double v,
+                                             double phase) const {
+  set_arc(radius_mm, sweep_abs_rad, length_mm, v_plan, v);
+  return isolated_runs(v, phase, false);
+}
 double ArcPrecompCheck::ramp_mm(double radius_mm, double sweep_abs_rad, double length_mm,
                                 double v_plan) const {
   const std::size_t n = h_.size();
@@ -119,12 +237,9 @@ double ArcPrecompCheck::ramp_mm(double radius_mm, double sweep_abs_rad, double l
     ring_[head] = on_circle(p, r + rule_.correction_mm(r, v * sweep_abs_rad / length_mm));
     ring_p_[head] = p;
     if (++count < n) continue;
-    Eigen::Vector2d y = Eigen::Vector2d::Zero();
-    double pbar = 0.0;
-    for (std::size_t i = 0, j = head; i < n; ++i, j = j + 1 == n ? 0 : j + 1) {
-      y += h_[i] * ring_[j];
-      pbar += h_[i] * ring_p_[j];
-    }
+    Eigen::Vector2d y;
+    double pbar;
+    window_output(head, y, pbar);
     worst = std::max(worst, (y - on_circle(pbar, r)).norm());
   }
   return worst;
@@ -137,6 +252,35 @@ double ArcPrecompCheck::error_mm(double radius_mm, double sweep_abs_rad, double 
     worst =
         std::max(worst, isolated_mm(radius_mm, sweep_abs_rad, length_mm, v_plan, f * v_plan, 0.25));
   return worst + ramp_mm(radius_mm, sweep_abs_rad, length_mm, v_plan);
+}
+
+bool ArcPrecompCheck::error_within(double radius_mm, double sweep_abs_rad, double length_mm,
+                                   double v_plan, double scale, double share) const {
+  Cached& e = cache_[cache_slot(radius_mm, sweep_abs_rad, length_mm, v_plan)];
+  const bool hit =
+      e.r == radius_mm && e.sweep == sweep_abs_rad && e.len == length_mm && e.v == v_plan;
+  // error_mm = max(0, isolated at v_p, at 0.6·v_p) + ramp; every partial maximum is a lower
+  // bound of it, and (x + ramp)·scale grows with x in floating point too.
+  if (hit && (e.exact || (e.iso + e.ramp) * scale > share))
+    return (e.iso + e.ramp) * scale <= share;
+  const double ramp = hit ? e.ramp : ramp_mm(radius_mm, sweep_abs_rad, length_mm, v_plan);
+  stop_add_ = ramp;
+  stop_scale_ = scale;
+  stop_share_ = share;
+  stopped_ = false;
+  double worst = 0.0;
+  for (double f : {1.0, 0.6}) {
+    worst =
+        std::max(worst, isolated_mm(radius_mm, sweep_abs_rad, length_mm, v_plan, f * v_plan, 0.25));
+    if (stopped_) break;
+  }
+  const bool exact = !stopped_;
+  stop_add_ = 0.0;
+  stop_scale_ = 1.0;
+  stop_share_ = std::numeric_limits<double>::infinity();
+  stopped_ = false;
+  e = Cached{radius_mm, sweep_abs_rad, length_mm, v_plan, ramp, worst, exact};
+  return exact && (worst + ramp) * scale <= share;
 }
 
 }  // namespace gm

@@ -6,6 +6,8 @@
 
 #include <Eigen/Core>
 
+#include <cstddef>
+#include <limits>
 #include <vector>
 
 namespace gm {
@@ -31,6 +33,12 @@ class ArcPrecompCheck {
   /// blend and ramp for v_p): the largest of the isolated arc at constant speeds v_p and 0.6·v_p,
   /// plus the transient of the ramp from v_p to rest and back on the steady arc. mm.
   double error_mm(double radius_mm, double sweep_abs_rad, double length_mm, double v_plan) const;
+  /// Exactly `error_mm(...) * scale <= share` (scale > 0), sooner: a simulation stops as soon as
+  /// what it has found already exceeds (the sum and product are monotone in the rounding), and
+  /// the terms of an arc already simulated at the same radius, sweep, length and speed are
+  /// taken from a cache (a repeated feature, or the same arc planned again beside claims).
+  bool error_within(double radius_mm, double sweep_abs_rad, double length_mm, double v_plan,
+                    double scale, double share) const;
   /// The isolated arc at speed `v` (path): between moving tangent lines, starting from rest
   /// (the interpolator's ramp) and stopping on its end point; the first sample `phase` of a
   /// sample past a window before the arc: the largest |y − x(s̄)|, mm.
@@ -38,24 +46,61 @@ class ArcPrecompCheck {
                      double v, double phase) const;
   /// The ramp's transient on the steady arc, mm.
   double ramp_mm(double radius_mm, double sweep_abs_rad, double length_mm, double v_plan) const;
+  /// isolated_mm with each of its runs simulated whole (two of them are paired in isolated_mm,
+  /// one forked from the other where they part): the reference isolated_mm must equal exactly.
+  double isolated_unpaired_mm(double radius_mm, double sweep_abs_rad, double length_mm,
+                              double v_plan, double v, double phase) const;
 
  private:
   enum class Start { Moving, FromRest };  ///< at speed on the line before, or from rest
-  enum class End { Moving, Stop };        ///< on along the line after, or stopping at the end
+  /// On along the line after, stopping at the end, or both (the larger of the two: they are
+  /// the same run until the command reaches the end, simulated once up to there).
+  enum class End { Moving, Stop, Both };
   /// The filter over in-plane path [p_from, p_to] (samples every vp·T from p_from + phase·vp·T;
   /// from rest: a window at the start, then the ramp), the largest |y − x(s̄)| once the window
   /// is full.
   double run_segment(double p_from, double p_to, double phase, Start start, End end) const;
+  /// One run's state between samples.
+  struct SimState {
+    double p = 0, v = 0, worst = 0;
+    std::size_t rest = 0, count = 0, head = 0;
+  };
+  /// Advances the command by one sample; returns the correction c at it.
+  double advance(SimState& s) const;
+  /// The command at s.p (correction c) into the window; once it is full, the output's distance.
+  void push_sample(SimState& s, double c) const;
+  /// isolated_mm's runs; `paired`: Moving and Stop runs that share a start as one End::Both.
+  double isolated_runs(double v, double phase, bool paired) const;
+  /// Sets the arc isolated_mm simulates.
+  void set_arc(double radius_mm, double sweep_abs_rad, double length_mm, double v_plan,
+               double v) const;
   Eigen::Vector2d point(double p) const;  ///< the isolated path at in-plane length p
+  /// The filter output y and p̄ = Σ h_i p_i of the window whose newest sample is at ring slot
+  /// `head`.
+  void window_output(std::size_t head, Eigen::Vector2d& y, double& pbar) const;
 
   std::vector<double> h_;
+  bool nonnegative_ = false;  ///< every h_i >= 0
   double period_s_;
   ArcCompensation rule_;
   // The isolated arc being simulated (set by isolated_mm): radius, in-plane length, q = r·|θ|/L,
   // blend length (path), correction at the speed, in-plane step per sample.
   mutable double r_ = 0, lp_ = 0, q_ = 0, len_ = 0, blend_ = 0, c_ = 0, dp_ = 0, v_ = 0, dv_ = 0;
-  mutable std::vector<Eigen::Vector2d> ring_;
-  mutable std::vector<double> ring_p_;
+  mutable std::vector<Eigen::Vector2d> ring_, fork_ring_;
+  mutable std::vector<double> ring_p_, fork_ring_p_;
+  /// error_within's early stop: a run ends once (its worst + stop_add_)·stop_scale_ > stop_share_
+  /// (never when stop_share_ is infinite), and sets stopped_.
+  mutable double stop_add_ = 0, stop_scale_ = 1,
+                 stop_share_ = std::numeric_limits<double>::infinity();
+  mutable bool stopped_ = false;
+  bool over(double worst) const { return (worst + stop_add_) * stop_scale_ > stop_share_; }
+  /// error_within's cache, direct-mapped (no allocation after construction): the arc's key, its
+  /// ramp term, and the isolated term, exact or (not `exact`) a lower bound where a run stopped.
+  struct Cached {
+    double r = -1, sweep = 0, len = 0, v = 0, ramp = 0, iso = 0;
+    bool exact = false;
+  };
+  mutable std::vector<Cached> cache_;
 };
 
 }  // namespace gm

@@ -66,6 +66,7 @@ const std::vector<double>& TolerancePlanner::grid_d() {
 void TolerancePlanner::pull() {
   if (!merger_.next(scratch_)) {
     ended_ = true;
+    untoleranced_.clear();  // no block with a tolerance follows them
     end_exact_path(nullptr, nullptr);
     return;
   }
@@ -78,16 +79,49 @@ void TolerancePlanner::pull() {
   }
   end_exact_path(m, &pulled_g_);
   Block& b = push_block(*m);
+  const bool toleranced = b.m.path_tolerance_mm > 0.0;
+  if (toleranced && !untoleranced_.empty()) plan_untoleranced(b);
   const Block* prev = window_.size() >= 2 ? &window_[window_.size() - 2] : nullptr;
   if (prev != nullptr) add_corner(*prev, b);
   if (b.m.kind == MotionKind::Arc) end_run();
-  if (b.m.kind == MotionKind::Arc && b.m.path_tolerance_mm > 0.0) {
+  if (b.m.kind == MotionKind::Arc && toleranced) {
     Element e = arc_element(b);
     e.split = splits(b.m);
     push_element(e);
+  } else if (b.m.kind == MotionKind::Arc) {
+    untoleranced_.push_back(Untoleranced{b.seq, true, b.t0, b.t1 + filter_.tau_s()});
   }
   // Exact stop (G61.1, G9) stops here; exact path (G61) when the next item is known.
   if (b.m.path_mode == PathMode::ExactStop) mark_stop(b);
+  if (!toleranced) drop_untoleranced(b.t1);
+}
+
+void TolerancePlanner::plan_untoleranced(const Block& b) {
+  // What b starts before the end of is in b's samples: planned for b's tolerance
+  // (tolerance_near then takes the smallest around it).
+  const double tol = b.m.path_tolerance_mm;
+  const std::uint64_t first = window_.front().seq;
+  for (const Untoleranced& c : untoleranced_) {
+    if (!(b.t0 < c.end) || c.seq < first) continue;
+    const std::size_t i = static_cast<std::size_t>(c.seq - first);
+    const Block& p = window_[i];
+    if (c.arc) {
+      Element e = arc_element(p);
+      e.tol_mm = tol;
+      e.split = splits(p.m);
+      push_element(e);
+      continue;
+    }
+    const Block& n = window_[i + 1];
+    const double turn = (n.g.tangent_at_fraction(0.0) - p.g.tangent_at_fraction(1.0)).norm();
+    if (turn > kMinTurn) push_element(corner_element(p, n, turn, tol));
+  }
+  untoleranced_.clear();
+}
+
+void TolerancePlanner::drop_untoleranced(double t_s) {
+  // A block starting from t_s on no longer sees what ended before it.
+  while (!untoleranced_.empty() && untoleranced_.front().end <= t_s) untoleranced_.pop_front();
 }
 
 void TolerancePlanner::end_exact_path(const Motion* next, const BlockGeometry* next_g) {
@@ -202,15 +236,19 @@ void TolerancePlanner::add_corner(const Block& prev, const Block& b) {
   double tol = min_positive(prev.m.path_tolerance_mm, b.m.path_tolerance_mm);
   // A tangent G61 join rounds by no more than the BLU rounding does: planned within it.
   if (prev.tangent_exit) tol = min_positive(tol, exact_path_tolerance());
-  // The turn matters to a corner with a tolerance, and without one only to a run of small turns
-  // being gathered (it ends the run); otherwise its tangents are not computed.
-  if (prev.stop_after || !(tol > 0.0 || run_.open || run_.vertices > 0)) return;
-  const double turn = (b.g.tangent_at_fraction(0.0) - prev.g.tangent_at_fraction(1.0)).norm();
-  if (!(turn > kMinTurn)) return;
+  if (prev.stop_after) return;
   if (!(tol > 0.0)) {
-    end_run();  // a turn without a tolerance: the run's bound does not cover it
+    // Without a tolerance the turn matters only to a run of small turns being gathered (a turn
+    // ends it: the run's bound does not cover it), and to a block with a tolerance that may
+    // start within τ (plan_untoleranced computes it then).
+    if ((run_.open || run_.vertices > 0) &&
+        (b.g.tangent_at_fraction(0.0) - prev.g.tangent_at_fraction(1.0)).norm() > kMinTurn)
+      end_run();
+    untoleranced_.push_back(Untoleranced{prev.seq, false, prev.t1, prev.t1 + filter_.tau_s()});
     return;
   }
+  const double turn = (b.g.tangent_at_fraction(0.0) - prev.g.tangent_at_fraction(1.0)).norm();
+  if (!(turn > kMinTurn)) return;
   const Element e = corner_element(prev, b, turn, tol);
   const double seg = prev.s1 - prev.s0;
   if (prev.m.kind == MotionKind::Line && b.m.kind == MotionKind::Line && turn <= kRunTurn &&
@@ -343,10 +381,19 @@ bool TolerancePlanner::lookahead_enough() const {
   // Near-tangent corners waiting for their claim (assign_claims, through τ past a decision)
   // need the blocks within τ after them.
   const double reach = claim_candidates_ > 0 ? 2.0 * tau : tau;
+  double horizon = f.t1 + tau;  // what the decisions emitting f see, and zones reaching f
   for (const Element& e : elems_)
-    if (!e.decided && e.t0 < f.t1 + tau) need = std::max(need, e.t1 + reach);
+    if (!e.decided && e.t0 < f.t1 + tau) {
+      need = std::max(need, e.t1 + reach);
+      horizon = std::max(horizon, e.t1 + tau);
+    }
   // A chunk being gathered spans at most τ: it is closed before it is needed.
   if (run_.open && run_.chunk.t0 < f.t1 + tau) need = std::max(need, run_.chunk.t0 + 2.0 * tau);
+  // A corner or arc without a tolerance that these decisions can see, or whose zone (at most τ
+  // of travel before it) can reach f, is first planned or let go (plan_untoleranced,
+  // drop_untoleranced): the window must reach its end, and every one still waiting ends past
+  // the window's end.
+  if (!untoleranced_.empty() && untoleranced_.front().t0 <= horizon) return false;
   return window_.back().t1 >= need;
 }
 
@@ -557,17 +604,19 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
   // The isolated arc's term (transitions at its ends, the ramp's transient) against its share
   // share/W, W the weight of its zone, as the curvature term was; the speed where A(ωT) falls
   // to ArcCompensation::kMinGain at most. The term grows with the speed: bisection.
-  auto load = [&](double v) {
-    return precomp_->error_mm(e.radius, e.sweep, L, v) *
-           zone_weight(e.s0 - v * tau, e.s1 + v * tau);
+  // within(v): error_mm(v)·W(v) <= share, decided without finishing the simulation when a
+  // part of it already exceeds (error_within).
+  auto within = [&](double v) {
+    return precomp_->error_within(e.radius, e.sweep, L, v,
+                                  zone_weight(e.s0 - v * tau, e.s1 + v * tau), share);
   };
   const double vlim = std::min(e.vmax, precomp_->speed_limit_mm_s(e.sweep, L));
   if (!(vlim > floor)) return 0.0;
-  if (load(vlim) <= share) return vlim;
+  if (within(vlim)) return vlim;
   double lo = floor, hi = vlim;  // lo: no better than the curvature cap until shown
   for (int it = 0; it < 10; ++it) {
     const double mid = 0.5 * (lo + hi);
-    (load(mid) <= share ? lo : hi) = mid;
+    (within(mid) ? lo : hi) = mid;
   }
   return lo;
 }

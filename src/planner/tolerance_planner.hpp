@@ -193,6 +193,13 @@ class TolerancePlanner : public CanonSource {
   void close_run_chunk();
   void end_run();
   double same_run_weight(const Element& e, double z0, double z1) const;
+  /// Corners and arcs without a tolerance whose rounding the filter still holds when a block
+  /// with one starts (within τ of fastest travel after them) are planned for that block's
+  /// tolerance: each sample is judged against its own line's. They wait in untoleranced_ until
+  /// a block decides: a toleranced one starting within τ plans them (plan_untoleranced), any
+  /// block reaching τ past them lets them go (drop_untoleranced).
+  void plan_untoleranced(const Block& b);
+  void drop_untoleranced(double t_s);
 
   struct PendingRun {
     bool open = false;  ///< a chunk is being gathered
@@ -238,6 +245,15 @@ class TolerancePlanner : public CanonSource {
   std::size_t claim_cursor_ = 0;            ///< elems_[0, claim_cursor_) have their claim assigned
   std::uint64_t claimants_ = 0;             ///< claimants so far (none: zone_claims is 0 at once)
   std::uint64_t claim_candidates_ = 0;      ///< near-tangent corners pushed, not yet assigned
+  /// A vertex (after block `seq`) or an arc (block `seq`) without a tolerance, in path order:
+  /// where it starts and where what it leaves in the filter ends (fastest travel time): τ after
+  /// the vertex is reached (the window no longer holds samples before it), τ after the arc.
+  struct Untoleranced {
+    std::uint64_t seq;
+    bool arc;
+    double t0, end;
+  };
+  RingDeque<Untoleranced> untoleranced_;
 };
 
 }  // namespace gm

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <vector>
 
@@ -117,4 +118,52 @@ TEST_CASE("the planner's check: steady arcs cost nothing, the transitions a frac
   CHECK(check.rule().limit_omega_t() > 0.20);
   CHECK(check.rule().limit_omega_t() < 0.22);
   CHECK(f.amplitude(vlim * th / L * 0.004) == Approx(gm::ArcCompensation::kMinGain).margin(1e-9));
+}
+
+TEST_CASE("the planner's check, made cheaper, decides exactly as the whole simulation",
+          "[arc-precomp]") {
+  // isolated_mm simulates the moving and the stopping end as one run forked where they part;
+  // error_within stops a simulation once it exceeds and caches the terms of an arc. Neither
+  // may change a plan: over random arcs (short ones, whose four runs all cross the arc, and long
+  // ones), both must equal the whole simulation bit for bit.
+  std::uint64_t state = 20261128;
+  auto uniform = [&state] {  // splitmix64 → [0, 1)
+    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+  };
+  int within = 0, over = 0, short_arcs = 0;
+  for (const char* prof : {"blackman", "linear", "hann"}) {
+    const gm::Taps t = gm::design_taps(prof, 0.12, 0.004);
+    const gm::ArcPrecompCheck check(weights(t), 0.004);
+    REQUIRE(check.enabled());
+    for (int k = 0; k < 60; ++k) {
+      const double R = 0.5 + 30.0 * uniform() * uniform(), th = 0.1 + 6.0 * uniform();
+      const double L = R * th * (uniform() < 0.3 ? 1.0 + uniform() : 1.0);  // some helices
+      const double v = (0.05 + 0.95 * uniform()) * check.speed_limit_mm_s(th, L);
+      const double vp = uniform() < 0.5 ? v : v / 0.6;
+      CAPTURE(prof, R, th, L, v, vp);
+      const double paired = check.isolated_mm(R, th, L, vp, v, 0.25);
+      CHECK(paired == check.isolated_unpaired_mm(R, th, L, vp, v, 0.25));
+      short_arcs += R * th < 2.0 * 0.12 * v ? 1 : 0;
+      const double e = check.error_mm(R, th, L, v);
+      REQUIRE(e > 0.0);
+      // Thresholds at, just above and just below the error, and far on either side; each
+      // asked twice (the second from the cache, exact or a lower bound).
+      const double scale = 1.0 + 3.0 * uniform();
+      for (double share :
+           {e * scale, std::nextafter(e * scale, 0.0), std::nextafter(e * scale, 1e300),
+            0.5 * e * scale, 2.0 * e * scale, 0.01 * e * scale}) {
+        const bool expect = e * scale <= share;
+        CHECK(check.error_within(R, th, L, v, scale, share) == expect);
+        CHECK(check.error_within(R, th, L, v, scale, share) == expect);
+        (expect ? within : over) += 1;
+      }
+      CHECK(check.error_mm(R, th, L, v) == e);  // the cache leaves error_mm as it was
+    }
+  }
+  CHECK(within > 100);
+  CHECK(over > 100);
+  CHECK(short_arcs > 10);
 }

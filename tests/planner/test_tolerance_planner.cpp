@@ -203,8 +203,10 @@ namespace {
 // changed mid-program) under random override schedules; every sample within the tolerance (servo
 // off) or within the tolerance + 1 BLU on the table (servo on, tolerance_on = encoder; the
 // built-in machine, or `encoder_machine` when given); arcs pre-compensated when `precomp`.
+// With `unbounded`, P0 (no tolerance) is among the tolerances and P changes twice as often, so
+// corners and arcs without a tolerance come right before blocks with one.
 void property(int kPrograms, bool encoder, std::uint64_t seed, bool precomp = false,
-              const gm::Machine* encoder_machine = nullptr) {
+              const gm::Machine* encoder_machine = nullptr, bool unbounded = false) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> U(0.0, 1.0);
   auto pick = [&](int n) { return std::min(n - 1, static_cast<int>(U(rng) * n)); };
@@ -224,11 +226,12 @@ void property(int kPrograms, bool encoder, std::uint64_t seed, bool precomp = fa
     const int pi = pick(4);
     m.profile = profiles[pi];
     m.tau_s = taus[pi];
-    std::string text = fmt::format("G21 G90 G17 G64 P{}\n", tols[pick(7)]);
+    auto tol = [&] { return unbounded && U(rng) < 0.35 ? 0.0 : tols[pick(7)]; };
+    std::string text = fmt::format("G21 G90 G17 G64 P{}\n", tol());
     double x = 0, y = 0, z = 0;
     const int moves = 3 + pick(6);
     for (int i = 0; i < moves; ++i) {
-      if (U(rng) < 0.15) text += fmt::format("G64 P{}\n", tols[pick(7)]);
+      if (U(rng) < (unbounded ? 0.3 : 0.15)) text += fmt::format("G64 P{}\n", tol());
       const double feed = std::round(200.0 + U(rng) * 8800.0);
       const double r = U(rng);
       if (r < 0.15) {  // rapid
@@ -309,8 +312,8 @@ void property(int kPrograms, bool encoder, std::uint64_t seed, bool precomp = fa
       kPrograms, lines, arcs, rapids, polylines, samples, rapid_samples, 100 * worst_ratio, paused,
       capped));
   CHECK(worst_ratio <= (encoder ? 1.0 + 0.001 / 0.003 : 1.0));  // + 1 BLU at the smallest P
-  CHECK(samples > 100 * kPrograms);
-  CHECK(rapid_samples > kPrograms);
+  CHECK(samples > (unbounded ? 50 : 100) * kPrograms);
+  CHECK(rapid_samples > kPrograms / (unbounded ? 2 : 1));
   CHECK(paused > 0);
   CHECK(capped > 0);
   CHECK(polylines > 0);
@@ -369,6 +372,78 @@ TEST_CASE("property-1000: 1,000 random programs, servo off, pre-compensated arcs
 TEST_CASE("property-1000: 1,000 random programs, servo on, tolerance_on = encoder",
           "[.][property-1000]") {
   property(1000, true, 20261124);
+}
+
+TEST_CASE("property: P changes between blocks, P0 among them, arcs pre-compensated: within P",
+          "[untoleranced]") {
+  property(gmtest::scaled(200), false, 20261129, true, nullptr, true);
+}
+
+TEST_CASE("property: P0 among the tolerances, servo on, tolerance_on = encoder: P + 1 BLU",
+          "[untoleranced]") {
+  property(gmtest::scaled(24), true, 20261130, false, nullptr, true);
+}
+
+TEST_CASE("property-1000: 1,000 random programs with P0 among the tolerances, servo off",
+          "[.][property-1000][untoleranced-1000]") {
+  property(1000, false, 20261129, true, nullptr, true);
+}
+
+namespace {
+
+// Two rapids meeting at 90° without a tolerance, then `G64 P0.1` and a feed move: the second
+// rapid is `rapid_mm` long along Y.
+std::string untoleranced_corner_program(double rapid_mm) {
+  return fmt::format("G21 G90 G17\nG0 X10\nG0 X10 Y{}\nG64 P0.1\nG1 X20 Y{} F3000\nM2\n", rapid_mm,
+                     rapid_mm);
+}
+
+}  // namespace
+
+TEST_CASE("a corner without a tolerance is planned for the G64 P block that starts within tau") {
+  const gm::Machine m;  // blackman, 41 taps of T = 4 ms: tau = 0.164 s; rapids 100 mm/s, 200 %
+  // 1 mm of rapid takes 5 ms at the largest override: line 5 starts while the filter still
+  // rounds the corner at (10, 0), 0.894 mm deep at 100 mm/s (V·D(0)·sin 90°, docs/tolerance.md).
+  // Before it was planned: 8 samples of line 5 over P, the worst 0.548 mm.
+  const Outcome o = run_program(untoleranced_corner_program(1.0), m, full);
+  CHECK(o.finished);
+  CHECK(o.end_exact);
+  CHECK(o.check.cutting().samples > 0);
+  CHECK(o.check.cutting().over == 0);
+  CHECK(o.check.cutting().err_mm <= 0.1);
+  CHECK(o.capped_pieces + o.pauses > 0);
+  // At 200 % the second rapid takes 30/200 = 0.150 s < tau: the corner is still planned;
+  // 40/200 = 0.200 s >= tau: it is over before line 5 starts, and the rapids pass unchanged.
+  const auto near = canon_of(untoleranced_corner_program(30.0), m, true);
+  const auto far = canon_of(untoleranced_corner_program(40.0), m, true);
+  const auto far_plain = canon_of(untoleranced_corner_program(40.0), m, false);
+  // What the corner at (10, 0) is planned with: a cap on line 2 (the rapid before it) or a
+  // pause after it. (The corner at the end of line 3 has line 5's tolerance anyway.)
+  auto planned_line2 = [](const std::vector<gm::Canon>& c) {
+    int n = 0;
+    for (const auto& x : c) {
+      if (const auto* mo = std::get_if<gm::Motion>(&x))
+        n += mo->line == 2 && mo->speed_cap_mm_s > 0.0 ? 1 : 0;
+      if (const auto* d = std::get_if<gm::Dwell>(&x)) n += d->line == 2 ? 1 : 0;
+    }
+    return n;
+  };
+  CHECK(planned_line2(near) > 0);
+  CHECK(planned_line2(far) == 0);
+  auto line2 = [](const std::vector<gm::Canon>& c) {
+    std::vector<gm::Motion> out;
+    for (const auto& x : c)
+      if (const auto* mo = std::get_if<gm::Motion>(&x); mo != nullptr && mo->line == 2)
+        out.push_back(*mo);
+    return out;
+  };
+  const auto far2 = line2(far), plain2 = line2(far_plain);
+  REQUIRE(far2.size() == 1);
+  REQUIRE(plain2.size() == 1);
+  CHECK(far2[0].start_mm == plain2[0].start_mm);
+  CHECK(far2[0].end_mm == plain2[0].end_mm);
+  CHECK(far2[0].speed_cap_mm_s == 0.0);
+  CHECK(run_program(untoleranced_corner_program(30.0), m, full).check.cutting().over == 0);
 }
 
 namespace {

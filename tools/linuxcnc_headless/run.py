@@ -101,7 +101,8 @@ def run_linuxcnc(prog, accel, work):
     ini = open(os.path.join(HERE, "sim.ini.in")).read()
     with open(os.path.join(run, "sim.ini"), "w") as f:
         f.write(ini.replace("@ACCEL@", f"{accel:g}").replace("@DIR@", HERE))
-    open(os.path.join(run, "tool.tbl"), "w").close()
+    with open(os.path.join(run, "tool.tbl"), "w") as f:  # T1 for programs that change to it
+        f.write("T1 P1 D6 Z0 ;6 mm end mill, no length\n")
     samples = os.path.join(run, "samples.txt")
     env = dict(os.environ, HOME=home, RTAPI_UID="65534", RTAPI_FIFO_PATH=fifo + "/fifo",
                LCNC_PROGRAM=prog, LCNC_SAMPLES=samples)
