@@ -14,8 +14,6 @@
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 // A velocity step V at t = 0 through a moving average of n taps at period T: the reference at
 // sample j is (1/n)·Σ_{i<n} V·T·max(j − i, 0). Linear between samples (as FlexibleModes takes
 // it), its velocity steps by V/n at t_k = k·T, k = 0..n−1.
@@ -32,7 +30,7 @@ TEST_CASE("a ramp through a moving average: the tip rings as the sum of the velo
   // Undamped mode ω: a velocity step ΔV at t_k leaves the deflection e = y − x =
   // −(ΔV/ω)·sin(ω(t − t_k)); after the average (t ≥ n·T) e(t) = −(V/(nω))·Σ_k sin(ω(t − kT)),
   // of amplitude (V/(nω))·|sin(nωT/2) / sin(ωT/2)|.
-  const double f = 40.0, w = 2 * kPi * f, v = 100000.0, period = 0.001;
+  const double f = 40.0, w = 2 * std::numbers::pi * f, v = 100000.0, period = 0.001;
   for (const int n : {18, 25, 37, 60}) {
     gm::FlexibleModes m({f}, {0.0}, period, 0.0);
     double worst = 0.0, peak = 0.0;
@@ -93,7 +91,7 @@ TEST_CASE("a moving average of τ = 1/f leaves no residual vibration at the tip"
     const double y = m2.step(x);
     if (j >= n2 + cruise) residual2 = std::max(residual2, std::abs(y - x));
   }
-  const double w = 2 * kPi * f;
+  const double w = 2 * std::numbers::pi * f;
   // Start and stop rings add: two sums of n2 steps of opposite sign, the stop's `cruise`
   // samples later: one sum's amplitude times |1 − e^{−jω·cruise·T}| = 2|sin(ω·cruise·T/2)|
   // (11.6 periods: 1.902).
