@@ -255,10 +255,16 @@ bool ProgramRunner::dialect_rewrite(Line& l) {
     l.diags.push_back(error_diagnostic(err, l.p.text));
     return false;
   }
-  std::vector<ToolEntry> add;
-  rules_.missing_tools(block, interp_.tables().tools, l.p.text, l.diags, add);
-  for (const ToolEntry& e : add) interp_.add_tool(e);
+  if (!fanuc_lathe_) add_missing_tools(l);  // (a lathe's T0101: once it is read as tool 1)
   return !(block.words.empty() && block.message_count == 0);
+}
+
+// Tools the block names and the table lacks, added as zero-length tools (all dialects but
+// LinuxCNC's, whose error stays).
+void ProgramRunner::add_missing_tools(Line& l) {
+  std::vector<ToolEntry> add;
+  rules_.missing_tools(l.p.block, interp_.tables().tools, l.p.text, l.diags, add);
+  for (const ToolEntry& e : add) interp_.add_tool(e);
 }
 
 // Expressions, parameter settings and the directive comments; false when nothing is left to
@@ -288,6 +294,7 @@ bool ProgramRunner::run_block(Line& l) {
     bool handled = false;
     const bool more = lathe_block(l, handled);
     if (handled) return more;
+    add_missing_tools(l);
   }
   if (!interp_.execute(l.p.block, l.out, err)) {
     l.diags.push_back(error_diagnostic(err, l.p.text));

@@ -73,6 +73,7 @@ class ProgramRunner {
   void main_m99_ends(grammar::Block& block) const;
   bool content(Line& l);
   bool local_call(Line& l);
+  void add_missing_tools(Line& l);
   bool dialect_rewrite(Line& l);
   bool modal_macro(Line& l, const grammar::Block& call);
   bool evaluate(Line& l, bool& more);
