@@ -208,11 +208,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   gen.extent_mm = 10;
   gen.min_tolerance_mm = kMinTolerance_mm;
   gen.rotary_axes = setup.rotary;
-  // One tolerance for the whole program, the machine's (G64 without P): a corner between two
-  // blocks without a tolerance is not planned, yet when a block with G64 P starts within τ after
-  // it the corner's rounding is judged against that P (G0 X10 / G0 X10 Y1 / G64 P0.1 / G1 X20
-  // F3000: 548 % of P; docs/tolerance.md).
-  gen.tolerances = false;
+  // Tolerances change between blocks (G64 P…, G61, G64): a corner without one is planned for
+  // the G64 P block that starts within τ after it (docs/tolerance.md).
   const std::string program = fuzz::ProgramGen(in, gen).generate();
   const bool print = std::getenv("GMOTION_FUZZ_PRINT") != nullptr;
   if (print) {  // to replay by hand
@@ -246,7 +243,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     opts.max_time_s = std::min(kMaxTime_s, kTapSampleBudget / per_sample * setup.machine.period_s);
 
     gm::Run run(opts, text, interp);
-    fuzz::TraceExpect expect(setup.machine.axis_count(), setup.machine.period_s, write_trace);
+    const gm::TraceColumnSet columns =
+        setup.servo && setup.machine.has_modes() ? gm::kTraceModes : gm::kTraceAlways;
+    fuzz::TraceExpect expect(setup.machine.axis_count(), setup.machine.period_s, write_trace,
+                             columns);
     run.add_sink(expect);
     std::unique_ptr<gm::report::ReportCollector> collector;
     if (write_report) {

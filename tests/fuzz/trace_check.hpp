@@ -24,9 +24,11 @@ namespace fuzz {
 /// error() is "" or the first broken promise.
 class TraceExpect final : public gm::BlockSink {
  public:
-  /// `keep_values`: keep the rows' values for compare_trace (else only check them).
-  TraceExpect(int axes, double period_s, bool keep_values)
-      : axes_(axes), period_s_(period_s), keep_(keep_values) {}
+  /// `keep_values`: keep the rows' values for compare_trace (else only check them); `columns`:
+  /// the trace's column set (the tool tip's columns when the run's machine has modes).
+  TraceExpect(int axes, double period_s, bool keep_values,
+              gm::TraceColumnSet columns = gm::kTraceAlways)
+      : axes_(axes), period_s_(period_s), keep_(keep_values), columns_(columns) {}
 
   void consume(const gm::SampleBlock& b, int first) override {
     for (int i = first; i < b.count; ++i) {
@@ -37,13 +39,17 @@ class TraceExpect final : public gm::BlockSink {
       bool finite = std::isfinite(r.contour_err_blu) && std::isfinite(r.feed_scale);
       for (int a = 0; a < axes_; ++a) finite = finite && std::isfinite(b.table_blu.v[a][i]);
       if (!finite && error_.empty()) error_ = fmt::format("sample {} has a non-finite value", r.k);
-      if (keep_)
-        gm::visit_trace_row(r, axes_,
-                            [this](auto, auto v) { values_.push_back(static_cast<double>(v)); });
+      if (!keep_) continue;
+      const auto keep = [this](auto, auto v) { values_.push_back(static_cast<double>(v)); };
+      if (columns_ & gm::kTraceModes)
+        gm::visit_trace_row<gm::kTraceModes>(r, axes_, keep);
+      else
+        gm::visit_trace_row(r, axes_, keep);
     }
   }
 
   std::int64_t rows() const { return rows_; }
+  gm::TraceColumnSet columns() const { return columns_; }
   const std::vector<double>& values() const { return values_; }
   const std::string& error() const { return error_; }
 
@@ -51,6 +57,7 @@ class TraceExpect final : public gm::BlockSink {
   int axes_;
   double period_s_;
   bool keep_;
+  gm::TraceColumnSet columns_;
   std::int64_t rows_ = 0;
   std::vector<double> values_;  ///< rows × columns, row after row
   std::string error_;
@@ -78,7 +85,7 @@ inline double csv_resolution(gm::TraceKind kind, double v) {
 inline std::string compare_trace(const std::string& path, const std::string& axis_letters,
                                  const TraceExpect& e) {
   gm::TraceReader reader(path);
-  const std::vector<std::string> names = gm::trace_column_names(axis_letters);
+  const std::vector<std::string> names = gm::trace_column_names(axis_letters, e.columns());
   if (reader.columns() != names) return "the trace's columns are not the schema's";
   std::vector<gm::TraceKind> kinds;
   for (const std::string& n : names) kinds.push_back(gm::find_trace_column(n)->kind);
