@@ -3,6 +3,7 @@
 #include "grammar/parse.hpp"
 
 #include "grammar/compact_line.hpp"
+#include "grammar/decimal_scan.hpp"
 #include "grammar/parse_items.hpp"
 #include "grammar/plain_words.hpp"
 
@@ -37,37 +38,13 @@ std::string show_number(std::string_view s) {
   return std::string(s.substr(0, 12)) + "...(" + std::to_string(s.size()) + " characters)";
 }
 
-// digits [. digits] (no sign, no exponent) with at most 15 digits after the leading zeros:
-// mantissa (< 10^15) and 10^decimals (decimals <= 15) are exact doubles, so one division gives
-// the correctly rounded value, exactly what from_chars gives (Clinger's fast path). False: take
-// the general path.
+// digits [. digits] (no sign, no exponent) with at most 15 digits after the leading zeros, by
+// one exact division (grammar/decimal_scan.hpp). False: take the general path.
 bool fast_decimal(std::string_view s, double& value) {
-  static constexpr double kPow10[] = {1e0, 1e1, 1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
-                                      1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
-  auto digit = [](char c) { return static_cast<unsigned>(c - '0') < 10u; };
   const char* p = s.data();
   const char* const end = p + s.size();
-  const char* const first = p;
-  while (p != end && *p == '0') ++p;  // leading zeros are not significant
-  std::uint64_t mantissa = 0;
-  const char* const int_start = p;
-  for (; p != end && digit(*p); ++p)
-    mantissa = mantissa * 10 + static_cast<std::uint64_t>(*p - '0');
-  const auto int_digits = p - int_start;
-  std::ptrdiff_t decimals = 0;
-  if (p != end && *p == '.') {
-    const char* const frac_start = ++p;
-    for (; p != end && digit(*p); ++p)
-      mantissa = mantissa * 10 + static_cast<std::uint64_t>(*p - '0');
-    decimals = p - frac_start;
-  }
-  // Anything left (a sign, an exponent, a second point), no digit at all, or more than 15
-  // digits after the leading zeros (the mantissa may have wrapped): the general path.
-  if (p != end || p == first || (int_digits == 0 && decimals == 0 && int_start == first) ||
-      int_digits + decimals > 15)
-    return false;
-  value = static_cast<double>(mantissa) / kPow10[decimals];
-  return true;
+  const DecimalScan d = scan_decimal(p, end);
+  return p == end && exact_decimal(d, value);  // nothing left: no sign, exponent or second point
 }
 
 // Converts the number text [sign] digits [. digits] [E [sign] digits]. Returns false if the
