@@ -35,17 +35,7 @@ bool OwordFlow::m97(const grammar::Block& b, const LinePos& pos, InterpError& er
     return fail(err, ErrorCode::SubprogramMisused, p->loc,
                 fmt::format("M97 P{}: the target is a sequence number 1-99999", p->value));
   // L repeats as M98's (LinuxCNC's m98_loop_counter): the return comes back to this line.
-  pending_again_ = false;
-  if (l != nullptr) {
-    int& left = m98_loops_[static_cast<std::size_t>(calls_)];
-    if (left == -1) left = static_cast<int>(std::lround(l->value));
-    --left;
-    if (left > 0)
-      pending_again_ = true;
-    else
-      left = -1;
-    if (l->value == 0.0) return true;
-  }
+  if (!count_repeat(l)) return true;
   pending_args_.clear();
   pending_return_ = pos;
   pending_fanuc_ = true;  // ends with M99; #1-#33 shared with the caller

@@ -225,22 +225,25 @@ bool OwordFlow::m98(const grammar::Block& b, const LinePos& pos, FlowJump& jump,
   return fanuc_call(b.oword, label, l, pos, jump, err);
 }
 
+// LinuxCNC: the caller's frame counts an M98 (or M97) L's repeats down; while some are left, the
+// return comes back to the call line, which calls again. False for `L0`: nothing is called.
+bool OwordFlow::count_repeat(const grammar::Word* l) {
+  pending_again_ = false;
+  if (l == nullptr) return true;
+  int& left = m98_loops_[static_cast<std::size_t>(calls_)];
+  if (left == -1) left = static_cast<int>(std::lround(l->value));
+  --left;
+  if (left > 0)
+    pending_again_ = true;
+  else
+    left = -1;
+  return l->value != 0.0;
+}
+
 bool OwordFlow::fanuc_call(const grammar::OWord& o, const std::string& label,
                            const grammar::Word* l, const LinePos& pos, FlowJump& jump,
                            InterpError& err) {
-  // LinuxCNC: the caller's frame counts the L repeats down; while some are left, the return
-  // comes back to this line, which calls again. `M98 L0` calls nothing.
-  pending_again_ = false;
-  if (l != nullptr) {
-    int& left = m98_loops_[static_cast<std::size_t>(calls_)];
-    if (left == -1) left = static_cast<int>(std::lround(l->value));
-    --left;
-    if (left > 0)
-      pending_again_ = true;
-    else
-      left = -1;
-    if (l->value == 0.0) return true;
-  }
+  if (!count_repeat(l)) return true;
   pending_args_.clear();
   pending_return_ = pos;
   pending_fanuc_ = true;

@@ -166,6 +166,7 @@ class OwordFlow {
                  bool seek, InterpError& err);
   bool m98(const grammar::Block& b, const LinePos& pos, FlowJump& jump, InterpError& err);
   /// M98 and G65 after their words: L repeats, then enter or search for O`label`.
+  bool count_repeat(const grammar::Word* l);
   bool fanuc_call(const grammar::OWord& o, const std::string& label, const grammar::Word* l,
                   const LinePos& pos, FlowJump& jump, InterpError& err);
   // Fanuc Macro B's statements (interp/macro_flow.cpp).
