@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <random>
@@ -238,7 +239,8 @@ class ProgramMutator {
         break;
     }
     // Integers stay integers (labels, codes, P and L counts); a number with a point keeps one.
-    if (!decimal) return fmt::format("{}", static_cast<long long>(w));
+    // (a program may hold 1e308: the integer is printed from the double, never cast to an int)
+    if (!decimal) return fmt::format("{:.0f}", std::trunc(w));
     return fmt::format("{:.3f}", w);
   }
 
