@@ -129,26 +129,38 @@ Row profile_row(const std::string& profile, double tau_s, const Machine& base, b
   return row;
 }
 
+// A table cell: the value at `precision` right-aligned in `width`, or "-" where there is none
+// (a radius column on a program without arcs).
+std::string cell(double v, int width, int precision) {
+  return std::isfinite(v) ? fmt::format("{:>{}.{}f}", v, width, precision)
+                          : fmt::format("{:>{}}", "-", width);
+}
+
+// A JSON number as the table's JSON prints it (6 significant digits), null where there is none.
+std::string json6(double v) {
+  return std::isfinite(v) ? fmt::format("{:.6g}", v) : "null";
+}
+
 void print_json(const std::vector<Row>& rows, const ArcFigures& a, double servo_alone_blu) {
   std::string j = "{\"rows\":[";
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const Row& r = rows[i];
     j += fmt::format(
-        "{}{{\"profile\":\"{}\",\"taps\":{},\"analysis_blu\":{:.6g},\"accdec_blu\":{:.6g},"
-        "\"total_blu\":{:.6g},"
-        "\"additive_blu\":{:.6g},\"predicted_total_blu\":{:.6g},\"cycle_time_s\":{:.6g},"
+        "{}{{\"profile\":\"{}\",\"taps\":{},\"analysis_blu\":{},\"accdec_blu\":{},"
+        "\"total_blu\":{},"
+        "\"additive_blu\":{},\"predicted_total_blu\":{},\"cycle_time_s\":{:.6g},"
         "\"contour_err_max_blu\":{:.6g},\"settled\":{}{}}}",
-        i ? "," : "", r.profile, r.taps, r.analysis_blu, r.accdec_blu, r.total_blu, r.additive_blu,
-        r.predicted_total_blu, r.cycle_s, r.contour_max_blu, r.settled ? "true" : "false",
+        i ? "," : "", r.profile, r.taps, json6(r.analysis_blu), json6(r.accdec_blu),
+        json6(r.total_blu), json6(r.additive_blu), json6(r.predicted_total_blu), r.cycle_s,
+        r.contour_max_blu, r.settled ? "true" : "false",
         r.modes ? fmt::format(",\"tau_s\":{:.6g},\"residual_vibration_max_blu\":{:.6g},"
                               "\"settle_max_blu\":{:.6g}",
                               r.tau_s, r.residual_blu, r.settle_blu)
                 : "");
   }
   j += fmt::format(
-      "],\"radius_blu\":{:.6g},\"v_tan_blu_s\":{:.6g},\"servo_alone_blu\":{:.6g},\"servo_eq35_"
-      "blu\":{:.6g}}}\n",
-      a.r_blu, a.v_blu_s, servo_alone_blu, a.servo_eq35);
+      "],\"radius_blu\":{},\"v_tan_blu_s\":{},\"servo_alone_blu\":{},\"servo_eq35_blu\":{}}}\n",
+      json6(a.r_blu), json6(a.v_blu_s), json6(servo_alone_blu), json6(a.servo_eq35));
   fmt::print("{}", j);
 }
 
@@ -171,11 +183,11 @@ void print_table(const std::vector<Row>& rows, const std::string& name, const Ma
   if (modes) fmt::print(" {:>8} {:>12} {:>12}", "tau s", "residual vib", "settling");
   fmt::print("\n");
   for (const Row& r : rows) {
-    fmt::print("  {:<{}} {:>5} {:>12.2f} {:>12.2f}", r.profile, modes ? width : 10, r.taps,
-               r.analysis_blu, r.accdec_blu);
+    fmt::print("  {:<{}} {:>5} {} {}", r.profile, modes ? width : 10, r.taps,
+               cell(r.analysis_blu, 12, 2), cell(r.accdec_blu, 12, 2));
     if (servo)
-      fmt::print(" {:>11.2f} {:>14.2f} {:>14.2f}", r.total_blu, r.additive_blu,
-                 r.predicted_total_blu);
+      fmt::print(" {} {} {}", cell(r.total_blu, 11, 2), cell(r.additive_blu, 14, 2),
+                 cell(r.predicted_total_blu, 14, 2));
     fmt::print(" {:>10.3f} {:>14.2f}", r.cycle_s, r.contour_max_blu);
     if (modes) fmt::print(" {:>8.4f} {:>12.2f} {:>12.2f}", r.tau_s, r.residual_blu, r.settle_blu);
     fmt::print("{}\n", r.settled ? "" : "  (not settled)");
@@ -185,9 +197,9 @@ void print_table(const std::vector<Row>& rows, const std::string& name, const Ma
       "(servo off);\n"
       "with servo = measured on the encoder; Acc/Dec+servo = Eq. 34 with the servo's own loss "
       "measured\n"
-      "(Acc/Dec off): {:.2f} BLU; analysis+Eq35 = Eq. 34 with Eq. 35's V^2/(2 R Kp^2) = {:.2f} BLU "
+      "(Acc/Dec off): {} BLU; analysis+Eq35 = Eq. 34 with Eq. 35's V^2/(2 R Kp^2) = {} BLU "
       "(Kp = {} 1/s).\n",
-      servo_alone_blu, a.servo_eq35, a.kp);
+      cell(servo_alone_blu, 1, 2), cell(a.servo_eq35, 1, 2), a.kp);
   if (modes)
     fmt::print(
         "The machine has structural modes: max contour is measured at the tool tip; residual vib "

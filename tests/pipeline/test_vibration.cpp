@@ -215,6 +215,13 @@ TEST_CASE("gmotion compare: the tool tip columns are the runs' summaries", "[vib
     CHECK(residual > 1.0);
   }
   CHECK(rows == 2);
+  // The program has no arcs: the radius figures are JSON nulls and "-" in the table, not "nan".
+  CHECK(c.out.find("nan") == std::string::npos);
+  CHECK(c.out.find("\"total_blu\":null") != std::string::npos);
+  const auto table = gmtest::run_gmotion("compare " + program + " --machine " + machine +
+                                         " --profiles linear --taus 0.06");
+  REQUIRE(table.code == 0);
+  CHECK(table.out.find("nan") == std::string::npos);
   // The default machine has no modes: no such columns.
   const auto plain = gmtest::run_gmotion("compare " + repo + "/programs/square.nc --json");
   REQUIRE(plain.code == 0);
