@@ -67,6 +67,22 @@ void program_point(const ModalState& s, double& z, double& x) {
   x = p[0] / s.mm_per_unit();
 }
 
+// The end point of a block's X/U and Z/W words from (z, x) (X a radius; xs: 0.5 when X words
+// are diameters). False with `err` when U and X, or W and Z, share the block.
+bool word_end(const Words& w, double xs, double& z, double& x, InterpError& err) {
+  if (w.has('X') && w.has('U'))
+    return fail(err, ErrorCode::DuplicateWord, w['U']->loc,
+                "U and X in one block: on a Fanuc lathe U is X's incremental word");
+  if (w.has('Z') && w.has('W'))
+    return fail(err, ErrorCode::DuplicateWord, w['W']->loc,
+                "W and Z in one block: on a Fanuc lathe W is Z's incremental word");
+  if (w.has('X')) x = w.get('X') * xs;
+  if (w.has('U')) x += w.get('U') * xs;
+  if (w.has('Z')) z = w.get('Z');
+  if (w.has('W')) z += w.get('W');
+  return true;
+}
+
 // The points of a profile element: its start `a`, and the element.
 struct Planar {
   double a = 0, b = 0;
@@ -174,19 +190,8 @@ bool FanucLathe::collect(const grammar::Block& b, InterpError& err) {
         fmt::format("{}: the profile's first block N{} must be G00 or G01", cycle_name(), c.ns));
   c.first = false;
   if (motion >= 0) c.motion = motion;
-  for (const char l : {'X', 'U'})
-    if (w.has(l) && w.has(l == 'X' ? 'U' : 'X'))
-      return fail(err, ErrorCode::DuplicateWord, w['U']->loc,
-                  "U and X in one block: on a Fanuc lathe U is X's incremental word");
-  if (w.has('W') && w.has('Z'))
-    return fail(err, ErrorCode::DuplicateWord, w['W']->loc,
-                "W and Z in one block: on a Fanuc lathe W is Z's incremental word");
-  const double xs = c.diameter ? 0.5 : 1.0;
   double z = c.z, x = c.x;
-  if (w.has('X')) x = w.get('X') * xs;
-  if (w.has('U')) x += w.get('U') * xs;
-  if (w.has('Z')) z = w.get('Z');
-  if (w.has('W')) z += w.get('W');
+  if (!word_end(w, c.diameter ? 0.5 : 1.0, z, x, err)) return false;
   if (w.has('F')) c.profile_feed = w.get('F');
   for (const char l : {'X', 'U', 'Z', 'W', 'I', 'K', 'R', 'F'})
     if (w.has(l) && !std::isfinite(w.get(l)))
@@ -475,12 +480,6 @@ bool FanucLathe::thread_cycle(grammar::Block& b, const ModalState& s, Outcome& o
                               l == 'P'   ? "the thread height"
                               : l == 'Q' ? "the first depth of cut"
                                          : "the lead"));
-  if (w.has('X') && w.has('U'))
-    return fail(err, ErrorCode::DuplicateWord, w['U']->loc,
-                "U and X in one block: on a Fanuc lathe U is X's incremental word");
-  if (w.has('Z') && w.has('W'))
-    return fail(err, ErrorCode::DuplicateWord, w['W']->loc,
-                "W and Z in one block: on a Fanuc lathe W is Z's incremental word");
   if (s.comp.active())
     return fail(err, ErrorCode::CutterCompMisused, at,
                 "G76 with tool nose radius compensation on (G41/G42)");
@@ -488,12 +487,8 @@ bool FanucLathe::thread_cycle(grammar::Block& b, const ModalState& s, Outcome& o
   c.code = 76;
   c.loc = at;
   program_point(s, c.z0, c.x0);
-  const double xs = s.lathe_diameter ? 0.5 : 1.0;
   double xe = c.x0, ze = c.z0;
-  if (w.has('X')) xe = w.get('X') * xs;
-  if (w.has('U')) xe += w.get('U') * xs;
-  if (w.has('Z')) ze = w.get('Z');
-  if (w.has('W')) ze += w.get('W');
+  if (!word_end(w, s.lathe_diameter ? 0.5 : 1.0, ze, xe, err)) return false;
   const double k = std::fabs(w.get('P')) * least, d1 = std::fabs(w.get('Q')) * least;
   const double lead = w.get('F'), taper = w.get('R');
   if (!(k > 0) || !(d1 > 0) || !(lead > 0))
@@ -570,12 +565,6 @@ bool FanucLathe::peck_cycle(grammar::Block& b, int code, const ModalState& s, Ou
     return true;
   }
   if (!only_words(b, code, "XZUWPQRF", err)) return false;
-  if (w.has('X') && w.has('U'))
-    return fail(err, ErrorCode::DuplicateWord, w['U']->loc,
-                "U and X in one block: on a Fanuc lathe U is X's incremental word");
-  if (w.has('Z') && w.has('W'))
-    return fail(err, ErrorCode::DuplicateWord, w['W']->loc,
-                "W and Z in one block: on a Fanuc lathe W is Z's incremental word");
   if (w.has('R') && w.get('R') != 0.0)
     return fail(err, ErrorCode::NotInDialect, w['R']->loc,
                 fmt::format("G{} R{:g}: the relief at the bottom is not modelled (R0 or none)",
@@ -587,12 +576,8 @@ bool FanucLathe::peck_cycle(grammar::Block& b, int code, const ModalState& s, Ou
   c.code = code;
   c.loc = at;
   program_point(s, c.z0, c.x0);
-  const double xs = s.lathe_diameter ? 0.5 : 1.0;
   double xe = c.x0, ze = c.z0;
-  if (w.has('X')) xe = w.get('X') * xs;
-  if (w.has('U')) xe += w.get('U') * xs;
-  if (w.has('Z')) ze = w.get('Z');
-  if (w.has('W')) ze += w.get('W');
+  if (!word_end(w, s.lathe_diameter ? 0.5 : 1.0, ze, xe, err)) return false;
   // (a, b): a the peck axis (Z for G74, X for G75), b the step axis.
   const bool face = code == 74;
   const double a0 = face ? c.z0 : c.x0, b0 = face ? c.x0 : c.z0;
