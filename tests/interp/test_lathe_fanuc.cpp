@@ -396,6 +396,36 @@ TEST_CASE("lathe-fanuc: the bundled shaft program, read ahead or not") {
     CHECK(std::count_if(one.begin(), one.end(), [&](const auto& e) { return e[0] == line; }) > 3);
 }
 
+// The bundled single-cycle program: G94 faces twice, G90 roughs three passes and a taper, G92
+// threads M30 x 1.5 in five passes (one block each, X alone after the first). Tool 1's offsets
+// are 0; tool 3's (X 2, Z -1.5) shift the machine position of the thread passes.
+TEST_CASE("lathe-fanuc: the bundled single-cycle pin program, moves by hand") {
+  const std::string dir = std::string(GMOTION_TESTS_DIR) + "/../programs/";
+  const gm::Machine m = gm::load_machine_file(dir + "machines/lathe.toml");
+  std::ifstream in(dir + "dialects/fanuc_lathe_pin.nc", std::ios::binary);
+  gm::ProgramStream s(in, "fanuc_lathe_pin.nc", fanuc(m));
+  std::vector<gm::Motion> mv;
+  gm::Canon c;
+  while (s.next(c))
+    if (const auto* mo = std::get_if<gm::Motion>(&c)) mv.push_back(*mo);
+  // 2 G94 + 4 G90 + 5 G92 cycles of 4 moves, 5 G00 blocks, the last G28's one move home.
+  REQUIRE(mv.size() == 11 * 4 + 5 + 1);
+  using K = gm::MotionKind;
+  require_end(mv[1], K::Rapid, 1.0, 22.0);    // N70 G94 from (Z3, r22): in Z to Z1
+  require_end(mv[2], K::Line, 1.0, -0.8);     // the face to
+  require_end(mv[6], K::Line, 0.0, -0.8);     // N80 Z0.: the cycle again
+  require_end(mv[11], K::Line, -40.0, 19.0);  // N100 G90 X38. from (Z2, r22)
+  require_end(mv[19], K::Line, -40.0, 15.2);  // N120 X30.4
+  require_end(mv[22], K::Rapid, 2.0, 13.2);   // N130 R-2.: the taper starts at r15.2 - 2
+  require_end(mv[23], K::Line, -15.0, 15.2);
+  // N230 X28.16, the last pass: r14.08 with tool 3's X offset 2, Z-32 with its Z offset -1.5.
+  const gm::Motion& last = mv[45];  // (the G92 cycles are moves 28-47)
+  require_end(last, K::Line, -32.0 - 1.5, 14.08 + 2.0);
+  CHECK(last.spindle_synced);
+  CHECK(last.mm_per_rev == Approx(1.5));
+  CHECK(last.line == 28);
+}
+
 // cncprograming.blogspot.com "G72" (G72 W(cutting depth) R(escape); P Q U W F as G71);
 // zanotowane.pl "G72": G71's cycle with the cuts along the other axis.
 TEST_CASE("lathe-fanuc: G72 facing, layers along Z worked by hand") {
