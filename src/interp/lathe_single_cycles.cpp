@@ -12,8 +12,8 @@ namespace gm {
 
 namespace {
 
-constexpr std::size_t kNone = static_cast<std::size_t>(-1);
-constexpr double kTol = 1e-9;
+constexpr std::size_t kNoWord = static_cast<std::size_t>(-1);
+constexpr double kSameTol = 1e-9;
 using Kind = LatheMove::Kind;
 
 bool is_g(const grammar::Word& w, double number) {
@@ -71,15 +71,15 @@ void FanucLathe::single_cycle_moves(const SingleInput& in, std::vector<LatheMove
 bool FanucLathe::single_cycle(grammar::Block& b, const ModalState& s, Outcome& outcome,
                               bool& handled, InterpError& err) {
   handled = false;
-  std::size_t cyc = kNone, motion = kNone;
+  std::size_t cyc = kNoWord, motion = kNoWord;
   bool own_axes = false, axes = false;
   for (std::size_t i = 0; i < b.words.size(); ++i) {
     const grammar::Word& w = b.words[i];
     axes = axes || is_axis(w.letter);
     if (w.letter != 'G') continue;
     if (is_g(w, 90) || is_g(w, 92) || is_g(w, 94) || is_motion(w)) {
-      const std::size_t other = cyc != kNone ? cyc : motion;
-      if (other != kNone)
+      const std::size_t other = cyc != kNoWord ? cyc : motion;
+      if (other != kNoWord)
         return fail(err, ErrorCode::ModalGroupViolation, w.loc,
                     fmt::format("G{:g} and G{:g} in one block: on a Fanuc lathe both are group 1 "
                                 "codes (G90/G92/G94 are the single cycles of G-code system A)",
@@ -88,12 +88,12 @@ bool FanucLathe::single_cycle(grammar::Block& b, const ModalState& s, Outcome& o
     }
     own_axes = own_axes || takes_own_axes(w);
   }
-  if (motion != kNone) {  // G00-G03, G32 cancel the cycle
+  if (motion != kNoWord) {  // G00-G03, G32 cancel the cycle
     single_ = Single{};
     return true;
   }
-  if (cyc == kNone && (single_.code == 0 || own_axes || !axes)) return true;
-  if (cyc != kNone) {
+  if (cyc == kNoWord && (single_.code == 0 || own_axes || !axes)) return true;
+  if (cyc != kNoWord) {
     const int code = static_cast<int>(std::lround(b.words[cyc].value));
     if (code != single_.code) single_ = Single{};
     single_.code = code;
@@ -110,8 +110,8 @@ bool FanucLathe::single_cycle(grammar::Block& b, const ModalState& s, Outcome& o
   }
   handled = true;
   const int code = single_.code;
-  SourceLoc at = cyc != kNone ? b.words[cyc].loc : SourceLoc{b.line, 1};
-  if (cyc == kNone)
+  SourceLoc at = cyc != kNoWord ? b.words[cyc].loc : SourceLoc{b.line, 1};
+  if (cyc == kNoWord)
     for (const grammar::Word& w : b.words)
       if (w.letter != 'N') {
         at = w.loc;
@@ -171,7 +171,7 @@ bool FanucLathe::single_cycle(grammar::Block& b, const ModalState& s, Outcome& o
   if (code == 92 && !(single_.lead > 0.0))
     return fail(err, ErrorCode::MissingWord, at, "G92 needs F, the thread's lead, more than 0");
   const bool along_z = code != 94;  // G90/G92 cut along Z, G94 across in X
-  if (along_z ? std::fabs(single_.ze - z0) < kTol : std::fabs(single_.xe - x0) < kTol)
+  if (along_z ? std::fabs(single_.ze - z0) < kSameTol : std::fabs(single_.xe - x0) < kSameTol)
     return fail(err, ErrorCode::CycleMisused, at,
                 fmt::format("G{}: the cut has no length: its end {} is the start point's", code,
                             along_z ? "Z" : "X"));
