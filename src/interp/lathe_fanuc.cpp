@@ -61,29 +61,21 @@ bool FanucLathe::rewrite(grammar::Block& b, const ModalState& s, Outcome& outcom
   outcome = Outcome::Run;
   for (const grammar::Word& w : b.words)  // (the evaluator refuses these; kept out of cycles)
     if (!std::isfinite(w.value)) return located(err, ErrorCode::NotANumber, w.loc, "not a number");
-  for (const int code : {700, 710, 720})
+  for (const int code : {700, 710, 720, 730})
     if (find_g(b, code) != kNone) return profile_cycle(b, code / 10, s, outcome, err);
   if (find_g(b, 760) != kNone) return thread_cycle(b, s, outcome, err);
   for (const int code : {740, 750})
     if (find_g(b, code) != kNone) return peck_cycle(b, code / 10, s, outcome, err);
-  if (const std::size_t i = find_g(b, 730); i != kNone)
+  // G-code system A has no G90/G91 absolute/incremental modes: X, Z are absolute and U, W
+  // incremental; G90 is the outer/inner diameter cutting cycle.
+  if (const std::size_t i = find_g(b, 910); i != kNone)
     return located(err, ErrorCode::NotInDialect, b.words[i].loc,
-                   "G73 (Fanuc lathe pattern repeating) is not modelled on a lathe under "
-                   "--dialect fanuc");
-
-  // G-code system A's single cycles take axis words: G90 (outer/inner diameter cutting), G92
-  // (threading), G94 (end face cutting). Without axis words the codes keep LinuxCNC's meaning.
-  const bool axes = find_letter(b, 'X') != kNone || find_letter(b, 'Z') != kNone ||
-                    find_letter(b, 'U') != kNone || find_letter(b, 'W') != kNone;
-  for (const int code : {900, 920, 940})
-    if (const std::size_t i = find_g(b, code); i != kNone && axes)
-      return located(err, ErrorCode::NotInDialect, b.words[i].loc,
-                     fmt::format("G{} with axis words is the Fanuc lathe's {} cycle (G-code "
-                                 "system A), not modelled: write the moves, or G71/G76",
-                                 code / 10,
-                                 code == 900   ? "outer/inner diameter cutting"
-                                 : code == 920 ? "threading"
-                                               : "end face cutting"));
+                   "G91 is not a code of a Fanuc lathe (G-code system A): U and W are the "
+                   "incremental words of X and Z, and G90 is the diameter cutting cycle");
+  // G90, G92, G94: the single cycles (modal in group 1, repeated by blocks of X/Z words).
+  bool single = false;
+  if (!single_cycle(b, s, outcome, single, err)) return false;
+  if (single) return true;
   // G32: thread cutting, F the lead (LinuxCNC's G33 K).
   if (const std::size_t g32 = find_g(b, 320); g32 != kNone) {
     b.words[g32].value = 33.0;

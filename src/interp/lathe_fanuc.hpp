@@ -30,15 +30,16 @@ struct LatheProfileElement {
 /// The words, modes and cycles of Fanuc/Haas lathe programs (docs/dialects.md, "Fanuc/Haas
 /// lathe"): X is a diameter (G7 from the start), U/W incremental X (diameter)/Z, T0101 a tool
 /// and its offset, G50 S a spindle clamp and G50 X Z a coordinate setting, G98/G99 feed per
-/// minute/revolution, the two-block G71/G72/G70 over the blocks Nns..Nnf and G76.
+/// minute/revolution, the two-block G71/G72/G73/G70 over the blocks Nns..Nnf, G74-G76 and the
+/// single cycles G90/G92/G94 (modal, group 1 in G-code system A).
 class FanucLathe {
  public:
   /// What a block became.
   enum class Outcome : std::uint8_t {
     Run,       ///< the rewritten block is to be run
     Recorded,  ///< a first cycle block or a bare G50 S: its values are kept, nothing runs
-    Profile,   ///< G70/G71/G72 with P Q: the profile Nns..Nnf is to be read (profile())
-    Moves,     ///< G74, G75, G76: moves() holds the cycle's moves
+    Profile,   ///< G70-G73 with P Q: the profile Nns..Nnf is to be read (profile())
+    Moves,     ///< G74-G76, G90/G92/G94: moves() holds the cycle's moves
   };
 
   /// The block run before the program's first line: G7 (X words are diameters) G18 (ZX plane).
@@ -87,6 +88,31 @@ class FanucLathe {
   /// G70: the profile with its own feeds from A, then back to A.
   static void finish(double z0, double x0, const std::vector<LatheProfileElement>& profile,
                      std::vector<LatheMove>& out);
+  struct PatternInput {
+    double z0 = 0, x0 = 0;  ///< the start point A (X radius)
+    double relief_x = 0;    ///< Δi: the first pass's extra offset in X (radius)
+    double relief_z = 0;    ///< Δk: the same in Z
+    int passes = 1;         ///< d: the number of passes
+    double du = 0, dw = 0;  ///< finishing allowances: ΔU (diameter), ΔW
+    double feed = -1;       ///< F of the cycle line (< 0: modal)
+    std::vector<LatheProfileElement> profile;
+  };
+  /// G73: the path A, Nns..Nnf offset by the relief and the allowance, d times, the offset
+  /// shrinking by Δi/(d-1), Δk/(d-1) down to the allowance, a rapid back to A after the last.
+  static void pattern(const PatternInput& in, std::vector<LatheMove>& out);
+
+  /// A single cycle of G-code system A (program units, X a radius).
+  struct SingleInput {
+    int code = 90;          ///< 90 outer/inner diameter cutting, 92 threading, 94 end face cutting
+    double z0 = 0, x0 = 0;  ///< the start point
+    double ze = 0, xe = 0;  ///< the end of the cut (X, Z or U, W)
+    double taper = 0;       ///< R: cut start minus cut end, in X (radius) for G90/G92, Z for G94
+    double f = -1;          ///< G90/G94: F (< 0: modal); G92: the lead
+  };
+  /// G90: rapid in X to the cut's start, feed to the end, feed out in X to the start's X, rapid
+  /// back in Z; G94 the same with X and Z exchanged; G92 as G90 with the cut spindle-synchronised
+  /// and the way out a rapid.
+  static void single_cycle_moves(const SingleInput& in, std::vector<LatheMove>& out);
 
  private:
   bool rewrite_tool(grammar::Block& b, std::size_t t, InterpError& err) const;
@@ -96,6 +122,10 @@ class FanucLathe {
   bool thread_cycle(grammar::Block& b, const ModalState& s, Outcome& outcome, InterpError& err);
   bool peck_cycle(grammar::Block& b, int code, const ModalState& s, Outcome& outcome,
                   InterpError& err);
+  /// G90/G92/G94 given, repeated (a block of X/Z/U/W/R in their mode) or cancelled (G00-G03,
+  /// G32); `handled` when the block was the cycle's.
+  bool single_cycle(grammar::Block& b, const ModalState& s, Outcome& outcome, bool& handled,
+                    InterpError& err);
 
   double clamp_rpm_ = 0.0;  ///< G50 S (0: none)
   // The first blocks of the two-block cycles (modal, as Fanuc keeps them).
@@ -104,13 +134,24 @@ class FanucLathe {
   int g76_finish_passes_ = 1, g76_chamfer_ = 0, g76_angle_deg_ = 60;
   double g76_min_depth_ = 0.0, g76_allowance_ = 0.0;
   double g74_retract_ = 0.0, g75_retract_ = 0.0;
+  double g73_relief_x_ = 0.0, g73_relief_z_ = 0.0;
+  int g73_passes_ = 1;
+  // The single cycle in force (0: none) and its words kept from block to block.
+  struct Single {
+    int code = 0;
+    bool has_x = false, has_z = false;
+    double xe = 0, ze = 0;  ///< the cut's end (program units, X a radius)
+    double taper = 0, lead = -1;
+  } single_;
   struct Cycle {
-    int code = 0;  ///< 70, 71, 72
+    int code = 0;  ///< 70, 71, 72, 73
     long ns = -1, nf = -1;
     SourceLoc loc;
     double z0 = 0, x0 = 0;
-    double du = 0, dw = 0, feed = -1;  ///< the allowances (U a diameter), F of the line
-    double depth = 0, retract = 0;     ///< the first block's depth of cut and retract
+    double du = 0, dw = 0, feed = -1;   ///< the allowances (U a diameter), F of the line
+    double depth = 0, retract = 0;      ///< the first block's depth of cut and retract
+    double relief_x = 0, relief_z = 0;  ///< G73: Δi, Δk
+    int passes = 1;                     ///< G73: d
     std::vector<LatheProfileElement> profile;
     bool first = true;         ///< the next profile block is Nns
     double z = 0, x = 0;       ///< the profile's point so far (X a radius)

@@ -117,6 +117,18 @@ bool FanucLathe::profile_cycle(grammar::Block& b, int code, const ModalState& s,
     if (code == 70)
       return fail(err, ErrorCode::MissingWord, at,
                   "G70 without P and Q (the profile's first and last sequence numbers)");
+    if (code == 73) {  // G73 U(Δi) W(Δk) R(d): the relief (signed) and the number of passes
+      if (!only_words(b, code, "UWR", err)) return false;
+      const double d = w.get('R', 1.0);
+      if (std::fabs(d - std::round(d)) > 1e-9 || d < 1 || d > 99999)
+        return fail(err, ErrorCode::ValueOutOfRange, w.has('R') ? w['R']->loc : at,
+                    fmt::format("G73 R{:g}: the number of passes, a whole number 1-99999", d));
+      g73_relief_x_ = w.get('U');
+      g73_relief_z_ = w.get('W');
+      g73_passes_ = static_cast<int>(std::lround(d));
+      outcome = Outcome::Recorded;
+      return true;
+    }
     const char depth_letter = code == 71 ? 'U' : 'W';
     if (!only_words(b, code, code == 71 ? "UR" : "WR", err)) return false;
     if (!w.has(depth_letter) || !(w.get(depth_letter) > 0.0))
@@ -131,7 +143,7 @@ bool FanucLathe::profile_cycle(grammar::Block& b, int code, const ModalState& s,
     outcome = Outcome::Recorded;
     return true;
   }
-  if (!only_words(b, code, code == 70 ? "PQ" : "PQUWFD", err)) return false;
+  if (!only_words(b, code, code == 70 ? "PQ" : code == 73 ? "PQUWF" : "PQUWFD", err)) return false;
   if (!w.has('P') || !w.has('Q'))
     return fail(err, ErrorCode::MissingWord, at,
                 fmt::format("G{} needs both P (the profile's first sequence number) and Q (its "
@@ -158,7 +170,7 @@ bool FanucLathe::profile_cycle(grammar::Block& b, int code, const ModalState& s,
                 fmt::format("F{:g} is negative", c.feed));
   double depth = code == 71 ? g71_depth_ : g72_depth_;
   if (w.has('D')) depth = w.get('D');  // Haas's one-block form: D the depth of cut
-  if (code != 70 && !(depth > 0.0))
+  if (code != 70 && code != 73 && !(depth > 0.0))
     return fail(err, ErrorCode::MissingWord, at,
                 fmt::format("G{} P Q without a depth of cut: G{} {}(depth) R(retract) comes first "
                             "(or D on this line)",
@@ -170,6 +182,9 @@ bool FanucLathe::profile_cycle(grammar::Block& b, int code, const ModalState& s,
   c.diameter = s.lathe_diameter;
   c.depth = depth;
   c.retract = code == 71 ? g71_retract_ : g72_retract_;
+  c.relief_x = g73_relief_x_;
+  c.relief_z = g73_relief_z_;
+  c.passes = g73_passes_;
   cycle_ = std::move(c);
   outcome = Outcome::Profile;
   return true;
@@ -254,6 +269,26 @@ bool FanucLathe::finish_profile(InterpError& err) {
                 fmt::format("{}: the profile N{}..N{} makes no move", cycle_name(), c.ns, c.nf));
   if (c.code == 70) {
     finish(c.z0, c.x0, c.profile, moves_);
+    return true;
+  }
+  if (c.code == 73) {
+    if (static_cast<double>(c.passes) * static_cast<double>(c.profile.size() + 1) >
+        static_cast<double>(lathe::kMaxCycleMoves))
+      return fail(err, ErrorCode::CycleMisused, c.loc,
+                  fmt::format("{}: {} passes over {} profile elements: more than one cycle may "
+                              "make ({} moves)",
+                              cycle_name(), c.passes, c.profile.size(), lathe::kMaxCycleMoves));
+    PatternInput in;
+    in.z0 = c.z0;
+    in.x0 = c.x0;
+    in.relief_x = c.relief_x;
+    in.relief_z = c.relief_z;
+    in.passes = c.passes;
+    in.du = c.du * (c.diameter ? 1.0 : 2.0);
+    in.dw = c.dw;
+    in.feed = c.feed;
+    in.profile = c.profile;
+    pattern(in, moves_);
     return true;
   }
   RoughInput in;
@@ -342,7 +377,9 @@ bool FanucLathe::rough(const RoughInput& in, std::vector<LatheMove>& out, std::s
           why = fmt::format(
               "the profile is not monotone here (type I roughing: along the "
               "profile {} may only move back towards the start point and {} "
-              "only onwards; pockets are not modelled)",
+              "only onwards). A pocket is type II roughing (Fanuc: the first block Nns "
+              "gives both X and Z), which is not modelled: rough it with G73 or write the "
+              "moves",
               in.facing ? "Z" : "X", in.facing ? "X" : "Z");
           return false;
         }

@@ -19,6 +19,16 @@ using grammar::OKind;
 constexpr int kMacroArgument[26] = {1, 2, 3, 7,  8,  9,  0,  11, 4,  5,  6,  0,  13,
                                     0, 0, 0, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26};
 
+// Argument specification II (Haas 96-8000 "Local Variables", its table of variables, addresses
+// and alternates; FANUC B-63684EN p. 278 "Mixture of argument specifications I and II"): A, B,
+// C once each set #1-#3 as in I, and the n-th I, J, K (n = 1..10) set #(3n+1), #(3n+2),
+// #(3n+3), so that I1 J1 K1 are #4-#6 (specification I's I J K) and I10 J10 K10 #31-#33.
+constexpr int kMaxArgumentSets = 10;
+constexpr int argument_ii_variable(char letter, int n) {
+  return 3 * n + 1 + (letter - 'I');
+}
+static_assert(argument_ii_variable('I', 1) == 4 && argument_ii_variable('K', 10) == 33);
+
 void macro_seek(FlowJump& jump, const LinePos& p, bool after) {
   jump.seek = true;
   jump.offset = after ? p.next : p.offset;
@@ -212,7 +222,8 @@ bool OwordFlow::macro_end(const grammar::Block& b, const LinePos& pos, FlowJump&
 bool OwordFlow::g65(const grammar::Block& b, const LinePos& pos, FlowJump& jump, InterpError& err) {
   const grammar::OWord& o = b.oword;
   pending_locals_.fill(kVacant);
-  std::array<bool, ParameterStore::kMacroLocals> given{};
+  std::array<bool, 26> given{};    // letters of specification I (each once)
+  std::array<int, 3> ijk_count{};  // I, J, K so far (specification II: up to 10 each)
   const grammar::Word* p = nullptr;
   const grammar::Word* l = nullptr;
   bool g65_seen = false;
@@ -231,18 +242,28 @@ bool OwordFlow::g65(const grammar::Block& b, const LinePos& pos, FlowJump& jump,
       l = &w;
       continue;
     }
-    const int var = c >= 'A' && c <= 'Z' ? kMacroArgument[c - 'A'] : 0;
+    int var = c >= 'A' && c <= 'Z' ? kMacroArgument[c - 'A'] : 0;
     if (var == 0)
       return fail(err, ErrorCode::SubprogramMisused, w.loc,
                   fmt::format("{}{} on a G65 line: a macro call takes P (program), L (repeats) "
                               "and the arguments A-Z but G, L, N, O, P",
                               c, w.value));
-    if (given[static_cast<std::size_t>(var - 1)])
+    if (c == 'I' || c == 'J' || c == 'K') {  // specification II: the n-th I, J, K
+      const int n = ++ijk_count[static_cast<std::size_t>(c - 'I')];
+      if (n > kMaxArgumentSets)
+        return fail(err, ErrorCode::SubprogramMisused, w.loc,
+                    fmt::format("{} given {} times: argument specification II takes I, J, K up "
+                                "to {} times (#4-#33)",
+                                c, n, kMaxArgumentSets));
+      var = argument_ii_variable(c, n);
+    } else if (given[static_cast<std::size_t>(c - 'A')]) {
       return fail(err, ErrorCode::SubprogramMisused, w.loc,
-                  fmt::format("argument {} given twice: argument specification II (I, J, K "
-                              "repeated) is not read, only specification I",
+                  fmt::format("argument {} given twice: only I, J and K repeat (argument "
+                              "specification II)",
                               c));
-    given[static_cast<std::size_t>(var - 1)] = true;
+    }
+    given[static_cast<std::size_t>(c - 'A')] = true;
+    // A variable two arguments name (I2 and D: #7) takes the one given later.
     pending_locals_[static_cast<std::size_t>(var - 1)] = w.value;
   }
   if (p == nullptr)

@@ -396,6 +396,36 @@ TEST_CASE("lathe-fanuc: the bundled shaft program, read ahead or not") {
     CHECK(std::count_if(one.begin(), one.end(), [&](const auto& e) { return e[0] == line; }) > 3);
 }
 
+// The bundled single-cycle program: G94 faces twice, G90 roughs three passes and a taper, G92
+// threads M30 x 1.5 in five passes (one block each, X alone after the first). Tool 1's offsets
+// are 0; tool 3's (X 2, Z -1.5) shift the machine position of the thread passes.
+TEST_CASE("lathe-fanuc: the bundled single-cycle pin program, moves by hand") {
+  const std::string dir = std::string(GMOTION_TESTS_DIR) + "/../programs/";
+  const gm::Machine m = gm::load_machine_file(dir + "machines/lathe.toml");
+  std::ifstream in(dir + "dialects/fanuc_lathe_pin.nc", std::ios::binary);
+  gm::ProgramStream s(in, "fanuc_lathe_pin.nc", fanuc(m));
+  std::vector<gm::Motion> mv;
+  gm::Canon c;
+  while (s.next(c))
+    if (const auto* mo = std::get_if<gm::Motion>(&c)) mv.push_back(*mo);
+  // 2 G94 + 4 G90 + 5 G92 cycles of 4 moves, 5 G00 blocks, the last G28's one move home.
+  REQUIRE(mv.size() == 11 * 4 + 5 + 1);
+  using K = gm::MotionKind;
+  require_end(mv[1], K::Rapid, 1.0, 22.0);    // N70 G94 from (Z3, r22): in Z to Z1
+  require_end(mv[2], K::Line, 1.0, -0.8);     // the face to X-1.6
+  require_end(mv[6], K::Line, 0.0, -0.8);     // N80 Z0.: the cycle again
+  require_end(mv[11], K::Line, -40.0, 19.0);  // N100 G90 X38. from (Z2, r22)
+  require_end(mv[19], K::Line, -40.0, 15.2);  // N120 X30.4
+  require_end(mv[22], K::Rapid, 2.0, 13.2);   // N130 R-2.: the taper starts at r15.2 - 2
+  require_end(mv[23], K::Line, -15.0, 15.2);
+  // N230 X28.16, the last pass: r14.08 with tool 3's X offset 2, Z-32 with its Z offset -1.5.
+  const gm::Motion& last = mv[45];  // (the G92 cycles are moves 28-47)
+  require_end(last, K::Line, -32.0 - 1.5, 14.08 + 2.0);
+  CHECK(last.spindle_synced);
+  CHECK(last.mm_per_rev == Approx(1.5));
+  CHECK(last.line == 28);
+}
+
 // cncprograming.blogspot.com "G72" (G72 W(cutting depth) R(escape); P Q U W F as G71);
 // zanotowane.pl "G72": G71's cycle with the cuts along the other axis.
 TEST_CASE("lathe-fanuc: G72 facing, layers along Z worked by hand") {
@@ -422,22 +452,193 @@ TEST_CASE("lathe-fanuc: G72 facing, layers along Z worked by hand") {
   require_end(mv[17], K::Rapid, 2.0, 42.0);
 }
 
-TEST_CASE("lathe-fanuc: G32 threads as G33, system A's G90/G92/G94 cycles are refused") {
+TEST_CASE("lathe-fanuc: G32 threads as G33") {
   const auto mv = lathe_moves("G97 S500 M3\nG0 X20 Z5\nG32 Z-20 F1.5\nM30\n");
   REQUIRE(mv.size() == 2);
   CHECK(mv[1].spindle_synced);
   CHECK(mv[1].mm_per_rev == Approx(1.5));
   require_end(mv[1], gm::MotionKind::Line, -20.0, 10.0);
-  for (const char* code : {"G90", "G92", "G94"}) {
-    INFO(code);
-    const auto d = lathe_check(std::string("G0 X40 Z2\n") + code + " X30 Z-20 F100\nM30\n");
+}
+
+// zanotowane.pl "G90 canned cycle taper cutting" (G90 X(U) Z(W) R F: one pass, "only the values
+// that change need to be entered in the next block"); HUST H6D-T manual 3-41 "Face Cutting Fixed
+// Cycle, G94" ("G90, G94, G92 are modal codes and all the values for X(U), Z(W) and R remain
+// valid unless they are redefined or another G-command is given"); en.cncforum.net "G92 Cycle
+// Basic Threading" (G92 X Z R F, F the lead). The G90 path: rapid in X to the cut's start (the
+// end's X plus R, a radius), feed to the end, feed out in X to the start's X, rapid back in Z.
+TEST_CASE("lathe-fanuc: G90 cutting cycle, straight, repeated by X alone and tapered by R") {
+  using K = gm::MotionKind;
+  const auto mv = lathe_moves("G98 G0 X50 Z2\nG90 X40 Z-20 F100\nX30\nU-25 R-2\nG0 X60 Z5\nM30\n");
+  // Start A: Z2, r25.
+  REQUIRE(mv.size() == 1 + 3 * 4 + 1);
+  require_end(mv[1], K::Rapid, 2.0, 20.0);
+  require_end(mv[2], K::Line, -20.0, 20.0);
+  CHECK(mv[2].feed_mm_min == Approx(100.0));
+  require_end(mv[3], K::Line, -20.0, 25.0);
+  CHECK(mv[3].feed_mm_min == Approx(100.0));
+  require_end(mv[4], K::Rapid, 2.0, 25.0);
+  CHECK(mv[1].line == 2);
+  // X30 alone: the same cycle to r15, Z-20 kept.
+  require_end(mv[5], K::Rapid, 2.0, 15.0);
+  require_end(mv[6], K::Line, -20.0, 15.0);
+  CHECK(mv[6].feed_mm_min == Approx(100.0));
+  require_end(mv[7], K::Line, -20.0, 25.0);
+  require_end(mv[8], K::Rapid, 2.0, 25.0);
+  CHECK(mv[5].line == 3);
+  // U-25 from A (a diameter): the end r25 - 12.5 = r12.5; R-2: the cut starts at r10.5.
+  require_end(mv[9], K::Rapid, 2.0, 10.5);
+  require_end(mv[10], K::Line, -20.0, 12.5);
+  require_end(mv[11], K::Line, -20.0, 25.0);
+  require_end(mv[12], K::Rapid, 2.0, 25.0);
+  // G0 cancels the cycle: X60 Z5 is a rapid.
+  require_end(mv[13], K::Rapid, 5.0, 30.0);
+  CHECK(mv.back().line == 5);
+}
+
+// ADT-CNC4620 Programming Manual 3.5.3 "Radial cutting cycle G94" (G94 X/U Z/W R F; R the
+// difference in Z between the cut's start and end; the way out in Z fed (G1), then a rapid back;
+// G94 is modal); HUST H6D-T 3-41 (the values stay valid for the next blocks).
+TEST_CASE("lathe-fanuc: G94 end face cutting, repeated by Z alone and tapered by R") {
+  using K = gm::MotionKind;
+  const auto mv = lathe_moves("G98 G0 X30 Z5\nG94 X10 Z-1 F80\nZ-2 R-3\nG0 X40\nM30\n");
+  // Start A: Z5, r15.
+  REQUIRE(mv.size() == 1 + 2 * 4 + 1);
+  require_end(mv[1], K::Rapid, -1.0, 15.0);
+  require_end(mv[2], K::Line, -1.0, 5.0);
+  CHECK(mv[2].feed_mm_min == Approx(80.0));
+  require_end(mv[3], K::Line, 5.0, 5.0);
+  require_end(mv[4], K::Rapid, 5.0, 15.0);
+  // Z-2 R-3: the face from (Z-5, r15) to (Z-2, r5).
+  require_end(mv[5], K::Rapid, -5.0, 15.0);
+  require_end(mv[6], K::Line, -2.0, 5.0);
+  require_end(mv[7], K::Line, 5.0, 5.0);
+  require_end(mv[8], K::Rapid, 5.0, 15.0);
+  require_end(mv[9], K::Rapid, 5.0, 20.0);
+}
+
+// en.cncforum.net "CNC Lathe | G92 Cycle | Basic Threading" (G92 X.. Z.. R.. F..: X the pass's
+// diameter, Z the thread's end, F the lead; each pass one block, the next passes X alone); the
+// path as G90's with the cut spindle-synchronised as G32 and the way out a rapid.
+TEST_CASE("lathe-fanuc: G92 threading cycle, one pass a block") {
+  using K = gm::MotionKind;
+  const auto mv = lathe_moves("G97 S500 M3\nG0 X24 Z5\nG92 X19.2 Z-20 F1.5\nX18.6\nG0 X30\nM30\n");
+  REQUIRE(mv.size() == 1 + 2 * 4 + 1);
+  require_end(mv[1], K::Rapid, 5.0, 9.6);
+  require_end(mv[2], K::Line, -20.0, 9.6);
+  CHECK(mv[2].spindle_synced);
+  CHECK(mv[2].mm_per_rev == Approx(1.5));
+  require_end(mv[3], K::Rapid, -20.0, 12.0);
+  require_end(mv[4], K::Rapid, 5.0, 12.0);
+  // X18.6: the next pass at r9.3, the lead kept.
+  require_end(mv[5], K::Rapid, 5.0, 9.3);
+  require_end(mv[6], K::Line, -20.0, 9.3);
+  CHECK(mv[6].spindle_synced);
+  CHECK(mv[6].mm_per_rev == Approx(1.5));
+  require_end(mv[8], K::Rapid, 5.0, 12.0);
+  require_end(mv[9], K::Rapid, 5.0, 15.0);
+  // A taper thread: R1 (radius) the start 1 mm above the end.
+  const auto taper = lathe_moves("G97 S500 M3\nG0 X24 Z5\nG92 X19 Z-20 R1 F2\nM30\n");
+  REQUIRE(taper.size() == 1 + 4);
+  require_end(taper[1], K::Rapid, 5.0, 10.5);
+  require_end(taper[2], K::Line, -20.0, 9.5);
+  CHECK(taper[2].mm_per_rev == Approx(2.0));
+}
+
+TEST_CASE("lathe-fanuc: single cycle modes and their errors") {
+  SECTION("G90 without axis words selects the cycle; G50 and G28 keep their own X Z") {
+    using K = gm::MotionKind;
+    const auto mv =
+        lathe_moves("G98 G0 X50 Z2\nG90 F100\nX40 Z-10\nG28 U0 W0\nG0 X50 Z2\nX44\nM30\n");
+    // G28 U0 W0: the intermediate point is where the tool is, then machine zero (one move).
+    REQUIRE(mv.size() == 1 + 4 + 1 + 1 + 1);
+    require_end(mv[2], K::Line, -10.0, 20.0);
+    CHECK(mv[2].feed_mm_min == Approx(100.0));
+    require_end(mv[5], K::Rapid, 0.0, 0.0);
+    require_end(mv[6], K::Rapid, 2.0, 25.0);
+    require_end(mv[7], K::Rapid, 2.0, 22.0);  // G0 cancelled the cycle: X44 is a rapid
+  }
+  SECTION("G91 is not a lathe code") {
+    const auto d = lathe_check("G0 X40 Z2\nG91 G0 U-2\nM30\n");
     REQUIRE(errors(d) == 1);
     CHECK(d[0].code == static_cast<int>(gm::ErrorCode::NotInDialect));
     CHECK(d[0].loc.line == 2);
     CHECK(d[0].loc.column == 1);
+    CHECK(d[0].message.find("U and W") != std::string::npos);
   }
-  // Without axis words G90 and G94 are LinuxCNC's (absolute, feed per minute).
-  CHECK(errors(lathe_check("G90 G94\nG0 X40 Z2\nM30\n")) == 0);
+  SECTION("two group 1 codes in one block") {
+    const auto d = lathe_check("G0 X40 Z2\nG90 G01 X30 Z-10 F100\nM30\n");
+    REQUIRE(errors(d) == 1);
+    CHECK(d[0].code == static_cast<int>(gm::ErrorCode::ModalGroupViolation));
+    CHECK(d[0].loc.line == 2);
+    CHECK(d[0].loc.column == 5);
+  }
+  SECTION("the first cycle block needs X and Z") {
+    const auto d = lathe_check("G0 X40 Z2\nG90 X30 F100\nM30\n");
+    REQUIRE(errors(d) == 1);
+    CHECK(d[0].code == static_cast<int>(gm::ErrorCode::MissingWord));
+    CHECK(d[0].message.find("G90 without Z (W)") != std::string::npos);
+  }
+  SECTION("G92 needs the lead") {
+    const auto d = lathe_check("G97 S500 M3\nG0 X24 Z5\nG92 X19 Z-20\nM30\n");
+    REQUIRE(errors(d) == 1);
+    CHECK(d[0].message.find("lead") != std::string::npos);
+  }
+  SECTION("a word the cycle does not take, at the word") {
+    const auto d = lathe_check("G0 X40 Z2\nG94 X10 Z-1 F80 M8\nM30\n");
+    REQUIRE(errors(d) == 1);
+    CHECK(d[0].code == static_cast<int>(gm::ErrorCode::UnusedWord));
+    CHECK(d[0].loc.column == 17);
+  }
+  SECTION("tool nose radius compensation is refused") {
+    gm::Machine m = lathe_machine();
+    m.tool_table.tools[0].diameter_mm = 1.6;  // a nose radius 0.8
+    const auto d = lathe_check("T0101\nG0 X40 Z2\nG42 D1 G1 X36 Z1 F100\nG90 X30 Z-10\nM30\n", m);
+    REQUIRE(errors(d) == 1);
+    CHECK(d[0].code == static_cast<int>(gm::ErrorCode::CutterCompMisused));
+    CHECK(d[0].loc.line == 4);
+  }
+  SECTION("G71 with a pocket names the type II rule") {
+    const auto d = lathe_check(
+        "G98 G0 X40 Z2\nG71 U2 R1\nG71 P10 Q20 F300\nN10 G0 X10 Z2\nG1 Z-10\nX20\nX16 "
+        "Z-20\nN20 X40\nM30\n");
+    REQUIRE(errors(d) == 1);
+    CHECK(d[0].loc.line == 7);
+    CHECK(d[0].message.find("type II") != std::string::npos);
+  }
+}
+
+// ADT-CNC4620 Programming Manual, "G73" execution process (manual pp. 48-49): A to A1 rapid;
+// each roughing cycle A_k, B_k, C_k along the ns-nf blocks in their own modes at the G73 line's
+// F, then C_k to A_(k+1) rapid; after the n-th, C_n to A rapid; F in the profile only for G70.
+// zanotowane.pl "G73 Pattern Repeat Cycle" (G73 U W R; G73 P Q U(diameter) W F). The relief
+// shrinks evenly from Δi, Δk on the first pass to 0 on the d-th, which cuts at the allowance.
+TEST_CASE("lathe-fanuc: G73 pattern repeat, three passes worked by hand") {
+  using K = gm::MotionKind;
+  const auto mv = lathe_moves(
+      "G98 G0 X30 Z5\nG73 U3 W1 R3\nG73 P10 Q20 U1 W0.5 F90\nN10 G0 X10 Z2\nG1 Z-10 F40\n"
+      "G2 X20 Z-15 R5\nN20 G1 X30\nG0 X50 Z20\nM30\n");
+  // A: Z5, r15. Offsets (X radius, Z): pass 1 (3 + 0.5, 1 + 0.5), pass 2 (1.5 + 0.5, 0.5 + 0.5),
+  // pass 3 (0.5, 0.5).
+  REQUIRE(mv.size() == 1 + 3 * 5 + 1 + 1);
+  require_end(mv[1], K::Rapid, 6.5, 18.5);  // A1
+  require_end(mv[2], K::Rapid, 3.5, 8.5);   // N10 G0 shifted: B1
+  require_end(mv[3], K::Line, -8.5, 8.5);
+  CHECK(mv[3].feed_mm_min == Approx(90.0));  // the G73 line's F, not the profile's F40
+  CHECK(mv[4].kind == K::Arc);
+  require_end(mv[4], K::Arc, -13.5, 13.5);
+  CHECK(mv[4].center_mm[2] == Approx(-8.5));
+  CHECK(mv[4].center_mm[0] == Approx(13.5));
+  require_end(mv[5], K::Line, -13.5, 18.5);  // C1
+  require_end(mv[6], K::Rapid, 6.0, 17.0);   // C1 to A2
+  require_end(mv[7], K::Rapid, 3.0, 7.0);
+  require_end(mv[10], K::Line, -14.0, 17.0);
+  require_end(mv[11], K::Rapid, 5.5, 15.5);  // A3: the allowance only
+  require_end(mv[12], K::Rapid, 2.5, 5.5);
+  require_end(mv[13], K::Line, -9.5, 5.5);
+  require_end(mv[15], K::Line, -14.5, 15.5);
+  require_end(mv[16], K::Rapid, 5.0, 15.0);  // back to A
+  CHECK(mv[1].line == 3);
+  require_end(mv[17], K::Rapid, 20.0, 25.0);
 }
 
 // images.elk.pl "G74 End Face Peck Drilling Cycle" (G74 R(return); G74 X(U) Z(W) P Q R F, P the

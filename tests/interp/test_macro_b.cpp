@@ -221,6 +221,44 @@ TEST_CASE("macro-b: G65 locals are the call's own, M98 shares them (II-15.6.1, I
   check_ends(m, {{3, 0, 0}, {3, 0, 200}, {4, 0, 200}});
 }
 
+// FANUC Series 16i/18i-PB operator's manual B-63684EN, p. 278 "Mixture of argument
+// specifications I and II": G65 A1.0 B2.0 I-3.0 I4.0 D5.0 P1000 gives #1 1.0, #2 2.0, #3
+// vacant, #4 -3.0, #5 and #6 vacant, #7 5.0 (I4.0, the second I, and D both name #7: the later
+// D wins). Haas 96-8000 "Local Variables" table: the n-th I, J, K set #(3n+1), #(3n+2), #(3n+3)
+// (#7 D or I, #8 E or J, ... #31 I, #32 J, #33 K).
+TEST_CASE("macro-b: G65 argument specification II, the manual's example and table") {
+  const std::string f = macro_program("spec2.nc",
+                                      "G21 G90 G0 X0 Y0 Z0\n"
+                                      "G65 P1000 A1.0 B2.0 I-3.0 I4.0 D5.0\n"
+                                      "G65 P2000 A1 B2 C3 I4 J5 K6 I7 J8 K9 I10 J11 K12 I13 J14 "
+                                      "K15 I16 J17 K18 I19 J20 K21 I22 J23 K24 I25 J26 K27 I28 "
+                                      "J29 K30 I31 J32 K33\n"
+                                      "M30\n"
+                                      "O1000\n"
+                                      "G0 X#1 Y#2 Z#4\n"
+                                      "G0 X#7\n"
+                                      "#10 = 0\n"
+                                      "IF [#3 EQ #0] THEN #10 = #10 + 1\n"
+                                      "IF [#5 EQ #0] THEN #10 = #10 + 10\n"
+                                      "IF [#6 EQ #0] THEN #10 = #10 + 100\n"
+                                      "G0 Y#10\n"
+                                      "M99\n"
+                                      "O2000\n"
+                                      "#100 = 0\n"
+                                      "#101 = 1\n"
+                                      "WHILE [#101 LE 33] DO1\n"
+                                      "IF [#[#101] EQ #101] THEN #100 = #100 + 1\n"
+                                      "#101 = #101 + 1\n"
+                                      "END1\n"
+                                      "G0 X#100 Y0 Z0\n"
+                                      "M99\n");
+  const MacroMoves m = macro_moves(f);
+  CHECK(m.code == 0);
+  // (G0 X0 Y0 Z0 from there moves nothing.) #1 #2 #4; #7 = 5 (D); #3, #5, #6 vacant (111);
+  // then all 33 variables equal their numbers.
+  check_ends(m, {{1, 2, -3}, {5, 2, -3}, {5, 111, -3}, {33, 0, 0}});
+}
+
 TEST_CASE("macro-b: errors are located and name what is wrong") {
   const auto error = [](const std::string& name, const std::string& text,
                         const std::string& where_what) {
@@ -249,8 +287,11 @@ TEST_CASE("macro-b: errors are located and name what is wrong") {
   error("null.nc", "#0 = 1\nM30\n", ":1:1: error: #0 is always vacant");
   error("alarm.nc", "G0 X1\n#3000 = 12 (TOOL BROKEN)\nG0 X2\nM30\n",
         ":2:1: error: alarm 3012: TOOL BROKEN");
-  // II-15.6.1: argument specification II is not read
-  error("spec2.nc", "G65 P100 I1 J2 I3\nM30\nO100\nM99\n", ":1:16: error: argument I given twice");
+  // argument specification II: only I, J, K repeat, up to 10 times each
+  error("spec2.nc", "G65 P100 A1 I1 J2 I3 A4\nM30\nO100\nM99\n",
+        ":1:22: error: argument A given twice");
+  error("spec2_11.nc", "G65 P100 I1 I2 I3 I4 I5 I6 I7 I8 I9 I10 I11\nM30\nO100\nM99\n",
+        ":1:41: error: I given 11 times");
   // the iteration bound holds for IF/GOTO loops too
   const auto r = macro_check(macro_program("forever.nc", "N1 G0 X1\nGOTO 1\nM30\n"),
                              "--dialect fanuc --max-iterations 1000");
