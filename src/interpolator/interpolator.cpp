@@ -144,7 +144,7 @@ void Interpolator::apply_arc_comp(double v) {
   if (!(w > 0.0)) return;
   const int a = geom_.ax.a, b = geom_.ax.b;
   const double da = pos_mm_[a] - geom_.center_mm[a], db = pos_mm_[b] - geom_.center_mm[b];
-  const double r = std::hypot(da, db);
+  const double r = std::sqrt(da * da + db * db);  // in the arc's plane, away from 0 and inf
   if (!(r > 0.0)) return;
   // Radial in the arc's plane; ω from the sample's in-plane angular rate.
   const double k = w * cfg_.arc_comp.correction_mm(r, v * comp_rad_per_mm_) / r;

@@ -26,6 +26,8 @@ class ArcPrecompCheck {
 
   bool enabled() const { return rule_.enabled(); }
   const ArcCompensation& rule() const { return rule_; }
+  /// Samples in the filter's window (N + 1 weights).
+  std::size_t window_samples() const { return h_.size(); }
   /// Largest path speed at which an arc of `sweep_abs_rad` over `length_mm` of path may be
   /// compensated: A(ωT) >= ArcCompensation::kMinGain with ω = v·|θ|/L.
   double speed_limit_mm_s(double sweep_abs_rad, double length_mm) const;

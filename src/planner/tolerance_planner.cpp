@@ -30,19 +30,6 @@ double min_positive(double a, double b) {
   return a > 0.0 ? a : b;
 }
 
-/// The largest speed v <= vmax whose load(v) (which grows with v) stays within `share`: vmax
-/// when it does, else by bisection.
-template <class Load>
-double largest_speed_within(double vmax, double share, Load&& load) {
-  if (load(vmax) <= share) return vmax;
-  double lo = 0.0, hi = vmax;
-  for (int it = 0; it < 40; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    (load(mid) <= share ? lo : hi) = mid;
-  }
-  return lo;
-}
-
 }  // namespace
 
 TolerancePlanner::TolerancePlanner(const FilterMoments& filter, const PlannerConfig& cfg,
@@ -51,7 +38,10 @@ TolerancePlanner::TolerancePlanner(const FilterMoments& filter, const PlannerCon
   if (cfg_.precompensate_arcs && filter_.symmetric() && filter_.overshoot_s() == 0.0 &&
       filter_.undershoot_s() == 0.0) {
     precomp_.emplace(filter_.weights(), filter_.period_s());
-    if (!precomp_->enabled()) precomp_.reset();
+    if (!precomp_->enabled())
+      precomp_.reset();
+    else
+      residual_.emplace(*precomp_);
   }
 }
 
@@ -61,6 +51,15 @@ const std::vector<double>& TolerancePlanner::grid_d() {
     for (int k = 0; k <= 2 * filter_.order(); ++k)
       grid_d_.push_back(filter_.corner_moment_s(0.5 * k * filter_.period_s()));
   return grid_d_;
+}
+
+double TolerancePlanner::corner_moment(double pause_s) const {
+  // Most corners ask for the same pause (none): D is a bisection over the window each time.
+  if (!(pause_s == moment_pause_s_)) {
+    moment_pause_s_ = pause_s;
+    moment_s_ = filter_.corner_moment_s(pause_s);
+  }
+  return moment_s_;
 }
 
 void TolerancePlanner::pull() {
@@ -447,7 +446,7 @@ void TolerancePlanner::push_element(Element e) {
   if (e.kind == ElementKind::Run)
     e.weight = std::max(kMinTurn, (0.5 * e.kappa * e.v100 * filter_.variance_s2() +
                                    e.delta * filter_.abs_moment_s()) /
-                                      filter_.corner_moment_s(0.0));
+                                      corner_moment(0.0));
   else
     e.weight = e.kind == ElementKind::Arc ? 1.0 : e.turn;
   e.cum = weight_total_;
@@ -458,14 +457,6 @@ void TolerancePlanner::push_element(Element e) {
   elems_.push_back(e);
 }
 
-double TolerancePlanner::zone_count(double z0, double z1) const {
-  auto first = std::lower_bound(elems_.begin(), elems_.end(), z0 - 1e-9,
-                                [](const Element& f, double z) { return f.s1 <= z; });
-  auto last = std::lower_bound(first, elems_.end(), z1 + 1e-9,
-                               [](const Element& f, double z) { return f.s0 < z; });
-  return static_cast<double>(last - first);
-}
-
 double TolerancePlanner::same_run_weight(const Element& e, double z0, double z1) const {
   double w = 0.0;
   for (const Element& f : elems_)
@@ -474,15 +465,89 @@ double TolerancePlanner::same_run_weight(const Element& e, double z0, double z1)
   return w;
 }
 
-double TolerancePlanner::zone_weight(double z0, double z1) const {
+TolerancePlanner::ZoneRange TolerancePlanner::zone_range(double z0, double z1) const {
   // Every element that reaches into [z0, z1]: elements are in path order, so a range.
   auto first = std::lower_bound(elems_.begin(), elems_.end(), z0 - 1e-9,
                                 [](const Element& f, double z) { return f.s1 <= z; });
   auto last = std::lower_bound(first, elems_.end(), z1 + 1e-9,
                                [](const Element& f, double z) { return f.s0 < z; });
-  if (first == last) return 0.0;
-  const double end = last == elems_.end() ? weight_total_ : last->cum;
-  return end - first->cum;
+  return {static_cast<std::size_t>(first - elems_.begin()),
+          static_cast<std::size_t>(last - elems_.begin())};
+}
+
+double TolerancePlanner::range_weight(ZoneRange r) const {
+  if (r.first == r.last) return 0.0;
+  const double end = r.last == elems_.size() ? weight_total_ : elems_[r.last].cum;
+  return end - elems_[r.first].cum;
+}
+
+double TolerancePlanner::zone_weight(double z0, double z1) const {
+  return range_weight(zone_range(z0, z1));
+}
+
+TolerancePlanner::ZoneRange TolerancePlanner::zone_range_from(ZoneRange hint, double z0,
+                                                              double z1) const {
+  // zone_range's partition points walked from a nearby range's (the zones of a bisection close
+  // in on one range): the same indices as the binary searches.
+  const std::size_t n = elems_.size();
+  const double a = z0 - 1e-9, b = z1 + 1e-9;
+  std::size_t f = hint.first, l = hint.last;
+  while (f < n && elems_[f].s1 <= a) ++f;
+  while (f > 0 && !(elems_[f - 1].s1 <= a)) --f;
+  l = std::max(l, f);
+  while (l < n && elems_[l].s0 < b) ++l;
+  while (l > f && !(elems_[l - 1].s0 < b)) --l;
+  return {f, l};
+}
+
+const TolerancePlanner::ZoneMemo& TolerancePlanner::zone_values(ZoneMemo& memo, ZoneRange r,
+                                                                bool with_claims) const {
+  if (!memo.valid || !(r == memo.range)) {
+    memo.range = r;
+    memo.valid = true;
+    memo.weight = range_weight(r);
+    memo.claims = with_claims ? range_claims(r) : 0.0;
+  }
+  return memo;
+}
+
+template <class Load, class Guess>
+double TolerancePlanner::largest_speed_in_zones(double vmax, double share, double s0, double s1,
+                                                double t, Load&& load, Guess&& guess) const {
+  // largest_speed_within, the zone [s0 − v·t, s1 + v·t] found for each speed. Zones grow with v
+  // (v·t and the sums are monotone in floating point), so when the ranges at both ends of the
+  // bracket agree every speed between has that range: it is not searched again. The loads and
+  // comparisons are the same, so is the result, bit for bit.
+  ZoneRange hi_r = zone_range(s0 - vmax * t, s1 + vmax * t);
+  if (load(vmax, hi_r) <= share) return vmax;
+  ZoneRange lo_r = zone_range_from(hi_r, s0 - 0.0 * t, s1 + 0.0 * t);
+  double lo = 0.0, hi = vmax;
+  for (int it = 0; it < 40; ++it) {
+    if (lo_r == hi_r) {
+      // The halvings left visit the points lo + k·δ, δ = (hi − lo)/2^m, all exact in floating
+      // point, and end on the largest k (0 or one whose load fits: the load is monotone in v).
+      // guess(range), the speed where the load reaches the share, names k; two loads confirm it
+      // (otherwise the halvings go on).
+      const int m = 40 - it;
+      const double delta = std::ldexp(hi - lo, -m), kmax = std::ldexp(1.0, m) - 1.0;
+      const double k = std::floor((guess(lo_r) - lo) / delta);
+      if (k >= 0.0 && k <= kmax && (k == 0.0 || load(lo + k * delta, lo_r) <= share) &&
+          (k == kmax || !(load(lo + (k + 1.0) * delta, lo_r) <= share)))
+        return lo + k * delta;
+      if (!(k >= 0.0) && !(load(lo + delta, lo_r) <= share)) return lo;  // k = 0
+      if (k > kmax && load(lo + kmax * delta, lo_r) <= share) return lo + kmax * delta;
+    }
+    const double mid = 0.5 * (lo + hi);
+    const ZoneRange r = lo_r == hi_r ? lo_r : zone_range_from(hi_r, s0 - mid * t, s1 + mid * t);
+    if (load(mid, r) <= share) {
+      lo = mid;
+      lo_r = r;
+    } else {
+      hi = mid;
+      hi_r = r;
+    }
+  }
+  return lo;
 }
 
 double TolerancePlanner::tolerance_near(const Element& e) const {
@@ -514,23 +579,26 @@ void TolerancePlanner::assign_claims(double t_until) {
     const double tol = tolerance_near(g);
     const double share = share_of(tol) - reserve_of(tol);
     // Claims active with g lie within τ of it; those after g are assigned after it and count g.
-    double claims = g.vmax * filter_.corner_moment_s(g.pause0) * g.turn;
+    double claims = g.vmax * corner_moment(g.pause0) * g.turn;
     for (std::size_t i = claim_cursor_; i-- > 0 && elems_[i].t1 >= g.t0 - tau;)
       if (elems_[i].claim_state == Element::Claim::Claimant) claims += elems_[i].claim;
     if (claims > 0.5 * share) continue;
     g.claim_state = Element::Claim::Claimant;
-    g.claim = g.vmax * filter_.corner_moment_s(g.pause0) * g.turn;
+    g.claim = g.vmax * corner_moment(g.pause0) * g.turn;
     ++claimants_;
   }
 }
 
 double TolerancePlanner::zone_claims(double z0, double z1) const {
   if (claimants_ == 0) return 0.0;
+  return range_claims(zone_range(z0, z1));
+}
+
+double TolerancePlanner::range_claims(ZoneRange r) const {
+  if (claimants_ == 0) return 0.0;
   const double tau = filter_.tau_s();
-  auto first = std::lower_bound(elems_.begin(), elems_.end(), z0 - 1e-9,
-                                [](const Element& f, double z) { return f.s1 <= z; });
-  auto last = std::lower_bound(first, elems_.end(), z1 + 1e-9,
-                               [](const Element& f, double z) { return f.s0 < z; });
+  const auto first = elems_.begin() + static_cast<std::ptrdiff_t>(r.first);
+  const auto last = elems_.begin() + static_cast<std::ptrdiff_t>(r.last);
   double best = 0.0, sum = 0.0;
   auto lo = first;
   for (auto it = first; it != last; ++it) {
@@ -553,7 +621,7 @@ void TolerancePlanner::decide(Element& e) {
   // of elements active at one instant adds up to at most the share.
   // W(v) over a zone taken as s ∓ v·t: it holds the true zone (τ − P of time at speeds <= v),
   // so W is never undercounted. load(v) = error·W grows with v: the largest v <= vmax with
-  // load(v) <= share, by bisection (largest_speed_within).
+  // load(v) <= share, by bisection (largest_speed_in_zones).
   e.decided = true;
   e.cap = kInf;
   if (e.claim_state == Element::Claim::Claimant) {  // its claim is counted by every neighbour
@@ -580,11 +648,15 @@ void TolerancePlanner::decide(Element& e) {
 void TolerancePlanner::decide_arc(Element& e, double share) const {
   const double tau = filter_.tau_s();
   // κ·v²·σ²/2 <= share/W
-  auto load = [&](double v) {
-    return 0.5 * e.kappa * v * v * filter_.variance_s2() *
-           zone_weight(e.s0 - v * tau, e.s1 + v * tau);
+  ZoneMemo memo;
+  auto load = [&](double v, ZoneRange r) {
+    return 0.5 * e.kappa * v * v * filter_.variance_s2() * zone_values(memo, r, false).weight;
   };
-  double v = largest_speed_within(e.vmax, share, load);
+  auto guess = [&](ZoneRange r) {
+    return std::sqrt(share /
+                     (0.5 * e.kappa * filter_.variance_s2() * zone_values(memo, r, false).weight));
+  };
+  double v = largest_speed_in_zones(e.vmax, share, e.s0, e.s1, tau, load, guess);
   e.comp_speed = 0.0;
   if (v < e.vmax && precomp_) {
     const double vc = precomp_arc_speed(e, share, v);
@@ -606,9 +678,16 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
   // to ArcCompensation::kMinGain at most. The term grows with the speed: bisection.
   // within(v): error_mm(v)·W(v) <= share, decided without finishing the simulation when a
   // part of it already exceeds (error_within).
+  // The term from the residual table (a bound of the simulation, docs/tolerance.md "Planning
+  // cost") where it covers the arc, else simulated.
+  ZoneMemo memo;
   auto within = [&](double v) {
-    return precomp_->error_within(e.radius, e.sweep, L, v,
-                                  zone_weight(e.s0 - v * tau, e.s1 + v * tau), share);
+    const ZoneRange r = memo.valid ? zone_range_from(memo.range, e.s0 - v * tau, e.s1 + v * tau)
+                                   : zone_range(e.s0 - v * tau, e.s1 + v * tau);
+    const double w = zone_values(memo, r, false).weight;
+    if (residual_->covers(e.sweep, L, v))
+      return residual_->error_bound_mm(*precomp_, e.radius, e.sweep, L, v) * w <= share;
+    return precomp_->error_within(e.radius, e.sweep, L, v, w, share);
   };
   const double vlim = std::min(e.vmax, precomp_->speed_limit_mm_s(e.sweep, L));
   if (!(vlim > floor)) return 0.0;
@@ -645,14 +724,26 @@ void TolerancePlanner::decide_run(Element& e, double share) const {
       kappa = std::max(kappa, f.kappa);
       delta = std::max(delta, f.delta);
     }
-  auto load = [&](double v) {
-    const double z0 = e.s0 - v * tau, z1 = e.s1 + v * tau;
-    const double w = zone_weight(z0, z1) - same_run_weight(e, z0, z1) + e.weight;
+  ZoneMemo memo;
+  double same = 0.0;  // same_run_weight of memo's range
+  auto load = [&](double v, ZoneRange r) {
+    const bool again = memo.valid && r == memo.range;
+    const ZoneMemo& z = zone_values(memo, r, true);
+    if (!again) same = same_run_weight(e, e.s0 - v * tau, e.s1 + v * tau);
+    const double w = z.weight - same + e.weight;
     return (0.5 * kappa * v * v * filter_.variance_s2() + delta * v * filter_.abs_moment_s()) * w /
                e.weight +
-           zone_claims(z0, z1);  // error <= (share − claims)·w_e/W
+           z.claims;  // error <= (share − claims)·w_e/W
   };
-  const double v = largest_speed_within(e.vmax, share, load);
+  auto guess = [&](ZoneRange r) {  // the root of a·v² + b·v + claims = share
+    const ZoneMemo& z = zone_values(memo, r, true);
+    const double w = (z.weight - same + e.weight) / e.weight;
+    const double a = 0.5 * kappa * filter_.variance_s2() * w,
+                 b = delta * filter_.abs_moment_s() * w;
+    const double c = share - z.claims;
+    return a > 0.0 ? (-b + std::sqrt(b * b + 4.0 * a * c)) / (2.0 * a) : c / b;
+  };
+  const double v = largest_speed_in_zones(e.vmax, share, e.s0, e.s1, tau, load, guess);
   if (v < e.vmax) e.cap = v;
   e.z0 = zone_back(e.s0, tau, e.cap);
   e.z1 = zone_fwd(e.s1, tau, e.cap);
@@ -661,25 +752,33 @@ void TolerancePlanner::decide_run(Element& e, double share) const {
 double TolerancePlanner::corner_cost_s(const Element& e, double pause_s, double d, double share,
                                        double v_ref, double& v) const {
   const double zt = std::max(filter_.zone_floor_s(), filter_.tau_s() - pause_s);
-  auto weight = [&](double s) { return zone_weight(e.s0 - s * zt, e.s1 + s * zt); };
-  auto load = [&](double s) {
-    return s * d * weight(s) + zone_claims(e.s0 - s * zt, e.s1 + s * zt);
+  ZoneMemo memo;
+  auto load = [&](double s, ZoneRange r) {
+    const ZoneMemo& z = zone_values(memo, r, true);
+    return s * d * z.weight + z.claims;
   };
-  v = d > 0.0 ? largest_speed_within(e.vmax, share, load) : e.vmax;
+  auto guess = [&](ZoneRange r) {
+    const ZoneMemo& z = zone_values(memo, r, true);
+    return (share - z.claims) / (d * z.weight);
+  };
+  v = d > 0.0 ? largest_speed_in_zones(e.vmax, share, e.s0, e.s1, zt, load, guess) : e.vmax;
   // The slowing is shared by the elements in the zone (a run of short segments slows once);
   // the pause is e's alone.
   const double z0 = e.s0 - v * zt, z1 = e.s1 + v * zt;
   // Each side is at least one sample of travel at the fastest speed (emit_front's shortest
   // piece): ℓ at v instead of v_ref costs ℓ/v − ℓ/v_ref.
   const double side = std::max(v * zt, 1.01 * e.vmax * filter_.period_s());
-  const double slow =
-      (v > 0.0 ? std::max(0.0, side / v - side / v_ref) : kInf) / std::max(1.0, zone_count(z0, z1));
+  const ZoneRange zr = zone_range(z0, z1);
+  const double slow = (v > 0.0 ? std::max(0.0, side / v - side / v_ref) : kInf) /
+                      std::max(1.0, static_cast<double>(zr.last - zr.first));
   double cost = (pause_s - e.pause0) + 2.0 * slow;
   // An arc of several turns the zone touches takes the cap whole (it is not split): its
-  // slowing counts too.
-  for (const Element& f : elems_)
+  // slowing counts too. Such an arc reaches into [z0, z1], so it is in the range.
+  for (std::size_t i = zr.first; i < zr.last; ++i) {
+    const Element& f = elems_[i];
     if (f.kind == ElementKind::Arc && !f.split && f.s1 > z0 && f.s0 < z1 && v < f.v100)
       cost += (f.s1 - f.s0) * (1.0 / v - 1.0 / f.v100);
+  }
   return cost;
 }
 
@@ -704,7 +803,7 @@ void TolerancePlanner::decide_corner(Element& e, double share) {
     }
     return true;
   };
-  consider(e.pause0, filter_.corner_moment_s(e.pause0));
+  consider(e.pause0, corner_moment(e.pause0));
   const std::vector<double>& grid = grid_d();
   for (std::size_t k = 0; k < grid.size(); k += 2) {
     const double p = 0.5 * static_cast<double>(k) * filter_.period_s();

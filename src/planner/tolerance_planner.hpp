@@ -7,11 +7,13 @@
 #include "motion/canon.hpp"
 #include "motion/geometry.hpp"
 #include "planner/arc_precomp.hpp"
+#include "planner/arc_residual_table.hpp"
 #include "planner/filter_moments.hpp"
 #include "planner/naive_cam.hpp"
 
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -169,8 +171,31 @@ class TolerancePlanner : public CanonSource {
                        double& v) const;
   double zone_back(double s_from, double time_s, double cap) const;
   double zone_fwd(double s_from, double time_s, double cap) const;
+  /// The elements reaching into [z0, z1] (in path order): elems_[first, last).
+  struct ZoneRange {
+    std::size_t first = 0, last = 0;
+    bool operator==(const ZoneRange&) const = default;
+  };
+  ZoneRange zone_range(double z0, double z1) const;
+  /// zone_range(z0, z1) walked from `hint`, a range near it: cheaper when the two are close.
+  ZoneRange zone_range_from(ZoneRange hint, double z0, double z1) const;
+  double range_weight(ZoneRange r) const;
+  double range_claims(ZoneRange r) const;  ///< zone_claims of the range
+  /// zone_weight and (with claims) zone_claims of the last range asked for.
+  struct ZoneMemo {
+    ZoneRange range;
+    bool valid = false;
+    double weight = 0, claims = 0;
+  };
+  /// memo's values for range r, recomputed only when r differs from memo's range.
+  const ZoneMemo& zone_values(ZoneMemo& memo, ZoneRange r, bool with_claims) const;
+  /// The largest v <= vmax with load(v, range of [s0 − v·t, s1 + v·t]) <= share (the load grows
+  /// with v): vmax, else by 40 halvings; guess(range) estimates where the load of that range
+  /// reaches the share, which ends them early with the same result.
+  template <class Load, class Guess>
+  double largest_speed_in_zones(double vmax, double share, double s0, double s1, double t,
+                                Load&& load, Guess&& guess) const;
   double zone_weight(double z0, double z1) const;
-  double zone_count(double z0, double z1) const;
   /// Near-tangent corners: claimants are assigned in path order through time `t_until`; a
   /// claimant's claims within τ (either side) stay within half its share.
   void assign_claims(double t_until);
@@ -179,6 +204,8 @@ class TolerancePlanner : public CanonSource {
   double zone_claims(double z0, double z1) const;
   void push_element(Element e);
   const std::vector<double>& grid_d();  ///< grid_d_, built on first use
+  /// filter_.corner_moment_s(pause_s), the last pause asked for kept.
+  double corner_moment(double pause_s) const;
   /// Hands on the window's front block: as pieces with their caps, then its pauses and what
   /// follows it.
   void emit_front();
@@ -214,6 +241,7 @@ class TolerancePlanner : public CanonSource {
   PlannerConfig cfg_;
   NaiveCamMerger merger_;       ///< reads the upstream source: G64 Q runs arrive merged
   std::vector<double> grid_d_;  ///< D(k·T/2), k = 0..2N
+  mutable double moment_pause_s_ = std::numeric_limits<double>::quiet_NaN(), moment_s_ = 0.0;
   // Rings of reused slots, not std::deque: a deque allocates a node per Block and per Canon.
   RingDeque<Block> window_;
   BlockGeometry pulled_g_;  ///< pull()'s geometry of the item read
@@ -241,10 +269,11 @@ class TolerancePlanner : public CanonSource {
   double weight_total_ = 0.0;     ///< weights of all elements pushed so far
   PendingRun run_;
   std::uint64_t runs_ = 0;
-  std::optional<ArcPrecompCheck> precomp_;  ///< set when arcs may be pre-compensated
-  std::size_t claim_cursor_ = 0;            ///< elems_[0, claim_cursor_) have their claim assigned
-  std::uint64_t claimants_ = 0;             ///< claimants so far (none: zone_claims is 0 at once)
-  std::uint64_t claim_candidates_ = 0;      ///< near-tangent corners pushed, not yet assigned
+  std::optional<ArcPrecompCheck> precomp_;    ///< set when arcs may be pre-compensated
+  std::optional<ArcResidualTable> residual_;  ///< precomp_'s term tabulated (with precomp_)
+  std::size_t claim_cursor_ = 0;        ///< elems_[0, claim_cursor_) have their claim assigned
+  std::uint64_t claimants_ = 0;         ///< claimants so far (none: zone_claims is 0 at once)
+  std::uint64_t claim_candidates_ = 0;  ///< near-tangent corners pushed, not yet assigned
   /// A vertex (after block `seq`) or an arc (block `seq`) without a tolerance, in path order:
   /// where it starts and where what it leaves in the filter ends (fastest travel time): τ after
   /// the vertex is reached (the window no longer holds samples before it), τ after the arc.

@@ -3,6 +3,7 @@
 #include "accdec/taps.hpp"
 #include "interpolator/arc_compensation.hpp"
 #include "planner/arc_precomp.hpp"
+#include "planner/arc_residual_table.hpp"
 #include "planner/filter_moments.hpp"
 
 #include <catch2/catch.hpp>
@@ -166,4 +167,40 @@ TEST_CASE("the planner's check, made cheaper, decides exactly as the whole simul
   CHECK(within > 100);
   CHECK(over > 100);
   CHECK(short_arcs > 10);
+}
+
+TEST_CASE("the residual table bounds the simulation within its margin", "[arc-precomp]") {
+  // error_bound_mm (four table nodes, interpolated, times 1 + kMargin) against error_mm (the
+  // simulation) on random arcs the table covers, three profiles: never below it, and on
+  // average within a few per cent above (the planner's speeds go as 1/sqrt of it).
+  std::uint64_t state = 20261201;
+  auto uniform = [&state] {  // splitmix64 → [0, 1)
+    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+  };
+  for (const char* prof : {"blackman", "linear", "hann"}) {
+    const gm::Taps t = gm::design_taps(prof, 0.164, 0.004);
+    const gm::ArcPrecompCheck check(weights(t), 0.004);
+    const gm::ArcResidualTable table(check);
+    double worst = 0.0, sum = 0.0;
+    int n = 0;
+    for (int k = 0; k < 1000; ++k) {
+      const double R = 0.3 + 20.0 * uniform() * uniform();
+      const double th = std::exp(std::log(0.01) + uniform() * std::log(600.0));
+      const double L = R * th * (uniform() < 0.3 ? 1.0 + uniform() : 1.0);  // some helices
+      const double v =
+          std::exp(std::log(0.002) + uniform() * std::log(500.0)) * check.speed_limit_mm_s(th, L);
+      if (!table.covers(th, L, v)) continue;
+      const double e = check.error_mm(R, th, L, v), b = table.error_bound_mm(check, R, th, L, v);
+      CAPTURE(prof, R, th, L, v, e, b);
+      CHECK(b >= e);
+      worst = std::max(worst, e / b);
+      sum += b / e;
+      ++n;
+    }
+    WARN(prof << ": " << n << " arcs, worst simulation/bound " << worst
+              << ", mean bound/simulation " << sum / n << ", nodes " << table.nodes_filled());
+  }
 }
