@@ -181,7 +181,7 @@ bool FanucModal::apply(grammar::Block& block, const ModalState& s, InterpError& 
 // Fanuc keeps G00-G03 (group 01) apart from the canned cycles (group 09), which G80 cancels.
 void FanucModal::group01(grammar::Block& block, const ModalState& s) {
   int motion = -1;
-  std::size_t at = be::kNone;
+  std::size_t at = be::kNone, g80 = be::kNone, g0123 = be::kNone;
   bool axes = false, axis_user = false;
   for (std::size_t i = 0; i < block.words.size(); ++i) {
     const grammar::Word& w = block.words[i];
@@ -191,6 +191,7 @@ void FanucModal::group01(grammar::Block& block, const ModalState& s) {
     if (n == 0 || n == 10 || n == 20 || n == 30 || n == 800) {  // (the common ones first)
       motion = n;
       at = i;
+      (n == 800 ? g80 : g0123) = i;
       continue;
     }
     const Code* c = n < 0 ? nullptr : find_code('G', n);
@@ -200,6 +201,12 @@ void FanucModal::group01(grammar::Block& block, const ModalState& s) {
       at = i;
     }
     if (c->uses_axes || n == 530) axis_user = true;
+  }
+  // `G00 G80 Z100.`: two groups on Fanuc, one (motion) in LinuxCNC, where the G00 alone
+  // already ends the cycle: the G80 goes.
+  if (g80 != be::kNone && g0123 != be::kNone) {
+    block.words.erase(block.words.begin() + static_cast<std::ptrdiff_t>(g80));
+    return;
   }
   if (!axes || axis_user || group01_ < 0) return;
   const bool restore = swapped_ && s.motion != group01_ && s.motion >= 0 && s.motion <= 30;

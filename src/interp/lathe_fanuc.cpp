@@ -54,6 +54,8 @@ bool located(InterpError& err, ErrorCode code, SourceLoc loc, std::string msg) {
 void FanucLathe::start_block(grammar::Block& block) {
   block.words.push_back(grammar::Word{'G', 7.0, SourceLoc{1, 1}});
   block.words.push_back(grammar::Word{'G', 18.0, SourceLoc{1, 1}});
+  // A Fanuc or Haas lathe powers on in G99 (feed per revolution): posts leave it out.
+  block.words.push_back(grammar::Word{'G', 95.0, SourceLoc{1, 1}});
 }
 
 bool FanucLathe::rewrite(grammar::Block& b, const ModalState& s, Outcome& outcome,

@@ -42,7 +42,8 @@ class FanucLathe {
     Moves,     ///< G74-G76, G90/G92/G94: moves() holds the cycle's moves
   };
 
-  /// The block run before the program's first line: G7 (X words are diameters) G18 (ZX plane).
+  /// The block run before the program's first line: G7 (X words are diameters) G18 (ZX plane)
+  /// G95 (G99, feed per revolution: a Fanuc or Haas lathe's power-on mode).
   static void start_block(grammar::Block& block);
 
   /// Rewrites `b` under the state `s` (the program's position and modes); false with `err`.

@@ -90,7 +90,7 @@ void require_end(const gm::Motion& m, gm::MotionKind kind, double z, double x_ra
 // diameter of the blank workpiece"); zanotowane.pl "G71 Stock Removal" (U(2) "(Diameter
 // value)"): X and U are diameters on a Fanuc lathe, U/W incremental X/Z.
 TEST_CASE("lathe-fanuc: X is a diameter, U and W are incremental X and Z") {
-  const auto mv = lathe_moves("G0 X40 Z2\nU-10 W-5\nG1 U4 Z-20 F100\nM30\n");
+  const auto mv = lathe_moves("G98 G0 X40 Z2\nU-10 W-5\nG1 U4 Z-20 F100\nM30\n");
   REQUIRE(mv.size() == 3);
   require_end(mv[0], gm::MotionKind::Rapid, 2.0, 20.0);   // X40: radius 20
   require_end(mv[1], gm::MotionKind::Rapid, -3.0, 15.0);  // X30, Z-3
@@ -592,7 +592,8 @@ TEST_CASE("lathe-fanuc: single cycle modes and their errors") {
   SECTION("tool nose radius compensation is refused") {
     gm::Machine m = lathe_machine();
     m.tool_table.tools[0].diameter_mm = 1.6;  // a nose radius 0.8
-    const auto d = lathe_check("T0101\nG0 X40 Z2\nG42 D1 G1 X36 Z1 F100\nG90 X30 Z-10\nM30\n", m);
+    const auto d =
+        lathe_check("G98 T0101\nG0 X40 Z2\nG42 D1 G1 X36 Z1 F100\nG90 X30 Z-10\nM30\n", m);
     REQUIRE(errors(d) == 1);
     CHECK(d[0].code == static_cast<int>(gm::ErrorCode::CutterCompMisused));
     CHECK(d[0].loc.line == 4);
