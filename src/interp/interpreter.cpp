@@ -235,8 +235,8 @@ bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, 
   ctx.call_level = call_level_;
   ctx.motion_before = s.motion;
   ctx.nurbs = &nurbs_;
-  G7xCycle g7x;
-  ctx.g7x = &g7x;
+  g7x_next_.pending = false;  // (a failed block may have left it set)
+  ctx.g7x = &g7x_next_;
   if (!check_block(ctx)) return false;
 
   // STEP 4: execute on the copy, step by step in LinuxCNC's order ------------------------------
@@ -262,10 +262,13 @@ bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, 
   if (e.clear) nurbs_.points.clear();
   if (e.order > 0) nurbs_.order = e.order;
   for (int i = 0; i < e.added; ++i) nurbs_.points.push_back(e.add[static_cast<std::size_t>(i)]);
-  if (g7x.pending) g7x_ = std::move(g7x);
+  if (g7x_next_.pending) {
+    g7x_ = std::move(g7x_next_);
+    g7x_next_.pending = false;
+  }
   if (result_params_ != nullptr)
     for (std::size_t i = 0; i < ctx.results.count; ++i)
-      result_params_->set_system(ctx.results.set[i].first, ctx.results.set[i].second);
+      result_params_->set_system(ctx.results.set[i].number, ctx.results.set[i].value);
   return true;
 }
 

@@ -21,10 +21,11 @@ namespace gm {
 
 /// The words of one block, by letter and by modal group (grbl's parser_block_t).
 struct BlockWords {
-  std::array<const grammar::Word*, 26> value{};  ///< value words by letter
-  std::array<const Code*, kGroupCount> code{};   ///< the block's code in each group
-  std::array<const grammar::Word*, kGroupCount> code_word{};
-  std::array<const Code*, kGroupCount> codes{};  ///< the block's codes in the order written
+  std::array<const grammar::Word*, 26> value{};             ///< value words by letter
+  std::array<const Code*, kGroupCount> code{};              ///< the block's code in each group
+  std::array<const grammar::Word*, kGroupCount> code_word;  ///< valid where `code` is set
+  std::array<const Code*, kGroupCount> codes;  ///< the block's codes in the order written (the
+                                               ///< first code_count; the rest never read)
   std::size_t code_count = 0;
   const grammar::Word* first_axis = nullptr;
   PolarWords polar;        ///< `@` and `^` (interp/polar.hpp): axis words in place of X and Y
@@ -34,7 +35,9 @@ struct BlockWords {
   bool has(char c) const { return (*this)[c] != nullptr; }
   double get(char c, double fallback = 0.0) const { return has(c) ? (*this)[c]->value : fallback; }
   const Code* in(Group g) const { return code[static_cast<std::size_t>(g)]; }
-  const grammar::Word* word_of(Group g) const { return code_word[static_cast<std::size_t>(g)]; }
+  const grammar::Word* word_of(Group g) const {
+    return in(g) ? code_word[static_cast<std::size_t>(g)] : nullptr;
+  }
   /// True if the block has code `letter` number10.
   bool has_code(char letter, int number10) const {
     for (std::size_t i = 0; i < code_count; ++i)
