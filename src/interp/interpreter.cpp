@@ -93,7 +93,11 @@ bool import_words(const grammar::Block& block, const AxisLayout& axes, BlockWord
           err, ErrorCode::DuplicateWord, word.loc,
           fmt::format("{} appears twice in the block (first at column {})", c, slot->loc.column));
     slot = &word;
-    if (axis >= 0 && !w.first_axis) w.first_axis = &word;
+    w.letters |= std::uint32_t{1} << (c - 'A');
+    if (axis >= 0) {
+      w.axes |= 1u << axis;
+      if (!w.first_axis) w.first_axis = &word;
+    }
   }
   return true;
 }
@@ -137,22 +141,28 @@ bool check_block(BlockCtx& ctx) {
                     fmt::format("axis word {} with no motion mode (G0-G3) or G92 to use it",
                                 w.first_axis->letter));
 
-  // Every value word some code owns must be used by a code of this block (or its motion mode).
-  const Code* modal_motion = ctx.motion_to_be >= 0 ? find_code('G', ctx.motion_to_be) : nullptr;
-  for (const grammar::Word& word : ctx.block.words) {
-    const char c = word.letter;
-    if (c == 'G' || c == 'M' || !code_word(c)) continue;
-    bool used = modal_motion && modal_motion->words.find(c) != std::string_view::npos;
-    for (std::size_t i = 0; i < w.code_count; ++i)
-      if (w.codes[i]->words.find(c) != std::string_view::npos) used = true;
-    if (!used)
-      return ctx.fail(ErrorCode::UnusedWord, word.loc,
-                      fmt::format("{} word with no {} to use it", c, codes_using(c)));
+  // Every value word some code owns must be used by a code of this block (or its motion mode):
+  // the letters as bits; the first unused word in the block's order is the error.
+  if (const std::uint32_t owned = w.letters & code_word_mask()) {
+    std::uint32_t used = 0;
+    if (const Code* m = ctx.motion_to_be >= 0 ? find_code('G', ctx.motion_to_be) : nullptr)
+      used = m->word_mask;
+    for (std::size_t i = 0; i < w.code_count; ++i) used |= w.codes[i]->word_mask;
+    if (owned & ~used)
+      for (const grammar::Word& word : ctx.block.words) {
+        const char c = word.letter;
+        if (c < 'A' || c > 'Z' || c == 'G' || c == 'M') continue;
+        if ((owned & ~used) & (std::uint32_t{1} << (c - 'A')))
+          return ctx.fail(ErrorCode::UnusedWord, word.loc,
+                          fmt::format("{} word with no {} to use it", c, codes_using(c)));
+      }
   }
-  for (char c : {'S', 'T', 'H'})
-    if (w.has(c) && w[c]->value < 0)
-      return ctx.fail(ErrorCode::NegativeValue, w[c]->loc,
-                      fmt::format("{}{:g} is negative", c, w[c]->value));
+  constexpr std::uint32_t kCounts = letter_mask("HST");
+  if (w.letters & kCounts)
+    for (char c : {'S', 'T', 'H'})
+      if (w.has(c) && w[c]->value < 0)
+        return ctx.fail(ErrorCode::NegativeValue, w[c]->loc,
+                        fmt::format("{}{:g} is negative", c, w[c]->value));
   return true;
 }
 

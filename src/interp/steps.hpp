@@ -27,6 +27,8 @@ struct BlockWords {
   std::array<const Code*, kGroupCount> codes;  ///< the block's codes in the order written (the
                                                ///< first code_count; the rest never read)
   std::size_t code_count = 0;
+  std::uint32_t letters = 0;  ///< the value words' letters (letter_mask: bit i is 'A' + i)
+  unsigned axes = 0;          ///< the program axes with a word (bit i: axis i, X = 0)
   const grammar::Word* first_axis = nullptr;
   PolarWords polar;        ///< `@` and `^` (interp/polar.hpp): axis words in place of X and Y
   grammar::Word x_radius;  ///< G7: the X word halved (value['X'] points here then)

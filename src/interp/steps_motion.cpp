@@ -5,6 +5,7 @@
 #include "interp/steps.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <numbers>
 
 namespace gm {
@@ -131,13 +132,12 @@ bool axis_target(BlockCtx& ctx, const Pos9& from_mm, Pos9& target_mm) {
   const Frame frame = ctx.frame();
   target_mm = from_mm;
   Pos9 words = Pos9::Zero();  // the axis words in mm (absolute: program coordinates)
-  unsigned given = 0;
-  for (int i = 0; i < kProgramAxes; ++i) {
+  unsigned given = ctx.w.axes;
+  for (unsigned m = given; m != 0; m &= m - 1) {
+    const int i = std::countr_zero(m);
     const auto* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]];
-    if (!aw) continue;
     const double unit = axis_is_rotary(i) ? 1.0 : scale;  // A, B, C: degrees in G20 and G21
     words[i] = aw->value * unit;
-    given |= 1u << i;
   }
   if (ctx.w.polar.any()) {  // @ radius, ^ angle in place of X, Y (interp/polar.cpp)
     const grammar::Word* pw = ctx.w.polar.first();
