@@ -143,10 +143,9 @@ bool check_block(BlockCtx& ctx) {
 
   // Every value word some code owns must be used by a code of this block (or its motion mode):
   // the letters as bits; the first unused word in the block's order is the error.
+  ctx.motion_code = ctx.motion_to_be >= 0 ? find_code('G', ctx.motion_to_be) : nullptr;
   if (const std::uint32_t owned = w.letters & code_word_mask()) {
-    std::uint32_t used = 0;
-    if (const Code* m = ctx.motion_to_be >= 0 ? find_code('G', ctx.motion_to_be) : nullptr)
-      used = m->word_mask;
+    std::uint32_t used = ctx.motion_code ? ctx.motion_code->word_mask : 0;
     for (std::size_t i = 0; i < w.code_count; ++i) used |= w.codes[i]->word_mask;
     if (owned & ~used)
       for (const grammar::Word& word : ctx.block.words) {
@@ -202,8 +201,7 @@ bool run_motion(BlockCtx& ctx) {
     }
   }
   if (ctx.motion_to_be < 0) return true;
-  const Code* m = find_code('G', ctx.motion_to_be);
-  return m->run(ctx, *m);
+  return ctx.motion_code->run(ctx, *ctx.motion_code);
 }
 
 }  // namespace

@@ -50,6 +50,20 @@ struct BlockWords {
 
 /// One block being executed: the machine, the block, its words and the state copy it changes.
 struct BlockCtx {
+  // (A constructor, not aggregate initialisation: the members without an initialiser of their
+  // own are left unset rather than the whole context zeroed every block.)
+  BlockCtx(const Machine& m, const grammar::Block& b, const BlockWords& words, ModalState& state,
+           std::vector<Canon>& output, InterpError& error, const SystemTables& tables,
+           std::unique_ptr<SystemTables> staged_tables)
+      : machine(m),
+        block(b),
+        w(words),
+        s(state),
+        out(output),
+        err(error),
+        committed(tables),
+        staged(std::move(staged_tables)) {}
+
   const Machine& machine;
   const grammar::Block& block;
   const BlockWords& w;
@@ -59,6 +73,7 @@ struct BlockCtx {
   const SystemTables& committed;         ///< the tables as before this block
   std::unique_ptr<SystemTables> staged;  ///< this block's changes to them, if any
   int motion_to_be = -1;                 ///< the motion code x 10 this block executes, -1 none
+  const Code* motion_code = nullptr;     ///< its code (set with it), null for none
   int call_level = 0;                    ///< subroutine call level (M70..M73 contexts)
   double inverse_f = 0.0;                ///< G93: this block's F (1/min)
   /// G76's I J K scale from a G7/G8 switch in this block (LinuxCNC rescales them then too).
@@ -67,7 +82,7 @@ struct BlockCtx {
   const NurbsCurve* nurbs = nullptr;  ///< the G5.2 curve collected by earlier blocks
   NurbsEdit nurbs_edit{};             ///< this block's change to it (applied on commit)
   G7xCycle* g7x = nullptr;            ///< G70-G72: the cycle this block starts
-  ResultParameters results{};         ///< #5061-#5070, #5399 this block sets (on commit)
+  ResultParameters results;           ///< #5061-#5070, #5399 this block sets (on commit)
 
   /// Sets the error; returns false so a step can `return ctx.fail(...)`.
   bool fail(ErrorCode code, SourceLoc loc, std::string msg) {
