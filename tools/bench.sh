@@ -3,6 +3,8 @@
 # mixing G1 and G2/G3 (IJK and R) with tools/gen_bench_program.py, and measures
 #   - parse+interpret: `gmotion check` MB/s and blocks/s, and `rs274 -g PROGRAM /dev/null`
 #     on the same program with the ratio (when rs274 is installed: install-deps --with-oracle);
+#     the same ratio in CPU seconds of check's busiest thread (tools/thread_cpu.py, best of 5),
+#     what bounds check on two idle cores whatever else the machine runs;
 #   - the same for a 10^6-iteration O-word `while` loop of arithmetic, SIN and a G1
 #     (tests/diff/lang/loop_arith.ngc with its count raised; rs274 once, it takes minutes);
 #   - `gmotion run` without a trace (default machine: 3 axes, blackman, tau 0.164 s, T 4 ms,
@@ -64,6 +66,11 @@ measure() {
   done
 }
 calc() { awk "BEGIN{printf \"$1\", $2}"; }
+# busiest RUNS CMD...: the least CPU seconds of the command's busiest thread over RUNS runs.
+busiest() {
+  local runs=$1; shift
+  python3 tools/thread_cpu.py --runs "$runs" -- "$@" | awk 'NR == 1 || $1 < m {m = $1} END {print m}'
+}
 samples_of() { python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["samples"])' "$1"; }
 
 prog=$work/bench-$blocks.nc
@@ -79,6 +86,9 @@ rows+=("| parse+interpret (\`gmotion check\`) | $(calc "%.0f" "$bytes / 1e6 / $s
 if command -v rs274 >/dev/null; then
   measure 5 rs274 -g "$prog" /dev/null
   rows+=("| \`rs274 -g PROGRAM /dev/null\` (LinuxCNC) | $(calc "%.1f" "$bytes / 1e6 / $secs") MB/s | $secs s: gmotion check is $(calc "%.1f" "$secs / $check_s")x faster |")
+  check_cpu=$(busiest 5 "$bin/gmotion" check "$prog")
+  rs274_cpu=$(busiest 5 rs274 -g "$prog" /dev/null)
+  rows+=("| parse+interpret against rs274 in CPU seconds (\`tools/thread_cpu.py\`, best of 5) | $(calc "%.1f" "$rs274_cpu / $check_cpu")x | check's busiest thread $check_cpu s, rs274 $rs274_cpu s |")
 else
   rows+=("| \`rs274\` | not installed (tools/install-deps.sh --with-oracle) | |")
 fi

@@ -190,6 +190,7 @@ struct CodeIndex {
   std::array<std::int16_t, kMaxNumber10> g{};
   std::array<std::int16_t, kMaxNumber10> m{};
   std::array<bool, 26> word{};
+  std::uint32_t word_mask = 0;  ///< `word` as letter bits
 };
 constexpr CodeIndex make_index() {
   CodeIndex ix;
@@ -202,6 +203,8 @@ constexpr CodeIndex make_index() {
     for (const char w : c.words) ix.word[static_cast<std::size_t>(w - 'A')] = true;
   }
   for (const char w : kUserCodes[0].words) ix.word[static_cast<std::size_t>(w - 'A')] = true;
+  for (std::size_t i = 0; i < ix.word.size(); ++i)
+    if (ix.word[i]) ix.word_mask |= std::uint32_t{1} << i;
   return ix;
 }
 constexpr CodeIndex kIndex = make_index();
@@ -241,6 +244,10 @@ std::string group_name(Group g) {
 
 bool code_word(char letter) {
   return letter >= 'A' && letter <= 'Z' && kIndex.word[static_cast<std::size_t>(letter - 'A')];
+}
+
+std::uint32_t code_word_mask() {
+  return kIndex.word_mask;
 }
 
 std::string codes_using(char letter) {

@@ -79,6 +79,13 @@ struct Code;
 /// reject the whole block.
 using StepFn = bool (*)(BlockCtx&, const Code&);
 
+/// The letters of `letters` (A..Z) as bits: bit i is letter 'A' + i.
+constexpr std::uint32_t letter_mask(std::string_view letters) {
+  std::uint32_t m = 0;
+  for (const char c : letters) m |= std::uint32_t{1} << (c - 'A');
+  return m;
+}
+
 struct Code {
   char letter;                  ///< 'G' or 'M'
   int number10;                 ///< code number x 10 (G92.1 = 921, M30 = 300)
@@ -88,6 +95,7 @@ struct Code {
   StepFn run;                   ///< what it does
   std::string_view words = {};  ///< the value words it uses (besides the ones every block may have)
   bool uses_axes = false;       ///< a group 0 code that takes the axis words (G92)
+  std::uint32_t word_mask = letter_mask(words);  ///< `words` as letter bits (letter_mask)
 };
 
 /// Every code, ordered by group then number (the order used when listing codes in messages).
@@ -103,6 +111,8 @@ inline std::string code_name(const Code& c) {
 std::string group_name(Group g);
 /// True if some code uses value word `letter`.
 bool code_word(char letter);
+/// The letters some code uses as value words, as letter bits (letter_mask).
+std::uint32_t code_word_mask();
 /// "G4, G2, G3, G64 or M50": the codes that use value word `letter`, for messages.
 std::string codes_using(char letter);
 

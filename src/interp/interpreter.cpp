@@ -93,7 +93,11 @@ bool import_words(const grammar::Block& block, const AxisLayout& axes, BlockWord
           err, ErrorCode::DuplicateWord, word.loc,
           fmt::format("{} appears twice in the block (first at column {})", c, slot->loc.column));
     slot = &word;
-    if (axis >= 0 && !w.first_axis) w.first_axis = &word;
+    w.letters |= std::uint32_t{1} << (c - 'A');
+    if (axis >= 0) {
+      w.axes |= 1u << axis;
+      if (!w.first_axis) w.first_axis = &word;
+    }
   }
   return true;
 }
@@ -137,22 +141,27 @@ bool check_block(BlockCtx& ctx) {
                     fmt::format("axis word {} with no motion mode (G0-G3) or G92 to use it",
                                 w.first_axis->letter));
 
-  // Every value word some code owns must be used by a code of this block (or its motion mode).
-  const Code* modal_motion = ctx.motion_to_be >= 0 ? find_code('G', ctx.motion_to_be) : nullptr;
-  for (const grammar::Word& word : ctx.block.words) {
-    const char c = word.letter;
-    if (c == 'G' || c == 'M' || !code_word(c)) continue;
-    bool used = modal_motion && modal_motion->words.find(c) != std::string_view::npos;
-    for (std::size_t i = 0; i < w.code_count; ++i)
-      if (w.codes[i]->words.find(c) != std::string_view::npos) used = true;
-    if (!used)
-      return ctx.fail(ErrorCode::UnusedWord, word.loc,
-                      fmt::format("{} word with no {} to use it", c, codes_using(c)));
+  // Every value word some code owns must be used by a code of this block (or its motion mode):
+  // the letters as bits; the first unused word in the block's order is the error.
+  ctx.motion_code = ctx.motion_to_be >= 0 ? find_code('G', ctx.motion_to_be) : nullptr;
+  if (const std::uint32_t owned = w.letters & code_word_mask()) {
+    std::uint32_t used = ctx.motion_code ? ctx.motion_code->word_mask : 0;
+    for (std::size_t i = 0; i < w.code_count; ++i) used |= w.codes[i]->word_mask;
+    if (owned & ~used)
+      for (const grammar::Word& word : ctx.block.words) {
+        const char c = word.letter;
+        if (c < 'A' || c > 'Z' || c == 'G' || c == 'M') continue;
+        if ((owned & ~used) & (std::uint32_t{1} << (c - 'A')))
+          return ctx.fail(ErrorCode::UnusedWord, word.loc,
+                          fmt::format("{} word with no {} to use it", c, codes_using(c)));
+      }
   }
-  for (char c : {'S', 'T', 'H'})
-    if (w.has(c) && w[c]->value < 0)
-      return ctx.fail(ErrorCode::NegativeValue, w[c]->loc,
-                      fmt::format("{}{:g} is negative", c, w[c]->value));
+  constexpr std::uint32_t kCounts = letter_mask("HST");
+  if (w.letters & kCounts)
+    for (char c : {'S', 'T', 'H'})
+      if (w.has(c) && w[c]->value < 0)
+        return ctx.fail(ErrorCode::NegativeValue, w[c]->loc,
+                        fmt::format("{}{:g} is negative", c, w[c]->value));
   return true;
 }
 
@@ -192,8 +201,7 @@ bool run_motion(BlockCtx& ctx) {
     }
   }
   if (ctx.motion_to_be < 0) return true;
-  const Code* m = find_code('G', ctx.motion_to_be);
-  return m->run(ctx, *m);
+  return ctx.motion_code->run(ctx, *ctx.motion_code);
 }
 
 }  // namespace
@@ -235,8 +243,8 @@ bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, 
   ctx.call_level = call_level_;
   ctx.motion_before = s.motion;
   ctx.nurbs = &nurbs_;
-  G7xCycle g7x;
-  ctx.g7x = &g7x;
+  g7x_next_.pending = false;  // (a failed block may have left it set)
+  ctx.g7x = &g7x_next_;
   if (!check_block(ctx)) return false;
 
   // STEP 4: execute on the copy, step by step in LinuxCNC's order ------------------------------
@@ -262,10 +270,13 @@ bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, 
   if (e.clear) nurbs_.points.clear();
   if (e.order > 0) nurbs_.order = e.order;
   for (int i = 0; i < e.added; ++i) nurbs_.points.push_back(e.add[static_cast<std::size_t>(i)]);
-  if (g7x.pending) g7x_ = std::move(g7x);
+  if (g7x_next_.pending) {
+    g7x_ = std::move(g7x_next_);
+    g7x_next_.pending = false;
+  }
   if (result_params_ != nullptr)
     for (std::size_t i = 0; i < ctx.results.count; ++i)
-      result_params_->set_system(ctx.results.set[i].first, ctx.results.set[i].second);
+      result_params_->set_system(ctx.results.set[i].number, ctx.results.set[i].value);
   return true;
 }
 

@@ -131,7 +131,11 @@ struct ModalState {
 /// after M66): written to the parameter store when the block commits.
 struct ResultParameters {
   static constexpr std::size_t kMax = 16;
-  std::array<std::pair<int, double>, kMax> set{};
+  struct Set {
+    int number;
+    double value;
+  };
+  std::array<Set, kMax> set;  ///< the first `count` are valid (left unset: built every block)
   std::size_t count = 0;
   void add(int n, double v) {
     if (count < kMax) set[count++] = {n, v};
@@ -215,8 +219,9 @@ class Interpreter {
   /// making its copy the state (no second copy), one that fails leaves the state as it was.
   std::array<ModalState, 2> states_{};
   int cur_ = 0;
-  NurbsCurve nurbs_;  ///< the G5.2 control points so far (kept apart: a curve may be long)
-  G7xCycle g7x_;      ///< the lathe cycle being read
+  NurbsCurve nurbs_;   ///< the G5.2 control points so far (kept apart: a curve may be long)
+  G7xCycle g7x_;       ///< the lathe cycle being read
+  G7xCycle g7x_next_;  ///< the cycle a block starts (kept: not built and destroyed per block)
   ModalState& state_mut() { return states_[cur_]; }
   /// The scratch copy, set to the state: what execute() and leave_call() work on.
   ModalState& begin_block() {

@@ -551,6 +551,7 @@ bool ProgramRunner::end_of_input(int last_line, std::vector<Diagnostic>& diags, 
     done_ = !flow_.drop_missing_call(jump);
     return !done_;
   }
+  keep_last_line();
   if (!interp_.state().ended)
     rules_.missing_end(last_line, opened_percent_, last_line_, files_.file_name(file), diags);
   return false;
@@ -585,11 +586,13 @@ bool ProgramRunner::start_failed(std::vector<Diagnostic>& diags) {
   return true;
 }
 
-void ProgramRunner::remember(const std::string& text) {
-  if (text.size() <= 512)
-    last_line_ = text;
+void ProgramRunner::keep_last_line() {
+  if (last_text_ == nullptr) return;
+  if (last_text_->size() <= 512)
+    last_line_ = *last_text_;
   else
     last_line_.clear();
+  last_text_ = nullptr;
 }
 
 bool LineDriver::step(std::vector<Canon>& out, std::vector<Diagnostic>& diags) {
@@ -601,6 +604,7 @@ bool LineDriver::step(std::vector<Canon>& out, std::vector<Diagnostic>& diags) {
     return back_.end_of_input(last, diags, jump, source_.file()) && source_.go(jump, last, diags);
   }
   const bool more = back_.process(line_, out, diags, jump);
+  back_.keep_last_line();  // (line_ is read into next)
   const int number = line_.number;
   line_.trim();
   if (more && jump.seek && !source_.go(jump, number, diags)) return false;
@@ -610,12 +614,14 @@ bool LineDriver::step(std::vector<Canon>& out, std::vector<Diagnostic>& diags) {
 bool LineDriver::step_ahead(std::vector<Canon>& out, std::vector<Diagnostic>& diags) {
   if (batch_ == nullptr || next_ == batch_->count) {
     if (batch_ == nullptr || !batch_->eof) {  // (a released batch is the reader's again)
+      back_.keep_last_line();
       if (batch_ != nullptr) ahead_->release();
       batch_ = &ahead_->acquire();
       next_ = 0;
     }
     if (next_ == batch_->count) {  // the input ended after the lines handed out
       const int last = batch_->last_number;
+      back_.keep_last_line();
       batch_ = nullptr;
       ahead_.reset();
       FlowJump jump;
@@ -627,6 +633,7 @@ bool LineDriver::step_ahead(std::vector<Canon>& out, std::vector<Diagnostic>& di
   const bool more = back_.process(p, out, diags, jump);
   if (more && jump.seek) {
     const int number = p.number;
+    back_.keep_last_line();
     batch_ = nullptr;
     ahead_.reset();  // the reader stops; its batches are dropped
     return source_.go(jump, number, diags);

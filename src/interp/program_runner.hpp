@@ -50,6 +50,9 @@ class ProgramRunner {
   void cannot_seek(int line, std::vector<Diagnostic>& diags);
   /// Writes the parameters to the parameter file (if one is named and it was read), once.
   void save_parameters(std::vector<Diagnostic>& diags) { system_.save(diags); }
+  /// The text of the last line processed is about to change or go (its batch is handed back):
+  /// it is copied for the missing-end diagnostic (lines are only pointed to until then).
+  void keep_last_line();
 
   SubroutineFiles& files() { return files_; }
   bool done() const { return done_; }
@@ -92,7 +95,7 @@ class ProgramRunner {
   /// check_all: the note after an error that ends checking (the lines after it are not read).
   void stopped_here(SourceLoc loc, std::vector<Diagnostic>& diags, std::string_view why) const;
   bool start_failed(std::vector<Diagnostic>& diags);
-  void remember(const std::string& text);
+  void remember(const std::string& text) { last_text_ = &text; }
 
   std::string filename_;
   Machine default_machine_;
@@ -114,7 +117,8 @@ class ProgramRunner {
   HaasCodes haas_;             ///< --dialect haas: G154, G187, M97, ...
   ModalMacroCall modal_call_;  ///< --dialect fanuc, haas: G66/G67
   FanucModal fanuc_;           ///< --dialect fanuc, haas: G16, G68, G51, G51.1, G80's group 01
-  std::string last_line_;
+  std::string last_line_;      ///< the last line's text, kept (keep_last_line)
+  const std::string* last_text_ = nullptr;  ///< the last line's text, not yet kept
   bool log_warned_ = false;
   bool done_ = false;
   bool opened_percent_ = false;

@@ -21,11 +21,14 @@ namespace gm {
 
 /// The words of one block, by letter and by modal group (grbl's parser_block_t).
 struct BlockWords {
-  std::array<const grammar::Word*, 26> value{};  ///< value words by letter
-  std::array<const Code*, kGroupCount> code{};   ///< the block's code in each group
-  std::array<const grammar::Word*, kGroupCount> code_word{};
-  std::array<const Code*, kGroupCount> codes{};  ///< the block's codes in the order written
+  std::array<const grammar::Word*, 26> value{};             ///< value words by letter
+  std::array<const Code*, kGroupCount> code{};              ///< the block's code in each group
+  std::array<const grammar::Word*, kGroupCount> code_word;  ///< valid where `code` is set
+  std::array<const Code*, kGroupCount> codes;  ///< the block's codes in the order written (the
+                                               ///< first code_count; the rest never read)
   std::size_t code_count = 0;
+  std::uint32_t letters = 0;  ///< the value words' letters (letter_mask: bit i is 'A' + i)
+  unsigned axes = 0;          ///< the program axes with a word (bit i: axis i, X = 0)
   const grammar::Word* first_axis = nullptr;
   PolarWords polar;        ///< `@` and `^` (interp/polar.hpp): axis words in place of X and Y
   grammar::Word x_radius;  ///< G7: the X word halved (value['X'] points here then)
@@ -34,7 +37,9 @@ struct BlockWords {
   bool has(char c) const { return (*this)[c] != nullptr; }
   double get(char c, double fallback = 0.0) const { return has(c) ? (*this)[c]->value : fallback; }
   const Code* in(Group g) const { return code[static_cast<std::size_t>(g)]; }
-  const grammar::Word* word_of(Group g) const { return code_word[static_cast<std::size_t>(g)]; }
+  const grammar::Word* word_of(Group g) const {
+    return in(g) ? code_word[static_cast<std::size_t>(g)] : nullptr;
+  }
   /// True if the block has code `letter` number10.
   bool has_code(char letter, int number10) const {
     for (std::size_t i = 0; i < code_count; ++i)
@@ -45,6 +50,20 @@ struct BlockWords {
 
 /// One block being executed: the machine, the block, its words and the state copy it changes.
 struct BlockCtx {
+  // (A constructor, not aggregate initialisation: the members without an initialiser of their
+  // own are left unset rather than the whole context zeroed every block.)
+  BlockCtx(const Machine& m, const grammar::Block& b, const BlockWords& words, ModalState& state,
+           std::vector<Canon>& output, InterpError& error, const SystemTables& tables,
+           std::unique_ptr<SystemTables> staged_tables)
+      : machine(m),
+        block(b),
+        w(words),
+        s(state),
+        out(output),
+        err(error),
+        committed(tables),
+        staged(std::move(staged_tables)) {}
+
   const Machine& machine;
   const grammar::Block& block;
   const BlockWords& w;
@@ -54,6 +73,7 @@ struct BlockCtx {
   const SystemTables& committed;         ///< the tables as before this block
   std::unique_ptr<SystemTables> staged;  ///< this block's changes to them, if any
   int motion_to_be = -1;                 ///< the motion code x 10 this block executes, -1 none
+  const Code* motion_code = nullptr;     ///< its code (set with it), null for none
   int call_level = 0;                    ///< subroutine call level (M70..M73 contexts)
   double inverse_f = 0.0;                ///< G93: this block's F (1/min)
   /// G76's I J K scale from a G7/G8 switch in this block (LinuxCNC rescales them then too).
@@ -62,7 +82,7 @@ struct BlockCtx {
   const NurbsCurve* nurbs = nullptr;  ///< the G5.2 curve collected by earlier blocks
   NurbsEdit nurbs_edit{};             ///< this block's change to it (applied on commit)
   G7xCycle* g7x = nullptr;            ///< G70-G72: the cycle this block starts
-  ResultParameters results{};         ///< #5061-#5070, #5399 this block sets (on commit)
+  ResultParameters results;           ///< #5061-#5070, #5399 this block sets (on commit)
 
   /// Sets the error; returns false so a step can `return ctx.fail(...)`.
   bool fail(ErrorCode code, SourceLoc loc, std::string msg) {

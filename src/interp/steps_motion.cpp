@@ -5,6 +5,7 @@
 #include "interp/steps.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <numbers>
 
 namespace gm {
@@ -131,13 +132,12 @@ bool axis_target(BlockCtx& ctx, const Pos9& from_mm, Pos9& target_mm) {
   const Frame frame = ctx.frame();
   target_mm = from_mm;
   Pos9 words = Pos9::Zero();  // the axis words in mm (absolute: program coordinates)
-  unsigned given = 0;
-  for (int i = 0; i < kProgramAxes; ++i) {
+  unsigned given = ctx.w.axes;
+  for (unsigned m = given; m != 0; m &= m - 1) {
+    const int i = std::countr_zero(m);
     const auto* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]];
-    if (!aw) continue;
     const double unit = axis_is_rotary(i) ? 1.0 : scale;  // A, B, C: degrees in G20 and G21
     words[i] = aw->value * unit;
-    given |= 1u << i;
   }
   if (ctx.w.polar.any()) {  // @ radius, ^ angle in place of X, Y (interp/polar.cpp)
     const grammar::Word* pw = ctx.w.polar.first();
@@ -213,8 +213,10 @@ bool machine_target(BlockCtx& ctx, Pos9& target_mm) {
   return true;
 }
 
-Motion motion_template(const BlockCtx& ctx, MotionKind kind) {
-  Motion mo;
+namespace {
+
+// motion_template's fields, set on `mo`.
+void set_template(const BlockCtx& ctx, MotionKind kind, Motion& mo) {
   mo.line = ctx.block.line;
   mo.kind = kind;
   mo.plane = ctx.s.plane;
@@ -225,6 +227,21 @@ Motion motion_template(const BlockCtx& ctx, MotionKind kind) {
     mo.css_max_rpm = ctx.s.css_max_rpm;
     mo.css_axis_x_mm = ctx.offset()[0];
   }
+}
+
+// The block's next move, made in place at the end of ctx.out as motion_template makes it (no
+// copy of the move).
+Motion& new_motion(BlockCtx& ctx, MotionKind kind) {
+  Motion& mo = std::get<Motion>(ctx.out.emplace_back(std::in_place_type<Motion>));
+  set_template(ctx, kind, mo);
+  return mo;
+}
+
+}  // namespace
+
+Motion motion_template(const BlockCtx& ctx, MotionKind kind) {
+  Motion mo;
+  set_template(ctx, kind, mo);
   return mo;
 }
 
@@ -246,12 +263,16 @@ static bool can_emit(BlockCtx& ctx, const Pos9& target_mm, SourceLoc loc) {
 
 bool emit_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target_mm, SourceLoc loc) {
   if (!can_emit(ctx, target_mm, loc)) return false;
-  Motion mo = motion_template(ctx, kind);
-  mo.start_mm = to_machine(motion_start(ctx), ctx.machine.layout);
-  mo.end_mm = to_machine(target_mm, ctx.machine.layout);
-  if (mo.end_mm != mo.start_mm) {
-    if (kind != MotionKind::Rapid && !set_feed(ctx, mo)) return false;
-    ctx.out.emplace_back(mo);
+  const AxisVec start = to_machine(motion_start(ctx), ctx.machine.layout);
+  const AxisVec end = to_machine(target_mm, ctx.machine.layout);
+  if (end != start) {
+    Motion& mo = new_motion(ctx, kind);
+    mo.start_mm = start;
+    mo.end_mm = end;
+    if (kind != MotionKind::Rapid && !set_feed(ctx, mo)) {
+      ctx.out.pop_back();
+      return false;
+    }
   }
   ctx.s.position_mm = target_mm;
   ctx.s.comp.detached = false;
@@ -260,14 +281,16 @@ bool emit_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target_mm, Source
 
 bool emit_arc(BlockCtx& ctx, const Pos9& target_mm, const Pos9& centre_mm, bool ccw) {
   if (!can_emit(ctx, target_mm, motion_loc(ctx))) return false;
-  Motion mo = motion_template(ctx, MotionKind::Arc);
+  Motion& mo = new_motion(ctx, MotionKind::Arc);
   mo.start_mm = to_machine(ctx.s.position_mm, ctx.machine.layout);
   mo.end_mm = to_machine(target_mm, ctx.machine.layout);
   mo.center_mm = to_machine(centre_mm, ctx.machine.layout);
   mo.ccw = ccw;
   mo.turns = 1;
-  if (!set_feed(ctx, mo)) return false;
-  ctx.out.emplace_back(mo);
+  if (!set_feed(ctx, mo)) {
+    ctx.out.pop_back();
+    return false;
+  }
   ctx.s.position_mm = target_mm;
   return true;
 }
@@ -450,14 +473,16 @@ bool run_arc(BlockCtx& ctx, const Code& c) {
   if (ctx.s.comp.active()) return comp_arc(ctx, c, target, turns);
   Pos9 center;
   if (!arc_centre(ctx, c, s.position_mm, target, center)) return false;
-  Motion mo = motion_template(ctx, MotionKind::Arc);
+  Motion& mo = new_motion(ctx, MotionKind::Arc);
   mo.start_mm = to_machine(s.position_mm, ctx.machine.layout);
   mo.end_mm = to_machine(target, ctx.machine.layout);
   mo.center_mm = to_machine(center, ctx.machine.layout);
   mo.ccw = c.number10 == 30;
   mo.turns = turns;
-  if (!set_feed(ctx, mo)) return false;
-  ctx.out.emplace_back(mo);
+  if (!set_feed(ctx, mo)) {
+    ctx.out.pop_back();
+    return false;
+  }
   s.position_mm = target;
   return true;
 }

@@ -57,7 +57,8 @@ double motion_length_mm(const Motion& m) {
   const double r2 =
       std::hypot(m.end_mm[ax.a] - m.center_mm[ax.a], m.end_mm[ax.b] - m.center_mm[ax.b]);
   const double h = m.end_mm[ax.n] - m.start_mm[ax.n];
-  return std::hypot(0.5 * (r1 + r2) * std::fabs(arc_sweep_rad(m)), h);
+  const double planar_mm = 0.5 * (r1 + r2) * std::fabs(arc_sweep_rad(m));
+  return h == 0.0 ? planar_mm : std::hypot(planar_mm, h);  // hypot(x, 0) is |x| exactly
 }
 
 MotionGeometry MotionGeometry::of(const Motion& m) {

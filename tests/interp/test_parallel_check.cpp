@@ -145,3 +145,21 @@ TEST_CASE("count_program_errors prints what check_program prints and counts its 
   CHECK(files >= 30);
   CHECK(with_errors >= 10);  // the bad corpus: the diagnostics themselves are compared
 }
+
+TEST_CASE("the missing-end diagnostic echoes the program's last line wherever a batch ends") {
+  // Batches close at 1,024 lines: the last line is the last of a batch, the first of one, or
+  // inside one; its text is only copied when its batch is handed back.
+  for (const int lines : {1, 1023, 1024, 1025, 2048, 3000}) {
+    std::string p = "G21 G90 F1000\n";
+    for (int i = 1; i < lines; ++i) p += fmt::format("G1 X{} Y0\n", i % 50);
+    p += "G1 X7.5 Y2 (the last line)\n";
+    for (const auto threads : {gm::CheckThreads::Single, gm::CheckThreads::Auto}) {
+      INFO(lines << " lines, threads " << static_cast<int>(threads));
+      const CheckResult r = check(p, threads);
+      REQUIRE(r.diags.size() == 1);
+      CHECK(r.diags[0].loc.line == lines + 1);
+      CHECK(r.diags[0].source_line == "G1 X7.5 Y2 (the last line)");
+      CHECK(r.diags[0].message == "missing program end: the program must end with M2 or M30");
+    }
+  }
+}
