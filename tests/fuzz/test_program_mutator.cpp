@@ -1,5 +1,6 @@
 // The structure-aware program mutator: splices keep the lines in order before the program's end,
-// and most mutants of a valid program stay valid.
+// and most mutants of a valid program stay valid; the pool breeds from valid parents.
+#include "breed_pool.hpp"
 #include "program_mutator.hpp"
 
 #include "interp/program.hpp"
@@ -73,4 +74,31 @@ TEST_CASE("a mutant of a number near the double maximum is printed, never cast t
     // x86's answer to an out-of-range conversion, which a cast printed: a sign the value flipped.
     CHECK(out.find("-9223372036854775808") == std::string::npos);
   }
+}
+
+TEST_CASE("the breed pool mutates a remembered valid parent in place of an invalid one, 7 in 8") {
+  fuzz::BreedPool pool;
+  pool.ran("G1 X(\n", false);
+  pool.ran("G0 X1\nM2\n", true);
+  // An input worth breeding from (or never run) is its own parent, and is remembered.
+  CHECK(pool.choose("G0 X1\nM2\n", 4096, 5) == "G0 X1\nM2\n");
+  CHECK(pool.choose("G0 Y2\n", 4096, 5) == "G0 Y2\n");
+  CHECK(pool.parents() == 2);
+  // The invalid one: seeds 1..64 give it back for the 8 multiples of 8, else a remembered one.
+  int kept = 0, swapped = 0;
+  for (std::uint32_t seed = 1; seed <= 64; ++seed) {
+    const std::string_view p = pool.choose("G1 X(\n", 4096, seed);
+    if (p == "G1 X(\n")
+      ++kept;
+    else if (p == "G0 X1\nM2\n" || p == "G0 Y2\n")
+      ++swapped;
+  }
+  CHECK(kept == 8);
+  CHECK(swapped == 56);
+  // A parent longer than the mutant may be is not taken (9 and 6 bytes, at most 5 allowed).
+  for (std::uint32_t seed = 1; seed <= 16; ++seed)
+    CHECK(pool.choose("G1 X(\n", 5, seed) == "G1 X(\n");
+  // Run again and found worth breeding (e.g. under another dialect): its own parent again.
+  pool.ran("G1 X(\n", true);
+  CHECK(pool.choose("G1 X(\n", 4096, 1) == "G1 X(\n");
 }
