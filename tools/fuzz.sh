@@ -5,7 +5,8 @@
 # Installs what is missing (tools/install-deps.sh --with-fuzz), builds the four targets in the
 # 'asan' preset's folder (clang-14, ASan+UBSan, libFuzzer coverage; the same build the sanitized
 # tests run from, so CI compiles the core once for both), seeds build-asan/corpus/<target> from tests/fuzz/seeds.txt and
-# tests/fuzz/regressions/<target>/, then runs each target for SECONDS_PER_TARGET and prints one
+# tests/fuzz/regressions/<target>/, then runs each target (with its libFuzzer options from
+# tests/fuzz/options.txt) for SECONDS_PER_TARGET and prints one
 # line per target: executions, seconds, corpus size, result. Exits 1 on a crash, timeout (> 10 s
 # for one input), out-of-memory (> 2048 MB) or leak, naming the input saved under
 # build-asan/artifacts/<target>/ and how to replay it.
@@ -28,6 +29,11 @@ while read -r target rest; do
   [[ -z "$target" || "$target" == \#* ]] && continue
   globs[$target]="$rest"
 done < tests/fuzz/seeds.txt
+declare -A options=()  # libFuzzer options per target
+while read -r target rest; do
+  [[ -z "$target" || "$target" == \#* ]] && continue
+  options[$target]="$rest"
+done < tests/fuzz/options.txt
 
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
 shopt -s nullglob
@@ -48,8 +54,9 @@ for t in "${targets[@]}"; do
   rc=0
   dict=()  # the generator targets read choices, not text: no dictionary
   [[ -f tests/fuzz/$t.dict ]] && dict=(-dict="tests/fuzz/$t.dict")
+  # shellcheck disable=SC2086  # the options are words
   "build-asan/bin/fuzz_$t" "$corpus" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 \
-    "${dict[@]}" -artifact_prefix="$artifacts/" -print_final_stats=1 >"$log" 2>&1 || rc=$?
+    "${dict[@]}" ${options[$t]:-} -artifact_prefix="$artifacts/" -print_final_stats=1 >"$log" 2>&1 || rc=$?
   elapsed=$(($(date +%s) - start))
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n1)
   if [[ -z "$execs" ]]; then  # no final stats after a crash: the last status line has the count

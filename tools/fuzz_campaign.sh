@@ -5,7 +5,7 @@
 # Usage: tools/fuzz_campaign.sh CPU_SECONDS [PARALLEL] [TARGET...]
 #   (default PARALLEL 2, TARGET all six, in the order program gcode pipeline override machine ini)
 # Uses the build and corpora of tools/fuzz.sh (run `tools/fuzz.sh 1` first to build and seed) and
-# its memory limit (2048 MB); it allows 120 s per input (CI's tools/fuzz.sh keeps 10 s) and
+# its memory limit (2048 MB) and the targets' options (tests/fuzz/options.txt); it allows 120 s per input (CI's tools/fuzz.sh keeps 10 s) and
 # reports libFuzzer's slowest inputs without counting them as finds. Writes build-asan/campaign-<target>.log. Prints one
 # line per target: CPU seconds, wall seconds, executions, corpus size, result. Exits 1 if any
 # target found a crash, timeout, out-of-memory or leak (its input under build-asan/artifacts/).
@@ -22,6 +22,12 @@ shift $(($# > 1 ? 2 : 1))
 targets=("$@")
 [[ ${#targets[@]} -eq 0 ]] && targets=(program gcode pipeline override machine ini)
 
+declare -A options=()  # libFuzzer options per target (tests/fuzz/options.txt)
+while read -r target rest; do
+  [[ -z "$target" || "$target" == \#* ]] && continue
+  options[$target]="$rest"
+done < tests/fuzz/options.txt
+
 hz=$(getconf CLK_TCK)
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
 
@@ -35,7 +41,8 @@ run_one() {
   [[ -f tests/fuzz/$t.dict ]] && dict=(-dict="tests/fuzz/$t.dict")
   local start rc=0 pid used=0
   start=$(date +%s)
-  "build-asan/bin/fuzz_$t" "$corpus" -timeout=120 -rss_limit_mb=2048 "${dict[@]}" \
+  # shellcheck disable=SC2086  # the options are words
+  "build-asan/bin/fuzz_$t" "$corpus" -timeout=120 -rss_limit_mb=2048 "${dict[@]}" ${options[$t]:-} \
     -artifact_prefix="$artifacts/" -print_final_stats=1 >"$log" 2>&1 &
   pid=$!
   while kill -0 "$pid" 2>/dev/null; do

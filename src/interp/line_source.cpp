@@ -77,6 +77,7 @@ void ParallelFront::fill(Batch& b) {
   b.eof = false;
   std::size_t bytes = 0;
   while (b.count < kBatchLines && bytes < kBatchBytes) {
+    if (b.count == b.lines.size()) b.lines.emplace_back();
     ParsedLine& p = b.lines[b.count];
     if (!front_.next(p)) {
       b.eof = true;

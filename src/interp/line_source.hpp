@@ -111,7 +111,9 @@ class ParallelFront {
   static constexpr std::size_t kBatchBytes = std::size_t{1} << 20;
 
   struct Batch {
-    std::vector<ParsedLine> lines = std::vector<ParsedLine>(kBatchLines);
+    /// Grows as lines are read, to kBatchLines at most: a short program builds only its lines
+    /// (3 × 1,024 built up front cost a small program's check more than reading it).
+    std::vector<ParsedLine> lines;
     std::size_t count = 0;
     bool eof = false;     ///< the input ends after these lines
     int last_number = 0;  ///< with eof: the last line number read

@@ -28,10 +28,11 @@ namespace fuzz {
 inline constexpr std::int64_t kMaxIterations = 1'000;
 
 // Checks the program, then streams it: both must agree on whether it is valid and on the moves.
-// `opts` gives what else the interpreter is run with (a parameter file). True when it is valid.
-inline bool check_and_stream(const std::string& text, bool block_delete,
-                             gm::Dialect dialect = gm::Dialect::LinuxCNC,
-                             gm::InterpreterOptions opts = {}) {
+// `opts` gives what else the interpreter is run with (a parameter file). The number of moves of
+// a valid program, -1 for an invalid one.
+inline std::int64_t check_and_stream(const std::string& text, bool block_delete,
+                                     gm::Dialect dialect = gm::Dialect::LinuxCNC,
+                                     gm::InterpreterOptions opts = {}) {
   opts.block_delete = block_delete;
   opts.max_iterations = kMaxIterations;
   opts.dialect = dialect;
@@ -72,7 +73,7 @@ inline bool check_and_stream(const std::string& text, bool block_delete,
       std::fputs("fuzz: the stream threw on a program check_program accepted\n", stderr);
       std::abort();
     }
-    return false;
+    return -1;
   }
   if (sum.errors > 0) {
     std::fputs("fuzz: the stream ran to its end through a program check_program refused\n", stderr);
@@ -83,7 +84,7 @@ inline bool check_and_stream(const std::string& text, bool block_delete,
                  static_cast<long long>(sum.moves), static_cast<long long>(moves));
     std::abort();
   }
-  return true;
+  return moves;
 }
 
 }  // namespace fuzz

@@ -181,6 +181,10 @@ class ProgramMutator {
       std::string& l = lines_[below(lines_.size())];
       // An arc's end and centre agree to 0.0005 mm: moving one mostly makes an error.
       if (l.find("G2") != std::string::npos || l.find("G3") != std::string::npos) continue;
+      // Lathe cycles (G70-G76) multiply their passes by depth and extent: a halved depth or a
+      // doubled extent soon reaches the cycle's bound of 200,000 moves, 1-2 s under ASan+UBSan
+      // where most inputs take milliseconds (libFuzzer's byte mutations still change them).
+      if (l.find("G7") != std::string::npos || l.find("g7") != std::string::npos) continue;
       std::vector<std::pair<std::size_t, std::size_t>> numbers;  // start, length
       for (std::size_t i = 0; i < l.size(); ++i) {
         // A value word's number (not a code's, a label's or a keyword's such as END1).
@@ -207,7 +211,11 @@ class ProgramMutator {
       } catch (...) {
         continue;
       }
-      l.replace(at, len, new_number(v, l.find('.', at) < at + len));
+      // A repeat count (L) stays below 10: L99999 on a canned cycle is 100,000 moves, the
+      // block's bound, and seconds under the sanitizers.
+      const bool count = at > 0 && (l[at - 1] == 'L' || l[at - 1] == 'l');
+      l.replace(at, len,
+                count ? std::to_string(below(10)) : new_number(v, l.find('.', at) < at + len));
       return true;
     }
     return false;

@@ -35,14 +35,15 @@ inline bool near(double a, double b, int digits) {
 }
 
 /// Reads `text` as a tool table; when the reader accepts it, the table format_tool_table writes
-/// must read back to the same tools (lengths and diameters to its 9 decimals).
-inline void check_tool_table(const std::string& text) {
+/// must read back to the same tools (lengths and diameters to its 9 decimals). True when the
+/// reader accepts it.
+inline bool check_tool_table(const std::string& text) {
   gm::ToolTable t;
   try {
     std::istringstream in(text);
     t = gm::read_tool_table(in, "fuzz.tbl");
   } catch (const gm::InputError&) {
-    return;
+    return false;
   }
   const std::string written = gm::format_tool_table(t);
   gm::ToolTable back;
@@ -64,6 +65,7 @@ inline void check_tool_table(const std::string& text) {
     if (!same)
       table_broken(fmt::format("tool T{} reads back otherwise:\n{}", a.number, written), text);
   }
+  return true;
 }
 
 /// A file's bytes ("" when it cannot be read).
@@ -92,9 +94,10 @@ inline bool has_numbered_line(const std::string& text) {
 /// Reads `text` as a LinuxCNC `.var` file; when the reader accepts it, the file save_var_file
 /// writes reads back to the same parameters (to its 6 decimals) and writes the same bytes again,
 /// and a program that reads and sets the G54/G55 offsets runs with it (checked and streamed
-/// alike; the stream saves the file at its end, which must read again).
-inline void check_var_file(const std::string& text) {
-  if (!has_numbered_line(text)) return;
+/// alike; the stream saves the file at its end, which must read again). True when the reader
+/// accepts it.
+inline bool check_var_file(const std::string& text) {
+  if (!has_numbered_line(text)) return false;
   const char* dir = std::getenv("TMPDIR");
   const std::string base =
       fmt::format("{}/gmotion-fuzz-var-{}", dir && *dir ? dir : "/tmp", getpid());
@@ -114,7 +117,7 @@ inline void check_var_file(const std::string& text) {
   gm::Diagnostic error;
   if (!params.load_var_file(path, error)) {
     (void)gm::format_diagnostic(path, error);
-    return;
+    return false;
   }
   std::string why;
   if (!params.save_var_file(saved, why)) table_broken("cannot save the parameters: " + why, text);
@@ -144,6 +147,7 @@ inline void check_var_file(const std::string& text) {
     table_broken(fmt::format("the parameter file a program saved does not read: {}\n{}",
                              error.message, file_text(path)),
                  text);
+  return true;
 }
 
 }  // namespace fuzz

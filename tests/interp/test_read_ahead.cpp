@@ -1,5 +1,6 @@
 // ProgramStream with read-ahead (lines read and parsed on a second thread until the first jump)
 // hands on exactly the canon, and throws exactly the error, of the one-thread stream.
+#include "interp/line_source.hpp"
 #include "interp/program.hpp"
 #include "machine/machine.hpp"
 
@@ -106,4 +107,32 @@ TEST_CASE("read-ahead across batches: a long program, a loop after 3000 lines, e
   REQUIRE(r.canon.size() >= 5000);
   require_same_stream("");
   require_same_stream("%\nG0 X1\n%\nG1 X(not read\n");
+}
+
+TEST_CASE("read-ahead batches hold the lines read, not 1,024 made up front") {
+  // 3 lines: one batch of 3 (the end of input found in a 4th slot at most).
+  std::istringstream small("G0 X1\nG1 Y2 F100\nM2\n");
+  gm::ParallelFront three(small);
+  gm::ParallelFront::Batch& b = three.acquire();
+  CHECK(b.count == 3);
+  CHECK(b.eof);
+  CHECK(b.last_number == 3);
+  CHECK(b.lines.size() <= 4);
+  CHECK(b.lines[2].text == "M2");
+  three.release();
+
+  // 2,500 lines: 1,024 + 1,024 + 452, each batch at most kBatchLines long.
+  std::string text;
+  for (int i = 1; i <= 2500; ++i) text += fmt::format("G1 X{}\n", i);
+  std::istringstream long_in(text);
+  gm::ParallelFront front(long_in);
+  const std::size_t counts[] = {1024, 1024, 452};
+  for (int k = 0; k < 3; ++k) {
+    gm::ParallelFront::Batch& batch = front.acquire();
+    CHECK(batch.count == counts[k]);
+    CHECK(batch.eof == (k == 2));
+    CHECK(batch.lines.size() <= gm::ParallelFront::kBatchLines);
+    CHECK(batch.lines[0].number == 1 + 1024 * k);
+    front.release();
+  }
 }
