@@ -78,6 +78,8 @@ class FilterMoments {
   double shortest_pause_s(double tol_mm, double turn_rad, double speed_mm_s) const;
 
  private:
+  friend class CornerMomentGrid;  // runs corner_moment_s's bisection with running sums
+
   void init();
   double pre_moment(double t) const;   // A(t) = Σ h_i (iT − t)⁺
   double pre_pos(double t) const;      // A⁺(t) = ∫_t^∞ (1 − S)⁺

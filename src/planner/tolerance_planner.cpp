@@ -45,12 +45,10 @@ TolerancePlanner::TolerancePlanner(const FilterMoments& filter, const PlannerCon
   }
 }
 
-const std::vector<double>& TolerancePlanner::grid_d() {
+CornerMomentGrid& TolerancePlanner::grid_d() {
   // Built at the first corner: a program without a tolerance never pays for it.
-  if (grid_d_.empty())
-    for (int k = 0; k <= 2 * filter_.order(); ++k)
-      grid_d_.push_back(filter_.corner_moment_s(0.5 * k * filter_.period_s()));
-  return grid_d_;
+  if (!grid_d_) grid_d_.emplace(filter_);
+  return *grid_d_;
 }
 
 double TolerancePlanner::corner_moment(double pause_s) const {
@@ -804,10 +802,10 @@ void TolerancePlanner::decide_corner(Element& e, double share) {
     return true;
   };
   consider(e.pause0, corner_moment(e.pause0));
-  const std::vector<double>& grid = grid_d();
-  for (std::size_t k = 0; k < grid.size(); k += 2) {
-    const double p = 0.5 * static_cast<double>(k) * filter_.period_s();
-    if (p > e.pause0 && !consider(p, grid[k])) break;
+  CornerMomentGrid& grid = grid_d();
+  for (int j = 0; j < grid.size(); ++j) {
+    const double p = 0.5 * static_cast<double>(2 * j) * filter_.period_s();
+    if (p > e.pause0 && !consider(p, grid.at(j))) break;
   }
   e.pause = best_p;
   if (best_v < e.vmax) e.cap = best_v;

@@ -8,6 +8,7 @@
 #include "motion/geometry.hpp"
 #include "planner/arc_precomp.hpp"
 #include "planner/arc_residual_table.hpp"
+#include "planner/corner_moment_grid.hpp"
 #include "planner/filter_moments.hpp"
 #include "planner/naive_cam.hpp"
 
@@ -203,7 +204,7 @@ class TolerancePlanner : public CanonSource {
   /// be active at one instant beside an element with that zone, taken off its share.
   double zone_claims(double z0, double z1) const;
   void push_element(Element e);
-  const std::vector<double>& grid_d();  ///< grid_d_, built on first use
+  CornerMomentGrid& grid_d();  ///< grid_d_, built on first use
   /// filter_.corner_moment_s(pause_s), the last pause asked for kept.
   double corner_moment(double pause_s) const;
   /// Hands on the window's front block: as pieces with their caps, then its pauses and what
@@ -239,8 +240,8 @@ class TolerancePlanner : public CanonSource {
 
   FilterMoments filter_;
   PlannerConfig cfg_;
-  NaiveCamMerger merger_;       ///< reads the upstream source: G64 Q runs arrive merged
-  std::vector<double> grid_d_;  ///< D(k·T/2), k = 0..2N
+  NaiveCamMerger merger_;                   ///< reads the upstream source: G64 Q runs arrive merged
+  std::optional<CornerMomentGrid> grid_d_;  ///< D(j·T), j = 0..N, each on first use
   mutable double moment_pause_s_ = std::numeric_limits<double>::quiet_NaN(), moment_s_ = 0.0;
   // Rings of reused slots, not std::deque: a deque allocates a node per Block and per Canon.
   RingDeque<Block> window_;
