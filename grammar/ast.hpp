@@ -26,8 +26,9 @@ struct ExprOp {
 /// line (spaces and tabs removed, letters upper-cased); id_first/id_last span the whole word.
 struct Word : x3::position_tagged {
   char letter = 0;
-  int num_first = 0;   ///< offset of the number's first character
-  int num_last = 0;    ///< one past its last character
+  bool decimal_point = false;  ///< the number holds a '.' (set by the number rule's point)
+  int num_first = 0;           ///< offset of the number's first character
+  int num_last = 0;            ///< one past its last character
   int expr_first = 0;  ///< the value is an expression: ops [expr_first, expr_last) (else empty)
   int expr_last = 0;
 };

@@ -13,6 +13,7 @@ struct DecimalScan {
   std::ptrdiff_t significant = 0;  ///< how many digits that is (integer part and fraction)
   std::ptrdiff_t decimals = 0;     ///< digits after the point
   bool any_digit = false;          ///< a digit at all (a leading zero counts): not "", "."
+  bool point = false;              ///< a decimal point was read ("2.", ".5", "2.5")
 };
 
 /// Reads digits [. digits] at `p` (left after them; nothing else is consumed).
@@ -26,6 +27,7 @@ inline DecimalScan scan_decimal(const char*& p, const char* end) {
   s.significant = p - int_start;
   s.any_digit = p != first;
   if (p != end && *p == '.') {
+    s.point = true;
     const char* const frac_start = ++p;
     for (; p != end && digit(*p); ++p)
       s.mantissa = s.mantissa * 10 + static_cast<unsigned>(*p - '0');

@@ -68,10 +68,15 @@ struct macro_b_parser : x3::parser<macro_b_parser> {
 };
 inline macro_b_parser const macro_b{};
 
+namespace actions {
+/// The word being read was written with a decimal point (Fanuc's `G04 P2.` against `P2000`).
+inline auto const word_point = [](auto&) { B().words[B().word_count - 1].decimal_point = true; };
+}  // namespace actions
 /// A real number: optional sign, digits with an optional point (leading or trailing). No
 /// exponent: E is a word letter (M66/M67/M68 E<channel>), so X1E5 is X1 then E5, as in rs274.
+inline auto const point = x3::lit('.')[actions::word_point];
 inline auto const number_def = -x3::char_("+-") >>
-                               ((+digit >> -(x3::lit('.') >> *digit)) | (x3::lit('.') >> +digit));
+                               ((+digit >> -(point >> *digit)) | (point >> +digit));
 /// A number inside an expression: no sign (unary minus is an operator), no exponent.
 inline auto const unsigned_number =
     (+digit >> -(x3::lit('.') >> *digit)) | (x3::lit('.') >> +digit);
@@ -91,6 +96,7 @@ inline auto const begin_word = [](auto& ctx) {
   // _where is the input after the match: the letter is the one character before it.
   w.id_first = here(ctx) - 1;
   w.num_first = w.num_last = w.id_last = w.id_first + 1;
+  w.decimal_point = false;
   w.expr_first = w.expr_last = static_cast<int>(b.ops.size());
   b.open = ast::Open::Word;
   b.open_ops = b.ops.size();
@@ -106,6 +112,7 @@ inline auto const end_expr_word = [](auto& ctx) {
   ast::Block& b = B();
   ast::Word& w = b.words[b.word_count - 1];
   w.expr_last = static_cast<int>(b.ops.size());
+  w.decimal_point = false;  // (an expression's value has no written point)
   w.num_first = w.id_first + 1;
   w.num_last = w.id_last = b.offset(x3::_attr(ctx).end());
   b.open = ast::Open::None;

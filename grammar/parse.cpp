@@ -756,7 +756,7 @@ void BlockParser::drop_open_comment(Block& out, const char* begin, const ItemFai
                     ": G-code numbers have no exponent (E is a word letter)");
       continue;
     }
-    out.words.push_back(Word{w.letter, value, loc});
+    out.words.push_back(Word{w.letter, value, loc, w.decimal_point});
   }
 }
 

@@ -17,10 +17,18 @@ namespace gm::grammar {
 struct ItemFailure;
 
 /// One word with its value; `letter` is upper case, `loc` is the letter's line:column.
+/// `decimal_point`: the number was written with a '.' (`P2.`, `P.5`; not `P2000` nor an
+/// expression): Fanuc and Haas read `G04 P2000` in milliseconds, `G04 P2.` in seconds. It sits in
+/// the padding after `letter` (the word stays 24 bytes).
 struct Word {
   char letter = 0;
+  bool decimal_point = false;
   double value = 0.0;
   SourceLoc loc;
+
+  Word() = default;
+  Word(char l, double v, SourceLoc at, bool point = false)
+      : letter(l), decimal_point(point), value(v), loc(at) {}
 };
 
 /// A syntax error at `loc`.

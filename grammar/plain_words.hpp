@@ -35,7 +35,7 @@ inline bool read_plain_words(std::string_view compact, std::size_t start, const 
     const DecimalScan d = scan_decimal(p, end);
     double v = 0.0;
     if (!exact_decimal(d, v)) return false;  // no digit ('X', 'X-', 'X.'), or too many
-    words.push_back(Word{letter, negative ? -v : v, SourceLoc{line, columns[at]}});
+    words.emplace_back(letter, negative ? -v : v, SourceLoc{line, columns[at]}, d.point);
   }
   return true;
 }

@@ -80,6 +80,11 @@ class DialectRules {
   /// lacks is a zero-length tool, added to `add` with a warning.
   void missing_tools(const grammar::Block& block, const ToolTable& tools, const std::string& text,
                      std::vector<Diagnostic>& diags, std::vector<ToolEntry>& add) const;
+  /// Fanuc and Haas dwell (G04): `P` without a decimal point is milliseconds (`P2000` = 2 s);
+  /// `X` (and `U` on a `lathe`) is seconds; Haas reads `P2.5` as seconds, Fanuc refuses a point
+  /// in P. Rewritten into LinuxCNC's `G4 P<seconds>`; false with the error in `diags`.
+  bool fanuc_dwell(grammar::Block& block, bool lathe, const std::string& text,
+                   std::vector<Diagnostic>& diags) const;
   /// The input ended after line `last_line` (0: empty) without M2/M30 or a closing '%':
   /// LinuxCNC's error, Fanuc's warning, nothing for grbl (it streams). `opened_percent`: the
   /// program opened with '%'; `last_text` and `file` locate it.

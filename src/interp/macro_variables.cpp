@@ -15,6 +15,11 @@ constexpr const char* kMacroKnown =
 bool macro_local_or_common(int n) {
   return (n >= 1 && n <= ParameterStore::kMacroLocals) || (n >= 100 && n <= 999);
 }
+/// Haas's tool feed timers: tools 1-100, seconds (Haas mill operator's manual, macro system
+/// variables table).
+bool haas_feed_timer(int n) {
+  return n >= 5401 && n <= 5500;
+}
 bool macro_work_offset(int n) {
   return n >= 5221 && n <= 5346 && (n - 5221) % 20 < 6;
 }
@@ -152,6 +157,10 @@ bool MacroVariables::read(int n, SourceLoc loc, double& v, InterpError& err) con
     return true;
   }
   if (modal(n, v) || position(n, v)) return true;
+  if (haas_ && haas_feed_timer(n)) {  // a fresh machine: no tool has fed yet
+    v = 0.0;
+    return true;
+  }
   return fail(
       err, ErrorCode::ParameterOutOfRange, loc,
       n < 1000
@@ -166,7 +175,7 @@ bool MacroVariables::writable(int n, SourceLoc loc, InterpError& err) const {
     return fail(err, ErrorCode::ParameterReadOnly, loc,
                 "#0 is always vacant: it cannot be set (write #i = #0 to make #i vacant)");
   double v = 0.0;
-  if (modal(n, v) || position(n, v) || (n >= 5061 && n <= 5066))
+  if (modal(n, v) || position(n, v) || (n >= 5061 && n <= 5066) || (haas_ && haas_feed_timer(n)))
     return fail(err, ErrorCode::ParameterReadOnly, loc,
                 fmt::format("system variable #{} is read-only", n));
   return read(n, loc, v, err);  // the error naming an unknown variable

@@ -39,6 +39,10 @@ class MacroVariables {
     polar_ = polar;
   }
 
+  /// Haas (--dialect haas): the tool feed timers #5401-#5500 (seconds of feed of tools 1-100)
+  /// read 0, as on a fresh machine (gmotion keeps no tool life).
+  void set_haas(bool on) { haas_ = on; }
+
   /// The variable number `v` as computed (`#[#1+2]`): an integer >= 0 (a vacant index is #0).
   static bool number(double v, SourceLoc loc, int& n, InterpError& err);
   /// Reads #n. False with a located error naming the variable when there is no such one.
@@ -57,6 +61,7 @@ class MacroVariables {
   ParameterStore& params_;
   long sequence_ = -1;
   bool scaling_ = false, rotation_ = false, polar_ = false;
+  bool haas_ = false;
   double program_ = kVacant;
 };
 

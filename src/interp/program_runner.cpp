@@ -47,6 +47,7 @@ ProgramRunner::ProgramRunner(std::string filename, const InterpreterOptions& opt
   if (!system_.load(error)) start_error_.push_back(std::move(error));
   if (fanuc_family(opts.dialect)) {  // Fanuc Macro B: vacant variables, IF/GOTO/WHILE, G65
     macro_vars_.start();
+    macro_vars_.set_haas(opts.dialect == Dialect::Haas);
     evaluator_.set_macro(&macro_vars_);
     flow_.set_macro(&macro_vars_);
     files_.set_macro_b(true);
@@ -200,6 +201,7 @@ bool ProgramRunner::content(Line& l) {
     if (rules_.dialect() == Dialect::Haas && HaasCodes::local_call(block)) return local_call(l);
     if (!dialect_rewrite(l)) return true;
     if (!rules_.machine_codes(block, l.p.text, l.diags)) return true;
+    if (!rules_.fanuc_dwell(block, fanuc_lathe_, l.p.text, l.diags)) return true;
   }
   InterpError err;
   if (g7x_.collecting()) {  // a G7x profile: read, not run

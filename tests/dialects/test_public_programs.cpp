@@ -91,17 +91,6 @@ double css_rpm(double v_m_min, double r_mm, double cap_rpm = 0.0) {
   return cap_rpm > 0.0 && rpm > cap_rpm ? cap_rpm : rpm;
 }
 
-// Each line holding `needle` left as its sequence number only (the line count is kept).
-std::string blank_lines_with(const std::string& text, const std::string& needle) {
-  std::istringstream in(text);
-  std::string line, out;
-  while (std::getline(in, line)) {
-    if (line.find(needle) != std::string::npos) line = line.substr(0, line.find(' '));
-    out += line + "\n";
-  }
-  return out;
-}
-
 std::string replace_all(std::string text, const std::string& from, const std::string& to) {
   for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at))
     text.replace(at, from.size(), to), at += to.size();
@@ -122,8 +111,19 @@ TEST_CASE("public programs: each checks clean or fails with its documented error
     CHECK(e[0].loc.column == 9);
     CHECK(e[0].message.find("H word") != std::string::npos);
   }
-  {  // `IF [ #5405 GE 6000 ] ...`: Haas's tool feed timers #5401-#5500 are not read
+  {  // `IF [ #5405 GE 6000 ] ...` reads 0 (a fresh machine's timers): no alarm. The built-in
+     // tool 4 (a 5 mm spot drill) gouges the 2.75 mm lead-in arc under G41 at line 32; the
+     // two arcs after it start where that arc did not take the tool (their radii differ).
     const auto e = errors_of(read_file("haas_thread_mill.nc"), mill, gm::Dialect::Haas);
+    REQUIRE(e.size() == 3);
+    CHECK(e[0].loc.line == 32);
+    CHECK(e[0].loc.column == 6);
+    CHECK(e[0].message.find("gouging") != std::string::npos);
+    CHECK(e[1].loc.line == 33);
+    CHECK(e[2].loc.line == 34);
+  }
+  {  // Under fanuc the Haas timers are not variables: the located error stays.
+    const auto e = errors_of(read_file("haas_thread_mill.nc"), mill, gm::Dialect::Fanuc);
     REQUIRE(e.size() == 1);
     CHECK(e[0].loc.line == 7);
     CHECK(e[0].loc.column == 10);
@@ -169,12 +169,16 @@ TEST_CASE("public programs: Fanuc lathe flange with Macro B variables, moves by 
   require_zx(r.of(46).at(0), K::Line, -8.8, 22.575);
   // Line 53 `G96X[#501+2.]Z[#505+50.]` under T0303 (line 52): r176 + 2, Z50 - 1.5.
   require_zx(r.of(53).at(0), K::Rapid, 48.5, 178.0);
-  // Lines 62, 65, 68 `G4P200`, `G04P2000`, `G4P6000`: P read in seconds as LinuxCNC reads it
-  // (a Fanuc control: milliseconds; not modelled, docs/dialects.md).
+  // Lines 62, 65, 68 `G4P200`, `G04P2000`, `G4P6000`: P without a decimal point is
+  // milliseconds on a Fanuc control: 0.2 s, 2 s, 6 s, 8.2 s of dwell in all.
   REQUIRE(r.dwells.size() == 3);
   CHECK(r.dwells[0].line == 62);
-  CHECK(r.dwells[0].seconds == Approx(200.0));
-  CHECK(r.dwells[2].seconds == Approx(6000.0));
+  CHECK(r.dwells[0].seconds == Approx(0.2));
+  CHECK(r.dwells[1].line == 65);
+  CHECK(r.dwells[1].seconds == Approx(2.0));
+  CHECK(r.dwells[2].line == 68);
+  CHECK(r.dwells[2].seconds == Approx(6.0));
+  CHECK(r.dwells[0].seconds + r.dwells[1].seconds + r.dwells[2].seconds == Approx(8.2));
 }
 
 // :0097 (FANUC 0M) with `G42 H19` written `G42 D19` (tool 19 is not in the table: radius 0, the
@@ -201,12 +205,12 @@ TEST_CASE("public programs: FANUC 0M slot, H19 read as D19, moves by hand") {
   require_xyz(r.of(22).at(0), K::Line, -910.0, 0.0, 42.46);
 }
 
-// O00094 (HAAS) with its two tool-life checks (`IF [#5405 GE 6000] THEN #3000=15`) left out and
-// a tool table whose thread mill (T4) has a 1 mm diameter (the built-in 5 mm spot drill gouges
-// the 2.75 mm lead-in arc under G41, a located error at line 32). G10 L2 P1 X-269.39 Y-254.65
-// Z-689. is G54.
-TEST_CASE("public programs: Haas thread milling, tool-life lines left out, moves by hand") {
-  const std::string text = blank_lines_with(read_file("haas_thread_mill.nc"), "#3000");
+// O00094 (HAAS) as published: its two tool-life checks (`IF [#5405 GE 6000] THEN #3000=15`)
+// read a fresh machine's feed timers (0 s: no alarm); a tool table whose thread mill (T4) has a
+// 1 mm diameter (the built-in 5 mm spot drill gouges the 2.75 mm lead-in arc under G41, a
+// located error at line 32). G10 L2 P1 X-269.39 Y-254.65 Z-689. is G54.
+TEST_CASE("public programs: Haas thread milling, moves by hand") {
+  const std::string text = read_file("haas_thread_mill.nc");
   gm::Machine mill = gm::default_machine();
   std::istringstream tools("T3 P3 Z45 D20\nT4 P4 Z70 D1\n");
   mill.tool_table = gm::read_tool_table(tools, "<test>");
@@ -261,5 +265,54 @@ TEST_CASE("public programs: a Fanuc lathe starts in G99, G00 G80 is one block") 
     REQUIRE(r.of(6).size() == 1);
     require_xyz(r.of(6)[0], gm::MotionKind::Line, 5.0, 0.0, 5.0);
     CHECK(r.of(6)[0].feed_mm_min == Approx(50.0));
+  }
+}
+
+// Fanuc's and Haas's G04: P without a decimal point in milliseconds, X (U on a lathe) in seconds.
+TEST_CASE("public programs: G04 P in milliseconds, X and U in seconds") {
+  const gm::Machine mill = gm::default_machine();
+  const std::string p = "#1 = 3000\nG04 P2000\nG4 P250\nG04 X1.5\nG04 X2\nG4 P#1\nM30\n";
+  for (gm::Dialect d : {gm::Dialect::Fanuc, gm::Dialect::Haas}) {
+    INFO(gm::dialect_name(d));
+    REQUIRE(errors_of(p, mill, d).empty());
+    const Run r = run(p, mill, d);
+    // `P#1`: a value from a variable has no written point, so milliseconds (3000 ms).
+    REQUIRE(r.dwells.size() == 5);
+    CHECK(r.dwells[0].seconds == Approx(2.0));
+    CHECK(r.dwells[1].seconds == Approx(0.25));
+    CHECK(r.dwells[2].seconds == Approx(1.5));
+    CHECK(r.dwells[3].seconds == Approx(2.0));
+    CHECK(r.dwells[4].seconds == Approx(3.0));
+  }
+  {  // LinuxCNC: P in seconds, unchanged.
+    const Run r = run("G4 P2000\nG4 P2.5\nM2\n", mill, gm::Dialect::LinuxCNC);
+    REQUIRE(r.dwells.size() == 2);
+    CHECK(r.dwells[0].seconds == Approx(2000.0));
+    CHECK(r.dwells[1].seconds == Approx(2.5));
+  }
+  {  // A point in P: Haas seconds; Fanuc refuses it (the manual: no decimal point in P).
+    const std::string q = "G04 P2.5\nG04 P.5\nM30\n";
+    const Run haas = run(q, mill, gm::Dialect::Haas);
+    REQUIRE(haas.dwells.size() == 2);
+    CHECK(haas.dwells[0].seconds == Approx(2.5));
+    CHECK(haas.dwells[1].seconds == Approx(0.5));
+    const auto e = errors_of(q, mill, gm::Dialect::Fanuc);
+    REQUIRE(e.size() == 2);
+    CHECK(e[0].loc.line == 1);
+    CHECK(e[0].loc.column == 5);
+    CHECK(e[0].message.find("milliseconds") != std::string::npos);
+  }
+  {  // P and X together: one error.
+    const auto e = errors_of("G04 P100 X1.\nM30\n", mill, gm::Dialect::Fanuc);
+    REQUIRE(e.size() == 1);
+    CHECK(e[0].loc.column == 10);
+  }
+  {  // A lathe: U is seconds too (not an incremental X), X not a diameter.
+    const Run r = run("G04 U1.5\nG04 X3.\nG4 P500\nM30\n", lathe(), gm::Dialect::Fanuc);
+    REQUIRE(r.dwells.size() == 3);
+    CHECK(r.dwells[0].seconds == Approx(1.5));
+    CHECK(r.dwells[1].seconds == Approx(3.0));
+    CHECK(r.dwells[2].seconds == Approx(0.5));
+    CHECK(r.moves.empty());
   }
 }

@@ -38,8 +38,9 @@ std::string describe(const Block& b) {
   std::string s = "line " + std::to_string(b.line) + (b.block_delete ? " /" : "") +
                   (b.percent ? " %" : "") + (b.percent_text ? " %text" : "") + "\n";
   for (const auto& w : b.words)
-    s += std::string(1, w.letter) + " " + std::to_string(std::bit_cast<std::uint64_t>(w.value)) +
-         " @" + std::to_string(w.loc.line) + ":" + std::to_string(w.loc.column) + "\n";
+    s += std::string(1, w.letter) + (w.decimal_point ? "." : "") + " " +
+         std::to_string(std::bit_cast<std::uint64_t>(w.value)) + " @" + std::to_string(w.loc.line) +
+         ":" + std::to_string(w.loc.column) + "\n";
   for (const auto& e : b.errors)
     s += "error " + std::to_string(static_cast<int>(e.code)) + " @" + std::to_string(e.loc.column) +
          " " + e.message + "\n";
@@ -112,6 +113,17 @@ TEST_CASE("plain-line scanner: hand-worked lines") {
   CHECK(w[3].value == 600.0);
   CHECK(w[3].loc.column == 16);
 
+  // The decimal point is kept: `F600.` and `X-.5` have one, `G1` not.
+  CHECK_FALSE(w[0].decimal_point);
+  CHECK(w[1].decimal_point);
+  CHECK(w[2].decimal_point);
+  CHECK(w[3].decimal_point);
+  REQUIRE(scan("G4 P2000 X2. P0", w));
+  REQUIRE(w.size() == 4);
+  CHECK_FALSE(w[1].decimal_point);
+  CHECK(w[2].decimal_point);
+  CHECK_FALSE(w[3].decimal_point);
+
   REQUIRE(scan("X 1 0\tY+007.50 Z-0", w));  // spaces inside a number, leading zeros, -0
   REQUIRE(w.size() == 3);
   CHECK(w[0].value == 10.0);
@@ -134,6 +146,38 @@ TEST_CASE("plain-line scanner: hand-worked lines") {
     CHECK_FALSE(scan(line, w));
   // 15 digits after the leading zeros still fit; leading zeros do not count.
   CHECK(scan("X123456789012345 Y0000000000000000001.5", w));
+}
+
+TEST_CASE("decimal point: the scanner and the block rule keep it alike") {
+  BlockParser fast, rule;
+  rule.set_plain_fast_path(false);
+  Block a, b;
+  // Plain lines (the scanner on `fast`), then lines only the block rule reads.
+  for (const char* line : {"G04 P2000 X2. Y.5 Z-1.25 F0", "G4 P200 (dwell)", "G1 X[2.5] Y#1 Z3.",
+                           "G1 X1.E5", "#1=2. G4 P2"}) {
+    INFO(line);
+    fast.parse(line, 1, a);
+    rule.parse(line, 1, b);
+    CHECK(describe(a) == describe(b));
+  }
+  fast.parse("G04 P2000 X2. Y.5 Z-1.25 F0", 1, a);
+  REQUIRE(a.words.size() == 6);
+  const bool want[] = {false, false, true, true, true, false};
+  for (std::size_t i = 0; i < 6; ++i) CHECK(a.words[i].decimal_point == want[i]);
+  rule.parse("G4 P200 (dwell)", 1, b);
+  REQUIRE(b.words.size() == 2);
+  CHECK_FALSE(b.words[1].decimal_point);
+  // An expression's value has no written point; `Z3.` after it has.
+  rule.parse("G1 X[2.5] Y#1 Z3.", 1, b);
+  REQUIRE(b.words.size() == 4);
+  CHECK_FALSE(b.words[1].decimal_point);
+  CHECK_FALSE(b.words[2].decimal_point);
+  CHECK(b.words[3].decimal_point);
+  // The word storage is reused from line to line: a point does not stay behind.
+  rule.parse("X1. Y2. Z3.", 1, b);
+  rule.parse("X1 Y2 Z[3.]", 1, b);
+  REQUIRE(b.words.size() == 3);
+  for (const auto& w : b.words) CHECK_FALSE(w.decimal_point);
 }
 
 TEST_CASE("plain-line scanner: the same blocks as the block rule on every program") {

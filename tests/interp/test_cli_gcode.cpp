@@ -25,6 +25,24 @@ TEST_CASE("gmotion moves prints one JSON object per canonical move (mm, mm/min)"
         "{\"line\":5,\"kind\":\"dwell\",\"seconds\":0.5}\n");
 }
 
+TEST_CASE("gmotion moves: G04 P in milliseconds under fanuc and haas, seconds under linuxcnc") {
+  const std::string prog = "printf 'G04 P2000\\nG04 X1.5\\nG4 P2.5\\nM30\\n' | ";
+  // Haas: P2000 is 2000 ms, X1.5 is 1.5 s, P2.5 (a decimal point) is 2.5 s.
+  auto r = sh(prog + gmtest::gmotion_bin() + " moves - --dialect haas");
+  CHECK(r.code == 0);
+  CHECK(r.out ==
+        "{\"line\":1,\"kind\":\"dwell\",\"seconds\":2}\n"
+        "{\"line\":2,\"kind\":\"dwell\",\"seconds\":1.5}\n"
+        "{\"line\":3,\"kind\":\"dwell\",\"seconds\":2.5}\n");
+  // Fanuc: a decimal point in P is refused at the P (line 3 `G4 P2.5`, column 4).
+  r = sh(prog + gmtest::gmotion_bin() + " check - --dialect fanuc 2>&1");
+  CHECK(r.code == 1);
+  CHECK(r.out.find(":3:4: error: G04 P2.5: Fanuc's P is milliseconds") != std::string::npos);
+  // LinuxCNC: P in seconds.
+  r = sh("printf 'G4 P2000\\nM2\\n' | " + gmtest::gmotion_bin() + " moves -");
+  CHECK(r.out == "{\"line\":1,\"kind\":\"dwell\",\"seconds\":2000}\n");
+}
+
 TEST_CASE("gmotion moves prints nothing and exits 1 when any line is bad") {
   const auto r = sh("printf 'G1 X1 F100\\nG1 X[1/0]\\nM2\\n' | " + gmtest::gmotion_bin() +
                     " moves - 2>/dev/null");
