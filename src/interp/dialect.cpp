@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
@@ -213,9 +214,9 @@ bool DialectRules::fanuc_dwell(grammar::Block& block, bool lathe, const std::str
                                std::vector<Diagnostic>& diags) const {
   if (!fanuc_family(dialect_)) return true;
   auto& words = block.words;
-  bool dwell = false;
-  for (const grammar::Word& w : words) dwell = dwell || (w.letter == 'G' && w.value == 4.0);
-  if (!dwell) return true;
+  if (std::none_of(words.begin(), words.end(),
+                   [](const grammar::Word& w) { return w.letter == 'G' && w.value == 4.0; }))
+    return true;
   grammar::Word* p = nullptr;
   grammar::Word* seconds = nullptr;  // X, or U on a lathe
   for (grammar::Word& w : words) {
