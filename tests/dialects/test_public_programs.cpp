@@ -316,3 +316,75 @@ TEST_CASE("public programs: G04 P in milliseconds, X and U in seconds") {
     CHECK(r.moves.empty());
   }
 }
+
+// The drilling cycles' dwell P as G04's: milliseconds without a decimal point (zanotowane.pl
+// "G81 Drilling Spot Boring": P the dwell at the bottom, "see the G04 code"; cnclearning.com
+// "G82": P in milliseconds on Fanuc controls), Haas's P with a point in seconds, Fanuc's refused.
+TEST_CASE("public programs: drilling cycles' dwell P in milliseconds under fanuc and haas") {
+  const gm::Machine mill = gm::default_machine();
+  // G99 (the start): each hole from R2 down to Z-5 and back to R2. Line 3 changes the dwell for
+  // its hole and the next (P is sticky), line 5 is a G89 of its own.
+  const std::string p =
+      "G0 X0 Y0 Z10\nG82 X10 Y10 Z-5 R2 P1500 F100\nX20 P500\nX30\nG89 X40 Z-3 R2 P250\n"
+      "G80\nM30\n";
+  for (gm::Dialect d : {gm::Dialect::Fanuc, gm::Dialect::Haas}) {
+    INFO(gm::dialect_name(d));
+    REQUIRE(errors_of(p, mill, d).empty());
+    const Run r = run(p, mill, d);
+    REQUIRE(r.dwells.size() == 4);
+    CHECK(r.dwells[0].line == 2);
+    CHECK(r.dwells[0].seconds == Approx(1.5));
+    CHECK(r.dwells[1].line == 3);
+    CHECK(r.dwells[1].seconds == Approx(0.5));
+    CHECK(r.dwells[2].line == 4);
+    CHECK(r.dwells[2].seconds == Approx(0.5));
+    CHECK(r.dwells[3].line == 5);
+    CHECK(r.dwells[3].seconds == Approx(0.25));
+    // Line 2: over to (10, 10) at Z10, down to R2, fed to Z-5 at F100, back to R2 (G99).
+    const auto hole = r.of(2);
+    REQUIRE(hole.size() == 4);
+    require_xyz(hole[0], gm::MotionKind::Rapid, 10.0, 10.0, 10.0);
+    require_xyz(hole[1], gm::MotionKind::Rapid, 10.0, 10.0, 2.0);
+    require_xyz(hole[2], gm::MotionKind::Line, 10.0, 10.0, -5.0);
+    CHECK(hole[2].feed_mm_min == Approx(100.0));
+    require_xyz(hole[3], gm::MotionKind::Rapid, 10.0, 10.0, 2.0);
+    // Line 5 (G89): fed back out to R2 after its dwell.
+    const auto bore = r.of(5);
+    REQUIRE(bore.size() == 3);
+    require_xyz(bore[1], gm::MotionKind::Line, 40.0, 10.0, -3.0);
+    require_xyz(bore[2], gm::MotionKind::Line, 40.0, 10.0, 2.0);
+  }
+  {  // LinuxCNC: seconds, unchanged.
+    const Run r = run(p, mill, gm::Dialect::LinuxCNC);
+    REQUIRE(r.dwells.size() == 4);
+    CHECK(r.dwells[0].seconds == Approx(1500.0));
+    CHECK(r.dwells[1].seconds == Approx(500.0));
+    CHECK(r.dwells[2].seconds == Approx(500.0));
+    CHECK(r.dwells[3].seconds == Approx(250.0));
+  }
+  {  // A point in P: Haas seconds; Fanuc refuses it at the P.
+    const std::string q = "G0 X0 Y0 Z10\nG82 X10 Y10 Z-5 R2 P1.5 F100\nG80\nM30\n";
+    const Run haas = run(q, mill, gm::Dialect::Haas);
+    REQUIRE(haas.dwells.size() == 1);
+    CHECK(haas.dwells[0].seconds == Approx(1.5));
+    const auto e = errors_of(q, mill, gm::Dialect::Fanuc);
+    REQUIRE(e.size() == 1);
+    CHECK(e[0].loc.line == 2);
+    CHECK(e[0].loc.column == 20);
+    CHECK(e[0].message ==
+          "G82 P1.5: Fanuc's P is milliseconds without a decimal point (write P1500)");
+  }
+  {  // Under the cycle, a P another code takes is that code's: `G10 L2 P1 X5` sets G54's X
+     // (P1 is not 0.001), the next hole is at X20 + 5.
+    const std::string q =
+        "G0 X0 Y0 Z10\nG82 X10 Y10 Z-5 R2 P1000 F100\nG10 L2 P1 X5\nX20\n"
+        "G80\nM30\n";
+    REQUIRE(errors_of(q, mill, gm::Dialect::Fanuc).empty());
+    const Run r = run(q, mill, gm::Dialect::Fanuc);
+    CHECK(r.of(3).empty());
+    REQUIRE(r.dwells.size() == 2);
+    CHECK(r.dwells[1].line == 4);
+    CHECK(r.dwells[1].seconds == Approx(1.0));
+    require_xyz(r.of(4).at(1), gm::MotionKind::Line, 25.0, 10.0, -5.0);
+  }
+}
