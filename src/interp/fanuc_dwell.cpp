@@ -19,8 +19,10 @@ bool drilling_cycle(int number10) {
   return number10 == 730 || number10 == 740 || (number10 >= 810 && number10 <= 890);
 }
 
+// The code x 10 of G or M word `w` (G82 = 820), -1 out of the codes' range.
 int code10(const grammar::Word& w) {
-  return static_cast<int>(std::lround(w.value * 10.0));
+  const double t = w.value * 10.0;
+  return t >= 0.0 && t < 1e5 ? static_cast<int>(std::lround(t)) : -1;
 }
 
 // Another code of the block than a drilling cycle takes P (G10 L2 P1, G64 P, M66 P, ...), or
