@@ -97,6 +97,8 @@ class DialectRules {
   bool start_block(grammar::Block& block) const;
 
  private:
+  bool dwell_words(grammar::Block& block, bool lathe, int motion, const std::string& text,
+                   std::vector<Diagnostic>& diags) const;
   bool g04_dwell(grammar::Block& block, grammar::Word* p, bool lathe, const std::string& text,
                  std::vector<Diagnostic>& diags) const;
   bool dwell_p(grammar::Word& p, const std::string& code, bool or_x, const std::string& text,

@@ -65,25 +65,31 @@ bool DialectRules::dwell_p(grammar::Word& p, const std::string& code, bool or_x,
 bool DialectRules::fanuc_dwell(grammar::Block& block, bool lathe, int motion,
                                const std::string& text, std::vector<Diagnostic>& diags) const {
   if (!fanuc_family(dialect_)) return true;
+  for (const grammar::Word& w : block.words)
+    if (w.letter == 'P' || (w.letter == 'G' && w.value == 4.0))
+      return dwell_words(block, lathe, motion, text, diags);
+  return true;
+}
+
+// A block with a P or a G04: the G04's time, or a drilling cycle's P. Kept out of line: the scan
+// above, run on every block, then saves no registers.
+[[gnu::noinline]] bool DialectRules::dwell_words(grammar::Block& block, bool lathe, int motion,
+                                                 const std::string& text,
+                                                 std::vector<Diagnostic>& diags) const {
   grammar::Word* p = nullptr;
   bool g04 = false;
-  int cycle = -1;  // a drilling cycle named in the block (x 10)
   for (grammar::Word& w : block.words) {
-    if (w.letter == 'P') {
-      p = &w;
-    } else if (w.letter == 'G') {
-      if (w.value == 4.0) g04 = true;
-      if (const int n = code10(w); drilling_cycle(n)) cycle = n;
-    }
+    if (w.letter == 'P') p = &w;
+    g04 = g04 || (w.letter == 'G' && w.value == 4.0);
   }
   if (g04) return g04_dwell(block, p, lathe, text, diags);
   // A drilling cycle's P on a mill (a lathe's G74 P is a peck's width, its drilling cycles are
   // refused), in the cycle's block or a later block of holes under it.
   if (p == nullptr || lathe || block.oword.kind != grammar::OKind::None) return true;
-  if (cycle < 0) {
-    if (!drilling_cycle(motion)) return true;
-    cycle = motion;
-  }
+  int cycle = motion;
+  for (const grammar::Word& w : block.words)
+    if (w.letter == 'G' && drilling_cycle(code10(w))) cycle = code10(w);
+  if (!drilling_cycle(cycle)) return true;
   if (p_of_another_code(block)) return true;
   return dwell_p(*p, code_name('G', cycle), false, text, diags);
 }
