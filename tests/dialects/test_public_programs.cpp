@@ -383,6 +383,13 @@ TEST_CASE("public programs: drilling cycles' dwell P in milliseconds under fanuc
     CHECK(e[0].message ==
           "G82 P1.5: Fanuc's P is milliseconds without a decimal point (write P1500)");
   }
+  {  // G84 (tapping, M3): its dwell at the bottom between feeding in and the reversed feed out.
+    const std::string q = "S500 M3\nG0 X0 Y0 Z10\nG84 X5 Y5 Z-5 R2 P250 F100\nG80\nM30\n";
+    const Run r = run(q, mill, gm::Dialect::Fanuc);
+    REQUIRE(r.dwells.size() == 1);
+    CHECK(r.dwells[0].line == 3);
+    CHECK(r.dwells[0].seconds == Approx(0.25));
+  }
   {  // Under the cycle, a P another code takes is that code's: `G10 L2 P1 X5` sets G54's X
      // (P1 is not 0.001), the next hole is at X20 + 5.
     const std::string q =
