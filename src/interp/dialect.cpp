@@ -7,7 +7,6 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
@@ -208,43 +207,6 @@ bool DialectRules::machine_codes(grammar::Block& block, const std::string& text,
     words.erase(words.begin() + static_cast<std::ptrdiff_t>(i));
   }
   return !(words.empty() && block.message_count == 0);
-}
-
-bool DialectRules::fanuc_dwell(grammar::Block& block, bool lathe, const std::string& text,
-                               std::vector<Diagnostic>& diags) const {
-  if (!fanuc_family(dialect_)) return true;
-  auto& words = block.words;
-  if (std::none_of(words.begin(), words.end(),
-                   [](const grammar::Word& w) { return w.letter == 'G' && w.value == 4.0; }))
-    return true;
-  grammar::Word* p = nullptr;
-  grammar::Word* seconds = nullptr;  // X, or U on a lathe
-  for (grammar::Word& w : words) {
-    if (w.letter == 'P') p = &w;
-    if ((w.letter == 'X' || (lathe && w.letter == 'U')) && seconds == nullptr) seconds = &w;
-  }
-  auto refuse = [&](SourceLoc at, std::string why) {
-    diags.push_back(Diagnostic{Severity::Error, static_cast<int>(ErrorCode::NotInDialect), at,
-                               std::move(why), echoed_line(text)});
-    return false;
-  };
-  if (p != nullptr && seconds != nullptr)
-    return refuse(seconds->loc, fmt::format("G04 with both P and {}: one dwell time (--dialect {})",
-                                            seconds->letter, dialect_name(dialect_)));
-  if (seconds != nullptr) {  // G04 X2.5 / U2.5: seconds, run as LinuxCNC's G4 P2.5
-    seconds->letter = 'P';
-    return true;
-  }
-  if (p == nullptr) return true;  // (the interpreter's "G4 without P")
-  if (p->decimal_point) {
-    if (dialect_ == Dialect::Haas) return true;  // Haas: P2.5 is seconds
-    return refuse(p->loc,
-                  fmt::format("G04 P{:g}: Fanuc's P is milliseconds without a decimal point "
-                              "(write P{:g} or X{:g})",
-                              p->value, p->value * 1000.0, p->value));
-  }
-  p->value /= 1000.0;  // P2000: milliseconds
-  return true;
 }
 
 void DialectRules::missing_end(int last_line, bool opened_percent, const std::string& last_text,

@@ -80,10 +80,12 @@ class DialectRules {
   /// lacks is a zero-length tool, added to `add` with a warning.
   void missing_tools(const grammar::Block& block, const ToolTable& tools, const std::string& text,
                      std::vector<Diagnostic>& diags, std::vector<ToolEntry>& add) const;
-  /// Fanuc and Haas dwell (G04): `P` without a decimal point is milliseconds (`P2000` = 2 s);
-  /// `X` (and `U` on a `lathe`) is seconds; Haas reads `P2.5` as seconds, Fanuc refuses a point
-  /// in P. Rewritten into LinuxCNC's `G4 P<seconds>`; false with the error in `diags`.
-  bool fanuc_dwell(grammar::Block& block, bool lathe, const std::string& text,
+  /// Fanuc and Haas dwell (interp/fanuc_dwell.cpp): `P` without a decimal point is
+  /// milliseconds (`P2000` = 2 s), Haas reads `P2.5` as seconds, Fanuc refuses a point in P; in
+  /// G04 (`X`, and `U` on a `lathe`, are seconds) and in a mill's drilling cycles (G73, G74,
+  /// G81-G89: the block naming one, or a block of holes under `motion`, the interpreter's motion
+  /// mode x 10). Rewritten into LinuxCNC's seconds; false with the error in `diags`.
+  bool fanuc_dwell(grammar::Block& block, bool lathe, int motion, const std::string& text,
                    std::vector<Diagnostic>& diags) const;
   /// The input ended after line `last_line` (0: empty) without M2/M30 or a closing '%':
   /// LinuxCNC's error, Fanuc's warning, nothing for grbl (it streams). `opened_percent`: the
@@ -95,6 +97,13 @@ class DialectRules {
   bool start_block(grammar::Block& block) const;
 
  private:
+  bool dwell_words(grammar::Block& block, bool lathe, int motion, const std::string& text,
+                   std::vector<Diagnostic>& diags) const;
+  bool g04_dwell(grammar::Block& block, grammar::Word* p, bool lathe, const std::string& text,
+                 std::vector<Diagnostic>& diags) const;
+  bool dwell_p(grammar::Word& p, const std::string& code, bool or_x, const std::string& text,
+               std::vector<Diagnostic>& diags) const;
+
   Dialect dialect_;
   bool dollar_warned_ = false;
   bool m47_warned_ = false;

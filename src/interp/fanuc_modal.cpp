@@ -1,6 +1,6 @@
 // Fanuc's modal rules on each block before LinuxCNC's interpreter runs it (--dialect fanuc,
 // haas): the group 01 mode after G80, polar coordinates (G15/G16), coordinate rotation
-// (G68/G69), scaling (G51/G50) and programmable mirror image (G51.1/G50.1).
+// (G68/G69), scaling (G51/G50), programmable mirror image (G51.1/G50.1) and G41/G42 H.
 #include "interp/fanuc_modal.hpp"
 
 #include "common/error_codes.hpp"
@@ -101,6 +101,23 @@ void then_rotation(FanucModal::Affine& t, int i, int j, double deg, double ca, d
   t.b[j] = s * x + c * y + cb;
 }
 
+// `G42 H19` (FANUC 0M programs): the cutter radius offset numbered by H, as a Fanuc control
+// reads it with parameter OFH (No. 5001 #2) set to 1; run as `G42 D19` (the radius of the tool
+// table's entry 19). Left alone when the block has a D, or a code that takes H itself (G43 H).
+void radius_offset_by_h(grammar::Block& b) {
+  grammar::Word* h = nullptr;
+  for (grammar::Word& w : b.words) {
+    if (w.letter == 'D') return;
+    if (w.letter == 'H') h = &w;
+    if (w.letter != 'G') continue;
+    const int n = code10(w);
+    if (n == 410 || n == 420) continue;
+    const Code* c = find_code('G', n);
+    if (c != nullptr && (c->word_mask & letter_mask("H")) != 0) return;
+  }
+  if (h != nullptr) h->letter = 'D';
+}
+
 }  // namespace
 
 V3 FanucModal::Affine::map(const V3& p) const {
@@ -147,7 +164,7 @@ FanucModal::Affine FanucModal::transform() const {
 }
 
 bool FanucModal::apply(grammar::Block& block, const ModalState& s, InterpError& err) {
-  bool has_ours = false, g80 = false;
+  bool has_ours = false, g80 = false, comp = false;
   for (const grammar::Word& w : block.words) {
     if (w.letter != 'G') continue;
     const int n = code10(w);
@@ -155,9 +172,11 @@ bool FanucModal::apply(grammar::Block& block, const ModalState& s, InterpError& 
       group01_ = n;
     } else {
       g80 = g80 || n == 800;
+      comp = comp || n == 410 || n == 420;
       has_ours = has_ours || ours(n, lathe_);
     }
   }
+  if (comp && !lathe_) radius_offset_by_h(block);
   // The G80 rule looks at the block only after G80, with it, or after a mirrored arc.
   const bool modal = g80 || s.motion == 800 || swapped_;
   if (!has_ours && !active()) {

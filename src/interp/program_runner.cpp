@@ -201,7 +201,8 @@ bool ProgramRunner::content(Line& l) {
     if (rules_.dialect() == Dialect::Haas && HaasCodes::local_call(block)) return local_call(l);
     if (!dialect_rewrite(l)) return true;
     if (!rules_.machine_codes(block, l.p.text, l.diags)) return true;
-    if (!rules_.fanuc_dwell(block, fanuc_lathe_, l.p.text, l.diags)) return true;
+    if (!rules_.fanuc_dwell(block, fanuc_lathe_, interp_.state().motion, l.p.text, l.diags))
+      return true;
   }
   InterpError err;
   if (g7x_.collecting()) {  // a G7x profile: read, not run

@@ -104,12 +104,15 @@ TEST_CASE("public programs: each checks clean or fails with its documented error
   const gm::Machine mill = gm::default_machine();
   CHECK(errors_of(read_file("fanuc0t_lathe_turn.nc"), lt, gm::Dialect::Fanuc).empty());
   CHECK(errors_of(read_file("fanuc_lathe_flange_macro.nc"), lt, gm::Dialect::Fanuc).empty());
-  {  // `G42 H19`: an old Fanuc 0M names the cutter radius offset with H (not read)
-    const auto e = errors_of(read_file("fanuc0m_mill_slot.nc"), mill, gm::Dialect::Fanuc);
-    REQUIRE(e.size() == 1);
-    CHECK(e[0].loc.line == 10);
-    CHECK(e[0].loc.column == 9);
-    CHECK(e[0].message.find("H word") != std::string::npos);
+  // `G42 H19`: the FANUC 0M names the cutter radius offset with H (parameter OFH), read as D19.
+  CHECK(errors_of(read_file("fanuc0m_mill_slot.nc"), mill, gm::Dialect::Fanuc).empty());
+  {  // LinuxCNC has no radius offset by H: its error at the H stays.
+    const auto e = errors_of(read_file("fanuc0m_mill_slot.nc"), mill, gm::Dialect::LinuxCNC);
+    bool h_error = false;
+    for (const gm::Diagnostic& x : e)
+      h_error = h_error || (x.loc.line == 10 && x.loc.column == 9 &&
+                            x.message.find("H word") != std::string::npos);
+    CHECK(h_error);
   }
   {  // `IF [ #5405 GE 6000 ] ...` reads 0 (a fresh machine's timers): no alarm. The built-in
      // tool 4 (a 5 mm spot drill) gouges the 2.75 mm lead-in arc under G41 at line 32; the
@@ -181,13 +184,19 @@ TEST_CASE("public programs: Fanuc lathe flange with Macro B variables, moves by 
   CHECK(r.dwells[0].seconds + r.dwells[1].seconds + r.dwells[2].seconds == Approx(8.2));
 }
 
-// :0097 (FANUC 0M) with `G42 H19` written `G42 D19` (tool 19 is not in the table: radius 0, the
-// path as programmed). Built-in tool table: tool 3 Z 45; tool 5 not in it; G55 is zero.
+// :0097 (FANUC 0M) as published: `G42 H19` is the radius of offset 19, as `G42 D19` (tool 19
+// is not in the table: radius 0, the path as programmed). Built-in tool table: tool 3 Z 45;
+// tool 5 not in it; G55 is zero.
 TEST_CASE("public programs: FANUC 0M slot, H19 read as D19, moves by hand") {
-  const std::string text = replace_all(read_file("fanuc0m_mill_slot.nc"), "G42 H19", "G42 D19");
+  const std::string text = read_file("fanuc0m_mill_slot.nc");
   const gm::Machine mill = gm::default_machine();
   REQUIRE(errors_of(text, mill, gm::Dialect::Fanuc).empty());
   const Run r = run(text, mill, gm::Dialect::Fanuc);
+  {  // The same moves as the program written with D19.
+    const Run d = run(replace_all(text, "G42 H19", "G42 D19"), mill, gm::Dialect::Fanuc);
+    REQUIRE(d.moves.size() == r.moves.size());
+    for (std::size_t i = 0; i < r.moves.size(); ++i) CHECK(d.moves[i].end_mm == r.moves[i].end_mm);
+  }
   using K = gm::MotionKind;
   // Line 7 `N20 G43 H3 Z39. M8` at X2. Y0: Z39 + 45.
   require_xyz(r.of(7).at(0), K::Rapid, 2.0, 0.0, 84.0);
@@ -314,5 +323,119 @@ TEST_CASE("public programs: G04 P in milliseconds, X and U in seconds") {
     CHECK(r.dwells[1].seconds == Approx(3.0));
     CHECK(r.dwells[2].seconds == Approx(0.5));
     CHECK(r.moves.empty());
+  }
+}
+
+// The drilling cycles' dwell P as G04's: milliseconds without a decimal point (zanotowane.pl
+// "G81 Drilling Spot Boring": P the dwell at the bottom, "see the G04 code"; cnclearning.com
+// "G82": P in milliseconds on Fanuc controls), Haas's P with a point in seconds, Fanuc's refused.
+TEST_CASE("public programs: drilling cycles' dwell P in milliseconds under fanuc and haas") {
+  const gm::Machine mill = gm::default_machine();
+  // G99 (the start): each hole from R2 down to Z-5 and back to R2. Line 3 changes the dwell for
+  // its hole and the next (P is sticky), line 5 is a G89 of its own.
+  const std::string p =
+      "G0 X0 Y0 Z10\nG82 X10 Y10 Z-5 R2 P1500 F100\nX20 P500\nX30\nG89 X40 Z-3 R2 P250\n"
+      "G80\nM30\n";
+  for (gm::Dialect d : {gm::Dialect::Fanuc, gm::Dialect::Haas}) {
+    INFO(gm::dialect_name(d));
+    REQUIRE(errors_of(p, mill, d).empty());
+    const Run r = run(p, mill, d);
+    REQUIRE(r.dwells.size() == 4);
+    CHECK(r.dwells[0].line == 2);
+    CHECK(r.dwells[0].seconds == Approx(1.5));
+    CHECK(r.dwells[1].line == 3);
+    CHECK(r.dwells[1].seconds == Approx(0.5));
+    CHECK(r.dwells[2].line == 4);
+    CHECK(r.dwells[2].seconds == Approx(0.5));
+    CHECK(r.dwells[3].line == 5);
+    CHECK(r.dwells[3].seconds == Approx(0.25));
+    // Line 2: over to (10, 10) at Z10, down to R2, fed to Z-5 at F100, back to R2 (G99).
+    const auto hole = r.of(2);
+    REQUIRE(hole.size() == 4);
+    require_xyz(hole[0], gm::MotionKind::Rapid, 10.0, 10.0, 10.0);
+    require_xyz(hole[1], gm::MotionKind::Rapid, 10.0, 10.0, 2.0);
+    require_xyz(hole[2], gm::MotionKind::Line, 10.0, 10.0, -5.0);
+    CHECK(hole[2].feed_mm_min == Approx(100.0));
+    require_xyz(hole[3], gm::MotionKind::Rapid, 10.0, 10.0, 2.0);
+    // Line 5 (G89): fed back out to R2 after its dwell.
+    const auto bore = r.of(5);
+    REQUIRE(bore.size() == 3);
+    require_xyz(bore[1], gm::MotionKind::Line, 40.0, 10.0, -3.0);
+    require_xyz(bore[2], gm::MotionKind::Line, 40.0, 10.0, 2.0);
+  }
+  {  // LinuxCNC: seconds, unchanged.
+    const Run r = run(p, mill, gm::Dialect::LinuxCNC);
+    REQUIRE(r.dwells.size() == 4);
+    CHECK(r.dwells[0].seconds == Approx(1500.0));
+    CHECK(r.dwells[1].seconds == Approx(500.0));
+    CHECK(r.dwells[2].seconds == Approx(500.0));
+    CHECK(r.dwells[3].seconds == Approx(250.0));
+  }
+  {  // A point in P: Haas seconds; Fanuc refuses it at the P.
+    const std::string q = "G0 X0 Y0 Z10\nG82 X10 Y10 Z-5 R2 P1.5 F100\nG80\nM30\n";
+    const Run haas = run(q, mill, gm::Dialect::Haas);
+    REQUIRE(haas.dwells.size() == 1);
+    CHECK(haas.dwells[0].seconds == Approx(1.5));
+    const auto e = errors_of(q, mill, gm::Dialect::Fanuc);
+    REQUIRE(e.size() == 1);
+    CHECK(e[0].loc.line == 2);
+    CHECK(e[0].loc.column == 20);
+    CHECK(e[0].message ==
+          "G82 P1.5: Fanuc's P is milliseconds without a decimal point (write P1500)");
+  }
+  {  // G84 (tapping, M3): its dwell at the bottom between feeding in and the reversed feed out.
+    const std::string q = "S500 M3\nG0 X0 Y0 Z10\nG84 X5 Y5 Z-5 R2 P250 F100\nG80\nM30\n";
+    const Run r = run(q, mill, gm::Dialect::Fanuc);
+    REQUIRE(r.dwells.size() == 1);
+    CHECK(r.dwells[0].line == 3);
+    CHECK(r.dwells[0].seconds == Approx(0.25));
+  }
+  {  // Under the cycle, a P another code takes is that code's: `G10 L2 P1 X5` sets G54's X
+     // (P1 is not 0.001), the next hole is at X20 + 5.
+    const std::string q =
+        "G0 X0 Y0 Z10\nG82 X10 Y10 Z-5 R2 P1000 F100\nG10 L2 P1 X5\nX20\n"
+        "G80\nM30\n";
+    REQUIRE(errors_of(q, mill, gm::Dialect::Fanuc).empty());
+    const Run r = run(q, mill, gm::Dialect::Fanuc);
+    CHECK(r.of(3).empty());
+    REQUIRE(r.dwells.size() == 2);
+    CHECK(r.dwells[1].line == 4);
+    CHECK(r.dwells[1].seconds == Approx(1.0));
+    require_xyz(r.of(4).at(1), gm::MotionKind::Line, 25.0, 10.0, -5.0);
+  }
+}
+
+// `G41/G42 H` on a Fanuc mill: the cutter radius offset numbered by H (FANUC Series 16/18-MC
+// B-62764EN/01, II-15.5, note 2: "Cutter compensation C can be specified by H code with
+// parameter OFH (No. 5001 #2) set to 1"), the radius of the tool table's entry as D gives it.
+TEST_CASE("public programs: G42 H is the cutter radius offset under fanuc and haas") {
+  gm::Machine mill = gm::default_machine();
+  std::istringstream tools("T3 P3 Z45 D20\nT19 P19 D10\n");
+  mill.tool_table = gm::read_tool_table(tools, "<test>");
+  // Along +X with the tool right of the path (G42): 5 mm (D10 / 2) below it, on Y-5.
+  const std::string p = "G0 X0 Y0 Z0\nG42 H19 G1 X10 F100\nX50\nX80\nG40 G0 Y-20\nM30\n";
+  for (gm::Dialect d : {gm::Dialect::Fanuc, gm::Dialect::Haas}) {
+    INFO(gm::dialect_name(d));
+    REQUIRE(errors_of(p, mill, d).empty());
+    const Run r = run(p, mill, d);
+    require_xyz(r.of(3).at(0), gm::MotionKind::Line, 50.0, -5.0, 0.0);
+    const Run with_d = run(replace_all(p, "H19", "D19"), mill, d);
+    REQUIRE(with_d.moves.size() == r.moves.size());
+    for (std::size_t i = 0; i < r.moves.size(); ++i)
+      CHECK(with_d.moves[i].end_mm == r.moves[i].end_mm);
+  }
+  {  // A D in the block: the D is the offset, the H stays LinuxCNC's word (its error, at the H).
+    const auto e =
+        errors_of("G0 X0 Y0 Z0\nG42 D19 H3 G1 X10 F100\nM30\n", mill, gm::Dialect::Fanuc);
+    REQUIRE(e.size() == 1);
+    CHECK(e[0].loc.line == 2);
+    CHECK(e[0].loc.column == 9);
+    CHECK(e[0].message.find("H word") != std::string::npos);
+  }
+  {  // LinuxCNC: no radius offset by H.
+    const auto e = errors_of(p, mill, gm::Dialect::LinuxCNC);
+    REQUIRE(e.size() == 1);
+    CHECK(e[0].loc.line == 2);
+    CHECK(e[0].message.find("H word") != std::string::npos);
   }
 }
