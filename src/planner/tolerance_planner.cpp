@@ -521,11 +521,12 @@ double TolerancePlanner::largest_speed_in_zones(double vmax, double share, doubl
   {
     // The same halvings, all 40 at once: they visit the points k·δ, δ = vmax/2^40, and end on
     // the largest k whose load fits (0 when none). The bracket is narrowed first, by loads at
-    // speeds that fit or do not (monotone: a speed below one that fits fits): just below and
-    // just above the root of the largest zone's load (guess, at vmax), then from the largest
-    // speed known to fit, the root of its zone's load or the speed where the next element
-    // enters the zone (the load jumps there), whichever comes first. Once the fitting speed
-    // is known within δ, k is read from it and confirmed by two loads, as below.
+    // speeds that fit or do not (monotone: a speed below one that fits fits): just below the
+    // root of the largest zone's load (guess, at vmax), then from the largest speed known to
+    // fit, the root of its zone's load or the speed where the next element enters the zone
+    // (the load jumps there), whichever comes first, just below and just above it. Once the
+    // fitting speed is known within δ, k is read from it and confirmed by two loads, as below
+    // (the halvings at it = 0); otherwise the halvings run.
     double fits_up_to = 0.0, fails_from = vmax;
     ZoneRange hint = hi_r;
     auto fits = [&](double v) {
@@ -548,10 +549,16 @@ double TolerancePlanner::largest_speed_in_zones(double vmax, double share, doubl
       // zone_range's tests: elems_[first − 1] joins once s0 − v·t > its s1 + 1e-9 no longer
       // holds, elems_[last] once s1 + v·t > its s0 − 1e-9. Where, to the rounding, is
       // found on the tests themselves: the largest speed without it, the smallest with it.
-      auto joins = [&](double v) { return !(zone_range_from(r, s0 - v * t, s1 + v * t) == r); };
+      const Element* before = r.first > 0 ? &elems_[r.first - 1] : nullptr;
+      const Element* after = r.last < elems_.size() ? &elems_[r.last] : nullptr;
+      auto joins = [&](double v) {  // zone_range_from's tests, on these two elements
+        const double z0 = s0 - v * t, z1 = s1 + v * t;
+        return (before != nullptr && !(before->s1 <= z0 - 1e-9)) ||
+               (after != nullptr && after->s0 < z1 + 1e-9);
+      };
       double enter = kInf;
-      if (r.first > 0) enter = std::min(enter, (s0 - 1e-9 - elems_[r.first - 1].s1) / t);
-      if (r.last < elems_.size()) enter = std::min(enter, (elems_[r.last].s0 - 1e-9 - s1) / t);
+      if (before != nullptr) enter = std::min(enter, (s0 - 1e-9 - before->s1) / t);
+      if (after != nullptr) enter = std::min(enter, (after->s0 - 1e-9 - s1) / t);
       const double root = guess(r);
       if (root < enter) {  // the root of this zone's load comes first
         if (!(root > a) || !(root < fails_from)) break;
