@@ -109,7 +109,42 @@ class Entry:
         for j, _ in free:
             if self.s[j] <= 0:
                 off = max(off, math.hypot(cmd[j][0] - self.s[j], cmd[j][1]))
+        # The shape in samples of travel (radial, tangential) per free sample.
+        shape = {}
+        for q, (j, d) in enumerate(free):
+            nn, tt = self.frame(self.s[j])
+            key = self.s[j] / self.x
+            r_, t_ = shape.get(key, (0.0, 0.0))
+            along_n = (d[0] * nn[0] + d[1] * nn[1]) / self.c
+            along_t = (d[0] * tt[0] + d[1] * tt[1]) / self.c
+            shape[key] = (r_ + u[q] * along_n, t_ + u[q] * along_t)
+        self.shape = sorted(shape.items())
         return self.worst(cmd), off / self.c
+
+    def with_shape(self, shape, k2, stretch):
+        """The command with a shape fitted at another speed: its knots at samples of travel
+        p·stretch (stretch = v_fit/v: the interpolator places it by path length), linear
+        between them, the steady c·n from k2·stretch on."""
+        cmd = []
+        for s in self.s:
+            p = s / self.x
+            nn, tt = self.frame(s)
+            pt = self.point(s)
+            if p >= k2 * stretch:
+                wr, wt = 1.0, 0.0
+            elif p < shape[0][0] * stretch:
+                wr, wt = 0.0, 0.0
+            else:
+                wr, wt = shape[-1][1]
+                for (a, va), (b, vb) in zip(shape, shape[1:]):
+                    if a * stretch <= p < b * stretch:
+                        f = (p / stretch - a) / (b - a)
+                        wr = va[0] * (1 - f) + vb[0] * f
+                        wt = va[1] * (1 - f) + vb[1] * f
+                        break
+            cmd.append((pt[0] + self.c * (wr * nn[0] + wt * tt[0]),
+                        pt[1] + self.c * (wr * nn[1] + wt * tt[1])))
+        return self.worst(cmd)
 
 
 def solve(a, b):
@@ -159,6 +194,25 @@ def main():
         row(name, lambda e, k1=k1, k2=k2, tan=tan: "{:.3f} (line offset {:.1f} c)".format(
             *e.least_squares(k1, k2, args.lam, tan)) if k1 else
             f"{e.least_squares(k1, k2, args.lam, tan)[0]:.3f}")
+    print()
+    print("A 2-D least-squares shape fitted at x, used at 0.6·x (placed by path length, as the")
+    print("interpolator would): worst error at 0.6·x / steady loss at x (the check takes both)")
+    for x in args.rates:
+        for k1, k2, w_fit, w_slow in speeds(h, x, args.lam):
+            print(f"x = {x}: line's last {k1}, arc's first {k2} samples: {w_fit:.3f} at x, "
+                  f"{w_slow:.3f} at 0.6·x")
+
+
+def speeds(h, x, lam):
+    """2-D shapes fitted at rate x, then used at 0.6·x as the check also simulates (stretched:
+    placed by path length); the error at 0.6·x against the steady loss at x."""
+    rows = []
+    for k1, k2 in ((0, 4), (0, 20), (20, 20)):
+        fit = Entry(h, x)
+        w_fit, _ = fit.least_squares(k1, k2, lam, True)
+        slow = Entry(h, 0.6 * x)
+        rows.append((k1, k2, w_fit, slow.with_shape(fit.shape, k2, 1.0 / 0.6) * slow.loss / fit.loss))
+    return rows
 
 
 if __name__ == "__main__":
