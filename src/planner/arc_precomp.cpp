@@ -139,6 +139,10 @@ double ArcPrecompCheck::run_segment(double p_from, double p_to, double phase, St
       ++at_end;
     }
     push_sample(s, c);
+    // Moving on: once the window's oldest sample is past the arc's end, every window from here
+    // holds points of the line after it (the blend is 0 there), whose output lies on that line
+    // to the rounding (~1e-16·r): nothing the transitions left can be larger there.
+    if (!stop && s.count >= n && ring_p_[s.head == 0 ? n - 1 : s.head - 1] >= lp_) break;
   }
   if (!forked || stopped_) return s.worst;
   // The stopping run, from the sample where the command reached the end.
@@ -245,13 +249,19 @@ double ArcPrecompCheck::ramp_mm(double radius_mm, double sweep_abs_rad, double l
   return worst;
 }
 
-double ArcPrecompCheck::error_mm(double radius_mm, double sweep_abs_rad, double length_mm,
-                                 double v_plan) const {
+double ArcPrecompCheck::isolated_worst_mm(double radius_mm, double sweep_abs_rad, double length_mm,
+                                          double v_plan) const {
   double worst = 0.0;
   for (double f : {1.0, 0.6})
     worst =
         std::max(worst, isolated_mm(radius_mm, sweep_abs_rad, length_mm, v_plan, f * v_plan, 0.25));
-  return worst + ramp_mm(radius_mm, sweep_abs_rad, length_mm, v_plan);
+  return worst;
+}
+
+double ArcPrecompCheck::error_mm(double radius_mm, double sweep_abs_rad, double length_mm,
+                                 double v_plan) const {
+  return isolated_worst_mm(radius_mm, sweep_abs_rad, length_mm, v_plan) +
+         ramp_mm(radius_mm, sweep_abs_rad, length_mm, v_plan);
 }
 
 bool ArcPrecompCheck::error_within(double radius_mm, double sweep_abs_rad, double length_mm,

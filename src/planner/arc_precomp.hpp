@@ -35,6 +35,10 @@ class ArcPrecompCheck {
   /// blend and ramp for v_p): the largest of the isolated arc at constant speeds v_p and 0.6·v_p,
   /// plus the transient of the ramp from v_p to rest and back on the steady arc. mm.
   double error_mm(double radius_mm, double sweep_abs_rad, double length_mm, double v_plan) const;
+  /// error_mm without the ramp's transient: the largest of the isolated arc at v_p and 0.6·v_p
+  /// (and 0), so that error_mm == isolated_worst_mm + ramp_mm bit for bit.
+  double isolated_worst_mm(double radius_mm, double sweep_abs_rad, double length_mm,
+                           double v_plan) const;
   /// Exactly `error_mm(...) * scale <= share` (scale > 0), sooner: a simulation stops as soon as
   /// what it has found already exceeds (the sum and product are monotone in the rounding), and
   /// the terms of an arc already simulated at the same radius, sweep, length and speed are

@@ -20,6 +20,13 @@ ArcResidualTable::ArcResidualTable(const ArcPrecompCheck& check)
   th_top_ = 4.0 * static_cast<double>(check.window_samples()) * x_top_ * 1.001;
   nth_ = static_cast<std::size_t>(std::ceil(std::log(th_top_ / kMinSweep) * inv_log_step_)) + 1;
   log_g_.assign(nx_ * nth_, std::numeric_limits<double>::quiet_NaN());
+  ramp_.assign(nx_, std::numeric_limits<double>::quiet_NaN());
+}
+
+double ArcResidualTable::row_ramp(const ArcPrecompCheck& check, std::size_t k, double x) const {
+  double& ramp = ramp_[k];
+  if (std::isnan(ramp)) ramp = check.ramp_mm(1.0, 1.0, 1.0, x / period_s_);
+  return ramp;
 }
 
 bool ArcResidualTable::covers(double sweep_abs_rad, double length_mm, double v_plan) const {
@@ -35,7 +42,8 @@ double ArcResidualTable::log_g(const ArcPrecompCheck& check, std::size_t k, std:
   if (std::isnan(g)) {
     const double x = x0_ * std::pow(kStep, static_cast<double>(k));
     const double th = kMinSweep * std::pow(kStep, static_cast<double>(j));
-    const double e = check.error_mm(1.0, th, th, x / period_s_);
+    // error_mm(1, θ, θ, x/T), its ramp term kept per row.
+    const double e = check.isolated_worst_mm(1.0, th, th, x / period_s_) + row_ramp(check, k, x);
     g = std::log(std::max(e, 1e-300) / (x * x));
     ++filled_;
   }

@@ -48,10 +48,15 @@ class ArcResidualTable {
  private:
   /// log(E/x²) at node (x_k, θ_j), simulated by `check` the first time.
   double log_g(const ArcPrecompCheck& check, std::size_t k, std::size_t j) const;
+  /// The ramp's transient at x_k per unit radius, simulated once per row: ramp_mm(1, θ, θ,
+  /// x_k/T) is the same for every θ (q = θ/θ = 1, the rate x_k/T·θ/θ = x_k/T) but for the
+  /// rounding of v·θ/θ; the row takes it at θ = 1, where that rounding is exact.
+  double row_ramp(const ArcPrecompCheck& check, std::size_t k, double x) const;
   double period_s_ = 0;
   double x0_ = 0, x_top_ = 0, th_top_ = 0, inv_log_step_ = 0;
   std::size_t nx_ = 0, nth_ = 0;
   mutable std::vector<double> log_g_;  ///< nx_·nth_, NaN until simulated
+  mutable std::vector<double> ramp_;   ///< nx_, NaN until simulated
   mutable std::size_t filled_ = 0;
 };
 

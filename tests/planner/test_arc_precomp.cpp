@@ -204,3 +204,28 @@ TEST_CASE("the residual table bounds the simulation within its margin", "[arc-pr
               << ", mean bound/simulation " << sum / n << ", nodes " << table.nodes_filled());
   }
 }
+
+TEST_CASE("the residual table's terms: the isolated arc plus the ramp kept per row",
+          "[arc-precomp]") {
+  // error_mm is isolated_worst_mm + ramp_mm bit for bit, and the ramp of a unit-radius node
+  // depends on its rate only (to the rounding of v·θ/θ): the table keeps one per row.
+  const gm::Taps t = gm::design_taps("blackman", 0.164, 0.004);
+  const gm::ArcPrecompCheck check(weights(t), 0.004);
+  const double limit = check.rule().limit_omega_t();
+  for (double x : {0.01 * limit, 0.3 * limit, limit}) {
+    const double v = x / 0.004;
+    const double ramp1 = check.ramp_mm(1.0, 1.0, 1.0, v);
+    CHECK(ramp1 > 0.0);
+    for (double th : {0.01, 0.37, 2.0, 9.0}) {
+      CAPTURE(x, th);
+      CHECK(check.ramp_mm(1.0, th, th, v) == Approx(ramp1).epsilon(1e-12));
+      CHECK(check.error_mm(1.0, th, th, v) ==
+            check.isolated_worst_mm(1.0, th, th, v) + check.ramp_mm(1.0, th, th, v));
+    }
+  }
+  // The moving runs end once the window has left the arc: the line after adds only rounding.
+  // A long arc's term is its two ends' (the same at any longer sweep, to the rounding).
+  const double v = 0.5 * limit / 0.004;
+  CHECK(check.isolated_worst_mm(1.0, 40.0, 40.0, v) ==
+        Approx(check.isolated_worst_mm(1.0, 80.0, 80.0, v)).epsilon(1e-9));
+}
