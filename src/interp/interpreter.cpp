@@ -204,6 +204,57 @@ bool run_motion(BlockCtx& ctx) {
   return ctx.motion_code->run(ctx, *ctx.motion_code);
 }
 
+// A light block: its steps are at most the F word's and a straight move or an arc without
+// cutter compensation, which change only the fields below. It runs on the state itself with
+// these fields saved, restored if a step fails (grbl's rule: an error leaves the state as it
+// was), instead of on a copy of the whole state. A step added to light_block() must write no
+// field outside LightUndo.
+struct LightUndo {
+  int motion;
+  int cycle_mode;
+  bool cycle_il_set;
+  bool arc_not_allowed;
+  bool detached;
+  double feed_mm_min;
+  Pos9 position_mm;
+
+  explicit LightUndo(const ModalState& s)
+      : motion(s.motion),
+        cycle_mode(s.cycle_mode),
+        cycle_il_set(s.cycle_il_set),
+        arc_not_allowed(s.comp.arc_not_allowed),
+        detached(s.comp.detached),
+        feed_mm_min(s.feed_mm_min),
+        position_mm(s.position_mm) {}
+  void restore(ModalState& s) const {
+    s.motion = motion;
+    s.cycle_mode = cycle_mode;
+    s.cycle_il_set = cycle_il_set;
+    s.comp.arc_not_allowed = arc_not_allowed;
+    s.comp.detached = detached;
+    s.feed_mm_min = feed_mm_min;
+    s.position_mm = position_mm;
+  }
+};
+
+bool light_motion(const Code* c) {
+  return c->run == run_straight || c->run == run_arc;
+}
+
+// True when every step of the block is one LightUndo covers: no comment, S or T word, every code
+// G0-G3 (or none, the motion mode G0-G3 or none), cutter compensation off.
+bool light_block(const grammar::Block& block, const BlockWords& w, const ModalState& s) {
+  constexpr std::uint32_t kOwnSteps = letter_mask("ST");
+  if (block.message_count > 0 || (w.letters & kOwnSteps) != 0 || s.comp.on()) return false;
+  for (std::size_t i = 0; i < w.code_count; ++i)
+    if (!light_motion(w.codes[i])) return false;
+  if (w.code_count == 0 && s.motion >= 0 && w.first_axis != nullptr) {
+    const Code* modal = find_code('G', s.motion);
+    return modal != nullptr && light_motion(modal);
+  }
+  return true;
+}
+
 }  // namespace
 
 double ModalState::mm_per_unit() const {
@@ -238,6 +289,7 @@ bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, 
     w.value['X' - 'A'] = &w.x_radius;
   }
 
+  if (light_block(block, w, state())) return execute_light(block, w, out, err);
   ModalState& s = begin_block();
   BlockCtx ctx{machine_, block, w, s, out, err, tables_, nullptr};
   ctx.call_level = call_level_;
@@ -278,6 +330,26 @@ bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, 
     for (std::size_t i = 0; i < ctx.results.count; ++i)
       result_params_->set_system(ctx.results.set[i].number, ctx.results.set[i].value);
   return true;
+}
+
+bool Interpreter::execute_light(const grammar::Block& block, const BlockWords& w,
+                                std::vector<Canon>& out, InterpError& err) {
+  ModalState& s = state_mut();
+  BlockCtx ctx{machine_, block, w, s, out, err, tables_, nullptr};
+  ctx.call_level = call_level_;
+  ctx.motion_before = s.motion;
+  ctx.nurbs = &nurbs_;
+  ctx.g7x = &g7x_next_;
+  if (!check_block(ctx)) return false;
+  const LightUndo undo(s);
+  const std::size_t out_mark = out.size();
+  const bool ok = (!w.has('F') || step_feed(ctx)) &&
+                  (!(w.in(Group::Motion) || ctx.motion_to_be >= 0) || run_motion(ctx));
+  if (!ok) {
+    undo.restore(s);
+    out.resize(out_mark);
+  }
+  return ok;
 }
 
 void Interpreter::enter_call(int level) {

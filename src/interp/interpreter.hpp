@@ -159,6 +159,8 @@ struct G7xCycle {
   std::vector<lathe::Seg> profile;
 };
 
+struct BlockWords;  // interp/steps.hpp
+
 /// Interprets blocks one at a time (grbl gcode.c STEP 1-4): copy the state, import the words,
 /// check everything, then commit. A block with an error changes nothing.
 class Interpreter {
@@ -213,6 +215,10 @@ class Interpreter {
   bool g7x_collect(const grammar::Block& block, InterpError& err);
   /// The subroutine returned at `line`: the cycle's moves; errors are located at `line`.
   bool g7x_finish(int line, std::vector<Canon>& out, InterpError& err);
+
+  /// execute() for a block whose steps LightUndo covers: run on the state itself.
+  bool execute_light(const grammar::Block& block, const BlockWords& w, std::vector<Canon>& out,
+                     InterpError& err);
 
   const Machine& machine_;
   /// The modal state and the copy a block executes on; a block that succeeds is committed by
