@@ -580,8 +580,7 @@ void ProgramRunner::cannot_seek(int line, std::vector<Diagnostic>& diags) {
   done_ = true;
 }
 
-bool ProgramRunner::start_failed(std::vector<Diagnostic>& diags) {
-  if (start_error_.empty()) return false;
+bool ProgramRunner::report_start_error(std::vector<Diagnostic>& diags) {
   for (Diagnostic& d : start_error_) diags.push_back(std::move(d));
   start_error_.clear();
   done_ = true;

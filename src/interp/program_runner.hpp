@@ -94,7 +94,10 @@ class ProgramRunner {
   bool stop(const InterpError& err, Line& l);
   /// check_all: the note after an error that ends checking (the lines after it are not read).
   void stopped_here(SourceLoc loc, std::vector<Diagnostic>& diags, std::string_view why) const;
-  bool start_failed(std::vector<Diagnostic>& diags);
+  bool start_failed(std::vector<Diagnostic>& diags) {
+    return !start_error_.empty() && report_start_error(diags);
+  }
+  bool report_start_error(std::vector<Diagnostic>& diags);
   void remember(const std::string& text) { last_text_ = &text; }
 
   std::string filename_;
