@@ -172,7 +172,13 @@ class Interpreter {
   /// Interprets `block` (which must have no syntax errors). On success appends its canonical
   /// commands to `out` (in mm, mm/min, s, machine coordinates) and returns true; on failure
   /// sets `err` and returns false with the state unchanged.
-  bool execute(const grammar::Block& block, std::vector<Canon>& out, InterpError& err);
+  bool execute(const grammar::Block& block, std::vector<Canon>& out, InterpError& err) {
+    return execute(block, nullptr, out, err);
+  }
+  /// The same with the block's words already imported (import_words, interp/block_words.hpp;
+  /// the read-ahead thread imports plain lines); null: imported here.
+  bool execute(const grammar::Block& block, const BlockWords* imported, std::vector<Canon>& out,
+               InterpError& err);
 
   const ModalState& state() const { return states_[cur_]; }
   /// The subroutine call level the next blocks run at (0 = the program); entering a level

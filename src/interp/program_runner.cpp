@@ -298,7 +298,7 @@ bool ProgramRunner::run_block(Line& l) {
     if (handled) return more;
     add_missing_tools(l);
   }
-  if (!interp_.execute(l.p.block, l.out, err)) {
+  if (!interp_.execute(l.p.block, l.p.imported ? &l.p.words : nullptr, l.out, err)) {
     l.diags.push_back(error_diagnostic(err, l.p.text));
     return true;
   }

@@ -149,7 +149,9 @@ class LineDriver {
         back_(std::move(filename), opts),
         source_(front_, back_) {
     if (opts.read_ahead)  // front_ reads nothing yet
-      ahead_ = std::make_unique<ParallelFront>(in, fanuc_family(opts.dialect));
+      ahead_ = std::make_unique<ParallelFront>(
+          in, fanuc_family(opts.dialect),
+          opts.dialect == Dialect::LinuxCNC ? &back_.machine().layout : nullptr);
   }
   /// Reads, parses and interprets one line; false when the program is over.
   bool step(std::vector<Canon>& out, std::vector<Diagnostic>& diags);
