@@ -22,10 +22,37 @@ std::string machine_axes_text(const AxisLayout& l) {
   return s;
 }
 
+// Program axis of each letter A..Z (axis_index), -1 for the others.
+constexpr std::array<signed char, 26> kAxisOfLetter = [] {
+  std::array<signed char, 26> t{};
+  for (int i = 0; i < 26; ++i)
+    t[static_cast<std::size_t>(i)] =
+        static_cast<signed char>(program_axis_index(static_cast<char>('A' + i)));
+  return t;
+}();
+
+int letter_axis(char c) {
+  return c >= 'A' && c <= 'Z' ? kAxisOfLetter[static_cast<std::size_t>(c - 'A')] : -1;
+}
+
+// What import_words fills (the rest is read only where these say it is set).
+void clear(BlockWords& w) {
+  w.value = {};
+  w.code = {};
+  w.code_count = 0;
+  w.letters = 0;
+  w.axes = 0;
+  w.first_axis = nullptr;
+  w.polar = PolarWords{};
+}
+
 }  // namespace
 
 bool import_words(const grammar::Block& block, const AxisLayout& axes, BlockWords& w,
                   InterpError& err) {
+  clear(w);
+  unsigned machine_axes = 0;  // the program axes the machine has, as bits
+  for (int a = 0; a < axes.count; ++a) machine_axes |= 1u << axes.program(a);
   for (std::size_t i = 0; i < block.words.size(); ++i) {
     const grammar::Word& word = block.words[i];
     const char c = word.letter;
@@ -70,8 +97,8 @@ bool import_words(const grammar::Block& block, const AxisLayout& axes, BlockWord
       if (!w.first_axis) w.first_axis = &word;
       continue;
     }
-    const int axis = program_axis_index(c);
-    if (axis >= 0 && !axes.has(axis))
+    const int axis = letter_axis(c);
+    if (axis >= 0 && (machine_axes & (1u << axis)) == 0)
       return fail(
           err, ErrorCode::AxisUnavailable, word.loc,
           fmt::format("axis {} is not available: this machine has {}", c, machine_axes_text(axes)));

@@ -44,7 +44,7 @@ struct BlockWords {
   }
 };
 
-/// STEP 1-2: sorts the block's words into `w` (which must be new) by letter and modal group;
+/// STEP 1-2: sorts the block's words into `w` (cleared first) by letter and modal group;
 /// false with `err` set for an unknown code or letter, an axis the machine lacks (`axes`), two
 /// codes of one group, a repeated word, N not first.
 bool import_words(const grammar::Block& block, const AxisLayout& axes, BlockWords& w,

@@ -193,23 +193,28 @@ Interpreter::Interpreter(const Machine& machine) : machine_(machine) {
 
 bool Interpreter::execute(const grammar::Block& block, const BlockWords* imported,
                           std::vector<Canon>& out, InterpError& err) {
-  BlockWords local;
-  if (imported == nullptr) {
-    if (!import_words(block, machine_.layout, local, err)) return false;
-    imported = &local;
-  }
   // LinuxCNC reads X as a diameter in G7 (read_x halves it; a G7/G8 in the same block rescales
   // it), so the X word is halved when the block ends in diameter mode: X, G92 X, G10 X alike.
-  const Code* lathe = imported->in(Group::LatheMode);
-  if (imported->has('X') && (lathe ? lathe->number10 == 70 : state().lathe_diameter)) {
-    if (imported != &local) local = *imported;
-    local.x_radius = *local['X'];
-    local.x_radius.value /= 2.0;
-    local.value['X' - 'A'] = &local.x_radius;
-    imported = &local;
+  const auto halves_x = [this](const BlockWords& w) {
+    const Code* lathe = w.in(Group::LatheMode);
+    return w.has('X') && (lathe ? lathe->number10 == 70 : state().lathe_diameter);
+  };
+  if (imported != nullptr && !halves_x(*imported)) return execute_words(block, *imported, out, err);
+  BlockWords w;
+  if (imported != nullptr)
+    w = *imported;
+  else if (!import_words(block, machine_.layout, w, err))
+    return false;
+  if (halves_x(w)) {
+    w.x_radius = *w['X'];
+    w.x_radius.value /= 2.0;
+    w.value['X' - 'A'] = &w.x_radius;
   }
-  const BlockWords& w = *imported;
+  return execute_words(block, w, out, err);
+}
 
+bool Interpreter::execute_words(const grammar::Block& block, const BlockWords& w,
+                                std::vector<Canon>& out, InterpError& err) {
   if (light_block(block, w, state())) return execute_light(block, w, out, err);
   ModalState& s = begin_block();
   BlockCtx ctx{machine_, block, w, s, out, err, tables_, nullptr};

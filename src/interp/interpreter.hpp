@@ -222,6 +222,9 @@ class Interpreter {
   /// The subroutine returned at `line`: the cycle's moves; errors are located at `line`.
   bool g7x_finish(int line, std::vector<Canon>& out, InterpError& err);
 
+  /// execute() once the block's words are imported (X halved in G7).
+  bool execute_words(const grammar::Block& block, const BlockWords& w, std::vector<Canon>& out,
+                     InterpError& err);
   /// execute() for a block whose steps LightUndo covers: run on the state itself.
   bool execute_light(const grammar::Block& block, const BlockWords& w, std::vector<Canon>& out,
                      InterpError& err);

@@ -86,7 +86,6 @@ void ParallelFront::fill(Batch& b) {
       return;
     }
     if (import_axes_ != nullptr && !p.truncated && importable_ahead(p.block)) {
-      p.words = BlockWords{};
       InterpError err;  // (a block that fails is imported again by the interpreter, for its error)
       p.imported = import_words(p.block, *import_axes_, p.words, err);
     }
