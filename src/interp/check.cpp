@@ -10,12 +10,22 @@ namespace gm {
 
 namespace {
 
+// The move's length, motion_length_mm's bits: a line moving X, Y or Z takes the same operations
+// on the three differences alone (not the nine-axis difference first).
+double summary_length_mm(const Motion& m) {
+  if (m.kind != MotionKind::Arc) {
+    const Vec3 xyz = m.end_mm.head<3>() - m.start_mm.head<3>();
+    if (xyz != Vec3::Zero()) return xyz.norm();
+  }
+  return motion_length_mm(m);
+}
+
 // Adds what `out` holds to the summary's counts.
 void account(const std::vector<Canon>& out, const Machine& machine, CheckSummary& sum) {
   for (const auto& c : out) {
     if (const auto* m = std::get_if<Motion>(&c)) {
       ++sum.moves;
-      const double len = motion_length_mm(*m);
+      const double len = summary_length_mm(*m);
       sum.path_length_mm += len;
       if (m->kind == MotionKind::Rapid)
         sum.time_at_feed_s += machine.rapid_mm_min > 0 ? len / machine.rapid_mm_min * 60.0 : 0.0;

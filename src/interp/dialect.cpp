@@ -138,9 +138,8 @@ std::string echoed_line(const std::string& text) {
   return text.size() <= 512 ? text : std::string();
 }
 
-bool DialectRules::line_fits(std::uint64_t bytes, bool truncated, int line, const std::string& text,
-                             std::vector<Diagnostic>& diags) const {
-  if (dialect_ != Dialect::LinuxCNC || truncated || bytes < kRs274LineBytes) return true;
+bool DialectRules::line_too_long(std::uint64_t bytes, int line, const std::string& text,
+                                 std::vector<Diagnostic>& diags) const {
   diags.push_back(Diagnostic{
       Severity::Error, static_cast<int>(ErrorCode::LineTooLong),
       SourceLoc{line, static_cast<int>(kRs274LineBytes) - 1},
@@ -151,9 +150,9 @@ bool DialectRules::line_fits(std::uint64_t bytes, bool truncated, int line, cons
   return false;
 }
 
-bool DialectRules::passed_over(const std::string& text, bool truncated, int line,
-                               std::vector<Diagnostic>& diags) {
-  if (dialect_ != Dialect::Grbl || truncated || !grbl_dollar_line(text)) return false;
+bool DialectRules::grbl_passed_over(const std::string& text, int line,
+                                    std::vector<Diagnostic>& diags) {
+  if (!grbl_dollar_line(text)) return false;
   if (!dollar_warned_) {  // a grbl setting or command ($H, $$, $110=500): not G-code
     dollar_warned_ = true;
     diags.push_back(Diagnostic{Severity::Warning, 0, SourceLoc{line, 1},
@@ -164,9 +163,8 @@ bool DialectRules::passed_over(const std::string& text, bool truncated, int line
   return true;
 }
 
-bool DialectRules::accepts(const grammar::Block& block, const std::string& text,
-                           std::vector<Diagnostic>& diags) const {
-  if (dialect_ != Dialect::Grbl) return true;
+bool DialectRules::grbl_block_accepted(const grammar::Block& block, const std::string& text,
+                                       std::vector<Diagnostic>& diags) const {
   SourceLoc at;
   std::string why;
   if (grbl_accepts(block, at, why)) return true;

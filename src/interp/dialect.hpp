@@ -56,18 +56,25 @@ class DialectRules {
   /// for such a line of `bytes` bytes; `truncated`: longer than the grammar reads (reported
   /// apart).
   bool line_fits(std::uint64_t bytes, bool truncated, int line, const std::string& text,
-                 std::vector<Diagnostic>& diags) const;
+                 std::vector<Diagnostic>& diags) const {
+    return dialect_ != Dialect::LinuxCNC || truncated || bytes < kRs274LineBytes ||
+           line_too_long(bytes, line, text, diags);
+  }
   /// grbl's setting and command lines ($H, $$, $110=500): not G-code, passed over (true), with
   /// a warning at the first.
   bool passed_over(const std::string& text, bool truncated, int line,
-                   std::vector<Diagnostic>& diags);
+                   std::vector<Diagnostic>& diags) {
+    return dialect_ == Dialect::Grbl && !truncated && grbl_passed_over(text, line, diags);
+  }
   /// '/' skips the line under --block-delete; grbl passes over '/' and runs the line
   /// (protocol.c: block delete not supported).
   bool honours_block_delete() const { return dialect_ != Dialect::Grbl; }
   /// What the dialect refuses in a parsed block (grbl: what grbl 1.1 does not have). False with
   /// the error.
   bool accepts(const grammar::Block& block, const std::string& text,
-               std::vector<Diagnostic>& diags) const;
+               std::vector<Diagnostic>& diags) const {
+    return dialect_ != Dialect::Grbl || grbl_block_accepted(block, text, diags);
+  }
   /// Fanuc: M codes of Fanuc/Haas machines that LinuxCNC does not have (M31 chip conveyor, M88
   /// through-spindle coolant, ...) are taken out of `block` with one warning per code; M97 (Haas
   /// local subprogram call) is refused. False when nothing is left to execute.
@@ -103,6 +110,14 @@ class DialectRules {
                  std::vector<Diagnostic>& diags) const;
   bool dwell_p(grammar::Word& p, const std::string& code, bool or_x, const std::string& text,
                std::vector<Diagnostic>& diags) const;
+
+  // The parts of line_fits, passed_over and accepts past their dialect test (most lines of
+  // most dialects never reach them).
+  bool line_too_long(std::uint64_t bytes, int line, const std::string& text,
+                     std::vector<Diagnostic>& diags) const;
+  bool grbl_passed_over(const std::string& text, int line, std::vector<Diagnostic>& diags);
+  bool grbl_block_accepted(const grammar::Block& block, const std::string& text,
+                           std::vector<Diagnostic>& diags) const;
 
   Dialect dialect_;
   bool dollar_warned_ = false;

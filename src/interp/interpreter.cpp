@@ -16,92 +16,6 @@ namespace gm {
 
 namespace {
 
-// Value words any block may carry whatever its codes (axis words are checked apart).
-bool is_free_letter(char c) {
-  return c == 'F' || c == 'N' || c == 'S' || c == 'T';
-}
-
-std::string machine_axes_text(const AxisLayout& l) {
-  std::string s;
-  for (int i = 0; i < l.count; ++i)
-    s += fmt::format("{}{}", i == 0 ? "" : i + 1 == l.count ? " and " : ", ", l.letter(i));
-  return s;
-}
-
-// STEP 1-2: sorts the block's words by letter and modal group; rejects unknown codes and letters,
-// two codes of one group, repeated words.
-bool import_words(const grammar::Block& block, const AxisLayout& axes, BlockWords& w,
-                  InterpError& err) {
-  for (std::size_t i = 0; i < block.words.size(); ++i) {
-    const grammar::Word& word = block.words[i];
-    const char c = word.letter;
-    if (c == 'G' || c == 'M') {
-      double r = 0;
-      const double scaled = c == 'G' ? word.value * 10.0 : word.value;
-      if (word.value < 0 || !near_integer(scaled, r) || r > 1e6)
-        return fail(err, ErrorCode::BadCodeNumber, word.loc,
-                    fmt::format("{}{:g} names no {} code", c, word.value, c));
-      const int number10 = c == 'G' ? static_cast<int>(r) : 10 * static_cast<int>(r);
-      const Code* code = find_code(c, number10);
-      if (!code)
-        return fail(err, c == 'G' ? ErrorCode::UnknownGCode : ErrorCode::UnknownMCode, word.loc,
-                    fmt::format("{} is not supported", code_name(c, number10)));
-      const auto gi = static_cast<std::size_t>(code->group);
-      // rs274 (read_g): G80 yields to another code of its group in the same block, whichever
-      // comes first, so `G80 G0 X1` is a rapid (CAM posts write it).
-      if (w.code[gi] && c == 'G' && number10 == 800) continue;
-      if (w.code[gi] && w.code[gi]->letter == 'G' && w.code[gi]->number10 == 800) {
-        for (std::size_t k = 0; k < w.code_count; ++k)
-          if (w.codes[k] == w.code[gi]) w.codes[k] = code;
-        w.code[gi] = code;
-        w.code_word[gi] = &word;
-        continue;
-      }
-      if (w.code[gi])
-        return fail(err, ErrorCode::ModalGroupViolation, word.loc,
-                    fmt::format("{} and {} are both in modal group {}", code_name(*w.code[gi]),
-                                code_name(*code), group_name(code->group)));
-      w.code[gi] = code;
-      w.code_word[gi] = &word;
-      w.codes[w.code_count++] = code;
-      continue;
-    }
-    if (c == '@' || c == '^') {  // polar coordinates: axis words in place of X and Y
-      const grammar::Word*& slot = c == '@' ? w.polar.radius : w.polar.angle;
-      if (slot)
-        return fail(
-            err, ErrorCode::DuplicateWord, word.loc,
-            fmt::format("{} appears twice in the block (first at column {})", c, slot->loc.column));
-      slot = &word;
-      if (!w.first_axis) w.first_axis = &word;
-      continue;
-    }
-    const int axis = program_axis_index(c);
-    if (axis >= 0 && !axes.has(axis))
-      return fail(
-          err, ErrorCode::AxisUnavailable, word.loc,
-          fmt::format("axis {} is not available: this machine has {}", c, machine_axes_text(axes)));
-    if (axis < 0 && !is_free_letter(c) && !code_word(c))
-      return fail(err, ErrorCode::UnknownLetter, word.loc,
-                  fmt::format("unknown word letter {}", c));
-    if (c == 'N' && i != 0)
-      return fail(err, ErrorCode::LineNumberNotFirst, word.loc,
-                  "line number N must be the first word of the block");
-    auto& slot = w.value[static_cast<std::size_t>(c - 'A')];
-    if (slot)
-      return fail(
-          err, ErrorCode::DuplicateWord, word.loc,
-          fmt::format("{} appears twice in the block (first at column {})", c, slot->loc.column));
-    slot = &word;
-    w.letters |= std::uint32_t{1} << (c - 'A');
-    if (axis >= 0) {
-      w.axes |= 1u << axis;
-      if (!w.first_axis) w.first_axis = &word;
-    }
-  }
-  return true;
-}
-
 // STEP 3: the checks that need the whole block: who uses the axis words, which code uses each
 // value word. Sets ctx.motion_to_be.
 bool check_block(BlockCtx& ctx) {
@@ -204,6 +118,57 @@ bool run_motion(BlockCtx& ctx) {
   return ctx.motion_code->run(ctx, *ctx.motion_code);
 }
 
+// A light block: its steps are at most the F word's and a straight move or an arc without
+// cutter compensation, which change only the fields below. It runs on the state itself with
+// these fields saved, restored if a step fails (grbl's rule: an error leaves the state as it
+// was), instead of on a copy of the whole state. A step added to light_block() must write no
+// field outside LightUndo.
+struct LightUndo {
+  int motion;
+  int cycle_mode;
+  bool cycle_il_set;
+  bool arc_not_allowed;
+  bool detached;
+  double feed_mm_min;
+  Pos9 position_mm;
+
+  explicit LightUndo(const ModalState& s)
+      : motion(s.motion),
+        cycle_mode(s.cycle_mode),
+        cycle_il_set(s.cycle_il_set),
+        arc_not_allowed(s.comp.arc_not_allowed),
+        detached(s.comp.detached),
+        feed_mm_min(s.feed_mm_min),
+        position_mm(s.position_mm) {}
+  void restore(ModalState& s) const {
+    s.motion = motion;
+    s.cycle_mode = cycle_mode;
+    s.cycle_il_set = cycle_il_set;
+    s.comp.arc_not_allowed = arc_not_allowed;
+    s.comp.detached = detached;
+    s.feed_mm_min = feed_mm_min;
+    s.position_mm = position_mm;
+  }
+};
+
+bool light_motion(const Code* c) {
+  return c->run == run_straight || c->run == run_arc;
+}
+
+// True when every step of the block is one LightUndo covers: no comment, S or T word, every code
+// G0-G3 (or none, the motion mode G0-G3 or none), cutter compensation off.
+bool light_block(const grammar::Block& block, const BlockWords& w, const ModalState& s) {
+  constexpr std::uint32_t kOwnSteps = letter_mask("ST");
+  if (block.message_count > 0 || (w.letters & kOwnSteps) != 0 || s.comp.on()) return false;
+  for (std::size_t i = 0; i < w.code_count; ++i)
+    if (!light_motion(w.codes[i])) return false;
+  if (w.code_count == 0 && s.motion >= 0 && w.first_axis != nullptr) {
+    const Code* modal = find_code('G', s.motion);
+    return modal != nullptr && light_motion(modal);
+  }
+  return true;
+}
+
 }  // namespace
 
 double ModalState::mm_per_unit() const {
@@ -226,18 +191,31 @@ Interpreter::Interpreter(const Machine& machine) : machine_(machine) {
   }
 }
 
-bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, InterpError& err) {
-  BlockWords w;
-  if (!import_words(block, machine_.layout, w, err)) return false;
+bool Interpreter::execute(const grammar::Block& block, const BlockWords* imported,
+                          std::vector<Canon>& out, InterpError& err) {
   // LinuxCNC reads X as a diameter in G7 (read_x halves it; a G7/G8 in the same block rescales
   // it), so the X word is halved when the block ends in diameter mode: X, G92 X, G10 X alike.
-  const Code* lathe = w.in(Group::LatheMode);
-  if (w.has('X') && (lathe ? lathe->number10 == 70 : state().lathe_diameter)) {
+  const auto halves_x = [this](const BlockWords& w) {
+    const Code* lathe = w.in(Group::LatheMode);
+    return w.has('X') && (lathe ? lathe->number10 == 70 : state().lathe_diameter);
+  };
+  if (imported != nullptr && !halves_x(*imported)) return execute_words(block, *imported, out, err);
+  BlockWords w;
+  if (imported != nullptr)
+    w = *imported;
+  else if (!import_words(block, machine_.layout, w, err))
+    return false;
+  if (halves_x(w)) {
     w.x_radius = *w['X'];
     w.x_radius.value /= 2.0;
     w.value['X' - 'A'] = &w.x_radius;
   }
+  return execute_words(block, w, out, err);
+}
 
+bool Interpreter::execute_words(const grammar::Block& block, const BlockWords& w,
+                                std::vector<Canon>& out, InterpError& err) {
+  if (light_block(block, w, state())) return execute_light(block, w, out, err);
   ModalState& s = begin_block();
   BlockCtx ctx{machine_, block, w, s, out, err, tables_, nullptr};
   ctx.call_level = call_level_;
@@ -278,6 +256,26 @@ bool Interpreter::execute(const grammar::Block& block, std::vector<Canon>& out, 
     for (std::size_t i = 0; i < ctx.results.count; ++i)
       result_params_->set_system(ctx.results.set[i].number, ctx.results.set[i].value);
   return true;
+}
+
+bool Interpreter::execute_light(const grammar::Block& block, const BlockWords& w,
+                                std::vector<Canon>& out, InterpError& err) {
+  ModalState& s = state_mut();
+  BlockCtx ctx{machine_, block, w, s, out, err, tables_, nullptr};
+  ctx.call_level = call_level_;
+  ctx.motion_before = s.motion;
+  ctx.nurbs = &nurbs_;
+  ctx.g7x = &g7x_next_;
+  if (!check_block(ctx)) return false;
+  const LightUndo undo(s);
+  const std::size_t out_mark = out.size();
+  const bool ok = (!w.has('F') || step_feed(ctx)) &&
+                  (!(w.in(Group::Motion) || ctx.motion_to_be >= 0) || run_motion(ctx));
+  if (!ok) {
+    undo.restore(s);
+    out.resize(out_mark);
+  }
+  return ok;
 }
 
 void Interpreter::enter_call(int level) {

@@ -159,6 +159,8 @@ struct G7xCycle {
   std::vector<lathe::Seg> profile;
 };
 
+struct BlockWords;  // interp/steps.hpp
+
 /// Interprets blocks one at a time (grbl gcode.c STEP 1-4): copy the state, import the words,
 /// check everything, then commit. A block with an error changes nothing.
 class Interpreter {
@@ -170,7 +172,13 @@ class Interpreter {
   /// Interprets `block` (which must have no syntax errors). On success appends its canonical
   /// commands to `out` (in mm, mm/min, s, machine coordinates) and returns true; on failure
   /// sets `err` and returns false with the state unchanged.
-  bool execute(const grammar::Block& block, std::vector<Canon>& out, InterpError& err);
+  bool execute(const grammar::Block& block, std::vector<Canon>& out, InterpError& err) {
+    return execute(block, nullptr, out, err);
+  }
+  /// The same with the block's words already imported (import_words, interp/block_words.hpp;
+  /// the read-ahead thread imports plain lines); null: imported here.
+  bool execute(const grammar::Block& block, const BlockWords* imported, std::vector<Canon>& out,
+               InterpError& err);
 
   const ModalState& state() const { return states_[cur_]; }
   /// The subroutine call level the next blocks run at (0 = the program); entering a level
@@ -213,6 +221,13 @@ class Interpreter {
   bool g7x_collect(const grammar::Block& block, InterpError& err);
   /// The subroutine returned at `line`: the cycle's moves; errors are located at `line`.
   bool g7x_finish(int line, std::vector<Canon>& out, InterpError& err);
+
+  /// execute() once the block's words are imported (X halved in G7).
+  bool execute_words(const grammar::Block& block, const BlockWords& w, std::vector<Canon>& out,
+                     InterpError& err);
+  /// execute() for a block whose steps LightUndo covers: run on the state itself.
+  bool execute_light(const grammar::Block& block, const BlockWords& w, std::vector<Canon>& out,
+                     InterpError& err);
 
   const Machine& machine_;
   /// The modal state and the copy a block executes on; a block that succeeds is committed by

@@ -9,6 +9,7 @@
 namespace gm {
 
 bool LineParser::next(ParsedLine& p) {
+  p.imported = false;
   if (!reader_.next(p.text)) return false;
   p.number = reader_.number();
   p.offset = reader_.line_offset();
@@ -83,6 +84,10 @@ void ParallelFront::fill(Batch& b) {
       b.eof = true;
       b.last_number = front_.last_number();
       return;
+    }
+    if (import_axes_ != nullptr && !p.truncated && importable_ahead(p.block)) {
+      InterpError err;  // (a block that fails is imported again by the interpreter, for its error)
+      p.imported = import_words(p.block, *import_axes_, p.words, err);
     }
     bytes += p.text.size();
     ++b.count;

@@ -5,6 +5,7 @@
 #include "common/batch_ring.hpp"
 #include "common/diagnostic.hpp"
 #include "grammar/parse.hpp"
+#include "interp/block_words.hpp"
 #include "interp/line_reader.hpp"
 #include "interp/oword_flow.hpp"
 
@@ -27,6 +28,10 @@ struct ParsedLine {
   int file = 0;                   ///< 0: the program; > 0: a subroutine file
   std::string text;               ///< the line as read (diagnostics echo it)
   grammar::Block block;
+  /// The read-ahead thread's import of `block`'s words (importable_ahead lines of the LinuxCNC
+  /// dialect), valid when `imported`; the interpreter then skips its own.
+  BlockWords words;
+  bool imported = false;
 
   /// Gives back memory a hostile line made this slot grow (kept lines stay small).
   void trim() {
@@ -119,8 +124,11 @@ class ParallelFront {
     int last_number = 0;  ///< with eof: the last line number read
   };
 
-  explicit ParallelFront(std::istream& in, bool macro_b = false)
-      : front_(in, macro_b), thread_([this] { produce(); }) {}
+  /// `import_axes`: the machine's axes when the lines' words are imported here (LinuxCNC's
+  /// dialect, whose rules change no word before the interpreter), else null.
+  explicit ParallelFront(std::istream& in, bool macro_b = false,
+                         const AxisLayout* import_axes = nullptr)
+      : front_(in, macro_b), import_axes_(import_axes), thread_([this] { produce(); }) {}
   ~ParallelFront() {
     ring_.stop();
     thread_.join();
@@ -145,6 +153,7 @@ class ParallelFront {
   void fill(Batch& b);
 
   LineParser front_;
+  const AxisLayout* import_axes_;
   BatchRing<Batch, kBatches> ring_;
   Batch* taken_ = nullptr;  ///< the consumer's batch between acquire() and release()
   std::thread thread_;      ///< last: starts once everything above is constructed

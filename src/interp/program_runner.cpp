@@ -299,7 +299,7 @@ bool ProgramRunner::run_block(Line& l) {
     if (handled) return more;
     add_missing_tools(l);
   }
-  if (!interp_.execute(l.p.block, l.out, err)) {
+  if (!interp_.execute(l.p.block, l.p.imported ? &l.p.words : nullptr, l.out, err)) {
     l.diags.push_back(error_diagnostic(err, l.p.text));
     return true;
   }
@@ -581,8 +581,7 @@ void ProgramRunner::cannot_seek(int line, std::vector<Diagnostic>& diags) {
   done_ = true;
 }
 
-bool ProgramRunner::start_failed(std::vector<Diagnostic>& diags) {
-  if (start_error_.empty()) return false;
+bool ProgramRunner::report_start_error(std::vector<Diagnostic>& diags) {
   for (Diagnostic& d : start_error_) diags.push_back(std::move(d));
   start_error_.clear();
   done_ = true;

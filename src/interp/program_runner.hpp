@@ -94,7 +94,10 @@ class ProgramRunner {
   bool stop(const InterpError& err, Line& l);
   /// check_all: the note after an error that ends checking (the lines after it are not read).
   void stopped_here(SourceLoc loc, std::vector<Diagnostic>& diags, std::string_view why) const;
-  bool start_failed(std::vector<Diagnostic>& diags);
+  bool start_failed(std::vector<Diagnostic>& diags) {
+    return !start_error_.empty() && report_start_error(diags);
+  }
+  bool report_start_error(std::vector<Diagnostic>& diags);
   void remember(const std::string& text) { last_text_ = &text; }
 
   std::string filename_;
@@ -146,7 +149,9 @@ class LineDriver {
         back_(std::move(filename), opts),
         source_(front_, back_) {
     if (opts.read_ahead)  // front_ reads nothing yet
-      ahead_ = std::make_unique<ParallelFront>(in, fanuc_family(opts.dialect));
+      ahead_ = std::make_unique<ParallelFront>(
+          in, fanuc_family(opts.dialect),
+          opts.dialect == Dialect::LinuxCNC ? &back_.machine().layout : nullptr);
   }
   /// Reads, parses and interprets one line; false when the program is over.
   bool step(std::vector<Canon>& out, std::vector<Diagnostic>& diags);

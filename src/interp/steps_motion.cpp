@@ -108,6 +108,8 @@ namespace {
 // turned to in the direction of its sign from where the axis is (in the program's coordinates,
 // as LinuxCNC's unwrap_rotary). `target_mm` holds the plain targets; wrapped ones are replaced.
 bool unwrap_targets(BlockCtx& ctx, const Pos9& from_mm, unsigned given, Pos9& target_mm) {
+  constexpr unsigned kRotary = 0x38u;  // A, B, C
+  if ((given & kRotary) == 0) return true;
   for (int i = 3; i <= 5; ++i) {
     if (!(given & (1u << i)) || !axis_wraps(ctx.machine, i)) continue;
     const grammar::Word* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]];
@@ -127,10 +129,51 @@ bool unwrap_targets(BlockCtx& ctx, const Pos9& from_mm, unsigned given, Pos9& ta
 
 }  // namespace
 
+namespace {
+
+// Every axis of `p` within the position range (false for NaN), in one test of the nine.
+bool all_within(const Pos9& p) {
+  return (p.array().abs() <= kMaxPositionMm).all();
+}
+
+// The end of axis_target: every axis of the target within the position range.
+bool target_in_range(BlockCtx& ctx, const Pos9& target_mm) {
+  if (all_within(target_mm)) return true;
+  for (int i = 0; i < kProgramAxes; ++i) {
+    const char letter = kProgramAxisLetters[static_cast<std::size_t>(i)];
+    if (within(target_mm[i], kMaxPositionMm)) continue;
+    const grammar::Word* aw = ctx.w[letter] ? ctx.w[letter] : ctx.w.polar.first();
+    if (aw == nullptr) aw = ctx.w.first_axis;
+    return ctx.fail(
+        ErrorCode::ValueOutOfRange, aw ? aw->loc : SourceLoc{ctx.block.line, 1},
+        fmt::format("{} would move to {:g} mm (offsets included), outside -{:g}..{:g} mm", letter,
+                    target_mm[i], kMaxPositionMm, kMaxPositionMm));
+  }
+  return true;
+}
+
+}  // namespace
+
 bool axis_target(BlockCtx& ctx, const Pos9& from_mm, Pos9& target_mm) {
   const double scale = ctx.scale();
   const Frame frame = ctx.frame();
   target_mm = from_mm;
+  if (!ctx.w.polar.any() && !frame.rotated()) {
+    // The usual block: each axis word on its own axis, by the general path's operations (a word
+    // in mm, plus the offsets' sum in G90, plus where the axis is in G91).
+    const unsigned given = ctx.w.axes;
+    if (given == 0) return target_in_range(ctx, target_mm);
+    const bool incremental = ctx.s.incremental;
+    const Pos9 off = incremental ? Pos9::Zero().eval() : frame.offset();
+    for (unsigned m = given; m != 0; m &= m - 1) {
+      const int i = std::countr_zero(m);
+      const auto* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]];
+      const double word = aw->value * (axis_is_rotary(i) ? 1.0 : scale);
+      target_mm[i] = incremental ? from_mm[i] + word : word + off[i];
+    }
+    if (!incremental && !unwrap_targets(ctx, from_mm, given, target_mm)) return false;
+    return target_in_range(ctx, target_mm);
+  }
   Pos9 words = Pos9::Zero();  // the axis words in mm (absolute: program coordinates)
   unsigned given = ctx.w.axes;
   for (unsigned m = given; m != 0; m &= m - 1) {
@@ -169,17 +212,7 @@ bool axis_target(BlockCtx& ctx, const Pos9& from_mm, Pos9& target_mm) {
     target_mm = frame.to_machine(target_mm, words, given);
     if (!unwrap_targets(ctx, from_mm, given, target_mm)) return false;
   }
-  for (int i = 0; i < kProgramAxes; ++i) {
-    const char letter = kProgramAxisLetters[static_cast<std::size_t>(i)];
-    if (within(target_mm[i], kMaxPositionMm)) continue;
-    const grammar::Word* aw = ctx.w[letter] ? ctx.w[letter] : ctx.w.polar.first();
-    if (aw == nullptr) aw = ctx.w.first_axis;
-    return ctx.fail(
-        ErrorCode::ValueOutOfRange, aw ? aw->loc : SourceLoc{ctx.block.line, 1},
-        fmt::format("{} would move to {:g} mm (offsets included), outside -{:g}..{:g} mm", letter,
-                    target_mm[i], kMaxPositionMm, kMaxPositionMm));
-  }
-  return true;
+  return target_in_range(ctx, target_mm);
 }
 
 bool machine_target(BlockCtx& ctx, Pos9& target_mm) {
@@ -248,6 +281,7 @@ Motion motion_template(const BlockCtx& ctx, MotionKind kind) {
 // What every emitted move must meet, whichever step computed it: a target within the position
 // range, and room in the block for one more move.
 static bool can_emit(BlockCtx& ctx, const Pos9& target_mm, SourceLoc loc) {
+  if (all_within(target_mm) && ctx.out.size() < kMaxMovesPerBlock) return true;
   for (int i = 0; i < kProgramAxes; ++i)
     if (!within(target_mm[i], kMaxPositionMm))
       return ctx.fail(ErrorCode::ValueOutOfRange, loc,
@@ -404,12 +438,20 @@ bool arc_centre(BlockCtx& ctx, const Code& c, const Pos9& start, const Pos9& end
         fmt::format("{} in the {} plane of a rotated coordinate system (G10 L2 R{:g}): "
                     "gmotion's arcs lie in the XY, XZ or YZ plane",
                     code_name(c), ctx.s.plane == Plane::XZ ? "XZ" : "YZ", frame.rotation_deg()));
-  const Pos9 start_p = frame.to_program(start), end_p = frame.to_program(end);
   ArcInput in;
-  in.start_a = start_p[ax.a] / scale;
-  in.start_b = start_p[ax.b] / scale;
-  in.end_a = end_p[ax.a] / scale;
-  in.end_b = end_p[ax.b] / scale;
+  if (frame.rotated()) {
+    const Pos9 start_p = frame.to_program(start), end_p = frame.to_program(end);
+    in.start_a = start_p[ax.a] / scale;
+    in.start_b = start_p[ax.b] / scale;
+    in.end_a = end_p[ax.a] / scale;
+    in.end_b = end_p[ax.b] / scale;
+  } else {  // to_program's operations on the plane's two axes only
+    const Pos9 off = frame.offset();
+    in.start_a = (start[ax.a] - off[ax.a]) / scale;
+    in.start_b = (start[ax.b] - off[ax.b]) / scale;
+    in.end_a = (end[ax.a] - off[ax.a]) / scale;
+    in.end_b = (end[ax.b] - off[ax.b]) / scale;
+  }
   in.use_r = w.has('R');
   in.r = w.get('R');
   in.off_a = w.get(la);

@@ -163,3 +163,15 @@ TEST_CASE("the missing-end diagnostic echoes the program's last line wherever a 
     }
   }
 }
+
+TEST_CASE("parallel check equals serial check on blocks imported on the read-ahead thread") {
+  // Import errors (a code, a letter, an axis the machine lacks, two motion codes, a repeated
+  // word), G7's halved X words (the imported words copied to halve X) and light blocks.
+  const std::string text =
+      "G21 G90 G17 G94\nG1 X1 Y2 F100\nG1.5 X2\nG1 Q3 X1\nG0 A5\nG1 G0 X1\nG1 X1 X2\n"
+      "G18 G7\nG1 X10 Z1\nX20 Z2\nG8\nG1 X10\nG2 X12 Z2 I1 K0\nG17 G2 X1 Y1 R5\nM2\n";
+  const CheckResult r = check(text, gm::CheckThreads::Auto);
+  CHECK(r.sum.errors == 6);  // lines 3 to 7, and R5 short of half the chord (5.52) on line 14
+  CHECK(r.sum.moves == 4);   // X1 Y2; X5 Z1 and X10 Z2 (diameters 10, 20); the G18 arc
+  require_same(text);
+}
