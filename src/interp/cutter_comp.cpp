@@ -9,10 +9,31 @@
 #include "common/units.hpp"
 #include "interp/steps.hpp"
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <iterator>
 #include <numbers>
 
 namespace gm {
+
+CompQueue& CompQueue::operator=(const CompQueue& o) {
+  if (this == &o) return *this;
+  std::size_t keep = std::min(ids_.size(), o.ids_.size());
+  if (keep > 0 && ids_[keep - 1] != o.ids_[keep - 1]) keep = 0;
+  const auto k = static_cast<std::ptrdiff_t>(keep);
+  items_.erase(items_.begin() + k, items_.end());
+  ids_.erase(ids_.begin() + k, ids_.end());
+  items_.insert(items_.end(), o.items_.begin() + k, o.items_.end());
+  ids_.insert(ids_.end(), o.ids_.begin() + k, o.ids_.end());
+  return *this;
+}
+
+void CompQueue::push_back(CompQueued q) {
+  static std::atomic<std::uint64_t> pushes{0};
+  items_.push_back(std::move(q));
+  ids_.push_back(pushes.fetch_add(1, std::memory_order_relaxed) + 1);
+}
 
 namespace {
 
@@ -87,17 +108,19 @@ void lathe_origin(const CutterComp& cc, Plane plane, Pos9& p) {
   if (o == 1 || o == 5 || o == 4) p[2] += r;
 }
 
-// Sends the held-back commands on (LinuxCNC dequeue_canons).
-void dequeue(BlockCtx& ctx) {
+// Sends the held-back commands on (LinuxCNC dequeue_canons); with `moved_end`, every held-back
+// move ends there in the plane instead.
+void dequeue(BlockCtx& ctx, const P2* moved_end = nullptr) {
   CutterComp& cc = ctx.s.comp;
   cc.end_valid = false;
-  for (CompQueued& q : cc.queue) {
+  for (const CompQueued& q : cc.queue) {
     if (!q.is_motion) {
       ctx.out.push_back(q.held);
       continue;
     }
     Motion mo = q.mo;
     Pos9 end = q.end_mm, centre = q.center_mm;
+    if (moved_end != nullptr) end = with_plane(end, plane_axes(ctx.s.plane), *moved_end);
     lathe_origin(cc, mo.plane, end);
     const Pos9 start = cc.emitted_mm;
     mo.start_mm = to_machine(start, ctx.machine.layout);
@@ -140,7 +163,7 @@ bool move_end_and_flush(BlockCtx& ctx, P2 p) {
   if (cc.queue.empty()) return true;
   const PlaneAxes ax = plane_axes(ctx.s.plane);
   const P2 from{cc.end_a, cc.end_b};
-  for (CompQueued& q : cc.queue) {
+  for (const CompQueued& q : cc.queue) {
     if (!q.is_motion) continue;
     if (q.mo.kind == MotionKind::Arc) {
       const P2 c = in_plane(q.center_mm, ax);
@@ -165,9 +188,8 @@ bool move_end_and_flush(BlockCtx& ctx, P2 p) {
                         "without gouging (line {} would run backwards)",
                         q.mo.kind == MotionKind::Rapid ? "traverse" : "feed", q.mo.line));
     }
-    q.end_mm = with_plane(q.end_mm, ax, p);
   }
-  dequeue(ctx);
+  dequeue(ctx, &p);
   set_endpoint(cc, p);
   return true;
 }

@@ -5,6 +5,8 @@
 #include "interp/program_axes.hpp"
 #include "motion/canon.hpp"
 
+#include <cstddef>
+#include <cstdint>
 #include <string_view>
 #include <vector>
 
@@ -27,6 +29,37 @@ struct CompQueued {
   Canon held;                       ///< when !is_motion: a dwell or an event
 };
 
+/// The held-back commands, oldest first: appended to and cleared, never changed in place. The
+/// interpreter copies its modal state for every block (a block that fails leaves it as it was),
+/// so a copy keeps what the two queues share and copies only the rest: each command pushed gets a
+/// number no other push gets, and two queues holding the same number at the same place hold the
+/// same commands up to it. (A full copy made a block under compensation cost as much as the
+/// queue was long: 8,000 moves along Z held back took 1 s, quadratically more with more.)
+class CompQueue {
+ public:
+  CompQueue() = default;
+  CompQueue(const CompQueue&) = default;
+  CompQueue(CompQueue&&) noexcept = default;
+  CompQueue& operator=(CompQueue&&) noexcept = default;
+  CompQueue& operator=(const CompQueue& o);
+  ~CompQueue() = default;
+
+  bool empty() const { return items_.empty(); }
+  std::size_t size() const { return items_.size(); }
+  const CompQueued& front() const { return items_.front(); }
+  std::vector<CompQueued>::const_iterator begin() const { return items_.begin(); }
+  std::vector<CompQueued>::const_iterator end() const { return items_.end(); }
+  void push_back(CompQueued q);
+  void clear() {
+    items_.clear();
+    ids_.clear();
+  }
+
+ private:
+  std::vector<CompQueued> items_;
+  std::vector<std::uint64_t> ids_;  ///< each item's push, unique in the process
+};
+
 /// Compensation state (LinuxCNC's cutter_comp_side/radius/firstmove, program_x/y/z, the queue).
 /// Positions are machine coordinates in mm; `a`, `b` are the plane's two axes (plane_axes()).
 struct CutterComp {
@@ -36,7 +69,7 @@ struct CutterComp {
   bool first_move = true;             ///< no move made since compensation was turned on
   double prog_a = 0.0, prog_b = 0.0;  ///< the programmed (uncompensated) point in the plane
   bool arc_not_allowed = false;       ///< the move after G40 must be straight
-  std::vector<CompQueued> queue;      ///< held-back commands, oldest first
+  CompQueue queue;                    ///< held-back commands, oldest first
   Pos9 emitted_mm = Pos9::Zero();     ///< where the last command that left the queue ended
   double end_a = 0.0, end_b = 0.0;    ///< start of the queued moves (LinuxCNC's endpoint)
   bool end_valid = false;

@@ -1,8 +1,11 @@
 // Runs a fuzz target without libFuzzer: each file named (or each file in a named folder) once.
+// GMOTION_REPLAY_TIMES=1 prints each input's CPU seconds on stdout ("cpu_s bytes path").
 #include "fuzz_target.hpp"
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -43,6 +46,7 @@ int main(int argc, char** argv) {
   }
   bool ok = true;
   int count = 0;
+  const bool times = std::getenv("GMOTION_REPLAY_TIMES") != nullptr;
   for (int i = 1; i < argc; ++i) {
     for (const fs::path& p : inputs_of(argv[i], ok)) {
       std::ifstream in(p, std::ios::binary);
@@ -54,7 +58,11 @@ int main(int argc, char** argv) {
         continue;
       }
       std::fprintf(stderr, "replay: %s (%zu bytes)\n", p.string().c_str(), bytes.size());
+      const std::clock_t start = std::clock();
       LLVMFuzzerTestOneInput(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
+      if (times)
+        std::printf("%.6f %zu %s\n", static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC,
+                    bytes.size(), p.string().c_str());
       ++count;
     }
   }

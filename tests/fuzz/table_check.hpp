@@ -91,24 +91,35 @@ inline bool has_numbered_line(const std::string& text) {
   return false;
 }
 
+/// The two files check_var_file writes: made by the first input that needs them, overwritten by
+/// the next (not created and removed for every input), removed at exit.
+struct VarFiles {
+  std::string path, saved;
+  VarFiles() {
+    const char* dir = std::getenv("TMPDIR");
+    const std::string base =
+        fmt::format("{}/gmotion-fuzz-var-{}", dir && *dir ? dir : "/tmp", getpid());
+    path = base + ".var";
+    saved = base + "-saved.var";
+  }
+  VarFiles(const VarFiles&) = delete;
+  VarFiles& operator=(const VarFiles&) = delete;
+  ~VarFiles() {
+    std::remove(path.c_str());
+    std::remove(saved.c_str());
+  }
+};
+
 /// Reads `text` as a LinuxCNC `.var` file; when the reader accepts it, the file save_var_file
 /// writes reads back to the same parameters (to its 6 decimals) and writes the same bytes again,
-/// and a program that reads and sets the G54/G55 offsets runs with it (checked and streamed
-/// alike; the stream saves the file at its end, which must read again). True when the reader
-/// accepts it.
-inline bool check_var_file(const std::string& text) {
+/// and, when `with_program`, a program that reads and sets the G54/G55 offsets runs with it
+/// (checked and streamed alike; the stream saves the file at its end, which must read again).
+/// True when the reader accepts it.
+inline bool check_var_file(const std::string& text, bool with_program = true) {
   if (!has_numbered_line(text)) return false;
-  const char* dir = std::getenv("TMPDIR");
-  const std::string base =
-      fmt::format("{}/gmotion-fuzz-var-{}", dir && *dir ? dir : "/tmp", getpid());
-  const std::string path = base + ".var", saved = base + "-saved.var";
-  struct Remove {
-    std::string a, b;
-    ~Remove() {
-      std::remove(a.c_str());
-      std::remove(b.c_str());
-    }
-  } remove{path, saved};
+  static const VarFiles files;
+  const std::string& path = files.path;
+  const std::string& saved = files.saved;
   {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out << text;
@@ -135,6 +146,7 @@ inline bool check_var_file(const std::string& text) {
   if (!back.save_var_file(saved, why) || file_text(saved) != first)
     table_broken("the parameter file saved twice differs:\n" + first, text);
 
+  if (!with_program) return true;
   // A program with the file: the offsets in it apply, and G10 writes persistent ones back.
   static constexpr const char* kProgram =
       "G10 L2 P2 X[#5241 + 1] Y#5222\nG55 G0 X1 Y[#31 + 1]\n#5243 = [#5243 + 0.5]\nG54 G1 X2 "

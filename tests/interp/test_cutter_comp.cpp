@@ -2,6 +2,7 @@
 // around the programmed point at convex ones), the move after G40, and the errors.
 #include "common/error_codes.hpp"
 #include "gcode_helpers.hpp"
+#include "interp/cutter_comp.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -92,4 +93,80 @@ TEST_CASE("cutter compensation errors") {
         std::pair{code(ErrorCode::CutterCompMisused), 4});
   CHECK(first_error("G21 G19 F100\nG41.1 D6\nM2\n") ==
         std::pair{code(ErrorCode::CutterCompMisused), 2});
+}
+
+namespace {
+// The lines of the commands a queue holds, oldest first.
+std::vector<int> lines_of(const gm::CompQueue& q) {
+  std::vector<int> out;
+  for (const gm::CompQueued& c : q) out.push_back(c.mo.line);
+  return out;
+}
+void push_line(gm::CompQueue& q, int line) {
+  gm::CompQueued c;
+  c.mo.line = line;
+  q.push_back(c);
+}
+}  // namespace
+
+TEST_CASE("a copied compensation queue holds what its source holds") {
+  gm::CompQueue a, b;
+  for (int line : {1, 2, 3}) push_line(a, line);
+  b = a;
+  CHECK(lines_of(b) == std::vector<int>{1, 2, 3});
+  push_line(a, 4);  // b is what a held: only the fourth is added
+  b = a;
+  CHECK(lines_of(b) == std::vector<int>{1, 2, 3, 4});
+  gm::CompQueue c = b;
+  push_line(c, 5);  // c and b part after their fourth command
+  push_line(b, 6);
+  c = b;
+  CHECK(lines_of(c) == std::vector<int>{1, 2, 3, 4, 6});
+  push_line(c, 7);  // a block that failed: its copy had one command more
+  c = b;
+  CHECK(lines_of(c) == std::vector<int>{1, 2, 3, 4, 6});
+  gm::CompQueue d;
+  for (int line : {8, 9, 10, 11, 12, 13}) push_line(d, line);  // longer, nothing shared
+  c = d;
+  CHECK(lines_of(c) == std::vector<int>{8, 9, 10, 11, 12, 13});
+  d.clear();
+  c = d;
+  CHECK(c.empty());
+}
+
+TEST_CASE("moves along the normal axis held back in a loop, and a failed block among them") {
+  // Compensation on, then 4,000 passes of two Z moves: all 8,000 are held back (they do not move
+  // in the plane) until the line to (20, 5) releases them, as LinuxCNC queues them.
+  const auto m = motions(
+      "G21 G90 G17 G0 X0 Y0 Z5\n"
+      "G41.1 D2 G1 X10 Y0 F500\n"
+      "#1 = 0\n"
+      "o100 while [#1 LT 4000]\n"
+      "G1 Z-1\n"
+      "G1 Z1\n"
+      "#1 = [#1 + 1]\n"
+      "o100 endwhile\n"
+      "G1 X20 Y5\n"
+      "G40 G0 X30\n"
+      "M2\n");
+  REQUIRE(m.size() == 8004);  // the rapid to Z5, the entry, 8,000 Z moves, the line, the exit
+  CHECK(m[1].line == 2);
+  CHECK(m[2].line == 5);
+  CHECK(m[8001].line == 6);
+  CHECK(m[8002].line == 9);
+  CHECK(m[8001].end_mm[2] == 1.0);
+  CHECK(m[8001].end_mm[1] == m[8002].start_mm[1]);
+  // A block that fails while moves are held back (K in the XY plane) changes nothing: the check
+  // counts the same moves as without it.
+  const std::string head = "G21 G90 G17 G0 X0 Y0 Z5\nG41.1 D2 G1 X10 Y0 F500\nG1 Z-1\nG1 Z1\n";
+  const std::string tail = "G1 Z-2\nG1 X20 Y5\nG40 G0 X30\nM2\n";
+  const auto moves_of = [](const std::string& program) {
+    std::istringstream in(program);
+    std::vector<gm::Diagnostic> d;
+    gm::InterpreterOptions opts;
+    return gm::check_program_diagnostics(in, "test.ngc", opts, d).moves;
+  };
+  CHECK(moves_of(head + "G2 X12 K1\n" + tail) == 7);
+  CHECK(moves_of(head + tail) == 7);
+  CHECK(motions(head + tail).size() == 7);
 }
