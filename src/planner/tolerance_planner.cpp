@@ -510,6 +510,76 @@ const TolerancePlanner::ZoneMemo& TolerancePlanner::zone_values(ZoneMemo& memo, 
 }
 
 template <class Load, class Guess>
+std::optional<double> TolerancePlanner::narrowed_speed_in_zones(double vmax, double share,
+                                                                double s0, double s1, double t,
+                                                                ZoneRange hi_r, Load& load,
+                                                                Guess& guess) const {
+  // The same halvings, all 40 at once: they visit the points k·δ, δ = vmax/2^40, and end on
+  // the largest k whose load fits (0 when none). The bracket is narrowed first, by loads at
+  // speeds that fit or do not (monotone: a speed below one that fits fits): just below the
+  // root of the largest zone's load (guess, at vmax), then from the largest speed known to
+  // fit, the root of its zone's load or the speed where the next element enters the zone
+  // (the load jumps there), whichever comes first, just below and just above it. Once the
+  // fitting speed is known within δ, k is read from it and confirmed by two loads, as
+  // largest_speed_in_zones does (its halvings at it = 0); otherwise those halvings run.
+  double fits_up_to = 0.0, fails_from = vmax;
+  ZoneRange hint = hi_r;
+  auto fits = [&](double v) {
+    if (v <= fits_up_to) return true;
+    if (v >= fails_from) return false;
+    hint = zone_range_from(hint, s0 - v * t, s1 + v * t);
+    if (load(v, hint) <= share) {
+      fits_up_to = v;
+      return true;
+    }
+    fails_from = v;
+    return false;
+  };
+  constexpr double kNear = 1e-12;
+  const double g = guess(hint);
+  if (g > 0.0 && g < vmax) fits(g * (1.0 - kNear));
+  for (int round = 0; round < 16 && fails_from - fits_up_to > 0.0; ++round) {
+    const double a = fits_up_to;
+    const ZoneRange r = zone_range_from(hint, s0 - a * t, s1 + a * t);
+    // zone_range's tests: elems_[first − 1] joins once s0 − v·t > its s1 + 1e-9 no longer
+    // holds, elems_[last] once s1 + v·t > its s0 − 1e-9. Where, to the rounding, is
+    // found on the tests themselves: the largest speed without it, the smallest with it.
+    const Element* before = r.first > 0 ? &elems_[r.first - 1] : nullptr;
+    const Element* after = r.last < elems_.size() ? &elems_[r.last] : nullptr;
+    auto joins = [&](double v) {  // zone_range_from's tests, on these two elements
+      const double z0 = s0 - v * t, z1 = s1 + v * t;
+      return (before != nullptr && !(before->s1 <= z0 - 1e-9)) ||
+             (after != nullptr && after->s0 < z1 + 1e-9);
+    };
+    double enter = kInf;
+    if (before != nullptr) enter = std::min(enter, (s0 - 1e-9 - before->s1) / t);
+    if (after != nullptr) enter = std::min(enter, (after->s0 - 1e-9 - s1) / t);
+    const double root = guess(r);
+    if (root < enter) {  // the root of this zone's load comes first
+      if (!(root > a) || !(root < fails_from)) break;
+      fits(root * (1.0 - kNear));
+      fits(root * (1.0 + kNear));
+      break;
+    }
+    if (!(enter > a) || !(enter < fails_from)) break;
+    double below = std::max(a, enter * (1.0 - 1e-9)), above = enter * (1.0 + 1e-9);
+    if (joins(below) || !joins(above)) break;
+    for (int it = 0; it < 40 && std::nextafter(below, kInf) < above; ++it) {
+      const double mid = 0.5 * (below + above);
+      (joins(mid) ? above : below) = mid;
+    }
+    fits(below);
+    if (!fits(above)) break;
+  }
+  const double delta = std::ldexp(vmax, -40), kmax = std::ldexp(1.0, 40) - 1.0;
+  const double k = std::floor(fits_up_to / delta);
+  if (fails_from - fits_up_to <= delta && k >= 0.0 && k <= kmax &&
+      (k == 0.0 || fits(0.0 + k * delta)) && (k == kmax || !fits(0.0 + (k + 1.0) * delta)))
+    return 0.0 + k * delta;
+  return std::nullopt;
+}
+
+template <class Load, class Guess>
 double TolerancePlanner::largest_speed_in_zones(double vmax, double share, double s0, double s1,
                                                 double t, Load&& load, Guess&& guess) const {
   // largest_speed_within, the zone [s0 − v·t, s1 + v·t] found for each speed. Zones grow with v
@@ -518,70 +588,9 @@ double TolerancePlanner::largest_speed_in_zones(double vmax, double share, doubl
   // comparisons are the same, so is the result, bit for bit.
   ZoneRange hi_r = zone_range(s0 - vmax * t, s1 + vmax * t);
   if (load(vmax, hi_r) <= share) return vmax;
-  {
-    // The same halvings, all 40 at once: they visit the points k·δ, δ = vmax/2^40, and end on
-    // the largest k whose load fits (0 when none). The bracket is narrowed first, by loads at
-    // speeds that fit or do not (monotone: a speed below one that fits fits): just below the
-    // root of the largest zone's load (guess, at vmax), then from the largest speed known to
-    // fit, the root of its zone's load or the speed where the next element enters the zone
-    // (the load jumps there), whichever comes first, just below and just above it. Once the
-    // fitting speed is known within δ, k is read from it and confirmed by two loads, as below
-    // (the halvings at it = 0); otherwise the halvings run.
-    double fits_up_to = 0.0, fails_from = vmax;
-    ZoneRange hint = hi_r;
-    auto fits = [&](double v) {
-      if (v <= fits_up_to) return true;
-      if (v >= fails_from) return false;
-      hint = zone_range_from(hint, s0 - v * t, s1 + v * t);
-      if (load(v, hint) <= share) {
-        fits_up_to = v;
-        return true;
-      }
-      fails_from = v;
-      return false;
-    };
-    constexpr double kNear = 1e-12;
-    const double g = guess(hint);
-    if (g > 0.0 && g < vmax) fits(g * (1.0 - kNear));
-    for (int round = 0; round < 16 && fails_from - fits_up_to > 0.0; ++round) {
-      const double a = fits_up_to;
-      const ZoneRange r = zone_range_from(hint, s0 - a * t, s1 + a * t);
-      // zone_range's tests: elems_[first − 1] joins once s0 − v·t > its s1 + 1e-9 no longer
-      // holds, elems_[last] once s1 + v·t > its s0 − 1e-9. Where, to the rounding, is
-      // found on the tests themselves: the largest speed without it, the smallest with it.
-      const Element* before = r.first > 0 ? &elems_[r.first - 1] : nullptr;
-      const Element* after = r.last < elems_.size() ? &elems_[r.last] : nullptr;
-      auto joins = [&](double v) {  // zone_range_from's tests, on these two elements
-        const double z0 = s0 - v * t, z1 = s1 + v * t;
-        return (before != nullptr && !(before->s1 <= z0 - 1e-9)) ||
-               (after != nullptr && after->s0 < z1 + 1e-9);
-      };
-      double enter = kInf;
-      if (before != nullptr) enter = std::min(enter, (s0 - 1e-9 - before->s1) / t);
-      if (after != nullptr) enter = std::min(enter, (after->s0 - 1e-9 - s1) / t);
-      const double root = guess(r);
-      if (root < enter) {  // the root of this zone's load comes first
-        if (!(root > a) || !(root < fails_from)) break;
-        fits(root * (1.0 - kNear));
-        fits(root * (1.0 + kNear));
-        break;
-      }
-      if (!(enter > a) || !(enter < fails_from)) break;
-      double below = std::max(a, enter * (1.0 - 1e-9)), above = enter * (1.0 + 1e-9);
-      if (joins(below) || !joins(above)) break;
-      for (int it = 0; it < 40 && std::nextafter(below, kInf) < above; ++it) {
-        const double mid = 0.5 * (below + above);
-        (joins(mid) ? above : below) = mid;
-      }
-      fits(below);
-      if (!fits(above)) break;
-    }
-    const double delta = std::ldexp(vmax, -40), kmax = std::ldexp(1.0, 40) - 1.0;
-    const double k = std::floor(fits_up_to / delta);
-    if (fails_from - fits_up_to <= delta && k >= 0.0 && k <= kmax &&
-        (k == 0.0 || fits(0.0 + k * delta)) && (k == kmax || !fits(0.0 + (k + 1.0) * delta)))
-      return 0.0 + k * delta;
-  }
+  if (const std::optional<double> v =
+          narrowed_speed_in_zones(vmax, share, s0, s1, t, hi_r, load, guess))
+    return *v;
   ZoneRange lo_r = zone_range_from(hi_r, s0 - 0.0 * t, s1 + 0.0 * t);
   double lo = 0.0, hi = vmax;
   for (int it = 0; it < 40; ++it) {

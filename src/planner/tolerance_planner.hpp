@@ -193,6 +193,14 @@ class TolerancePlanner : public CanonSource {
   /// The largest v <= vmax with load(v, range of [s0 − v·t, s1 + v·t]) <= share (the load grows
   /// with v): vmax, else by 40 halvings; guess(range) estimates where the load of that range
   /// reaches the share, which ends them early with the same result.
+  /// largest_speed_in_zones' 40 halvings read off at once: the bracket narrowed by a few loads
+  /// near the root of the zone's load and where the next element enters the zone, the halvings'
+  /// end point confirmed by two loads; nothing when the bracket stays wider than a halving's step
+  /// (hi_r: the zone at vmax, whose load is over the share).
+  template <class Load, class Guess>
+  std::optional<double> narrowed_speed_in_zones(double vmax, double share, double s0, double s1,
+                                                double t, ZoneRange hi_r, Load& load,
+                                                Guess& guess) const;
   template <class Load, class Guess>
   double largest_speed_in_zones(double vmax, double share, double s0, double s1, double t,
                                 Load&& load, Guess&& guess) const;
