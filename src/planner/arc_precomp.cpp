@@ -26,8 +26,12 @@ std::size_t cache_slot(double r, double sweep, double len, double v) {
 }  // namespace
 
 ArcPrecompCheck::ArcPrecompCheck(const std::vector<double>& weights, double period_s,
-                                 double line_ratio)
-    : h_(weights), period_s_(period_s), rule_(weights, period_s), line_ratio_(line_ratio) {
+                                 double line_ratio, double near_s)
+    : h_(weights),
+      period_s_(period_s),
+      rule_(weights, period_s),
+      line_ratio_(line_ratio),
+      near_s_(near_s) {
   ring_.resize(h_.size());
   ring_p_.resize(h_.size());
   fork_ring_.resize(h_.size());
@@ -229,16 +233,18 @@ double ArcPrecompCheck::run_stepped(double p_start, double p_until, Start start,
     } else {
       double dt = T, speed = s.v;
       while (dt > eps) {
-        if (seg == 0) {
-          const double left = -s.p / q_;
-          if (vline_ * dt < left) {
-            s.p += q_ * vline_ * dt;
-            speed = vline_;
+        if (seg == 0) {  // the line before: at vline_, its last near_p_ at v_
+          const bool far = s.p < -near_p_;
+          const double w = far ? vline_ : v_, end = far ? -near_p_ : 0.0;
+          const double left = (end - s.p) / q_;
+          if (w * dt < left) {
+            s.p += q_ * w * dt;
+            speed = w;
             dt = 0.0;
           } else {
-            dt = std::max(0.0, dt - left / vline_);
-            s.p = 0.0;
-            seg = 1;
+            dt = std::max(0.0, dt - left / w);
+            s.p = end;
+            if (!far) seg = 1;
           }
         } else if (seg == 1) {
           const double lo = s.v > dv_ ? s.v - dv_ : 0.0;
@@ -258,11 +264,20 @@ double ArcPrecompCheck::run_stepped(double p_start, double p_until, Start start,
             seg = 2;
             if (stop) break;  // the rest of the sample is dropped: the filter drains
           }
-        } else {
+        } else {  // the line after: its first near_p_ at v_, then at vline_
           if (stop) break;
-          s.p += q_ * vline_ * dt;
-          speed = vline_;
-          dt = 0.0;
+          const bool near = s.p < lp_ + near_p_;
+          const double w = near ? v_ : vline_;
+          const double left = near ? (lp_ + near_p_ - s.p) / q_ : kNoLimit;
+          if (w * dt < left) {
+            s.p += q_ * w * dt;
+            speed = w;
+            dt = 0.0;
+          } else {
+            dt = std::max(0.0, dt - left / w);
+            s.p = lp_ + near_p_;
+            speed = w;
+          }
         }
       }
       s.v = speed;
@@ -280,7 +295,7 @@ double ArcPrecompCheck::stepped_runs(double phase) const {
   const std::size_t n = h_.size();
   const double W = static_cast<double>(n) * dp_, lb = q_ * blend_, inf = kNoLimit;
   // A window on the line before, its first sample `phase` of a sample along.
-  const double before = -(static_cast<double>(n) - phase) * q_ * vline_ * period_s_;
+  const double before = -near_p_ - (static_cast<double>(n) - phase) * q_ * vline_ * period_s_;
   if (lp_ <= 2.0 * (lb + 2.0 * W)) {  // short: each run crosses the whole arc
     double worst = run_stepped(before, inf, Start::Moving, false);
     if (!stopped_) worst = std::max(worst, run_stepped(before, inf, Start::Moving, true));
@@ -299,6 +314,7 @@ double ArcPrecompCheck::stepped_mm(double radius_mm, double sweep_abs_rad, doubl
                                    double v_plan, double v, double v_line, double phase) const {
   set_arc(radius_mm, sweep_abs_rad, length_mm, v_plan, v);
   vline_ = v_line;
+  near_p_ = q_ * near_s_ * v_plan;
   return stepped_runs(phase);
 }
 

@@ -25,11 +25,16 @@ class ArcPrecompCheck {
   /// `line_ratio` > 0: the lines beside the arc may run up to line_ratio·v_p (the planner caps
   /// them there, not at v_p), and error_mm also simulates the speed steps at the arc's ends
   /// (stepped_mm at that ratio); 0: the lines run at the arc's speed (constant-speed runs only).
-  ArcPrecompCheck(const std::vector<double>& weights, double period_s, double line_ratio = 0.0);
+  /// `near_s`: the lines are at most v_p over near_s·v_p of path beside the arc, and at most
+  /// line_ratio·v_p only beyond (0: the step at the arc's ends).
+  ArcPrecompCheck(const std::vector<double>& weights, double period_s, double line_ratio = 0.0,
+                  double near_s = 0.0);
 
   bool enabled() const { return rule_.enabled(); }
   /// The lines' speed beside an arc planned at v_p is at most line_ratio()·v_p (0: v_p).
   double line_ratio() const { return line_ratio_; }
+  /// ... but at most v_p over near_s()·v_p of path next to the arc.
+  double near_s() const { return near_s_; }
   const ArcCompensation& rule() const { return rule_; }
   /// Samples in the filter's window (N + 1 weights).
   std::size_t window_samples() const { return h_.size(); }
@@ -111,8 +116,9 @@ class ArcPrecompCheck {
   // The isolated arc being simulated (set by isolated_mm): radius, in-plane length, q = r·|θ|/L,
   // blend length (path), correction at the speed, in-plane step per sample.
   mutable double r_ = 0, lp_ = 0, q_ = 0, len_ = 0, blend_ = 0, c_ = 0, dp_ = 0, v_ = 0, dv_ = 0;
-  mutable double vplan_ = 0, vline_ = 0;  ///< stepped_mm: the arc's cap and the lines' speed
-  double line_ratio_ = 0.0;
+  /// stepped_mm: the arc's cap, the lines' speed and the in-plane stretch beside the arc at v.
+  mutable double vplan_ = 0, vline_ = 0, near_p_ = 0;
+  double line_ratio_ = 0.0, near_s_ = 0.0;
   mutable std::vector<Eigen::Vector2d> ring_, fork_ring_;
   mutable std::vector<double> ring_p_, fork_ring_p_;
   /// error_within's early stop: a run ends once (its worst + stop_add_)·stop_scale_ > stop_share_
