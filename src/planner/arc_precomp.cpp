@@ -11,6 +11,7 @@ namespace gm {
 namespace {
 
 constexpr std::size_t kCacheSlots = 256;  // a power of two
+constexpr double kNoLimit = std::numeric_limits<double>::infinity();
 
 std::size_t cache_slot(double r, double sweep, double len, double v) {
   std::uint64_t h = 0x9e3779b97f4a7c15ULL;
@@ -24,8 +25,13 @@ std::size_t cache_slot(double r, double sweep, double len, double v) {
 
 }  // namespace
 
-ArcPrecompCheck::ArcPrecompCheck(const std::vector<double>& weights, double period_s)
-    : h_(weights), period_s_(period_s), rule_(weights, period_s) {
+ArcPrecompCheck::ArcPrecompCheck(const std::vector<double>& weights, double period_s,
+                                 double line_ratio, double near_s)
+    : h_(weights),
+      period_s_(period_s),
+      rule_(weights, period_s),
+      line_ratio_(line_ratio),
+      near_s_(near_s) {
   ring_.resize(h_.size());
   ring_p_.resize(h_.size());
   fork_ring_.resize(h_.size());
@@ -171,6 +177,7 @@ void ArcPrecompCheck::set_arc(double radius_mm, double sweep_abs_rad, double len
   lp_ = radius_mm * sweep_abs_rad;
   q_ = lp_ / length_mm;
   v_ = v;
+  vplan_ = v_plan;
   dv_ = rule_.speed_step_mm_s(v_plan);
   blend_ = rule_.blend_length_mm(length_mm, v_plan);
   c_ = rule_.correction_mm(radius_mm, v * sweep_abs_rad / length_mm);
@@ -203,6 +210,112 @@ double ArcPrecompCheck::isolated_runs(double v, double phase, bool paired) const
   return std::max({start_moving, from_rest,
                    run_segment(lp_ - lb - W, lp_ + 2.0 * W, phase, Start::Moving, End::Moving),
                    run_segment(lp_ - lb - W, lp_ + 2.0 * W, phase, Start::Moving, End::Stop)});
+}
+
+double ArcPrecompCheck::run_stepped(double p_start, double p_until, Start start, bool stop) const {
+  // The interpolator's loop (Interpolator::step_n) on the isolated path, in-plane: a sample
+  // spends T on the line before at vline_, then on the arc at comp_ramped_speed (the previous
+  // sample's speed ± dv_, at most vplan_), then on the line after at vline_ (or holds on the
+  // end point); the correction is the arc's at the speed of the sample's last motion.
+  const std::size_t n = h_.size();
+  const double T = period_s_, eps = 1e-9 * T;
+  SimState s;
+  int seg = start == Start::FromRest ? 1 : (p_start < 0.0 ? 0 : 1);
+  double sa = seg == 1 && start != Start::FromRest ? p_start / q_ : 0.0;  // path on the arc
+  s.p = start == Start::FromRest ? 0.0 : p_start;
+  s.v = start == Start::FromRest ? 0.0 : (seg == 0 ? vline_ : v_);  // the last sample's speed
+  s.rest = start == Start::FromRest ? n : 0;
+  std::size_t at_end = 0;
+  while (!stopped_) {
+    double c = 0.0;
+    if (s.rest > 0) {
+      --s.rest;
+    } else {
+      double dt = T, speed = s.v;
+      while (dt > eps) {
+        if (seg == 0) {  // the line before: at vline_, its last near_p_ at v_
+          const bool far = s.p < -near_p_;
+          const double w = far ? vline_ : v_, end = far ? -near_p_ : 0.0;
+          const double left = (end - s.p) / q_;
+          if (w * dt < left) {
+            s.p += q_ * w * dt;
+            speed = w;
+            dt = 0.0;
+          } else {
+            dt = std::max(0.0, dt - left / w);
+            s.p = end;
+            if (!far) seg = 1;
+          }
+        } else if (seg == 1) {
+          const double lo = s.v > dv_ ? s.v - dv_ : 0.0;
+          double v = v_ < lo ? lo : v_ > s.v + dv_ ? s.v + dv_ : v_;
+          v = v < vplan_ ? v : vplan_;
+          const double left = len_ - sa;
+          speed = v;
+          if (v * dt < left) {
+            sa += v * dt;
+            s.p = q_ * sa;
+            c = rule_.correction_mm(r_, v * q_ / r_);
+            dt = 0.0;
+          } else {
+            dt = std::max(0.0, dt - left / v);
+            sa = len_;
+            s.p = lp_;
+            seg = 2;
+            if (stop) break;  // the rest of the sample is dropped: the filter drains
+          }
+        } else {  // the line after: its first near_p_ at v_, then at vline_
+          if (stop) break;
+          const bool near = s.p < lp_ + near_p_;
+          const double w = near ? v_ : vline_;
+          const double left = near ? (lp_ + near_p_ - s.p) / q_ : kNoLimit;
+          if (w * dt < left) {
+            s.p += q_ * w * dt;
+            speed = w;
+            dt = 0.0;
+          } else {
+            dt = std::max(0.0, dt - left / w);
+            s.p = lp_ + near_p_;
+            speed = w;
+          }
+        }
+      }
+      s.v = speed;
+    }
+    if (seg == 2 && stop) ++at_end;
+    push_sample(s, c);
+    if (stop ? at_end >= n : (s.count >= n && ring_p_[s.head == 0 ? n - 1 : s.head - 1] >= lp_))
+      break;
+    if (s.p > p_until) break;
+  }
+  return s.worst;
+}
+
+double ArcPrecompCheck::stepped_runs(double phase) const {
+  const std::size_t n = h_.size();
+  const double W = static_cast<double>(n) * dp_, lb = q_ * blend_, inf = kNoLimit;
+  // A window on the line before, its first sample `phase` of a sample along.
+  const double before = -near_p_ - (static_cast<double>(n) - phase) * q_ * vline_ * period_s_;
+  if (lp_ <= 2.0 * (lb + 2.0 * W)) {  // short: each run crosses the whole arc
+    double worst = run_stepped(before, inf, Start::Moving, false);
+    if (!stopped_) worst = std::max(worst, run_stepped(before, inf, Start::Moving, true));
+    if (!stopped_) worst = std::max(worst, run_stepped(0.0, inf, Start::FromRest, false));
+    return worst;
+  }
+  // Long: the entry (on the arc past the blend and two windows) and the exit from the steady
+  // arc; the stop at the end and the start from rest are isolated_mm's (no line beside).
+  double worst = run_stepped(before, lb + 2.0 * W, Start::Moving, false);
+  if (!stopped_)
+    worst = std::max(worst, run_stepped(lp_ - lb - 2.0 * W, inf, Start::Moving, false));
+  return worst;
+}
+
+double ArcPrecompCheck::stepped_mm(double radius_mm, double sweep_abs_rad, double length_mm,
+                                   double v_plan, double v, double v_line, double phase) const {
+  set_arc(radius_mm, sweep_abs_rad, length_mm, v_plan, v);
+  vline_ = v_line;
+  near_p_ = q_ * near_s_ * v_plan;
+  return stepped_runs(phase);
 }
 
 double ArcPrecompCheck::isolated_mm(double radius_mm, double sweep_abs_rad, double length_mm,
@@ -252,9 +365,13 @@ double ArcPrecompCheck::ramp_mm(double radius_mm, double sweep_abs_rad, double l
 double ArcPrecompCheck::isolated_worst_mm(double radius_mm, double sweep_abs_rad, double length_mm,
                                           double v_plan) const {
   double worst = 0.0;
-  for (double f : {1.0, 0.6})
+  for (double f : {1.0, 0.6}) {
     worst =
         std::max(worst, isolated_mm(radius_mm, sweep_abs_rad, length_mm, v_plan, f * v_plan, 0.25));
+    if (line_ratio_ > 0.0)  // the lines beside at up to line_ratio·v_p: the steps at the ends
+      worst = std::max(worst, stepped_mm(radius_mm, sweep_abs_rad, length_mm, v_plan, f * v_plan,
+                                         f * line_ratio_ * v_plan, 0.25));
+  }
   return worst;
 }
 
@@ -282,6 +399,10 @@ bool ArcPrecompCheck::error_within(double radius_mm, double sweep_abs_rad, doubl
   for (double f : {1.0, 0.6}) {
     worst =
         std::max(worst, isolated_mm(radius_mm, sweep_abs_rad, length_mm, v_plan, f * v_plan, 0.25));
+    if (stopped_) break;
+    if (line_ratio_ > 0.0)
+      worst = std::max(worst, stepped_mm(radius_mm, sweep_abs_rad, length_mm, v_plan, f * v_plan,
+                                         f * line_ratio_ * v_plan, 0.25));
     if (stopped_) break;
   }
   const bool exact = !stopped_;

@@ -22,9 +22,19 @@ namespace gm {
 class ArcPrecompCheck {
  public:
   /// The FIR's weights h_i (symmetric, Σ = 1) at period T; enabled() is false otherwise.
-  ArcPrecompCheck(const std::vector<double>& weights, double period_s);
+  /// `line_ratio` > 0: the lines beside the arc may run up to line_ratio·v_p (the planner caps
+  /// them there, not at v_p), and error_mm also simulates the speed steps at the arc's ends
+  /// (stepped_mm at that ratio); 0: the lines run at the arc's speed (constant-speed runs only).
+  /// `near_s`: the lines are at most v_p over near_s·v_p of path beside the arc, and at most
+  /// line_ratio·v_p only beyond (0: the step at the arc's ends).
+  ArcPrecompCheck(const std::vector<double>& weights, double period_s, double line_ratio = 0.0,
+                  double near_s = 0.0);
 
   bool enabled() const { return rule_.enabled(); }
+  /// The lines' speed beside an arc planned at v_p is at most line_ratio()·v_p (0: v_p).
+  double line_ratio() const { return line_ratio_; }
+  /// ... but at most v_p over near_s()·v_p of path next to the arc.
+  double near_s() const { return near_s_; }
   const ArcCompensation& rule() const { return rule_; }
   /// Samples in the filter's window (N + 1 weights).
   std::size_t window_samples() const { return h_.size(); }
@@ -32,11 +42,13 @@ class ArcPrecompCheck {
   /// compensated: A(ωT) >= ArcCompensation::kMinGain with ω = v·|θ|/L.
   double speed_limit_mm_s(double sweep_abs_rad, double length_mm) const;
   /// The term of an arc of radius r, |θ| and path length L planned at v_p (the interpolator's
-  /// blend and ramp for v_p): the largest of the isolated arc at constant speeds v_p and 0.6·v_p,
-  /// plus the transient of the ramp from v_p to rest and back on the steady arc. mm.
+  /// blend and ramp for v_p): the largest of the isolated arc at constant speeds v_p and 0.6·v_p
+  /// (with line_ratio() > 0 also with the lines beside it at line_ratio() times those speeds,
+  /// stepped_mm), plus the transient of the ramp from v_p to rest and back on the steady arc. mm.
   double error_mm(double radius_mm, double sweep_abs_rad, double length_mm, double v_plan) const;
   /// error_mm without the ramp's transient: the largest of the isolated arc at v_p and 0.6·v_p
-  /// (and 0), so that error_mm == isolated_worst_mm + ramp_mm bit for bit.
+  /// (stepped too when line_ratio() > 0; and 0), so that error_mm == isolated_worst_mm +
+  /// ramp_mm bit for bit.
   double isolated_worst_mm(double radius_mm, double sweep_abs_rad, double length_mm,
                            double v_plan) const;
   /// Exactly `error_mm(...) * scale <= share` (scale > 0), sooner: a simulation stops as soon as
@@ -50,6 +62,13 @@ class ArcPrecompCheck {
   /// sample past a window before the arc: the largest |y − x(s̄)|, mm.
   double isolated_mm(double radius_mm, double sweep_abs_rad, double length_mm, double v_plan,
                      double v, double phase) const;
+  /// The isolated arc with speed steps at its ends, by the interpolator's rules: the lines before
+  /// and after it at path speed `v_line`, the arc at target `v` (at most v_p), its speed ramped
+  /// from the line's by the rule's step and capped at v_p; moving through both ends, stopping
+  /// on its end point after the line, and starting from rest into the line after; the first
+  /// sample `phase` of a sample into the line before the arc: the largest |y − x(s̄)|, mm.
+  double stepped_mm(double radius_mm, double sweep_abs_rad, double length_mm, double v_plan,
+                    double v, double v_line, double phase) const;
   /// The ramp's transient on the steady arc, mm.
   double ramp_mm(double radius_mm, double sweep_abs_rad, double length_mm, double v_plan) const;
   /// isolated_mm with each of its runs simulated whole (two of them are paired in isolated_mm,
@@ -75,6 +94,11 @@ class ArcPrecompCheck {
   double advance(SimState& s) const;
   /// The command at s.p (correction c) into the window; once it is full, the output's distance.
   void push_sample(SimState& s, double c) const;
+  /// One run of stepped_mm: from in-plane p_start (< 0: on the line before, at the line's
+  /// speed; >= 0: on the arc at speed v; FromRest: at rest on the arc's start), until the
+  /// window has left the arc (moving), n samples on the end point (stop) or p_until.
+  double run_stepped(double p_start, double p_until, Start start, bool stop) const;
+  double stepped_runs(double phase) const;  ///< stepped_mm's runs on the arc set_arc set
   /// isolated_mm's runs; `paired`: Moving and Stop runs that share a start as one End::Both.
   double isolated_runs(double v, double phase, bool paired) const;
   /// Sets the arc isolated_mm simulates.
@@ -92,6 +116,9 @@ class ArcPrecompCheck {
   // The isolated arc being simulated (set by isolated_mm): radius, in-plane length, q = r·|θ|/L,
   // blend length (path), correction at the speed, in-plane step per sample.
   mutable double r_ = 0, lp_ = 0, q_ = 0, len_ = 0, blend_ = 0, c_ = 0, dp_ = 0, v_ = 0, dv_ = 0;
+  /// stepped_mm: the arc's cap, the lines' speed and the in-plane stretch beside the arc at v.
+  mutable double vplan_ = 0, vline_ = 0, near_p_ = 0;
+  double line_ratio_ = 0.0, near_s_ = 0.0;
   mutable std::vector<Eigen::Vector2d> ring_, fork_ring_;
   mutable std::vector<double> ring_p_, fork_ring_p_;
   /// error_within's early stop: a run ends once (its worst + stop_add_)·stop_scale_ > stop_share_
