@@ -251,6 +251,11 @@ template <bool kMacroB>
     out.remark.clear();
   }
   if (!text.empty() && text.back() == '\r') text.remove_suffix(1);
+  if constexpr (!kMacroB) {  // (Macro B reads a sequence number and statements at the start)
+    // Most lines are words of letters and plain numbers between blanks: read as they stand.
+    if (plain_fast_path_ && read_plain_line(text, line_, out.words)) return;
+    out.words.clear();
+  }
   const std::string_view compact = compact_line(text);
   std::size_t start = 0;
   if (!read_line_start<kMacroB>(out, compact, start)) return;
