@@ -71,7 +71,6 @@ ParallelFront::~ParallelFront() {
 }
 
 void ParallelFront::release() {
-  for (std::size_t i = 0; i < taken_->count; ++i) taken_->lines[i].trim();
   if (tally_ != nullptr && taken_->tally_count > 0) {
     {
       std::lock_guard<std::mutex> lock(returned_mutex_);
@@ -153,6 +152,7 @@ void ParallelFront::fill(Batch& b) {
   while (b.count < kBatchLines && bytes < kBatchBytes) {
     if (b.count == b.lines.size()) b.lines.emplace_back();
     ParsedLine& p = b.lines[b.count];
+    p.trim();  // (what a hostile line made the slot hold goes when the slot is refilled)
     if (!front_.next(p)) {
       b.eof = true;
       b.last_number = front_.last_number();

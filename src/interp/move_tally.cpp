@@ -34,41 +34,24 @@ double arc_length_mm(const TallyEntry& e) {
 
 }  // namespace
 
-bool MoveTally::entry_of(const Canon& c, TallyEntry& e) {
-  if (const auto* m = std::get_if<Motion>(&c)) {
-    e.rapid = m->kind == MotionKind::Rapid;
-    e.feed_mm_min = m->feed_mm_min;
-    e.inverse_time_s = m->inverse_time_s;
-    if (m->kind == MotionKind::Arc) {
-      const PlaneAxes ax = plane_axes(m->plane);
-      e.kind = TallyEntry::Kind::Arc;
-      e.ccw = m->ccw;
-      e.turns = m->turns;
-      e.d[0] = m->start_mm[ax.a] - m->center_mm[ax.a];
-      e.d[1] = m->start_mm[ax.b] - m->center_mm[ax.b];
-      e.d[2] = m->end_mm[ax.a] - m->center_mm[ax.a];
-      e.d[3] = m->end_mm[ax.b] - m->center_mm[ax.b];
-      e.d[4] = m->end_mm[ax.n] - m->start_mm[ax.n];
-      return true;
-    }
-    const Vec3 xyz = m->end_mm.head<3>() - m->start_mm.head<3>();
-    if (xyz != Vec3::Zero()) {
-      e.kind = TallyEntry::Kind::Line;
-      e.d[0] = xyz[0];
-      e.d[1] = xyz[1];
-      e.d[2] = xyz[2];
-    } else {
-      e.kind = TallyEntry::Kind::Known;
-      e.d[0] = motion_length_mm(*m);
-    }
-    return true;
-  }
-  if (const auto* d = std::get_if<Dwell>(&c)) {
-    e.kind = TallyEntry::Kind::Dwell;
-    e.inverse_time_s = d->seconds;
-    return true;
-  }
-  return false;
+void MoveTally::arc_entry(const Motion& m, TallyEntry& e) {
+  const PlaneAxes ax = plane_axes(m.plane);
+  e.kind = TallyEntry::Kind::Arc;
+  e.rapid = false;
+  e.ccw = m.ccw;
+  e.turns = m.turns;
+  e.d[0] = m.start_mm[ax.a] - m.center_mm[ax.a];
+  e.d[1] = m.start_mm[ax.b] - m.center_mm[ax.b];
+  e.d[2] = m.end_mm[ax.a] - m.center_mm[ax.a];
+  e.d[3] = m.end_mm[ax.b] - m.center_mm[ax.b];
+  e.d[4] = m.end_mm[ax.n] - m.start_mm[ax.n];
+  e.feed_mm_min = m.feed_mm_min;
+  e.inverse_time_s = m.inverse_time_s;
+}
+
+void MoveTally::known_entry(const Motion& m, TallyEntry& e) {
+  e.kind = TallyEntry::Kind::Known;
+  e.d[0] = motion_length_mm(m);
 }
 
 void MoveTally::add(const TallyEntry& e) {

@@ -5,6 +5,7 @@
 #include "motion/canon.hpp"
 
 #include <cstdint>
+#include <variant>
 #include <vector>
 
 namespace gm {
@@ -34,7 +35,29 @@ class MoveTally {
   explicit MoveTally(double rapid_mm_min) : rapid_mm_min_(rapid_mm_min) {}
 
   /// `c`'s entry; false for a command the summary does not count (events).
-  static bool entry_of(const Canon& c, TallyEntry& e);
+  static bool entry_of(const Canon& c, TallyEntry& e) {
+    if (const auto* m = std::get_if<Motion>(&c)) {
+      if (m->kind == MotionKind::Arc) {
+        arc_entry(*m, e);
+        return true;
+      }
+      e.rapid = m->kind == MotionKind::Rapid;
+      e.feed_mm_min = m->feed_mm_min;
+      e.inverse_time_s = m->inverse_time_s;
+      e.d[0] = m->end_mm[0] - m->start_mm[0];
+      e.d[1] = m->end_mm[1] - m->start_mm[1];
+      e.d[2] = m->end_mm[2] - m->start_mm[2];
+      e.kind = TallyEntry::Kind::Line;
+      if (e.d[0] == 0.0 && e.d[1] == 0.0 && e.d[2] == 0.0) known_entry(*m, e);
+      return true;
+    }
+    if (const auto* d = std::get_if<Dwell>(&c)) {
+      e.kind = TallyEntry::Kind::Dwell;
+      e.inverse_time_s = d->seconds;
+      return true;
+    }
+    return false;
+  }
   /// Adds one entry.
   void add(const TallyEntry& e);
   /// Adds every command of `out`, in order.
@@ -49,6 +72,9 @@ class MoveTally {
   double time_at_feed_s() const { return time_at_feed_s_; }
 
  private:
+  static void arc_entry(const Motion& m, TallyEntry& e);
+  static void known_entry(const Motion& m, TallyEntry& e);  ///< a line moving none of X Y Z
+
   double rapid_mm_min_;
   std::int64_t moves_ = 0;
   double path_length_mm_ = 0.0;
