@@ -198,6 +198,7 @@ class BlockParser {
   // with kMacroB), items, convert, comment.
   void clear_block(Block& out) const;
   std::string_view compact_line(std::string_view text);
+  std::string_view padded_copy(std::string_view text);
   template <bool kMacroB>
   void parse_line(std::string_view text, int line, Block& out);
   void parse_macro_b(std::string_view text, int line, Block& out);

@@ -47,7 +47,7 @@ inline bool read_plain_words(std::string_view compact, std::size_t start, const 
 /// are the letters' own. True with the words the compacting path gives; false at anything else,
 /// which that path then reads (a blank inside a number, a comment, an expression, a '/' or '%'
 /// opening the line, a long number, an M98/M99 first on the line or after its N: control flow):
-/// `words` then holds a partial result.
+/// `words` then holds a partial result. kDecimalReadAhead bytes past the text must be readable.
 inline bool read_plain_line(std::string_view text, int line, std::vector<Word>& words) {
   const char* const begin = text.data();
   const char* const end = begin + text.size();
@@ -67,10 +67,16 @@ inline bool read_plain_line(std::string_view text, int line, std::vector<Word>& 
     while (p != end && blank(*p)) ++p;
     bool negative = false;
     if (p != end && (*p == '-' || *p == '+')) negative = *p++ == '-';
-    const DecimalScan d = scan_decimal(p, end);
     double v = 0.0;
-    if (!exact_decimal(d, v)) return false;  // no digit, too many, or a blank after the sign
-    words.emplace_back(letter, negative ? -v : v, SourceLoc{line, column}, d.point);
+    bool point = false;
+    const char* const number = p;
+    if (!read_short_decimal(p, v, point) || p > end) {  // (past the end: the padding's digits)
+      p = number;
+      const DecimalScan d = scan_decimal(p, end);
+      if (!exact_decimal(d, v)) return false;  // no digit, too many, or a blank after the sign
+      point = d.point;
+    }
+    words.emplace_back(letter, negative ? -v : v, SourceLoc{line, column}, point);
   }
   // The block rule reads M98 and M99 opening the line (after an optional N) as control flow.
   const auto flow = [](const Word& w) {

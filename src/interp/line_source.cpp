@@ -160,7 +160,7 @@ void ParallelFront::fill(Batch& b) {
     }
     if (import_axes_ != nullptr && !p.truncated && importable_ahead(p.block)) {
       InterpError err;  // (a block that fails is imported again by the interpreter, for its error)
-      p.imported = import_words(p.block, *import_axes_, p.words, err);
+      p.imported = import_words(p.block, *import_axes_, import_axis_bits_, p.words, err);
     }
     bytes += p.text.size();
     ++b.count;

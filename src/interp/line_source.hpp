@@ -147,6 +147,7 @@ class ParallelFront {
                          const AxisLayout* import_axes = nullptr, MoveTally* tally = nullptr)
       : front_(in, macro_b),
         import_axes_(import_axes),
+        import_axis_bits_(import_axes != nullptr ? program_axis_bits(*import_axes) : 0),
         tally_(tally),
         thread_([this] { produce(); }) {}
   /// Stops the reader; adds up the entries it has not.
@@ -178,6 +179,7 @@ class ParallelFront {
 
   LineParser front_;
   const AxisLayout* import_axes_;
+  unsigned import_axis_bits_;  ///< program_axis_bits(*import_axes_)
   MoveTally* tally_;
   BatchRing<Batch, kBatches> ring_;
   Batch* taken_ = nullptr;  ///< the consumer's batch between acquire() and release()

@@ -34,10 +34,12 @@ bool scan(std::string_view text, std::vector<Word>& words) {
       columns.data(), 7, words);
 }
 
-/// The scanner of uncompacted lines.
+/// The scanner of uncompacted lines (the text with room to read ahead, digits there).
 bool scan_line(std::string_view text, std::vector<Word>& words) {
+  std::string padded(text);
+  padded.append(gm::grammar::kDecimalReadAhead, '5');
   words.clear();
-  return gm::grammar::read_plain_line(text, 7, words);
+  return gm::grammar::read_plain_line(std::string_view(padded.data(), text.size()), 7, words);
 }
 
 std::string describe(const Block& b) {
@@ -201,6 +203,47 @@ TEST_CASE("plain-line scanner on the line itself: hand-worked lines") {
     INFO(line);
     CHECK_FALSE(scan_line(line, w));
   }
+}
+
+TEST_CASE("short numbers read 8 bytes at a time: scan_decimal's values, points and ends") {
+  // Every number of up to 8 digits on each side of a point (and none), with what may follow.
+  std::mt19937 rng(99);
+  std::uniform_int_distribution<int> digit(0, 9), count(0, 9), tail(0, 5);
+  int short_ones = 0;
+  for (int i = 0; i < 200000; ++i) {
+    std::string s;
+    const int n1 = count(rng), n2 = count(rng);
+    for (int k = 0; k < n1; ++k) s += static_cast<char>('0' + digit(rng));
+    if (i % 3 != 0) {
+      s += '.';
+      for (int k = 0; k < n2; ++k) s += static_cast<char>('0' + digit(rng));
+    }
+    s += " X.1-/"[tail(rng)];
+    s.append(gm::grammar::kDecimalReadAhead, '\0');
+    const char* p = s.data();
+    double v = 0.0;
+    bool point = false;
+    if (!gm::grammar::read_short_decimal(p, v, point)) continue;
+    ++short_ones;
+    const char* q = s.data();
+    const gm::grammar::DecimalScan d = gm::grammar::scan_decimal(q, s.data() + s.size());
+    double want = 0.0;
+    INFO(s);
+    REQUIRE(gm::grammar::exact_decimal(d, want));
+    REQUIRE(std::bit_cast<std::uint64_t>(v) == std::bit_cast<std::uint64_t>(want));
+    REQUIRE(point == d.point);
+    REQUIRE(p == q);
+  }
+  CHECK(short_ones > 100000);
+  const char* p = "12345678.5\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0";  // 8 digits: left to scan_decimal
+  double v = 0.0;
+  bool point = false;
+  CHECK_FALSE(gm::grammar::read_short_decimal(p, v, point));
+  p = "1234567.7654321 \0\0\0\0\0\0\0\0\0\0\0\0\0\0\0";
+  REQUIRE(gm::grammar::read_short_decimal(p, v, point));
+  CHECK(v == 1234567.7654321);
+  CHECK(point);
+  CHECK(*p == ' ');
 }
 
 TEST_CASE("decimal point: the scanner and the block rule keep it alike") {
