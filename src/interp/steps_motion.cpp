@@ -270,7 +270,8 @@ Motion& new_motion(BlockCtx& ctx, MotionKind kind) {
 }
 
 // A new move's position `v` (zero, as made) set to to_machine(p, l): the machine's axes alone.
-void set_machine_axes(AxisVec& v, const Pos9& p, const AxisLayout& l) {
+[[gnu::always_inline]] inline void set_machine_axes(AxisVec& v, const Pos9& p,
+                                                    const AxisLayout& l) {
   if (!l.is_xyz()) {
     v = to_machine(p, l);
     return;
