@@ -16,7 +16,7 @@
 
 namespace {
 
-gm::CheckSummary check(const std::string& text, gm::CheckThreads threads) {
+gm::CheckSummary checked(const std::string& text, gm::CheckThreads threads) {
   std::istringstream in(text);
   gm::Machine m;
   std::vector<gm::Diagnostic> diags;
@@ -125,8 +125,8 @@ TEST_CASE("tally: read ahead, a block of many moves adds up as the serial check 
   }
   p += "M2\n";
   for (int i = 0; i < 5000; ++i) p += "G1 X1\n";
-  const gm::CheckSummary a = check(p, gm::CheckThreads::Single);
-  const gm::CheckSummary b = check(p, gm::CheckThreads::Auto);
+  const gm::CheckSummary a = checked(p, gm::CheckThreads::Single);
+  const gm::CheckSummary b = checked(p, gm::CheckThreads::Auto);
   CHECK(a.errors == 0);
   CHECK(a.moves > 26000);
   CHECK(b.moves == a.moves);
