@@ -251,6 +251,12 @@ template <bool kMacroB>
     out.remark.clear();
   }
   if (!text.empty() && text.back() == '\r') text.remove_suffix(1);
+  if constexpr (!kMacroB) {  // (Macro B reads a sequence number and statements at the start)
+    // Most lines are words of letters and plain numbers between blanks: read as they stand, from
+    // a copy with room to read numbers 8 bytes at a time.
+    if (plain_fast_path_ && read_plain_line(padded_copy(text), line_, out.words)) return;
+    out.words.clear();
+  }
   const std::string_view compact = compact_line(text);
   std::size_t start = 0;
   if (!read_line_start<kMacroB>(out, compact, start)) return;
@@ -297,6 +303,16 @@ void BlockParser::parse(std::string_view text, int line, Block& out) {
   out.oword.label_expr = false;  // else an M98 line after an O[expr] line read a stale number
   out.oword.args.clear();
   out.errors.clear();
+}
+
+static_assert(kCompactSlack >= kDecimalReadAhead);
+
+// The line copied into compact_ with kDecimalReadAhead bytes to spare (zeros) after it.
+[[gnu::always_inline]] inline std::string_view BlockParser::padded_copy(std::string_view text) {
+  if (compact_.size() < text.size() + kCompactSlack) compact_.resize(text.size() + kCompactSlack);
+  std::memcpy(compact_.data(), text.data(), text.size());
+  std::memset(compact_.data() + text.size(), 0, kDecimalReadAhead);
+  return std::string_view(compact_.data(), text.size());
 }
 
 // 1. Compact: drop spaces/tabs outside comments, upper-case letters outside comments.

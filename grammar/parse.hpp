@@ -188,9 +188,9 @@ class BlockParser {
     ast_.macro_b = on;
   }
   bool macro_b() const { return macro_b_; }
-  /// Lines of only letters and plain numbers are read by a hand-written scanner
-  /// (read_plain_words) that gives the block rule's result; off: every line takes the block rule
-  /// (the tests compare both).
+  /// Lines of only letters and plain numbers are read by hand-written scanners (read_plain_line
+  /// on the line itself, read_plain_words on its compacted form) that give the block rule's
+  /// result; off: every line takes the block rule (the tests compare both).
   void set_plain_fast_path(bool on) { plain_fast_path_ = on; }
 
  private:
@@ -198,6 +198,7 @@ class BlockParser {
   // with kMacroB), items, convert, comment.
   void clear_block(Block& out) const;
   std::string_view compact_line(std::string_view text);
+  std::string_view padded_copy(std::string_view text);
   template <bool kMacroB>
   void parse_line(std::string_view text, int line, Block& out);
   void parse_macro_b(std::string_view text, int line, Block& out);

@@ -1,4 +1,5 @@
-// Fast path of the block rule: a compacted line of only letters and plain decimal numbers.
+// Fast paths of the block rule: a line of only letters and plain decimal numbers, read from the
+// line itself or from its compacted form.
 #pragma once
 
 #include "grammar/decimal_scan.hpp"
@@ -38,6 +39,51 @@ inline bool read_plain_words(std::string_view compact, std::size_t start, const 
     words.emplace_back(letter, negative ? -v : v, SourceLoc{line, columns[at]}, d.point);
   }
   return true;
+}
+
+/// read_plain_words's words read from the line itself, without compacting it first: `text` (one
+/// line, its '\r' dropped) holds only words of a letter (A-Z, a-z, but O) and a plain number,
+/// with blanks (' ', '\t') only between words and between a letter and its number. The columns
+/// are the letters' own. True with the words the compacting path gives; false at anything else,
+/// which that path then reads (a blank inside a number, a comment, an expression, a '/' or '%'
+/// opening the line, a long number, an M98/M99 first on the line or after its N: control flow):
+/// `words` then holds a partial result. kDecimalReadAhead bytes past the text must be readable.
+inline bool read_plain_line(std::string_view text, int line, std::vector<Word>& words) {
+  const char* const begin = text.data();
+  const char* const end = begin + text.size();
+  const char* p = begin;
+  const auto blank = [](char c) { return c == ' ' || c == '\t'; };
+  while (p != end) {
+    char letter = *p;
+    if (blank(letter)) {
+      ++p;
+      continue;
+    }
+    if (static_cast<unsigned char>(letter - 'a') < 26u)
+      letter = static_cast<char>(letter - 'a' + 'A');
+    if (static_cast<unsigned char>(letter - 'A') >= 26u || letter == 'O') return false;
+    const int column = static_cast<int>(p - begin) + 1;
+    ++p;
+    while (p != end && blank(*p)) ++p;
+    bool negative = false;
+    if (p != end && (*p == '-' || *p == '+')) negative = *p++ == '-';
+    double v = 0.0;
+    bool point = false;
+    const char* const number = p;
+    if (!read_short_decimal(p, v, point) || p > end) {  // (past the end: the padding's digits)
+      p = number;
+      const DecimalScan d = scan_decimal(p, end);
+      if (!exact_decimal(d, v)) return false;  // no digit, too many, or a blank after the sign
+      point = d.point;
+    }
+    words.emplace_back(letter, negative ? -v : v, SourceLoc{line, column}, point);
+  }
+  // The block rule reads M98 and M99 opening the line (after an optional N) as control flow.
+  const auto flow = [](const Word& w) {
+    return w.letter == 'M' && (w.value == 98.0 || w.value == 99.0);
+  };
+  const std::size_t n = words.size();
+  return !(n > 0 && (flow(words[0]) || (n > 1 && words[0].letter == 'N' && flow(words[1]))));
 }
 
 }  // namespace gm::grammar

@@ -115,6 +115,23 @@ std::string radius_mismatch_message(const ArcInput& in, double r1, double r2, co
       r1, unit, r2, unit, abs_err, unit, rel_err * 100.0, rule_text);
 }
 
+// True when no rule can refuse the arc whose centre `res` holds: its radii, by square roots of
+// their squares, are within a few units in the last place of hypot's when below kFastRadius,
+// far closer than the margins here (both radii beyond twice the zero-radius tolerance, differing
+// by under half the least difference a rule refuses). The radii by hypot are then not needed:
+// the arc passes as it would with them. Otherwise (or for huge and tiny radii) they decide.
+bool clearly_within_rules(const ArcInput& in, const ArcResult& res, double radius_tol) {
+  constexpr double kFastRadius = 1e6;  // program units: a few ulps here are below 1e-9
+  const double a1 = res.center_a - in.start_a, b1 = res.center_b - in.start_b;
+  const double a2 = res.center_a - in.end_a, b2 = res.center_b - in.end_b;
+  const double s1 = std::sqrt(a1 * a1 + b1 * b1), s2 = std::sqrt(a2 * a2 + b2 * b2);
+  const double least_refused = in.rule == ArcRule::LinuxCnc
+                                   ? (in.mm_per_unit != 1.0 ? kLcncSpiralTolInch : kLcncSpiralTolMm)
+                                   : std::min(kGrblMinMm, kG2MinMm) / in.mm_per_unit;
+  return s1 > 2.0 * radius_tol && s2 > 2.0 * radius_tol && s1 < kFastRadius && s2 < kFastRadius &&
+         std::fabs(s1 - s2) < 0.5 * least_refused;
+}
+
 }  // namespace
 
 ArcResult compute_arc(const ArcInput& in) {
@@ -135,6 +152,7 @@ ArcResult compute_arc(const ArcInput& in) {
     res.rel_a = in.off_a;
     res.rel_b = in.off_b;
   }
+  if (clearly_within_rules(in, res, radius_tol)) return res;
   const double r1 = std::hypot(res.center_a - in.start_a, res.center_b - in.start_b);
   const double r2 = std::hypot(res.center_a - in.end_a, res.center_b - in.end_b);
   if (r1 < radius_tol || r2 < radius_tol) {

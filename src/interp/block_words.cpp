@@ -50,9 +50,12 @@ void clear(BlockWords& w) {
 
 bool import_words(const grammar::Block& block, const AxisLayout& axes, BlockWords& w,
                   InterpError& err) {
+  return import_words(block, axes, program_axis_bits(axes), w, err);
+}
+
+bool import_words(const grammar::Block& block, const AxisLayout& axes, unsigned machine_axes,
+                  BlockWords& w, InterpError& err) {
   clear(w);
-  unsigned machine_axes = 0;  // the program axes the machine has, as bits
-  for (int a = 0; a < axes.count; ++a) machine_axes |= 1u << axes.program(a);
   for (std::size_t i = 0; i < block.words.size(); ++i) {
     const grammar::Word& word = block.words[i];
     const char c = word.letter;

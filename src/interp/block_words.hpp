@@ -49,6 +49,15 @@ struct BlockWords {
 /// codes of one group, a repeated word, N not first.
 bool import_words(const grammar::Block& block, const AxisLayout& axes, BlockWords& w,
                   InterpError& err);
+/// The same with `axes`' program axes as bits (program_axis_bits(axes)), worked out once.
+bool import_words(const grammar::Block& block, const AxisLayout& axes, unsigned axis_bits,
+                  BlockWords& w, InterpError& err);
+/// The program axes the machine `axes` has, as bits (bit i: program axis i, X = 0).
+inline unsigned program_axis_bits(const AxisLayout& axes) {
+  unsigned bits = 0;
+  for (int a = 0; a < axes.count; ++a) bits |= 1u << axes.program(a);
+  return bits;
+}
 
 /// A block whose words the interpreter may take as imported on the read-ahead thread: no
 /// expression, O-word, '%' or syntax error (nothing changes its words before it runs).

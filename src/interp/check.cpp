@@ -2,6 +2,7 @@
 // time), read serially or with the reading and parsing on a second thread.
 #include "interp/program.hpp"
 
+#include "interp/move_tally.hpp"
 #include "interp/program_runner.hpp"
 
 #include <thread>
@@ -10,37 +11,9 @@ namespace gm {
 
 namespace {
 
-// The move's length, motion_length_mm's bits: a line moving X, Y or Z takes the same operations
-// on the three differences alone (not the nine-axis difference first).
-double summary_length_mm(const Motion& m) {
-  if (m.kind != MotionKind::Arc) {
-    const Vec3 xyz = m.end_mm.head<3>() - m.start_mm.head<3>();
-    if (xyz != Vec3::Zero()) return xyz.norm();
-  }
-  return motion_length_mm(m);
-}
-
-// Adds what `out` holds to the summary's counts.
-void account(const std::vector<Canon>& out, const Machine& machine, CheckSummary& sum) {
-  for (const auto& c : out) {
-    if (const auto* m = std::get_if<Motion>(&c)) {
-      ++sum.moves;
-      const double len = summary_length_mm(*m);
-      sum.path_length_mm += len;
-      if (m->kind == MotionKind::Rapid)
-        sum.time_at_feed_s += machine.rapid_mm_min > 0 ? len / machine.rapid_mm_min * 60.0 : 0.0;
-      else if (m->inverse_time_s > 0)
-        sum.time_at_feed_s += m->inverse_time_s;
-      else if (m->feed_mm_min > 0)
-        sum.time_at_feed_s += len / m->feed_mm_min * 60.0;
-    } else if (const auto* d = std::get_if<Dwell>(&c)) {
-      sum.time_at_feed_s += d->seconds;
-    }
-  }
-}
-
-/// `Summarise`: the moves, path length and time are added up (check); otherwise only the
-/// diagnostics and the errors are counted (what a run needs before it starts). With two or more
+/// `Summarise`: the moves, path length and time are added up (check; MoveTally, on the reading
+/// thread while it reads ahead); otherwise only the diagnostics and the errors are counted (what
+/// a run needs before it starts). With two or more
 /// cores (CheckThreads::Auto) the lines are read and parsed on a second thread until the program
 /// first jumps, as ProgramStream's read-ahead: the same diagnostics, in the same order.
 template <bool Summarise = true, typename Sink>
@@ -49,7 +22,8 @@ CheckSummary run_check(std::istream& in, std::string_view filename, const Interp
   InterpreterOptions options = opts;
   options.read_ahead = threads == CheckThreads::Auto && std::thread::hardware_concurrency() >= 2;
   options.check_all = true;
-  LineDriver driver(in, std::string(filename), options);
+  MoveTally tally(opts.machine != nullptr ? opts.machine->rapid_mm_min : Machine{}.rapid_mm_min);
+  LineDriver driver(in, std::string(filename), options, Summarise ? &tally : nullptr);
   CheckSummary sum;
   std::vector<Canon> out;
   std::vector<Diagnostic> diags;
@@ -60,11 +34,15 @@ CheckSummary run_check(std::istream& in, std::string_view filename, const Interp
       sink(d);
       if (d.severity == Severity::Error) ++sum.errors;
     }
-    if constexpr (Summarise) account(out, driver.back().machine(), sum);
+    if constexpr (Summarise) driver.tally(out);
     out.clear();
     diags.clear();
   }
+  driver.stop_reading();
   sum.blocks = driver.back().blocks();
+  sum.moves = tally.moves();
+  sum.path_length_mm = tally.path_length_mm();
+  sum.time_at_feed_s = tally.time_at_feed_s();
   return sum;
 }
 

@@ -273,7 +273,7 @@ Pos9 comp_program_point(const BlockCtx& ctx) {
   return with_plane(ctx.s.position_mm, plane_axes(ctx.s.plane), {cc.prog_a, cc.prog_b});
 }
 
-Pos9 motion_start(const BlockCtx& ctx) {
+const Pos9& motion_start(const BlockCtx& ctx) {
   return ctx.s.comp.detached ? ctx.s.comp.emitted_mm : ctx.s.position_mm;
 }
 

@@ -103,6 +103,6 @@ bool comp_forbids(BlockCtx& ctx, SourceLoc loc, std::string_view what);
 Pos9 comp_program_point(const BlockCtx& ctx);
 /// Where the next emitted move starts (the tool, which differs from the interpreter's point
 /// right after G40).
-Pos9 motion_start(const BlockCtx& ctx);
+const Pos9& motion_start(const BlockCtx& ctx);
 
 }  // namespace gm

@@ -19,8 +19,9 @@ bool drilling_cycle(int number10) {
   return number10 == 730 || number10 == 740 || (number10 >= 810 && number10 <= 890);
 }
 
-// The code x 10 of G or M word `w` (G82 = 820), -1 out of the codes' range.
-int code10(const grammar::Word& w) {
+// The code x 10 of G or M word `w` (G82 = 820), -1 out of the codes' range (named apart from
+// fanuc_modal.cpp's code10: the unity build may put both in one unit).
+int dwell_code10(const grammar::Word& w) {
   const double t = w.value * 10.0;
   return t >= 0.0 && t < 1e5 ? static_cast<int>(std::lround(t)) : -1;
 }
@@ -30,7 +31,7 @@ int code10(const grammar::Word& w) {
 bool p_of_another_code(const grammar::Block& block) {
   for (const grammar::Word& w : block.words) {
     if (w.letter != 'G' && w.letter != 'M') continue;
-    const int n = code10(w);
+    const int n = dwell_code10(w);
     if (w.letter == 'G' && drilling_cycle(n)) continue;
     const Code* c = find_code(w.letter, n);
     if (c != nullptr &&
@@ -88,7 +89,7 @@ bool DialectRules::fanuc_dwell(grammar::Block& block, bool lathe, int motion,
   if (p == nullptr || lathe || block.oword.kind != grammar::OKind::None) return true;
   int cycle = motion;
   for (const grammar::Word& w : block.words)
-    if (w.letter == 'G' && drilling_cycle(code10(w))) cycle = code10(w);
+    if (w.letter == 'G' && drilling_cycle(dwell_code10(w))) cycle = dwell_code10(w);
   if (!drilling_cycle(cycle)) return true;
   if (p_of_another_code(block)) return true;
   return dwell_p(*p, code_name('G', cycle), false, text, diags);

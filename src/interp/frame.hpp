@@ -26,6 +26,8 @@ class Frame {
   double rotation_deg() const { return rotation_deg_; }
   /// Sum of the offsets, mm (the whole transform when not rotated).
   Pos9 offset() const { return g5x_ + s_.g92_mm + s_.tool_offset_mm; }
+  /// offset()[i], with the same additions on that axis alone.
+  double offset(int i) const { return g5x_[i] + s_.g92_mm[i] + s_.tool_offset_mm[i]; }
   /// Program coordinates (mm, before units) of the machine point `m`.
   Pos9 to_program(const Pos9& m) const;
   /// `m` (machine, mm) with the program coordinates of the axes in `mask` (bit i = axis i) set to

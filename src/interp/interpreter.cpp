@@ -57,7 +57,10 @@ bool check_block(BlockCtx& ctx) {
 
   // Every value word some code owns must be used by a code of this block (or its motion mode):
   // the letters as bits; the first unused word in the block's order is the error.
-  ctx.motion_code = ctx.motion_to_be >= 0 ? find_code('G', ctx.motion_to_be) : nullptr;
+  ctx.motion_code = ctx.motion_to_be < 0 ? nullptr
+                    : motion && motion->number10 == ctx.motion_to_be
+                        ? motion  // (the table's row)
+                        : find_code('G', ctx.motion_to_be);
   if (const std::uint32_t owned = w.letters & code_word_mask()) {
     std::uint32_t used = ctx.motion_code ? ctx.motion_code->word_mask : 0;
     for (std::size_t i = 0; i < w.code_count; ++i) used |= w.codes[i]->word_mask;

@@ -60,17 +60,89 @@ LineParser& LineSource::current() {
   return p != nullptr ? *p : program_;
 }
 
+ParallelFront::~ParallelFront() {
+  ring_.stop();
+  thread_.join();
+  if (tally_ == nullptr) return;
+  // The reader is gone: what it has not added up is added here, oldest first.
+  for (; returned_count_ > 0; --returned_count_, returned_first_ = (returned_first_ + 1) % kBatches)
+    settle(*returned_[returned_first_]);
+  if (taken_ != nullptr) settle(*taken_);
+}
+
+void ParallelFront::release() {
+  if (tally_ != nullptr && taken_->tally_count > 0) {
+    {
+      std::lock_guard<std::mutex> lock(returned_mutex_);
+      returned_[(returned_first_ + returned_count_++) % kBatches] = taken_;
+    }
+    returned_cv_.notify_all();
+  }
+  taken_ = nullptr;
+  ring_.end_take();
+}
+
+void ParallelFront::defer(const std::vector<Canon>& out) {
+  Batch& b = *taken_;
+  for (const Canon& c : out) {
+    if (b.tally_count == b.tally.size()) {
+      if (b.tally_count == kTallyEntries) settle_taken();
+      if (b.tally_count == b.tally.size()) b.tally.emplace_back();
+    }
+    if (MoveTally::entry_of(c, b.tally[b.tally_count])) ++b.tally_count;
+  }
+}
+
+void ParallelFront::settle(Batch& b) {
+  for (std::size_t i = 0; i < b.tally_count; ++i) tally_->add(b.tally[i]);
+  b.tally_count = 0;
+}
+
+void ParallelFront::settle_returned() {
+  for (;;) {
+    Batch* b = nullptr;
+    {
+      std::lock_guard<std::mutex> lock(returned_mutex_);
+      if (returned_count_ == 0) return;
+      b = returned_[returned_first_];
+    }
+    settle(*b);  // (handed back: the consumer touches it no more until it is refilled)
+    {
+      std::lock_guard<std::mutex> lock(returned_mutex_);
+      returned_first_ = (returned_first_ + 1) % kBatches;
+      --returned_count_;
+    }
+    returned_cv_.notify_all();
+  }
+}
+
+void ParallelFront::settle_taken() {
+  std::unique_lock<std::mutex> lock(returned_mutex_);
+  returned_cv_.wait(lock, [&] { return returned_count_ == 0 || reader_done_; });
+  // The reader adds nothing until the next batch is handed back: the tally is this thread's.
+  for (; returned_count_ > 0; --returned_count_, returned_first_ = (returned_first_ + 1) % kBatches)
+    settle(*returned_[returned_first_]);
+  settle(*taken_);
+}
+
 void ParallelFront::produce() {
   try {
     while (Batch* b = ring_.begin_fill()) {
+      if (tally_ != nullptr) settle_returned();
       fill(*b);
       const bool eof = b->eof;
       ring_.end_fill();
-      if (eof) return;
+      if (eof) break;
     }
   } catch (...) {
     ring_.fail(std::current_exception());
   }
+  if (tally_ == nullptr) return;
+  {
+    std::lock_guard<std::mutex> lock(returned_mutex_);
+    reader_done_ = true;
+  }
+  returned_cv_.notify_all();
 }
 
 void ParallelFront::fill(Batch& b) {
@@ -80,6 +152,7 @@ void ParallelFront::fill(Batch& b) {
   while (b.count < kBatchLines && bytes < kBatchBytes) {
     if (b.count == b.lines.size()) b.lines.emplace_back();
     ParsedLine& p = b.lines[b.count];
+    p.trim();  // (what a hostile line made the slot hold goes when the slot is refilled)
     if (!front_.next(p)) {
       b.eof = true;
       b.last_number = front_.last_number();
@@ -87,7 +160,7 @@ void ParallelFront::fill(Batch& b) {
     }
     if (import_axes_ != nullptr && !p.truncated && importable_ahead(p.block)) {
       InterpError err;  // (a block that fails is imported again by the interpreter, for its error)
-      p.imported = import_words(p.block, *import_axes_, p.words, err);
+      p.imported = import_words(p.block, *import_axes_, import_axis_bits_, p.words, err);
     }
     bytes += p.text.size();
     ++b.count;

@@ -7,11 +7,15 @@
 #include "grammar/parse.hpp"
 #include "interp/block_words.hpp"
 #include "interp/line_reader.hpp"
+#include "interp/move_tally.hpp"
 #include "interp/oword_flow.hpp"
 
+#include <array>
+#include <condition_variable>
 #include <cstddef>
 #include <cstdint>
 #include <istream>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -109,11 +113,20 @@ class LineSource {
 /// half has no state the back half changes. A batch closes at kBatchLines lines or kBatchBytes
 /// bytes of text, so at most kBatches batches of bounded size are in memory. The hand-over is
 /// the run's own queue type, BatchRing.
+///
+/// With a MoveTally (check's summary) the work goes the other way too: the interpreter's thread
+/// writes each command's TallyEntry into the batch of its line (defer), and this thread adds the
+/// entries up when the batch comes back to be refilled, in the order the batches were handed
+/// back; what it has not added when it stops is added on the interpreter's thread, so the sums
+/// are the serial ones, bit for bit.
 class ParallelFront {
  public:
   static constexpr std::size_t kBatches = 3;
   static constexpr std::size_t kBatchLines = 1024;
   static constexpr std::size_t kBatchBytes = std::size_t{1} << 20;
+  /// Tally entries a batch holds at most: a block of many moves (a canned cycle's repeats) adds
+  /// its entries up on the interpreter's thread beyond this, once the earlier batches are added.
+  static constexpr std::size_t kTallyEntries = 4096;
 
   struct Batch {
     /// Grows as lines are read, to kBatchLines at most: a short program builds only its lines
@@ -122,17 +135,23 @@ class ParallelFront {
     std::size_t count = 0;
     bool eof = false;     ///< the input ends after these lines
     int last_number = 0;  ///< with eof: the last line number read
+    /// The summary's entries of these lines' commands, the first tally_count (defer).
+    std::vector<TallyEntry> tally;
+    std::size_t tally_count = 0;
   };
 
   /// `import_axes`: the machine's axes when the lines' words are imported here (LinuxCNC's
-  /// dialect, whose rules change no word before the interpreter), else null.
+  /// dialect, whose rules change no word before the interpreter), else null. `tally`: where the
+  /// deferred entries are added up (null: none are).
   explicit ParallelFront(std::istream& in, bool macro_b = false,
-                         const AxisLayout* import_axes = nullptr)
-      : front_(in, macro_b), import_axes_(import_axes), thread_([this] { produce(); }) {}
-  ~ParallelFront() {
-    ring_.stop();
-    thread_.join();
-  }
+                         const AxisLayout* import_axes = nullptr, MoveTally* tally = nullptr)
+      : front_(in, macro_b),
+        import_axes_(import_axes),
+        import_axis_bits_(import_axes != nullptr ? program_axis_bits(*import_axes) : 0),
+        tally_(tally),
+        thread_([this] { produce(); }) {}
+  /// Stops the reader; adds up the entries it has not.
+  ~ParallelFront();
   ParallelFront(const ParallelFront&) = delete;
   ParallelFront& operator=(const ParallelFront&) = delete;
 
@@ -142,21 +161,35 @@ class ParallelFront {
     taken_ = ring_.begin_take();
     return *taken_;
   }
-  /// Hands the batch returned by acquire() back for refilling.
-  void release() {
-    for (std::size_t i = 0; i < taken_->count; ++i) taken_->lines[i].trim();
-    ring_.end_take();
-  }
+  /// Hands the batch returned by acquire() back for refilling (and its entries for adding).
+  void release();
+  /// The summary's entries of `out`, the commands of a line of the batch acquire() returned,
+  /// added up later (in order) by the reader thread.
+  void defer(const std::vector<Canon>& out);
 
  private:
   void produce();
   void fill(Batch& b);
+  /// Reader thread: adds up the entries of the batches handed back, in order.
+  void settle_returned();
+  /// Interpreter's thread: adds up the entries of taken_ once every batch handed back before
+  /// it is added up (by the reader, or here when it has stopped).
+  void settle_taken();
+  void settle(Batch& b);
 
   LineParser front_;
   const AxisLayout* import_axes_;
+  unsigned import_axis_bits_;  ///< program_axis_bits(*import_axes_)
+  MoveTally* tally_;
   BatchRing<Batch, kBatches> ring_;
   Batch* taken_ = nullptr;  ///< the consumer's batch between acquire() and release()
-  std::thread thread_;      ///< last: starts once everything above is constructed
+  // The batches handed back whose entries are not added up yet, oldest first (tally_ only).
+  std::mutex returned_mutex_;
+  std::condition_variable returned_cv_;
+  std::array<Batch*, kBatches> returned_{};
+  std::size_t returned_first_ = 0, returned_count_ = 0;
+  bool reader_done_ = false;  ///< the reader thread adds nothing more
+  std::thread thread_;        ///< last: starts once everything above is constructed
 };
 
 }  // namespace gm

@@ -144,17 +144,34 @@ class ProgramRunner {
 /// read here, seeking as asked). The same lines reach the interpreter either way.
 class LineDriver {
  public:
-  LineDriver(std::istream& in, std::string filename, const InterpreterOptions& opts)
+  /// `tally`: where tally() adds the summary's moves up (null: tally() is not called).
+  LineDriver(std::istream& in, std::string filename, const InterpreterOptions& opts,
+             MoveTally* tally = nullptr)
       : front_(in, fanuc_family(opts.dialect)),
         back_(std::move(filename), opts),
-        source_(front_, back_) {
+        source_(front_, back_),
+        tally_(tally) {
     if (opts.read_ahead)  // front_ reads nothing yet
       ahead_ = std::make_unique<ParallelFront>(
           in, fanuc_family(opts.dialect),
-          opts.dialect == Dialect::LinuxCNC ? &back_.machine().layout : nullptr);
+          opts.dialect == Dialect::LinuxCNC ? &back_.machine().layout : nullptr, tally);
   }
   /// Reads, parses and interprets one line; false when the program is over.
   bool step(std::vector<Canon>& out, std::vector<Diagnostic>& diags);
+  /// Adds the commands step() just gave to the tally: on the reader thread while it reads
+  /// ahead (ParallelFront::defer), else here. The tally is complete after stop_reading().
+  void tally(const std::vector<Canon>& out) {
+    if (batch_ != nullptr)
+      ahead_->defer(out);
+    else
+      tally_->add(out);
+  }
+  /// Stops reading ahead (the program is over): the tally is complete.
+  void stop_reading() {
+    back_.keep_last_line();
+    batch_ = nullptr;
+    ahead_.reset();
+  }
   const ProgramRunner& back() const { return back_; }
   /// The program is over: writes the parameter file (once).
   void finish(std::vector<Diagnostic>& diags) { back_.save_parameters(diags); }
@@ -166,6 +183,7 @@ class LineDriver {
   LineParser front_;
   ProgramRunner back_;
   LineSource source_;
+  MoveTally* tally_;
   ParsedLine line_;
   std::unique_ptr<ParallelFront> ahead_;   ///< read-ahead until the first jump, else null
   ParallelFront::Batch* batch_ = nullptr;  ///< the batch being interpreted

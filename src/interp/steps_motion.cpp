@@ -164,12 +164,11 @@ bool axis_target(BlockCtx& ctx, const Pos9& from_mm, Pos9& target_mm) {
     const unsigned given = ctx.w.axes;
     if (given == 0) return target_in_range(ctx, target_mm);
     const bool incremental = ctx.s.incremental;
-    const Pos9 off = incremental ? Pos9::Zero().eval() : frame.offset();
     for (unsigned m = given; m != 0; m &= m - 1) {
       const int i = std::countr_zero(m);
       const auto* aw = ctx.w[kProgramAxisLetters[static_cast<std::size_t>(i)]];
       const double word = aw->value * (axis_is_rotary(i) ? 1.0 : scale);
-      target_mm[i] = incremental ? from_mm[i] + word : word + off[i];
+      target_mm[i] = incremental ? from_mm[i] + word : word + frame.offset(i);
     }
     if (!incremental && !unwrap_targets(ctx, from_mm, given, target_mm)) return false;
     return target_in_range(ctx, target_mm);
@@ -270,6 +269,24 @@ Motion& new_motion(BlockCtx& ctx, MotionKind kind) {
   return mo;
 }
 
+// A new move's position `v` (zero, as made) set to to_machine(p, l): the machine's axes alone.
+[[gnu::always_inline]] inline void set_machine_axes(AxisVec& v, const Pos9& p,
+                                                    const AxisLayout& l) {
+  if (!l.is_xyz()) {
+    v = to_machine(p, l);
+    return;
+  }
+  v[0] = p[0];
+  v[1] = p[1];
+  v[2] = p[2];
+}
+
+// to_machine(a, l) != to_machine(b, l).
+bool differ_on_machine(const Pos9& a, const Pos9& b, const AxisLayout& l) {
+  if (l.is_xyz()) return a[0] != b[0] || a[1] != b[1] || a[2] != b[2];
+  return to_machine(a, l) != to_machine(b, l);
+}
+
 }  // namespace
 
 Motion motion_template(const BlockCtx& ctx, MotionKind kind) {
@@ -297,12 +314,11 @@ static bool can_emit(BlockCtx& ctx, const Pos9& target_mm, SourceLoc loc) {
 
 bool emit_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target_mm, SourceLoc loc) {
   if (!can_emit(ctx, target_mm, loc)) return false;
-  const AxisVec start = to_machine(motion_start(ctx), ctx.machine.layout);
-  const AxisVec end = to_machine(target_mm, ctx.machine.layout);
-  if (end != start) {
+  const Pos9& from = motion_start(ctx);
+  if (differ_on_machine(from, target_mm, ctx.machine.layout)) {
     Motion& mo = new_motion(ctx, kind);
-    mo.start_mm = start;
-    mo.end_mm = end;
+    set_machine_axes(mo.start_mm, from, ctx.machine.layout);
+    set_machine_axes(mo.end_mm, target_mm, ctx.machine.layout);
     if (kind != MotionKind::Rapid && !set_feed(ctx, mo)) {
       ctx.out.pop_back();
       return false;
@@ -316,9 +332,9 @@ bool emit_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target_mm, Source
 bool emit_arc(BlockCtx& ctx, const Pos9& target_mm, const Pos9& centre_mm, bool ccw) {
   if (!can_emit(ctx, target_mm, motion_loc(ctx))) return false;
   Motion& mo = new_motion(ctx, MotionKind::Arc);
-  mo.start_mm = to_machine(ctx.s.position_mm, ctx.machine.layout);
-  mo.end_mm = to_machine(target_mm, ctx.machine.layout);
-  mo.center_mm = to_machine(centre_mm, ctx.machine.layout);
+  set_machine_axes(mo.start_mm, ctx.s.position_mm, ctx.machine.layout);
+  set_machine_axes(mo.end_mm, target_mm, ctx.machine.layout);
+  set_machine_axes(mo.center_mm, centre_mm, ctx.machine.layout);
   mo.ccw = ccw;
   mo.turns = 1;
   if (!set_feed(ctx, mo)) {
@@ -446,11 +462,11 @@ bool arc_centre(BlockCtx& ctx, const Code& c, const Pos9& start, const Pos9& end
     in.end_a = end_p[ax.a] / scale;
     in.end_b = end_p[ax.b] / scale;
   } else {  // to_program's operations on the plane's two axes only
-    const Pos9 off = frame.offset();
-    in.start_a = (start[ax.a] - off[ax.a]) / scale;
-    in.start_b = (start[ax.b] - off[ax.b]) / scale;
-    in.end_a = (end[ax.a] - off[ax.a]) / scale;
-    in.end_b = (end[ax.b] - off[ax.b]) / scale;
+    const double off_a = frame.offset(ax.a), off_b = frame.offset(ax.b);
+    in.start_a = (start[ax.a] - off_a) / scale;
+    in.start_b = (start[ax.b] - off_b) / scale;
+    in.end_a = (end[ax.a] - off_a) / scale;
+    in.end_b = (end[ax.b] - off_b) / scale;
   }
   in.use_r = w.has('R');
   in.r = w.get('R');
@@ -516,9 +532,9 @@ bool run_arc(BlockCtx& ctx, const Code& c) {
   Pos9 center;
   if (!arc_centre(ctx, c, s.position_mm, target, center)) return false;
   Motion& mo = new_motion(ctx, MotionKind::Arc);
-  mo.start_mm = to_machine(s.position_mm, ctx.machine.layout);
-  mo.end_mm = to_machine(target, ctx.machine.layout);
-  mo.center_mm = to_machine(center, ctx.machine.layout);
+  set_machine_axes(mo.start_mm, s.position_mm, ctx.machine.layout);
+  set_machine_axes(mo.end_mm, target, ctx.machine.layout);
+  set_machine_axes(mo.center_mm, center, ctx.machine.layout);
   mo.ccw = c.number10 == 30;
   mo.turns = turns;
   if (!set_feed(ctx, mo)) {

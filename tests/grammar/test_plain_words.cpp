@@ -34,6 +34,14 @@ bool scan(std::string_view text, std::vector<Word>& words) {
       columns.data(), 7, words);
 }
 
+/// The scanner of uncompacted lines (the text with room to read ahead, digits there).
+bool scan_line(std::string_view text, std::vector<Word>& words) {
+  std::string padded(text);
+  padded.append(gm::grammar::kDecimalReadAhead, '5');
+  words.clear();
+  return gm::grammar::read_plain_line(std::string_view(padded.data(), text.size()), 7, words);
+}
+
 std::string describe(const Block& b) {
   std::string s = "line " + std::to_string(b.line) + (b.block_delete ? " /" : "") +
                   (b.percent ? " %" : "") + (b.percent_text ? " %text" : "") + "\n";
@@ -148,6 +156,96 @@ TEST_CASE("plain-line scanner: hand-worked lines") {
   CHECK(scan("X123456789012345 Y0000000000000000001.5", w));
 }
 
+TEST_CASE("plain-line scanner on the line itself: hand-worked lines") {
+  std::vector<Word> w;
+  REQUIRE(scan_line("G1 x-.5 Y10.25\tf600.", w));
+  REQUIRE(w.size() == 4);
+  CHECK(w[0].letter == 'G');
+  CHECK(w[0].value == 1.0);
+  CHECK_FALSE(w[0].decimal_point);
+  CHECK(w[0].loc.line == 7);
+  CHECK(w[0].loc.column == 1);
+  CHECK(w[1].letter == 'X');
+  CHECK(w[1].value == -0.5);
+  CHECK(w[1].decimal_point);
+  CHECK(w[1].loc.column == 4);
+  CHECK(w[2].value == 10.25);
+  CHECK(w[2].loc.column == 9);
+  CHECK(w[3].letter == 'F');
+  CHECK(w[3].value == 600.0);
+  CHECK(w[3].decimal_point);
+  CHECK(w[3].loc.column == 16);
+
+  // Blanks between a letter and its number, and around words, are passed over.
+  REQUIRE(scan_line("  X 10\tY\t+007.50 Z -0 ", w));
+  REQUIRE(w.size() == 3);
+  CHECK(w[0].value == 10.0);
+  CHECK(w[0].loc.column == 3);
+  CHECK(w[1].value == 7.5);
+  CHECK(w[1].loc.column == 8);
+  CHECK(w[2].value == 0.0);
+  CHECK(std::signbit(w[2].value));
+  CHECK(w[2].loc.column == 18);
+  REQUIRE(scan_line("X0.1", w));
+  CHECK(std::bit_cast<std::uint64_t>(w[0].value) == 0x3FB999999999999AULL);
+  REQUIRE(scan_line(" \t ", w));
+  CHECK(w.empty());
+  // M98/M99 with a number other than 98 or 99, or not opening the line, are plain words.
+  CHECK(scan_line("M9 M8", w));
+  CHECK(scan_line("G1 M98", w));
+  CHECK(scan_line("N1 G0 M99", w));
+
+  // What it leaves to the compacting path: blanks inside a number, a sign apart from its
+  // digits, control flow, and everything read_plain_words leaves to the block rule.
+  for (const char* line : {"X1 0", "X- 1", "X1. 5", "X1 .5", "X1 -2", "M98 P1", "m099", "N10 M99",
+                           "/G1 X1", "%", "G1 X1 O2", "G1 (c)", "G1 X1 ;c", "G1 X[1]", "X",
+                           "X1234567890123456", "G1 X1\r", "G1 X1\v", "G1 X1\xc3\xa9"}) {
+    INFO(line);
+    CHECK_FALSE(scan_line(line, w));
+  }
+}
+
+TEST_CASE("short numbers read 8 bytes at a time: scan_decimal's values, points and ends") {
+  // Every number of up to 8 digits on each side of a point (and none), with what may follow.
+  std::mt19937 rng(99);
+  std::uniform_int_distribution<int> digit(0, 9), count(0, 9), tail(0, 5);
+  int short_ones = 0;
+  for (int i = 0; i < 200000; ++i) {
+    std::string s;
+    const int n1 = count(rng), n2 = count(rng);
+    for (int k = 0; k < n1; ++k) s += static_cast<char>('0' + digit(rng));
+    if (i % 3 != 0) {
+      s += '.';
+      for (int k = 0; k < n2; ++k) s += static_cast<char>('0' + digit(rng));
+    }
+    s += " X.1-/"[tail(rng)];
+    s.append(gm::grammar::kDecimalReadAhead, '\0');
+    const char* p = s.data();
+    double v = 0.0;
+    bool point = false;
+    if (!gm::grammar::read_short_decimal(p, v, point)) continue;
+    ++short_ones;
+    const char* q = s.data();
+    const gm::grammar::DecimalScan d = gm::grammar::scan_decimal(q, s.data() + s.size());
+    double want = 0.0;
+    INFO(s);
+    REQUIRE(gm::grammar::exact_decimal(d, want));
+    REQUIRE(std::bit_cast<std::uint64_t>(v) == std::bit_cast<std::uint64_t>(want));
+    REQUIRE(point == d.point);
+    REQUIRE(p == q);
+  }
+  CHECK(short_ones > 100000);
+  const char* p = "12345678.5\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0";  // 8 digits: left to scan_decimal
+  double v = 0.0;
+  bool point = false;
+  CHECK_FALSE(gm::grammar::read_short_decimal(p, v, point));
+  p = "1234567.7654321 \0\0\0\0\0\0\0\0\0\0\0\0\0\0\0";
+  REQUIRE(gm::grammar::read_short_decimal(p, v, point));
+  CHECK(v == 1234567.7654321);
+  CHECK(point);
+  CHECK(*p == ' ');
+}
+
 TEST_CASE("decimal point: the scanner and the block rule keep it alike") {
   BlockParser fast, rule;
   rule.set_plain_fast_path(false);
@@ -222,7 +320,8 @@ TEST_CASE("plain-line scanner: the same blocks as the block rule on random lines
                                         "G1",   "X-1.5", " Y2.25",
                                         " Z0",  "F600",  "1234567890123456",
                                         "\x80", "SIN[",  "MSG,",
-                                        "R"};
+                                        "R",    "98",    "M99",
+                                        "N1",   " 0",    "m"};
   std::mt19937 rng(12345);
   std::uniform_int_distribution<std::size_t> piece(0, std::size(kPieces) - 1);
   std::uniform_int_distribution<int> length(0, 14);

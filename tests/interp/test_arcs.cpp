@@ -2,12 +2,14 @@
 // controllers' end-radius tolerance rules at numbers chosen on either side of each limit.
 #include "common/error_codes.hpp"
 #include "gcode_helpers.hpp"
+#include "interp/arc.hpp"
 #include "interp/interpreter.hpp"
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
 #include <numbers>
+#include <random>
 
 using namespace gmtest;
 using gm::ErrorCode;
@@ -134,4 +136,54 @@ TEST_CASE("arc error messages give r1, r2 and the errors") {
   CHECK(d[0].message.find("r2 = 4.98 mm") != std::string::npos);
   CHECK(d[0].message.find("abs_err = 0.04 mm") != std::string::npos);
   CHECK(d[0].message.find("rel_err = 0.7968 %") != std::string::npos);
+}
+
+TEST_CASE("arc end-radius rules: random IJK arcs on either side of each limit, by hypot") {
+  // The rules written out with the radii by hypot: compute_arc decides every arc as they do,
+  // whichever way it takes (arcs clearly within the rules skip hypot).
+  std::mt19937_64 rng(2026);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double lcnc_mm = 2 * 0.01 * std::numbers::sqrt2, lcnc_in = 2 * 0.001 * std::numbers::sqrt2;
+  int refused = 0, passed = 0;
+  for (int i = 0; i < 60000; ++i) {
+    gm::ArcInput in;
+    in.rule = static_cast<gm::ArcRule>(i % 3);
+    in.mm_per_unit = i % 2 ? 25.4 : 1.0;
+    const bool inch = in.mm_per_unit != 1.0;
+    const double least =
+        in.rule == gm::ArcRule::LinuxCnc ? (inch ? lcnc_in : lcnc_mm) : 0.005 / in.mm_per_unit;
+    const double r = std::pow(10.0, -4.0 + 8.0 * unit(rng));  // 1e-4 .. 1e4 program units
+    const double a0 = 2 * kPi * unit(rng), a1 = 2 * kPi * unit(rng);
+    const double dr = least * (unit(rng) * 2.4 - 1.2) * (i % 7 == 0 ? 100.0 : 1.0);
+    in.start_a = 10.0 * unit(rng) - 5.0;
+    in.start_b = 10.0 * unit(rng) - 5.0;
+    in.off_a = -r * std::cos(a0);
+    in.off_b = -r * std::sin(a0);
+    const double ca = in.start_a + in.off_a, cb = in.start_b + in.off_b;
+    in.end_a = ca + (r + dr) * std::cos(a1);
+    in.end_b = cb + (r + dr) * std::sin(a1);
+    const gm::ArcResult got = gm::compute_arc(in);
+    // The rules (arc.cpp's constants) on the radii by hypot.
+    const double r1 = std::hypot(ca - in.start_a, cb - in.start_b);
+    const double r2 = std::hypot(ca - in.end_a, cb - in.end_b);
+    const double zero_tol = inch ? 0.00005 : 0.00005 * 25.4;
+    const double abs_err = std::fabs(r1 - r2), rel_err = abs_err / std::max(r1, r2);
+    const double dr_mm = abs_err * in.mm_per_unit, r_mm = r1 * in.mm_per_unit;
+    ErrorCode want = ErrorCode::None;
+    if (r1 < zero_tol || r2 < zero_tol)
+      want = ErrorCode::ArcZeroRadius;
+    else if (in.rule == gm::ArcRule::LinuxCnc
+                 ? abs_err > 100.0 * least || (abs_err > least && rel_err > 0.001)
+             : in.rule == gm::ArcRule::Grbl
+                 ? dr_mm > 0.005 && (dr_mm > 0.5 || dr_mm > 0.001 * r_mm)
+                 : dr_mm > 1.0 || (dr_mm > 0.005 && dr_mm > 0.001 * r_mm))
+      want = ErrorCode::ArcRadiusMismatch;
+    INFO("arc " << i << ": r " << r << ", dr " << dr);
+    REQUIRE(got.error == want);
+    REQUIRE(got.center_a == ca);
+    REQUIRE(got.center_b == cb);
+    (want == ErrorCode::None ? passed : refused) += 1;
+  }
+  CHECK(passed > 10000);
+  CHECK(refused > 10000);
 }
