@@ -232,20 +232,23 @@ double ArcPrecompCheck::run_stepped(double p_start, double p_until, Start start,
       --s.rest;
     } else {
       double dt = T, speed = s.v;
+      // Along a line piece at speed w up to in-plane `end`: true once it is reached.
+      auto along = [&](double w, double end) {
+        const double left = (end - s.p) / q_;
+        speed = w;
+        if (w * dt < left) {
+          s.p += q_ * w * dt;
+          dt = 0.0;
+          return false;
+        }
+        dt = std::max(0.0, dt - left / w);
+        s.p = end;
+        return true;
+      };
       while (dt > eps) {
         if (seg == 0) {  // the line before: at vline_, its last near_p_ at v_
           const bool far = s.p < -near_p_;
-          const double w = far ? vline_ : v_, end = far ? -near_p_ : 0.0;
-          const double left = (end - s.p) / q_;
-          if (w * dt < left) {
-            s.p += q_ * w * dt;
-            speed = w;
-            dt = 0.0;
-          } else {
-            dt = std::max(0.0, dt - left / w);
-            s.p = end;
-            if (!far) seg = 1;
-          }
+          if (along(far ? vline_ : v_, far ? -near_p_ : 0.0) && !far) seg = 1;
         } else if (seg == 1) {
           const double lo = s.v > dv_ ? s.v - dv_ : 0.0;
           double v = v_ < lo ? lo : v_ > s.v + dv_ ? s.v + dv_ : v_;
@@ -267,17 +270,7 @@ double ArcPrecompCheck::run_stepped(double p_start, double p_until, Start start,
         } else {  // the line after: its first near_p_ at v_, then at vline_
           if (stop) break;
           const bool near = s.p < lp_ + near_p_;
-          const double w = near ? v_ : vline_;
-          const double left = near ? (lp_ + near_p_ - s.p) / q_ : kNoLimit;
-          if (w * dt < left) {
-            s.p += q_ * w * dt;
-            speed = w;
-            dt = 0.0;
-          } else {
-            dt = std::max(0.0, dt - left / w);
-            s.p = lp_ + near_p_;
-            speed = w;
-          }
+          along(near ? v_ : vline_, near ? lp_ + near_p_ : kNoLimit);
         }
       }
       s.v = speed;
