@@ -194,6 +194,37 @@ def both_ends(arc, knots, tables, phases, k):
     return cx, cy
 
 
+def ramp(h, x0, low):
+    """A steady arc of unit radius at rate x0, the speed ramped to low * x0 over the window (the
+    interpolator's rate limit), held 60 samples and ramped back, c following the command's rate:
+    the worst distance and the worst |y - x(sbar)|, over the steady loss at x0."""
+    m = len(h)
+    mid = sum(i * w for i, w in enumerate(h))
+
+    def gain(x):
+        return sum(w * math.cos((i - mid) * x) for i, w in enumerate(h))
+    rates, x = [x0] * (3 * m), x0
+    while x > low * x0 + 1e-12:
+        x = max(low * x0, x - x0 / m)
+        rates.append(x)
+    rates += [x] * 60
+    while x < x0 - 1e-12:
+        x = min(x0, x + x0 / m)
+        rates.append(x)
+    rates = np.array(rates + [x0] * (3 * m))
+    angle = np.cumsum(rates)
+    radius = np.array([1 / gain(v) if v > 0 else 1.0 for v in rates])
+    n = len(rates)
+    yx = np.convolve(radius * np.sin(angle), h)[:n]
+    yy = np.convolve(1 - radius * np.cos(angle), h)[:n]
+    sbar = np.convolve(angle, h)[:n]
+    full = np.arange(n) >= m - 1
+    loss = 1 - gain(x0)
+    dist = np.abs(np.hypot(yx, yy - 1) - 1)[full].max()
+    vec = np.hypot(yx - np.sin(sbar), yy - 1 + np.cos(sbar))[full].max()
+    return dist / loss, vec / loss
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--gmotion", default="build/bin/gmotion")
@@ -245,6 +276,14 @@ def main():
                 worst = max(worst, arc.measure(*arc.command(table_shape(rows), k))[0])
             cells.append(f"{worst:.3f}")
         print(f"| {count} | " + " | ".join(cells) + f" | {worst1:.3f} |")
+    print()
+    print("The ramp on a steady arc (today's rule: c follows the command's rate), to rest and to")
+    print("0.6 of the speed and back, worst distance and worst |y - x(sbar)| / steady loss:")
+    print("| x | to rest: distance | abs(y - x(sbar)) | to 0.6: distance | abs(y - x(sbar)) |")
+    print("| --- | --- | --- | --- | --- |")
+    for x in (0.03, 0.06, 0.1, 0.2):
+        rest, slow = ramp(h, x, 0.0), ramp(h, x, 0.6)
+        print(f"| {x} | {rest[0]:.3f} | {rest[1]:.3f} | {slow[0]:.3f} | {slow[1]:.3f} |")
     print()
     phases = [0.001 + 0.998 * j / 8 for j in range(9)]
     knots = (0.03, 0.06, 0.1)
