@@ -16,7 +16,7 @@ namespace gm {
 ///  * c is blended in over the first ℓ and out over the last ℓ of the arc (ℓ =
 ///    min(L/2, kBlendSamples·T·v_p)), linearly, so the block's ends are its programmed points;
 ///  * the path speed changes by at most v_p / ramp_samples() per sample (a ramp from 0 to v_p in
-///    about τ/2), so that an override step is followed without a transient the filter cannot
+///    τ), so that an override step is followed without a transient the filter cannot
 ///    average out.
 /// A(ωT) is tabulated once over [0, limit_omega_t()], where A falls to kMinGain; faster arcs are
 /// not compensated (the planner never marks them), and the table clamps there.
@@ -57,7 +57,7 @@ class ArcCompensation {
     if (!(d > 0.0)) return 0.0;
     return d >= blend_mm ? 1.0 : d / blend_mm;
   }
-  /// Samples of the ramp from 0 to the planned speed: (N + 1)/2, at least 1.
+  /// Samples of the ramp from 0 to the planned speed: N + 1, the filter's window.
   int ramp_samples() const { return ramp_samples_; }
   /// Largest change of path speed per sample on an arc planned at `planned_mm_s`, mm/s.
   double speed_step_mm_s(double planned_mm_s) const {
