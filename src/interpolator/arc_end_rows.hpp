@@ -1,60 +1,68 @@
-// A pre-compensated arc's ends in two directions: offsets on the arc's first samples, radial and
-// tangential, that leave the Acc/Dec output nearest the path (docs/tolerance.md, "The arc's ends
-// in two directions, judged by the distance to the path").
+// A pre-compensated arc's ends in two directions: offsets on the arc's first and last samples,
+// radial and tangential, fitted for the speeds the arc runs at so that the Acc/Dec output stays
+// nearest the path (docs/tolerance.md, "The arc's ends in two directions, judged by the distance
+// to the path").
 #pragma once
 
-#include <array>
+#include <limits>
 #include <vector>
 
 namespace gm {
 
-/// The command on the arc's first kSamples samples (the exit: the same, mirrored), for each
-/// sample j after the join: radial[j] in units of the sample's own steady correction c (1 is the
-/// steady correction, today's blend is (j + phase)/2), tangential[j] along the motion in units of
-/// c/x, x the sample's advance over the radius. These units make the rows of a constant speed
-/// nearly independent of x at small x.
-struct ArcEndRows {
-  static constexpr int kSamples = 6;
-  std::array<double, kSamples> radial{};
-  std::array<double, kSamples> tangential{};
-};
-
-/// The speeds around an entry, in the model's units (radius 1): x[i] is sample i's advance, the
-/// samples running from the line before the arc onto the arc; sample `join` is the arc's first
-/// and lies `phase` (0..1] of its advance past the arc's start.
-struct ArcEndSpeeds {
-  std::vector<double> x;
-  int join = 0;
+/// An arc run sample by sample, in the arc's own frame: a line along +x into a counter-clockwise
+/// arc of radius r from the origin (centre (0, r)) through `sweep_rad` (infinity: an arc that
+/// never ends), then the tangent line. speed_mm_s[i] is sample i's path advance over the period;
+/// sample `first` is the arc's first and lies `phase` (0..1] of its advance past the arc's start.
+/// `planned_mm_s` is the arc's planned speed: its steady loss is the unit of worst_fraction.
+struct ArcRun {
+  double radius_mm = 1.0;
+  double sweep_rad = std::numeric_limits<double>::infinity();
+  std::vector<double> speed_mm_s;
+  int first = 0;
   double phase = 0.25;
+  double planned_mm_s = 0.0;
 
-  /// A constant rate x: two windows of line, then four windows of arc (`window` samples each).
-  static ArcEndSpeeds constant(double x, double phase, int window);
+  /// A constant speed v: two windows of line, the arc, four windows after it (`window` samples).
+  static ArcRun constant(double radius_mm, double sweep_rad, double v_mm_s, double period_s,
+                         double phase, int window);
 };
 
-/// Fits and measures ArcEndRows for a symmetric FIR (weights h_i, Σ = 1) on a line running into
-/// an arc of radius 1 (the rows scale with the radius through c and x). The fit is the least
-/// worst distance of the output y = Σ h_i x_(n−i) from the path (the line before and the
-/// circle), by iteratively reweighted least squares on the linearised distance with a Tikhonov
-/// weight lambda in units of the steady correction at the arc's rate; `iterations` passes.
+/// The command's offset from the path on each sample of an ArcRun, in mm: along the outward
+/// normal (radial) and along the motion (along). Zero off the arc.
+struct ArcOffsets {
+  std::vector<double> radial_mm, along_mm;
+};
+
+/// Fits and measures the offsets for a symmetric FIR (weights h_i, Σ = 1) at period T. The
+/// steady correction c = r(1/A(x) − 1) (x: the sample's advance over r) on the arc, except on its
+/// first and last kEndSamples samples, whose offsets are free in both directions and chosen for
+/// the least worst distance of the output y = Σ h_i x_(n−i) from the path (the line before, the
+/// arc, the line after): iteratively reweighted least squares on the linearised distance,
+/// `iterations` passes, Tikhonov weight lambda in units of the steady correction at the planned
+/// speed.
 class ArcEndFit {
  public:
-  explicit ArcEndFit(std::vector<double> weights, double lambda = 1e-3, int iterations = 40);
+  static constexpr int kEndSamples = 6;
 
-  ArcEndRows fit(const ArcEndSpeeds& speeds) const;
-  /// The worst distance of the output from the path over the whole run (every sample whose
-  /// window is full), divided by the steady loss 1 − A(x) at the arc's rate (the largest x on the
-  /// arc).
-  double worst_fraction(const ArcEndSpeeds& speeds, const ArcEndRows& rows) const;
-  /// Today's rule as rows: radial (j + phase)/2 up to 1, no tangential part.
-  static ArcEndRows linear_blend(double phase);
+  ArcEndFit(std::vector<double> weights, double period_s, double lambda = 1e-3,
+            int iterations = 40);
+
+  ArcOffsets fit(const ArcRun& run) const;
+  /// Today's interpolator: c blended in (out) linearly over the arc's first (last)
+  /// min(L/2, 2·T·v_planned) of path, no tangential part.
+  ArcOffsets linear_blend(const ArcRun& run) const;
+  /// The worst distance of the output from the path, every sample whose window is full, over
+  /// the steady loss r(1 − A) at the planned speed.
+  double worst_fraction(const ArcRun& run, const ArcOffsets& offsets) const;
   /// A(x) = Σ h_i cos((i − m)·x).
   double gain(double x) const;
 
  private:
-  struct Run;  // the samples' positions, the command's base and the output's base
-  Run prepare(const ArcEndSpeeds& speeds) const;
+  struct Samples;  // the run's path positions, frames, steady corrections and filtered positions
+  Samples prepare(const ArcRun& run) const;
 
   std::vector<double> h_;
+  double period_s_;
   double centre_ = 0.0;
   double lambda_;
   int iterations_;
