@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <utility>
 
@@ -208,10 +209,13 @@ ArcOffsets ArcEndFit::fit(const ArcRun& run) const {
   const std::size_t first_valid = m - 1;
   const auto rows = static_cast<Eigen::Index>(n - first_valid);
   Eigen::VectorXd u = Eigen::VectorXd::Zero(f), weight = Eigen::VectorXd::Ones(rows);
+  Eigen::VectorXd best_u = u;
+  double best = std::numeric_limits<double>::infinity();
   Eigen::MatrixXd a(rows, f);
   Eigen::VectorXd rhs(rows);
-  for (int it = 0; it < iterations_ && f > 0; ++it) {
+  for (int it = 0; it <= iterations_ && f > 0; ++it) {
     a.setZero();
+    double worst = 0.0;
     for (Eigen::Index r = 0; r < rows; ++r) {
       const std::size_t k = first_valid + static_cast<std::size_t>(r);
       EndVec y = base_out[k];
@@ -223,6 +227,7 @@ ArcOffsets ArcEndFit::fit(const ArcRun& run) const {
         y.y += w * dir[static_cast<std::size_t>(q)].y;
       }
       const auto [d, g] = sm.distance(y, sm.sbar[k]);
+      worst = std::max(worst, d);
       for (Eigen::Index q = 0; q < f; ++q) {
         const std::size_t i = sample_of[static_cast<std::size_t>(q)];
         if (i > k || k - i >= m) continue;
@@ -230,6 +235,11 @@ ArcOffsets ArcEndFit::fit(const ArcRun& run) const {
       }
       rhs[r] = d - a.row(r).dot(u);
     }
+    if (worst < best) {  // the reweighting can overshoot: keep the best pass
+      best = worst;
+      best_u = u;
+    }
+    if (it == iterations_) break;
     Eigen::MatrixXd normal = a.transpose() * weight.asDiagonal() * a;
     normal.diagonal().array() += lambda_ * sm.c_planned * sm.c_planned;
     u = normal.ldlt().solve(-(a.transpose() * weight.asDiagonal() * rhs));
@@ -240,6 +250,7 @@ ArcOffsets ArcEndFit::fit(const ArcRun& run) const {
         weight.cwiseProduct((e / top).array().matrix() + Eigen::VectorXd::Constant(rows, 1e-3));
     weight /= weight.mean();
   }
+  u = best_u;
   ArcOffsets off{std::vector<double>(n, 0.0), std::vector<double>(n, 0.0)};
   for (std::size_t i = 0; i < n; ++i)
     if (sm.on[i] != 0) off.radial_mm[i] = sm.c[i];

@@ -38,8 +38,8 @@ struct ArcOffsets {
 /// first and last kEndSamples samples, whose offsets are free in both directions and chosen for
 /// the least worst distance of the output y = Σ h_i x_(n−i) from the path (the line before, the
 /// arc, the line after): iteratively reweighted least squares on the linearised distance,
-/// `iterations` passes, Tikhonov weight lambda in units of the steady correction at the planned
-/// speed.
+/// `iterations` passes of which the best is kept, Tikhonov weight lambda in units of the steady
+/// correction at the planned speed.
 class ArcEndFit {
  public:
   static constexpr int kEndSamples = 6;
