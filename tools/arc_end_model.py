@@ -48,7 +48,7 @@ class Arc:
         self.s = s - s[join] + phase * adv[join]
         self.rate = adv / r
         self.c = np.array([r * (1 / gain(h, x) - 1) if x > 0 else 0.0 for x in self.rate])
-        self.on = (self.s > 0) & (self.s <= self.len)
+        self.on = (self.s > 0) & (self.s < self.len - 1e-9 * r)  # one resting on the end is past it
         idx = np.arange(len(self.s))
         on_idx = idx[self.on]
         self.first, self.last = on_idx[0], on_idx[-1]
