@@ -256,6 +256,18 @@ def speed_cases(m, v):
             ("from rest at the join", [1e-9] * 3 * m + rest + [v] * 4 * m, 3 * m)]
 
 
+def override_near_join(h, period, x, low, start):
+    """Speeds for an entry at rate x whose override ramps (x/window per sample) to low·x from
+    sample `start` relative to the join on."""
+    m = len(h)
+    v, cur, speeds = x / period, x / period, []
+    for i in range(7 * m):
+        if i >= 3 * m + start:
+            cur = max(low * v, cur - v / m) if low < 1 else min(low * v, cur + v / m)
+        speeds.append(cur)
+    return speeds
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--gmotion", default="build/bin/gmotion")
@@ -314,6 +326,19 @@ def main():
     for x in (0.03, 0.06, 0.1, 0.2):
         rest, slow = ramp(h, x, 0.0), ramp(h, x, 0.6)
         print(f"| {x} | {rest[0]:.3f} | {rest[1]:.3f} | {slow[0]:.3f} | {slow[1]:.3f} |")
+    print()
+    print("Rows fitted for a constant speed (x = 0.03, phase 0.4) while the override ramps to 0.4")
+    print("or 1.5 of it from a sample near the join (the worst / steady loss at x = 0.03):")
+    print("| override to | ramp from the join's sample | today | constant-speed rows | refitted |")
+    print("| --- | --- | --- | --- | --- |")
+    steady_rows = Arc.steady(h, t, 0.03 / t, 1.0, phase=0.4).fit(k, lam)[2]
+    for low in (0.4, 1.5):
+        for start in (-20, -3, 0, 3, 10):
+            arc = Arc(h, t, 1.0, math.inf, override_near_join(h, t, 0.03, low, start), 3 * m, 0.4,
+                      0.03 / t)
+            cells = [arc.measure(*arc.today())[0], arc.measure(*arc.with_rows(steady_rows, []))[0],
+                     arc.measure(*arc.fit(k, lam)[:2])[0]]
+            print(f"| {low} | {start:+d} | " + " | ".join(f"{c:.3f}" for c in cells) + " |")
     print()
     knots = (0.01, 0.03, 0.06, 0.1)
     tables = Tables(h, t, knots, k, lam, phases_of(8))
