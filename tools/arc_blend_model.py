@@ -4,7 +4,7 @@ while a line runs into a long arc at constant speed, as a fraction of the steady
 
 The filter's taps come from `gmotion design --json` (default: Blackman, tau 0.164 s, T 4 ms).
 Unit radius, rate x = omega*T, samples at a quarter sample's phase; error |y - x(sbar)| as the
-planner's check (ArcPrecompCheck) measures it. Corrections compared (docs/tolerance.md,
+planner's check (ArcPrecompCheck) measures it. Corrections compared (docs/tolerance-arc-ends.md,
 "Starting the correction on the line before the arc"):
   * the interpolator's linear blend over the arc's first 2 samples, and a step at its start;
   * a radial ramp that starts on the line before the arc;

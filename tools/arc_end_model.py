@@ -11,8 +11,8 @@ does), except on the arc's first (and last) K samples, whose offsets are free in
 directions. They are chosen to minimise the largest distance of the output from the path
 (iteratively reweighted least squares on the linearised distance, Tikhonov weight lam in units
 of c), the output y = sum h_i x_(n-i) exactly. Figures are fractions of the steady loss
-R(1 - A) at the arc's speed. docs/tolerance.md, "The arc's ends in two directions, judged by
-the distance to the path". Needs numpy (tools/install-deps.sh installs python3-numpy).
+R(1 - A) at the arc's speed. docs/tolerance-arc-ends.md, "The arc's ends in two directions,
+judged by the distance to the path". Needs numpy (tools/install-deps.sh installs python3-numpy).
 """
 import argparse
 import math

@@ -9,8 +9,8 @@ a model: every speed below its block's feed raised k times, up to the feed, the
 steady correction c on arcs from each sample's own advance, the arc's ends either blended as the
 interpolator does today or with rows fitted for that arc's speeds (both ends together, 6 samples,
 lambda 1e-3). The output y = sum h_i x_(n-i) in double precision, its worst distance from the
-program's path (every element). XY lines and arcs only. docs/tolerance.md, "The arc's ends in
-two directions". Needs numpy.
+program's path (every element). XY lines and arcs only. docs/tolerance-arc-ends.md, "The arc's
+ends in two directions". Needs numpy.
 """
 import argparse
 import csv
