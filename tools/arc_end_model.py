@@ -134,13 +134,19 @@ class Arc:
                 np.hypot(yx - qx, yy - qy)[self.valid].max() / self.loss,
                 (speed.min() / self.v, speed.max() / self.v), jerk.max(), step)
 
-    def fit(self, k, lam, iters=40):
+    def fit(self, k, lam, iters=40, issued=None, free_from=0):
         """Offsets on the arc's first and last k samples minimising the worst distance. Returns
-        the command and the entry's rows (radial / c, tangential * x / c)."""
+        the command and the entry's rows (radial / c, tangential * x / c). With `issued` (a
+        command (cx, cy)), the samples before `free_from` are already commanded as it says and
+        only the later ones are fitted (a refit when the speeds change)."""
         px, py, nx, ny, tx, ty = self.geometry(self.s)
         near = self.on & (np.minimum(self.j_in, self.j_out) < k)
         base_x = px + (self.on & ~near) * self.c * nx
         base_y = py + (self.on & ~near) * self.c * ny
+        if issued is not None:
+            done = np.arange(len(self.s)) < free_from
+            base_x, base_y = np.where(done, issued[0], base_x), np.where(done, issued[1], base_y)
+            near = near & ~done
         cols = []  # (sample, direction): radial and tangential, in units of the sample's c
         for i in np.where(near)[0]:
             cols.append((i, self.c[i] * nx[i], self.c[i] * ny[i]))
@@ -328,16 +334,20 @@ def main():
         print(f"| {x} | {rest[0]:.3f} | {rest[1]:.3f} | {slow[0]:.3f} | {slow[1]:.3f} |")
     print()
     print("Rows fitted for a constant speed (x = 0.03, phase 0.4) while the override ramps to 0.4")
-    print("or 1.5 of it from a sample near the join (the worst / steady loss at x = 0.03):")
-    print("| override to | ramp from the join's sample | today | constant-speed rows | refitted |")
-    print("| --- | --- | --- | --- | --- |")
+    print("or 1.5 of it from a sample near the join (the worst / steady loss at x = 0.03); the")
+    print("samples not yet commanded refitted when the ramp starts; all fitted for the ramp:")
+    print("| override to | ramp from the join's sample | today | constant-speed rows | refitted "
+          "from the change | fitted for the ramp |")
+    print("| --- | --- | --- | --- | --- | --- |")
     steady_rows = Arc.steady(h, t, 0.03 / t, 1.0, phase=0.4).fit(k, lam)[2]
     for low in (0.4, 1.5):
-        for start in (-20, -3, 0, 3, 10):
+        for start in (-20, -3, 0, 2, 5, 10):
             arc = Arc(h, t, 1.0, math.inf, override_near_join(h, t, 0.03, low, start), 3 * m, 0.4,
                       0.03 / t)
-            cells = [arc.measure(*arc.today())[0], arc.measure(*arc.with_rows(steady_rows, []))[0],
-                     arc.measure(*arc.fit(k, lam)[:2])[0]]
+            issued = arc.with_rows(steady_rows, [])
+            refit = arc.fit(k, lam, issued=issued, free_from=3 * m + start)[:2]
+            cells = [arc.measure(*arc.today())[0], arc.measure(*issued)[0],
+                     arc.measure(*refit)[0], arc.measure(*arc.fit(k, lam)[:2])[0]]
             print(f"| {low} | {start:+d} | " + " | ".join(f"{c:.3f}" for c in cells) + " |")
     print()
     knots = (0.01, 0.03, 0.06, 0.1)
