@@ -164,12 +164,17 @@ def ramp(a, b):  # linear from -a to +b samples' travel around the arc's start
     return lambda k: 0.0 if k <= -a else 1.0 if k >= b else (k + a) / (a + b)
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+def add_filter_args(ap):
+    """The filter's options of the arc models: the gmotion binary, profile, tau and period."""
     ap.add_argument("--gmotion", default="build/bin/gmotion")
     ap.add_argument("--profile", default="blackman")
     ap.add_argument("--tau", type=float, default=0.164)
     ap.add_argument("--period", type=float, default=0.004)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    add_filter_args(ap)
     ap.add_argument("--rates", type=float, nargs="+", default=[0.03, 0.1, 0.2], help="x = omega*T")
     ap.add_argument("--lam", type=float, default=1e-3)
     args = ap.parse_args()

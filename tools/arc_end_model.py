@@ -22,7 +22,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from arc_blend_model import taps  # noqa: E402  (same folder)
+from arc_blend_model import add_filter_args, taps  # noqa: E402  (same folder)
 
 
 def gain(h, x):
@@ -276,10 +276,7 @@ def override_near_join(h, period, x, low, start):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--gmotion", default="build/bin/gmotion")
-    ap.add_argument("--profile", default="blackman")
-    ap.add_argument("--tau", type=float, default=0.164)
-    ap.add_argument("--period", type=float, default=0.004)
+    add_filter_args(ap)
     args = ap.parse_args()
     h = taps(args.gmotion, args.profile, args.tau, args.period)
     t, m = args.period, len(h)
