@@ -9,8 +9,8 @@ given per sample; the command is the path plus the steady correction c = R(1/A(x
 outward normal on the arc (x = the sample's advance / R, c following it as the interpolator's
 does), except on the arc's first (and last) K samples, whose offsets are free in both
 directions. They are chosen to minimise the largest distance of the output from the path
-(iteratively reweighted least squares on the linearised distance, Tikhonov weight lam in units
-of c), the output y = sum h_i x_(n-i) exactly. Figures are fractions of the steady loss
+(iteratively reweighted least squares on the linearised distance, the best pass kept, Tikhonov
+weight lam in units of c), the output y = sum h_i x_(n-i) exactly. Figures are fractions of the steady loss
 R(1 - A) at the arc's speed. docs/tolerance-arc-ends.md, "The arc's ends in two directions,
 judged by the distance to the path". Needs numpy (tools/install-deps.sh installs python3-numpy).
 """
@@ -158,9 +158,14 @@ class Arc:
         cux, cuy = self.conv @ ux, self.conv @ uy
         y0x, y0y = self.conv @ base_x, self.conv @ base_y
         u, weight, eps = np.zeros(f), np.ones(int(self.valid.sum())), 1e-7 * self.r
-        for _ in range(iters):
+        best, best_u = math.inf, u
+        for it in range(iters + 1):
             yx, yy = y0x + cux @ u, y0y + cuy @ u
             d = self.distance(yx, yy)
+            if d[self.valid].max() < best:  # the reweighting can overshoot: keep the best pass
+                best, best_u = d[self.valid].max(), u
+            if it == iters:
+                break
             gx = (self.distance(yx + eps, yy) - d) / eps
             gy = (self.distance(yx, yy + eps) - d) / eps
             a = (gx[:, None] * cux + gy[:, None] * cuy)[self.valid]
@@ -171,6 +176,7 @@ class Arc:
             e = np.abs(a @ u + rhs)
             weight = weight * (e / e.max() + 1e-3)
             weight /= weight.mean()
+        u = best_u
         rows = {}
         for q, (i, _, _) in enumerate(cols):
             if self.j_in[i] < k and self.j_in[i] <= self.j_out[i]:
