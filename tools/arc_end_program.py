@@ -101,7 +101,7 @@ def load(gmotion, program, trace):
         s0, at = s0 + el.len, el.b
     subprocess.run([gmotion, "run", program, "--no-servo", "--trace", trace], check=True,
                    capture_output=True)
-    blu, period = 0.001, 0.004
+    blu, period, name, tau = 0.001, 0.004, "blackman", 0.164  # the trace header says otherwise
     with open(trace) as f:
         lines = f.readlines()
     for text in lines:
