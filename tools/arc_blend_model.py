@@ -4,7 +4,7 @@ while a line runs into a long arc at constant speed, as a fraction of the steady
 
 The filter's taps come from `gmotion design --json` (default: Blackman, tau 0.164 s, T 4 ms).
 Unit radius, rate x = omega*T, samples at a quarter sample's phase; error |y - x(sbar)| as the
-planner's check (ArcPrecompCheck) measures it. Corrections compared (docs/tolerance.md,
+planner's check (ArcPrecompCheck) measures it. Corrections compared (docs/tolerance-arc-ends.md,
 "Starting the correction on the line before the arc"):
   * the interpolator's linear blend over the arc's first 2 samples, and a step at its start;
   * a radial ramp that starts on the line before the arc;
@@ -164,12 +164,17 @@ def ramp(a, b):  # linear from -a to +b samples' travel around the arc's start
     return lambda k: 0.0 if k <= -a else 1.0 if k >= b else (k + a) / (a + b)
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+def add_filter_args(ap):
+    """The filter's options of the arc models: the gmotion binary, profile, tau and period."""
     ap.add_argument("--gmotion", default="build/bin/gmotion")
     ap.add_argument("--profile", default="blackman")
     ap.add_argument("--tau", type=float, default=0.164)
     ap.add_argument("--period", type=float, default=0.004)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    add_filter_args(ap)
     ap.add_argument("--rates", type=float, nargs="+", default=[0.03, 0.1, 0.2], help="x = omega*T")
     ap.add_argument("--lam", type=float, default=1e-3)
     args = ap.parse_args()

@@ -9,10 +9,10 @@ given per sample; the command is the path plus the steady correction c = R(1/A(x
 outward normal on the arc (x = the sample's advance / R, c following it as the interpolator's
 does), except on the arc's first (and last) K samples, whose offsets are free in both
 directions. They are chosen to minimise the largest distance of the output from the path
-(iteratively reweighted least squares on the linearised distance, Tikhonov weight lam in units
-of c), the output y = sum h_i x_(n-i) exactly. Figures are fractions of the steady loss
-R(1 - A) at the arc's speed. docs/tolerance.md, "The arc's ends in two directions, judged by
-the distance to the path". Needs numpy (tools/install-deps.sh installs python3-numpy).
+(iteratively reweighted least squares on the linearised distance, the best pass kept, Tikhonov
+weight lam in units of c), the output y = sum h_i x_(n-i) exactly. Figures are fractions of the steady loss
+R(1 - A) at the arc's speed. docs/tolerance-arc-ends.md, "The arc's ends in two directions,
+judged by the distance to the path". Needs numpy (tools/install-deps.sh installs python3-numpy).
 """
 import argparse
 import math
@@ -22,7 +22,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from arc_blend_model import taps  # noqa: E402  (same folder)
+from arc_blend_model import add_filter_args, taps  # noqa: E402  (same folder)
 
 
 def gain(h, x):
@@ -48,7 +48,7 @@ class Arc:
         self.s = s - s[join] + phase * adv[join]
         self.rate = adv / r
         self.c = np.array([r * (1 / gain(h, x) - 1) if x > 0 else 0.0 for x in self.rate])
-        self.on = (self.s > 0) & (self.s <= self.len)
+        self.on = (self.s > 0) & (self.s < self.len - 1e-9 * r)  # one resting on the end is past it
         idx = np.arange(len(self.s))
         on_idx = idx[self.on]
         self.first, self.last = on_idx[0], on_idx[-1]
@@ -134,13 +134,19 @@ class Arc:
                 np.hypot(yx - qx, yy - qy)[self.valid].max() / self.loss,
                 (speed.min() / self.v, speed.max() / self.v), jerk.max(), step)
 
-    def fit(self, k, lam, iters=40):
+    def fit(self, k, lam, iters=40, issued=None, free_from=0):
         """Offsets on the arc's first and last k samples minimising the worst distance. Returns
-        the command and the entry's rows (radial / c, tangential * x / c)."""
+        the command and the entry's rows (radial / c, tangential * x / c). With `issued` (a
+        command (cx, cy)), the samples before `free_from` are already commanded as it says and
+        only the later ones are fitted (a refit when the speeds change)."""
         px, py, nx, ny, tx, ty = self.geometry(self.s)
         near = self.on & (np.minimum(self.j_in, self.j_out) < k)
         base_x = px + (self.on & ~near) * self.c * nx
         base_y = py + (self.on & ~near) * self.c * ny
+        if issued is not None:
+            done = np.arange(len(self.s)) < free_from
+            base_x, base_y = np.where(done, issued[0], base_x), np.where(done, issued[1], base_y)
+            near = near & ~done
         cols = []  # (sample, direction): radial and tangential, in units of the sample's c
         for i in np.where(near)[0]:
             cols.append((i, self.c[i] * nx[i], self.c[i] * ny[i]))
@@ -152,9 +158,14 @@ class Arc:
         cux, cuy = self.conv @ ux, self.conv @ uy
         y0x, y0y = self.conv @ base_x, self.conv @ base_y
         u, weight, eps = np.zeros(f), np.ones(int(self.valid.sum())), 1e-7 * self.r
-        for _ in range(iters):
+        best, best_u = math.inf, u
+        for it in range(iters + 1):
             yx, yy = y0x + cux @ u, y0y + cuy @ u
             d = self.distance(yx, yy)
+            if d[self.valid].max() < best:  # the reweighting can overshoot: keep the best pass
+                best, best_u = d[self.valid].max(), u
+            if it == iters:
+                break
             gx = (self.distance(yx + eps, yy) - d) / eps
             gy = (self.distance(yx, yy + eps) - d) / eps
             a = (gx[:, None] * cux + gy[:, None] * cuy)[self.valid]
@@ -165,6 +176,7 @@ class Arc:
             e = np.abs(a @ u + rhs)
             weight = weight * (e / e.max() + 1e-3)
             weight /= weight.mean()
+        u = best_u
         rows = {}
         for q, (i, _, _) in enumerate(cols):
             if self.j_in[i] < k and self.j_in[i] <= self.j_out[i]:
@@ -256,12 +268,21 @@ def speed_cases(m, v):
             ("from rest at the join", [1e-9] * 3 * m + rest + [v] * 4 * m, 3 * m)]
 
 
+def override_near_join(h, period, x, low, start):
+    """Speeds for an entry at rate x whose override ramps (x/window per sample) to low·x from
+    sample `start` relative to the join on."""
+    m = len(h)
+    v, cur, speeds = x / period, x / period, []
+    for i in range(7 * m):
+        if i >= 3 * m + start:
+            cur = max(low * v, cur - v / m) if low < 1 else min(low * v, cur + v / m)
+        speeds.append(cur)
+    return speeds
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--gmotion", default="build/bin/gmotion")
-    ap.add_argument("--profile", default="blackman")
-    ap.add_argument("--tau", type=float, default=0.164)
-    ap.add_argument("--period", type=float, default=0.004)
+    add_filter_args(ap)
     args = ap.parse_args()
     h = taps(args.gmotion, args.profile, args.tau, args.period)
     t, m = args.period, len(h)
@@ -314,6 +335,23 @@ def main():
     for x in (0.03, 0.06, 0.1, 0.2):
         rest, slow = ramp(h, x, 0.0), ramp(h, x, 0.6)
         print(f"| {x} | {rest[0]:.3f} | {rest[1]:.3f} | {slow[0]:.3f} | {slow[1]:.3f} |")
+    print()
+    print("Rows fitted for a constant speed (x = 0.03, phase 0.4) while the override ramps to 0.4")
+    print("or 1.5 of it from a sample near the join (the worst / steady loss at x = 0.03); the")
+    print("samples not yet commanded refitted when the ramp starts; all fitted for the ramp:")
+    print("| override to | ramp from the join's sample | today | constant-speed rows | refitted "
+          "from the change | fitted for the ramp |")
+    print("| --- | --- | --- | --- | --- | --- |")
+    steady_rows = Arc.steady(h, t, 0.03 / t, 1.0, phase=0.4).fit(k, lam)[2]
+    for low in (0.4, 1.5):
+        for start in (-20, -3, 0, 2, 5, 10):
+            arc = Arc(h, t, 1.0, math.inf, override_near_join(h, t, 0.03, low, start), 3 * m, 0.4,
+                      0.03 / t)
+            issued = arc.with_rows(steady_rows, [])
+            refit = arc.fit(k, lam, issued=issued, free_from=3 * m + start)[:2]
+            cells = [arc.measure(*arc.today())[0], arc.measure(*issued)[0],
+                     arc.measure(*refit)[0], arc.measure(*arc.fit(k, lam)[:2])[0]]
+            print(f"| {low} | {start:+d} | " + " | ".join(f"{c:.3f}" for c in cells) + " |")
     print()
     knots = (0.01, 0.03, 0.06, 0.1)
     tables = Tables(h, t, knots, k, lam, phases_of(8))

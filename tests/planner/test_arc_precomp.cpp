@@ -381,8 +381,8 @@ TEST_CASE("speed steps at an arc's ends: the real interpolator and FIR against t
         CHECK(run > 0.05 * sim);          // the run sees the transitions
         CHECK(run <= 1.05 * sim + 3e-6);  // 1.05: the join's phase in the sample
         // Faster lines do not leave the arc's term as it is at constant speed: it grows with
-        // the lines' speed, 1.4 to 3.4 times at twice v_p on these arcs (docs/tolerance.md,
-        // "Speed steps at an arc's ends").
+        // the lines' speed, 1.4 to 3.4 times at twice v_p on these arcs
+        // (docs/tolerance-arc-ends.md, "Speed steps at an arc's ends").
         const double constant = stepped_run_mm(t, R, th, vp, vp);
         if (ratio > 1.0) CHECK(run > 1.3 * constant);
         if (ratio == 1.0)
@@ -405,7 +405,8 @@ TEST_CASE("speed steps at an arc's ends: the real interpolator and FIR against t
       }
 }
 
-TEST_CASE("speed steps at an arc's ends: the table for docs/tolerance.md", "[.arc-steps]") {
+TEST_CASE("speed steps at an arc's ends: the table for docs/tolerance-arc-ends.md",
+          "[.arc-steps]") {
   // build/bin/test_planner "[arc-steps]" -s: line(ratio·v_p) → arc(v_p) → line(ratio·v_p) on
   // small-arcs.nc's radii and sweeps through the real interpolator and FIR, the largest
   // |y − x(s̄)| in µm, and the check's constant-speed term (isolated_worst_mm) for comparison.
