@@ -1,4 +1,4 @@
-// ArcCompensation: the table of A(ωT), the blend at an arc's ends and the speed ramp.
+// ArcCompensation: the table of A(ωT), the rows and blend at an arc's ends and the speed ramp.
 #include "interpolator/arc_compensation.hpp"
 
 #include <algorithm>

@@ -1,71 +1,64 @@
-// A pre-compensated arc's ends in two directions: offsets on the arc's first and last samples,
-// radial and tangential, fitted for the speeds the arc runs at so that the Acc/Dec output stays
-// nearest the path (docs/tolerance.md, "The arc's ends in two directions, judged by the distance
-// to the path").
+// The rows of a pre-compensated arc's ends: its command's offset in two directions as a function
+// of how many samples' advance a sample lies from the arc's end, fitted once per filter.
 #pragma once
 
-#include <limits>
+#include <array>
+#include <memory>
 #include <vector>
 
 namespace gm {
 
-/// An arc run sample by sample, in the arc's own frame: a line along +x into a counter-clockwise
-/// arc of radius r from the origin (centre (0, r)) through `sweep_rad` (infinity: an arc that
-/// never ends), then the tangent line. speed_mm_s[i] is sample i's path advance over the period;
-/// sample `first` is the arc's first and lies `phase` (0..1] of its advance past the arc's start.
-/// `planned_mm_s` is the arc's planned speed: its steady loss is the unit of worst_fraction.
-struct ArcRun {
-  double radius_mm = 1.0;
-  double sweep_rad = std::numeric_limits<double>::infinity();
-  std::vector<double> speed_mm_s;
-  int first = 0;
-  double phase = 0.25;
-  double planned_mm_s = 0.0;
-
-  /// A constant speed v: two windows of line, the arc, four windows after it (`window` samples).
-  static ArcRun constant(double radius_mm, double sweep_rad, double v_mm_s, double period_s,
-                         double phase, int window);
-};
-
-/// The command's offset from the path on each sample of an ArcRun, in mm: along the outward
-/// normal (radial) and along the motion (along). Zero off the arc.
-struct ArcOffsets {
-  std::vector<double> radial_mm, along_mm;
-};
-
-/// Fits and measures the offsets for a symmetric FIR (weights h_i, Σ = 1) at period T. The
-/// steady correction c = r(1/A(x) − 1) (x: the sample's advance over r) on the arc, except on its
-/// first and last kEndSamples samples, whose offsets are free in both directions and chosen for
-/// the least worst distance of the output y = Σ h_i x_(n−i) from the path (the line before, the
-/// arc, the line after): iteratively reweighted least squares on the linearised distance,
-/// `iterations` passes of which the best is kept, Tikhonov weight lambda in units of the steady
-/// correction at the planned speed.
-class ArcEndFit {
+/// One end of a compensated arc: a sample u advances of its own speed from the arc's start
+/// (or end) is commanded off the arc by radial(u)·c outwards and along(u)·c in the direction
+/// of motion (reversed at the end), c = r(1/A(x) − 1) its steady correction, x its in-plane
+/// advance over r. Both are piecewise linear in u with knots at u = 1 .. kSpan − 1: 0 at u = 0
+/// (the block's ends are its programmed points) and the steady (1, 0) from u = kSpan on; the
+/// knot values depend on x (linear between rate knots at fractions of the rule's limit, clamped).
+/// Where both ends reach a sample, their deviations from the steady offset add. Two sets: an
+/// arc's start and an end the command moves on from (Way::Moving), and an end where the command
+/// stops on the end point (Way::Stopping: a dwell, a pause or an exact stop follows).
+///
+/// The knot values are fitted (ArcEndFit::fit_shared) on endless arcs at constant rate for the
+/// least worst |y − x(s̄)| of the Acc/Dec output (the measure the tolerance planner adds up over
+/// a path's elements) with a small weight on their size, over kPhases phases of the join within
+/// its sample at once: Moving on a line into the arc at speed, and from rest with the
+/// interpolator's ramp; Stopping on its mirror image in time (the filter is symmetric), the
+/// command held on the join and then at speed at once. Each leaves about 7–12 % of the steady
+/// loss r(1 − A) where the radial blend leaves 16–29 % (docs/tolerance-arc-ends.md).
+class ArcEndRows {
  public:
-  static constexpr int kEndSamples = 6;
+  static constexpr int kSpan = 4;
+  static constexpr int kPhases = 8;
+  static constexpr double kMu = 1e-4;  ///< the fit's weight on the offsets' size (fit_shared)
+  static constexpr std::array<double, 6> kRateKnots{0.02, 0.1, 0.3, 0.55, 0.8, 1.0};  ///< × limit
 
-  ArcEndFit(std::vector<double> weights, double period_s, double lambda = 1e-3,
-            int iterations = 40);
+  /// Factors of c, radial and along.
+  struct Shape {
+    double radial = 1.0, along = 0.0;
+  };
+  enum class Way { Moving, Stopping };
 
-  ArcOffsets fit(const ArcRun& run) const;
-  /// Today's interpolator: c blended in (out) linearly over the arc's first (last)
-  /// min(L/2, 2·T·v_planned) of path, no tangential part.
-  ArcOffsets linear_blend(const ArcRun& run) const;
-  /// The worst distance of the output from the path, every sample whose window is full, over
-  /// the steady loss r(1 − A) at the planned speed.
-  double worst_fraction(const ArcRun& run, const ArcOffsets& offsets) const;
-  /// A(x) = Σ h_i cos((i − m)·x).
-  double gain(double x) const;
+  ArcEndRows() = default;  ///< empty: the steady offset everywhere
+  /// Fits the knots for the FIR's weights (symmetric, Σ = 1) at period T, rates up to
+  /// `limit_x` (ArcCompensation::limit_omega_t()).
+  ArcEndRows(const std::vector<double>& weights, double period_s, double limit_x);
+
+  /// The rows of this filter, fitted on the first request and kept for the process (the last
+  /// few filters asked for): an interpolator and a planner of one machine share them.
+  static std::shared_ptr<const ArcEndRows> shared(const std::vector<double>& weights,
+                                                  double period_s, double limit_x);
+
+  bool empty() const { return knots_.empty(); }
+  /// The end's shape at u advances from it (u < kSpan) at rate x.
+  Shape at(double u, double x, Way way) const;
 
  private:
-  struct Samples;  // the run's path positions, frames, steady corrections and filtered positions
-  Samples prepare(const ArcRun& run) const;
-
-  std::vector<double> h_;
-  double period_s_;
-  double centre_ = 0.0;
-  double lambda_;
-  int iterations_;
+  static constexpr int kInner = kSpan - 1;  ///< knots u = 1 .. kSpan − 1
+  /// The fixed part at u and the weights of the inner knots (hat functions).
+  static void basis(double u, double& fixed, std::array<double, kInner>& hat);
+  double limit_x_ = 0.0;
+  /// Per rate knot: Moving radial at the inner knots, along, then Stopping radial, along.
+  std::vector<std::array<double, 4 * kInner>> knots_;
 };
 
 }  // namespace gm
