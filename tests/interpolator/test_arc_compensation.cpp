@@ -9,6 +9,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -93,9 +94,9 @@ TEST_CASE("compensated arc: radius R + c(v) at speed, ramped from rest, end rows
   const double c50 = correction_mm(5.0, 50.0 * 0.004 / 5.0);
   CHECK(c50 == Approx(5.0 * (1.0 / gm::FilterMoments(blackman(), 0.004).amplitude(0.04) - 1.0)));
   CHECK(c50 > 0.04);  // 5 mm at 50 mm/s under Blackman 0.164 s: about 43 µm
-  // The end rows (arc_end_rows.hpp) over the first and last 4 samples' advance at each sample's
-  // speed (from rest the first sample lies one whole advance past the start); the steady c
-  // between.
+  // The end rows (arc_end_rows.hpp) over the first and last 4 samples: by the count since the
+  // first sample plus its phase (from rest: a whole advance past the start, so 1, 2, 3) and by
+  // the advances left, predicted by the ramp (advances_to_end); the steady c between.
   const gm::ArcCompensation rule(weights(), 0.004);
   const double length = 5.0 * std::numbers::pi;
   double s_mm = 0.0;
@@ -104,7 +105,9 @@ TEST_CASE("compensated arc: radius R + c(v) at speed, ramped from rest, end rows
     const double v = std::min(50.0, 50.0 / 41.0 * static_cast<double>(k + 1));
     s_mm += v * 0.004;
     const double ang = s_mm / 5.0;  // from the start ray (−1, 0) of the circle
-    const double x = v * 0.004 / 5.0, from = s_mm / (v * 0.004), to_end = (length - s_mm) / (v * 0.004);
+    const double x = v * 0.004 / 5.0, from = static_cast<double>(k) + 1.0;
+    const double to_end = rule.advances_to_end(length - s_mm, v, 50.0, 50.0 / 41.0,
+                                               std::numeric_limits<double>::infinity());
     const auto off = rule.offset(5.0, x, from, to_end, 1.0, 1.0, false);
     if (from >= 4.0 && to_end >= 4.0) {  // between the ends: the closed form, radial only
       CHECK(off.radial_mm == Approx(correction_mm(5.0, x)).margin(2e-6));  // A from its table
@@ -120,7 +123,7 @@ TEST_CASE("compensated arc: radius R + c(v) at speed, ramped from rest, end rows
     CHECK(comp[k].pos_blu[1] * 0.001 ==
           Approx(-r * std::sin(ang) - off.along_mm * std::cos(ang)).margin(0.0006));
   }
-  CHECK(rows_at_ends >= 7);  // 3 or 4 samples (from rest: 1, 2, 3 advances) and the last 4
+  CHECK(rows_at_ends == 7);  // from rest 1, 2 and 3 advances, and the last 4
   CHECK(comp.back().pos_blu == gm::blu3(10000, 0, 0));  // the programmed end point exactly
   CHECK(comp.size() > plain.size());                    // the ramp from rest
 }
