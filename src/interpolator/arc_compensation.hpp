@@ -34,6 +34,7 @@ namespace gm {
 class ArcCompensation {
  public:
   static constexpr double kMinGain = 0.5;
+  static constexpr double kTaper = 0.1;
   static constexpr int kBlendSamples = 2;
   static constexpr int kTableSteps = 1024;
 
@@ -76,12 +77,14 @@ class ArcCompensation {
   /// The weight of the end rows against the radial blend on an arc of `length_mm` planned at
   /// `planned_mm_s`: 1 from kSpan + 1 samples of travel at that speed, 0 below kSpan, a
   /// smoothstep between.
-  static double rows_weight(double length_mm, double planned_mm_s, double period_s) {
-    const double t = std::clamp(length_mm / (period_s * planned_mm_s) - ArcEndRows::kSpan, 0.0, 1.0);
-    return t * t * (3.0 - 2.0 * t);  // smooth: the arc's term has no corner in its length
-  }
+  /// 0 for a filter whose window does not taper (its first weight above kTaper of the
+  /// largest: the linear profile), whose hard edges make the rows' effect depend on where the
+  /// arc's ends fall within a window; such arcs keep the blend.
   double rows_weight(double length_mm, double planned_mm_s) const {
-    return rows_weight(length_mm, planned_mm_s, period_s_);
+    if (!tapered_) return 0.0;
+    const double t =
+        std::clamp(length_mm / (period_s_ * planned_mm_s) - ArcEndRows::kSpan, 0.0, 1.0);
+    return t * t * (3.0 - 2.0 * t);  // smooth: the arc's term has no corner in its length
   }
   /// The path the end rows or the blend cover at each end of an arc planned at v_p (at speeds
   /// up to v_p): min(L/2, kSpan·T·v_p), mm.
@@ -149,6 +152,7 @@ class ArcCompensation {
   double limit_ = 0.0;
   double inv_step_ = 0.0;
   int ramp_samples_ = 1;
+  bool tapered_ = false;  ///< the window tapers (rows_weight)
   /// The end rows, fitted when an arc first needs them (ArcEndRows::shared).
   const ArcEndRows& end_rows() const {
     if (!rows_) rows_ = ArcEndRows::shared(h_, period_s_, limit_);

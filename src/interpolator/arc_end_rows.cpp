@@ -53,8 +53,10 @@ ArcEndRows::ArcEndRows(const std::vector<double>& weights, double period_s, doub
         for (std::size_t i = 0; i < n; ++i) {
           if (!smp[i].on) continue;
           // The interpolator's advances from the start: the count since the arc's first
-          // sample plus how far past the start that one lay, of its advance.
-          if (since_first < 0) phase_in = smp[i].s_mm / smp[i].advance_mm;
+          // sample plus how far past the start that one lay, of its advance (Stopping, the
+          // mirror of an end: of the advance at speed v, as the end's are counted).
+          if (since_first < 0)
+            phase_in = smp[i].s_mm / (way == Way::Moving ? smp[i].advance_mm : x);
           ++since_first;
           double fixed;
           std::array<double, kInner> hat;
@@ -81,9 +83,13 @@ ArcEndRows::ArcEndRows(const std::vector<double>& weights, double period_s, doub
                  i < run.speed_mm_s.size(); ++i)
               run.speed_mm_s[i] = v * std::max(0.5, 1.0 - (static_cast<double>(i) - run.first -
                                                            fall) / window);
-          // Stopping, backwards in time: held on the join, then at speed at once.
-          if (way == Way::Stopping)
+          // Stopping, backwards in time: held on the join, then at speed at once (the first
+          // sample `phase` of an advance past it).
+          if (way == Way::Stopping) {
             std::fill(run.speed_mm_s.begin(), run.speed_mm_s.begin() + run.first, 0.0);
+            run.speed_mm_s[static_cast<std::size_t>(run.first)] *= phase;
+            run.phase = 1.0;
+          }
           add(std::move(run));
         }
       if (way == Way::Moving) {
