@@ -124,8 +124,7 @@ class ArcCompensation {
   /// after it, plus the last one's distance to the end over the next sample's advance (0..1],
   /// as the interpolator's loop will move (a sample stays on the block while its advance is
   /// below what is left, less kLengthEps). ArcEndRows::kSpan or more: farther.
-  double advances_to_end(double left_mm, double v, double target, double step,
-                         double cap) const {
+  double advances_to_end(double left_mm, double v, double target, double step, double cap) const {
     constexpr double kLengthEps = 1e-9;  // the interpolator's
     for (int j = 0; j < ArcEndRows::kSpan; ++j) {
       const double next = ramped(v, target, step, cap);

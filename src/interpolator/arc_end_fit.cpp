@@ -309,9 +309,10 @@ std::vector<double> ArcEndFit::fit_shared(const std::vector<ArcRun>& runs,
                      (p - 2.0) / (dist[k] * dist[k]) * jr * jr.transpose());
       }
       const Vec g_mp = grad - 2.0 * reg * u;
-      const Eigen::LLT<Mat> whole(Mat(hess - (0.5 * p - 1.0) / (mp * mp) * g_mp * g_mp.transpose()));
-      const Vec step = whole.info() == Eigen::Success ? Vec(-whole.solve(grad))
-                                                      : Vec(-hess.ldlt().solve(grad));
+      const Eigen::LLT<Mat> whole(
+          Mat(hess - (0.5 * p - 1.0) / (mp * mp) * g_mp * g_mp.transpose()));
+      const Vec step =
+          whole.info() == Eigen::Success ? Vec(-whole.solve(grad)) : Vec(-hess.ldlt().solve(grad));
       double a = 1.0;
       bool better = false;
       for (; a > 1e-6; a *= 0.5)
@@ -344,7 +345,7 @@ double ArcEndFit::worst_fraction(const ArcRun& run, const ArcOffsets& off,
       y.y += h_[i] * cmd[k - i].y;
     }
     worst = std::max(worst, (measure == ArcEndMeasure::Distance ? sm.distance(y, sm.sbar[k])
-                                                                 : sm.from_mean(y, sm.sbar[k]))
+                                                                : sm.from_mean(y, sm.sbar[k]))
                                 .first);
   }
   return worst / sm.loss_planned;

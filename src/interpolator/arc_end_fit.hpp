@@ -86,7 +86,6 @@ class ArcEndFit {
   std::vector<double> h_;
   double period_s_;
   double centre_ = 0.0;
-
 };
 
 }  // namespace gm

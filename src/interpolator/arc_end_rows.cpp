@@ -81,8 +81,8 @@ ArcEndRows::ArcEndRows(const std::vector<double>& weights, double period_s, doub
           if (fall >= 0)
             for (std::size_t i = static_cast<std::size_t>(run.first + fall);
                  i < run.speed_mm_s.size(); ++i)
-              run.speed_mm_s[i] = v * std::max(0.5, 1.0 - (static_cast<double>(i) - run.first -
-                                                           fall) / window);
+              run.speed_mm_s[i] =
+                  v * std::max(0.5, 1.0 - (static_cast<double>(i) - run.first - fall) / window);
           // Stopping, backwards in time: held on the join, then at speed at once (the first
           // sample `phase` of an advance past it).
           if (way == Way::Stopping) {

@@ -147,8 +147,8 @@ double ArcPrecompCheck::run_segment(double p_from, double p_to, double phase, St
     // The runs part where the end rows first reach a sample (they differ for a stop) or where
     // the command reaches the end: the moving one goes on first.
     if (both && !forked &&
-        (s.p >= lp_ || rule_.advances_to_end((lp_ - s.p) / q_, s.v, v_, dv_, vplan_) <
-                           ArcEndRows::kSpan)) {
+        (s.p >= lp_ ||
+         rule_.advances_to_end((lp_ - s.p) / q_, s.v, v_, dv_, vplan_) < ArcEndRows::kSpan)) {
       fork = s;
       std::copy(ring_.begin(), ring_.end(), fork_ring_.begin());
       std::copy(ring_p_.begin(), ring_p_.end(), fork_ring_p_.begin());

@@ -928,9 +928,9 @@ bool TolerancePlanner::stops_after(const Block& b) const {
   if (b.m.path_mode != PathMode::Continuous && !b.tangent_exit) return true;
   for (const Canon& c : b.after)
     if (const auto* e = std::get_if<Event>(&c);
-        e != nullptr && (e->kind == EventKind::End ||
-                         (e->kind == EventKind::WaitInput && e->mode >= 1 && e->mode <= 3 &&
-                          e->value > 0.0)))
+        e != nullptr &&
+        (e->kind == EventKind::End ||
+         (e->kind == EventKind::WaitInput && e->mode >= 1 && e->mode <= 3 && e->value > 0.0)))
       return true;
   return false;
 }

@@ -186,7 +186,8 @@ TEST_CASE("compensated helix in G18: the correction is radial in ZX, Y follows i
     const double r = std::hypot(x, z - 4.0);
     const double frac = y / 6.0;  // Y is linear in the path fraction
     const double s_mm = frac * L;
-    if (s_mm > 42 * 50.0 * 0.004 && s_mm < L - 4 * 50.0 * 0.004) {  // past the ramp, before the rows
+    if (s_mm > 42 * 50.0 * 0.004 &&
+        s_mm < L - 4 * 50.0 * 0.004) {  // past the ramp, before the rows
       ++steady;
       CHECK(r == Approx(R + c).margin(0.0012));
       // The point lies on the ray of its path fraction (radial correction only).

@@ -87,8 +87,7 @@ TEST_CASE("the fit on a steady circle finds the compensated radius R/A", "[arc-e
   }
 }
 
-TEST_CASE("whole arcs, arcs shorter than the window included: the radial blend",
-          "[arc-end-fit]") {
+TEST_CASE("whole arcs, arcs shorter than the window included: the radial blend", "[arc-end-fit]") {
   // tools/arc_end_model.py, "Whole arcs": today.
   const gm::ArcEndFit fit(blackman_weights(), kPeriod);
   struct Case {
@@ -130,8 +129,8 @@ TEST_CASE("the radial blend where the speed changes at the join: steps, ramps, f
   };
   cases.push_back({step(0.5 * v), 3 * w, 0.092});
   cases.push_back({step(2.0 * v), 3 * w, 0.350});
-  for (const auto& [from, to, today] : {std::tuple{0.4 * v, v, 0.101},
-                                        std::tuple{v, 0.4 * v, 0.094}, std::tuple{0.0, v, 0.013}}) {
+  for (const auto& [from, to, today] :
+       {std::tuple{0.4 * v, v, 0.101}, std::tuple{v, 0.4 * v, 0.094}, std::tuple{0.0, v, 0.013}}) {
     auto [s, first] = through(from, to);
     cases.push_back({s, first, today});
   }

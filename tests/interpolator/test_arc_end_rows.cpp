@@ -99,4 +99,3 @@ TEST_CASE("a long arc's two ends by the rows, between knots: 8-13 % where the bl
     CHECK(measure.worst_fraction(run, blend) == Approx(c.blend_distance).margin(0.001));
   }
 }
-

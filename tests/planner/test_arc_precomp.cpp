@@ -28,9 +28,9 @@ std::vector<double> weights(const gm::Taps& t) {
 
 // line(v_line) → arc(v_p, pre-compensated) → line(v_line) through the real Interpolator and
 // FirAccDec (BLU 1 nm): the largest |y − x(s̄)|, the check's measure, s̄ = Σ h_i s_i from the
-// samples' path positions (the interpolator's, on the arc), and the largest distance of y from the path (the contour error).
-// The line before is long enough that the filter has left its start when the arc begins; the
-// arc turns counter-clockwise from the origin's +X line.
+// samples' path positions (the interpolator's, on the arc), and the largest distance of y from the
+// path (the contour error). The line before is long enough that the filter has left its start when
+// the arc begins; the arc turns counter-clockwise from the origin's +X line.
 struct SteppedRun {
   double term_mm = 0.0, contour_mm = 0.0;
 };
