@@ -306,6 +306,64 @@ double TolerancePlanner::reserve_of(double tol) const {
   return std::min(0.5 * share_of(tol), v_rapid * cfg_.speed_error_s);
 }
 
+MismatchReserve TolerancePlanner::mismatch_reserve(const Element& e, double tol) const {
+  MismatchReserve r;
+  r.max_mm = reserve_of(tol);
+  if (!(cfg_.speed_error_s > 0.0)) return r;  // no mismatch: every reserve 0
+  r.m_s = cfg_.speed_error_s;
+  r.v_reach_mm_s = kInf;
+  // e's error is active at samples from its start (a corner's vertex) until τ after its end;
+  // their chain windows reach τ further back. The blocks with motion in those windows are those
+  // less than τ of travel before e's start or after its end: travel time counts each block's
+  // fastest time and the dwells between them but no stop (the interpolator holds at a stop only
+  // until the Acc/Dec filter drains, which can be shorter than the chain), so it is never longer
+  // than the actual time. Every such block must be in the window (else: the largest reserve).
+  const double tau = filter_.tau_s();
+  const std::size_t n = window_.size();
+  // Blocks ending after e's start and starting before its end: e's own.
+  const std::size_t first =
+      static_cast<std::size_t>(std::partition_point(window_.begin(), window_.end(),
+                                                    [&](const Block& b) { return b.t1 <= e.t0; }) -
+                               window_.begin());
+  double v = 0.0;
+  auto speed = [](const Block& b) { return std::min(b.vmax, b.cap_all); };
+  std::size_t k = first;
+  for (; k < n && window_[k].t0 < e.t1; ++k) v = std::max(v, speed(window_[k]));
+  // After e: travel time from e's end to each block's start (a stop between counted as 0).
+  for (double gap = 0.0; k < n; ++k) {
+    const Block& b = window_[k];
+    const Block* p = k > 0 ? &window_[k - 1] : nullptr;
+    if (p != nullptr && p->t1 >= e.t1)
+      gap += p->dwell_after_s;
+    else
+      gap = std::max(0.0, b.t0 - e.t1 - (p == nullptr || p->stop_after ? tau : 0.0));
+    if (!(gap < tau)) break;
+    v = std::max(v, speed(b));
+    gap += b.t1 - b.t0;
+    if (!(gap < tau)) break;
+  }
+  // Ran off the window's end: blocks not yet read may be within reach.
+  if (k == n && !ended_) return r;
+  // Before e: travel time from each block's end to e's start.
+  double gap = 0.0;
+  for (k = first; k-- > 0;) {
+    const Block& b = window_[k];
+    gap = k + 1 < first ? gap + window_[k + 1].t1 - window_[k + 1].t0 + b.dwell_after_s
+                        : std::max(0.0, e.t0 - b.t1 - (b.stop_after ? tau : 0.0));
+    if (!(gap < tau)) break;
+    v = std::max(v, speed(b));
+  }
+  if (k == static_cast<std::size_t>(-1) && emitted_t1_ > -kInf) {
+    // The window's front is within reach: so may be the block handed on before it (the gap
+    // between them, a dwell and perhaps a stop, counted at least gap − τ).
+    const Block& f = window_.front();
+    const double to_front = first > 0 ? gap + (f.t1 - f.t0) : std::max(0.0, e.t0 - f.t0);
+    if (to_front + std::max(0.0, f.t0 - emitted_t1_ - tau) < tau) return r;
+  }
+  r.v_reach_mm_s = v;
+  return r;
+}
+
 void TolerancePlanner::add_run_vertex(const Element& corner, double seg_before_mm) {
   if (run_.open && corner.t0 > run_.chunk.t0 + filter_.tau_s()) close_run_chunk();
   if (run_.vertices == 0) run_.id = ++runs_;
@@ -648,7 +706,9 @@ void TolerancePlanner::assign_claims(double t_until) {
     // blocks must be in the window.
     if (!ended_ && window_.back().t1 < g.t1 + tau) continue;
     const double tol = tolerance_near(g);
-    const double share = share_of(tol) - reserve_of(tol);
+    // The mismatch at a sample where g is active: at most M times the fastest block within reach
+    // (g has no cap).
+    const double share = share_of(tol) - mismatch_reserve(g, tol).ceiling_mm();
     // Claims active with g lie within τ of it; those after g are assigned after it and count g.
     double claims = g.vmax * corner_moment(g.pause0) * g.turn;
     for (std::size_t i = claim_cursor_; i-- > 0 && elems_[i].t1 >= g.t0 - tau;)
@@ -685,7 +745,10 @@ double TolerancePlanner::range_claims(ZoneRange r) const {
 void TolerancePlanner::decide(Element& e) {
   assign_claims(e.t1 + filter_.tau_s());
   const double tol = tolerance_near(e);
-  const double share = share_of(tol) - reserve_of(tol);
+  // The servo mismatch's part (speed_error_s) is kept beside each load, by the speeds e's
+  // samples can see (MismatchReserve): load(v) + reserve(v) <= share.
+  const double share = share_of(tol);
+  const MismatchReserve res = mismatch_reserve(e, tol);
   // Sharing: an element f whose contribution overlaps e's in time lies in e's zone (the speed
   // is at most e's cap there for the zone's time, and past it e no longer counts). Each element
   // takes share·w_e/W_e, W_e the weight (corner |Δu|, arc 1) of everything in its zone: any set
@@ -704,33 +767,34 @@ void TolerancePlanner::decide(Element& e) {
   // (share − claims)·w_e/W_e, so that with the claimants any instant stays within the share.
   switch (e.kind) {
     case ElementKind::Arc:
-      decide_arc_beside_claims(e, share);
+      decide_arc_beside_claims(e, share, res);
       return;
     case ElementKind::Run:
-      decide_run(e, share);
+      decide_run(e, share, res);
       return;
     case ElementKind::Corner:
     case ElementKind::Stop:
-      decide_corner(e, share);
+      decide_corner(e, share, res);
       return;
   }
 }
 
-void TolerancePlanner::decide_arc(Element& e, double share) const {
+void TolerancePlanner::decide_arc(Element& e, double share, const MismatchReserve& res) const {
   const double tau = filter_.tau_s();
-  // κ·v²·σ²/2 <= share/W
+  // κ·v²·σ²/2 <= (share − reserve)/W
   ZoneMemo memo;
   auto load = [&](double v, ZoneRange r) {
-    return 0.5 * e.kappa * v * v * filter_.variance_s2() * zone_values(memo, r, false).weight;
+    return 0.5 * e.kappa * v * v * filter_.variance_s2() * zone_values(memo, r, false).weight +
+           res.at(v, v < e.vmax);
   };
   auto guess = [&](ZoneRange r) {
-    return std::sqrt(share /
-                     (0.5 * e.kappa * filter_.variance_s2() * zone_values(memo, r, false).weight));
+    const double a = 0.5 * e.kappa * filter_.variance_s2() * zone_values(memo, r, false).weight;
+    return res.m_s > 0.0 ? res.root(a, 0.0, share) : std::sqrt(share / a);
   };
   double v = largest_speed_in_zones(e.vmax, share, e.s0, e.s1, tau, load, guess);
   e.comp_speed = 0.0;
   if (v < e.vmax && precomp_) {
-    const double vc = precomp_arc_speed(e, share, v);
+    const double vc = precomp_arc_speed(e, share - res.ceiling_mm(), v);
     if (vc > v) {
       v = vc;
       e.comp_speed = vc;
@@ -771,8 +835,9 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
   return lo;
 }
 
-void TolerancePlanner::decide_arc_beside_claims(Element& e, double share) const {
-  decide_arc(e, share);
+void TolerancePlanner::decide_arc_beside_claims(Element& e, double share,
+                                                const MismatchReserve& res) const {
+  decide_arc(e, share, res);
   if (claimants_ == 0) return;
   // The claims within the zone of the cap found without them: the final cap is no faster, so
   // its zone holds no more of them.
@@ -780,10 +845,10 @@ void TolerancePlanner::decide_arc_beside_claims(Element& e, double share) const 
   const double v0 = e.cap < kInf ? e.cap : e.vmax;
   const double claims = zone_claims(e.s0 - v0 * tau, e.s1 + v0 * tau);
   if (!(claims > 0.0)) return;
-  decide_arc(e, std::max(share - claims, 0.25 * share));
+  decide_arc(e, std::max(share - claims, res.max_mm + 0.25 * (share - res.max_mm)), res);
 }
 
-void TolerancePlanner::decide_run(Element& e, double share) const {
+void TolerancePlanner::decide_run(Element& e, double share, const MismatchReserve& res) const {
   const double tau = filter_.tau_s();
   // (κ·v²·σ²/2 + δ·v·M₁)·W <= share, κ and δ the largest of the run's chunks within reach (a
   // filter window over two chunks sees both), W counting the run once, by this chunk's weight.
@@ -804,15 +869,14 @@ void TolerancePlanner::decide_run(Element& e, double share) const {
     const double w = z.weight - same + e.weight;
     return (0.5 * kappa * v * v * filter_.variance_s2() + delta * v * filter_.abs_moment_s()) * w /
                e.weight +
-           z.claims;  // error <= (share − claims)·w_e/W
+           z.claims + res.at(v, v < e.vmax);  // error <= (share − claims − reserve)·w_e/W
   };
-  auto guess = [&](ZoneRange r) {  // the root of a·v² + b·v + claims = share
+  auto guess = [&](ZoneRange r) {  // the root of a·v² + b·v + claims + reserve = share
     const ZoneMemo& z = zone_values(memo, r, true);
     const double w = (z.weight - same + e.weight) / e.weight;
     const double a = 0.5 * kappa * filter_.variance_s2() * w,
                  b = delta * filter_.abs_moment_s() * w;
-    const double c = share - z.claims;
-    return a > 0.0 ? (-b + std::sqrt(b * b + 4.0 * a * c)) / (2.0 * a) : c / b;
+    return res.root(a, b, share - z.claims);
   };
   const double v = largest_speed_in_zones(e.vmax, share, e.s0, e.s1, tau, load, guess);
   if (v < e.vmax) e.cap = v;
@@ -821,16 +885,16 @@ void TolerancePlanner::decide_run(Element& e, double share) const {
 }
 
 double TolerancePlanner::corner_cost_s(const Element& e, double pause_s, double d, double share,
-                                       double v_ref, double& v) const {
+                                       const MismatchReserve& res, double v_ref, double& v) const {
   const double zt = std::max(filter_.zone_floor_s(), filter_.tau_s() - pause_s);
   ZoneMemo memo;
   auto load = [&](double s, ZoneRange r) {
     const ZoneMemo& z = zone_values(memo, r, true);
-    return s * d * z.weight + z.claims;
+    return s * d * z.weight + z.claims + res.at(s, s < e.vmax);
   };
   auto guess = [&](ZoneRange r) {
     const ZoneMemo& z = zone_values(memo, r, true);
-    return (share - z.claims) / (d * z.weight);
+    return res.root(0.0, d * z.weight, share - z.claims);
   };
   v = d > 0.0 ? largest_speed_in_zones(e.vmax, share, e.s0, e.s1, zt, load, guess) : e.vmax;
   // The slowing is shared by the elements in the zone (a run of short segments slows once);
@@ -853,7 +917,7 @@ double TolerancePlanner::corner_cost_s(const Element& e, double pause_s, double 
   return cost;
 }
 
-void TolerancePlanner::decide_corner(Element& e, double share) {
+void TolerancePlanner::decide_corner(Element& e, double share, const MismatchReserve& res) {
   // The speed the interpolator would have here anyway: 100 % feed, or an earlier cap whose zone
   // already covers this corner (then slowing further costs only the difference).
   double v_ref = e.v100;
@@ -866,7 +930,7 @@ void TolerancePlanner::decide_corner(Element& e, double share) {
   auto consider = [&](double p, double d) {
     if (p - e.pause0 >= best_cost) return false;  // pauses only get longer from here
     double v = 0.0;
-    const double cost = corner_cost_s(e, p, d, share, v_ref, v);
+    const double cost = corner_cost_s(e, p, d, share, res, v_ref, v);
     if (cost < best_cost - 1e-12) {
       best_cost = cost;
       best_p = p;
@@ -912,6 +976,7 @@ void TolerancePlanner::emit_front() {
     arc.comp_stops_at_end = paused || stops_after(b);
   if (b.forced_stop) make_ready(Dwell{b.m.line, tau});
   for (Canon& c : b.after) make_ready(std::move(c));
+  emitted_t1_ = b.t1;
   window_.pop_front();
   // Elements that can no longer reach a block still to come, nor be counted by one.
   const double keep_from = window_.empty() ? kInf : window_.front().t0 - 2.0 * tau;

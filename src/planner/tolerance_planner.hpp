@@ -10,6 +10,7 @@
 #include "planner/arc_residual_table.hpp"
 #include "planner/corner_moment_grid.hpp"
 #include "planner/filter_moments.hpp"
+#include "planner/mismatch_reserve.hpp"
 #include "planner/naive_cam.hpp"
 
 #include <algorithm>
@@ -27,9 +28,10 @@ struct PlannerConfig {
   /// output (each at most half a BLU per axis): ‖BLU‖₂, mm.
   double rounding_mm = 0.0;
   /// Table error per unit of path speed that no corner or arc causes, s: the mismatch of X, Y
-  /// and Z servos that differ from the planned chain's (servo_mismatch_s). Every block keeps
-  /// reserve(tol) = min(share/2, V_rapid·this) of its tolerance for it and is capped at
-  /// reserve/this, and so is every block the chain still holds when it starts. 0: none.
+  /// and Z servos that differ from the planned chain's (servo_mismatch_s). Every block with a
+  /// tolerance is capped at reserve(tol)/this, reserve(tol) = min(share/2, V_rapid·this), and so
+  /// is every block the chain still holds when it starts; each corner, arc or run keeps this
+  /// times the fastest speed its samples can see, at most reserve(tol) (MismatchReserve). 0: none.
   double speed_error_s = 0.0;
   std::size_t capacity = 4096;  ///< most motion blocks held for look-ahead (memory bound)
   /// Pre-compensated arcs (docs/tolerance.md): an arc whose cap the curvature bound lowers is
@@ -154,22 +156,24 @@ class TolerancePlanner : public CanonSource {
   /// What a tangent G61 join is planned within: the rounding margin (share_of gives it whole).
   double exact_path_tolerance() const { return std::max(cfg_.rounding_mm, 1e-6); }
   double reserve_of(double tol) const;
+  /// What e keeps of a share for tolerance `tol` for speed_error_s (MismatchReserve).
+  MismatchReserve mismatch_reserve(const Element& e, double tol) const;
   bool lookahead_enough() const;
   /// The cap, zone and (corners) pause of e within its share of the tolerance.
   void decide(Element& e);
   double tolerance_near(const Element& e) const;
-  void decide_arc(Element& e, double share) const;
+  void decide_arc(Element& e, double share, const MismatchReserve& res) const;
   /// The cap of arc e pre-compensated within `share`, mm/s: `floor` (the curvature bound's
   /// cap) or less when compensating is no faster.
   double precomp_arc_speed(const Element& e, double share, double floor) const;
   /// decide_arc with the claims beside the arc taken off its share.
-  void decide_arc_beside_claims(Element& e, double share) const;
-  void decide_run(Element& e, double share) const;
-  void decide_corner(Element& e, double share);
+  void decide_arc_beside_claims(Element& e, double share, const MismatchReserve& res) const;
+  void decide_run(Element& e, double share, const MismatchReserve& res) const;
+  void decide_corner(Element& e, double share, const MismatchReserve& res);
   /// Time a corner costs with a pause of pause_s (D(pause) = d): the pause added plus the
-  /// slowing; `v` is the cap that keeps it within the share.
-  double corner_cost_s(const Element& e, double pause_s, double d, double share, double v_ref,
-                       double& v) const;
+  /// slowing; `v` is the cap that keeps it within the share with `res` kept beside it.
+  double corner_cost_s(const Element& e, double pause_s, double d, double share,
+                       const MismatchReserve& res, double v_ref, double& v) const;
   double zone_back(double s_from, double time_s, double cap) const;
   double zone_fwd(double s_from, double time_s, double cap) const;
   /// The elements reaching into [z0, z1] (in path order): elems_[first, last).
@@ -277,7 +281,9 @@ class TolerancePlanner : public CanonSource {
   bool ended_ = false;
   std::uint64_t seq_ = 0;
   double s_end_ = 0, t_end_ = 0;  ///< where the last block in the window ends
-  double weight_total_ = 0.0;     ///< weights of all elements pushed so far
+  /// Where the last block handed on ends (fastest travel time): blocks before the window.
+  double emitted_t1_ = -std::numeric_limits<double>::infinity();
+  double weight_total_ = 0.0;  ///< weights of all elements pushed so far
   PendingRun run_;
   std::uint64_t runs_ = 0;
   std::optional<ArcPrecompCheck> precomp_;    ///< set when arcs may be pre-compensated
