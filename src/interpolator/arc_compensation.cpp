@@ -1,4 +1,4 @@
-// ArcCompensation: the table of A(ωT), the blend at an arc's ends and the speed ramp.
+// ArcCompensation: the table of A(ωT), the rows and blend at an arc's ends and the speed ramp.
 #include "interpolator/arc_compensation.hpp"
 
 #include <algorithm>
@@ -36,6 +36,7 @@ ArcCompensation::ArcCompensation(const std::vector<double>& weights, double peri
     table_[static_cast<std::size_t>(k)] =
         gain_exact(limit_ * static_cast<double>(k) / static_cast<double>(kTableSteps));
   ramp_samples_ = static_cast<int>(h_.size());
+  tapered_ = h_.front() <= kTaper * *std::max_element(h_.begin(), h_.end());
 }
 
 double ArcCompensation::gain_exact(double omega_t) const {

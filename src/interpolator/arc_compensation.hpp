@@ -1,7 +1,11 @@
 // Pre-compensated arcs: the radial correction that puts a symmetric FIR's steady output on the
-// programmed radius, its blend at the arc's ends and the speed ramp on such arcs.
+// programmed radius, the 2-D offsets at the arc's ends and the speed ramp on such arcs.
 #pragma once
 
+#include "interpolator/arc_end_rows.hpp"
+
+#include <algorithm>
+#include <memory>
 #include <vector>
 
 namespace gm {
@@ -13,8 +17,15 @@ namespace gm {
 ///
 /// On an arc the planner marks (Motion::comp_speed_mm_s = v_p > 0, the speed it planned):
 ///  * c is taken from each sample's actual in-plane angular rate (after override and cap);
-///  * c is blended in over the first ℓ and out over the last ℓ of the arc (ℓ =
-///    min(L/2, kBlendSamples·T·v_p)), linearly, so the block's ends are its programmed points;
+///  * at the arc's ends the command takes the end rows (arc_end_rows.hpp): offsets radial and
+///    along the path, by the sample's advances from the start (its count since the arc's first
+///    sample plus how far past the start that one lay, of its advance) and to the end (the
+///    samples still on the arc after it, predicted by the speed ramp, plus the last one's
+///    remainder: advances_to_end), so the block's ends are its programmed points; at the
+///    end the rows for a stop where the command stops there (Motion::comp_stops_at_end). An arc
+///    shorter than ArcEndRows::kSpan + 1 samples at v_p (whose ends would overlap) takes the
+///    radial blend instead (c over the first and last ℓ = min(L/2, kBlendSamples·T·v_p),
+///    linearly), below kSpan samples wholly, between the two mixed in proportion (rows_weight);
 ///  * the path speed changes by at most v_p / ramp_samples() per sample (a ramp from 0 to v_p in
 ///    τ), so that an override step is followed without a transient the filter cannot
 ///    average out.
@@ -23,8 +34,14 @@ namespace gm {
 class ArcCompensation {
  public:
   static constexpr double kMinGain = 0.5;
+  static constexpr double kTaper = 0.1;
   static constexpr int kBlendSamples = 2;
   static constexpr int kTableSteps = 1024;
+
+  /// A sample's offset from the arc, mm: outwards and along the motion.
+  struct Offset {
+    double radial_mm = 0.0, along_mm = 0.0;
+  };
 
   ArcCompensation() = default;  ///< off: enabled() is false
   /// From the filter's weights (any; enabled() only if they are symmetric) at period T.
@@ -57,6 +74,68 @@ class ArcCompensation {
     if (!(d > 0.0)) return 0.0;
     return d >= blend_mm ? 1.0 : d / blend_mm;
   }
+  /// The weight of the end rows against the radial blend on an arc of `length_mm` planned at
+  /// `planned_mm_s`: 1 from kSpan + 1 samples of travel at that speed, 0 below kSpan, a
+  /// smoothstep between.
+  /// 0 for a filter whose window does not taper (its first weight above kTaper of the
+  /// largest: the linear profile), whose hard edges make the rows' effect depend on where the
+  /// arc's ends fall within a window; such arcs keep the blend.
+  double rows_weight(double length_mm, double planned_mm_s) const {
+    if (!tapered_) return 0.0;
+    const double t =
+        std::clamp(length_mm / (period_s_ * planned_mm_s) - ArcEndRows::kSpan, 0.0, 1.0);
+    return t * t * (3.0 - 2.0 * t);  // smooth: the arc's term has no corner in its length
+  }
+  /// The path the end rows or the blend cover at each end of an arc planned at v_p (at speeds
+  /// up to v_p): min(L/2, kSpan·T·v_p), mm.
+  double end_length_mm(double length_mm, double planned_mm_s) const {
+    return std::min(0.5 * length_mm, ArcEndRows::kSpan * period_s_ * planned_mm_s);
+  }
+  /// The command's offset at a sample on an arc of radius r whose in-plane advance is x·r
+  /// (x = ωT > 0): `from_start` and `to_end` of its advances from the arc's start and to its
+  /// end, `rows` = rows_weight(), `blend_weight` the blend's at the sample (blend()); `stops`:
+  /// the command stops on the arc's end point (the end rows for a stop).
+  Offset offset(double radius_mm, double x, double from_start, double to_end, double rows,
+                double blend_weight, bool stops) const {
+    const double c = radius_mm * (1.0 / gain(x) - 1.0);
+    double radial = 1.0, along = 0.0;
+    if (from_start < ArcEndRows::kSpan) {
+      const ArcEndRows::Shape e = end_rows().at(from_start, x, ArcEndRows::Way::Moving);
+      radial += e.radial - 1.0;
+      along += e.along;
+    }
+    if (to_end < ArcEndRows::kSpan) {
+      const ArcEndRows::Shape e =
+          end_rows().at(to_end, x, stops ? ArcEndRows::Way::Stopping : ArcEndRows::Way::Moving);
+      radial += e.radial - 1.0;
+      along -= e.along;
+    }
+    return {(rows * radial + (1.0 - rows) * blend_weight) * c, rows * along * c};
+  }
+  /// The speed of a compensated arc's next sample: `target` ramped from the last sample's speed
+  /// `last` by at most `step`, and at most `cap`.
+  static double ramped(double last, double target, double step, double cap) {
+    const double lo = last > step ? last - step : 0.0;
+    const double v = target < lo ? lo : target > last + step ? last + step : target;
+    return v < cap ? v : cap;
+  }
+  /// The advances to the arc's end of a sample `left_mm` before it at speed `v` (> 0), the speed
+  /// ramped towards `target` (ramped()) from it on: the count of the samples still on the arc
+  /// after it, plus the last one's distance to the end over the next sample's advance (0..1],
+  /// as the interpolator's loop will move (a sample stays on the block while its advance is
+  /// below what is left, less kLengthEps). ArcEndRows::kSpan or more: farther.
+  double advances_to_end(double left_mm, double v, double target, double step, double cap) const {
+    constexpr double kLengthEps = 1e-9;  // the interpolator's
+    for (int j = 0; j < ArcEndRows::kSpan; ++j) {
+      const double next = ramped(v, target, step, cap);
+      if (!(next > 0.0)) break;  // held: no end in sight
+      const double adv = next * period_s_;
+      if (!(adv < left_mm - kLengthEps)) return j + std::min(1.0, left_mm / adv);
+      left_mm -= adv;
+      v = next;
+    }
+    return ArcEndRows::kSpan;
+  }
   /// Samples of the ramp from 0 to the planned speed: N + 1, the filter's window.
   int ramp_samples() const { return ramp_samples_; }
   /// Largest change of path speed per sample on an arc planned at `planned_mm_s`, mm/s.
@@ -72,6 +151,13 @@ class ArcCompensation {
   double limit_ = 0.0;
   double inv_step_ = 0.0;
   int ramp_samples_ = 1;
+  bool tapered_ = false;  ///< the window tapers (rows_weight)
+  /// The end rows, fitted when an arc first needs them (ArcEndRows::shared).
+  const ArcEndRows& end_rows() const {
+    if (!rows_) rows_ = ArcEndRows::shared(h_, period_s_, limit_);
+    return *rows_;
+  }
+  mutable std::shared_ptr<const ArcEndRows> rows_;
 };
 
 }  // namespace gm

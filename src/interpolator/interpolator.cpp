@@ -78,6 +78,9 @@ bool Interpolator::pull_next() {
                     block_.comp_speed_mm_s > 0.0 && geom_.length_mm > 0.0;
       if (comp_block_) {
         comp_blend_mm_ = cfg_.arc_comp.blend_length_mm(geom_.length_mm, block_.comp_speed_mm_s);
+        comp_rows_ = cfg_.arc_comp.rows_weight(geom_.length_mm, block_.comp_speed_mm_s);
+        comp_stops_ = block_.comp_stops_at_end;
+        comp_since_first_ = -1;
         comp_rad_per_mm_ = std::abs(geom_.sweep_rad) / geom_.length_mm;
         comp_speed_step_ = cfg_.arc_comp.speed_step_mm_s(block_.comp_speed_mm_s);
       }
@@ -139,17 +142,29 @@ bool Interpolator::pull_next() {
   return false;
 }
 
-void Interpolator::apply_arc_comp(double v) {
-  const double w = ArcCompensation::blend(s_mm_, geom_.length_mm, comp_blend_mm_);
-  if (!(w > 0.0)) return;
+void Interpolator::apply_arc_comp(double v, double target) {
   const int a = geom_.ax.a, b = geom_.ax.b;
   const double da = pos_mm_[a] - geom_.center_mm[a], db = pos_mm_[b] - geom_.center_mm[b];
   const double r = std::sqrt(da * da + db * db);  // in the arc's plane, away from 0 and inf
   if (!(r > 0.0)) return;
-  // Radial in the arc's plane; ω from the sample's in-plane angular rate.
-  const double k = w * cfg_.arc_comp.correction_mm(r, v * comp_rad_per_mm_) / r;
-  pos_mm_[a] += k * da;
-  pos_mm_[b] += k * db;
+  const double advance = v * cfg_.period_s;
+  if (comp_since_first_ < 0) {
+    comp_since_first_ = 0;
+    comp_phase_in_ = s_mm_ / advance;
+  } else {
+    ++comp_since_first_;
+  }
+  // x from the sample's in-plane angular rate; the end rows by its advances from the start and
+  // to the end.
+  const double to_end = cfg_.arc_comp.advances_to_end(geom_.length_mm - s_mm_, v, target,
+                                                      comp_speed_step_, speed_cap_mm_s_);
+  const ArcCompensation::Offset off = cfg_.arc_comp.offset(
+      r, advance * comp_rad_per_mm_, comp_since_first_ + comp_phase_in_, to_end, comp_rows_,
+      ArcCompensation::blend(s_mm_, geom_.length_mm, comp_blend_mm_), comp_stops_);
+  // Outward (da, db)/r; along the motion (−db, da)/r counter-clockwise, (db, −da)/r clockwise.
+  const double along = geom_.sweep_rad > 0.0 ? off.along_mm : -off.along_mm;
+  pos_mm_[a] += (off.radial_mm * da - along * db) / r;
+  pos_mm_[b] += (off.radial_mm * db + along * da) / r;
 }
 
 template <int N, bool Identity>
@@ -206,7 +221,8 @@ InterpStatus Interpolator::step_n(const OverrideInput& ovr, CommandSample& out) 
       moved_or_waited = true;
       break;
     }
-    const double v = comp_block_ ? comp_ramped_speed(block_speed_mm_s(ovr)) : block_speed_mm_s(ovr);
+    const double target = block_speed_mm_s(ovr);
+    const double v = comp_block_ ? comp_ramped_speed(target) : target;
     sample_speed = v;
     if (!(v > 0.0)) {
       if (geom_.length_mm <= 0.0) {  // zero-length move: done, no time spent
@@ -222,7 +238,7 @@ InterpStatus Interpolator::step_n(const OverrideInput& ovr, CommandSample& out) 
       s_mm_ += v * dt;
       dt = 0.0;
       geom_.at_fraction_head<kComputedAxes>(s_mm_ / geom_.length_mm, pos_mm_);
-      if (comp_block_) apply_arc_comp(v);
+      if (comp_block_) apply_arc_comp(v, target);
       moved_or_waited = true;
     } else {
       dt = std::max(0.0, dt - left / v);

@@ -92,6 +92,10 @@ class Interpolator {
   /// The motion block the last sample ended in (nullptr before the first and after the last).
   const Motion* current_motion() const { return has_block_ ? &block_ : nullptr; }
 
+  /// Path length done in current_motion() after the last sample, mm: where on its path the
+  /// sample was commanded (a pre-compensated arc's command lies off the path by its correction).
+  double block_path_mm() const { return s_mm_; }
+
   /// Exact position at path length `s_mm` from the start of `m` (clamped to the block).
   static AxisVec position_on(const Motion& m, double s_mm);
   /// Path length of `m`, mm (helix: sqrt((R·θ)² + h²)).
@@ -138,24 +142,24 @@ class Interpolator {
   }
   double speed_100_mm_s_ = 0.0;  ///< its speed at 100 % override
   double speed_cap_mm_s_ = 0.0;  ///< the planner's cap (infinity: none)
-  // A pre-compensated arc (arc_compensation.hpp): commanded on R + c, its speed ramped.
+  // A pre-compensated arc (arc_compensation.hpp): commanded on R + c with its end rows, its
+  // speed ramped.
   bool comp_block_ = false;
-  double comp_blend_mm_ = 0.0;    ///< blend length at each end
+  double comp_blend_mm_ = 0.0;    ///< the radial blend's length at each end
+  double comp_rows_ = 0.0;        ///< the end rows' weight against the blend (rows_weight)
+  bool comp_stops_ = false;       ///< the arc's command stops on its end point
+  int comp_since_first_ = -1;     ///< samples on the arc since its first (−1: none yet)
+  double comp_phase_in_ = 0.0;    ///< how far past the start the first lay, of its advance
   double comp_rad_per_mm_ = 0.0;  ///< in-plane angle per path length, |sweep| / L
   double comp_speed_step_ = 0.0;  ///< largest speed change per sample, mm/s
   double last_speed_mm_s_ = 0.0;  ///< path speed of the last sample (0 after a stop)
   /// The speed of a compensated arc's sample: `target` ramped from the last sample's speed.
   double comp_ramped_speed(double target) const {
-    const double lo =
-        last_speed_mm_s_ > comp_speed_step_ ? last_speed_mm_s_ - comp_speed_step_ : 0.0;
-    const double v = target < lo ? lo
-                     : target > last_speed_mm_s_ + comp_speed_step_
-                         ? last_speed_mm_s_ + comp_speed_step_
-                         : target;
-    return v < speed_cap_mm_s_ ? v : speed_cap_mm_s_;
+    return ArcCompensation::ramped(last_speed_mm_s_, target, comp_speed_step_, speed_cap_mm_s_);
   }
-  /// Moves pos_mm_ (on the arc at s_mm_) radially by the blended correction for speed v.
-  void apply_arc_comp(double v);
+  /// Moves pos_mm_ (on the arc at s_mm_) by the correction for speed v, radial and (at the
+  /// arc's ends) along the path; `target` the speed the arc's ramp is heading for.
+  void apply_arc_comp(double v, double target);
   double s_mm_ = 0.0;          ///< path length done in the current block
   double dwell_left_s_ = 0.0;  ///< remaining dwell time
   int dwell_line_ = 0;

@@ -83,6 +83,9 @@ struct Motion {
   /// radius R + c so that the Acc/Dec output lies on R, its speed ramped; the speed its blend
   /// and ramp were planned for, mm/s. 0 = commanded on its programmed radius.
   double comp_speed_mm_s = 0.0;
+  /// Pre-compensated arcs: the command stops on the arc's end point (a dwell, a pause, an exact
+  /// stop or the program's end follows), so its end takes the rows for a stop.
+  bool comp_stops_at_end = false;
 };
 
 /// The move's kind as `gmotion moves` names it: rapid, line, arc, rigid_tap or probe.

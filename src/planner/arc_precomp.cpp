@@ -75,28 +75,39 @@ void ArcPrecompCheck::window_output(std::size_t head, Eigen::Vector2d& y, double
   pbar = pb;
 }
 
-double ArcPrecompCheck::advance(SimState& s) const {
+void ArcPrecompCheck::advance(SimState& s) const {
   if (s.rest > 0) {
     --s.rest;
-    return 0.0;
+    return;
   }
   if (s.v < v_) {
     s.v = std::min(v_, s.v + dv_);
     s.p += q_ * s.v * period_s_;
-    return rule_.correction_mm(r_, s.v * q_ / r_);
+    return;
   }
   s.p += dp_;  // a sample at speed v
-  return c_;
 }
 
-void ArcPrecompCheck::push_sample(SimState& s, double c) const {
+void ArcPrecompCheck::push_sample(SimState& s) const {
   const std::size_t n = h_.size();
   Eigen::Vector2d x;
   if (s.p > 0.0 && s.p < lp_) {  // point(p) and the radial direction from one sine and cosine
     const double sn = std::sin(s.p / r_), cs = std::cos(s.p / r_);
     x = Eigen::Vector2d(r_ * sn, r_ - r_ * cs);
-    const double w = ArcCompensation::blend(s.p / q_, len_, blend_);
-    x += w * c * Eigen::Vector2d(sn, -cs);
+    // The interpolator's apply_arc_comp: the sample's advances from the start and to the end
+    // (the arc's speed ramped towards v_, at most v_p).
+    const double advance = q_ * s.v * period_s_;  // in-plane
+    if (s.since_first < 0) {
+      s.since_first = 0;
+      s.phase_in = s.p / advance;
+    } else {
+      ++s.since_first;
+    }
+    const double to_end = rule_.advances_to_end((lp_ - s.p) / q_, s.v, v_, dv_, vplan_);
+    const ArcCompensation::Offset off =
+        rule_.offset(r_, advance / r_, s.since_first + s.phase_in, to_end, rows_,
+                     ArcCompensation::blend(s.p / q_, len_, blend_), stops_);
+    x += off.radial_mm * Eigen::Vector2d(sn, -cs) + off.along_mm * Eigen::Vector2d(cs, sn);
   } else {
     x = point(s.p);
   }
@@ -127,15 +138,18 @@ double ArcPrecompCheck::run_segment(double p_from, double p_to, double phase, St
   s.v = start == Start::FromRest ? 0.0 : v_;
   s.rest = start == Start::FromRest ? n : 0;
   const bool stop = end == End::Stop, both = end == End::Both;
+  stops_ = stop;  // the end rows for a stop (push_sample)
   std::size_t at_end = 0;
   SimState fork;
-  double fork_c = 0.0;
   bool forked = false;
   while (s.p <= p_to && at_end < n && !stopped_) {
-    const double c = advance(s);
-    if (both && !forked && s.p >= lp_) {  // the runs part here: the moving one goes on first
+    advance(s);
+    // The runs part where the end rows first reach a sample (they differ for a stop) or where
+    // the command reaches the end: the moving one goes on first.
+    if (both && !forked &&
+        (s.p >= lp_ ||
+         rule_.advances_to_end((lp_ - s.p) / q_, s.v, v_, dv_, vplan_) < ArcEndRows::kSpan)) {
       fork = s;
-      fork_c = c;
       std::copy(ring_.begin(), ring_.end(), fork_ring_.begin());
       std::copy(ring_p_.begin(), ring_p_.end(), fork_ring_p_.begin());
       forked = true;
@@ -144,29 +158,29 @@ double ArcPrecompCheck::run_segment(double p_from, double p_to, double phase, St
       s.p = lp_;
       ++at_end;
     }
-    push_sample(s, c);
+    push_sample(s);
     // Moving on: once the window's oldest sample is past the arc's end, every window from here
-    // holds points of the line after it (the blend is 0 there), whose output lies on that line
+    // holds points of the line after it (no offset there), whose output lies on that line
     // to the rounding (~1e-16·r): nothing the transitions left can be larger there.
     if (!stop && s.count >= n && ring_p_[s.head == 0 ? n - 1 : s.head - 1] >= lp_) break;
   }
   if (!forked || stopped_) return s.worst;
-  // The stopping run, from the sample where the command reached the end.
+  // The stopping run, from the sample where the runs parted.
   const double moving = s.worst;
   s = fork;
   std::swap(ring_, fork_ring_);
   std::swap(ring_p_, fork_ring_p_);
-  s.p = lp_;
-  at_end = 1;
-  push_sample(s, fork_c);
-  while (s.p <= p_to && at_end < n && !stopped_) {
-    const double c = advance(s);
+  stops_ = true;
+  at_end = 0;
+  do {
     if (s.p >= lp_) {
       s.p = lp_;
       ++at_end;
     }
-    push_sample(s, c);
-  }
+    push_sample(s);
+    if (at_end >= n || stopped_) break;
+    advance(s);
+  } while (s.p <= p_to);
   return std::max(moving, s.worst);
 }
 
@@ -180,12 +194,13 @@ void ArcPrecompCheck::set_arc(double radius_mm, double sweep_abs_rad, double len
   vplan_ = v_plan;
   dv_ = rule_.speed_step_mm_s(v_plan);
   blend_ = rule_.blend_length_mm(length_mm, v_plan);
-  c_ = rule_.correction_mm(radius_mm, v * sweep_abs_rad / length_mm);
+  rows_ = rule_.rows_weight(length_mm, v_plan);
+  end_len_ = rule_.end_length_mm(length_mm, v_plan);
   dp_ = q_ * v * period_s_;
 }
 
 double ArcPrecompCheck::isolated_runs(double v, double phase, bool paired) const {
-  const double W = static_cast<double>(h_.size()) * dp_, lb = q_ * blend_;
+  const double W = static_cast<double>(h_.size()) * dp_, lb = q_ * end_len_;
   // Between moving tangent lines, from rest at its start, to rest at its end.
   if (lp_ <= 2.0 * (lb + 2.0 * W)) {
     if (paired) {
@@ -216,9 +231,11 @@ double ArcPrecompCheck::run_stepped(double p_start, double p_until, Start start,
   // The interpolator's loop (Interpolator::step_n) on the isolated path, in-plane: a sample
   // spends T on the line before at vline_, then on the arc at comp_ramped_speed (the previous
   // sample's speed ± dv_, at most vplan_), then on the line after at vline_ (or holds on the
-  // end point); the correction is the arc's at the speed of the sample's last motion.
+  // end point); the correction and end rows are the arc's at the speed of the sample's last
+  // motion.
   const std::size_t n = h_.size();
   const double T = period_s_, eps = 1e-9 * T;
+  stops_ = stop;
   SimState s;
   int seg = start == Start::FromRest ? 1 : (p_start < 0.0 ? 0 : 1);
   double sa = seg == 1 && start != Start::FromRest ? p_start / q_ : 0.0;  // path on the arc
@@ -227,7 +244,6 @@ double ArcPrecompCheck::run_stepped(double p_start, double p_until, Start start,
   s.rest = start == Start::FromRest ? n : 0;
   std::size_t at_end = 0;
   while (!stopped_) {
-    double c = 0.0;
     if (s.rest > 0) {
       --s.rest;
     } else {
@@ -258,7 +274,6 @@ double ArcPrecompCheck::run_stepped(double p_start, double p_until, Start start,
           if (v * dt < left) {
             sa += v * dt;
             s.p = q_ * sa;
-            c = rule_.correction_mm(r_, v * q_ / r_);
             dt = 0.0;
           } else {
             dt = std::max(0.0, dt - left / v);
@@ -276,7 +291,7 @@ double ArcPrecompCheck::run_stepped(double p_start, double p_until, Start start,
       s.v = speed;
     }
     if (seg == 2 && stop) ++at_end;
-    push_sample(s, c);
+    push_sample(s);
     if (stop ? at_end >= n : (s.count >= n && ring_p_[s.head == 0 ? n - 1 : s.head - 1] >= lp_))
       break;
     if (s.p > p_until) break;
@@ -286,7 +301,7 @@ double ArcPrecompCheck::run_stepped(double p_start, double p_until, Start start,
 
 double ArcPrecompCheck::stepped_runs(double phase) const {
   const std::size_t n = h_.size();
-  const double W = static_cast<double>(n) * dp_, lb = q_ * blend_, inf = kNoLimit;
+  const double W = static_cast<double>(n) * dp_, lb = q_ * end_len_, inf = kNoLimit;
   // A window on the line before, its first sample `phase` of a sample along.
   const double before = -near_p_ - (static_cast<double>(n) - phase) * q_ * vline_ * period_s_;
   if (lp_ <= 2.0 * (lb + 2.0 * W)) {  // short: each run crosses the whole arc

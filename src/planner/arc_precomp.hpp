@@ -86,14 +86,17 @@ class ArcPrecompCheck {
   /// is full.
   double run_segment(double p_from, double p_to, double phase, Start start, End end) const;
   /// One run's state between samples.
+  /// `since_first`, `phase_in`: the interpolator's count and phase for the end rows.
   struct SimState {
-    double p = 0, v = 0, worst = 0;
+    double p = 0, v = 0, worst = 0, phase_in = 0;
     std::size_t rest = 0, count = 0, head = 0;
+    int since_first = -1;
   };
-  /// Advances the command by one sample; returns the correction c at it.
-  double advance(SimState& s) const;
-  /// The command at s.p (correction c) into the window; once it is full, the output's distance.
-  void push_sample(SimState& s, double c) const;
+  /// Advances the command by one sample (s.v: its speed).
+  void advance(SimState& s) const;
+  /// The command at s.p (on the arc: its correction and end rows at speed s.v) into the window;
+  /// once it is full, the output's distance.
+  void push_sample(SimState& s) const;
   /// One run of stepped_mm: from in-plane p_start (< 0: on the line before, at the line's
   /// speed; >= 0: on the arc at speed v; FromRest: at rest on the arc's start), until the
   /// window has left the arc (moving), n samples on the end point (stop) or p_until.
@@ -114,8 +117,11 @@ class ArcPrecompCheck {
   double period_s_;
   ArcCompensation rule_;
   // The isolated arc being simulated (set by isolated_mm): radius, in-plane length, q = r·|θ|/L,
-  // blend length (path), correction at the speed, in-plane step per sample.
-  mutable double r_ = 0, lp_ = 0, q_ = 0, len_ = 0, blend_ = 0, c_ = 0, dp_ = 0, v_ = 0, dv_ = 0;
+  // the radial blend's length (path) and the end rows' weight against it, the path the ends
+  // cover (at most L/2), in-plane step per sample.
+  mutable double r_ = 0, lp_ = 0, q_ = 0, len_ = 0, blend_ = 0, rows_ = 0, end_len_ = 0, dp_ = 0,
+                 v_ = 0, dv_ = 0;
+  mutable bool stops_ = false;  ///< the run stops on the arc's end point: its end rows for a stop
   /// stepped_mm: the arc's cap, the lines' speed and the in-plane stretch beside the arc at v.
   mutable double vplan_ = 0, vline_ = 0, near_p_ = 0;
   double line_ratio_ = 0.0, near_s_ = 0.0;

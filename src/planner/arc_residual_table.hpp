@@ -29,7 +29,7 @@ namespace gm {
 /// longer depends on |θ|: sweeps beyond the grid's top, 4(N + 1)·limit, take its top column.
 class ArcResidualTable {
  public:
-  static constexpr double kMargin = 0.025;
+  static constexpr double kMargin = 0.06;
   static constexpr double kStep = 1.06;         ///< ratio of neighbouring nodes, in x and |θ|
   static constexpr double kMinSweep = 0.01;     ///< rad
   static constexpr double kRateRange = 4096.0;  ///< the grid's x from limit/kRateRange

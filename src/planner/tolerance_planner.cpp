@@ -964,9 +964,16 @@ void TolerancePlanner::emit_front() {
   cut_pieces(b);
   merge_short_pieces(b);
   emit_pieces(b);
+  const std::size_t last_piece = ready_.size() - 1;
+  bool paused = false;
   for (const Element& e : elems_)
-    if (e.kind != ElementKind::Arc && e.seq == b.seq && e.pause > e.pause0 + 1e-12)
+    if (e.kind != ElementKind::Arc && e.seq == b.seq && e.pause > e.pause0 + 1e-12) {
       make_ready(Dwell{b.m.line, e.pause - e.pause0});
+      paused = true;
+    }
+  // A pre-compensated arc (handed on whole) whose command stops on its end point.
+  if (Motion& arc = std::get<Motion>(ready_[last_piece].canon); arc.comp_speed_mm_s > 0.0)
+    arc.comp_stops_at_end = paused || stops_after(b);
   if (b.forced_stop) make_ready(Dwell{b.m.line, tau});
   for (Canon& c : b.after) make_ready(std::move(c));
   emitted_t1_ = b.t1;
@@ -977,6 +984,20 @@ void TolerancePlanner::emit_front() {
     elems_.pop_front();
     if (claim_cursor_ > 0) --claim_cursor_;
   }
+}
+
+bool TolerancePlanner::stops_after(const Block& b) const {
+  // What the interpolator waits on at the block's end before it moves on (its step_n): an exact
+  // stop, a dwell, an input wait with a timeout, the end of the program or of the stream.
+  if (b.forced_stop || b.dwell_after_s > 0.0 || (ended_ && window_.size() == 1)) return true;
+  if (b.m.path_mode != PathMode::Continuous && !b.tangent_exit) return true;
+  for (const Canon& c : b.after)
+    if (const auto* e = std::get_if<Event>(&c);
+        e != nullptr &&
+        (e->kind == EventKind::End ||
+         (e->kind == EventKind::WaitInput && e->mode >= 1 && e->mode <= 3 && e->value > 0.0)))
+      return true;
+  return false;
 }
 
 void TolerancePlanner::decide_reachable(const Block& b) {

@@ -224,6 +224,8 @@ class TolerancePlanner : public CanonSource {
   void emit_front();
   void decide_reachable(const Block& b);  ///< decides every element the block can reach
   void cut_pieces(const Block& b);        ///< pieces_ between the zone boundaries in b
+  /// The command stops on b's end point before the next motion (the interpolator waits there).
+  bool stops_after(const Block& b) const;
   void merge_short_pieces(const Block& b);
   void emit_pieces(const Block& b);
   /// Runs of small turns (CAM polylines): a vertex joins the run being gathered; a chunk is

@@ -1,5 +1,5 @@
 // Pre-compensated arcs in the interpolator: the commanded radius R + c from the sample's speed,
-// blended in and out, the speed ramp, exact ends, helices in another plane.
+// the end rows, the speed ramp, exact ends, helices in another plane.
 #include "accdec/taps.hpp"
 #include "interpolator/interpolator.hpp"
 #include "planner/filter_moments.hpp"
@@ -9,6 +9,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -83,7 +84,7 @@ double radius_of(const gm::CommandSample& s, double cx, double cy) {
 
 }  // namespace
 
-TEST_CASE("compensated arc: radius R + c(v) at speed, ramped from rest, blended, ends exact") {
+TEST_CASE("compensated arc: radius R + c(v) at speed, ramped from rest, end rows, ends exact") {
   const auto plain = run({half_circle(0.0)}, full);
   const auto comp = run({half_circle(50.0)}, full);
   // Uncompensated: on R = 5 within a BLU, 50 mm/s from the first sample.
@@ -93,23 +94,36 @@ TEST_CASE("compensated arc: radius R + c(v) at speed, ramped from rest, blended,
   const double c50 = correction_mm(5.0, 50.0 * 0.004 / 5.0);
   CHECK(c50 == Approx(5.0 * (1.0 / gm::FilterMoments(blackman(), 0.004).amplitude(0.04) - 1.0)));
   CHECK(c50 > 0.04);  // 5 mm at 50 mm/s under Blackman 0.164 s: about 43 µm
+  // The end rows (arc_end_rows.hpp) over the first and last 4 samples: by the count since the
+  // first sample plus its phase (from rest: a whole advance past the start, so 1, 2, 3) and by
+  // the advances left, predicted by the ramp (advances_to_end); the steady c between.
+  const gm::ArcCompensation rule(weights(), 0.004);
+  const double length = 5.0 * std::numbers::pi;
   double s_mm = 0.0;
-  double last_r = 5.0;
+  int rows_at_ends = 0;
   for (std::size_t k = 0; k + 1 < comp.size(); ++k) {
     const double v = std::min(50.0, 50.0 / 41.0 * static_cast<double>(k + 1));
     s_mm += v * 0.004;
     const double ang = s_mm / 5.0;  // from the start ray (−1, 0) of the circle
-    const double w =
-        std::min({1.0, s_mm / (2 * 0.004 * 50.0), (5.0 * std::numbers::pi - s_mm) / 0.4});
-    const double r = 5.0 + w * correction_mm(5.0, v * 0.004 / 5.0);
-    CAPTURE(k, v, s_mm, w);
-    CHECK(comp[k].pos_blu[0] * 0.001 == Approx(5.0 - r * std::cos(ang)).margin(0.0006));
-    CHECK(comp[k].pos_blu[1] * 0.001 == Approx(-r * std::sin(ang)).margin(0.0006));
-    // No jump: the radius moves by at most a blend step (c/2) and rounding per sample.
-    const double rk = radius_of(comp[k], 5, 0);
-    CHECK(std::abs(rk - last_r) <= c50 / 2.0 + 0.0015);
-    last_r = rk;
+    const double x = v * 0.004 / 5.0, from = static_cast<double>(k) + 1.0;
+    const double to_end = rule.advances_to_end(length - s_mm, v, 50.0, 50.0 / 41.0,
+                                               std::numeric_limits<double>::infinity());
+    const auto off = rule.offset(5.0, x, from, to_end, 1.0, 1.0, false);
+    if (from >= 4.0 && to_end >= 4.0) {  // between the ends: the closed form, radial only
+      CHECK(off.radial_mm == Approx(correction_mm(5.0, x)).margin(2e-6));  // A from its table
+      CHECK(off.along_mm == 0.0);
+    } else {
+      ++rows_at_ends;
+    }
+    // Outward (−cos, −sin) of the angle, along the motion (sin, −cos).
+    const double r = 5.0 + off.radial_mm;
+    CAPTURE(k, v, s_mm, to_end);
+    CHECK(comp[k].pos_blu[0] * 0.001 ==
+          Approx(5.0 - r * std::cos(ang) + off.along_mm * std::sin(ang)).margin(0.0006));
+    CHECK(comp[k].pos_blu[1] * 0.001 ==
+          Approx(-r * std::sin(ang) - off.along_mm * std::cos(ang)).margin(0.0006));
   }
+  CHECK(rows_at_ends == 7);  // from rest 1, 2 and 3 advances, and the last 4
   CHECK(comp.back().pos_blu == gm::blu3(10000, 0, 0));  // the programmed end point exactly
   CHECK(comp.size() > plain.size());                    // the ramp from rest
 }
@@ -137,7 +151,9 @@ TEST_CASE("compensated arc: an override step is a ramp, and at rest the radius i
     angle_prev = a;
     const double adv = std::abs(d) * 5.0;  // mm along the circle (radius changes aside)
     CAPTURE(k, adv, prev_adv);
-    CHECK(std::abs(adv - prev_adv) <= 0.2 / 41.0 + 0.002);  // + rounding of two samples
+    // Past the start's end rows (4 advances at the sample's speed: 8 samples into the ramp),
+    // which also move the command along the circle.
+    if (k >= 10) CHECK(std::abs(adv - prev_adv) <= 0.2 / 41.0 + 0.002);  // + two roundings
     prev_adv = adv;
     if (k > 250) {
       ++still;
@@ -170,7 +186,8 @@ TEST_CASE("compensated helix in G18: the correction is radial in ZX, Y follows i
     const double r = std::hypot(x, z - 4.0);
     const double frac = y / 6.0;  // Y is linear in the path fraction
     const double s_mm = frac * L;
-    if (s_mm > 42 * 50.0 * 0.004 && s_mm < L - 0.4) {  // past the ramp and the blend
+    if (s_mm > 42 * 50.0 * 0.004 &&
+        s_mm < L - 4 * 50.0 * 0.004) {  // past the ramp, before the rows
       ++steady;
       CHECK(r == Approx(R + c).margin(0.0012));
       // The point lies on the ray of its path fraction (radial correction only).

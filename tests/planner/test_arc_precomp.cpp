@@ -28,9 +28,9 @@ std::vector<double> weights(const gm::Taps& t) {
 
 // line(v_line) → arc(v_p, pre-compensated) → line(v_line) through the real Interpolator and
 // FirAccDec (BLU 1 nm): the largest |y − x(s̄)|, the check's measure, s̄ = Σ h_i s_i from the
-// samples' path positions, and the largest distance of y from the path (the contour error).
-// The line before is long enough that the filter has left its start when the arc begins; the
-// arc turns counter-clockwise from the origin's +X line.
+// samples' path positions (the interpolator's, on the arc), and the largest distance of y from the
+// path (the contour error). The line before is long enough that the filter has left its start when
+// the arc begins; the arc turns counter-clockwise from the origin's +X line.
 struct SteppedRun {
   double term_mm = 0.0, contour_mm = 0.0;
 };
@@ -127,9 +127,7 @@ SteppedRun stepped_run(const gm::Taps& t, double R, double th, double vp, double
     } else if (cs.block_seq < arc_seq) {
       s = x[0];
     } else if (cs.block_seq == arc_seq) {
-      double f = std::atan2(x[0] - a, R - x[1]);
-      if (f < -1e-3) f += 2.0 * std::numbers::pi;
-      s = a + R * f;
+      s = a + ip.block_path_mm();  // the command is off the arc by its correction
     } else {
       s = a + L + (x - p2).dot(u2);
     }
@@ -173,7 +171,22 @@ TEST_CASE("A(ωT): a moving average's closed form by hand, and the table", "[arc
   }
   CHECK(rule.gain(10.0) == Approx(gm::ArcCompensation::kMinGain).margin(1e-12));  // clamped
   CHECK(f.compensated_radius_mm(2.0, 0.08) == Approx(2.0 / f.amplitude(0.08)).epsilon(1e-15));
-  // Blend: linear in and out over ℓ = 2 samples of travel, never more than half the arc.
+  // Between the end rows: the steady correction, radial only; the ends cover 4 samples' travel.
+  const gm::ArcCompensation::Offset mid = rule.offset(2.0, 0.03, 5.0, 10.0, 1.0, 1.0, false);
+  CHECK(mid.radial_mm == Approx(2.0 * (1.0 / rule.gain(0.03) - 1.0)).epsilon(1e-12));
+  CHECK(mid.along_mm == 0.0);
+  CHECK(rule.end_length_mm(10.0, 50.0) == Approx(4 * 0.004 * 50.0));
+  CHECK(rule.end_length_mm(0.5, 50.0) == Approx(0.25));
+  // The rows on arcs of 5 samples' travel at v_p and more; the blend below 4; mixed between
+  // (a smoothstep: 3t² − 2t³). Not for the linear profile, whose window does not taper.
+  const gm::ArcCompensation tapered(weights(gm::design_taps("blackman", 0.164, 0.004)), 0.004);
+  CHECK(tapered.rows_weight(1.0, 50.0) == Approx(1.0));
+  CHECK(tapered.rows_weight(0.9, 50.0) == Approx(0.5));
+  CHECK(tapered.rows_weight(0.85, 50.0) == Approx(3 * 0.0625 - 2 * 0.015625));
+  CHECK(tapered.rows_weight(0.8, 50.0) == Approx(0.0).margin(1e-12));
+  CHECK(rule.rows_weight(1.0, 50.0) == 0.0);
+  // The blend, radial, where the rows do not reach: linear in and out over ℓ = 2 samples of
+  // travel, never more than half the arc; weighted by 1 − rows_weight.
   CHECK(rule.blend_length_mm(10.0, 50.0) == Approx(2 * 0.004 * 50.0));
   CHECK(rule.blend_length_mm(0.5, 50.0) == Approx(0.25));
   CHECK(gm::ArcCompensation::blend(0.0, 10.0, 0.8) == 0.0);
@@ -181,6 +194,9 @@ TEST_CASE("A(ωT): a moving average's closed form by hand, and the table", "[arc
   CHECK(gm::ArcCompensation::blend(5.0, 10.0, 0.8) == 1.0);
   CHECK(gm::ArcCompensation::blend(9.6, 10.0, 0.8) == Approx(0.5));
   CHECK(gm::ArcCompensation::blend(10.0, 10.0, 0.8) == 0.0);
+  const gm::ArcCompensation::Offset blended = rule.offset(2.0, 0.03, 0.5, 1.0, 0.0, 0.25, false);
+  CHECK(blended.radial_mm == Approx(0.25 * mid.radial_mm).epsilon(1e-12));
+  CHECK(blended.along_mm == 0.0);
   // An asymmetric filter is not compensated.
   CHECK_FALSE(gm::ArcCompensation({0.5, 0.3, 0.2}, 0.004).enabled());
   CHECK_FALSE(gm::FilterMoments(std::vector<double>{0.5, 0.3, 0.2}, 0.004).symmetric());
@@ -309,7 +325,7 @@ TEST_CASE("the residual table bounds the simulation within its margin", "[arc-pr
     z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
     return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
   };
-  for (const char* prof : {"blackman", "linear", "hann"}) {
+  for (const char* prof : {"blackman", "linear", "hann", "hamming"}) {
     const gm::Taps t = gm::design_taps(prof, 0.164, 0.004);
     const gm::ArcPrecompCheck check(weights(t), 0.004);
     const gm::ArcResidualTable table(check);

@@ -1,0 +1,157 @@
+// ArcEndRows: the end shapes' knots fitted per rate over the join's phases, read linearly.
+#include "interpolator/arc_end_rows.hpp"
+
+#include "interpolator/arc_end_fit.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <mutex>
+
+namespace gm {
+
+void ArcEndRows::basis(double u, double& fixed, std::array<double, kInner>& hat) {
+  hat.fill(0.0);
+  fixed = 0.0;
+  if (!(u > 0.0)) return;
+  if (u >= kSpan) {
+    fixed = 1.0;
+    return;
+  }
+  // Between knots k and k + 1 (knot 0 at u = 0, knot kSpan at u = kSpan).
+  const int k = std::min(static_cast<int>(u), kSpan - 1);
+  const double f = u - static_cast<double>(k);
+  if (k >= 1) hat[static_cast<std::size_t>(k - 1)] += 1.0 - f;
+  if (k + 1 <= kInner)
+    hat[static_cast<std::size_t>(k)] += f;
+  else
+    fixed = f;  // towards the steady (1, 0)
+}
+
+ArcEndRows::ArcEndRows(const std::vector<double>& weights, double period_s, double limit_x)
+    : limit_x_(limit_x) {
+  if (weights.size() < 2 || !(limit_x > 0.0)) return;
+  const ArcEndFit fit(weights, period_s);
+  const int window = static_cast<int>(weights.size());
+  const double endless = std::numeric_limits<double>::infinity();
+  for (double frac : kRateKnots) {
+    const double x = frac * limit_x, v = x / period_s;
+    std::array<double, 4 * kInner> k{};
+    for (const Way way : {Way::Moving, Way::Stopping}) {
+      std::vector<ArcRun> runs;
+      std::vector<ArcCommandModel> models;
+      // The command of a run by the rule: the steady part fixed, the inner knots unknown (along
+      // in units of c/x: the weight μ then sees the command's step along the path, about c/x
+      // for an advance x·r).
+      const auto add = [&](ArcRun run) {
+        const std::vector<ArcSample> smp = fit.samples(run);
+        const std::size_t n = smp.size();
+        ArcCommandModel model{{std::vector<double>(n, 0.0), std::vector<double>(n, 0.0)}, {}};
+        model.columns.assign(2 * kInner, model.base);
+        int since_first = -1;
+        double phase_in = 0.0;
+        for (std::size_t i = 0; i < n; ++i) {
+          if (!smp[i].on) continue;
+          // The interpolator's advances from the start: the count since the arc's first
+          // sample plus how far past the start that one lay, of its advance (Stopping, the
+          // mirror of an end: of the advance at speed v, as the end's are counted).
+          if (since_first < 0)
+            phase_in = smp[i].s_mm / (way == Way::Moving ? smp[i].advance_mm : x);
+          ++since_first;
+          double fixed;
+          std::array<double, kInner> hat;
+          basis(since_first + phase_in, fixed, hat);
+          model.base.radial_mm[i] = fixed * smp[i].c_mm;
+          for (std::size_t q = 0; q < kInner; ++q) {
+            model.columns[q].radial_mm[i] = hat[q] * smp[i].c_mm;
+            model.columns[kInner + q].along_mm[i] = hat[q] * smp[i].c_mm / x;
+          }
+        }
+        runs.push_back(std::move(run));
+        models.push_back(std::move(model));
+      };
+      // At constant speed over kPhases phases; and, at half of them, the speed falling at the
+      // ramp's rate (v/(N + 1) a sample) from `fall` samples after the join on: seen backwards
+      // in time, an end reached while the speed still ramps up (an arc begun from rest).
+      for (int p = 0; p < kPhases; ++p)
+        for (const int fall : {-1, 0, 2, 4}) {
+          if (fall >= 0 && p % 2 == 1) continue;
+          const double phase = (static_cast<double>(p) + 0.5) / kPhases;
+          ArcRun run = ArcRun::constant(1.0, endless, v, period_s, phase, window);
+          if (fall >= 0)
+            for (std::size_t i = static_cast<std::size_t>(run.first + fall);
+                 i < run.speed_mm_s.size(); ++i)
+              run.speed_mm_s[i] =
+                  v * std::max(0.5, 1.0 - (static_cast<double>(i) - run.first - fall) / window);
+          // Stopping, backwards in time: held on the join, then at speed at once (the first
+          // sample `phase` of an advance past it).
+          if (way == Way::Stopping) {
+            std::fill(run.speed_mm_s.begin(), run.speed_mm_s.begin() + run.first, 0.0);
+            run.speed_mm_s[static_cast<std::size_t>(run.first)] *= phase;
+            run.phase = 1.0;
+          }
+          add(std::move(run));
+        }
+      if (way == Way::Moving) {
+        // From rest at the arc's start, the speed ramped as the interpolator does (v/(N + 1) a
+        // sample): its first sample one advance past the start.
+        ArcRun rest = ArcRun::constant(1.0, endless, v, period_s, 1.0, window);
+        for (int i = 0; i < rest.first + window; ++i)
+          rest.speed_mm_s[static_cast<std::size_t>(i)] =
+              v * std::clamp(static_cast<double>(i - rest.first + 1) / window, 0.0, 1.0);
+        add(std::move(rest));
+      }
+      const std::vector<double> u = fit.fit_shared(runs, models, kMu);
+      const std::size_t at = way == Way::Moving ? 0 : 2 * kInner;
+      for (std::size_t q = 0; q < kInner; ++q) {
+        k[at + q] = u[q];
+        k[at + kInner + q] = u[kInner + q] / x;  // kept in units of c, finite as x → 0
+      }
+    }
+    knots_.push_back(k);
+  }
+}
+
+std::shared_ptr<const ArcEndRows> ArcEndRows::shared(const std::vector<double>& weights,
+                                                     double period_s, double limit_x) {
+  struct Entry {
+    std::vector<double> weights;
+    double period_s = 0.0;
+    std::shared_ptr<const ArcEndRows> rows;
+  };
+  static std::mutex lock;
+  static std::array<Entry, 8> cache;  // replaced in turn: memory stays flat over many filters
+  static std::size_t next = 0;
+  const std::lock_guard<std::mutex> hold(lock);
+  for (const Entry& e : cache)
+    if (e.rows && e.period_s == period_s && e.weights == weights) return e.rows;
+  Entry& e = cache[next];
+  next = (next + 1) % cache.size();
+  e = Entry{weights, period_s, std::make_shared<const ArcEndRows>(weights, period_s, limit_x)};
+  return e.rows;
+}
+
+ArcEndRows::Shape ArcEndRows::at(double u, double x, Way way) const {
+  double fixed;
+  std::array<double, kInner> hat;
+  basis(u, fixed, hat);
+  if (knots_.empty()) return {u > 0.0 ? 1.0 : 0.0, 0.0};
+  // The rate knots below and above x/limit, linear between, clamped.
+  const double r = x / limit_x_;
+  std::size_t j = 0;
+  while (j + 2 < kRateKnots.size() && kRateKnots[j + 1] <= r) ++j;
+  const double f = std::clamp((r - kRateKnots[j]) / (kRateKnots[j + 1] - kRateKnots[j]), 0.0, 1.0);
+  const std::size_t at = way == Way::Moving ? 0 : 2 * kInner;
+  const auto knot = [&](std::size_t i) {
+    return knots_[j][at + i] + f * (knots_[j + 1][at + i] - knots_[j][at + i]);
+  };
+  Shape s{fixed, 0.0};
+  for (std::size_t q = 0; q < kInner; ++q) {
+    const double rad = knot(q), along = knot(kInner + q);
+    s.radial += hat[q] * rad;
+    s.along += hat[q] * along;
+  }
+  return s;
+}
+
+}  // namespace gm

@@ -1,0 +1,64 @@
+// The rows of a pre-compensated arc's ends: its command's offset in two directions as a function
+// of how many samples' advance a sample lies from the arc's end, fitted once per filter.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <vector>
+
+namespace gm {
+
+/// One end of a compensated arc: a sample u advances of its own speed from the arc's start
+/// (or end) is commanded off the arc by radial(u)·c outwards and along(u)·c in the direction
+/// of motion (reversed at the end), c = r(1/A(x) − 1) its steady correction, x its in-plane
+/// advance over r. Both are piecewise linear in u with knots at u = 1 .. kSpan − 1: 0 at u = 0
+/// (the block's ends are its programmed points) and the steady (1, 0) from u = kSpan on; the
+/// knot values depend on x (linear between rate knots at fractions of the rule's limit, clamped).
+/// Where both ends reach a sample, their deviations from the steady offset add. Two sets: an
+/// arc's start and an end the command moves on from (Way::Moving), and an end where the command
+/// stops on the end point (Way::Stopping: a dwell, a pause or an exact stop follows).
+///
+/// The knot values are fitted (ArcEndFit::fit_shared) on endless arcs at constant rate for the
+/// least worst |y − x(s̄)| of the Acc/Dec output (the measure the tolerance planner adds up over
+/// a path's elements) with a small weight on their size, over kPhases phases of the join within
+/// its sample at once: Moving on a line into the arc at speed, and from rest with the
+/// interpolator's ramp; Stopping on its mirror image in time (the filter is symmetric), the
+/// command held on the join and then at speed at once. Each leaves about 7–12 % of the steady
+/// loss r(1 − A) where the radial blend leaves 16–29 % (docs/tolerance-arc-ends.md).
+class ArcEndRows {
+ public:
+  static constexpr int kSpan = 4;
+  static constexpr int kPhases = 8;
+  static constexpr double kMu = 1e-4;  ///< the fit's weight on the offsets' size (fit_shared)
+  static constexpr std::array<double, 6> kRateKnots{0.02, 0.1, 0.3, 0.55, 0.8, 1.0};  ///< × limit
+
+  /// Factors of c, radial and along.
+  struct Shape {
+    double radial = 1.0, along = 0.0;
+  };
+  enum class Way { Moving, Stopping };
+
+  ArcEndRows() = default;  ///< empty: the steady offset everywhere
+  /// Fits the knots for the FIR's weights (symmetric, Σ = 1) at period T, rates up to
+  /// `limit_x` (ArcCompensation::limit_omega_t()).
+  ArcEndRows(const std::vector<double>& weights, double period_s, double limit_x);
+
+  /// The rows of this filter, fitted on the first request and kept for the process (the last
+  /// few filters asked for): an interpolator and a planner of one machine share them.
+  static std::shared_ptr<const ArcEndRows> shared(const std::vector<double>& weights,
+                                                  double period_s, double limit_x);
+
+  bool empty() const { return knots_.empty(); }
+  /// The end's shape at u advances from it (u < kSpan) at rate x.
+  Shape at(double u, double x, Way way) const;
+
+ private:
+  static constexpr int kInner = kSpan - 1;  ///< knots u = 1 .. kSpan − 1
+  /// The fixed part at u and the weights of the inner knots (hat functions).
+  static void basis(double u, double& fixed, std::array<double, kInner>& hat);
+  double limit_x_ = 0.0;
+  /// Per rate knot: Moving radial at the inner knots, along, then Stopping radial, along.
+  std::vector<std::array<double, 4 * kInner>> knots_;
+};
+
+}  // namespace gm

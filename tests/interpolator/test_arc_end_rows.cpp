@@ -1,0 +1,101 @@
+// ArcEndRows and the rule that commands them: an arc's ends in two directions, against the
+// figures of an independent implementation of the fit (numpy).
+#include "accdec/taps.hpp"
+#include "interpolator/arc_compensation.hpp"
+#include "interpolator/arc_end_fit.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <vector>
+
+namespace {
+
+constexpr double kPeriod = 0.004;
+
+std::vector<double> blackman() {
+  static const gm::Taps t = gm::design_taps("blackman", 0.164, kPeriod);
+  std::vector<double> h;
+  for (auto b : t.integer) h.push_back(static_cast<double>(b) / static_cast<double>(t.b_s));
+  return h;
+}
+
+// The command ArcCompensation gives each sample of a run, as ArcOffsets: the rows by the
+// sample's advances from the start and to the end at its own speed (the interpolator's rule).
+gm::ArcOffsets commanded(const gm::ArcCompensation& rule, const gm::ArcEndFit& fit,
+                         const gm::ArcRun& run, double length_mm) {
+  const std::vector<gm::ArcSample> smp = fit.samples(run);
+  gm::ArcOffsets off{std::vector<double>(smp.size(), 0.0), std::vector<double>(smp.size(), 0.0)};
+  for (std::size_t i = 0; i < smp.size(); ++i) {
+    if (!smp[i].on) continue;
+    const auto o = rule.offset(run.radius_mm, smp[i].x, smp[i].s_mm / smp[i].advance_mm,
+                               (length_mm - smp[i].s_mm) / smp[i].advance_mm, 1.0, 1.0, false);
+    off.radial_mm[i] = o.radial_mm;
+    off.along_mm[i] = o.along_mm;
+  }
+  return off;
+}
+
+}  // namespace
+
+TEST_CASE("the end rows' knots as the numpy fit finds them", "[arc-end-rows]") {
+  // tools/arc_end_rows_model.py (numpy: the same runs, power means of |y − x(s̄)| raised to
+  // p = 128 by Newton steps, μ = 1e-4), Blackman 0.164 s at 4 ms, limit 0.2086431: radial at
+  // u = 1, 2, 3, then along in units of c; Moving at the rate knots 0.1 and 0.8 of the limit,
+  // Stopping at 0.55 and 1. The problem is convex, so two solvers must agree.
+  const gm::ArcCompensation rule(blackman(), kPeriod);
+  REQUIRE(rule.limit_omega_t() == Approx(0.2086431).epsilon(1e-6));
+  struct Knot {
+    double frac;
+    bool stopping;
+    std::array<double, 6> k;
+  };
+  for (const Knot k : {Knot{0.1, false, {-1.151, 1.417, 3.462, -13.674, 29.742, -16.951}},
+                       Knot{0.8, false, {-0.375, 1.128, 2.140, -1.684, 2.655, -3.090}},
+                       Knot{0.55, true, {0.205, 0.627, 0.510, -0.315, 1.117, -1.923}},
+                       Knot{1.0, true, {-0.001, 0.305, 0.323, 0.074, 2.541, -4.349}}}) {
+    const double x = k.frac * rule.limit_omega_t(), c = 1.0 / rule.gain(x) - 1.0;
+    CAPTURE(k.frac, k.stopping);
+    for (int j = 0; j < 3; ++j) {
+      const double u = j + 1.0;
+      // A start (Moving) or an end (Stopping: its along part reversed).
+      const auto o = k.stopping ? rule.offset(1.0, x, 1e9, u, 1.0, 1.0, true)
+                                : rule.offset(1.0, x, u, 1e9, 1.0, 1.0, false);
+      const double along = k.stopping ? -o.along_mm : o.along_mm;
+      const double tol = 0.002 * (1.0 + std::abs(k.k[static_cast<std::size_t>(3 + j)]));
+      CHECK(o.radial_mm / c == Approx(k.k[static_cast<std::size_t>(j)]).margin(0.003));
+      CHECK(along / c == Approx(k.k[static_cast<std::size_t>(3 + j)]).margin(tol));
+    }
+  }
+}
+
+TEST_CASE("a long arc's two ends by the rows, between knots: 8-13 % where the blend leaves 19-29 %",
+          "[arc-end-rows]") {
+  // tools/arc_end_rows_model.py, the same rule (knots read linearly in the rate, both ends,
+  // the exit's along part reversed) on a unit arc of 300.5 samples at constant speed: |y −
+  // x(s̄)| and the distance from the path over the steady loss, the rows and the radial blend.
+  const gm::ArcCompensation rule(blackman(), kPeriod);
+  const gm::ArcEndFit measure(blackman(), kPeriod);
+  const int window = static_cast<int>(blackman().size());
+  struct Case {
+    double frac, phase, rows, blend, rows_distance, blend_distance;
+  };
+  for (const Case c : {Case{0.3, 0.25, 0.0851, 0.1877, 0.0840, 0.1734},
+                       Case{0.45, 0.37, 0.0908, 0.2047, 0.0893, 0.1707},
+                       Case{0.8, 0.9, 0.1251, 0.2869, 0.1208, 0.1610}}) {
+    const double x = c.frac * rule.limit_omega_t(), th = 300.5 * x;
+    const gm::ArcRun run = gm::ArcRun::constant(1.0, th, x / kPeriod, kPeriod, c.phase, window);
+    const gm::ArcOffsets rows = commanded(rule, measure, run, th);
+    const gm::ArcOffsets blend = measure.linear_blend(run);
+    CAPTURE(c.frac, c.phase);
+    CHECK(measure.worst_fraction(run, rows, gm::ArcEndMeasure::FromMean) ==
+          Approx(c.rows).margin(0.001));
+    CHECK(measure.worst_fraction(run, blend, gm::ArcEndMeasure::FromMean) ==
+          Approx(c.blend).margin(0.001));
+    CHECK(measure.worst_fraction(run, rows) == Approx(c.rows_distance).margin(0.001));
+    CHECK(measure.worst_fraction(run, blend) == Approx(c.blend_distance).margin(0.001));
+  }
+}
