@@ -8,23 +8,25 @@
 
 namespace gm {
 
-/// One end of a compensated arc: a sample u advances of its own speed from the arc's start
-/// (or end) is commanded off the arc by radial(u)·c outwards and along(u)·c in the direction
-/// of motion (reversed at the end), c = r(1/A(x) − 1) its steady correction, x its in-plane
-/// advance over r. Both are piecewise linear in u with knots at u = 1 .. kSpan − 1: 0 at u = 0
-/// (the block's ends are its programmed points) and the steady (1, 0) from u = kSpan on; the
-/// knot values depend on x (linear between rate knots at fractions of the rule's limit, clamped).
-/// Where both ends reach a sample, their deviations from the steady offset add. Two sets: an
-/// arc's start and an end the command moves on from (Way::Moving), and an end where the command
-/// stops on the end point (Way::Stopping: a dwell, a pause or an exact stop follows).
+/// One end of a compensated arc. A sample u advances from the arc's start or end (as
+/// ArcCompensation counts them: arc_compensation.hpp) is commanded off the arc by radial(u)·c
+/// outwards and along(u)·c along the motion (reversed at the end), c = r(1/A(x) − 1) its steady
+/// correction at its in-plane advance x·r. radial and along are piecewise linear in u with
+/// knots at u = 1 .. kSpan − 1, (0, 0) at u = 0 and the steady (1, 0) from u = kSpan on; the
+/// knot values depend on x (linear between rate knots at fractions of the rule's limit,
+/// clamped). Where both ends reach a sample their deviations from the steady offset add. Two
+/// sets: Way::Moving for a start and an end the command moves on from, Way::Stopping for an
+/// end where it stops on the end point.
 ///
 /// The knot values are fitted (ArcEndFit::fit_shared) on endless arcs at constant rate for the
 /// least worst |y − x(s̄)| of the Acc/Dec output (the measure the tolerance planner adds up over
 /// a path's elements) with a small weight on their size, over kPhases phases of the join within
-/// its sample at once: Moving on a line into the arc at speed, and from rest with the
-/// interpolator's ramp; Stopping on its mirror image in time (the filter is symmetric), the
-/// command held on the join and then at speed at once. Each leaves about 7–12 % of the steady
-/// loss r(1 − A) where the radial blend leaves 16–29 % (docs/tolerance-arc-ends.md).
+/// its sample at once, at constant speed and with the speed falling at the ramp's rate after
+/// the join (an end reached while the speed still ramps up, seen backwards in time: the filter
+/// is symmetric): Moving on a line into the arc, and from rest with the interpolator's ramp;
+/// Stopping with the command held on the join, which is a stop seen backwards. Each leaves
+/// about 7–12 % of the steady loss r(1 − A) where the radial blend leaves 16–29 %
+/// (docs/tolerance-arc-ends.md, "End rows").
 class ArcEndRows {
  public:
   static constexpr int kSpan = 4;
