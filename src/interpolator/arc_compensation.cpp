@@ -36,7 +36,8 @@ ArcCompensation::ArcCompensation(const std::vector<double>& weights, double peri
     table_[static_cast<std::size_t>(k)] =
         gain_exact(limit_ * static_cast<double>(k) / static_cast<double>(kTableSteps));
   ramp_samples_ = static_cast<int>(h_.size());
-  tapered_ = h_.front() <= kTaper * *std::max_element(h_.begin(), h_.end());
+  rows_on_ = h_.front() <= kTaper * *std::max_element(h_.begin(), h_.end()) &&
+             h_.size() <= ArcEndRows::kMaxWindow;
 }
 
 double ArcCompensation::gain_exact(double omega_t) const {

@@ -79,9 +79,10 @@ class ArcCompensation {
   /// smoothstep between.
   /// 0 for a filter whose window does not taper (its first weight above kTaper of the
   /// largest: the linear profile), whose hard edges make the rows' effect depend on where the
-  /// arc's ends fall within a window; such arcs keep the blend.
+  /// arc's ends fall within a window, and for one longer than ArcEndRows::kMaxWindow weights
+  /// (the rows' fit grows as the window's square); such arcs keep the blend.
   double rows_weight(double length_mm, double planned_mm_s) const {
-    if (!tapered_) return 0.0;
+    if (!rows_on_) return 0.0;
     const double t =
         std::clamp(length_mm / (period_s_ * planned_mm_s) - ArcEndRows::kSpan, 0.0, 1.0);
     return t * t * (3.0 - 2.0 * t);  // smooth: the arc's term has no corner in its length
@@ -151,7 +152,7 @@ class ArcCompensation {
   double limit_ = 0.0;
   double inv_step_ = 0.0;
   int ramp_samples_ = 1;
-  bool tapered_ = false;  ///< the window tapers (rows_weight)
+  bool rows_on_ = false;  ///< the end rows apply (rows_weight)
   /// The end rows, fitted when an arc first needs them (ArcEndRows::shared).
   const ArcEndRows& end_rows() const {
     if (!rows_) rows_ = ArcEndRows::shared(h_, period_s_, limit_);

@@ -12,11 +12,14 @@
 
 namespace gm {
 
-namespace {
-
-struct EndVec {
+// A point or direction in the arc's plane (a named type: ArcEndFit::Samples holds it).
+struct ArcEndVec {
   double x = 0.0, y = 0.0;
 };
+
+namespace {
+
+using EndVec = ArcEndVec;
 
 EndVec operator-(EndVec a, EndVec b) {
   return {a.x - b.x, a.y - b.y};

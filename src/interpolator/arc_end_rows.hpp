@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <memory>
 #include <vector>
 
@@ -32,6 +33,9 @@ class ArcEndRows {
   static constexpr int kSpan = 4;
   static constexpr int kPhases = 8;
   static constexpr double kMu = 1e-4;  ///< the fit's weight on the offsets' size (fit_shared)
+  /// The longest window fitted (weights): the fit takes about 85 ms at 41 and grows as the
+  /// square; longer filters keep the radial blend (ArcCompensation::rows_weight).
+  static constexpr std::size_t kMaxWindow = 128;
   static constexpr std::array<double, 6> kRateKnots{0.02, 0.1, 0.3, 0.55, 0.8, 1.0};  ///< × limit
 
   /// Factors of c, radial and along.

@@ -14,10 +14,10 @@
 
 namespace {
 
-constexpr double kPeriod = 0.004;
+constexpr double kRowsPeriod = 0.004;
 
-std::vector<double> blackman() {
-  static const gm::Taps t = gm::design_taps("blackman", 0.164, kPeriod);
+std::vector<double> rows_weights() {
+  static const gm::Taps t = gm::design_taps("blackman", 0.164, kRowsPeriod);
   std::vector<double> h;
   for (auto b : t.integer) h.push_back(static_cast<double>(b) / static_cast<double>(t.b_s));
   return h;
@@ -25,8 +25,8 @@ std::vector<double> blackman() {
 
 // The command ArcCompensation gives each sample of a run, as ArcOffsets: the rows by the
 // sample's advances from the start and to the end at its own speed (the interpolator's rule).
-gm::ArcOffsets commanded(const gm::ArcCompensation& rule, const gm::ArcEndFit& fit,
-                         const gm::ArcRun& run, double length_mm) {
+gm::ArcOffsets rows_command(const gm::ArcCompensation& rule, const gm::ArcEndFit& fit,
+                            const gm::ArcRun& run, double length_mm) {
   const std::vector<gm::ArcSample> smp = fit.samples(run);
   gm::ArcOffsets off{std::vector<double>(smp.size(), 0.0), std::vector<double>(smp.size(), 0.0)};
   for (std::size_t i = 0; i < smp.size(); ++i) {
@@ -46,7 +46,7 @@ TEST_CASE("the end rows' knots as the numpy fit finds them", "[arc-end-rows]") {
   // p = 128 by Newton steps, μ = 1e-4), Blackman 0.164 s at 4 ms, limit 0.2086431: radial at
   // u = 1, 2, 3, then along in units of c; Moving at the rate knots 0.1 and 0.8 of the limit,
   // Stopping at 0.55 and 1. The problem is convex, so two solvers must agree.
-  const gm::ArcCompensation rule(blackman(), kPeriod);
+  const gm::ArcCompensation rule(rows_weights(), kRowsPeriod);
   REQUIRE(rule.limit_omega_t() == Approx(0.2086431).epsilon(1e-6));
   struct Knot {
     double frac;
@@ -77,9 +77,9 @@ TEST_CASE("a long arc's two ends by the rows, between knots: 8-13 % where the bl
   // tools/arc_end_rows_model.py, the same rule (knots read linearly in the rate, both ends,
   // the exit's along part reversed) on a unit arc of 300.5 samples at constant speed: |y −
   // x(s̄)| and the distance from the path over the steady loss, the rows and the radial blend.
-  const gm::ArcCompensation rule(blackman(), kPeriod);
-  const gm::ArcEndFit measure(blackman(), kPeriod);
-  const int window = static_cast<int>(blackman().size());
+  const gm::ArcCompensation rule(rows_weights(), kRowsPeriod);
+  const gm::ArcEndFit measure(rows_weights(), kRowsPeriod);
+  const int window = static_cast<int>(rows_weights().size());
   struct Case {
     double frac, phase, rows, blend, rows_distance, blend_distance;
   };
@@ -87,8 +87,9 @@ TEST_CASE("a long arc's two ends by the rows, between knots: 8-13 % where the bl
                        Case{0.45, 0.37, 0.0908, 0.2047, 0.0893, 0.1707},
                        Case{0.8, 0.9, 0.1251, 0.2869, 0.1208, 0.1610}}) {
     const double x = c.frac * rule.limit_omega_t(), th = 300.5 * x;
-    const gm::ArcRun run = gm::ArcRun::constant(1.0, th, x / kPeriod, kPeriod, c.phase, window);
-    const gm::ArcOffsets rows = commanded(rule, measure, run, th);
+    const gm::ArcRun run =
+        gm::ArcRun::constant(1.0, th, x / kRowsPeriod, kRowsPeriod, c.phase, window);
+    const gm::ArcOffsets rows = rows_command(rule, measure, run, th);
     const gm::ArcOffsets blend = measure.linear_blend(run);
     CAPTURE(c.frac, c.phase);
     CHECK(measure.worst_fraction(run, rows, gm::ArcEndMeasure::FromMean) ==

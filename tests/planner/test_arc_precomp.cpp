@@ -185,6 +185,10 @@ TEST_CASE("A(ωT): a moving average's closed form by hand, and the table", "[arc
   CHECK(tapered.rows_weight(0.85, 50.0) == Approx(3 * 0.0625 - 2 * 0.015625));
   CHECK(tapered.rows_weight(0.8, 50.0) == Approx(0.0).margin(1e-12));
   CHECK(rule.rows_weight(1.0, 50.0) == 0.0);
+  // Nor for a window longer than the rows are fitted for (Blackman 0.6 s at 4 ms: 151 weights).
+  const gm::ArcCompensation long_window(weights(gm::design_taps("blackman", 0.6, 0.004)), 0.004);
+  REQUIRE(long_window.enabled());
+  CHECK(long_window.rows_weight(10.0, 50.0) == 0.0);
   // The blend, radial, where the rows do not reach: linear in and out over ℓ = 2 samples of
   // travel, never more than half the arc; weighted by 1 − rows_weight.
   CHECK(rule.blend_length_mm(10.0, 50.0) == Approx(2 * 0.004 * 50.0));
