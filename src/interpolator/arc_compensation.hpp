@@ -99,6 +99,7 @@ class ArcCompensation {
   Offset offset(double radius_mm, double x, double from_start, double to_end, double rows,
                 double blend_weight, bool stops) const {
     const double c = radius_mm * (1.0 / gain(x) - 1.0);
+    if (!(rows > 0.0)) return {blend_weight * c, 0.0};  // the rows are not fitted for it
     double radial = 1.0, along = 0.0;
     if (from_start < ArcEndRows::kSpan) {
       const ArcEndRows::Shape e = end_rows().at(from_start, x, ArcEndRows::Way::Moving);

@@ -122,7 +122,7 @@ double ArcEndFit::gain(double x) const {
   return a;
 }
 
-ArcEndFit::Samples ArcEndFit::prepare(const ArcRun& run) const {
+ArcEndFit::Samples ArcEndFit::prepare(const ArcRun& run, bool means) const {
   Samples sm;
   sm.n = run.speed_mm_s.size();
   sm.r = run.radius_mm;
@@ -174,6 +174,7 @@ ArcEndFit::Samples ArcEndFit::prepare(const ArcRun& run) const {
   sm.c_planned = r * (1.0 / gain(x_planned) - 1.0);
   sm.loss_planned = r * (1.0 - gain(x_planned));
   sm.sbar.assign(n, 0.0);
+  if (!means) return sm;
   for (std::size_t k = 0; k < n; ++k)
     for (std::size_t i = 0; i < h_.size() && i <= k; ++i) sm.sbar[k] += h_[i] * sm.s[k - i];
   return sm;
@@ -192,7 +193,7 @@ ArcOffsets ArcEndFit::linear_blend(const ArcRun& run) const {
 }
 
 std::vector<ArcSample> ArcEndFit::samples(const ArcRun& run) const {
-  const Samples sm = prepare(run);
+  const Samples sm = prepare(run, false);
   std::vector<ArcSample> out(sm.n);
   for (std::size_t i = 0; i < sm.n; ++i) {
     const double adv = run.speed_mm_s[i] * period_s_;
@@ -214,66 +215,97 @@ double power_of_two(double x, int p) {
 std::vector<double> ArcEndFit::fit_shared(const std::vector<ArcRun>& runs,
                                           const std::vector<ArcCommandModel>& models,
                                           double mu) const {
-  // At most kMaxUnknowns unknowns: vectors and matrices on the stack.
+  // At most kMaxUnknowns unknowns: the solver's vectors and matrices on the stack. The rows'
+  // sums are plain loops over flat arrays (they are most of the work).
   using Vec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxUnknowns, 1>;
   using Mat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxUnknowns, kMaxUnknowns>;
-  using Jac = Eigen::Matrix<double, 2, Eigen::Dynamic, 0, 2, kMaxUnknowns>;
   const std::size_t m = h_.size();
-  const auto f = static_cast<Eigen::Index>(models.empty() ? 0 : models.front().columns.size());
+  const std::size_t f = models.empty() ? 0 : models.front().columns.size();
   // Every sample whose window is full, of every run: the residual r = y − x(s̄) of the base
-  // command (r0) and its derivative by the unknowns (2 × f; the filter is linear in them).
-  // Rows the unknowns do not reach keep only their constant |r0| (`fixed`).
-  std::vector<Eigen::Vector2d> r0;
-  std::vector<Jac> jac;
-  std::vector<double> fixed;
+  // command (rx, ry) and its derivative by the unknowns (jx, jy: f each; the filter is linear in
+  // them). Rows the unknowns do not reach keep only their constant |r| (`fixed`).
+  std::vector<double> rx, ry, jx, jy, fixed;
   double c_unit = 0.0;
+  std::vector<double> bx, by, cx, cy;
+  std::vector<std::size_t> col_first(f), col_last(f);
   for (std::size_t r = 0; r < runs.size(); ++r) {
     const Samples sm = prepare(runs[r]);
     if (r == 0) c_unit = sm.c_planned;
-    const auto command = [&](const ArcOffsets& off, std::size_t i) {
-      return Eigen::Vector2d(off.radial_mm[i] * sm.normal[i].x + off.along_mm[i] * sm.tangent[i].x,
-                             off.radial_mm[i] * sm.normal[i].y + off.along_mm[i] * sm.tangent[i].y);
+    // An offset's command at sample i: radial along the normal, along the motion.
+    const auto offset = [&sm](const ArcOffsets& off, std::size_t i, double& x, double& y) {
+      x = off.radial_mm[i] * sm.normal[i].x + off.along_mm[i] * sm.tangent[i].x;
+      y = off.radial_mm[i] * sm.normal[i].y + off.along_mm[i] * sm.tangent[i].y;
     };
-    // The columns' commands where they are not zero.
-    std::vector<std::vector<std::pair<std::size_t, Eigen::Vector2d>>> cols(
-        static_cast<std::size_t>(f));
-    for (std::size_t q = 0; q < cols.size(); ++q)
+    // The base command and each column's on every sample, once; a column's non-zero span.
+    bx.assign(sm.n, 0.0);
+    by.assign(sm.n, 0.0);
+    cx.assign(sm.n * f, 0.0);
+    cy.assign(sm.n * f, 0.0);
+    for (std::size_t i = 0; i < sm.n; ++i) {
+      offset(models[r].base, i, bx[i], by[i]);
+      bx[i] += sm.point[i].x;
+      by[i] += sm.point[i].y;
+    }
+    for (std::size_t q = 0; q < f; ++q) {
+      col_first[q] = sm.n;
+      col_last[q] = 0;
       for (std::size_t i = 0; i < sm.n; ++i) {
-        const Eigen::Vector2d c = command(models[r].columns[q], i);
-        if (c.x() != 0.0 || c.y() != 0.0) cols[q].emplace_back(i, c);
+        double x, y;
+        offset(models[r].columns[q], i, x, y);
+        if (x == 0.0 && y == 0.0) continue;
+        cx[q * sm.n + i] = x;
+        cy[q * sm.n + i] = y;
+        col_first[q] = std::min(col_first[q], i);
+        col_last[q] = i;
       }
+    }
     for (std::size_t k = m - 1; k < sm.n; ++k) {
-      Eigen::Vector2d y = Eigen::Vector2d::Zero();
-      for (std::size_t i = 0; i < m; ++i)
-        y += h_[i] * (Eigen::Vector2d(sm.point[k - i].x, sm.point[k - i].y) +
-                      command(models[r].base, k - i));
+      double yx = 0.0, yy = 0.0;
+      for (std::size_t i = 0; i < m; ++i) {
+        yx += h_[i] * bx[k - i];
+        yy += h_[i] * by[k - i];
+      }
       const EndVec at = sm.at(sm.sbar[k]);
-      const Eigen::Vector2d res = y - Eigen::Vector2d(at.x, at.y);
-      Jac d = Jac::Zero(2, f);
+      yx -= at.x;
+      yy -= at.y;
       bool reached = false;
-      for (std::size_t q = 0; q < cols.size(); ++q)
-        for (const auto& [i, c] : cols[q])
-          if (i <= k && k - i < m) {
-            d.col(static_cast<Eigen::Index>(q)) += h_[k - i] * c;
-            reached = true;
-          }
-      if (reached) {
-        r0.push_back(res);
-        jac.push_back(d);
-      } else {
-        fixed.push_back(res.norm());
+      for (std::size_t q = 0; q < f && !reached; ++q)
+        reached = col_first[q] <= col_last[q] && col_first[q] <= k && col_last[q] + m > k;
+      if (!reached) {
+        fixed.push_back(std::hypot(yx, yy));
+        continue;
+      }
+      rx.push_back(yx);
+      ry.push_back(yy);
+      for (std::size_t q = 0; q < f; ++q) {
+        double dx = 0.0, dy = 0.0;
+        const std::size_t lo = k + 1 >= m ? k + 1 - m : 0;
+        for (std::size_t i = std::max(lo, col_first[q]); i <= std::min(k, col_last[q]); ++i) {
+          dx += h_[k - i] * cx[q * sm.n + i];
+          dy += h_[k - i] * cy[q * sm.n + i];
+        }
+        jx.push_back(dx);
+        jy.push_back(dy);
       }
     }
   }
-  const double n = static_cast<double>(r0.size() + fixed.size()), reg = mu * c_unit * c_unit;
+  const std::size_t rows = rx.size();
+  const double n = static_cast<double>(rows + fixed.size()), reg = mu * c_unit * c_unit;
   const double fixed_top = fixed.empty() ? 0.0 : *std::max_element(fixed.begin(), fixed.end());
-  Vec u = Vec::Zero(f);
-  std::vector<double> dist(r0.size());
-  // At u: the distances, their largest t0 and S = mean((|r_k| / t0)^p).
+  Vec u = Vec::Zero(static_cast<Eigen::Index>(f));
+  std::vector<double> dist(rows), ex(rows), ey(rows);
+  // At u: the residuals, their lengths, the largest t0 and S = mean((|r_k| / t0)^p).
   const auto evaluate = [&](const Vec& v, int p, double& t0, double& s) {
     t0 = fixed_top;
-    for (std::size_t k = 0; k < r0.size(); ++k) {
-      dist[k] = (r0[k] + jac[k] * v).norm();
+    for (std::size_t k = 0; k < rows; ++k) {
+      double x = rx[k], y = ry[k];
+      for (std::size_t q = 0; q < f; ++q) {
+        x += jx[k * f + q] * v[static_cast<Eigen::Index>(q)];
+        y += jy[k * f + q] * v[static_cast<Eigen::Index>(q)];
+      }
+      ex[k] = x;
+      ey[k] = y;
+      dist[k] = std::sqrt(x * x + y * y);
       t0 = std::max(t0, dist[k]);
     }
     s = 0.0;
@@ -289,6 +321,7 @@ std::vector<double> ArcEndFit::fit_shared(const std::vector<ArcRun>& runs,
     const double mp = t0 * std::pow(s, 1.0 / p);
     return mp * mp + reg * v.squaredNorm();
   };
+  double jr[kMaxUnknowns];
   for (int p = 2; p <= 128 && f > 0; p *= 2) {
     for (int it = 0; it < 30; ++it) {
       double t0, s;
@@ -299,18 +332,25 @@ std::vector<double> ArcEndFit::fit_shared(const std::vector<ArcRun>& runs,
       // ∇² = H − (p/2 − 1)/M_p²·g·gᵀ, H = 2·S^(2/p − 1)·mean(ρ^(p−2)·Jᵀ(I + (p − 2)·r̂r̂ᵀ)J):
       // Newton on the whole, or on H alone where the whole is not positive definite.
       const double scale = 2.0 * std::pow(s, 2.0 / p - 1.0) / n;
+      const auto nf = static_cast<Eigen::Index>(f);
       Vec grad = 2.0 * reg * u;
-      Mat hess = Mat::Zero(f, f);
+      Mat hess = Mat::Zero(nf, nf);
       hess.diagonal().array() += 2.0 * reg;
-      for (std::size_t k = 0; k < r0.size(); ++k) {
+      for (std::size_t k = 0; k < rows; ++k) {
         if (!(dist[k] > 0.0)) continue;
         const double rho = dist[k] / t0, w = scale * power_of_two(rho, p) / (rho * rho);
-        const Eigen::Vector2d r = r0[k] + jac[k] * u;
-        const Vec jr = jac[k].transpose() * r;
-        grad += w * jr;
-        hess += w * (jac[k].transpose() * jac[k] +
-                     (p - 2.0) / (dist[k] * dist[k]) * jr * jr.transpose());
+        const double* ax = &jx[k * f];
+        const double* ay = &jy[k * f];
+        for (std::size_t q = 0; q < f; ++q) jr[q] = ax[q] * ex[k] + ay[q] * ey[k];
+        const double w2 = w * (p - 2.0) / (dist[k] * dist[k]);
+        for (std::size_t a = 0; a < f; ++a) {
+          grad[static_cast<Eigen::Index>(a)] += w * jr[a];
+          for (std::size_t b = 0; b <= a; ++b)
+            hess(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) +=
+                w * (ax[a] * ax[b] + ay[a] * ay[b]) + w2 * jr[a] * jr[b];
+        }
       }
+      hess.template triangularView<Eigen::StrictlyUpper>() = hess.transpose();
       const Vec g_mp = grad - 2.0 * reg * u;
       const Eigen::LLT<Mat> whole(
           Mat(hess - (0.5 * p - 1.0) / (mp * mp) * g_mp * g_mp.transpose()));

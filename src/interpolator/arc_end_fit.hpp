@@ -81,7 +81,8 @@ class ArcEndFit {
 
  private:
   struct Samples;  // the run's path positions, frames, steady corrections and filtered positions
-  Samples prepare(const ArcRun& run) const;
+  /// `means`: also the windows' mean positions s̄ (O(samples × weights)).
+  Samples prepare(const ArcRun& run, bool means = true) const;
 
   std::vector<double> h_;
   double period_s_;

@@ -3,6 +3,7 @@
 #include "accdec/taps.hpp"
 #include "interpolator/arc_compensation.hpp"
 #include "interpolator/arc_end_fit.hpp"
+#include "interpolator/arc_end_rows.hpp"
 
 #include <catch2/catch.hpp>
 
