@@ -11,7 +11,8 @@ knot values depend on the rate x (knots at fractions of the limit where A = 0.5,
 between) and come in two sets: Moving (a start, an end the command moves on from) and Stopping
 (an end where it stops). Each is fitted on entries into an endless arc of unit radius at
 constant rate (8 phases of the join), at half of the phases also with the speed falling at the
-interpolator's ramp rate (v/(N + 1) a sample) from 0, 2 or 4 samples after the join, and
+interpolator's ramp rate (v/(N + 1) a sample) from 0, 2 or 4 samples after the join or rising
+at it to reach v 0, 2 or 4 samples after the join (an override changing near an end), and
 (Moving) from rest with the ramp; Stopping on the same runs held on the join before (the stop
 seen backwards in time). The fit minimises M_p^2 + mu c^2 |u|^2, M_p the power mean of
 |y - x(sbar)| over all the runs' samples, p raised 2, 4, ..., 128 by Newton steps (the along
@@ -148,16 +149,18 @@ def fitting_runs(h, period, x, stopping):
     m, v = len(h), x / period
     runs = []
     for j in range(PHASES):
-        for fall in (-1, 0, 2, 4):
+        for fall in (-1, 0, 2, 4, 10, 12, 14):
             if fall >= 0 and j % 2 == 1:
                 continue
             n = 6 * m
             speeds = np.full(n, v)
             first = 2 * m
-            if fall >= 0:
-                i = np.arange(n)
+            i = np.arange(n)
+            if 0 <= fall < 10:
                 speeds = np.where(i >= first + fall,
                                   v * np.maximum(0.5, 1 - (i - first - fall) / m), speeds)
+            if fall >= 10:  # rising to v at fall - 10 samples after the join
+                speeds = v * np.clip(1 + (i - first - (fall - 10)) / m, 0.5, 1.0)
             phase = (j + 0.5) / PHASES
             if stopping:  # held on the join, the first sample `phase` of an advance past it
                 speeds[:first] = 0.0

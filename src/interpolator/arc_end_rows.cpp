@@ -71,18 +71,25 @@ ArcEndRows::ArcEndRows(const std::vector<double>& weights, double period_s, doub
         models.push_back(std::move(model));
       };
       // At constant speed over kPhases phases; and, at half of them, the speed falling at the
-      // ramp's rate (v/(N + 1) a sample) from `fall` samples after the join on: seen backwards
-      // in time, an end reached while the speed still ramps up (an arc begun from rest).
+      // ramp's rate (v/(N + 1) a sample) from `fall` samples after the join on (seen backwards
+      // in time, an end reached while the speed still ramps up: an arc begun from rest), or
+      // rising at that rate to reach v `fall` − 10 samples after it (an override lowered near
+      // an end).
       for (int p = 0; p < kPhases; ++p)
-        for (const int fall : {-1, 0, 2, 4}) {
+        for (const int fall : {-1, 0, 2, 4, 10, 12, 14}) {
           if (fall >= 0 && p % 2 == 1) continue;
           const double phase = (static_cast<double>(p) + 0.5) / kPhases;
           ArcRun run = ArcRun::constant(1.0, endless, v, period_s, phase, window);
-          if (fall >= 0)
+          if (fall >= 0 && fall < 10)
             for (std::size_t i = static_cast<std::size_t>(run.first + fall);
                  i < run.speed_mm_s.size(); ++i)
               run.speed_mm_s[i] =
                   v * std::max(0.5, 1.0 - (static_cast<double>(i) - run.first - fall) / window);
+          if (fall >= 10)  // rising to v at fall - 10 samples after the join
+            for (std::size_t i = 0; i < run.speed_mm_s.size(); ++i)
+              run.speed_mm_s[i] =
+                  v * std::clamp(1.0 + (static_cast<double>(i) - run.first - (fall - 10)) / window,
+                                 0.5, 1.0);
           // Stopping, backwards in time: held on the join, then at speed at once (the first
           // sample `phase` of an advance past it).
           if (way == Way::Stopping) {

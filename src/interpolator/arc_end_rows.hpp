@@ -22,11 +22,11 @@ namespace gm {
 /// The knot values are fitted (ArcEndFit::fit_shared) on endless arcs at constant rate for the
 /// least worst |y − x(s̄)| of the Acc/Dec output (the measure the tolerance planner adds up over
 /// a path's elements) with a small weight on their size, over kPhases phases of the join within
-/// its sample at once, at constant speed and with the speed falling at the ramp's rate after
-/// the join (an end reached while the speed still ramps up, seen backwards in time: the filter
-/// is symmetric): Moving on a line into the arc, and from rest with the interpolator's ramp;
+/// its sample at once, at constant speed and with the speed falling or rising at the ramp's
+/// rate around the join (an end reached while the speed ramps, seen backwards in time: the
+/// filter is symmetric): Moving on a line into the arc, and from rest with the interpolator's ramp;
 /// Stopping with the command held on the join, which is a stop seen backwards. Each leaves
-/// about 7–12 % of the steady loss r(1 − A) where the radial blend leaves 16–29 %
+/// about 9–13 % of the steady loss r(1 − A) where the radial blend leaves 16–29 %
 /// (docs/tolerance-arc-ends.md, "End rows").
 class ArcEndRows {
  public:
