@@ -266,9 +266,7 @@ double ArcPrecompCheck::run_stepped(double p_start, double p_until, Start start,
           const bool far = s.p < -near_p_;
           if (along(far ? vline_ : v_, far ? -near_p_ : 0.0) && !far) seg = 1;
         } else if (seg == 1) {
-          const double lo = s.v > dv_ ? s.v - dv_ : 0.0;
-          double v = v_ < lo ? lo : v_ > s.v + dv_ ? s.v + dv_ : v_;
-          v = v < vplan_ ? v : vplan_;
+          const double v = ArcCompensation::ramped(s.v, v_, dv_, vplan_);
           const double left = len_ - sa;
           speed = v;
           if (v * dt < left) {
