@@ -28,7 +28,9 @@ namespace gm {
 ///    linearly), below kSpan samples wholly, between the two mixed in proportion (rows_weight);
 ///  * the path speed changes by at most v_p / ramp_samples() per sample (a ramp from 0 to v_p in
 ///    τ), so that an override step is followed without a transient the filter cannot
-///    average out.
+///    average out; it holds over the end rows' last kSpan samples (next_speed), and in the
+///    window after the arc an override's fall keeps that step (the interpolator): a feed hold
+///    there would otherwise stop the command under rows commanded for a path that goes on.
 /// A(ωT) is tabulated once over [0, limit_omega_t()], where A falls to kMinGain; faster arcs are
 /// not compensated (the planner never marks them), and the table clamps there.
 class ArcCompensation {
@@ -121,15 +123,25 @@ class ArcCompensation {
     const double v = target < lo ? lo : target > last + step ? last + step : target;
     return v < cap ? v : cap;
   }
+  /// The speed of the sample after one at `last`, `left_mm` of the arc before it: ramped(),
+  /// except that the speed holds while that sample would end within the end rows' span at
+  /// `last` (ArcEndRows::kSpan advances), so that the rows there meet the end where their
+  /// first sample predicted it; the window after the arc takes a fall of the override (the
+  /// interpolator ramps it there).
+  double next_speed(double last, double target, double step, double cap, double left_mm) const {
+    if (last > 0.0 && left_mm < ArcEndRows::kSpan * last * period_s_)
+      return last < cap ? last : cap;
+    return ramped(last, target, step, cap);
+  }
   /// The advances to the arc's end of a sample `left_mm` before it at speed `v` (> 0), the speed
-  /// ramped towards `target` (ramped()) from it on: the count of the samples still on the arc
+  /// ramped towards `target` (next_speed()) from it on: the count of the samples still on the arc
   /// after it, plus the last one's distance to the end over the next sample's advance (0..1],
   /// as the interpolator's loop will move (a sample stays on the block while its advance is
   /// below what is left, less kLengthEps). ArcEndRows::kSpan or more: farther.
   double advances_to_end(double left_mm, double v, double target, double step, double cap) const {
     constexpr double kLengthEps = 1e-9;  // the interpolator's
     for (int j = 0; j < ArcEndRows::kSpan; ++j) {
-      const double next = ramped(v, target, step, cap);
+      const double next = next_speed(v, target, step, cap, left_mm);
       if (!(next > 0.0)) break;  // held: no end in sight
       const double adv = next * period_s_;
       if (!(adv < left_mm - kLengthEps)) return j + std::min(1.0, left_mm / adv);

@@ -83,6 +83,7 @@ bool Interpolator::pull_next() {
         comp_since_first_ = -1;
         comp_rad_per_mm_ = std::abs(geom_.sweep_rad) / geom_.length_mm;
         comp_speed_step_ = cfg_.arc_comp.speed_step_mm_s(block_.comp_speed_mm_s);
+        comp_tail_scale_ = 0.0;
       }
       ++block_seq_;
       started_.push_back(block_);
@@ -180,6 +181,7 @@ InterpStatus Interpolator::step_n(const OverrideInput& ovr, CommandSample& out) 
   constexpr double kLengthEps = 1e-9;
   bool moved_or_waited = false;
   double sample_speed = 0.0;  // the path speed of the last motion in this sample
+  if (comp_tail_left_ > 0) --comp_tail_left_;
 
   // The spindle ramps towards its commanded speed, one sample's acceleration at a time.
   if (cfg_.spindle_accel_rpm_s > 0.0) {
@@ -222,7 +224,11 @@ InterpStatus Interpolator::step_n(const OverrideInput& ovr, CommandSample& out) 
       break;
     }
     const double target = block_speed_mm_s(ovr);
-    const double v = comp_block_ ? comp_ramped_speed(target) : target;
+    if (comp_block_ || comp_tail_left_ > 0)
+      comp_tail_scale_ = std::max(comp_tail_scale_, ovr.feed_scale);
+    const double v = comp_block_           ? comp_ramped_speed(target)
+                     : comp_tail_left_ > 0 ? comp_tail_speed(target)
+                                           : target;
     sample_speed = v;
     if (!(v > 0.0)) {
       if (geom_.length_mm <= 0.0) {  // zero-length move: done, no time spent
@@ -246,6 +252,7 @@ InterpStatus Interpolator::step_n(const OverrideInput& ovr, CommandSample& out) 
       pos_mm_ = geom_.end_mm;  // the block end, exactly
       in_motion_ = false;
       moved_or_waited = true;
+      if (comp_block_) comp_tail_left_ = cfg_.arc_comp.ramp_samples();
       if (block_.path_mode != PathMode::Continuous) {
         // Exact stop (G61.1, G9) and exact path (G61) at a join that is not tangent (the planner
         // hands a G61 block with a tangent join on as continuous): with the Acc/Dec after
@@ -282,7 +289,7 @@ int Interpolator::span_n(const OverrideInput& ovr, int max, BluColumns& out, int
   // What step_n does in a sample that starts and ends inside the current motion: nothing waits,
   // nothing is pulled, the speed does not depend on the position or on the spindle's ramp.
   if (finished_ || settle_left_ > 0 || dwell_left_s_ > 0.0 || !in_motion_ || pending_events_ != 0 ||
-      spindle_ramp_block_ || css_block_ || comp_block_)
+      spindle_ramp_block_ || css_block_ || comp_block_ || comp_tail_left_ > 0)
     return 0;
   if (cfg_.spindle_accel_rpm_s > 0.0 &&
       (spindle_rpm_ != spindle_target_rpm() || block_.css_surface_mm_min > 0.0))

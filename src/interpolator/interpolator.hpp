@@ -153,9 +153,25 @@ class Interpolator {
   double comp_rad_per_mm_ = 0.0;  ///< in-plane angle per path length, |sweep| / L
   double comp_speed_step_ = 0.0;  ///< largest speed change per sample, mm/s
   double last_speed_mm_s_ = 0.0;  ///< path speed of the last sample (0 after a stop)
-  /// The speed of a compensated arc's sample: `target` ramped from the last sample's speed.
+  /// The speed of a compensated arc's sample: `target` by ArcCompensation::next_speed.
   double comp_ramped_speed(double target) const {
-    return ArcCompensation::ramped(last_speed_mm_s_, target, comp_speed_step_, speed_cap_mm_s_);
+    return cfg_.arc_comp.next_speed(last_speed_mm_s_, target, comp_speed_step_, speed_cap_mm_s_,
+                                    geom_.length_mm - s_mm_);
+  }
+  // The window after a compensated arc: the filter still holds the arc's samples, whose end rows
+  // were commanded for a path that goes on (or stops where the planner said), so a fall of the
+  // override there (a feed hold) takes the arc's ramp instead of stopping the command at once.
+  int comp_tail_left_ = 0;        ///< samples until the window has left the last such arc
+  double comp_tail_scale_ = 0.0;  ///< the highest feed override since that arc began
+  /// A feed block's speed in that window: `target`, but falling from the last sample's speed
+  /// by at most the arc's step while the override is below the highest of the window (a fall
+  /// the program or the planner asks for, a lower feed or cap, is taken at once as elsewhere).
+  double comp_tail_speed(double target) const {
+    if (rapid_block_ || synced_block_ || css_block_ || spindle_ramp_block_ || !override_enabled_)
+      return target;
+    const double slowest = std::min(last_speed_mm_s_ - comp_speed_step_,
+                                    std::min(speed_cap_mm_s_, speed_100_mm_s_ * comp_tail_scale_));
+    return std::max(target, slowest);
   }
   /// Moves pos_mm_ (on the arc at s_mm_) by the correction for speed v, radial and (at the
   /// arc's ends) along the path; `target` the speed the arc's ramp is heading for.

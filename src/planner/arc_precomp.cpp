@@ -80,8 +80,8 @@ void ArcPrecompCheck::advance(SimState& s) const {
     --s.rest;
     return;
   }
-  if (s.v < v_) {
-    s.v = std::min(v_, s.v + dv_);
+  if (s.v < v_) {  // the interpolator's ramp from rest (next_speed: held at the end rows)
+    s.v = rule_.next_speed(s.v, v_, dv_, kNoLimit, (lp_ - s.p) / q_);
     s.p += q_ * s.v * period_s_;
     return;
   }
@@ -266,7 +266,7 @@ double ArcPrecompCheck::run_stepped(double p_start, double p_until, Start start,
           const bool far = s.p < -near_p_;
           if (along(far ? vline_ : v_, far ? -near_p_ : 0.0) && !far) seg = 1;
         } else if (seg == 1) {
-          const double v = ArcCompensation::ramped(s.v, v_, dv_, vplan_);
+          const double v = rule_.next_speed(s.v, v_, dv_, vplan_, len_ - sa);
           const double left = len_ - sa;
           speed = v;
           if (v * dt < left) {
