@@ -144,15 +144,16 @@ inline void MotionGeometry::distance(const Segment& seg, const Vec3& p_mm, doubl
       return;
     }
   }
-  const double radial = std::hypot(dca, dcb) - r0_mm;
+  // √(a² + b²) rather than std::hypot: the terms are lengths of a machine's travel (no overflow
+  // or underflow to guard against), and this runs for every sample on an arc.
+  const double radial = std::sqrt(dca * dca + dcb * dcb) - r0_mm;
   const double axial = p_mm[ax.n] - start_mm[ax.n];
   if (axial == 0.0) {
-    // hypot(x, ±0) is |x| exactly (C Annex F.10.4.3): the call is skipped, not approximated.
     dist_mm = std::fabs(radial);
     signed_mm = radial;
     return;
   }
-  dist_mm = std::hypot(radial, axial);
+  dist_mm = std::sqrt(radial * radial + axial * axial);
   signed_mm = std::copysign(dist_mm, radial);
 }
 
