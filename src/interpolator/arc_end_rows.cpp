@@ -1,4 +1,5 @@
-// ArcEndRows: the end shapes' knots fitted per rate over the join's phases, read linearly.
+// ArcEndRows: the end shapes' knots fitted per rate over the join's phases on first use, read
+// linearly.
 #include "interpolator/arc_end_rows.hpp"
 
 #include "interpolator/arc_end_fit.hpp"
@@ -29,94 +30,98 @@ void ArcEndRows::basis(double u, double& fixed, std::array<double, kInner>& hat)
 }
 
 ArcEndRows::ArcEndRows(const std::vector<double>& weights, double period_s, double limit_x)
-    : limit_x_(limit_x) {
-  if (weights.size() < 2 || !(limit_x > 0.0)) return;
-  const ArcEndFit fit(weights, period_s);
-  const int window = static_cast<int>(weights.size());
+    : weights_(weights),
+      period_s_(period_s),
+      limit_x_(limit_x),
+      enabled_(weights.size() >= 2 && limit_x > 0.0) {}
+
+const ArcEndRows::Knots& ArcEndRows::knots(std::size_t rate, Way way) const {
+  Lazy& l = lazy_[rate][way == Way::Moving ? 0 : 1];
+  std::call_once(l.once, [&] { l.k = fit(rate, way); });
+  return l.k;
+}
+
+ArcEndRows::Knots ArcEndRows::fit(std::size_t rate, Way way) const {
+  const ArcEndFit fitter(weights_, period_s_);
+  const int window = static_cast<int>(weights_.size());
   const double endless = std::numeric_limits<double>::infinity();
-  for (double frac : kRateKnots) {
-    const double x = frac * limit_x, v = x / period_s;
-    std::array<double, 4 * kInner> k{};
-    for (const Way way : {Way::Moving, Way::Stopping}) {
-      std::vector<ArcRun> runs;
-      std::vector<ArcCommandModel> models;
-      // The command of a run by the rule: the steady part fixed, the inner knots unknown (along
-      // in units of c/x: the weight μ then sees the command's step along the path, about c/x
-      // for an advance x·r).
-      const auto add = [&](ArcRun run) {
-        const std::vector<ArcSample> smp = fit.samples(run);
-        const std::size_t n = smp.size();
-        ArcCommandModel model{{std::vector<double>(n, 0.0), std::vector<double>(n, 0.0)}, {}};
-        model.columns.assign(2 * kInner, model.base);
-        int since_first = -1;
-        double phase_in = 0.0;
-        for (std::size_t i = 0; i < n; ++i) {
-          if (!smp[i].on) continue;
-          // The interpolator's advances from the start: the count since the arc's first
-          // sample plus how far past the start that one lay, of its advance (Stopping, the
-          // mirror of an end: of the advance at speed v, as the end's are counted).
-          if (since_first < 0)
-            phase_in = smp[i].s_mm / (way == Way::Moving ? smp[i].advance_mm : x);
-          ++since_first;
-          double fixed;
-          std::array<double, kInner> hat;
-          basis(since_first + phase_in, fixed, hat);
-          model.base.radial_mm[i] = fixed * smp[i].c_mm;
-          for (std::size_t q = 0; q < kInner; ++q) {
-            model.columns[q].radial_mm[i] = hat[q] * smp[i].c_mm;
-            model.columns[kInner + q].along_mm[i] = hat[q] * smp[i].c_mm / x;
-          }
-        }
-        runs.push_back(std::move(run));
-        models.push_back(std::move(model));
-      };
-      // At constant speed over kPhases phases; and, at half of them, the speed falling at the
-      // ramp's rate (v/(N + 1) a sample) from `fall` samples after the join on (seen backwards
-      // in time, an end reached while the speed still ramps up: an arc begun from rest), or
-      // rising at that rate to reach v `fall` − 10 samples after it (an override lowered near
-      // an end).
-      for (int p = 0; p < kPhases; ++p)
-        for (const int fall : {-1, 0, 2, 4, 10, 12, 14}) {
-          if (fall >= 0 && p % 2 == 1) continue;
-          const double phase = (static_cast<double>(p) + 0.5) / kPhases;
-          ArcRun run = ArcRun::constant(1.0, endless, v, period_s, phase, window);
-          if (fall >= 0 && fall < 10)
-            for (std::size_t i = static_cast<std::size_t>(run.first + fall);
-                 i < run.speed_mm_s.size(); ++i)
-              run.speed_mm_s[i] =
-                  v * std::max(0.5, 1.0 - (static_cast<double>(i) - run.first - fall) / window);
-          if (fall >= 10)  // rising to v at fall - 10 samples after the join
-            for (std::size_t i = 0; i < run.speed_mm_s.size(); ++i)
-              run.speed_mm_s[i] =
-                  v * std::clamp(1.0 + (static_cast<double>(i) - run.first - (fall - 10)) / window,
-                                 0.5, 1.0);
-          // Stopping, backwards in time: held on the join, then at speed at once (the first
-          // sample `phase` of an advance past it).
-          if (way == Way::Stopping) {
-            std::fill(run.speed_mm_s.begin(), run.speed_mm_s.begin() + run.first, 0.0);
-            run.speed_mm_s[static_cast<std::size_t>(run.first)] *= phase;
-            run.phase = 1.0;
-          }
-          add(std::move(run));
-        }
-      if (way == Way::Moving) {
-        // From rest at the arc's start, the speed ramped as the interpolator does (v/(N + 1) a
-        // sample): its first sample one advance past the start.
-        ArcRun rest = ArcRun::constant(1.0, endless, v, period_s, 1.0, window);
-        for (int i = 0; i < rest.first + window; ++i)
-          rest.speed_mm_s[static_cast<std::size_t>(i)] =
-              v * std::clamp(static_cast<double>(i - rest.first + 1) / window, 0.0, 1.0);
-        add(std::move(rest));
-      }
-      const std::vector<double> u = fit.fit_shared(runs, models, kMu);
-      const std::size_t at = way == Way::Moving ? 0 : 2 * kInner;
+  const double x = kRateKnots[rate] * limit_x_, v = x / period_s_;
+  std::vector<ArcRun> runs;
+  std::vector<ArcCommandModel> models;
+  // The command of a run by the rule: the steady part fixed, the inner knots unknown (along
+  // in units of c/x: the weight μ then sees the command's step along the path, about c/x
+  // for an advance x·r).
+  const auto add = [&](ArcRun run) {
+    const std::vector<ArcSample> smp = fitter.samples(run);
+    const std::size_t n = smp.size();
+    ArcCommandModel model{{std::vector<double>(n, 0.0), std::vector<double>(n, 0.0)}, {}};
+    model.columns.assign(2 * kInner, model.base);
+    int since_first = -1;
+    double phase_in = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!smp[i].on) continue;
+      // The interpolator's advances from the start: the count since the arc's first
+      // sample plus how far past the start that one lay, of its advance (Stopping, the
+      // mirror of an end: of the advance at speed v, as the end's are counted).
+      if (since_first < 0) phase_in = smp[i].s_mm / (way == Way::Moving ? smp[i].advance_mm : x);
+      ++since_first;
+      double fixed;
+      std::array<double, kInner> hat;
+      basis(since_first + phase_in, fixed, hat);
+      model.base.radial_mm[i] = fixed * smp[i].c_mm;
       for (std::size_t q = 0; q < kInner; ++q) {
-        k[at + q] = u[q];
-        k[at + kInner + q] = u[kInner + q] / x;  // kept in units of c, finite as x → 0
+        model.columns[q].radial_mm[i] = hat[q] * smp[i].c_mm;
+        model.columns[kInner + q].along_mm[i] = hat[q] * smp[i].c_mm / x;
       }
     }
-    knots_.push_back(k);
+    runs.push_back(std::move(run));
+    models.push_back(std::move(model));
+  };
+  // At constant speed over kPhases phases; and, at half of them, the speed falling at the
+  // ramp's rate (v/(N + 1) a sample) from `fall` samples after the join on (seen backwards
+  // in time, an end reached while the speed still ramps up: an arc begun from rest), or
+  // rising at that rate to reach v `fall` − 10 samples after it (an override lowered near
+  // an end).
+  for (int p = 0; p < kPhases; ++p)
+    for (const int fall : {-1, 0, 2, 4, 10, 12, 14}) {
+      if (fall >= 0 && p % 2 == 1) continue;
+      const double phase = (static_cast<double>(p) + 0.5) / kPhases;
+      ArcRun run = ArcRun::constant(1.0, endless, v, period_s_, phase, window);
+      if (fall >= 0 && fall < 10)
+        for (std::size_t i = static_cast<std::size_t>(run.first + fall); i < run.speed_mm_s.size();
+             ++i)
+          run.speed_mm_s[i] =
+              v * std::max(0.5, 1.0 - (static_cast<double>(i) - run.first - fall) / window);
+      if (fall >= 10)  // rising to v at fall - 10 samples after the join
+        for (std::size_t i = 0; i < run.speed_mm_s.size(); ++i)
+          run.speed_mm_s[i] =
+              v * std::clamp(1.0 + (static_cast<double>(i) - run.first - (fall - 10)) / window, 0.5,
+                             1.0);
+      // Stopping, backwards in time: held on the join, then at speed at once (the first
+      // sample `phase` of an advance past it).
+      if (way == Way::Stopping) {
+        std::fill(run.speed_mm_s.begin(), run.speed_mm_s.begin() + run.first, 0.0);
+        run.speed_mm_s[static_cast<std::size_t>(run.first)] *= phase;
+        run.phase = 1.0;
+      }
+      add(std::move(run));
+    }
+  if (way == Way::Moving) {
+    // From rest at the arc's start, the speed ramped as the interpolator does (v/(N + 1) a
+    // sample): its first sample one advance past the start.
+    ArcRun rest = ArcRun::constant(1.0, endless, v, period_s_, 1.0, window);
+    for (int i = 0; i < rest.first + window; ++i)
+      rest.speed_mm_s[static_cast<std::size_t>(i)] =
+          v * std::clamp(static_cast<double>(i - rest.first + 1) / window, 0.0, 1.0);
+    add(std::move(rest));
   }
+  const std::vector<double> u = fitter.fit_shared(runs, models, kMu);
+  Knots k{};
+  for (std::size_t q = 0; q < kInner; ++q) {
+    k[q] = u[q];
+    k[kInner + q] = u[kInner + q] / x;  // kept in units of c, finite as x → 0
+  }
+  return k;
 }
 
 std::shared_ptr<const ArcEndRows> ArcEndRows::shared(const std::vector<double>& weights,
@@ -142,16 +147,15 @@ ArcEndRows::Shape ArcEndRows::at(double u, double x, Way way) const {
   double fixed;
   std::array<double, kInner> hat;
   basis(u, fixed, hat);
-  if (knots_.empty()) return {u > 0.0 ? 1.0 : 0.0, 0.0};
+  if (!enabled_) return {u > 0.0 ? 1.0 : 0.0, 0.0};
   // The rate knots below and above x/limit, linear between, clamped.
   const double r = x / limit_x_;
   std::size_t j = 0;
   while (j + 2 < kRateKnots.size() && kRateKnots[j + 1] <= r) ++j;
   const double f = std::clamp((r - kRateKnots[j]) / (kRateKnots[j + 1] - kRateKnots[j]), 0.0, 1.0);
-  const std::size_t at = way == Way::Moving ? 0 : 2 * kInner;
-  const auto knot = [&](std::size_t i) {
-    return knots_[j][at + i] + f * (knots_[j + 1][at + i] - knots_[j][at + i]);
-  };
+  const Knots& lo = knots(j, way);
+  const Knots& hi = knots(j + 1, way);
+  const auto knot = [&](std::size_t i) { return lo[i] + f * (hi[i] - lo[i]); };
   Shape s{fixed, 0.0};
   for (std::size_t q = 0; q < kInner; ++q) {
     const double rad = knot(q), along = knot(kInner + q);

@@ -5,6 +5,7 @@
 #include <array>
 #include <cstddef>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 namespace gm {
@@ -33,8 +34,8 @@ class ArcEndRows {
   static constexpr int kSpan = 4;
   static constexpr int kPhases = 8;
   static constexpr double kMu = 1e-4;  ///< the fit's weight on the offsets' size (fit_shared)
-  /// The longest window fitted (weights): the fit takes about 50 ms at 41, 220 ms at 128 and
-  /// grows with it; longer filters keep the radial blend (ArcCompensation::rows_weight).
+  /// The longest window fitted (weights): the twelve sets take about 50 ms at 41, 220 ms at
+  /// 128 and grow with it; longer filters keep the radial blend (ArcCompensation::rows_weight).
   static constexpr std::size_t kMaxWindow = 128;
   static constexpr std::array<double, 6> kRateKnots{0.02, 0.1, 0.3, 0.55, 0.8, 1.0};  ///< × limit
 
@@ -45,8 +46,9 @@ class ArcEndRows {
   enum class Way { Moving, Stopping };
 
   ArcEndRows() = default;  ///< empty: the steady offset everywhere
-  /// Fits the knots for the FIR's weights (symmetric, Σ = 1) at period T, rates up to
-  /// `limit_x` (ArcCompensation::limit_omega_t()).
+  /// The rows of the FIR's weights (symmetric, Σ = 1) at period T, rates up to `limit_x`
+  /// (ArcCompensation::limit_omega_t()). Each rate knot's set of each way is fitted when at()
+  /// first needs it (a program's arcs use a few of them; the fits are the rows' whole cost).
   ArcEndRows(const std::vector<double>& weights, double period_s, double limit_x);
 
   /// The rows of this filter, fitted on the first request and kept for the process (the last
@@ -54,7 +56,7 @@ class ArcEndRows {
   static std::shared_ptr<const ArcEndRows> shared(const std::vector<double>& weights,
                                                   double period_s, double limit_x);
 
-  bool empty() const { return knots_.empty(); }
+  bool empty() const { return !enabled_; }
   /// The end's shape at u advances from it (u < kSpan) at rate x.
   Shape at(double u, double x, Way way) const;
 
@@ -62,9 +64,19 @@ class ArcEndRows {
   static constexpr int kInner = kSpan - 1;  ///< knots u = 1 .. kSpan − 1
   /// The fixed part at u and the weights of the inner knots (hat functions).
   static void basis(double u, double& fixed, std::array<double, kInner>& hat);
-  double limit_x_ = 0.0;
-  /// Per rate knot: Moving radial at the inner knots, along, then Stopping radial, along.
-  std::vector<std::array<double, 4 * kInner>> knots_;
+  /// One rate knot's set of one way: radial at the inner knots, then along (in units of c).
+  using Knots = std::array<double, 2 * kInner>;
+  /// The set of rate knot `rate` and `way`, fitted on the first request (thread-safe).
+  const Knots& knots(std::size_t rate, Way way) const;
+  Knots fit(std::size_t rate, Way way) const;  ///< that set's fit
+  std::vector<double> weights_;
+  double period_s_ = 0.0, limit_x_ = 0.0;
+  bool enabled_ = false;
+  struct Lazy {
+    std::once_flag once;
+    Knots k{};
+  };
+  mutable std::array<std::array<Lazy, 2>, kRateKnots.size()> lazy_;  ///< [rate][way]
 };
 
 }  // namespace gm
