@@ -21,6 +21,8 @@ import subprocess
 import sys
 import tempfile
 
+import numpy as np
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 TOP = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.join(TOP, "tools"))
@@ -51,8 +53,12 @@ def programs(tmp):
     return out
 
 
+# The in-plane axes (u, v) and the normal w of each arc plane, u x v = +w (G17, G18, G19).
+PLANE_AXES = {"XY": (0, 1, 2), "XZ": (2, 0, 1), "YZ": (1, 2, 0)}
+
+
 def path_of(gm, prog):
-    """Programmed path as segments from `gmotion moves`: ('L', a, b) or ('A', a, b, c, ccw)."""
+    """Programmed path from `gmotion moves`: ('L', a, b) or ('A', a, b, c, ccw, plane)."""
     moves = subprocess.run([gm, "moves", prog], capture_output=True, text=True, check=True)
     pos, segs = (0.0, 0.0, 0.0), []
     for ln in moves.stdout.splitlines():
@@ -61,8 +67,9 @@ def path_of(gm, prog):
             continue
         end = tuple(m["end"][:3])
         if m["kind"] == "arc":
-            assert m.get("plane", "XY") == "XY" and m.get("turns", 1) == 1, m
-            segs.append(("A", pos, end, tuple(m["center"][:3]), m["dir"] == "ccw"))
+            plane = m.get("plane", "XY")
+            assert plane in PLANE_AXES and m.get("turns", 1) == 1, m
+            segs.append(("A", pos, end, tuple(m["center"][:3]), m["dir"] == "ccw", plane))
         elif end != pos:
             segs.append(("L", pos, end))
         pos = end
@@ -70,24 +77,41 @@ def path_of(gm, prog):
 
 
 def dist(p, s):
-    """Distance from point p to segment s (line, or XY arc at constant Z)."""
+    """Distance from point p to segment s (line, or arc in its plane; a helix's axial part
+    measured from the height it has at p's angle)."""
+    return float(dists(np.array([p], dtype=float), s)[0])
+
+
+def dists(pts, s):
+    """dist() of every row of the N x 3 array pts to segment s, vectorised."""
     if s[0] == "L":
-        a, b = s[1], s[2]
-        d = [b[i] - a[i] for i in range(3)]
-        dd = sum(x * x for x in d)
-        t = max(0.0, min(1.0, sum((p[i] - a[i]) * d[i] for i in range(3)) / dd))
-        return math.dist(p, [a[i] + t * d[i] for i in range(3)])
-    _, a, b, c, ccw = s
-    r = math.hypot(a[0] - c[0], a[1] - c[1])
-    t0 = math.atan2(a[1] - c[1], a[0] - c[0])
-    sweep = (math.atan2(b[1] - c[1], b[0] - c[0]) - t0) % (2 * math.pi) or 2 * math.pi
-    ang = math.atan2(p[1] - c[1], p[0] - c[0]) - t0
+        a, b = np.array(s[1]), np.array(s[2])
+        d = b - a
+        t = np.clip((pts - a) @ d / (d @ d), 0.0, 1.0)
+        return np.linalg.norm(pts - (a + t[:, None] * d), axis=1)
+    _, a, b, c, ccw, plane = s
+    u, v, w = PLANE_AXES[plane]
+    r = math.hypot(a[u] - c[u], a[v] - c[v])
+    t0 = math.atan2(a[v] - c[v], a[u] - c[u])
+    sweep = (math.atan2(b[v] - c[v], b[u] - c[u]) - t0) % (2 * math.pi) or 2 * math.pi
+    ang = np.arctan2(pts[:, v] - c[v], pts[:, u] - c[u]) - t0
     ang = ang % (2 * math.pi) if ccw else (-ang) % (2 * math.pi)
     if not ccw:
         sweep = (2 * math.pi - sweep) % (2 * math.pi) or 2 * math.pi
-    if ang <= sweep:
-        return math.hypot(math.hypot(p[0] - c[0], p[1] - c[1]) - r, p[2] - a[2])
-    return min(math.dist(p, a), math.dist(p, b))
+    radial = np.hypot(pts[:, u] - c[u], pts[:, v] - c[v]) - r
+    axial = pts[:, w] - (a[w] + (b[w] - a[w]) * np.minimum(ang / sweep, 1.0))
+    ends = np.minimum(np.linalg.norm(pts - np.array(a), axis=1),
+                      np.linalg.norm(pts - np.array(b), axis=1))
+    return np.where(ang <= sweep, np.hypot(radial, axial), ends)
+
+
+def worst_distance(pts, segs):
+    """Largest distance of any row of pts to the nearest segment of the path, and that row."""
+    best = np.full(len(pts), np.inf)
+    for s in segs:
+        np.minimum(best, dists(pts, s), out=best)
+    k = int(best.argmax())
+    return float(best[k]), k
 
 
 def run_linuxcnc(prog, accel, work):
@@ -126,13 +150,14 @@ def measure(rows, info, segs):
     if not moving:
         sys.exit(f"run.py: LinuxCNC did not move; errors: {info['errors']}")
     first, last = moving[0], moving[-1]
-    worst = max(min(dist(p, s) for s in segs) for p in pos[first - 1:last + 1])
+    worst, at = worst_distance(np.array(pos[first - 1:last + 1]), segs)
     period = [int(r[7]) for r in rows[first:last + 1]]
     med = statistics.median(period)
     step = max(math.dist(pos[k], pos[k - 1]) for k in range(first, last + 1))  # mm per cycle
     still = sum(1 for k in range(first, last) if pos[k + 1] == pos[k])  # resting cycles inside
     return {"still": still, "step_mm": step, "cycle_s": (last - first + 1) * 1e-3,
-            "err_mm": worst, "gaps": gaps,
+            "err_mm": worst, "err_at_mm": pos[first - 1 + at],
+            "err_at_s": (at - 1) * 1e-3, "gaps": gaps,
             "overruns": int(info["sampler.0.overruns"]), "errors": info["errors"],
             "period_max_ms": max(period) / med, "late_cycles": sum(p > 2 * med for p in period),
             "cycles": last - first + 1, "version": info.get("version", "")}
