@@ -150,6 +150,19 @@ class ArcCompensation {
     }
     return ArcEndRows::kSpan;
   }
+  /// The largest |radial| + |along| of offset() over a sample's advances, both ends reaching
+  /// it, in units of c at rate x: 1 + 2·max(|radial − 1| + |along|) over the end rows' knots
+  /// of both ways (1 without the rows: the blend is radial, at most c).
+  double largest_offset_factor(double x) const {
+    if (!rows_on_) return 1.0;
+    double worst = 0.0;
+    for (const ArcEndRows::Way way : {ArcEndRows::Way::Moving, ArcEndRows::Way::Stopping})
+      for (int u = 1; u < ArcEndRows::kSpan; ++u) {
+        const ArcEndRows::Shape e = end_rows().at(u, x, way);
+        worst = std::max(worst, std::abs(e.radial - 1.0) + std::abs(e.along));
+      }
+    return 1.0 + 2.0 * worst;
+  }
   /// Samples of the ramp from 0 to the planned speed: N + 1, the filter's window.
   int ramp_samples() const { return ramp_samples_; }
   /// Largest change of path speed per sample on an arc planned at `planned_mm_s`, mm/s.

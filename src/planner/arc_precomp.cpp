@@ -38,6 +38,27 @@ ArcPrecompCheck::ArcPrecompCheck(const std::vector<double>& weights, double peri
   fork_ring_p_.resize(h_.size());
   cache_.resize(kCacheSlots);
   nonnegative_ = std::all_of(h_.begin(), h_.end(), [](double h) { return h >= 0.0; });
+  double mean = 0.0, second = 0.0;
+  for (std::size_t i = 0; i < h_.size(); ++i) {
+    const double t = static_cast<double>(i) * period_s_;
+    mean += h_[i] * t;
+    second += h_[i] * t * t;
+    for (std::size_t j = 0; j < h_.size(); ++j)
+      spread_ += std::abs(h_[i]) * std::abs(h_[j]) *
+                 std::abs(static_cast<double>(i) - static_cast<double>(j));
+  }
+  variance_s2_ = second - mean * mean;
+}
+
+double ArcPrecompCheck::spiral_mm(double r_min, double r_max, double sweep_abs_rad,
+                                  double length_mm, double v_plan, double circle_mm) const {
+  const double dr = r_max - r_min, r = r_min, L = length_mm;
+  const double M = v_plan * period_s_ * spread_;
+  const double U = v_plan * v_plan * variance_s2_ / (2.0 * r);
+  const double omega = v_plan * sweep_abs_rad / L;
+  const double offset =
+      rule_.correction_mm(r_max, omega) * rule_.largest_offset_factor(omega * period_s_);
+  return dr * (M / (2.0 * r) + M / L + (circle_mm + U) / (2.0 * r) + M * offset / (L * r));
 }
 
 double ArcPrecompCheck::speed_limit_mm_s(double sweep_abs_rad, double length_mm) const {

@@ -69,6 +69,19 @@ class ArcPrecompCheck {
   /// sample `phase` of a sample into the line before the arc: the largest |y − x(s̄)|, mm.
   double stepped_mm(double radius_mm, double sweep_abs_rad, double length_mm, double v_plan,
                     double v, double v_line, double phase) const;
+  /// A near circle's extra term (docs/tolerance.md, "Near circles"): an arc whose radius runs
+  /// linearly from r0 to r1 over its sweep, as the interpolator moves it (a CAM program's arcs
+  /// rounded to a few decimals), against the circle of the same sweep and path length L, whose
+  /// term is at most `circle_mm`, both planned at v_p. At equal path length the near circle is
+  /// that circle, turned by its constant angle to the radius, moved radially by δ(s), linear in
+  /// s, |δ| <= Δr/2, and its command's offset is the circle's scaled by r(s)/(L/|θ|) (the rate
+  /// x is the arc's, the same). With M = v_p·T·spread >= Σ h_i|s_i − s̄| (spread =
+  /// Σ_ij |h_i||h_j||i − j|, samples at speeds up to v_p), r = r_min, U = v_p²σ²/(2r) the
+  /// uncompensated arc's term and c·K the largest offset (largest_offset_factor):
+  /// Δr·(M/(2r) + M/L + (circle_mm + U)/(2r) + M·c·K/(L·r)), mm. Checked against the real
+  /// interpolator and FIR on near circles (test_arc_precomp.cpp).
+  double spiral_mm(double r_min, double r_max, double sweep_abs_rad, double length_mm,
+                   double v_plan, double circle_mm) const;
   /// The ramp's transient on the steady arc, mm.
   double ramp_mm(double radius_mm, double sweep_abs_rad, double length_mm, double v_plan) const;
   /// isolated_mm with each of its runs simulated whole (two of them are paired in isolated_mm,
@@ -114,6 +127,8 @@ class ArcPrecompCheck {
 
   std::vector<double> h_;
   bool nonnegative_ = false;  ///< every h_i >= 0
+  double spread_ = 0.0;       ///< Σ_ij |h_i||h_j||i − j|, samples (spiral_mm)
+  double variance_s2_ = 0.0;  ///< σ² of the weights' time, s² (spiral_mm)
   double period_s_;
   ArcCompensation rule_;
   // The isolated arc being simulated (set by isolated_mm): radius, in-plane length, q = r·|θ|/L,

@@ -22,6 +22,9 @@ constexpr double kRunTurn = 0.1;
 /// A corner turning by at most this (|Δu|, about 0.57°: CAM output rounded to 3 decimals turns
 /// 0 to 0.13° at joins meant to be tangent) may claim its error at full speed (assign_claims).
 constexpr double kClaimTurn = 0.01;
+/// A near circle: its radii differ by at most this fraction of the smaller (and a quarter of
+/// the tolerance); ArcPrecompCheck::spiral_mm's bound assumes Δr/r small.
+constexpr double kNearCircle = 0.01;
 constexpr int kMinRunVertices = 3;
 constexpr double kRunDeltaShare = 4.0;
 
@@ -287,9 +290,15 @@ TolerancePlanner::Element TolerancePlanner::arc_element(const Block& b) {
   e.kappa = r > 0.0 ? 1.0 / r : kInf;
   e.vmax = b.vmax;
   e.v100 = b.v100;
-  // A circle (the start and end radii within 0.1 µm), not a spiral, may be pre-compensated.
-  if (r > 0.0 && std::abs(b.g.r0_mm - b.g.r1_mm) <= 1e-4 && !b.g.rest_moves) {
-    e.radius = r;
+  // A circle (the start and end radii within 0.1 µm) may be pre-compensated, and so may a near
+  // circle, whose radii differ by at most a quarter of the tolerance and 1 % (CAM output
+  // rounded to 3 or 4 decimals), planned as the circle of its larger radius plus its extra term
+  // (ArcPrecompCheck::spiral_mm); not a spiral beyond that.
+  const double dr = std::abs(b.g.r0_mm - b.g.r1_mm);
+  if (r > 0.0 && !b.g.rest_moves &&
+      (dr <= 1e-4 || (dr <= 0.25 * e.tol_mm && dr <= kNearCircle * r))) {
+    e.radius = dr <= 1e-4 ? r : r + dr;
+    e.spiral = dr <= 1e-4 ? 0.0 : dr;
     e.sweep = std::abs(b.g.sweep_rad);
   }
   return e;
@@ -820,9 +829,16 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
     const ZoneRange r = memo.valid ? zone_range_from(memo.range, e.s0 - v * tau, e.s1 + v * tau)
                                    : zone_range(e.s0 - v * tau, e.s1 + v * tau);
     const double w = zone_values(memo, r, false).weight;
+    // A near circle's extra term off the share (a circle's is 0: the share as it is); the
+    // circle's term is at most share/w wherever the answer is yes.
+    const double left = e.spiral > 0.0 ? share - precomp_->spiral_mm(e.radius - e.spiral, e.radius,
+                                                                     e.sweep, L, v, share / w) *
+                                                     w
+                                       : share;
+    if (!(left > 0.0)) return false;
     if (residual_->covers(e.sweep, L, v))
-      return residual_->error_bound_mm(*precomp_, e.radius, e.sweep, L, v) * w <= share;
-    return precomp_->error_within(e.radius, e.sweep, L, v, w, share);
+      return residual_->error_bound_mm(*precomp_, e.radius, e.sweep, L, v) * w <= left;
+    return precomp_->error_within(e.radius, e.sweep, L, v, w, left);
   };
   const double vlim = std::min(e.vmax, precomp_->speed_limit_mm_s(e.sweep, L));
   if (!(vlim > floor)) return 0.0;

@@ -122,6 +122,7 @@ class TolerancePlanner : public CanonSource {
     double cum = 0;         ///< weights of all elements before it (prefix sum)
     // Arc: for pre-compensation (arc_precomp.hpp).
     double radius = 0;      ///< Arc: radius, mm (0: not a circle, never compensated)
+    double spiral = 0;      ///< Arc: how far its radius runs below `radius` (a near circle), mm
     double sweep = 0;       ///< Arc: |θ|, rad
     double comp_speed = 0;  ///< Arc: > 0 when compensated, the speed it was planned for, mm/s
     /// A near-tangent corner (|Δu| <= kClaimTurn) may take its error at full speed as a claim

@@ -152,6 +152,84 @@ SteppedRun stepped_run(const gm::Taps& t, double R, double th, double vp, double
   return worst;
 }
 
+// line → near circle (radius r0 at its start, r1 at its end, counter-clockwise through `th`,
+// pre-compensated at vp) → line, the lines along its end tangents, everything at vp, through
+// the real Interpolator and FirAccDec (BLU 1 nm): the largest |y − x(s̄)|, s̄ = Σ h_i s_i from
+// the samples' path positions, x(s) the interpolator's own path (Interpolator::position_on).
+double spiral_run_mm(const gm::Taps& t, double r0, double r1, double th, double vp) {
+  using gm::AxisVec;
+  constexpr double kBlu = 1e-6, T = 0.004;
+  const std::vector<double> h = weights(t);
+  const double a = std::max(5.0, 0.5 * vp), dr = (r1 - r0) / th;
+  const AxisVec p1 = gm::xyz(a, 0, 0), c = gm::xyz(a, r0, 0);
+  const AxisVec p2 = c + r1 * gm::xyz(std::sin(th), -std::cos(th), 0);
+  // d/dφ of c + r(φ)(sin φ, −cos φ): the tangents at the ends.
+  AxisVec u0 = gm::xyz(r0, -dr, 0), u2 = gm::xyz(r1 * std::cos(th) + dr * std::sin(th),
+                                                 r1 * std::sin(th) - dr * std::cos(th), 0);
+  u0.normalize();
+  u2.normalize();
+  gm::Motion line;
+  line.kind = gm::MotionKind::Line;
+  line.start_mm = p1 - a * u0;
+  line.end_mm = p1;
+  line.feed_mm_min = 60.0 * vp;
+  line.path_tolerance_mm = 0.01;
+  line.speed_cap_mm_s = vp;
+  gm::Motion arc = line;
+  arc.kind = gm::MotionKind::Arc;
+  arc.start_mm = p1;
+  arc.end_mm = p2;
+  arc.center_mm = c;
+  arc.ccw = true;
+  arc.comp_speed_mm_s = vp;
+  gm::Motion after = line;
+  after.start_mm = p2;
+  after.end_mm = p2 + a * u2;
+  const double L = gm::Interpolator::path_length_mm(arc);
+  auto point = [&](double s) -> AxisVec {
+    if (s <= a) return gm::Interpolator::position_on(line, s);
+    if (s <= a + L) return gm::Interpolator::position_on(arc, s - a);
+    return gm::Interpolator::position_on(after, s - a - L);
+  };
+  gm::InterpolatorConfig cfg;
+  cfg.period_s = T;
+  cfg.blu_mm = gm::MachineVec::Constant(kBlu);
+  cfg.arc_comp = gm::ArcCompensation(h, T);
+  gmtest::CanonList src(std::vector<gm::Canon>{line, arc, after});
+  gm::Interpolator ip(cfg, src);
+  gm::FirAccDec fir(t, gm::AxisBlu::Zero());
+  const std::size_t n = h.size();
+  std::vector<double> s_hist;
+  gm::CommandSample cs;
+  gm::AxisBlu y;
+  double worst = 0.0;
+  int done_at = -1;
+  for (int k = 0; k < 1'000'000; ++k) {
+    if (done_at < 0 && ip.step(gm::OverrideInput{}, cs) == gm::InterpStatus::Finished) done_at = k;
+    if (done_at >= 0 && k > done_at + static_cast<int>(n)) break;
+    const AxisVec x = gm::xyz(static_cast<double>(cs.pos_blu[0]) * kBlu,
+                              static_cast<double>(cs.pos_blu[1]) * kBlu, 0);
+    double s = 0.0;
+    if (done_at >= 0)
+      s = 2.0 * a + L;
+    else if (cs.block_seq == 1)
+      s = (x - line.start_mm).dot(u0);
+    else if (cs.block_seq == 2)
+      s = a + ip.block_path_mm();  // the command is off the arc by its correction
+    else
+      s = a + L + (x - p2).dot(u2);
+    s_hist.push_back(s);
+    fir.step(cs.pos_blu, y);
+    if (s_hist.size() < n) continue;
+    double sbar = 0.0;
+    for (std::size_t i = 0; i < n; ++i) sbar += h[i] * s_hist[s_hist.size() - 1 - i];
+    const AxisVec out =
+        gm::xyz(static_cast<double>(y[0]) * kBlu, static_cast<double>(y[1]) * kBlu, 0);
+    worst = std::max(worst, (out - point(sbar)).head<2>().norm());
+  }
+  return worst;
+}
+
 double stepped_run_mm(const gm::Taps& t, double R, double th, double vp, double v_line) {
   return stepped_run(t, R, th, vp, v_line).term_mm;
 }
@@ -464,6 +542,51 @@ TEST_CASE("a feed hold near a pre-compensated arc stays within the planner's ter
     CAPTURE(c.R, worst, term);
     CHECK(worst > 0.6 * term);  // the holds do reach the arc's ends
   }
+}
+
+TEST_CASE("a near circle's term: the circle of its larger radius plus spiral_mm", "[arc-precomp]") {
+  // CAM output rounded to 3 or 4 decimals gives arcs whose start and end radii differ by a few
+  // µm. The planner pre-compensates them as the circle of the larger radius plus the extra
+  // term; the real interpolator and FIR on such near circles (radius linear in the angle, as
+  // the interpolator moves them) stay within it.
+  const gm::Taps t = gm::design_taps("blackman", 0.164, 0.004);
+  const gm::ArcPrecompCheck check(weights(t), 0.004);
+  const double pi = std::numbers::pi;
+  struct Case {
+    double r0, r1, th, vp;
+  };
+  double worst_ratio = 0.0;
+  int above = 0;  // near circles whose run exceeds their circle's: where the extra is needed
+  for (const Case c : {Case{3.0, 3.0025, 0.5, 15.0}, Case{3.0025, 3.0, 0.5, 15.0},
+                       Case{3.0, 3.0025, pi, 25.0}, Case{6.0, 6.005, pi / 2.0, 20.0},
+                       Case{6.005, 6.0, pi / 2.0, 40.0}, Case{1.0, 1.0025, pi, 12.0},
+                       Case{10.0, 10.01, 0.3, 60.0}, Case{2.0, 2.004, 1.5 * pi, 20.0}}) {
+    const double r_min = std::min(c.r0, c.r1), r_max = std::max(c.r0, c.r1);
+    gm::Motion m;
+    m.kind = gm::MotionKind::Arc;
+    m.start_mm = gm::xyz(0, 0, 0);
+    m.center_mm = gm::xyz(0, c.r0, 0);
+    m.end_mm = m.center_mm + c.r1 * gm::xyz(std::sin(c.th), -std::cos(c.th), 0);
+    m.ccw = true;
+    const double L = gm::Interpolator::path_length_mm(m);
+    const double circle = check.error_mm(r_max, c.th, L, c.vp);
+    const double extra = check.spiral_mm(r_min, r_max, c.th, L, c.vp, circle);
+    // The same run on the circle of its sweep and path length, and on the near circle.
+    const double run_circle = spiral_run_mm(t, L / c.th, L / c.th, c.th, c.vp);
+    const double run = spiral_run_mm(t, c.r0, c.r1, c.th, c.vp);
+    CAPTURE(c.r0, c.r1, c.th, c.vp, L, circle, extra, run_circle, run);
+    CHECK(run_circle <= circle);
+    CHECK(run <= run_circle + extra);
+    CHECK(run <= circle + extra);
+    CHECK(extra < circle);  // below the circle's own term: worth planning
+    worst_ratio = std::max(worst_ratio, std::abs(run - run_circle) / extra);
+    above += run > run_circle ? 1 : 0;
+  }
+  // Measured: the near circles differ from their circles by at most about 1 % of the extra
+  // (0.07 µm on R 10 mm at 60 mm/s): the bound is loose, and costs little beside the circle's.
+  CAPTURE(worst_ratio, above);
+  CHECK(worst_ratio < 1.0);
+  CHECK(above >= 3);
 }
 
 TEST_CASE("speed steps at an arc's ends: the table for docs/tolerance-arc-ends.md",
