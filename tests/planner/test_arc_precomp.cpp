@@ -39,13 +39,70 @@ struct FeedHold {
   int from = -1, samples = 0;
   double scale(int k) const { return k >= from && k < from + samples ? 0.0 : 1.0; }
 };
+// A counter-clockwise arc like `m` (its feed, tolerance, cap) from p to q about c, pre-compensated
+// at vp.
+gm::Motion compensated_arc(const gm::Motion& m, const gm::AxisVec& p, const gm::AxisVec& q,
+                           const gm::AxisVec& c, double vp) {
+  gm::Motion arc = m;
+  arc.kind = gm::MotionKind::Arc;
+  arc.start_mm = p;
+  arc.end_mm = q;
+  arc.center_mm = c;
+  arc.ccw = true;
+  arc.comp_speed_mm_s = vp;
+  return arc;
+}
+
+// `canon` through the real Interpolator (compensating arcs by the FIR's rule) and FirAccDec
+// (BLU 1 nm) under `hold`: `path_s(x, done, block_seq, ip)` the path position of a command
+// sample at x (`done`: the interpolator has finished), `point(s)` the path, `to_path(q)` a
+// point's distance from it. The largest |y − x(s̄)|, s̄ = Σ h_i s_i, and the largest distance of y.
+template <class PathS, class Point, class ToPath>
+SteppedRun run_through_filter(const gm::Taps& t, std::vector<gm::Canon> canon, FeedHold hold,
+                              PathS path_s, Point point, ToPath to_path) {
+  using gm::AxisVec;
+  constexpr double kBlu = 1e-6, T = 0.004;
+  const std::vector<double> h = weights(t);
+  gm::InterpolatorConfig cfg;
+  cfg.period_s = T;
+  cfg.blu_mm = gm::MachineVec::Constant(kBlu);
+  cfg.arc_comp = gm::ArcCompensation(h, T);
+  gmtest::CanonList src(std::move(canon));
+  gm::Interpolator ip(cfg, src);
+  gm::FirAccDec fir(t, gm::AxisBlu::Zero());
+  const std::size_t n = h.size();
+  std::vector<double> s_hist;  // path position of every sample
+  gm::CommandSample cs;
+  gm::AxisBlu y;
+  SteppedRun worst;
+  int done_at = -1;  // the sample the interpolator finished at: the filter drains after it
+  for (int k = 0; k < 1'000'000; ++k) {
+    if (done_at < 0 &&
+        ip.step(gm::OverrideInput{hold.scale(k), 1.0}, cs) == gm::InterpStatus::Finished)
+      done_at = k;
+    const bool done = done_at >= 0;
+    if (done && k > done_at + static_cast<int>(n)) break;
+    const AxisVec x = gm::xyz(static_cast<double>(cs.pos_blu[0]) * kBlu,
+                              static_cast<double>(cs.pos_blu[1]) * kBlu, 0);
+    s_hist.push_back(path_s(x, done, cs.block_seq, ip));
+    fir.step(cs.pos_blu, y);
+    if (s_hist.size() < n) continue;
+    double sbar = 0.0;
+    for (std::size_t i = 0; i < n; ++i) sbar += h[i] * s_hist[s_hist.size() - 1 - i];
+    const AxisVec out =
+        gm::xyz(static_cast<double>(y[0]) * kBlu, static_cast<double>(y[1]) * kBlu, 0);
+    const AxisVec d = out - point(sbar);
+    worst.term_mm = std::max(worst.term_mm, d.template head<2>().norm());
+    worst.contour_mm = std::max(worst.contour_mm, to_path(out));
+  }
+  return worst;
+}
+
 // `near_mm` > 0: the last near_mm of the line before and the first of the line after are at v_p,
 // the rest of them at v_line.
 SteppedRun stepped_run(const gm::Taps& t, double R, double th, double vp, double v_line,
                        double near_mm = 0.0, FeedHold hold = {}) {
   using gm::AxisVec;
-  constexpr double kBlu = 1e-6, T = 0.004;
-  const std::vector<double> h = weights(t);
   const double a = std::max(5.0, 0.5 * v_line), b = a, L = R * th;
   const AxisVec p1 = gm::xyz(a, 0, 0), c = gm::xyz(a, R, 0);
   const AxisVec p2 = gm::xyz(a + R * std::sin(th), R - R * std::cos(th), 0);
@@ -67,14 +124,8 @@ SteppedRun stepped_run(const gm::Taps& t, double R, double th, double vp, double
   }
   canon.push_back(m);
   const std::uint64_t arc_seq = canon.size() + 1;
-  gm::Motion arc = m;
-  arc.kind = gm::MotionKind::Arc;
-  arc.start_mm = p1;
-  arc.end_mm = p2;
-  arc.center_mm = c;
-  arc.ccw = true;
+  gm::Motion arc = compensated_arc(m, p1, p2, c, vp);
   arc.speed_cap_mm_s = vp;
-  arc.comp_speed_mm_s = vp;
   canon.push_back(arc);
   m.start_mm = p2;
   if (near_mm > 0.0) {
@@ -94,17 +145,6 @@ SteppedRun stepped_run(const gm::Taps& t, double R, double th, double vp, double
     }
     return p2 + (s - a - L) * u2;
   };
-  gm::InterpolatorConfig cfg;
-  cfg.period_s = T;
-  cfg.blu_mm = gm::MachineVec::Constant(kBlu);
-  cfg.arc_comp = gm::ArcCompensation(h, T);
-  gmtest::CanonList src(std::move(canon));
-  gm::Interpolator ip(cfg, src);
-  gm::FirAccDec fir(t, gm::AxisBlu::Zero());
-  const std::size_t n = h.size();
-  std::vector<double> s_hist;  // path position of every sample
-  gm::CommandSample cs;
-  gm::AxisBlu y;
   auto to_path = [&](const AxisVec& q) {  // distance from the line, the arc or the line after
     const double d1 = (q - gm::xyz(std::clamp(q[0], 0.0, a), 0, 0)).head<2>().norm();
     const double d3 = (q - (p2 + std::clamp((q - p2).dot(u2), 0.0, b) * u2)).head<2>().norm();
@@ -115,51 +155,23 @@ SteppedRun stepped_run(const gm::Taps& t, double R, double th, double vp, double
                           : std::min((q - p1).head<2>().norm(), (q - p2).head<2>().norm());
     return std::min({d1, d2, d3});
   };
-  SteppedRun worst;
-  double s_last = 0.0;
-  int done_at = -1;  // the sample the interpolator finished at: the filter drains after it
-  for (int k = 0; k < 1'000'000; ++k) {
-    if (done_at < 0 &&
-        ip.step(gm::OverrideInput{hold.scale(k), 1.0}, cs) == gm::InterpStatus::Finished)
-      done_at = k;
-    const bool done = done_at >= 0;
-    if (done && k > done_at + static_cast<int>(n)) break;
-    const AxisVec x = gm::xyz(static_cast<double>(cs.pos_blu[0]) * kBlu,
-                              static_cast<double>(cs.pos_blu[1]) * kBlu, 0);
-    double s = s_last;
-    if (done) {
-      s = a + L + b;
-    } else if (cs.block_seq == 0) {
-      s = 0.0;
-    } else if (cs.block_seq < arc_seq) {
-      s = x[0];
-    } else if (cs.block_seq == arc_seq) {
-      s = a + ip.block_path_mm();  // the command is off the arc by its correction
-    } else {
-      s = a + L + (x - p2).dot(u2);
-    }
-    s_last = s;
-    s_hist.push_back(s);
-    fir.step(cs.pos_blu, y);
-    if (s_hist.size() < n) continue;
-    double sbar = 0.0;
-    for (std::size_t i = 0; i < n; ++i) sbar += h[i] * s_hist[s_hist.size() - 1 - i];
-    const AxisVec out =
-        gm::xyz(static_cast<double>(y[0]) * kBlu, static_cast<double>(y[1]) * kBlu, 0);
-    worst.term_mm = std::max(worst.term_mm, (out - point(sbar)).head<2>().norm());
-    worst.contour_mm = std::max(worst.contour_mm, to_path(out));
-  }
-  return worst;
+  const auto path_s = [&](const AxisVec& x, bool done, std::uint64_t seq,
+                          const gm::Interpolator& ip) {
+    if (done) return a + L + b;
+    if (seq == 0) return 0.0;
+    if (seq < arc_seq) return x[0];
+    if (seq == arc_seq) return a + ip.block_path_mm();  // the command is off the arc
+    return a + L + (x - p2).dot(u2);
+  };
+  return run_through_filter(t, std::move(canon), hold, path_s, point, to_path);
 }
 
 // line → near circle (radius r0 at its start, r1 at its end, counter-clockwise through `th`,
 // pre-compensated at vp) → line, the lines along its end tangents, everything at vp, through
-// the real Interpolator and FirAccDec (BLU 1 nm): the largest |y − x(s̄)|, s̄ = Σ h_i s_i from
-// the samples' path positions, x(s) the interpolator's own path (Interpolator::position_on).
+// the real Interpolator and FirAccDec (run_through_filter): the largest |y − x(s̄)|, x(s) the
+// interpolator's own path (Interpolator::position_on).
 double spiral_run_mm(const gm::Taps& t, double r0, double r1, double th, double vp) {
   using gm::AxisVec;
-  constexpr double kBlu = 1e-6, T = 0.004;
-  const std::vector<double> h = weights(t);
   const double a = std::max(5.0, 0.5 * vp), dr = (r1 - r0) / th;
   const AxisVec p1 = gm::xyz(a, 0, 0), c = gm::xyz(a, r0, 0);
   const AxisVec p2 = c + r1 * gm::xyz(std::sin(th), -std::cos(th), 0);
@@ -175,13 +187,7 @@ double spiral_run_mm(const gm::Taps& t, double r0, double r1, double th, double 
   line.feed_mm_min = 60.0 * vp;
   line.path_tolerance_mm = 0.01;
   line.speed_cap_mm_s = vp;
-  gm::Motion arc = line;
-  arc.kind = gm::MotionKind::Arc;
-  arc.start_mm = p1;
-  arc.end_mm = p2;
-  arc.center_mm = c;
-  arc.ccw = true;
-  arc.comp_speed_mm_s = vp;
+  const gm::Motion arc = compensated_arc(line, p1, p2, c, vp);
   gm::Motion after = line;
   after.start_mm = p2;
   after.end_mm = p2 + a * u2;
@@ -191,43 +197,15 @@ double spiral_run_mm(const gm::Taps& t, double r0, double r1, double th, double 
     if (s <= a + L) return gm::Interpolator::position_on(arc, s - a);
     return gm::Interpolator::position_on(after, s - a - L);
   };
-  gm::InterpolatorConfig cfg;
-  cfg.period_s = T;
-  cfg.blu_mm = gm::MachineVec::Constant(kBlu);
-  cfg.arc_comp = gm::ArcCompensation(h, T);
-  gmtest::CanonList src(std::vector<gm::Canon>{line, arc, after});
-  gm::Interpolator ip(cfg, src);
-  gm::FirAccDec fir(t, gm::AxisBlu::Zero());
-  const std::size_t n = h.size();
-  std::vector<double> s_hist;
-  gm::CommandSample cs;
-  gm::AxisBlu y;
-  double worst = 0.0;
-  int done_at = -1;
-  for (int k = 0; k < 1'000'000; ++k) {
-    if (done_at < 0 && ip.step(gm::OverrideInput{}, cs) == gm::InterpStatus::Finished) done_at = k;
-    if (done_at >= 0 && k > done_at + static_cast<int>(n)) break;
-    const AxisVec x = gm::xyz(static_cast<double>(cs.pos_blu[0]) * kBlu,
-                              static_cast<double>(cs.pos_blu[1]) * kBlu, 0);
-    double s = 0.0;
-    if (done_at >= 0)
-      s = 2.0 * a + L;
-    else if (cs.block_seq == 1)
-      s = (x - line.start_mm).dot(u0);
-    else if (cs.block_seq == 2)
-      s = a + ip.block_path_mm();  // the command is off the arc by its correction
-    else
-      s = a + L + (x - p2).dot(u2);
-    s_hist.push_back(s);
-    fir.step(cs.pos_blu, y);
-    if (s_hist.size() < n) continue;
-    double sbar = 0.0;
-    for (std::size_t i = 0; i < n; ++i) sbar += h[i] * s_hist[s_hist.size() - 1 - i];
-    const AxisVec out =
-        gm::xyz(static_cast<double>(y[0]) * kBlu, static_cast<double>(y[1]) * kBlu, 0);
-    worst = std::max(worst, (out - point(sbar)).head<2>().norm());
-  }
-  return worst;
+  const auto path_s = [&](const AxisVec& x, bool done, std::uint64_t seq,
+                          const gm::Interpolator& ip) {
+    if (done) return 2.0 * a + L;
+    if (seq == 1) return (x - line.start_mm).dot(u0);
+    if (seq == 2) return a + ip.block_path_mm();  // the command is off the arc
+    return a + L + (x - p2).dot(u2);
+  };
+  const auto no_contour = [](const AxisVec&) { return 0.0; };
+  return run_through_filter(t, {line, arc, after}, FeedHold{}, path_s, point, no_contour).term_mm;
 }
 
 double stepped_run_mm(const gm::Taps& t, double R, double th, double vp, double v_line) {
