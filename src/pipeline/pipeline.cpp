@@ -55,7 +55,10 @@ std::int64_t servo_lag_samples(const Machine& m) {
 Pipeline::Pipeline(const RunConfig& cfg, CanonSource& source)
     : cfg_(cfg),
       taps_(design_taps(cfg.machine.profile, cfg.machine.tau_s, cfg.machine.period_s)),
-      interp_(interpolator_config(cfg.machine, taps_, longest_filter(cfg.machine, taps_)), source),
+      interp_(
+          interpolator_config(cfg.machine, taps_,
+                              std::max(longest_filter(cfg.machine, taps_), cfg.stop_hold_samples)),
+          source),
       accdec_(taps_, AxisBlu::Zero(), FirStructure::Auto, cfg.machine.axis_count()),
       axes_(cfg.machine.axis_count()),
       lag_samples_(static_cast<std::int64_t>(taps_.integer.size()) +

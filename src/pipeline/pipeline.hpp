@@ -25,6 +25,10 @@ struct RunConfig {
   Machine machine;
   bool servo = true;               ///< false: ideal axes, the encoder reads the Acc/Dec output
   double settle_timeout_s = 10.0;  ///< after the program ends, how long the axes may take to settle
+  /// Samples the interpolator holds at an exact stop, at least the longest Acc/Dec filter's:
+  /// the chain the tolerance is planned for (FIR and servo with tolerance_on = encoder), which
+  /// the planner counts as the rest at a stop (Run sets it).
+  int stop_hold_samples = 0;
 };
 
 enum class PipelineStatus {

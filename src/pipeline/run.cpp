@@ -44,13 +44,18 @@ double encoder_allowance_mm(const RunConfig& c) {
                                                                    : 0.0;
 }
 
-// With tolerance_on = encoder and the servo on, the chain is FIR + servo (planner/servo_response).
-std::unique_ptr<TolerancePlanner> make_planner(const Machine& m, bool servo, CanonSource& source) {
+// With tolerance_on = encoder and the servo on, the chain is FIR + servo (planner/servo_response);
+// the interpolator holds an exact stop for the whole chain (`run`'s stop_hold_samples), as the
+// planner counts it.
+std::unique_ptr<TolerancePlanner> make_planner(RunConfig& run, CanonSource& source) {
+  const Machine& m = run.machine;
   PlannerConfig c;
   c.max_override = m.max_override;
   c.rapid_mm_min = m.rapid_mm_min;
   double truncation_mm = 0.0;
-  const FilterMoments moments(planned_chain(m, servo, truncation_mm, &c.speed_error_s), m.period_s);
+  const std::vector<double> chain = planned_chain(m, run.servo, truncation_mm, &c.speed_error_s);
+  run.stop_hold_samples = static_cast<int>(chain.size());
+  const FilterMoments moments(chain, m.period_s);
   c.rounding_mm = m.xyz_blu_mm().norm() + truncation_mm;
   c.precompensate_arcs = m.arc_precompensation;
   return std::make_unique<TolerancePlanner>(moments, c, source);
@@ -68,8 +73,7 @@ Run::Run(RunOptions options, CanonSource* source, std::istream* program, Interpr
       stream_(program == nullptr ? nullptr
                                  : std::make_unique<ProgramStream>(*program, options_.program_name,
                                                                    stream_options(opts, options_))),
-      planner_(make_planner(options_.config.machine, options_.config.servo,
-                            source != nullptr ? *source : *stream_)),
+      planner_(make_planner(options_.config, source != nullptr ? *source : *stream_)),
       pipeline_(options_.config, *planner_),
       summary_(options_.config.machine),
       tolerance_(options_.config.machine.contour_blu_mm(), encoder_allowance_mm(options_.config),

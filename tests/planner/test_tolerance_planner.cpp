@@ -12,6 +12,7 @@
 #include "support/planner_config.hpp"
 #include "support/run_command.hpp"
 #include "support/sample_stepper.hpp"
+#include "support/scratch_dir.hpp"
 #include "support/test_scale.hpp"
 #include "support/tolerance_reference.hpp"
 
@@ -19,6 +20,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <fstream>
 #include <random>
 #include <sstream>
 #include <string>
@@ -89,14 +91,16 @@ Outcome run_program(const std::string& text, const gm::Machine& m, Ovr ovr, bool
   if (encoder) mm.tolerance_on = gm::ToleranceOn::Encoder;
   double truncation_mm = 0.0;
   gm::PlannerConfig pc = planner_config(m);
-  const gm::FilterMoments fm(gm::planned_chain(mm, encoder, truncation_mm, &pc.speed_error_s),
-                             m.period_s);
+  const std::vector<double> chain =
+      gm::planned_chain(mm, encoder, truncation_mm, &pc.speed_error_s);
+  const gm::FilterMoments fm(chain, m.period_s);
   pc.rounding_mm += truncation_mm;
   gm::TolerancePlanner planner(fm, pc, stream);
   PlannedCanon planned(planner);
   gm::RunConfig cfg;
   cfg.machine = mm;
   cfg.servo = encoder;
+  cfg.stop_hold_samples = static_cast<int>(chain.size());  // as gmotion run (Run) holds a stop
   gmtest::SampleStepper p(cfg, planned);
   Outcome o;
   o.check = gmtest::ToleranceReference(m.contour_blu_mm(), encoder ? m.contour_blu_mm() : 0.0);
@@ -600,6 +604,21 @@ TEST_CASE("gmotion run --check-tolerance exits 1 when a sample exceeds the toler
       gmtest::run_gmotion("run " + sq + " --no-servo --tolerance 0.01 --check-tolerance");
   CHECK(t.code == 0);
   CHECK(t.out.find("against 0.0100 mm") != std::string::npos);
+}
+
+TEST_CASE("planned for the table, an exact stop holds for the whole chain") {
+  // The planner counts an exact stop as one chain length of rest (FIR and servo, 137 weights on
+  // the default machine); the interpolator held it only while the FIR drained (41 samples), and
+  // the servo's tail crossed into the next block: this program was 0.152 mm off its P0.003
+  // (31 samples over) at the start of the G1 with --tolerance-on encoder.
+  const std::string prog = (gmtest::scratch_dir("exact-stop") / "exact-stop-then-p.nc").string();
+  std::ofstream(prog) << "G21 G90 G17\nG61.1\nG0 X50\nG64 P0.003\nG1 Y5 F600\nM2\n";
+  const std::string machine = std::string(GMOTION_TESTS_DIR) + "/../programs/machines/default.toml";
+  const auto enc = gmtest::run_gmotion("run " + prog + " --machine " + machine +
+                                       " --tolerance-on encoder --check-tolerance 2>&1");
+  CAPTURE(enc.out);
+  CHECK(enc.code == 0);
+  CHECK(enc.out.find("0 of ") != std::string::npos);
 }
 
 TEST_CASE("the planner hands on each whole block's geometry, equal to MotionGeometry::of") {
