@@ -22,8 +22,8 @@ constexpr double kRunTurn = 0.1;
 /// A corner turning by at most this (|Δu|, about 0.57°: CAM output rounded to 3 decimals turns
 /// 0 to 0.13° at joins meant to be tangent) may claim its error at full speed (assign_claims).
 constexpr double kClaimTurn = 0.01;
-/// A near circle: its radii differ by at most this fraction of the smaller (and a quarter of
-/// the tolerance); ArcPrecompCheck::spiral_mm's bound assumes Δr/r small.
+/// A near circle: its radii differ by at most this fraction of the smaller;
+/// ArcPrecompCheck::spiral_mm's bound assumes Δr/r small.
 constexpr double kNearCircle = 0.01;
 constexpr int kMinRunVertices = 3;
 constexpr double kRunDeltaShare = 4.0;
@@ -291,12 +291,11 @@ TolerancePlanner::Element TolerancePlanner::arc_element(const Block& b) {
   e.vmax = b.vmax;
   e.v100 = b.v100;
   // A circle (the start and end radii within 0.1 µm) may be pre-compensated, and so may a near
-  // circle, whose radii differ by at most a quarter of the tolerance and 1 % (CAM output
-  // rounded to 3 or 4 decimals), planned as the circle of its larger radius plus its extra term
-  // (ArcPrecompCheck::spiral_mm); not a spiral beyond that.
+  // circle, whose radii differ by at most 1 % (CAM output rounded to 3 or 4 decimals), planned
+  // as the circle of its larger radius plus its extra term (ArcPrecompCheck::spiral_mm); not a
+  // spiral beyond that.
   const double dr = std::abs(b.g.r0_mm - b.g.r1_mm);
-  if (r > 0.0 && !b.g.rest_moves &&
-      (dr <= 1e-4 || (dr <= 0.25 * e.tol_mm && dr <= kNearCircle * r))) {
+  if (r > 0.0 && !b.g.rest_moves && (dr <= 1e-4 || dr <= kNearCircle * r)) {
     e.radius = dr <= 1e-4 ? r : r + dr;
     e.spiral = dr <= 1e-4 ? 0.0 : dr;
     e.sweep = std::abs(b.g.sweep_rad);

@@ -524,9 +524,9 @@ TEST_CASE("a feed hold near a pre-compensated arc stays within the planner's ter
 
 TEST_CASE("a near circle's term: the circle of its larger radius plus spiral_mm", "[arc-precomp]") {
   // CAM output rounded to 3 or 4 decimals gives arcs whose start and end radii differ by a few
-  // µm. The planner pre-compensates them as the circle of the larger radius plus the extra
-  // term; the real interpolator and FIR on such near circles (radius linear in the angle, as
-  // the interpolator moves them) stay within it.
+  // µm. The planner pre-compensates them, up to 1 % of the radius, as the circle of the larger
+  // radius plus the extra term; the real interpolator and FIR on such near circles (radius
+  // linear in the angle, as the interpolator moves them) stay within it.
   const gm::Taps t = gm::design_taps("blackman", 0.164, 0.004);
   const gm::ArcPrecompCheck check(weights(t), 0.004);
   const double pi = std::numbers::pi;
@@ -535,10 +535,11 @@ TEST_CASE("a near circle's term: the circle of its larger radius plus spiral_mm"
   };
   double worst_ratio = 0.0;
   int above = 0;  // near circles whose run exceeds their circle's: where the extra is needed
-  for (const Case c : {Case{3.0, 3.0025, 0.5, 15.0}, Case{3.0025, 3.0, 0.5, 15.0},
-                       Case{3.0, 3.0025, pi, 25.0}, Case{6.0, 6.005, pi / 2.0, 20.0},
-                       Case{6.005, 6.0, pi / 2.0, 40.0}, Case{1.0, 1.0025, pi, 12.0},
-                       Case{10.0, 10.01, 0.3, 60.0}, Case{2.0, 2.004, 1.5 * pi, 20.0}}) {
+  for (const Case c :
+       {Case{3.0, 3.0025, 0.5, 15.0}, Case{3.0025, 3.0, 0.5, 15.0}, Case{3.0, 3.0025, pi, 25.0},
+        Case{6.0, 6.005, pi / 2.0, 20.0}, Case{6.005, 6.0, pi / 2.0, 40.0},
+        Case{1.0, 1.0025, pi, 12.0}, Case{10.0, 10.01, 0.3, 60.0}, Case{2.0, 2.004, 1.5 * pi, 20.0},
+        Case{1.0, 1.01, pi, 12.0}, Case{2.02, 2.0, pi / 2.0, 20.0}}) {  // 1 %
     const double r_min = std::min(c.r0, c.r1), r_max = std::max(c.r0, c.r1);
     gm::Motion m;
     m.kind = gm::MotionKind::Arc;
@@ -556,7 +557,8 @@ TEST_CASE("a near circle's term: the circle of its larger radius plus spiral_mm"
     CHECK(run_circle <= circle);
     CHECK(run <= run_circle + extra);
     CHECK(run <= circle + extra);
-    CHECK(extra < circle);  // below the circle's own term: worth planning
+    // CAM rounding (Δr up to 0.25 % of r): below the circle's own term, worth planning.
+    if (r_max - r_min < 0.005 * r_min) CHECK(extra < circle);
     worst_ratio = std::max(worst_ratio, std::abs(run - run_circle) / extra);
     above += run > run_circle ? 1 : 0;
   }
