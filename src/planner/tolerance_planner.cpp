@@ -521,12 +521,18 @@ void TolerancePlanner::push_element(Element e) {
   elems_.push_back(e);
 }
 
-double TolerancePlanner::same_run_weight(const Element& e, double z0, double z1) const {
-  double w = 0.0;
-  for (const Element& f : elems_)
-    if (f.kind == ElementKind::Run && f.run_id == e.run_id && f.s1 > z0 - 1e-9 && f.s0 < z1 + 1e-9)
-      w += f.weight;
-  return w;
+TolerancePlanner::SameRun TolerancePlanner::same_run(const Element& e, ZoneRange r) const {
+  // As range_weight and range_decided count them: undecided past the decided prefix, else
+  // decided (and both ways when decided out of order).
+  SameRun same;
+  for (std::size_t i = r.first; i < r.last; ++i) {
+    const Element& f = elems_[i];
+    if (f.kind != ElementKind::Run || f.run_id != e.run_id) continue;
+    if (i >= decided_prefix_) same.weight += f.weight;
+    same.weight_all += f.weight;
+  }
+  same.decided = range_decided(r, e, &e);
+  return same;
 }
 
 TolerancePlanner::ZoneRange TolerancePlanner::zone_range(double z0, double z1) const {
@@ -540,13 +546,51 @@ TolerancePlanner::ZoneRange TolerancePlanner::zone_range(double z0, double z1) c
 }
 
 double TolerancePlanner::range_weight(ZoneRange r) const {
+  const std::size_t from = std::max(r.first, decided_prefix_);
+  if (from >= r.last) return 0.0;
+  const double end = r.last == elems_.size() ? weight_total_ : elems_[r.last].cum;
+  return end - elems_[from].cum;
+}
+
+double TolerancePlanner::range_weight_all(ZoneRange r) const {
   if (r.first == r.last) return 0.0;
   const double end = r.last == elems_.size() ? weight_total_ : elems_[r.last].cum;
   return end - elems_[r.first].cum;
 }
 
-double TolerancePlanner::zone_weight(double z0, double z1) const {
-  return range_weight(zone_range(z0, z1));
+bool TolerancePlanner::counts_decided(std::size_t i, const Element& e) const {
+  // One decided out of path order counts both ways, weight (range_weight) and err.
+  const Element& f = elems_[i];
+  return (i < decided_prefix_ || (decided_count_ > decided_prefix_ && f.decided)) && &f != &e &&
+         f.reach1 > e.s0 - 1e-9 && f.reach0 < e.s1 + 1e-9;
+}
+
+TolerancePlanner::Decided TolerancePlanner::range_decided(ZoneRange r, const Element& e,
+                                                          const Element* run_of) const {
+  // The undecided elements besides e start at the range's first past the prefix (e aside):
+  // elements are in path order, so a decided one reaches them when its zone reaches that one
+  // (one decided out of order counts as reaching them).
+  std::size_t u = std::max(r.first, decided_prefix_);
+  if (u < r.last && &elems_[u] == &e) ++u;
+  const double undecided_from = u < r.last ? elems_[u].s0 - 1e-9 : kInf;
+  const std::size_t end =
+      decided_count_ > decided_prefix_ ? r.last : std::min(r.last, decided_prefix_);
+  Decided d;
+  for (std::size_t i = r.first; i < end; ++i) {
+    const Element& f = elems_[i];
+    if (!counts_decided(i, e)) continue;
+    if (run_of != nullptr && !(f.kind == ElementKind::Run && f.run_id == run_of->run_id)) continue;
+    // The part of its share it uses, in e's share: an instant with both is within the larger
+    // tolerance of the two (each element's is the smallest around it), and parts add to 1.
+    const double err = f.share == e.share || !(f.share > 0.0) ? f.err : f.err / f.share * e.share;
+    d.all += err;
+    if (i >= decided_prefix_ || f.reach1 > undecided_from) d.shared += err;
+  }
+  return d;
+}
+
+void TolerancePlanner::extend_decided_prefix() {
+  while (decided_prefix_ < elems_.size() && elems_[decided_prefix_].decided) ++decided_prefix_;
 }
 
 TolerancePlanner::ZoneRange TolerancePlanner::zone_range_from(ZoneRange hint, double z0,
@@ -565,11 +609,14 @@ TolerancePlanner::ZoneRange TolerancePlanner::zone_range_from(ZoneRange hint, do
 }
 
 const TolerancePlanner::ZoneMemo& TolerancePlanner::zone_values(ZoneMemo& memo, ZoneRange r,
+                                                                const Element& e,
                                                                 bool with_claims) const {
   if (!memo.valid || !(r == memo.range)) {
     memo.range = r;
     memo.valid = true;
     memo.weight = range_weight(r);
+    memo.weight_all = range_weight_all(r);
+    memo.decided = range_decided(r, e);
     memo.claims = with_claims ? range_claims(r) : 0.0;
   }
   return memo;
@@ -766,8 +813,12 @@ void TolerancePlanner::decide(Element& e) {
   // load(v) <= share, by bisection (largest_speed_in_zones).
   e.decided = true;
   e.cap = kInf;
+  e.err = 0.0;
+  e.share = share;
   if (e.claim_state == Element::Claim::Claimant) {  // its claim is counted by every neighbour
-    e.pause = e.pause0;
+    e.pause = e.pause0;                             // (err 0: its claim counts instead)
+    e.reach0 = e.s0;
+    e.reach1 = e.s1;
     e.z0 = e.z1 = e.s0;
     return;
   }
@@ -791,29 +842,35 @@ void TolerancePlanner::decide_arc(Element& e, double share, const MismatchReserv
   const double tau = filter_.tau_s();
   // κ·v²·σ²/2 <= (share − reserve)/W
   ZoneMemo memo;
+  const double a = 0.5 * e.kappa * filter_.variance_s2();
   auto load = [&](double v, ZoneRange r) {
-    return 0.5 * e.kappa * v * v * filter_.variance_s2() * zone_values(memo, r, false).weight +
-           res.at(v, v < e.vmax);
+    return zone_load(a * v * v, 1.0, zone_values(memo, r, e, false)) + res.at(v, v < e.vmax);
   };
   auto guess = [&](ZoneRange r) {
-    const double a = 0.5 * e.kappa * filter_.variance_s2() * zone_values(memo, r, false).weight;
-    return res.m_s > 0.0 ? res.root(a, 0.0, share) : std::sqrt(share / a);
+    const double left = std::max(0.0, zone_allotment(share, 1.0, zone_values(memo, r, e, false)));
+    return res.m_s > 0.0 ? res.root(a, 0.0, left) : std::sqrt(left / a);
   };
   double v = largest_speed_in_zones(e.vmax, share, e.s0, e.s1, tau, load, guess);
   e.comp_speed = 0.0;
+  e.err = a * v * v;
   if (v < e.vmax && precomp_) {
-    const double vc = precomp_arc_speed(e, share - res.ceiling_mm(), v);
+    double err = 0.0;
+    const double vc = precomp_arc_speed(e, share - res.ceiling_mm(), v, err);
     if (vc > v) {
       v = vc;
       e.comp_speed = vc;
+      e.err = err;
     }
   }
   if (v < e.vmax) e.cap = v;
+  e.reach0 = e.s0 - v * tau;
+  e.reach1 = e.s1 + v * tau;
   e.z0 = zone_back(e.s0, tau, e.cap);
   e.z1 = zone_fwd(e.s1, tau, e.cap);
 }
 
-double TolerancePlanner::precomp_arc_speed(const Element& e, double share, double floor) const {
+double TolerancePlanner::precomp_arc_speed(const Element& e, double share, double floor,
+                                           double& err) const {
   if (!(e.radius > 0.0) || !(e.sweep > 0.0)) return 0.0;
   const double tau = filter_.tau_s(), L = e.s1 - e.s0;
   // The isolated arc's term (transitions at its ends, the ramp's transient) against its share
@@ -827,26 +884,38 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
   auto within = [&](double v) {
     const ZoneRange r = memo.valid ? zone_range_from(memo.range, e.s0 - v * tau, e.s1 + v * tau)
                                    : zone_range(e.s0 - v * tau, e.s1 + v * tau);
-    const double w = zone_values(memo, r, false).weight;
-    // A near circle's extra term off the share (a circle's is 0: the share as it is); the
-    // circle's term is at most share/w wherever the answer is yes.
-    const double left = e.spiral > 0.0 ? share - precomp_->spiral_mm(e.radius - e.spiral, e.radius,
-                                                                     e.sweep, L, v, share / w) *
-                                                     w
-                                       : share;
+    const ZoneMemo& z = zone_values(memo, r, e, false);
+    // The arc's error within its allotment (zone_allotment, W = w): a near circle's extra term
+    // off it (a circle's is 0), the circle's term at most the allotment wherever the answer is
+    // yes.
+    const double w = z.weight, mine = zone_allotment(share, 1.0, z);
+    const double left = (e.spiral > 0.0 ? mine - precomp_->spiral_mm(e.radius - e.spiral, e.radius,
+                                                                     e.sweep, L, v, mine)
+                                        : mine) *
+                        w;
     if (!(left > 0.0)) return false;
     if (residual_->covers(e.sweep, L, v))
       return residual_->error_bound_mm(*precomp_, e.radius, e.sweep, L, v) * w <= left;
     return precomp_->error_within(e.radius, e.sweep, L, v, w, left);
   };
+  // Where the answer is yes, the arc's error (its term and a near circle's extra) is within
+  // its allotment at that speed: the bound it leaves (err).
+  auto allotted = [&](double v) {
+    return zone_allotment(share, 1.0,
+                          zone_values(memo, zone_range(e.s0 - v * tau, e.s1 + v * tau), e, false));
+  };
   const double vlim = std::min(e.vmax, precomp_->speed_limit_mm_s(e.sweep, L));
   if (!(vlim > floor)) return 0.0;
-  if (within(vlim)) return vlim;
+  if (within(vlim)) {
+    err = allotted(vlim);
+    return vlim;
+  }
   double lo = floor, hi = vlim;  // lo: no better than the curvature cap until shown
   for (int it = 0; it < 10; ++it) {
     const double mid = 0.5 * (lo + hi);
     (within(mid) ? lo : hi) = mid;
   }
+  err = allotted(lo);
   return lo;
 }
 
@@ -875,25 +944,34 @@ void TolerancePlanner::decide_run(Element& e, double share, const MismatchReserv
       kappa = std::max(kappa, f.kappa);
       delta = std::max(delta, f.delta);
     }
-  ZoneMemo memo;
-  double same = 0.0;  // same_run_weight of memo's range
-  auto load = [&](double v, ZoneRange r) {
-    const bool again = memo.valid && r == memo.range;
-    const ZoneMemo& z = zone_values(memo, r, true);
-    if (!again) same = same_run_weight(e, e.s0 - v * tau, e.s1 + v * tau);
-    const double w = z.weight - same + e.weight;
-    return (0.5 * kappa * v * v * filter_.variance_s2() + delta * v * filter_.abs_moment_s()) * w /
-               e.weight +
-           z.claims + res.at(v, v < e.vmax);  // error <= (share − claims − reserve)·w_e/W
+  auto own = [&](double v) {
+    return 0.5 * kappa * v * v * filter_.variance_s2() + delta * v * filter_.abs_moment_s();
   };
-  auto guess = [&](ZoneRange r) {  // the root of a·v² + b·v + claims + reserve = share
-    const ZoneMemo& z = zone_values(memo, r, true);
-    const double w = (z.weight - same + e.weight) / e.weight;
-    const double a = 0.5 * kappa * filter_.variance_s2() * w,
-                 b = delta * filter_.abs_moment_s() * w;
-    return res.root(a, b, share - z.claims);
+  // The zone's values with the run counted once, by this chunk: its other chunks' weights and
+  // errs out (kept for the last range asked for, as memo is).
+  ZoneMemo memo, once;
+  auto values = [&](ZoneRange r) -> const ZoneMemo& {
+    if (memo.valid && r == memo.range) return once;
+    const ZoneMemo& z = zone_values(memo, r, e, true);
+    const SameRun same = same_run(e, r);
+    once = z;
+    once.weight = z.weight - same.weight + e.weight;
+    once.weight_all = z.weight_all - same.weight_all + e.weight;
+    once.decided.all -= same.decided.all;
+    once.decided.shared -= same.decided.shared;
+    return once;
+  };
+  auto load = [&](double v, ZoneRange r) {
+    return zone_load(own(v), e.weight, values(r)) + res.at(v, v < e.vmax);
+  };
+  auto guess = [&](ZoneRange r) {  // the root of a·v² + b·v = the allotment
+    return res.root(0.5 * kappa * filter_.variance_s2(), delta * filter_.abs_moment_s(),
+                    zone_allotment(share, e.weight, values(r)));
   };
   const double v = largest_speed_in_zones(e.vmax, share, e.s0, e.s1, tau, load, guess);
+  e.err = own(v);
+  e.reach0 = e.s0 - v * tau;
+  e.reach1 = e.s1 + v * tau;
   if (v < e.vmax) e.cap = v;
   e.z0 = zone_back(e.s0, tau, e.cap);
   e.z1 = zone_fwd(e.s1, tau, e.cap);
@@ -904,12 +982,10 @@ double TolerancePlanner::corner_cost_s(const Element& e, double pause_s, double 
   const double zt = std::max(filter_.zone_floor_s(), filter_.tau_s() - pause_s);
   ZoneMemo memo;
   auto load = [&](double s, ZoneRange r) {
-    const ZoneMemo& z = zone_values(memo, r, true);
-    return s * d * z.weight + z.claims + res.at(s, s < e.vmax);
+    return zone_load(s * d * e.turn, e.turn, zone_values(memo, r, e, true)) + res.at(s, s < e.vmax);
   };
   auto guess = [&](ZoneRange r) {
-    const ZoneMemo& z = zone_values(memo, r, true);
-    return res.root(0.0, d * z.weight, share - z.claims);
+    return res.root(0.0, d * e.turn, zone_allotment(share, e.turn, zone_values(memo, r, e, true)));
   };
   v = d > 0.0 ? largest_speed_in_zones(e.vmax, share, e.s0, e.s1, zt, load, guess) : e.vmax;
   // The slowing is shared by the elements in the zone (a run of short segments slows once);
@@ -941,7 +1017,7 @@ void TolerancePlanner::decide_corner(Element& e, double share, const MismatchRes
   // Corner: the pause P (at least what the program already dwells) and cap V with
   // V·D(P)·W <= share that cost the least time: the pause added plus the slowing in the zones,
   // (τ − P) of time either side at V instead of v_ref.
-  double best_cost = kInf, best_p = e.pause0, best_v = 0.0;
+  double best_cost = kInf, best_p = e.pause0, best_v = 0.0, best_d = 0.0;
   auto consider = [&](double p, double d) {
     if (p - e.pause0 >= best_cost) return false;  // pauses only get longer from here
     double v = 0.0;
@@ -950,6 +1026,7 @@ void TolerancePlanner::decide_corner(Element& e, double share, const MismatchRes
       best_cost = cost;
       best_p = p;
       best_v = v;
+      best_d = d;
     }
     return true;
   };
@@ -962,6 +1039,10 @@ void TolerancePlanner::decide_corner(Element& e, double share, const MismatchRes
   e.pause = best_p;
   if (best_v < e.vmax) e.cap = best_v;
   const double zt = std::max(filter_.zone_floor_s(), filter_.tau_s() - best_p);
+  const double v = std::min(best_v, e.vmax);
+  e.err = v * best_d * e.turn;  // V·D(P)·|Δu|
+  e.reach0 = e.s0 - v * zt;
+  e.reach1 = e.s1 + v * zt;
   e.z0 = zone_back(e.s0, zt, e.cap);
   e.z1 = zone_fwd(e.s1, zt, e.cap);
 }
@@ -998,6 +1079,8 @@ void TolerancePlanner::emit_front() {
   while (!elems_.empty() && elems_.front().decided && elems_.front().t1 < keep_from) {
     elems_.pop_front();
     if (claim_cursor_ > 0) --claim_cursor_;
+    --decided_count_;
+    if (decided_prefix_ > 0) --decided_prefix_;
   }
 }
 
@@ -1024,7 +1107,11 @@ void TolerancePlanner::decide_reachable(const Block& b) {
     if (run_.chunk.t0 < horizon) close_run_chunk();
   }
   for (Element& e : elems_)
-    if (!e.decided && e.t0 < b.t1 + tau) decide(e);
+    if (!e.decided && e.t0 < b.t1 + tau) {
+      decide(e);
+      ++decided_count_;
+      extend_decided_prefix();
+    }
 }
 
 void TolerancePlanner::cut_pieces(const Block& b) {

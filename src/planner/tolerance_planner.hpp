@@ -120,6 +120,12 @@ class TolerancePlanner : public CanonSource {
     double z0 = 0, z1 = 0;  ///< zone in path length where the cap applies
     double weight = 0;      ///< share weight: Corner, Stop |Δu|, Arc 1, Run its error per D(0)
     double cum = 0;         ///< weights of all elements before it (prefix sum)
+    /// Decided: the bound its decision leaves on its error (at its cap, its pause), mm; what the
+    /// elements decided after it whose zone it reaches take off their share instead of
+    /// counting its weight.
+    double err = 0;
+    double reach0 = 0, reach1 = 0;  ///< decided: its zone at its speed, [s0 − v·t, s1 + v·t]
+    double share = 0;  ///< decided or being decided: the share of its tolerance (share_of), mm
     // Arc: for pre-compensation (arc_precomp.hpp).
     double radius = 0;      ///< Arc: radius, mm (0: not a circle, never compensated)
     double spiral = 0;      ///< Arc: how far its radius runs below `radius` (a near circle), mm
@@ -166,7 +172,7 @@ class TolerancePlanner : public CanonSource {
   void decide_arc(Element& e, double share, const MismatchReserve& res) const;
   /// The cap of arc e pre-compensated within `share`, mm/s: `floor` (the curvature bound's
   /// cap) or less when compensating is no faster.
-  double precomp_arc_speed(const Element& e, double share, double floor) const;
+  double precomp_arc_speed(const Element& e, double share, double floor, double& err) const;
   /// decide_arc with the claims beside the arc taken off its share.
   void decide_arc_beside_claims(Element& e, double share, const MismatchReserve& res) const;
   void decide_run(Element& e, double share, const MismatchReserve& res) const;
@@ -185,16 +191,51 @@ class TolerancePlanner : public CanonSource {
   ZoneRange zone_range(double z0, double z1) const;
   /// zone_range(z0, z1) walked from `hint`, a range near it: cheaper when the two are close.
   ZoneRange zone_range_from(ZoneRange hint, double z0, double z1) const;
+  /// The weights of the range's undecided elements (those past the decided prefix; one
+  /// decided out of order counts both ways, weight and err).
   double range_weight(ZoneRange r) const;
+  double range_weight_all(ZoneRange r) const;  ///< every element's, decided or not
+  /// What the range's decided elements leave to e (docs/tolerance.md, "Sharing a window"): the
+  /// errs of those whose own zone reaches e (only those can be active at one instant with it),
+  /// and of those among them whose zone also reaches an undecided element of the range besides
+  /// e (only those can be active with both).
+  struct Decided {
+    double all = 0, shared = 0;
+  };
+  /// (run_of: only the chunks of that element's run.)
+  Decided range_decided(ZoneRange r, const Element& e, const Element* run_of = nullptr) const;
+  /// Whether range_decided(…, e) counts elems_[i]: decided (before the prefix's end, or any when
+  /// some are decided out of order), not e, its zone reaching e.
+  bool counts_decided(std::size_t i, const Element& e) const;
   double range_claims(ZoneRange r) const;  ///< zone_claims of the range
-  /// zone_weight and (with claims) zone_claims of the last range asked for.
+  /// range_weight, range_decided and (with claims) zone_claims of the last range asked for.
   struct ZoneMemo {
     ZoneRange range;
     bool valid = false;
-    double weight = 0, claims = 0;
+    double weight = 0;      ///< the undecided elements' (range_weight)
+    double weight_all = 0;  ///< every element's, decided or not
+    double claims = 0;
+    Decided decided;
   };
-  /// memo's values for range r, recomputed only when r differs from memo's range.
-  const ZoneMemo& zone_values(ZoneMemo& memo, ZoneRange r, bool with_claims) const;
+  /// The load of an element with error `own` and share weight w beside a zone's values, to be
+  /// within the share (less the reserve): own within the larger of its share by weight,
+  /// (share − claims)·w/W_all, and what the decided elements leave, the smaller of
+  /// (share − claims − shared)·w/W and share − claims − all (docs/tolerance.md, "Sharing a
+  /// window").
+  static double zone_load(double own, double w, const ZoneMemo& z) {
+    return std::min(own * z.weight_all / w,
+                    std::max(own * z.weight / w + z.decided.shared, own + z.decided.all)) +
+           z.claims;
+  }
+  /// The largest error zone_load lets an element of weight w have (share less the reserve).
+  static double zone_allotment(double share, double w, const ZoneMemo& z) {
+    const double left = share - z.claims;
+    return std::max(left * w / z.weight_all,
+                    std::min((left - z.decided.shared) * w / z.weight, left - z.decided.all));
+  }
+  /// memo's values for range r beside e, recomputed only when r differs from memo's range.
+  const ZoneMemo& zone_values(ZoneMemo& memo, ZoneRange r, const Element& e,
+                              bool with_claims) const;
   /// The largest v <= vmax with load(v, range of [s0 − v·t, s1 + v·t]) <= share (the load grows
   /// with v): vmax, else by 40 halvings; guess(range) estimates where the load of that range
   /// reaches the share, which ends them early with the same result.
@@ -209,7 +250,8 @@ class TolerancePlanner : public CanonSource {
   template <class Load, class Guess>
   double largest_speed_in_zones(double vmax, double share, double s0, double s1, double t,
                                 Load&& load, Guess&& guess) const;
-  double zone_weight(double z0, double z1) const;
+  /// After a decision: the decided prefix grows over every decided element at its front.
+  void extend_decided_prefix();
   /// Near-tangent corners: claimants are assigned in path order through time `t_until`; a
   /// claimant's claims within τ (either side) stay within half its share.
   void assign_claims(double t_until);
@@ -235,7 +277,13 @@ class TolerancePlanner : public CanonSource {
   void add_run_vertex(const Element& corner, double seg_before_mm);
   void close_run_chunk();
   void end_run();
-  double same_run_weight(const Element& e, double z0, double z1) const;
+  /// The chunks of e's run in range r: their weight as range_weight counts it, their errs as
+  /// range_decided(r, e) does.
+  struct SameRun {
+    double weight = 0, weight_all = 0;
+    Decided decided;
+  };
+  SameRun same_run(const Element& e, ZoneRange r) const;
   /// Corners and arcs without a tolerance whose rounding the filter still holds when a block
   /// with one starts (within τ of fastest travel after them) are planned for that block's
   /// tolerance: each sample is judged against its own line's. They wait in untoleranced_ until
@@ -284,7 +332,9 @@ class TolerancePlanner : public CanonSource {
   double s_end_ = 0, t_end_ = 0;  ///< where the last block in the window ends
   /// Where the last block handed on ends (fastest travel time): blocks before the window.
   double emitted_t1_ = -std::numeric_limits<double>::infinity();
-  double weight_total_ = 0.0;  ///< weights of all elements pushed so far
+  double weight_total_ = 0.0;       ///< weights of all elements pushed so far
+  std::size_t decided_prefix_ = 0;  ///< elems_[0, decided_prefix_) are decided
+  std::size_t decided_count_ = 0;   ///< decided elements in elems_
   PendingRun run_;
   std::uint64_t runs_ = 0;
   std::optional<ArcPrecompCheck> precomp_;    ///< set when arcs may be pre-compensated

@@ -709,3 +709,44 @@ TEST_CASE("an arc is cut at zone boundaries into exact arcs of the same centre")
   CHECK(first > 0.0);
   CHECK((last == 0.0 || first < last));
 }
+
+TEST_CASE("a corner that drains the filter leaves the arc beside it the whole share") {
+  // Up +Y into a half circle of R 4 (its start tangent +X: a 90° corner, |Δu| = √2) at F3000
+  // under P0.05, with a dwell of 0.2 s at the corner: the filter drains there (τ = 0.164 s),
+  // so the corner adds nothing to the arc's samples. Decided first, it leaves the arc the whole
+  // share, so the arc is capped as if alone, by κ·v²·σ²/2 = share: v = √(2·share/(κ·σ²)). By
+  // weights alone the corner's √2 beside the arc's 1 would cap it at v/√(1 + √2), 0.64 v.
+  gm::Machine m;
+  m.arc_precompensation = false;  // the curvature bound, in closed form
+  const auto canon = canon_of(
+      "G21 G90 G17 G64 P0.05\nG0 X20 Y-20\nG1 Y0 F3000\nG4 P0.2\nG3 X20 Y8 I0 J4\nG1 X0\nM2\n", m,
+      true);
+  const gm::FilterMoments fm(gm::design_taps(m.profile, m.tau_s, m.period_s), m.period_s);
+  REQUIRE(fm.corner_moment_s(0.2) == 0.0);
+  const double share = 0.05 - planner_config(m).rounding_mm;
+  const double v = std::sqrt(2.0 * share / (0.25 * fm.variance_s2()));
+  REQUIRE(v < 50.0);  // below F3000: the arc is capped
+  double arc_cap = 0.0;
+  for (const auto& c : canon)
+    if (const auto* mo = std::get_if<gm::Motion>(&c); mo != nullptr && mo->line == 5)
+      arc_cap = std::max(arc_cap, mo->speed_cap_mm_s);
+  CHECK(arc_cap == Approx(v).epsilon(1e-9));
+}
+
+TEST_CASE("corners.nc at P0.01: every sample within P, and faster than exact stop") {
+  // programs/corners.nc (sharp corners closer together than the filter, an R 4 arc between two
+  // of them) at F3000, servo off: the arc takes the share the corners beside it leave.
+  const std::string body =
+      "G0 X0 Y0 Z1\nG1 Z0 F600\nG1 X30 F3000\nG1 Y10\nG1 X25 Y12\nG1 X22 Y10.5\nG1 X18 Y14\n"
+      "G3 X10 Y14 I-4 J0\nG1 X0 Y20\nG1 Y0\nG0 Z1\nM2\n";
+  const gm::Machine m;
+  const Outcome p = run_program("G21 G17 G90 G64 P0.01\n" + body, m, full);
+  const Outcome stop = run_program("G21 G17 G90 G61.1\n" + body, m, full);
+  REQUIRE(p.finished);
+  REQUIRE(stop.finished);
+  CHECK(p.check.cutting().over == 0);
+  CHECK(p.check.rapids().over == 0);
+  CHECK(p.end_exact);
+  CAPTURE(p.cycle_s, stop.cycle_s);
+  CHECK(p.cycle_s < stop.cycle_s);
+}
