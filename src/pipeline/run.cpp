@@ -74,7 +74,9 @@ Run::Run(RunOptions options, CanonSource* source, std::istream* program, Interpr
                                  : std::make_unique<ProgramStream>(*program, options_.program_name,
                                                                    stream_options(opts, options_))),
       planner_(make_planner(options_.config, source != nullptr ? *source : *stream_)),
-      pipeline_(options_.config, *planner_),
+      ahead_(options_.consumer_thread ? std::make_unique<CanonReadAhead>(*planner_) : nullptr),
+      pipeline_(options_.config, ahead_ != nullptr ? static_cast<CanonSource&>(*ahead_)
+                                                   : static_cast<CanonSource&>(*planner_)),
       summary_(options_.config.machine),
       tolerance_(options_.config.machine.contour_blu_mm(), encoder_allowance_mm(options_.config),
                  options_.config.machine.period_s),

@@ -9,6 +9,7 @@
 #include "motion/block_sink.hpp"
 #include "motion/canon.hpp"
 #include "override/override_schedule.hpp"
+#include "pipeline/canon_read_ahead.hpp"
 #include "pipeline/pipeline.hpp"
 #include "planner/tolerance_planner.hpp"
 #include "trace/trace_writer.hpp"
@@ -148,6 +149,9 @@ class Run {
   /// G64 P: caps speeds and pauses at corners for blocks with a tolerance; hands every other
   /// block on unchanged.
   std::unique_ptr<TolerancePlanner> planner_;
+  /// With the consumer thread: the planner read ahead on a thread of its own (null: the
+  /// pipeline reads it itself).
+  std::unique_ptr<CanonReadAhead> ahead_;
   Pipeline pipeline_;
   RunSummary summary_;
   ToleranceCheck tolerance_;
