@@ -4,7 +4,9 @@
 #include "common/units.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <iterator>
 #include <limits>
 
@@ -12,6 +14,12 @@ namespace gm {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// std::nextafter(x, kInf) for finite x >= 0: the next bit pattern.
+double next_up(double x) {
+  return std::bit_cast<double>(std::bit_cast<std::uint64_t>(x) + 1);
+}
+
 constexpr double kMinTurn = 1e-9;
 /// A vertex between two G1 lines joins a run of small turns when it turns by at most this
 /// (|Δu|, about 5.7°), by so little that the run's δ term alone keeps within the tolerance at
@@ -677,7 +685,7 @@ std::optional<double> TolerancePlanner::narrowed_speed_in_zones(double vmax, dou
     if (!(enter > a) || !(enter < fails_from)) break;
     double below = std::max(a, enter * (1.0 - 1e-9)), above = enter * (1.0 + 1e-9);
     if (joins(below) || !joins(above)) break;
-    for (int it = 0; it < 40 && std::nextafter(below, kInf) < above; ++it) {
+    for (int it = 0; it < 40 && next_up(below) < above; ++it) {
       const double mid = 0.5 * (below + above);
       (joins(mid) ? above : below) = mid;
     }
