@@ -50,7 +50,7 @@ class CanonReadAhead : public CanonSource {
   std::size_t at_ = 0;      ///< its next entry
   bool ended_ = false;
   const MotionGeometry* geometry_ = nullptr;  ///< in taken_, until the next next()
-  std::thread thread_;  ///< last: starts once everything above is constructed
+  std::thread thread_;                        ///< last: starts once everything above is constructed
 };
 
 }  // namespace gm

@@ -66,8 +66,8 @@ void read_all(gm::CanonReadAhead& a, std::int64_t& k) {
 
 TEST_CASE("canon read-ahead: every command in order, with its geometry, then the end") {
   constexpr auto kBatch = static_cast<std::int64_t>(gm::CanonReadAhead::kBatchCanon);
-  for (const std::int64_t n : {std::int64_t{0}, std::int64_t{1}, kBatch - 1, kBatch, kBatch + 1,
-                               5 * kBatch + 7}) {
+  for (const std::int64_t n :
+       {std::int64_t{0}, std::int64_t{1}, kBatch - 1, kBatch, kBatch + 1, 5 * kBatch + 7}) {
     INFO(n);
     Counting src(n, false);
     gm::CanonReadAhead a(src);
