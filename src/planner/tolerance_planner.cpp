@@ -566,11 +566,10 @@ double TolerancePlanner::range_weight_all(ZoneRange r) const {
   return end - elems_[r.first].cum;
 }
 
-bool TolerancePlanner::counts_decided(std::size_t i, const Element& e) const {
-  // One decided out of path order counts both ways, weight (range_weight) and err.
-  const Element& f = elems_[i];
-  return (i < decided_prefix_ || (decided_count_ > decided_prefix_ && f.decided)) && &f != &e &&
-         f.reach1 > e.s0 - 1e-9 && f.reach0 < e.s1 + 1e-9;
+bool TolerancePlanner::counts_decided(const Element& f, const Element& e) {
+  // (e is marked decided while it is being decided.) One decided out of path order counts both
+  // ways, weight (range_weight) and err.
+  return f.decided && &f != &e && f.reach1 > e.s0 - 1e-9 && f.reach0 < e.s1 + 1e-9;
 }
 
 TolerancePlanner::Decided TolerancePlanner::range_decided(ZoneRange r, const Element& e,
@@ -586,7 +585,7 @@ TolerancePlanner::Decided TolerancePlanner::range_decided(ZoneRange r, const Ele
   Decided d;
   for (std::size_t i = r.first; i < end; ++i) {
     const Element& f = elems_[i];
-    if (!counts_decided(i, e)) continue;
+    if (!counts_decided(f, e)) continue;
     if (run_of != nullptr && !(f.kind == ElementKind::Run && f.run_id == run_of->run_id)) continue;
     // The part of its share it uses, in e's share: an instant with both is within the larger
     // tolerance of the two (each element's is the smallest around it), and parts add to 1.

@@ -204,9 +204,8 @@ class TolerancePlanner : public CanonSource {
   };
   /// (run_of: only the chunks of that element's run.)
   Decided range_decided(ZoneRange r, const Element& e, const Element* run_of = nullptr) const;
-  /// Whether range_decided(…, e) counts elems_[i]: decided (before the prefix's end, or any when
-  /// some are decided out of order), not e, its zone reaching e.
-  bool counts_decided(std::size_t i, const Element& e) const;
+  /// Whether range_decided(…, e) counts f: decided, not e, its zone reaching e.
+  static bool counts_decided(const Element& f, const Element& e);
   double range_claims(ZoneRange r) const;  ///< zone_claims of the range
   /// range_weight, range_decided and (with claims) zone_claims of the last range asked for.
   struct ZoneMemo {
