@@ -620,3 +620,33 @@ TEST_CASE("speed steps near an arc: how much of the line must take v_p", "[.arc-
         std::printf("\n");
       }
 }
+
+TEST_CASE("a helix's term is its ends': half a turn or five turns, the same", "[arc-precomp]") {
+  // fusion-bore-tests.nc's helices: R 0.6 mm, 0.25 mm of lead per half turn. Once the arc is
+  // longer than its two ends' windows the steady middle adds nothing, so the term of five
+  // turns is that of half a turn, within 2 % (why joining a chain of half turns into one arc would
+  // not raise their cap: docs/tolerance.md, "What sets fusion-bore-tests.nc's helix speed").
+  // build/bin/test_planner "a helix's term*" -s prints the table.
+  const gm::Taps t = gm::design_taps("blackman", 0.164, 0.004);
+  const gm::FilterMoments f(t, 0.004);
+  const gm::ArcPrecompCheck check(weights(t), 0.004);
+  const double R = 0.6, lead_per_rad = 0.25 / std::numbers::pi;
+  std::printf(
+      "| v mm/s | κV²σ²/2 µm | ends, half turn µm | ends, five turns µm | ramp µm | "
+      "term / κV²σ²/2 |\n| --- | --- | --- | --- | --- | --- |\n");
+  for (double v : {4.0, 8.0, 12.0, 1000.0 / 60.0}) {
+    const double loss = 0.5 * v * v * f.variance_s2() / R;
+    double iso[2], ramp = 0.0;
+    for (int k = 0; k < 2; ++k) {
+      const double th = k == 0 ? std::numbers::pi : 10.0 * std::numbers::pi;
+      const double L = th * std::hypot(R, lead_per_rad);
+      iso[k] = check.isolated_worst_mm(R, th, L, v);
+      ramp = check.error_mm(R, th, L, v) - iso[k];
+    }
+    std::printf("| %.1f | %.2f | %.2f | %.2f | %.2f | %.3f |\n", v, 1e3 * loss, 1e3 * iso[0],
+                1e3 * iso[1], 1e3 * ramp, (iso[1] + ramp) / loss);
+    CAPTURE(v, loss, iso[0], iso[1], ramp);
+    CHECK(iso[1] == Approx(iso[0]).epsilon(0.02));  // the end's phase in its sample differs
+    CHECK(iso[1] + ramp < 0.2 * loss);              // a fraction of the uncompensated shrinkage
+  }
+}
