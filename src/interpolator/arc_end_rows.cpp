@@ -35,9 +35,41 @@ ArcEndRows::ArcEndRows(const std::vector<double>& weights, double period_s, doub
       limit_x_(limit_x),
       enabled_(weights.size() >= 2 && limit_x > 0.0) {}
 
+ArcEndRows::~ArcEndRows() {
+  stop_.store(true, std::memory_order_relaxed);
+  if (rest_.joinable()) rest_.join();
+}
+
+bool ArcEndRows::claim_and_fit(std::size_t rate, std::size_t way) const {
+  Lazy& l = lazy_[rate][way];
+  int expected = kNotBegun;
+  if (!l.state.compare_exchange_strong(expected, kFitting, std::memory_order_acq_rel)) return false;
+  l.k = fit(rate, way == 0 ? Way::Moving : Way::Stopping);
+  {
+    const std::lock_guard<std::mutex> hold(done_lock_);
+    l.state.store(kDone, std::memory_order_release);
+  }
+  done_.notify_all();
+  return true;
+}
+
+void ArcEndRows::fit_the_rest() const {
+  for (std::size_t rate = 0; rate < kRateKnots.size(); ++rate)
+    for (std::size_t way = 0; way < 2; ++way) {
+      if (stop_.load(std::memory_order_relaxed)) return;
+      claim_and_fit(rate, way);
+    }
+}
+
 const ArcEndRows::Knots& ArcEndRows::knots(std::size_t rate, Way way) const {
-  Lazy& l = lazy_[rate][way == Way::Moving ? 0 : 1];
-  std::call_once(l.once, [&] { l.k = fit(rate, way); });
+  const std::size_t w = way == Way::Moving ? 0 : 1;
+  Lazy& l = lazy_[rate][w];
+  if (l.state.load(std::memory_order_acquire) == kDone) return l.k;
+  std::call_once(rest_started_, [this] { rest_ = std::thread([this] { fit_the_rest(); }); });
+  if (!claim_and_fit(rate, w)) {  // the other thread has it in hand
+    std::unique_lock<std::mutex> hold(done_lock_);
+    done_.wait(hold, [&l] { return l.state.load(std::memory_order_acquire) == kDone; });
+  }
   return l.k;
 }
 

@@ -3,9 +3,12 @@
 #pragma once
 
 #include <array>
+#include <atomic>
+#include <condition_variable>
 #include <cstddef>
 #include <memory>
 #include <mutex>
+#include <thread>
 #include <vector>
 
 namespace gm {
@@ -46,13 +49,21 @@ class ArcEndRows {
   enum class Way { Moving, Stopping };
 
   ArcEndRows() = default;  ///< empty: the steady offset everywhere
+  ArcEndRows(const ArcEndRows&) = delete;
+  ArcEndRows& operator=(const ArcEndRows&) = delete;
+  /// Stops the background fits after the set in hand and waits for it.
+  ~ArcEndRows();
   /// The rows of the FIR's weights (symmetric, Σ = 1) at period T, rates up to `limit_x`
   /// (ArcCompensation::limit_omega_t()). Each rate knot's set of each way is fitted when at()
   /// first needs it (a program's arcs use a few of them; the fits are the rows' whole cost).
   ArcEndRows(const std::vector<double>& weights, double period_s, double limit_x);
 
   /// The rows of this filter, fitted on the first request and kept for the process (the last
-  /// few filters asked for): an interpolator and a planner of one machine share them.
+  /// few filters asked for): an interpolator and a planner of one machine share them. The
+  /// first set asked for starts a thread that fits the others in turn meanwhile (a program
+  /// with arcs soon asks for most of them: the planner's residual table sweeps the rates);
+  /// a set asked for while that thread fits it is waited for, one it has not reached is
+  /// fitted by the caller. The knots are the same whichever thread fits them.
   static std::shared_ptr<const ArcEndRows> shared(const std::vector<double>& weights,
                                                   double period_s, double limit_x);
 
@@ -69,14 +80,23 @@ class ArcEndRows {
   /// The set of rate knot `rate` and `way`, fitted on the first request (thread-safe).
   const Knots& knots(std::size_t rate, Way way) const;
   Knots fit(std::size_t rate, Way way) const;  ///< that set's fit
+  /// Fits the set if no thread has begun it (true), else returns false at once.
+  bool claim_and_fit(std::size_t rate, std::size_t way) const;
+  void fit_the_rest() const;  ///< the background thread: every set not begun, until stopped
   std::vector<double> weights_;
   double period_s_ = 0.0, limit_x_ = 0.0;
   bool enabled_ = false;
+  enum State : int { kNotBegun, kFitting, kDone };
   struct Lazy {
-    std::once_flag once;
-    Knots k{};
+    std::atomic<int> state{kNotBegun};
+    Knots k{};  ///< written before state becomes kDone (release), read after (acquire)
   };
   mutable std::array<std::array<Lazy, 2>, kRateKnots.size()> lazy_;  ///< [rate][way]
+  mutable std::mutex done_lock_;
+  mutable std::condition_variable done_;  ///< a set became kDone
+  mutable std::once_flag rest_started_;
+  mutable std::atomic<bool> stop_{false};
+  mutable std::thread rest_;  ///< fit_the_rest, joined by the destructor
 };
 
 }  // namespace gm
