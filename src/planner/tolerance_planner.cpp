@@ -19,6 +19,10 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 double next_up(double x) {
   return std::bit_cast<double>(std::bit_cast<std::uint64_t>(x) + 1);
 }
+// std::nextafter(x, 0.0) for finite x > 0: the previous bit pattern.
+double next_down(double x) {
+  return std::bit_cast<double>(std::bit_cast<std::uint64_t>(x) - 1);
+}
 
 constexpr double kMinTurn = 1e-9;
 /// A vertex between two G1 lines joins a run of small turns when it turns by at most this
@@ -684,6 +688,29 @@ std::optional<double> TolerancePlanner::narrowed_speed_in_zones(double vmax, dou
     if (!(enter > a) || !(enter < fails_from)) break;
     double below = std::max(a, enter * (1.0 - 1e-9)), above = enter * (1.0 + 1e-9);
     if (joins(below) || !joins(above)) break;
+    // joins is monotone in v: the pair is the one float step where it turns true. `enter` is
+    // its formula, so a few steps from there usually find it; the halvings finish otherwise.
+    if (enter > below && enter < above) {
+      if (joins(enter)) {
+        above = enter;
+        for (int k = 0; k < 4 && next_down(above) > below; ++k)
+          if (const double d = next_down(above); joins(d)) {
+            above = d;
+          } else {
+            below = d;
+            break;
+          }
+      } else {
+        below = enter;
+        for (int k = 0; k < 4 && next_up(below) < above; ++k)
+          if (const double u = next_up(below); !joins(u)) {
+            below = u;
+          } else {
+            above = u;
+            break;
+          }
+      }
+    }
     for (int it = 0; it < 40 && next_up(below) < above; ++it) {
       const double mid = 0.5 * (below + above);
       (joins(mid) ? above : below) = mid;
