@@ -32,10 +32,11 @@ ArcPrecompCheck::ArcPrecompCheck(const std::vector<double>& weights, double peri
       rule_(weights, period_s),
       line_ratio_(line_ratio),
       near_s_(near_s) {
-  ring_.resize(h_.size());
-  ring_p_.resize(h_.size());
-  fork_ring_.resize(h_.size());
-  fork_ring_p_.resize(h_.size());
+  // The window and the sample before it, each slot twice (window_output reads them in a row).
+  ring_.resize(2 * (h_.size() + 1));
+  ring_p_.resize(2 * (h_.size() + 1));
+  fork_ring_.resize(ring_.size());
+  fork_ring_p_.resize(ring_p_.size());
   cache_.resize(kCacheSlots);
   nonnegative_ = std::all_of(h_.begin(), h_.end(), [](double h) { return h >= 0.0; });
   double mean = 0.0, second = 0.0;
@@ -73,27 +74,70 @@ Eigen::Vector2d ArcPrecompCheck::point(double p) const {
   return {r_ * std::sin(th) + d * std::cos(th), r_ - r_ * std::cos(th) + d * std::sin(th)};
 }
 
+void ArcPrecompCheck::put(std::size_t& head, const Eigen::Vector2d& x, double p) const {
+  const std::size_t m = h_.size() + 1;
+  head = head == 0 ? m - 1 : head - 1;  // newest at head
+  ring_[head] = ring_[head + m] = x;
+  ring_p_[head] = ring_p_[head + m] = p;
+}
+
 void ArcPrecompCheck::window_output(std::size_t head, Eigen::Vector2d& y, double& pbar) const {
-  // Σ h_i·x_i and Σ h_i·p_i, i = 0..n−1 in this order, x_i at ring slot (head + i) mod n: the
-  // slots from head to the end, then from 0 (no wrap test in the loops).
-  // Local sums (the outputs may alias the rings for all the compiler knows).
-  const std::size_t n = h_.size(), first = n - head;
+  // Σ h_i·x_i and Σ h_i·p_i, i = 0..n−1 in this order, x_i at slot head + i (each slot is
+  // stored twice, so the window lies in a row). Local sums (the outputs may alias the rings for
+  // all the compiler knows).
+  const std::size_t n = h_.size();
   const double* h = h_.data();
-  const Eigen::Vector2d* x = ring_.data();
-  const double* p = ring_p_.data();
+  const Eigen::Vector2d* x = ring_.data() + head;
+  const double* p = ring_p_.data() + head;
   double yx = 0.0, yy = 0.0, pb = 0.0;
-  for (std::size_t i = 0; i < first; ++i) {
-    yx += h[i] * x[head + i].x();
-    yy += h[i] * x[head + i].y();
-    pb += h[i] * p[head + i];
-  }
-  for (std::size_t i = first; i < n; ++i) {
-    yx += h[i] * x[i - first].x();
-    yy += h[i] * x[i - first].y();
-    pb += h[i] * p[i - first];
+  for (std::size_t i = 0; i < n; ++i) {
+    yx += h[i] * x[i].x();
+    yy += h[i] * x[i].y();
+    pb += h[i] * p[i];
   }
   y = Eigen::Vector2d(yx, yy);
   pbar = pb;
+}
+
+void ArcPrecompCheck::window_outputs(std::size_t head, Eigen::Vector2d& y, double& pbar,
+                                     Eigen::Vector2d& y_before, double& pbar_before) const {
+  // window_output at head and at head + 1 (the sample before) in one pass: each of the six sums
+  // in window_output's order, so each result is its bit for bit; the two windows' sums are
+  // independent, which the processor overlaps.
+  const std::size_t n = h_.size();
+  const double* h = h_.data();
+  const Eigen::Vector2d* x = ring_.data() + head;
+  const double* p = ring_p_.data() + head;
+  double yx = 0.0, yy = 0.0, pb = 0.0, bx = 0.0, by = 0.0, bp = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    yx += h[i] * x[i].x();
+    yy += h[i] * x[i].y();
+    pb += h[i] * p[i];
+    bx += h[i] * x[i + 1].x();
+    by += h[i] * x[i + 1].y();
+    bp += h[i] * p[i + 1];
+  }
+  y = Eigen::Vector2d(yx, yy);
+  pbar = pb;
+  y_before = Eigen::Vector2d(bx, by);
+  pbar_before = bp;
+}
+
+void ArcPrecompCheck::judge(SimState& s, const Eigen::Vector2d& y, double pbar) const {
+  const double d = (y - point(pbar)).norm();
+  if (d > s.worst) {
+    s.worst = d;
+    if (over(d)) stopped_ = true;
+  }
+}
+
+void ArcPrecompCheck::flush(SimState& s) const {
+  if (!s.pending) return;
+  s.pending = false;
+  Eigen::Vector2d y;
+  double pbar;
+  window_output(s.head, y, pbar);
+  judge(s, y, pbar);
 }
 
 void ArcPrecompCheck::advance(SimState& s) const {
@@ -132,22 +176,28 @@ void ArcPrecompCheck::push_sample(SimState& s) const {
   } else {
     x = point(s.p);
   }
-  s.head = s.head == 0 ? n - 1 : s.head - 1;  // newest at head, h_0 on it
-  ring_[s.head] = x;
-  ring_p_[s.head] = s.p;
+  put(s.head, x, s.p);  // h_0 on it
   if (++s.count < n) return;
   // A window wholly on the line before the arc (p nondecreasing, so every p_i <= 0, with
   // weights >= 0 also p̄ <= 0): x_i = (p_i, 0), y = (Σ h_i p_i, 0) by the same operations as
   // p̄, and x(p̄) = (p̄, 0): the distance is exactly 0.
-  if (s.p <= 0.0 && nonnegative_) return;
-  Eigen::Vector2d y;
-  double pbar;
-  window_output(s.head, y, pbar);
-  const double d = (y - point(pbar)).norm();
-  if (d > s.worst) {
-    s.worst = d;
-    if (over(d)) stopped_ = true;
+  const bool needed = !(s.p <= 0.0 && nonnegative_);
+  // An output waits for the next sample's, to be computed with it (flush: the last one).
+  if (!s.pending) {
+    s.pending = needed;
+    return;
   }
+  s.pending = false;
+  Eigen::Vector2d y, y_before;
+  double pbar, pbar_before;
+  if (!needed) {  // (p is nondecreasing: not once the one before was needed)
+    window_output(s.head + 1, y_before, pbar_before);
+    judge(s, y_before, pbar_before);
+    return;
+  }
+  window_outputs(s.head, y, pbar, y_before, pbar_before);
+  judge(s, y_before, pbar_before);
+  judge(s, y, pbar);
 }
 
 double ArcPrecompCheck::run_segment(double p_from, double p_to, double phase, Start start,
@@ -183,8 +233,9 @@ double ArcPrecompCheck::run_segment(double p_from, double p_to, double phase, St
     // Moving on: once the window's oldest sample is past the arc's end, every window from here
     // holds points of the line after it (no offset there), whose output lies on that line
     // to the rounding (~1e-16·r): nothing the transitions left can be larger there.
-    if (!stop && s.count >= n && ring_p_[s.head == 0 ? n - 1 : s.head - 1] >= lp_) break;
+    if (!stop && s.count >= n && ring_p_[s.head + n - 1] >= lp_) break;
   }
+  flush(s);
   if (!forked || stopped_) return s.worst;
   // The stopping run, from the sample where the runs parted.
   const double moving = s.worst;
@@ -202,6 +253,7 @@ double ArcPrecompCheck::run_segment(double p_from, double p_to, double phase, St
     if (at_end >= n || stopped_) break;
     advance(s);
   } while (s.p <= p_to);
+  flush(s);
   return std::max(moving, s.worst);
 }
 
@@ -311,10 +363,10 @@ double ArcPrecompCheck::run_stepped(double p_start, double p_until, Start start,
     }
     if (seg == 2 && stop) ++at_end;
     push_sample(s);
-    if (stop ? at_end >= n : (s.count >= n && ring_p_[s.head == 0 ? n - 1 : s.head - 1] >= lp_))
-      break;
+    if (stop ? at_end >= n : (s.count >= n && ring_p_[s.head + n - 1] >= lp_)) break;
     if (s.p > p_until) break;
   }
+  flush(s);
   return s.worst;
 }
 
@@ -377,9 +429,7 @@ double ArcPrecompCheck::ramp_mm(double radius_mm, double sweep_abs_rad, double l
     else if (t > ramp + static_cast<int>(n))
       v = std::min(v_plan, v + dv);
     p += q * v * period_s_;
-    head = head == 0 ? n - 1 : head - 1;
-    ring_[head] = on_circle(p, r + rule_.correction_mm(r, v * sweep_abs_rad / length_mm));
-    ring_p_[head] = p;
+    put(head, on_circle(p, r + rule_.correction_mm(r, v * sweep_abs_rad / length_mm)), p);
     if (++count < n) continue;
     Eigen::Vector2d y;
     double pbar;

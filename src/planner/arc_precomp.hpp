@@ -100,10 +100,13 @@ class ArcPrecompCheck {
   double run_segment(double p_from, double p_to, double phase, Start start, End end) const;
   /// One run's state between samples.
   /// `since_first`, `phase_in`: the interpolator's count and phase for the end rows.
+  /// `pending`: the newest sample's output is not yet judged (push_sample judges it with the
+  /// next one's, flush alone).
   struct SimState {
     double p = 0, v = 0, worst = 0, phase_in = 0;
     std::size_t rest = 0, count = 0, head = 0;
     int since_first = -1;
+    bool pending = false;
   };
   /// Advances the command by one sample (s.v: its speed).
   void advance(SimState& s) const;
@@ -121,9 +124,18 @@ class ArcPrecompCheck {
   void set_arc(double radius_mm, double sweep_abs_rad, double length_mm, double v_plan,
                double v) const;
   Eigen::Vector2d point(double p) const;  ///< the isolated path at in-plane length p
+  /// A sample into the window: the slot before `head` becomes the newest (head).
+  void put(std::size_t& head, const Eigen::Vector2d& x, double p) const;
   /// The filter output y and p̄ = Σ h_i p_i of the window whose newest sample is at ring slot
   /// `head`.
   void window_output(std::size_t head, Eigen::Vector2d& y, double& pbar) const;
+  /// window_output at `head` and at the sample before it, each bit for bit, in one pass.
+  void window_outputs(std::size_t head, Eigen::Vector2d& y, double& pbar,
+                      Eigen::Vector2d& y_before, double& pbar_before) const;
+  /// The output's distance from the path into s.worst (and the early stop).
+  void judge(SimState& s, const Eigen::Vector2d& y, double pbar) const;
+  /// Judges the pending output, if any.
+  void flush(SimState& s) const;
 
   std::vector<double> h_;
   bool nonnegative_ = false;  ///< every h_i >= 0
@@ -140,6 +152,8 @@ class ArcPrecompCheck {
   /// stepped_mm: the arc's cap, the lines' speed and the in-plane stretch beside the arc at v.
   mutable double vplan_ = 0, vline_ = 0, near_p_ = 0;
   double line_ratio_ = 0.0, near_s_ = 0.0;
+  /// The window and the sample before it (N + 2 slots), each slot stored twice (at k and
+  /// k + N + 2) so that a window lies in a row; the newest at a moving head.
   mutable std::vector<Eigen::Vector2d> ring_, fork_ring_;
   mutable std::vector<double> ring_p_, fork_ring_p_;
   /// error_within's early stop: a run ends once (its worst + stop_add_)·stop_scale_ > stop_share_
