@@ -130,8 +130,8 @@ class ArcPrecompCheck {
   /// `head`.
   void window_output(std::size_t head, Eigen::Vector2d& y, double& pbar) const;
   /// window_output at `head` and at the sample before it, each bit for bit, in one pass.
-  void window_outputs(std::size_t head, Eigen::Vector2d& y, double& pbar,
-                      Eigen::Vector2d& y_before, double& pbar_before) const;
+  void window_outputs(std::size_t head, Eigen::Vector2d& y, double& pbar, Eigen::Vector2d& y_before,
+                      double& pbar_before) const;
   /// The output's distance from the path into s.worst (and the early stop).
   void judge(SimState& s, const Eigen::Vector2d& y, double pbar) const;
   /// Judges the pending output, if any.

@@ -19,9 +19,60 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 double next_up(double x) {
   return std::bit_cast<double>(std::bit_cast<std::uint64_t>(x) + 1);
 }
-// std::nextafter(x, 0.0) for finite x > 0: the previous bit pattern.
-double next_down(double x) {
-  return std::bit_cast<double>(std::bit_cast<std::uint64_t>(x) - 1);
+
+/// The next float up and down (finite x): a step of the bit pattern, as std::nextafter.
+double float_up(double x) {
+  if (x == 0.0) return std::numeric_limits<double>::denorm_min();
+  const auto b = std::bit_cast<std::int64_t>(x);
+  return std::bit_cast<double>(x > 0.0 ? b + 1 : b - 1);
+}
+double float_down(double x) {
+  return -float_up(-x);
+}
+
+/// The smallest float v >= 0 with f(v) true, f monotone (false then true), from a guess a few
+/// floats off: NaN when it is not within `reach` steps of the guess.
+template <class F>
+double first_true_near(double guess, F f, int reach = 8) {
+  double v = guess;
+  for (int k = 0; k < reach && v > 0.0 && f(float_down(v)); ++k) v = float_down(v);
+  for (int k = 0; k < reach && !f(v); ++k) v = float_up(v);
+  if (!f(v) || (v > 0.0 && f(float_down(v)))) return std::nan("");
+  return v;
+}
+
+/// The smallest speed v at which an element enters the zone [s0 − v·t, s1 + v·t] by the zone
+/// tests (zone_range, narrowed_speed_in_zones' `joins`): before it (its end b_s1) once
+/// !(b_s1 <= (s0 − v·t) − 1e-9), after it (its start a_s0) once a_s0 < (s1 + v·t) + 1e-9, each
+/// operation rounded. Solved one rounding at a time, from the outside in: the zone end z that
+/// the 1e-9 test turns at, then the product u = v·t that the sum with s0 or s1 turns at
+/// (between two neighbouring sums: their midpoint less s, up to one rounding), then v. NaN
+/// when a step does not land within a few floats (the caller halves then).
+double first_joining_speed(double s0, double s1, double t, const double* b_s1, const double* a_s0) {
+  const double nan = std::nan("");
+  if (!(t > 0.0)) return nan;
+  auto speed_for = [t](double u) {  // the smallest v with v·t >= u
+    if (!(u >= 0.0)) return 0.0;
+    return first_true_near(u / t, [&](double v) { return v * t >= u; });
+  };
+  double v = kInf;
+  if (a_s0 != nullptr) {
+    const double a = *a_s0;
+    const double z = first_true_near(a - 1e-9, [&](double y) { return a < y + 1e-9; });
+    const double mid = 0.5 * ((float_down(z) - s1) + (z - s1));
+    const double u = first_true_near(std::max(0.0, mid), [&](double w) { return s1 + w >= z; });
+    v = std::min(v, speed_for(u));
+  }
+  if (b_s1 != nullptr) {
+    const double b = *b_s1;
+    // The largest zone start y with !(b <= y − 1e-9): the smallest with b <= y − 1e-9, less one.
+    const double y_out = first_true_near(b + 1e-9, [&](double y) { return b <= y - 1e-9; });
+    const double z = float_down(y_out);
+    const double mid = 0.5 * ((s0 - z) + (s0 - y_out));
+    const double u = first_true_near(std::max(0.0, mid), [&](double w) { return s0 - w <= z; });
+    v = std::min(v, speed_for(u));
+  }
+  return v;
 }
 
 constexpr double kMinTurn = 1e-9;
@@ -688,28 +739,13 @@ std::optional<double> TolerancePlanner::narrowed_speed_in_zones(double vmax, dou
     if (!(enter > a) || !(enter < fails_from)) break;
     double below = std::max(a, enter * (1.0 - 1e-9)), above = enter * (1.0 + 1e-9);
     if (joins(below) || !joins(above)) break;
-    // joins is monotone in v: the pair is the one float step where it turns true. `enter` is
-    // its formula, so a few steps from there usually find it; the halvings finish otherwise.
-    if (enter > below && enter < above) {
-      if (joins(enter)) {
-        above = enter;
-        for (int k = 0; k < 4 && next_down(above) > below; ++k)
-          if (const double d = next_down(above); joins(d)) {
-            above = d;
-          } else {
-            below = d;
-            break;
-          }
-      } else {
-        below = enter;
-        for (int k = 0; k < 4 && next_up(below) < above; ++k)
-          if (const double u = next_up(below); !joins(u)) {
-            below = u;
-          } else {
-            above = u;
-            break;
-          }
-      }
+    // joins is monotone in v: the pair is the one float step where it turns true, which
+    // first_joining_speed finds from the roundings of its tests; checked here, else halved.
+    if (const double v = first_joining_speed(s0, s1, t, before ? &before->s1 : nullptr,
+                                             after ? &after->s0 : nullptr);
+        v > below && v <= above && joins(v) && !joins(float_down(v))) {
+      below = float_down(v);
+      above = v;
     }
     for (int it = 0; it < 40 && next_up(below) < above; ++it) {
       const double mid = 0.5 * (below + above);
