@@ -155,7 +155,10 @@ class Interpolator {
   double last_speed_mm_s_ = 0.0;  ///< path speed of the last sample (0 after a stop)
   /// The speed of a compensated arc's sample: `target` by ArcCompensation::next_speed.
   double comp_ramped_speed(double target) const {
-    return cfg_.arc_comp.next_speed(last_speed_mm_s_, target, comp_speed_step_, speed_cap_mm_s_,
+    // At most v_p, the speed the arc was planned for (the planner's check caps it there): a
+    // block faster than that before it steps down to it at once, not by the ramp.
+    return cfg_.arc_comp.next_speed(last_speed_mm_s_, target, comp_speed_step_,
+                                    std::min(speed_cap_mm_s_, block_.comp_speed_mm_s),
                                     geom_.length_mm - s_mm_);
   }
   // The window after a compensated arc: the filter still holds the arc's samples, whose end rows

@@ -932,7 +932,10 @@ void TolerancePlanner::decide_arc(Element& e, double share, const MismatchReserv
       e.err = err;
     }
   }
-  if (v < e.vmax) e.cap = v;
+  // A pre-compensated arc keeps its zone even at its fastest speed: its term holds for lines at
+  // most v_p beside it (a faster line into it raises the term about as its speed; docs/
+  // tolerance-arc-ends.md, "Speed steps at an arc's ends"), so they are capped there too.
+  if (v < e.vmax || e.comp_speed > 0.0) e.cap = v;
   e.reach0 = e.s0 - v * tau;
   e.reach1 = e.s1 + v * tau;
   e.z0 = zone_back(e.s0, tau, e.cap);

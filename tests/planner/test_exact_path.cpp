@@ -70,14 +70,15 @@ class Counting : public gm::CanonSource {
   Run& r_;
 };
 
-// Runs `text` through planner and pipeline, servo off, 100 % override.
-Run run(const std::string& text, const gm::Machine& m) {
+// Runs `text` through planner and pipeline, servo off, 100 % override; `precomp`: arcs
+// pre-compensated (the machine's default; off in the tests written before it).
+Run run(const std::string& text, const gm::Machine& m, bool precomp = false) {
   std::istringstream in(text);
   gm::InterpreterOptions opts;
   opts.machine = &m;
   gm::ProgramStream stream(in, "p.nc", opts);
   const gm::FilterMoments fm(gm::design_taps(m.profile, m.tau_s, m.period_s), m.period_s);
-  gm::TolerancePlanner planner(fm, gmtest::fir_planner_config(m, false), stream);
+  gm::TolerancePlanner planner(fm, gmtest::fir_planner_config(m, precomp), stream);
   Run r;
   Counting counting(planner, r);
   gm::RunConfig cfg;
@@ -231,4 +232,26 @@ TEST_CASE("a 0.1° join beside R 0.5 fillets: no pause at F3000 under P0.01") {
   const Run r = run(text, m);
   CHECK(r.check.cutting().over == 0);
   for (const int line : r.dwell_lines) CHECK(line != 4);  // none at the 0.1° join
+}
+
+TEST_CASE("a fast line tangent into a slow pre-compensated arc: every sample within P") {
+  // A line at F6000 (100 mm/s) into a quarter circle at F300 to F1200, then a line at F6000
+  // again, under P0.01. The arc is pre-compensated and fits at its fastest speed (its feed at
+  // 200 %), so it took no cap: until 2026-11-29 it then had no zone either, the line ran into
+  // it at 100 mm/s, and the interpolator ramped the arc's speed down from there by the arc's
+  // step (v_p/(N + 1) a sample) while commanding the correction for that speed: R 2 at F300
+  // was 0.27 mm off the path. Now its zone caps the lines beside it at v_p, and the arc's
+  // speed is never above v_p (the planner's check assumes both).
+  const gm::Machine m;
+  for (const int r : {2, 5, 10})
+    for (const int f : {300, 600, 1200}) {
+      CAPTURE(r, f);
+      const std::string text = fmt::format(
+          "G21 G90 G17 G64 P0.01\nG1 X20 Y0 F6000\nG3 X{} Y{} I0 J{} F{}\n"
+          "G1 X{} Y{} F6000\nM2\n",
+          20 + r, r, r, f, 20 + r, r + 20);
+      const Run run_ = run(text, m, true);
+      CHECK(run_.check.cutting().over == 0);
+      CHECK(run_.check.cutting().ratio <= 1.0);
+    }
 }
