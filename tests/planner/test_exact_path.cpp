@@ -255,3 +255,19 @@ TEST_CASE("a fast line tangent into a slow pre-compensated arc: every sample wit
       CHECK(run_.check.cutting().ratio <= 1.0);
     }
 }
+
+TEST_CASE("a fast pre-compensated arc ending into a crawling line: its end rows are a stop's") {
+  // Found by random chains whose feeds change from block to block: an R 17 mm arc at F9000
+  // (100 mm/s, the machine's fastest) into a line at F100 (1.7 mm/s). With the rows of an end
+  // the command moves on from at v_p, 2 samples were 0.0103 mm off at P0.01; the check
+  // simulates the end moving on at v_p and stopping, and a step down to 2 % of v_p is a stop.
+  const gm::Machine m;
+  const std::string text =
+      "G21 G90 G17 G64 P0.01\nG1 X0 Y0 F1000\nG3 X0.5256 Y0.1447 I0.0000 J1.0269 F9000\n"
+      "G1 X12.8286 Y7.4742 F6000\nG2 X14.7563 Y7.5931 I1.0792 J-1.8115 F3000\n"
+      "G3 X15.5626 Y8.2209 I0.2337 J0.5316 F300\nG1 X12.5949 Y25.8728 F9000\n"
+      "G3 X-18.7311 Y32.7582 I-17.0497 J-2.8665 F9000\nG1 X-25.9889 Y22.1330 F100\nM2\n";
+  const Run r = run(text, m, true);
+  CHECK(r.check.cutting().over == 0);
+  CHECK(r.check.cutting().ratio <= 1.0);
+}
