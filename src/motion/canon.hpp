@@ -84,7 +84,8 @@ struct Motion {
   /// and ramp were planned for, mm/s. 0 = commanded on its programmed radius.
   double comp_speed_mm_s = 0.0;
   /// Pre-compensated arcs: the command stops on the arc's end point (a dwell, a pause, an exact
-  /// stop or the program's end follows), so its end takes the rows for a stop.
+  /// stop or the program's end follows) or nearly (the next block crawls at under a tenth of
+  /// the arc's speed), so its end takes the rows for a stop.
   bool comp_stops_at_end = false;
 };
 
