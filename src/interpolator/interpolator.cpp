@@ -83,6 +83,7 @@ bool Interpolator::pull_next() {
         comp_since_first_ = -1;
         comp_rad_per_mm_ = std::abs(geom_.sweep_rad) / geom_.length_mm;
         comp_speed_step_ = cfg_.arc_comp.speed_step_mm_s(block_.comp_speed_mm_s);
+        comp_cap_mm_s_ = std::min(speed_cap_mm_s_, block_.comp_speed_mm_s);
         comp_tail_scale_ = 0.0;
       }
       ++block_seq_;
@@ -158,7 +159,7 @@ void Interpolator::apply_arc_comp(double v, double target) {
   // x from the sample's in-plane angular rate; the end rows by its advances from the start and
   // to the end.
   const double to_end = cfg_.arc_comp.advances_to_end(geom_.length_mm - s_mm_, v, target,
-                                                      comp_speed_step_, speed_cap_mm_s_);
+                                                      comp_speed_step_, comp_cap_mm_s_);
   const ArcCompensation::Offset off = cfg_.arc_comp.offset(
       r, advance * comp_rad_per_mm_, comp_since_first_ + comp_phase_in_, to_end, comp_rows_,
       ArcCompensation::blend(s_mm_, geom_.length_mm, comp_blend_mm_), comp_stops_);

@@ -152,13 +152,14 @@ class Interpolator {
   double comp_phase_in_ = 0.0;    ///< how far past the start the first lay, of its advance
   double comp_rad_per_mm_ = 0.0;  ///< in-plane angle per path length, |sweep| / L
   double comp_speed_step_ = 0.0;  ///< largest speed change per sample, mm/s
+  /// The arc's speed limit: the planner's cap and v_p, the speed it was planned for (the
+  /// planner's check caps it there: a faster block before it steps down at once, not by the
+  /// ramp).
+  double comp_cap_mm_s_ = 0.0;
   double last_speed_mm_s_ = 0.0;  ///< path speed of the last sample (0 after a stop)
   /// The speed of a compensated arc's sample: `target` by ArcCompensation::next_speed.
   double comp_ramped_speed(double target) const {
-    // At most v_p, the speed the arc was planned for (the planner's check caps it there): a
-    // block faster than that before it steps down to it at once, not by the ramp.
-    return cfg_.arc_comp.next_speed(last_speed_mm_s_, target, comp_speed_step_,
-                                    std::min(speed_cap_mm_s_, block_.comp_speed_mm_s),
+    return cfg_.arc_comp.next_speed(last_speed_mm_s_, target, comp_speed_step_, comp_cap_mm_s_,
                                     geom_.length_mm - s_mm_);
   }
   // The window after a compensated arc: the filter still holds the arc's samples, whose end rows

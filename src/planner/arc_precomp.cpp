@@ -187,14 +187,11 @@ void ArcPrecompCheck::push_sample(SimState& s) const {
     s.pending = needed;
     return;
   }
+  // With the pending one, this output is judged too even where it is not needed: its distance
+  // is then exactly 0 (above), which changes nothing.
   s.pending = false;
   Eigen::Vector2d y, y_before;
   double pbar, pbar_before;
-  if (!needed) {  // (p is nondecreasing: not once the one before was needed)
-    window_output(s.head + 1, y_before, pbar_before);
-    judge(s, y_before, pbar_before);
-    return;
-  }
   window_outputs(s.head, y, pbar, y_before, pbar_before);
   judge(s, y_before, pbar_before);
   judge(s, y, pbar);

@@ -15,11 +15,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// std::nextafter(x, kInf) for finite x >= 0: the next bit pattern.
-double next_up(double x) {
-  return std::bit_cast<double>(std::bit_cast<std::uint64_t>(x) + 1);
-}
-
 /// The next float up and down (finite x): a step of the bit pattern, as std::nextafter.
 double float_up(double x) {
   if (x == 0.0) return std::numeric_limits<double>::denorm_min();
@@ -751,7 +746,7 @@ std::optional<double> TolerancePlanner::narrowed_speed_in_zones(double vmax, dou
       below = float_down(v);
       above = v;
     }
-    for (int it = 0; it < 40 && next_up(below) < above; ++it) {
+    for (int it = 0; it < 40 && float_up(below) < above; ++it) {
       const double mid = 0.5 * (below + above);
       (joins(mid) ? above : below) = mid;
     }
