@@ -78,8 +78,12 @@ constexpr double kMinTurn = 1e-9;
 /// vertices is planned corner by corner.
 constexpr double kRunTurn = 0.1;
 /// A corner turning by at most this (|Δu|, about 0.57°: CAM output rounded to 3 decimals turns
-/// 0 to 0.13° at joins meant to be tangent) may claim its error at full speed (assign_claims).
-constexpr double kClaimTurn = 0.01;
+/// 0 to 0.13° at joins meant to be tangent) may claim its error at its fastest speed, above
+/// 100 % feed too (assign_claims).
+constexpr double kClaimFreeTurn = 0.01;
+/// A corner turning by at most this (|Δu|, about 5.7°: arcs rounded to 4 decimals of an inch
+/// meet at kinks of 0.1 to 2°) may claim its error at 100 % feed, its zone capped there.
+constexpr double kClaimTurn = 0.1;
 /// A near circle: its radii differ by at most this fraction of the smaller;
 /// ArcPrecompCheck::spiral_mm's bound assumes Δr/r small.
 constexpr double kNearCircle = 0.01;
@@ -834,13 +838,21 @@ void TolerancePlanner::assign_claims(double t_until) {
     // (g has no cap).
     const double share = share_of(tol) - mismatch_reserve(g, tol).ceiling_mm();
     // Claims active with g lie within τ of it; those after g are assigned after it and count g.
-    double claims = g.vmax * corner_moment(g.pause0) * g.turn;
+    double near = 0.0;
     for (std::size_t i = claim_cursor_; i-- > 0 && elems_[i].t1 >= g.t0 - tau;)
-      if (elems_[i].claim_state == Element::Claim::Claimant) claims += elems_[i].claim;
-    if (claims > 0.5 * share) continue;
-    g.claim_state = Element::Claim::Claimant;
-    g.claim = g.vmax * corner_moment(g.pause0) * g.turn;
-    ++claimants_;
+      if (elems_[i].claim_state == Element::Claim::Claimant) near += elems_[i].claim;
+    // At its fastest speed (no cap: only the smallest turns, or where no override can run the
+    // path faster than 100 %), else at 100 % feed with its zone capped there.
+    for (const double v : {g.vmax, std::min(g.vmax, g.v100)}) {
+      if (v == g.vmax && g.turn > kClaimFreeTurn && g.v100 < g.vmax) continue;
+      const double claim = v * corner_moment(g.pause0) * g.turn;
+      if (near + claim > 0.5 * share) continue;
+      g.claim_state = Element::Claim::Claimant;
+      g.claim = claim;
+      g.claim_cap = v < g.vmax ? v : kInf;
+      ++claimants_;
+      break;
+    }
   }
 }
 
@@ -889,6 +901,12 @@ void TolerancePlanner::decide(Element& e) {
     e.reach0 = e.s0;
     e.reach1 = e.s1;
     e.z0 = e.z1 = e.s0;
+    if (e.claim_cap < kInf) {  // the blocks its window can hold take its cap
+      e.cap = e.claim_cap;
+      const double zt = std::max(filter_.zone_floor_s(), filter_.tau_s() - e.pause0);
+      e.z0 = zone_back(e.s0, zt, e.cap);
+      e.z1 = zone_fwd(e.s1, zt, e.cap);
+    }
     return;
   }
   // Every other element takes the claims that can be active beside it off its share:

@@ -131,10 +131,12 @@ class TolerancePlanner : public CanonSource {
     double spiral = 0;      ///< Arc: how far its radius runs below `radius` (a near circle), mm
     double sweep = 0;       ///< Arc: |θ|, rad
     double comp_speed = 0;  ///< Arc: > 0 when compensated, the speed it was planned for, mm/s
-    /// A near-tangent corner (|Δu| <= kClaimTurn) may take its error at full speed as a claim
-    /// instead of a share (assign_claims): claim = vmax·D(pause0)·|Δu|, no cap, no pause.
+    /// A near-tangent corner (|Δu| <= kClaimTurn) may take its error as a claim instead of a
+    /// share (assign_claims): claim = v·D(pause0)·|Δu|, no pause; v its fastest speed (no cap)
+    /// or its speed at 100 % feed (claim_cap, its zone capped there).
     enum class Claim : std::uint8_t { Unassigned, Claimant, Share } claim_state = Claim::Unassigned;
-    double claim = 0;    ///< Claimant: its error bound, mm
+    double claim = 0;                                            ///< Claimant: its error bound, mm
+    double claim_cap = std::numeric_limits<double>::infinity();  ///< Claimant: its cap, or none
     bool split = false;  ///< Arc: cut at zone boundaries like a line (splits)
   };
   /// An arc is cut at zone boundaries into arcs of the same centre when it turns at most once

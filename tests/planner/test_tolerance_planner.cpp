@@ -580,6 +580,53 @@ TEST_CASE("property-1000: 1,000 random CAM profiles", "[.][property-1000]") {
   cam_property(1000, 20261128);
 }
 
+namespace {
+
+// An engraving as CamBam writes it: arcs (R 10 and 20 mm, 15° each, the bend changing side
+// every third arc) whose ends were rounded, so that each meets the next at a kink of 1°
+// (|Δu| = 0.0175), at F1524 (60 in/min) under `tol`.
+std::string kinked_engraving(const char* tol) {
+  constexpr double kDeg = 3.141592653589793 / 180.0;
+  std::string text = fmt::format("G21 G90 G17 G64 P{}\nG0 X0 Y0\nG1 X2 Y0 F1524\n", tol);
+  double x = 2, y = 0, heading = 0;
+  for (int k = 0; k < 24; ++k) {
+    const double r = k % 2 == 0 ? 10.0 : 20.0, side = (k / 3) % 2 == 0 ? 1.0 : -1.0;
+    const double cx = x - side * r * std::sin(heading), cy = y + side * r * std::cos(heading);
+    const double to = heading + side * 15.0 * kDeg;
+    const double ex = cx + side * r * std::sin(to), ey = cy - side * r * std::cos(to);
+    text += fmt::format("{} X{:.4f} Y{:.4f} I{:.4f} J{:.4f}\n", side > 0 ? "G3" : "G2", ex, ey,
+                        cx - x, cy - y);
+    x = ex, y = ey, heading = to + 1.0 * kDeg;  // the next arc leaves 1° off the tangent
+  }
+  return text + "M2\n";
+}
+
+}  // namespace
+
+TEST_CASE("kinks of 1° between arcs claim at 100 % feed: no pause, within P up to 200 %") {
+  // Each kink's error at 100 % feed with no pause, V·D(0)·|Δu| = 25.4 mm/s · 8.94 ms · 0.0175 =
+  // 4.0 µm, is within half the share at P0.05 (about 24 µm) but not at the fastest speed for
+  // kinks a filter window apart (2 × 4.0 µm each, plus the arcs): until 2026-11-29 only turns
+  // up to |Δu| = 0.01 claimed, and each of these paused (docs/tolerance.md, "Claims at 100 %
+  // feed"). Now each claims at 100 % feed and caps its zone there: no pause, and an override
+  // of 200 % does not run the path faster near it.
+  const gm::Machine m;
+  const std::string text = kinked_engraving("0.05");
+  for (const double feed : {1.0, 2.0}) {
+    CAPTURE(feed);
+    const Outcome o = run_program(text, m, [&](std::int64_t) {
+      gm::OverrideInput in;
+      in.feed_scale = feed;
+      return in;
+    });
+    REQUIRE(o.finished);
+    CHECK(o.end_exact);
+    CHECK(o.pauses == 0);
+    CHECK(o.check.cutting().over == 0);
+    CHECK(o.check.cutting().samples > 100);
+  }
+}
+
 TEST_CASE("gmotion run --check-tolerance exits 1 when a sample exceeds the tolerance") {
   const std::string prog = std::string(GMOTION_TESTS_DIR) + "/../programs/corners.nc";
   // Servo off: the planned Acc/Dec output holds P0.02 (exit 0, both kinds judged).
