@@ -5,6 +5,7 @@
 #include "interpolator/arc_end_rows.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -162,6 +163,15 @@ class ArcCompensation {
         worst = std::max(worst, std::abs(e.radial - 1.0) + std::abs(e.along));
       }
     return 1.0 + 2.0 * worst;
+  }
+  /// The fastest speed a sample `left_mm` before a point the arc's speed must be down to `exit`
+  /// at (> 0) may take, so that the ramp (at most `step` a sample) gets there: exit + m·step,
+  /// m the largest whole number of steps whose samples, this one included, cover at most
+  /// left_mm (T·(m·exit + step·m(m + 1)/2)).
+  double braking_speed(double left_mm, double exit, double step) const {
+    const double b = exit + 0.5 * step,
+                 m = (std::sqrt(b * b + 2.0 * step * left_mm / period_s_) - b) / step;
+    return exit + std::floor(std::max(0.0, m)) * step;
   }
   /// Samples of the ramp from 0 to the planned speed: N + 1, the filter's window.
   int ramp_samples() const { return ramp_samples_; }

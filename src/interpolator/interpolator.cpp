@@ -77,14 +77,21 @@ bool Interpolator::pull_next() {
       comp_block_ = cfg_.arc_comp.enabled() && block_.kind == MotionKind::Arc &&
                     block_.comp_speed_mm_s > 0.0 && geom_.length_mm > 0.0;
       if (comp_block_) {
-        comp_blend_mm_ = cfg_.arc_comp.blend_length_mm(geom_.length_mm, block_.comp_speed_mm_s);
-        comp_rows_ = cfg_.arc_comp.rows_weight(geom_.length_mm, block_.comp_speed_mm_s);
+        // A piece of a cut arc after its first goes on with the arc's count and override.
+        comp_from_mm_ = block_.comp_arc_length_mm > 0.0 ? block_.comp_arc_from_mm : 0.0;
+        comp_length_mm_ =
+            block_.comp_arc_length_mm > 0.0 ? block_.comp_arc_length_mm : geom_.length_mm;
+        comp_exit_mm_s_ = block_.comp_exit_speed_mm_s;
+        comp_blend_mm_ = cfg_.arc_comp.blend_length_mm(comp_length_mm_, block_.comp_speed_mm_s);
+        comp_rows_ = cfg_.arc_comp.rows_weight(comp_length_mm_, block_.comp_speed_mm_s);
         comp_stops_ = block_.comp_stops_at_end;
-        comp_since_first_ = -1;
+        if (comp_from_mm_ == 0.0) {
+          comp_since_first_ = -1;
+          comp_tail_scale_ = 0.0;
+        }
         comp_rad_per_mm_ = std::abs(geom_.sweep_rad) / geom_.length_mm;
         comp_speed_step_ = cfg_.arc_comp.speed_step_mm_s(block_.comp_speed_mm_s);
         comp_cap_mm_s_ = std::min(speed_cap_mm_s_, block_.comp_speed_mm_s);
-        comp_tail_scale_ = 0.0;
       }
       ++block_seq_;
       started_.push_back(block_);
@@ -152,17 +159,18 @@ void Interpolator::apply_arc_comp(double v, double target) {
   const double advance = v * cfg_.period_s;
   if (comp_since_first_ < 0) {
     comp_since_first_ = 0;
-    comp_phase_in_ = s_mm_ / advance;
+    comp_phase_in_ = (comp_from_mm_ + s_mm_) / advance;
   } else {
     ++comp_since_first_;
   }
   // x from the sample's in-plane angular rate; the end rows by its advances from the start and
-  // to the end.
-  const double to_end = cfg_.arc_comp.advances_to_end(geom_.length_mm - s_mm_, v, target,
+  // to the end, of the whole arc.
+  const double s_arc = comp_from_mm_ + s_mm_;
+  const double to_end = cfg_.arc_comp.advances_to_end(comp_length_mm_ - s_arc, v, target,
                                                       comp_speed_step_, comp_cap_mm_s_);
   const ArcCompensation::Offset off = cfg_.arc_comp.offset(
       r, advance * comp_rad_per_mm_, comp_since_first_ + comp_phase_in_, to_end, comp_rows_,
-      ArcCompensation::blend(s_mm_, geom_.length_mm, comp_blend_mm_), comp_stops_);
+      ArcCompensation::blend(s_arc, comp_length_mm_, comp_blend_mm_), comp_stops_);
   // Outward (da, db)/r; along the motion (−db, da)/r counter-clockwise, (db, −da)/r clockwise.
   const double along = geom_.sweep_rad > 0.0 ? off.along_mm : -off.along_mm;
   pos_mm_[a] += (off.radial_mm * da - along * db) / r;
@@ -253,7 +261,12 @@ InterpStatus Interpolator::step_n(const OverrideInput& ovr, CommandSample& out) 
       pos_mm_ = geom_.end_mm;  // the block end, exactly
       in_motion_ = false;
       moved_or_waited = true;
-      if (comp_block_) comp_tail_left_ = cfg_.arc_comp.ramp_samples();
+      if (comp_block_) {
+        comp_tail_left_ = cfg_.arc_comp.ramp_samples();
+        // A sample that ends on a cut inside the arc is commanded off it like any other.
+        if (dt <= dt_eps && comp_from_mm_ + geom_.length_mm < comp_length_mm_)
+          apply_arc_comp(v, target);
+      }
       if (block_.path_mode != PathMode::Continuous) {
         // Exact stop (G61.1, G9) and exact path (G61) at a join that is not tangent (the planner
         // hands a G61 block with a tangent join on as continuous): with the Acc/Dec after

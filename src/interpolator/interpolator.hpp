@@ -156,11 +156,21 @@ class Interpolator {
   /// planner's check caps it there: a faster block before it steps down at once, not by the
   /// ramp).
   double comp_cap_mm_s_ = 0.0;
+  /// A piece of a cut arc (Motion::comp_arc_from_mm): where the block starts in the whole arc,
+  /// the whole arc's length (the block's own when it is whole), and the speed to be down to at
+  /// the block's end (0: none).
+  double comp_from_mm_ = 0.0;
+  double comp_length_mm_ = 0.0;
+  double comp_exit_mm_s_ = 0.0;
   double last_speed_mm_s_ = 0.0;  ///< path speed of the last sample (0 after a stop)
-  /// The speed of a compensated arc's sample: `target` by ArcCompensation::next_speed.
+  /// The speed of a compensated arc's sample: `target` by ArcCompensation::next_speed, and no
+  /// faster than the ramp can brake from to the block's exit speed.
   double comp_ramped_speed(double target) const {
+    if (comp_exit_mm_s_ > 0.0)
+      target = std::min(target, cfg_.arc_comp.braking_speed(geom_.length_mm - s_mm_,
+                                                            comp_exit_mm_s_, comp_speed_step_));
     return cfg_.arc_comp.next_speed(last_speed_mm_s_, target, comp_speed_step_, comp_cap_mm_s_,
-                                    geom_.length_mm - s_mm_);
+                                    comp_length_mm_ - comp_from_mm_ - s_mm_);
   }
   // The window after a compensated arc: the filter still holds the arc's samples, whose end rows
   // were commanded for a path that goes on (or stops where the planner said), so a fall of the

@@ -87,6 +87,14 @@ struct Motion {
   /// stop or the program's end follows) or nearly (the next block crawls at under a tenth of
   /// the arc's speed), so its end takes the rows for a stop.
   bool comp_stops_at_end = false;
+  /// Pre-compensated arcs cut at zone boundaries into pieces of the same centre: how far this
+  /// piece starts from the whole arc's start and the whole arc's length, mm of path (length 0:
+  /// the piece is the whole arc). The correction, its end rows and its ramp are the whole arc's.
+  double comp_arc_from_mm = 0.0;
+  double comp_arc_length_mm = 0.0;
+  /// Pre-compensated pieces: the path speed the arc's ramp must be down to at this piece's end
+  /// (the next piece's cap), mm/s; 0 = none.
+  double comp_exit_speed_mm_s = 0.0;
 };
 
 /// The move's kind as `gmotion moves` names it: rapid, line, arc, rigid_tap or probe.

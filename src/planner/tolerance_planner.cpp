@@ -91,6 +91,10 @@ constexpr double kNearCircle = 0.01;
 /// v_p makes the arc's end a stop for its end rows (emit_front): measured, 2 of 450 random
 /// feed-changing chains were over P (to 107 %) with the moving rows there, 0 with these.
 constexpr double kCrawlRatio = 0.1;
+/// A pre-compensated arc is cut at zone boundaries no nearer its ends than this many samples of
+/// travel at v_p: its end rows (ArcEndRows::kSpan advances), the radial blend (two samples)
+/// and the speed hold before its end lie within them.
+constexpr double kCompEndSamples = ArcEndRows::kSpan + 2;
 constexpr int kMinRunVertices = 3;
 constexpr double kRunDeltaShare = 4.0;
 
@@ -1149,6 +1153,7 @@ void TolerancePlanner::emit_front() {
   decide_reachable(b);
   cut_pieces(b);
   merge_short_pieces(b);
+  brake_comp_pieces(b);
   emit_pieces(b);
   const std::size_t last_piece = ready_.size() - 1;
   bool paused = false;
@@ -1209,22 +1214,36 @@ void TolerancePlanner::decide_reachable(const Block& b) {
     }
 }
 
+double TolerancePlanner::comp_speed_of(const Block& b) const {
+  if (b.m.kind != MotionKind::Arc) return 0.0;
+  for (const Element& e : elems_)
+    if (e.kind == ElementKind::Arc && e.seq == b.seq) return e.comp_speed;
+  return 0.0;
+}
+
 void TolerancePlanner::cut_pieces(const Block& b) {
   // Pieces of the block between zone boundaries, each with the smallest cap over it.
   // An arc of several turns is not split: it takes the smallest cap of the zones touching it.
-  // Nor is a pre-compensated arc: its correction blends in and out at its ends only, which its
-  // plan (precomp_arc_speed) judged.
+  // A pre-compensated arc is cut, but not within kCompEndSamples samples of travel at v_p of its
+  // ends (its end rows, radial blend and speed hold are the whole arc's, as its plan judged
+  // them): a cut nearer an end moves away from it, and each piece takes the smallest cap of
+  // the zones overlapping it (the slower piece grows).
   bool whole = b.m.kind == MotionKind::Arc && !splits(b.m);
-  if (b.m.kind == MotionKind::Arc)
-    for (const Element& e : elems_)
-      if (e.kind == ElementKind::Arc && e.seq == b.seq && e.comp_speed > 0.0) whole = true;
+  const double comp_v = comp_speed_of(b);
+  double lo = b.s0, hi = b.s1;
+  if (comp_v > 0.0) {
+    const double end = kCompEndSamples * filter_.period_s() * comp_v;
+    lo = b.s0 + end;
+    hi = b.s1 - end;
+    if (!(hi > lo)) whole = true;
+  }
   std::vector<double>& cuts = cuts_;
   cuts.assign({b.s0, b.s1});
   if (!whole)
     for (const Element& e : elems_)
       if (e.decided && e.cap < kInf)
         for (double z : {e.z0, e.z1})
-          if (z > b.s0 && z < b.s1) cuts.push_back(z);
+          if (z > b.s0 && z < b.s1) cuts.push_back(std::clamp(z, lo, hi));
   std::sort(cuts.begin(), cuts.end());
   cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
   std::vector<Piece>& pieces = pieces_;
@@ -1238,8 +1257,8 @@ void TolerancePlanner::cut_pieces(const Block& b) {
     double cap = b.cap_all;
     for (const Element& e : elems_) {
       if (!e.decided || !(e.cap < kInf)) continue;
-      const bool covers =
-          whole ? (e.z0 < c && e.z1 > a) : (e.z0 <= 0.5 * (a + c) && 0.5 * (a + c) <= e.z1);
+      const bool covers = whole || comp_v > 0.0 ? (e.z0 < c && e.z1 > a)
+                                                : (e.z0 <= 0.5 * (a + c) && 0.5 * (a + c) <= e.z1);
       if (covers) cap = std::min(cap, e.cap);
     }
     if (!pieces.empty() && pieces.back().cap == cap)
@@ -1280,9 +1299,28 @@ void TolerancePlanner::merge_short_pieces(const Block& b) {
   }
 }
 
+void TolerancePlanner::brake_comp_pieces(const Block& b) {
+  // The pieces of a pre-compensated arc change speed by the arc's ramp (v_p/(N + 1) a sample),
+  // which its plan judged; a piece brakes to the next one's cap before its end
+  // (Motion::comp_exit_speed_mm_s). A piece too short for that takes the next one's cap.
+  std::vector<Piece>& pieces = pieces_;
+  const double comp_v = comp_speed_of(b);
+  if (!(comp_v > 0.0) || pieces.size() < 2) return;
+  const double step = precomp_->rule().speed_step_mm_s(comp_v), T = filter_.period_s();
+  for (std::size_t i = pieces.size() - 1; i-- > 0;) {
+    const double from = std::min(pieces[i].cap, comp_v), to = std::min(pieces[i + 1].cap, comp_v);
+    if (!(to < from)) continue;
+    // The ramp's samples from `from` down to `to`, one more at `from` (the sample it starts in).
+    const double m = std::ceil((from - to) / step);
+    if (pieces[i].c - pieces[i].a < T * ((m + 1.0) * to + step * (m + 1.0) * (m + 2.0) / 2.0))
+      pieces[i].cap = pieces[i + 1].cap;
+  }
+}
+
 void TolerancePlanner::emit_pieces(const Block& b) {
   const std::vector<Piece>& pieces = pieces_;
   const double L = b.s1 - b.s0;
+  const double comp_v = comp_speed_of(b);
   for (std::size_t i = 0; i < pieces.size(); ++i) {
     Ready& r = ready_.push_back_slot();  // the piece is written in its slot
     r.canon = b.m;
@@ -1296,9 +1334,13 @@ void TolerancePlanner::emit_pieces(const Block& b) {
       if (b.m.inverse_time_s > 0.0) p.inverse_time_s = b.m.inverse_time_s * (q.c - q.a) / L;
     }
     if (q.cap < b.vmax * (1.0 - 1e-12)) p.speed_cap_mm_s = q.cap;
-    if (b.m.kind == MotionKind::Arc)  // a compensated arc is handed on whole (cut_pieces)
-      for (const Element& e : elems_)
-        if (e.kind == ElementKind::Arc && e.seq == b.seq) p.comp_speed_mm_s = e.comp_speed;
+    p.comp_speed_mm_s = comp_v;
+    if (comp_v > 0.0 && pieces.size() > 1) {  // a piece of the arc (cut_pieces)
+      p.comp_arc_from_mm = q.a - b.s0;
+      p.comp_arc_length_mm = L;
+      if (i + 1 < pieces.size() && std::min(pieces[i + 1].cap, comp_v) < std::min(q.cap, comp_v))
+        p.comp_exit_speed_mm_s = std::min(pieces[i + 1].cap, comp_v);
+    }
     // Only the block's end stops (G61.1, G9, G61 at a join that is not tangent).
     if (i + 1 < pieces.size() || b.tangent_exit) p.path_mode = PathMode::Continuous;
   }

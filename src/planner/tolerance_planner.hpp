@@ -271,6 +271,11 @@ class TolerancePlanner : public CanonSource {
   /// The command stops on b's end point before the next motion (the interpolator waits there).
   bool stops_after(const Block& b) const;
   void merge_short_pieces(const Block& b);
+  /// A pre-compensated arc's pieces: each brakes to the next one's cap by the arc's ramp
+  /// (Motion::comp_exit_speed_mm_s), or takes it where it is too short to.
+  void brake_comp_pieces(const Block& b);
+  /// The v_p of b when it is a pre-compensated arc, else 0.
+  double comp_speed_of(const Block& b) const;
   void emit_pieces(const Block& b);
   /// Runs of small turns (CAM polylines): a vertex joins the run being gathered; a chunk is
   /// closed (pushed as one element, or as its corners while the run is short) when it spans τ,

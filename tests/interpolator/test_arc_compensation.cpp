@@ -199,3 +199,60 @@ TEST_CASE("compensated helix in G18: the correction is radial in ZX, Y follows i
   CHECK(steady > 20);
   CHECK(s.back().pos_blu == gm::blu3(0, 6000, 8000));
 }
+
+namespace {
+// The half circle cut at its middle (5, −5) into two pieces of the same centre, as the planner
+// cuts an arc at a zone boundary: where each lies in the whole arc, and the second's cap.
+std::vector<Canon> half_circle_in_pieces(double second_cap_mm_s) {
+  const double length = 5.0 * std::numbers::pi;
+  Motion a = half_circle(50.0), b = half_circle(50.0);
+  a.end_mm = b.start_mm = xyz(5, -5, 0);
+  a.comp_arc_length_mm = b.comp_arc_length_mm = length;
+  b.comp_arc_from_mm = 0.5 * length;
+  if (second_cap_mm_s > 0.0) {
+    b.speed_cap_mm_s = second_cap_mm_s;
+    a.comp_exit_speed_mm_s = second_cap_mm_s;
+  }
+  return {a, b};
+}
+}  // namespace
+
+TEST_CASE("compensated arc in pieces: the whole arc's command, and a brake to the next cap") {
+  // Cut without a cap: the same samples as the arc whole (the count, the end rows and the
+  // ramp are the whole arc's), to a BLU (each piece's angle is its own sum).
+  const auto whole = run({half_circle(50.0)}, full);
+  const auto cut = run(half_circle_in_pieces(0.0), full);
+  REQUIRE(cut.size() == whole.size());
+  for (std::size_t k = 0; k < cut.size(); ++k) {
+    CAPTURE(k);
+    CHECK(std::abs(cut[k].pos_blu[0] - whole[k].pos_blu[0]) <= 1);
+    CHECK(std::abs(cut[k].pos_blu[1] - whole[k].pos_blu[1]) <= 1);
+  }
+  // The second piece capped at 20 mm/s: the first brakes to it by the ramp (50/41 mm/s a
+  // sample) before the cut, so the advance never changes by more than a step, and it is at
+  // most 20 mm/s·T past the cut.
+  const auto braked = run(half_circle_in_pieces(20.0), full);
+  double prev_adv = 0.0, angle_prev = std::atan2(0.0, -5.0);
+  int past_cut = 0;
+  for (std::size_t k = 0; k + 1 < braked.size(); ++k) {
+    const double a = std::atan2(braked[k].pos_blu[1] * 0.001, braked[k].pos_blu[0] * 0.001 - 5.0);
+    double d = a - angle_prev;
+    while (d < -std::numbers::pi) d += 2 * std::numbers::pi;
+    while (d > std::numbers::pi) d -= 2 * std::numbers::pi;
+    angle_prev = a;
+    const double adv = std::abs(d) * 5.0;
+    CAPTURE(k, adv, prev_adv);
+    // Past the start's end rows and before the end's (their along-path offsets).
+    if (k >= 10 && k + 6 < braked.size())
+      CHECK(std::abs(adv - prev_adv) <= 0.2 / 41.0 + 0.002);  // + two roundings
+    // Past the cut at (5, −5), the angle 3π/2 from the centre: at most the cap.
+    if (a > -std::numbers::pi / 2 + 0.01 && a < 0.0 && k + 6 < braked.size()) {
+      ++past_cut;
+      CHECK(adv <= 20.0 * 0.004 + 0.002);
+    }
+    prev_adv = adv;
+  }
+  CHECK(past_cut > 20);
+  CHECK(braked.back().pos_blu == gm::blu3(10000, 0, 0));
+  CHECK(braked.size() > whole.size());
+}

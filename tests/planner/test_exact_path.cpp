@@ -23,13 +23,14 @@
 namespace {
 
 // The planner's canon for `text` on machine `m`.
-std::vector<gm::Canon> planned_canon(const std::string& text, const gm::Machine& m) {
+std::vector<gm::Canon> planned_canon(const std::string& text, const gm::Machine& m,
+                                     bool precomp = false) {
   std::istringstream in(text);
   gm::InterpreterOptions opts;
   opts.machine = &m;
   gm::ProgramStream stream(in, "p.nc", opts);
   const gm::FilterMoments fm(gm::design_taps(m.profile, m.tau_s, m.period_s), m.period_s);
-  gm::TolerancePlanner planner(fm, gmtest::fir_planner_config(m, false), stream);
+  gm::TolerancePlanner planner(fm, gmtest::fir_planner_config(m, precomp), stream);
   std::vector<gm::Canon> out;
   gm::Canon c;
   while (planner.next(c)) out.push_back(c);
@@ -70,9 +71,10 @@ class Counting : public gm::CanonSource {
   Run& r_;
 };
 
-// Runs `text` through planner and pipeline, servo off, 100 % override; `precomp`: arcs
-// pre-compensated (the machine's default; off in the tests written before it).
-Run run(const std::string& text, const gm::Machine& m, bool precomp = false) {
+// Runs `text` through planner and pipeline, servo off, at `feed_scale` (1: 100 % override);
+// `precomp`: arcs pre-compensated (the machine's default; off in the tests written before it).
+Run run(const std::string& text, const gm::Machine& m, bool precomp = false,
+        double feed_scale = 1.0) {
   std::istringstream in(text);
   gm::InterpreterOptions opts;
   opts.machine = &m;
@@ -87,7 +89,9 @@ Run run(const std::string& text, const gm::Machine& m, bool precomp = false) {
   gmtest::SampleStepper p(cfg, counting);
   r.check = gmtest::ToleranceReference(m.contour_blu_mm(), 0.0);
   gm::SampleRecord rec;
-  while (p.step({}, rec) == gm::PipelineStatus::Working) {
+  gm::OverrideInput ovr;
+  ovr.feed_scale = feed_scale;
+  while (p.step(ovr, rec) == gm::PipelineStatus::Working) {
     r.check.add(rec, p.started_motion());
     r.samples.push_back({rec.t_s, static_cast<double>(rec.ref_blu[0]) * 0.001,
                          static_cast<double>(rec.ref_blu[1]) * 0.001, rec.contour_err_blu,
@@ -270,4 +274,44 @@ TEST_CASE("a fast pre-compensated arc ending into a crawling line: its end rows 
   const Run r = run(text, m, true);
   CHECK(r.check.cutting().over == 0);
   CHECK(r.check.cutting().ratio <= 1.0);
+}
+
+TEST_CASE("a pre-compensated arc is cut where a kink's zone begins, and brakes to it by its ramp") {
+  // A half circle of R 10 mm at F3000, then 1 mm of tangent line and a kink of 1° under
+  // P0.02: the kink claims its error at 100 % feed (50 mm/s) and caps its zone there, τ of
+  // travel back, into the arc's last 7 mm, while the arc alone fits at 57.8 mm/s. Until
+  // 2026-11-29 the arc took the kink's cap over its whole length; now it is cut there (pieces
+  // of the same centre, the correction, end rows and ramp the whole arc's) and its first piece
+  // brakes to the second's cap by the arc's ramp before its end
+  // (Motion::comp_exit_speed_mm_s).
+  const gm::Machine m;
+  const std::string text =
+      "G21 G90 G17 G64 P0.02\nG1 X0 Y0 F3000\nG1 X10 Y0\nG3 X10 Y20 I0 J10\nG1 X9 Y20\n"
+      "G1 X0 Y20.157\nM2\n";
+  std::vector<gm::Motion> arc;
+  for (const gm::Canon& c : planned_canon(text, m, true))
+    if (const auto* mo = std::get_if<gm::Motion>(&c); mo != nullptr && mo->line == 4)
+      arc.push_back(*mo);
+  REQUIRE(arc.size() == 2);
+  const double L = 10.0 * std::numbers::pi, vp = arc[0].comp_speed_mm_s;
+  CHECK(vp > 55.0);
+  double from = 0.0;
+  for (const gm::Motion& p : arc) {  // the pieces tile the arc, each with the arc's v_p
+    CHECK(p.comp_speed_mm_s == vp);
+    CHECK(p.comp_arc_length_mm == Approx(L).epsilon(1e-12));
+    CHECK(p.comp_arc_from_mm == Approx(from).margin(1e-9));
+    from += gm::MotionGeometry::of(p).length_mm;
+  }
+  CHECK(from == Approx(L).epsilon(1e-12));
+  CHECK(arc[0].speed_cap_mm_s == vp);
+  CHECK(arc[1].speed_cap_mm_s == 50.0);  // the kink's claim, at 100 % feed
+  CHECK(arc[0].comp_exit_speed_mm_s == 50.0);
+  CHECK(arc[1].comp_exit_speed_mm_s == 0.0);
+  // At 200 % feed: within P, and the arc in less time than at the kink's cap throughout.
+  const Run r = run(text, m, true, 2.0);
+  CHECK(r.check.cutting().over == 0);
+  int on_arc = 0;
+  for (const Sample& q : r.samples) on_arc += q.line == 4;
+  CHECK(on_arc * m.period_s < 0.95 * L / 50.0);  // 0.564 s; whole at the cap 0.628 s
+  CHECK(run(text, m, true).check.cutting().over == 0);
 }
