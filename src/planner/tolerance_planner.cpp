@@ -1269,9 +1269,14 @@ void TolerancePlanner::cut_pieces(const Block& b) {
 }
 
 void TolerancePlanner::merge_short_pieces(const Block& b) {
-  // No piece shorter than one sample of travel at the fastest speed: the contour measurement
-  // sees one block per sample (the one the sample ends in), so such a piece would be skipped by
-  // it. A merged piece takes the smaller cap (never faster than planned).
+  // With a servo mismatch reserve (speed_error_s, planned for the table): no piece shorter than
+  // one sample of travel at the block's fastest speed. A merged piece takes the smaller cap
+  // (never faster than planned). The rule was first made for the contour measurement, which
+  // since sees every block a sample starts; without it the plans without a reserve (the Acc/Dec
+  // output's) hold P on every sample of their sweeps and run faster, the default machine's
+  // encoder plans did not (14 times P in its sweep, cause not found; docs/tolerance.md, "Short
+  // pieces"), so every plan with a reserve keeps it.
+  if (!(cfg_.speed_error_s > 0.0)) return;
   std::vector<Piece>& pieces = pieces_;
   const double min_piece = 1.01 * b.vmax * filter_.period_s();
   for (std::size_t i = 0; pieces.size() > 1 && i < pieces.size();) {
