@@ -1274,7 +1274,7 @@ void TolerancePlanner::merge_short_pieces(const Block& b) {
   // (never faster than planned). The rule was first made for the contour measurement, which
   // since sees every block a sample starts; without it the plans without a reserve (the Acc/Dec
   // output's) hold P on every sample of their sweeps and run faster, the default machine's
-  // encoder plans did not (14 times P in its sweep, cause not found; docs/tolerance.md, "Short
+  // encoder plans did not (the worst sample 14 times P, cause not found; docs/tolerance.md, "Short
   // pieces"), so every plan with a reserve keeps it.
   if (!(cfg_.speed_error_s > 0.0)) return;
   std::vector<Piece>& pieces = pieces_;
