@@ -19,6 +19,7 @@
 #include <fmt/format.h>
 #include <catch2/catch.hpp>
 
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <random>
@@ -209,8 +210,23 @@ namespace {
 // built-in machine, or `encoder_machine` when given); arcs pre-compensated when `precomp`.
 // With `unbounded`, P0 (no tolerance) is among the tolerances and P changes twice as often, so
 // corners and arcs without a tolerance come right before blocks with one.
+// With `vs_exact_stop`, each program also runs at 100 % feed as written and with every G64 P
+// replaced by G61.1 (exact stop): one without arcs is never slower under P (exact stop runs
+// arcs at full feed off the path, so the programs with arcs are only counted).
+std::string exact_stop_version(std::string text) {
+  for (std::size_t at = text.find("G64 P"); at != std::string::npos; at = text.find("G64 P", at)) {
+    std::size_t end = at + 5;
+    while (end < text.size() &&
+           (std::isdigit(static_cast<unsigned char>(text[end])) != 0 || text[end] == '.'))
+      ++end;
+    text.replace(at, end - at, "G61.1");
+  }
+  return text;
+}
+
 void property(int kPrograms, bool encoder, std::uint64_t seed, bool precomp = false,
-              const gm::Machine* encoder_machine = nullptr, bool unbounded = false) {
+              const gm::Machine* encoder_machine = nullptr, bool unbounded = false,
+              bool vs_exact_stop = false) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> U(0.0, 1.0);
   auto pick = [&](int n) { return std::min(n - 1, static_cast<int>(U(rng) * n)); };
@@ -221,6 +237,7 @@ void property(int kPrograms, bool encoder, std::uint64_t seed, bool precomp = fa
   const double tols[] = {0.003, 0.005, 0.01, 0.02, 0.05, 0.1, 0.3};
   int arcs = 0, rapids = 0, lines = 0, polylines = 0;
   std::int64_t samples = 0, rapid_samples = 0, paused = 0, capped = 0, compensated = 0;
+  int without_arcs = 0, without_arcs_slower = 0, with_arcs = 0, with_arcs_slower = 0;
   double worst_ratio = 0;
   for (int prog = 0; prog < kPrograms; ++prog) {
     // Encoder: the built-in machine, whose Y servo differs from X and Z (speed_error_s).
@@ -297,6 +314,19 @@ void property(int kPrograms, bool encoder, std::uint64_t seed, bool precomp = fa
     };
     const Outcome o = run_program(text, m, ovr, encoder);
     CAPTURE(prog, m.profile, encoder, text);
+    if (vs_exact_stop) {
+      const auto full_feed = [](std::int64_t) { return gm::OverrideInput{}; };
+      const double at_p = run_program(text, m, full_feed, encoder).cycle_s;
+      const double stop = run_program(exact_stop_version(text), m, full_feed, encoder).cycle_s;
+      if (text.find("\nG2 ") == std::string::npos && text.find("\nG3 ") == std::string::npos) {
+        ++without_arcs;
+        without_arcs_slower += at_p > stop;
+        CHECK(at_p <= stop);
+      } else {
+        ++with_arcs;
+        with_arcs_slower += at_p > stop;
+      }
+    }
     REQUIRE(o.finished);
     CHECK(o.end_exact);
     CHECK(o.check.cutting().over == 0);
@@ -322,6 +352,13 @@ void property(int kPrograms, bool encoder, std::uint64_t seed, bool precomp = fa
   CHECK(capped > 0);
   CHECK(polylines > 0);
   CHECK((compensated > 0) == precomp);
+  if (vs_exact_stop) {
+    CHECK(without_arcs > kPrograms / 10);
+    WARN(
+        fmt::format("at 100 % feed against G61.1: {} programs without arcs, {} slower; {} with "
+                    "arcs, {} slower",
+                    without_arcs, without_arcs_slower, with_arcs, with_arcs_slower));
+  }
   WARN(fmt::format(
       "{} programs ({} polylines), {} cutting + {} rapid samples, worst {:.1f} % of tolerance, "
       "{} pauses, {} capped pieces, {} arcs pre-compensated",
@@ -365,12 +402,12 @@ TEST_CASE("property-1000: 1,000 random programs, servo off", "[.][property-1000]
 
 TEST_CASE("property: pre-compensated arcs hold G64 P on every sample under random overrides",
           "[precomp]") {
-  property(gmtest::scaled(200), false, 20261123, true);
+  property(gmtest::scaled(200), false, 20261123, true, nullptr, false, true);
 }
 
 TEST_CASE("property-1000: 1,000 random programs, servo off, pre-compensated arcs",
           "[.][property-1000][precomp-1000]") {
-  property(1000, false, 20261123, true);
+  property(1000, false, 20261123, true, nullptr, false, true);
 }
 
 TEST_CASE("property-1000: 1,000 random programs, servo on, tolerance_on = encoder",
