@@ -22,7 +22,7 @@ void PathWindow::grow() {
   mask_ = capacity() - 1;
 }
 
-void PathWindow::push(const Motion& m, std::int64_t k) {
+void PathWindow::push(const Motion& piece, std::int64_t k) {
   if (count_ > 0) ring_[static_cast<std::size_t>(head_)].last_sample = k;
   if (count_ == capacity()) {
     // The oldest block is about to be overwritten: keep it if it can still be nearest.
@@ -34,6 +34,13 @@ void PathWindow::push(const Motion& m, std::int64_t k) {
   head_ = (head_ + 1) & (capacity() - 1);
   if (hint_age_ < capacity() - 1) ++hint_age_;  // every entry is one block older now
   Entry& e = ring_[static_cast<std::size_t>(head_)];
+  // A piece of a cut block is measured to the block's end (Motion::rest_of_block).
+  Motion whole;
+  if (piece.rest_of_block) {
+    whole = piece;
+    whole.end_mm = piece.block_end_mm;
+  }
+  const Motion& m = piece.rest_of_block ? whole : piece;
   e.geometry = MotionGeometry::of(m);
   e.first_sample = k;
   e.last_sample = kOngoing;

@@ -95,6 +95,12 @@ struct Motion {
   /// Pre-compensated pieces: the path speed the arc's ramp must be down to at this piece's end
   /// (the next piece's cap), mm/s; 0 = none.
   double comp_exit_speed_mm_s = 0.0;
+  /// A piece of a block the planner cut at zone boundaries, not its last: the block goes on to
+  /// `block_end_mm` (its programmed end) along the same line or circle. The contour measurement
+  /// measures to the rest of the block, so that a table ahead of the command (a servo's
+  /// overshoot after a step down in speed) is not taken for a path error past the piece's end.
+  bool rest_of_block = false;
+  AxisVec block_end_mm = AxisVec::Zero();
 };
 
 /// The move's kind as `gmotion moves` names it: rapid, line, arc, rigid_tap or probe.

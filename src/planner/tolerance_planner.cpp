@@ -1273,9 +1273,9 @@ void TolerancePlanner::merge_short_pieces(const Block& b) {
   // one sample of travel at the block's fastest speed. A merged piece takes the smaller cap
   // (never faster than planned). The rule was first made for the contour measurement, which
   // since sees every block a sample starts; without it the plans without a reserve (the Acc/Dec
-  // output's) hold P on every sample of their sweeps and run faster, the default machine's
-  // encoder plans did not (the worst sample 14 times P, cause not found; docs/tolerance.md, "Short
-  // pieces"), so every plan with a reserve keeps it.
+  // output's) hold P on every sample of their sweeps and run faster, while one encoder plan of
+  // the default machine's 1,000 overshot a corner after a step down from 130 to 0.5 mm/s in its
+  // short zone (docs/tolerance.md, "Short pieces"), so every plan with a reserve keeps it.
   if (!(cfg_.speed_error_s > 0.0)) return;
   std::vector<Piece>& pieces = pieces_;
   const double min_piece = 1.01 * b.vmax * filter_.period_s();
@@ -1345,6 +1345,10 @@ void TolerancePlanner::emit_pieces(const Block& b) {
       p.comp_arc_length_mm = L;
       if (i + 1 < pieces.size() && std::min(pieces[i + 1].cap, comp_v) < std::min(q.cap, comp_v))
         p.comp_exit_speed_mm_s = std::min(pieces[i + 1].cap, comp_v);
+    }
+    if (i + 1 < pieces.size()) {  // the contour measurement measures to the block's end
+      p.rest_of_block = true;
+      p.block_end_mm = b.m.end_mm;
     }
     // Only the block's end stops (G61.1, G9, G61 at a join that is not tangent).
     if (i + 1 < pieces.size() || b.tangent_exit) p.path_mode = PathMode::Continuous;

@@ -67,6 +67,33 @@ TEST_CASE("the nearest of the recent blocks wins, blocks older than the lag are 
   CHECK(w.contour_error_mm(p3(5, 0.01, 0), 70) == Approx(std::hypot(5.0, 0.01)));
 }
 
+TEST_CASE("a piece of a cut block is measured to the block's end") {
+  // The planner cut a line from (0,0) to (20,0) at x = 10 and an arc at its middle: a table
+  // ahead of the command (a servo overshooting after a step down in speed) is on the block,
+  // past the piece's end, and the measure says so; without rest_of_block the piece's end point
+  // is the nearest (2 mm).
+  gm::PathWindow w(100);
+  Motion piece = line(xyz(0, 0, 0), xyz(10, 0, 0));
+  piece.rest_of_block = true;
+  piece.block_end_mm = xyz(20, 0, 0);
+  w.push(piece, 0);
+  CHECK(w.contour_error_mm(p3(12, 0, 0), 1) == Approx(0.0).margin(1e-12));
+  CHECK(w.contour_error_mm(p3(12, 0.3, 0), 1) == Approx(0.3));
+  CHECK(w.contour_error_mm(p3(23, 4, 0), 1) == Approx(5.0));  // past the block's end: its end
+  gm::PathWindow a(100);
+  Motion half = quarter_arc(4.0);  // the first half of the quarter, to 45°
+  half.end_mm =
+      xyz(4 * std::cos(0.25 * 3.141592653589793), 4 * std::sin(0.25 * 3.141592653589793), 0);
+  half.rest_of_block = true;
+  half.block_end_mm = xyz(0, 4, 0);
+  a.push(half, 0);
+  const double c = std::cos(1.2), s = std::sin(1.2);  // at 69°, on the rest of the arc
+  CHECK(a.contour_error_mm(p3(4.1 * c, 4.1 * s, 0), 1) == Approx(0.1));
+  gm::PathWindow plain(100);
+  plain.push(line(xyz(0, 0, 0), xyz(10, 0, 0)), 0);
+  CHECK(plain.contour_error_mm(p3(12, 0, 0), 1) == Approx(2.0));
+}
+
 TEST_CASE("radial deviation in the XZ and YZ planes uses the in-plane axes") {
   Motion m = quarter_arc(2.0);
   m.plane = gm::Plane::XZ;
