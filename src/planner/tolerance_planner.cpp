@@ -1151,10 +1151,11 @@ void TolerancePlanner::emit_front() {
   }
   Block& b = window_.front();
   decide_reachable(b);
-  cut_pieces(b);
+  const double comp_v = comp_speed_of(b);  // the v_p of a pre-compensated arc, else 0
+  cut_pieces(b, comp_v);
   merge_short_pieces(b);
-  brake_comp_pieces(b);
-  emit_pieces(b);
+  brake_comp_pieces(comp_v);
+  emit_pieces(b, comp_v);
   const std::size_t last_piece = ready_.size() - 1;
   bool paused = false;
   for (const Element& e : elems_)
@@ -1221,7 +1222,7 @@ double TolerancePlanner::comp_speed_of(const Block& b) const {
   return 0.0;
 }
 
-void TolerancePlanner::cut_pieces(const Block& b) {
+void TolerancePlanner::cut_pieces(const Block& b, double comp_v) {
   // Pieces of the block between zone boundaries, each with the smallest cap over it.
   // An arc of several turns is not split: it takes the smallest cap of the zones touching it.
   // A pre-compensated arc is cut, but not within kCompEndSamples samples of travel at v_p of its
@@ -1229,7 +1230,6 @@ void TolerancePlanner::cut_pieces(const Block& b) {
   // them): a cut nearer an end moves away from it, and each piece takes the smallest cap of
   // the zones overlapping it (the slower piece grows).
   bool whole = b.m.kind == MotionKind::Arc && !splits(b.m);
-  const double comp_v = comp_speed_of(b);
   double lo = b.s0, hi = b.s1;
   if (comp_v > 0.0) {
     const double end = kCompEndSamples * filter_.period_s() * comp_v;
@@ -1304,12 +1304,11 @@ void TolerancePlanner::merge_short_pieces(const Block& b) {
   }
 }
 
-void TolerancePlanner::brake_comp_pieces(const Block& b) {
+void TolerancePlanner::brake_comp_pieces(double comp_v) {
   // The pieces of a pre-compensated arc change speed by the arc's ramp (v_p/(N + 1) a sample),
   // which its plan judged; a piece brakes to the next one's cap before its end
   // (Motion::comp_exit_speed_mm_s). A piece too short for that takes the next one's cap.
   std::vector<Piece>& pieces = pieces_;
-  const double comp_v = comp_speed_of(b);
   if (!(comp_v > 0.0) || pieces.size() < 2) return;
   const double step = precomp_->rule().speed_step_mm_s(comp_v), T = filter_.period_s();
   for (std::size_t i = pieces.size() - 1; i-- > 0;) {
@@ -1322,10 +1321,9 @@ void TolerancePlanner::brake_comp_pieces(const Block& b) {
   }
 }
 
-void TolerancePlanner::emit_pieces(const Block& b) {
+void TolerancePlanner::emit_pieces(const Block& b, double comp_v) {
   const std::vector<Piece>& pieces = pieces_;
   const double L = b.s1 - b.s0;
-  const double comp_v = comp_speed_of(b);
   for (std::size_t i = 0; i < pieces.size(); ++i) {
     Ready& r = ready_.push_back_slot();  // the piece is written in its slot
     r.canon = b.m;

@@ -267,16 +267,17 @@ class TolerancePlanner : public CanonSource {
   /// follows it.
   void emit_front();
   void decide_reachable(const Block& b);  ///< decides every element the block can reach
-  void cut_pieces(const Block& b);        ///< pieces_ between the zone boundaries in b
+  /// pieces_ between the zone boundaries in b; comp_v: b's v_p when it is a pre-compensated arc
+  void cut_pieces(const Block& b, double comp_v);
   /// The command stops on b's end point before the next motion (the interpolator waits there).
   bool stops_after(const Block& b) const;
   void merge_short_pieces(const Block& b);
   /// A pre-compensated arc's pieces: each brakes to the next one's cap by the arc's ramp
   /// (Motion::comp_exit_speed_mm_s), or takes it where it is too short to.
-  void brake_comp_pieces(const Block& b);
+  void brake_comp_pieces(double comp_v);
   /// The v_p of b when it is a pre-compensated arc, else 0.
   double comp_speed_of(const Block& b) const;
-  void emit_pieces(const Block& b);
+  void emit_pieces(const Block& b, double comp_v);
   /// Runs of small turns (CAM polylines): a vertex joins the run being gathered; a chunk is
   /// closed (pushed as one element, or as its corners while the run is short) when it spans τ,
   /// when a decision could reach it, and when the run ends.
