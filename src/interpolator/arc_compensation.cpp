@@ -14,7 +14,12 @@ ArcCompensation::ArcCompensation(const std::vector<double>& weights, double peri
     centre_ += static_cast<double>(i) * h_[i];
     sum += h_[i];
   }
-  for (std::size_t i = 0, j = h_.size(); i < j; ++i)
+  // Symmetric about its centre over its support: a window lengthened by zero weights (the
+  // S-curves' last tap, an overshooting chain's tail) is as symmetric as its support.
+  std::size_t first = 0, end = h_.size();
+  while (first < end && h_[first] == 0.0) ++first;
+  while (end > first && h_[end - 1] == 0.0) --end;
+  for (std::size_t i = first, j = end; i < j; ++i)
     if (std::abs(h_[i] - h_[--j]) > 1e-12 || h_[i] < 0.0) return;  // not symmetric: off
   if (std::abs(sum - 1.0) > 1e-9 || h_.size() < 2) return;
   // The first crossing of kMinGain: scanned in steps of π/(64·N), then bisected.
@@ -36,7 +41,7 @@ ArcCompensation::ArcCompensation(const std::vector<double>& weights, double peri
     table_[static_cast<std::size_t>(k)] =
         gain_exact(limit_ * static_cast<double>(k) / static_cast<double>(kTableSteps));
   ramp_samples_ = static_cast<int>(h_.size());
-  rows_on_ = h_.front() <= kTaper * *std::max_element(h_.begin(), h_.end()) &&
+  rows_on_ = h_[first] <= kTaper * *std::max_element(h_.begin(), h_.end()) &&
              h_.size() <= ArcEndRows::kMaxWindow;
 }
 

@@ -264,17 +264,27 @@ TEST_CASE("A(ωT): a moving average's closed form by hand, and the table", "[arc
   const gm::ArcCompensation::Offset blended = rule.offset(2.0, 0.03, 0.5, 1.0, 0.0, 0.25, false);
   CHECK(blended.radial_mm == Approx(0.25 * mid.radial_mm).epsilon(1e-12));
   CHECK(blended.along_mm == 0.0);
-  // An asymmetric filter is not compensated.
+  // An asymmetric filter is not compensated; one whose support is symmetric is, whatever zero
+  // weights lengthen it (A(x) = 0.5 + 0.5·cos x about its centre, the zeros left out).
   CHECK_FALSE(gm::ArcCompensation({0.5, 0.3, 0.2}, 0.004).enabled());
+  CHECK_FALSE(gm::ArcCompensation({0.2, 0.5, 0.3, 0.0}, 0.004).enabled());
+  const gm::ArcCompensation padded({0.25, 0.5, 0.25, 0.0}, 0.004);
+  REQUIRE(padded.enabled());
+  CHECK(padded.gain_exact(0.3) == Approx(0.5 + 0.5 * std::cos(0.3)).epsilon(1e-12));
+  CHECK(padded.limit_omega_t() == Approx(std::numbers::pi / 2).epsilon(1e-9));
   CHECK_FALSE(gm::FilterMoments(std::vector<double>{0.5, 0.3, 0.2}, 0.004).symmetric());
 }
 
 TEST_CASE("a steady circle commanded on R/A(ωT) leaves the real FIR on R within 2 BLU",
           "[arc-precomp]") {
-  for (const char* prof : {"linear", "blackman"}) {
+  // The S-curves' windows end in a zero weight (scurve1 at τ 0.164 s: 29 … 29, 0); their
+  // support is symmetric, and so they are compensated (they were not until 2026-11-29).
+  for (const char* prof : {"linear", "blackman", "scurve1", "scurve2"}) {
     const gm::Taps t = gm::design_taps(prof, 0.164, 0.004);
     const gm::FilterMoments f(t, 0.004);
     const gm::ArcCompensation rule(weights(t), 0.004);
+    CAPTURE(prof);
+    REQUIRE(rule.enabled());
     const double near_limit = 0.97 * rule.limit_omega_t();
     for (double wT : {0.01, 0.03, 0.08, near_limit}) {
       const double R = 2.0e6;  // BLU (2 m at 1 µm)
