@@ -1111,25 +1111,57 @@ void TolerancePlanner::decide_corner(Element& e, double share, const MismatchRes
   // Corner: the pause P (at least what the program already dwells) and cap V with
   // V·D(P)·W <= share that cost the least time: the pause added plus the slowing in the zones,
   // (τ − P) of time either side at V instead of v_ref.
+  // The pauses are tried in order, the first of the least cost kept. A pause whose cost cannot
+  // beat one already known (`known`: the pause that was best at the corner decided before, tried
+  // first) is passed over without its bisection: corner_cost_s is at least the pause plus the
+  // slowing at the speed where the corner's own term V·D(P)·|Δu| alone fills the share (the
+  // zone's load is never below that term, the slowing falls with the speed and is shared by no
+  // more elements than that speed's zone holds).
+  CornerMomentGrid& grid = grid_d();
+  const double T = filter_.period_s();
+  auto cost_at_least = [&](double p, double d) {
+    double v = e.vmax;
+    if (d > 0.0 && e.turn > 0.0) v = std::min(v, share / (d * e.turn) * (1.0 + 1e-9));
+    if (!(v > 0.0)) return p - e.pause0;
+    const double zt = std::max(filter_.zone_floor_s(), filter_.tau_s() - p);
+    const double side = std::max(v * zt, 1.01 * e.vmax * T);
+    const ZoneRange zr = zone_range(e.s0 - v * zt, e.s1 + v * zt);
+    const double slow = std::max(0.0, side / v - side / v_ref) /
+                        std::max(1.0, static_cast<double>(zr.last - zr.first));
+    return (p - e.pause0) + 2.0 * slow;
+  };
+  double known = kInf, known_v = 0.0;
+  const int known_j = last_corner_pause_j_;
+  const double known_p = 0.5 * static_cast<double>(2 * known_j) * T;
+  if (known_j >= 0 && known_j < grid.size() && known_p > e.pause0)
+    known = corner_cost_s(e, known_p, grid.at(known_j), share, res, v_ref, known_v);
   double best_cost = kInf, best_p = e.pause0, best_v = 0.0, best_d = 0.0;
-  auto consider = [&](double p, double d) {
+  int best_j = -1;
+  auto consider = [&](double p, double d, int j) {
     if (p - e.pause0 >= best_cost) return false;  // pauses only get longer from here
-    double v = 0.0;
-    const double cost = corner_cost_s(e, p, d, share, res, v_ref, v);
+    double v = 0.0, cost = kInf;
+    if (j >= 0 && j == known_j && known < kInf) {
+      cost = known;
+      v = known_v;
+    } else {
+      if (cost_at_least(p, d) > std::min(best_cost, known) + 1e-9) return true;
+      cost = corner_cost_s(e, p, d, share, res, v_ref, v);
+    }
     if (cost < best_cost - 1e-12) {
       best_cost = cost;
       best_p = p;
       best_v = v;
       best_d = d;
+      best_j = j;
     }
     return true;
   };
-  consider(e.pause0, corner_moment(e.pause0));
-  CornerMomentGrid& grid = grid_d();
+  consider(e.pause0, corner_moment(e.pause0), -1);
   for (int j = 0; j < grid.size(); ++j) {
-    const double p = 0.5 * static_cast<double>(2 * j) * filter_.period_s();
-    if (p > e.pause0 && !consider(p, grid.at(j))) break;
+    const double p = 0.5 * static_cast<double>(2 * j) * T;
+    if (p > e.pause0 && !consider(p, grid.at(j), j)) break;
   }
+  if (best_j >= 0) last_corner_pause_j_ = best_j;
   e.pause = best_p;
   if (best_v < e.vmax) e.cap = best_v;
   const double zt = std::max(filter_.zone_floor_s(), filter_.tau_s() - best_p);

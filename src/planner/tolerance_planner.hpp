@@ -261,6 +261,9 @@ class TolerancePlanner : public CanonSource {
   double zone_claims(double z0, double z1) const;
   void push_element(Element e);
   CornerMomentGrid& grid_d();  ///< grid_d_, built on first use
+  /// The grid index of the pause the last corner decided on took (-1: none yet), tried first
+  /// at the next corner.
+  int last_corner_pause_j_ = -1;
   /// filter_.corner_moment_s(pause_s), the last pause asked for kept.
   double corner_moment(double pause_s) const;
   /// Hands on the window's front block: as pieces with their caps, then its pauses and what
