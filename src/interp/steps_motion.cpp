@@ -28,9 +28,11 @@ PathMode block_path_mode(const BlockCtx& ctx) {
 }
 
 // Path mode and, under G64, the contour tolerance in force (G64 P, else the machine's; #21).
+// G9 stops this block's end only: the G64 in force still holds along its path (an arc's
+// shrink), so the block keeps the tolerance.
 void set_path_mode(const BlockCtx& ctx, Motion& mo) {
   mo.path_mode = block_path_mode(ctx);
-  if (mo.path_mode != PathMode::Continuous) return;
+  if (ctx.s.path_mode != PathMode::Continuous) return;
   mo.path_tolerance_mm =
       ctx.s.path_tolerance_mm >= 0.0 ? ctx.s.path_tolerance_mm : ctx.machine.path_tolerance_mm;
   mo.naive_cam_tolerance_mm = ctx.s.naive_cam_tolerance_mm;

@@ -52,7 +52,7 @@ class ToleranceCheck : public BlockSink {
 
  protected:  // for a per-sample reference model (tests/support)
   void start(const Motion& m) {
-    tol_mm_ = m.path_mode == PathMode::Continuous ? m.path_tolerance_mm : 0.0;
+    tol_mm_ = m.path_tolerance_mm;  // under G64, a G9 block's too; 0 under G61 and G61.1
     rapid_block_ = m.kind == MotionKind::Rapid;
   }
   /// Judges one sample against the tolerance in force (> 0); `t_s()` its time, asked only when

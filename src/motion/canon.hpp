@@ -50,7 +50,8 @@ struct Motion {
   // Block end -------------------------------------------------------------------------------
   PathMode path_mode = PathMode::Continuous;  ///< G9 in the block forces ExactStop
   /// Contour tolerance in force (G64 P, or the machine's path_tolerance_mm under G64 without P),
-  /// mm; 0 = unbounded (the filter blends freely). Only meaningful when path_mode is Continuous.
+  /// mm; 0 = unbounded (the filter blends freely). Set under G64 (a G9 block keeps it along its
+  /// path, its end an exact stop); 0 under G61 and G61.1.
   double path_tolerance_mm = 0.0;
   double naive_cam_tolerance_mm = 0.0;  ///< G64 Q, mm; 0 = none (carried, not yet applied)
   // Fed by the spindle (G95 feed per revolution, G33 synchronised) ---------------------------

@@ -490,9 +490,7 @@ void TolerancePlanner::mark_stop(Block& b) {
   // past the end of a block it stops at, along the block's end tangent, by up to V·∫(S − 1)⁺:
   // the stop is planned as a corner from u1 to rest (|Δu| = 1) whose pause is the drain (τ),
   // where D(τ) is that overshoot area. The FIR alone (S within [0, 1]) needs nothing.
-  if (!(filter_.overshoot_s() > 0.0) || !(b.m.path_tolerance_mm > 0.0) ||
-      b.m.path_mode != PathMode::Continuous)
-    return;
+  if (!(filter_.overshoot_s() > 0.0) || !(b.m.path_tolerance_mm > 0.0)) return;
   Element e;
   e.kind = ElementKind::Stop;
   e.seq = b.seq;

@@ -122,6 +122,11 @@ TEST_CASE("dwell, path modes, events") {
   CHECK(std::get<gm::Motion>(c.at(3)).path_mode == gm::PathMode::ExactStop);
   CHECK(std::get<gm::Motion>(c.at(4)).path_mode == gm::PathMode::Continuous);
   CHECK(std::get<gm::Motion>(c.at(5)).path_mode == gm::PathMode::ExactStop);
+  // The contour tolerance: G64's P in force, kept by a G9 block along its path; none in G61.x.
+  CHECK(std::get<gm::Motion>(c.at(2)).path_tolerance_mm == 0.0);
+  CHECK(std::get<gm::Motion>(c.at(3)).path_tolerance_mm == 0.0);
+  CHECK(std::get<gm::Motion>(c.at(4)).path_tolerance_mm == Approx(0.1));
+  CHECK(std::get<gm::Motion>(c.at(5)).path_tolerance_mm == Approx(0.1));
   CHECK(ev(6).kind == EventKind::Pause);
   CHECK(ev(7).kind == EventKind::OptionalPause);
   CHECK(ev(8).kind == EventKind::OverrideEnable);

@@ -260,6 +260,34 @@ TEST_CASE("a fast line tangent into a slow pre-compensated arc: every sample wit
     }
 }
 
+TEST_CASE("G9 under G64 P: the block's arc within P, its end an exact stop") {
+  // G9 makes one block's end an exact stop; the G64 P in force still governs its path. Until
+  // 2026-11-29 a G9 block lost the tolerance, and its R 2 mm semicircle at F3000 ran at full
+  // feed, κV²σ²/2 ≈ 0.29 mm inside (docs/tolerance.md, "Pre-compensated arcs").
+  const gm::Machine m;
+  const std::string text =
+      "G21 G90 G17 G64 P0.01\nG1 X10 Y0 F3000\nG3 X10 Y4 I0 J2 G9\nG1 X0 Y4\nM2\n";
+  const auto canon = planned_canon(text, m, true);
+  const gm::Motion* arc = nullptr;
+  for (const auto& c : canon)
+    if (const auto* mo = std::get_if<gm::Motion>(&c); mo != nullptr && mo->line == 3) arc = mo;
+  REQUIRE(arc != nullptr);
+  CHECK(arc->path_tolerance_mm == 0.01);
+  CHECK(arc->comp_speed_mm_s > 0.0);  // planned as any arc under P0.01: pre-compensated
+  CHECK(arc->comp_stops_at_end);      // its command stops on its end point
+  CHECK(block_stops(canon, 3));
+  CHECK_FALSE(block_stops(canon, 2));
+  const Run r = run(text, m, true);
+  CHECK(worst(r) <= 10.0);  // every sample, BLU (1 µm): within P0.01
+  CHECK(r.check.cutting().over == 0);
+  // Stopped on the arc's end point: a sample at rest there before the line after starts.
+  bool rested = false;
+  for (std::size_t i = 1; i < r.samples.size(); ++i)
+    rested = rested || (r.samples[i].x_mm == 10.0 && r.samples[i].y_mm == 4.0 &&
+                        r.samples[i - 1].x_mm == 10.0 && r.samples[i - 1].y_mm == 4.0);
+  CHECK(rested);
+}
+
 TEST_CASE("a fast pre-compensated arc ending into a crawling line: its end rows are a stop's") {
   // Found by random chains whose feeds change from block to block: an R 17 mm arc at F9000
   // (100 mm/s, the machine's fastest) into a line at F100 (1.7 mm/s). With the rows of an end
