@@ -171,20 +171,28 @@ void TolerancePlanner::plan_untoleranced(const Block& b) {
   // (tolerance_near then takes the smallest around it).
   const double tol = b.m.path_tolerance_mm;
   const std::uint64_t first = window_.front().seq;
+  const std::size_t group_from = elems_.size();
   for (const Untoleranced& c : untoleranced_) {
     if (!(b.t0 < c.end) || c.seq < first) continue;
     const std::size_t i = static_cast<std::size_t>(c.seq - first);
     const Block& p = window_[i];
+    Element e;
     if (c.arc) {
-      Element e = arc_element(p);
+      e = arc_element(p);
       e.tol_mm = tol;
       e.split = splits(p.m);
-      push_element(e);
-      continue;
+    } else {
+      const Block& n = window_[i + 1];
+      const double turn = (n.g.tangent_at_fraction(0.0) - p.g.tangent_at_fraction(1.0)).norm();
+      if (!(turn > kMinTurn)) continue;
+      e = corner_element(p, n, turn, tol);
     }
-    const Block& n = window_[i + 1];
-    const double turn = (n.g.tangent_at_fraction(0.0) - p.g.tangent_at_fraction(1.0)).norm();
-    if (turn > kMinTurn) push_element(corner_element(p, n, turn, tol));
+    e.untol_for = b.seq;
+    push_element(e);
+  }
+  if (elems_.size() > group_from) {
+    const double t1 = elems_[elems_.size() - 1].t1;
+    for (std::size_t k = group_from; k < elems_.size(); ++k) elems_[k].group_t1 = t1;
   }
   untoleranced_.clear();
 }
@@ -515,8 +523,10 @@ bool TolerancePlanner::lookahead_enough() const {
   double horizon = f.t1 + tau;  // what the decisions emitting f see, and zones reaching f
   for (const Element& e : elems_)
     if (!e.decided && e.t0 < f.t1 + tau) {
-      need = std::max(need, e.t1 + reach);
-      horizon = std::max(horizon, e.t1 + tau);
+      // A group planned for a later block's tolerance is decided whole, from its last element.
+      const double t1 = e.untol_for != 0 ? std::max(e.t1, e.group_t1) : e.t1;
+      need = std::max(need, t1 + reach);
+      horizon = std::max(horizon, t1 + tau);
     }
   // A chunk being gathered spans at most τ: it is closed before it is needed.
   if (run_.open && run_.chunk.t0 < f.t1 + tau) need = std::max(need, run_.chunk.t0 + 2.0 * tau);
@@ -1237,12 +1247,51 @@ void TolerancePlanner::decide_reachable(const Block& b) {
       if (!e.decided && e.t0 < b.t1 + tau) horizon = std::max(horizon, e.t1 + tau);
     if (run_.chunk.t0 < horizon) close_run_chunk();
   }
-  for (Element& e : elems_)
-    if (!e.decided && e.t0 < b.t1 + tau) {
-      decide(e);
-      ++decided_count_;
-      extend_decided_prefix();
+  for (std::size_t i = 0; i < elems_.size(); ++i) {
+    Element& e = elems_[i];
+    if (e.decided || !(e.t0 < b.t1 + tau)) continue;
+    if (e.untol_for != 0) {
+      decide_untoleranced_group(i);
+      continue;
     }
+    decide(e);
+    ++decided_count_;
+    extend_decided_prefix();
+  }
+}
+
+void TolerancePlanner::decide_untoleranced_group(std::size_t i) {
+  // The group: the elements plan_untoleranced pushed for one block, in a row. They matter to
+  // that block's samples only while the command can still reach it within τ of passing them.
+  // Decided from the one nearest the block back: an element wholly before the zone of a capped
+  // element already decided there is let go (no cap, no pause, err 0): the command crosses that
+  // zone at the cap, τ − P of time, and pauses P (or stops where the zone ends at a stop), so
+  // it reaches the block τ or more after it, when the filter holds nothing of it.
+  const std::uint64_t group = elems_[i].untol_for;
+  std::size_t last = i;
+  while (last + 1 < elems_.size() && elems_[last + 1].untol_for == group) ++last;
+  const double front_s0 = window_.front().s0;
+  double shield = -kInf;  // elements ending before this are let go
+  for (std::size_t k = last + 1; k-- > i;) {
+    Element& g = elems_[k];
+    if (g.decided) continue;
+    if (g.s1 < shield - 1e-9) {
+      g.decided = true;
+      g.cap = kInf;
+      g.err = 0.0;
+      g.share = share_of(g.tol_mm);
+      g.pause = g.pause0;
+      g.reach0 = g.s0;
+      g.reach1 = g.s1;
+      g.z0 = g.z1 = g.s0;
+    } else {
+      decide(g);
+    }
+    ++decided_count_;
+    // A zone cut short by the window's front does not cover τ − P of time.
+    if (g.cap < kInf && g.z0 > front_s0 + 1e-9) shield = std::max(shield, g.z0);
+  }
+  extend_decided_prefix();
 }
 
 double TolerancePlanner::comp_speed_of(const Block& b) const {

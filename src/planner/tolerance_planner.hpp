@@ -138,6 +138,10 @@ class TolerancePlanner : public CanonSource {
     double claim = 0;                                            ///< Claimant: its error bound, mm
     double claim_cap = std::numeric_limits<double>::infinity();  ///< Claimant: its cap, or none
     bool split = false;  ///< Arc: cut at zone boundaries like a line (splits)
+    /// Planned for the tolerance of a later block (plan_untoleranced): that block's seq, else 0;
+    /// and the t1 of the group's last element (the one nearest that block).
+    std::uint64_t untol_for = 0;
+    double group_t1 = 0;
   };
   /// An arc is cut at zone boundaries into arcs of the same centre when it turns at most once
   /// (K/P full turns: it takes the smallest cap of the zones touching it whole).
@@ -270,6 +274,9 @@ class TolerancePlanner : public CanonSource {
   /// follows it.
   void emit_front();
   void decide_reachable(const Block& b);  ///< decides every element the block can reach
+  /// Decides the elements plan_untoleranced pushed for one block, the group elems_[i] belongs
+  /// to, from the one nearest that block back (shielded_by_zones).
+  void decide_untoleranced_group(std::size_t i);
   /// pieces_ between the zone boundaries in b; comp_v: b's v_p when it is a pre-compensated arc
   void cut_pieces(const Block& b, double comp_v);
   /// The command stops on b's end point before the next motion (the interpolator waits there).
