@@ -8,7 +8,7 @@
 # tests/fuzz/regressions/<target>/, then runs each target (with its libFuzzer options from
 # tests/fuzz/options.txt) for SECONDS_PER_TARGET and prints one
 # line per target: executions, seconds, corpus size, result. Exits 1 on a crash, timeout (> 10 s
-# for one input), out-of-memory (> 2048 MB) or leak, naming the input saved under
+# for one input, or the target's -timeout in tests/fuzz/options.txt), out-of-memory (> 2048 MB) or leak, naming the input saved under
 # build-asan/artifacts/<target>/ and how to replay it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
