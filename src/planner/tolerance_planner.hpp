@@ -275,7 +275,8 @@ class TolerancePlanner : public CanonSource {
   void emit_front();
   void decide_reachable(const Block& b);  ///< decides every element the block can reach
   /// Decides the elements plan_untoleranced pushed for one block, the group elems_[i] belongs
-  /// to, from the one nearest that block back (shielded_by_zones).
+  /// to, from the one nearest that block back; those wholly before the zone of a capped one
+  /// decided nearer are let go.
   void decide_untoleranced_group(std::size_t i);
   /// pieces_ between the zone boundaries in b; comp_v: b's v_p when it is a pre-compensated arc
   void cut_pieces(const Block& b, double comp_v);
