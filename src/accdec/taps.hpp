@@ -1,9 +1,11 @@
 // Acc/Dec tap design (paper sections 2, 4, 5): profile spec + tau + T -> real and integer taps.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace gm {
@@ -42,5 +44,15 @@ int tap_count(double tau_s, double period_s);
 /// Otherwise the taps are scaled so the largest is 2^16 and rounded to nearest; a positive
 /// real tap never rounds to 0 (it becomes 1). Sets `exact` accordingly.
 std::vector<std::int64_t> integerize_taps(const std::vector<double>& real, bool& exact);
+
+/// The weights' support [first, end): their leading and trailing zero weights left out (the
+/// S-curves end in one, Blackman and Hann windows in one at each end, an overshooting chain is
+/// lengthened by zeros). A window is symmetric when its support is.
+inline std::pair<std::size_t, std::size_t> weights_support(const std::vector<double>& h) {
+  std::size_t first = 0, end = h.size();
+  while (first < end && h[first] == 0.0) ++first;
+  while (end > first && h[end - 1] == 0.0) --end;
+  return {first, end};
+}
 
 }  // namespace gm

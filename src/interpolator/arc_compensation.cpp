@@ -1,6 +1,8 @@
 // ArcCompensation: the table of A(ωT), the rows and blend at an arc's ends and the speed ramp.
 #include "interpolator/arc_compensation.hpp"
 
+#include "accdec/taps.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -16,9 +18,7 @@ ArcCompensation::ArcCompensation(const std::vector<double>& weights, double peri
   }
   // Symmetric about its centre over its support: a window lengthened by zero weights (the
   // S-curves' last tap, an overshooting chain's tail) is as symmetric as its support.
-  std::size_t first = 0, end = h_.size();
-  while (first < end && h_[first] == 0.0) ++first;
-  while (end > first && h_[end - 1] == 0.0) --end;
+  const auto [first, end] = weights_support(h_);
   for (std::size_t i = first, j = end; i < j; ++i)
     if (std::abs(h_[i] - h_[--j]) > 1e-12 || h_[i] < 0.0) return;  // not symmetric: off
   if (std::abs(sum - 1.0) > 1e-9 || h_.size() < 2) return;

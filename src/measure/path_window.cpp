@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 
 namespace gm {
 namespace {
@@ -35,12 +36,12 @@ void PathWindow::push(const Motion& piece, std::int64_t k) {
   if (hint_age_ < capacity() - 1) ++hint_age_;  // every entry is one block older now
   Entry& e = ring_[static_cast<std::size_t>(head_)];
   // A piece of a cut block is measured to the block's end (Motion::rest_of_block).
-  Motion whole;
+  std::optional<Motion> whole;
   if (piece.rest_of_block) {
-    whole = piece;
-    whole.end_mm = piece.block_end_mm;
+    whole.emplace(piece);
+    whole->end_mm = piece.block_end_mm;
   }
-  const Motion& m = piece.rest_of_block ? whole : piece;
+  const Motion& m = whole ? *whole : piece;
   e.geometry = MotionGeometry::of(m);
   e.first_sample = k;
   e.last_sample = kOngoing;

@@ -147,9 +147,7 @@ double FilterMoments::amplitude(double omega_t) const {
 
 bool FilterMoments::symmetric() const {
   // The weights end in zeros when an overshooting chain was lengthened: compare the support.
-  std::size_t lo = 0, hi = h_.size();
-  while (lo < hi && h_[lo] == 0.0) ++lo;
-  while (hi > lo && h_[hi - 1] == 0.0) --hi;
+  const auto [lo, hi] = weights_support(h_);
   for (std::size_t i = lo, j = hi; i < j; ++i)
     if (h_[i] != h_[--j]) return false;
   return true;

@@ -1140,7 +1140,8 @@ void TolerancePlanner::decide_corner(Element& e, double share, const MismatchRes
   };
   double known = kInf, known_v = 0.0;
   const int known_j = last_corner_pause_j_;
-  const double known_p = 0.5 * static_cast<double>(2 * known_j) * T;
+  auto pause_at = [T](int j) { return 0.5 * static_cast<double>(2 * j) * T; };  // grid pause j
+  const double known_p = pause_at(known_j);
   if (known_j >= 0 && known_j < grid.size() && known_p > e.pause0)
     known = corner_cost_s(e, known_p, grid.at(known_j), share, res, v_ref, known_v);
   double best_cost = kInf, best_p = e.pause0, best_v = 0.0, best_d = 0.0;
@@ -1166,7 +1167,7 @@ void TolerancePlanner::decide_corner(Element& e, double share, const MismatchRes
   };
   consider(e.pause0, corner_moment(e.pause0), -1);
   for (int j = 0; j < grid.size(); ++j) {
-    const double p = 0.5 * static_cast<double>(2 * j) * T;
+    const double p = pause_at(j);
     if (p > e.pause0 && !consider(p, grid.at(j), j)) break;
   }
   if (best_j >= 0) last_corner_pause_j_ = best_j;
