@@ -1172,6 +1172,7 @@ void TolerancePlanner::decide_corner(Element& e, double share, const MismatchRes
   }
   if (best_j >= 0) last_corner_pause_j_ = best_j;
   e.pause = best_p;
+  e.cost_s = best_cost;
   if (best_v < e.vmax) e.cap = best_v;
   const double zt = std::max(filter_.zone_floor_s(), filter_.tau_s() - best_p);
   const double v = std::min(best_v, e.vmax);
@@ -1272,25 +1273,65 @@ void TolerancePlanner::decide_untoleranced_group(std::size_t i) {
   std::size_t last = i;
   while (last + 1 < elems_.size() && elems_[last + 1].untol_for == group) ++last;
   const double front_s0 = window_.front().s0;
-  double shield = -kInf;  // elements ending before this are let go
-  for (std::size_t k = last + 1; k-- > i;) {
-    Element& g = elems_[k];
-    if (g.decided) continue;
-    if (g.s1 < shield - 1e-9) {
-      g.decided = true;
-      g.cap = kInf;
-      g.err = 0.0;
-      g.share = share_of(g.tol_mm);
-      g.pause = g.pause0;
-      g.reach0 = g.s0;
-      g.reach1 = g.s1;
-      g.z0 = g.z1 = g.s0;
-    } else {
-      decide(g);
+  auto let_go = [&](Element& g, double pause) {
+    g.decided = true;
+    g.cap = kInf;
+    g.err = 0.0;
+    g.share = share_of(g.tol_mm);
+    g.pause = pause;
+    g.cost_s = pause - g.pause0;
+    g.reach0 = g.s0;
+    g.reach1 = g.s1;
+    g.z0 = g.z1 = g.s0;
+  };
+  // As planned: the sum of the decisions' costs (corner_cost_s).
+  auto plan = [&] {
+    double shield = -kInf;  // elements ending before this are let go
+    double cost = 0.0;
+    for (std::size_t k = last + 1; k-- > i;) {
+      Element& g = elems_[k];
+      if (g.decided) continue;
+      if (g.s1 < shield - 1e-9) {
+        let_go(g, g.pause0);
+      } else {
+        decide(g);
+        cost += g.cost_s;
+      }
+      ++decided_count_;
+      // A zone cut short by the window's front does not cover τ − P of time.
+      if (g.cap < kInf && g.z0 > front_s0 + 1e-9) shield = std::max(shield, g.z0);
     }
-    ++decided_count_;
-    // A zone cut short by the window's front does not cover τ − P of time.
-    if (g.cap < kInf && g.z0 > front_s0 + 1e-9) shield = std::max(shield, g.z0);
+    return cost;
+  };
+  // Or a full stop at the corner nearest the block: the filter drains there (the pause of the
+  // grid whose moment is 0), and every element before it is let go. Weighed when the group is
+  // corners only (their costs are in the same terms: a pause added costs its time).
+  Element& near = elems_[last];
+  bool corners = near.kind == ElementKind::Corner;
+  for (std::size_t k = i; k <= last && corners; ++k)
+    corners = !elems_[k].decided && elems_[k].kind == ElementKind::Corner;
+  CornerMomentGrid& grid = grid_d();
+  int drain = -1;
+  if (corners)
+    for (int j = 0; j < grid.size() && drain < 0; ++j)
+      if (!(grid.at(j) > 0.0)) drain = j;
+  const double stop_pause = static_cast<double>(drain) * filter_.period_s();
+  if (drain < 0 || !(stop_pause > near.pause0)) {
+    plan();
+    extend_decided_prefix();
+    return;
+  }
+  assign_claims(near.t1 + filter_.tau_s());  // what decide(near) assigns first, before the copy
+  saved_group_.assign(elems_.begin() + static_cast<std::ptrdiff_t>(i),
+                      elems_.begin() + static_cast<std::ptrdiff_t>(last + 1));
+  const int saved_j = last_corner_pause_j_;
+  const double planned = plan();
+  if (stop_pause - near.pause0 < planned - 1e-9) {
+    std::copy(saved_group_.begin(), saved_group_.end(),
+              elems_.begin() + static_cast<std::ptrdiff_t>(i));
+    last_corner_pause_j_ = saved_j;
+    for (std::size_t k = i; k <= last; ++k) let_go(elems_[k], elems_[k].pause0);
+    let_go(near, stop_pause);
   }
   extend_decided_prefix();
 }

@@ -126,6 +126,9 @@ class TolerancePlanner : public CanonSource {
     double err = 0;
     double reach0 = 0, reach1 = 0;  ///< decided: its zone at its speed, [s0 − v·t, s1 + v·t]
     double share = 0;  ///< decided or being decided: the share of its tolerance (share_of), mm
+    /// Decided Corner, Stop: the time its decision costs, s (the pause added and the slowing,
+    /// corner_cost_s); decide_untoleranced_group weighs a group by it.
+    double cost_s = 0;
     // Arc: for pre-compensation (arc_precomp.hpp).
     double radius = 0;      ///< Arc: radius, mm (0: not a circle, never compensated)
     double spiral = 0;      ///< Arc: how far its radius runs below `radius` (a near circle), mm
@@ -344,6 +347,8 @@ class TolerancePlanner : public CanonSource {
   };
   std::vector<double> cuts_;
   std::vector<Piece> pieces_;
+  /// decide_untoleranced_group's copy of a group, restored when a stop is cheaper (kept).
+  std::vector<Element> saved_group_;
   Canon scratch_;
   bool ended_ = false;
   std::uint64_t seq_ = 0;
