@@ -4,6 +4,7 @@
 #include "common/units.hpp"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -891,7 +892,7 @@ double TolerancePlanner::range_claims(ZoneRange r) const {
 }
 
 void TolerancePlanner::decide(Element& e) {
-  assign_claims(e.t1 + filter_.tau_s());
+  if (weigh_depth_ == 0) assign_claims(e.t1 + filter_.tau_s());
   const double tol = tolerance_near(e);
   // The servo mismatch's part (speed_error_s) is kept beside each load, by the speeds e's
   // samples can see (MismatchReserve): load(v) + reserve(v) <= share.
@@ -925,7 +926,10 @@ void TolerancePlanner::decide(Element& e) {
   // (share − claims)·w_e/W_e, so that with the claimants any instant stays within the share.
   switch (e.kind) {
     case ElementKind::Arc:
-      decide_arc_beside_claims(e, share, res);
+      if (weigh_depth_ == 0)
+        decide_arc_weighing(e, share, res);
+      else
+        decide_arc_beside_claims(e, share, res);
       return;
     case ElementKind::Run:
       decide_run(e, share, res);
@@ -1171,16 +1175,202 @@ void TolerancePlanner::decide_corner(Element& e, double share, const MismatchRes
     if (p > e.pause0 && !consider(p, grid.at(j), j)) break;
   }
   if (best_j >= 0) last_corner_pause_j_ = best_j;
-  e.pause = best_p;
-  e.cost_s = best_cost;
-  if (best_v < e.vmax) e.cap = best_v;
-  const double zt = std::max(filter_.zone_floor_s(), filter_.tau_s() - best_p);
-  const double v = std::min(best_v, e.vmax);
-  e.err = v * best_d * e.turn;  // V·D(P)·|Δu|
+  settle_corner(e, best_p, best_v, best_d, best_cost);
+  // Its full stop (the drain pause, D = 0: no cap, err 0), priced for the arc after it to weigh
+  // (decide_arc_weighing).
+  e.stop_cost_s = kInf;
+  const int drain = drain_pause_j();
+  if (drain >= 0 && pause_at(drain) > e.pause0 && best_d > 0.0) {
+    double v_stop = 0.0;
+    e.stop_cost_s = corner_cost_s(e, pause_at(drain), 0.0, share, res, v_ref, v_stop);
+  }
+}
+
+void TolerancePlanner::settle_corner(Element& e, double pause, double v_cap, double d,
+                                     double cost) const {
+  e.pause = pause;
+  e.cost_s = cost;
+  e.cap = v_cap < e.vmax ? v_cap : kInf;
+  const double zt = std::max(filter_.zone_floor_s(), filter_.tau_s() - pause);
+  const double v = std::min(v_cap, e.vmax);
+  e.err = v * d * e.turn;  // V·D(P)·|Δu|
   e.reach0 = e.s0 - v * zt;
   e.reach1 = e.s1 + v * zt;
   e.z0 = zone_back(e.s0, zt, e.cap);
   e.z1 = zone_fwd(e.s1, zt, e.cap);
+}
+
+double TolerancePlanner::slowing_s(const Element& arc) {
+  // Its length and the stretches of its zone beside it at its cap instead of at 100 %.
+  const double v = std::min(arc.cap, arc.vmax);
+  if (!(v < arc.v100) || !(v > 0.0)) return 0.0;
+  const double len = (arc.s1 - arc.s0) + (arc.s0 - arc.z0) + (arc.z1 - arc.s1);
+  return len / v - len / arc.v100;
+}
+
+void TolerancePlanner::set_weight(Element& f, double w) {
+  // f's weight, and the prefix sums of the elements after it.
+  const double delta = w - f.weight;
+  if (delta == 0.0) return;
+  f.weight = w;
+  bool after = false;
+  for (Element& g : elems_) {
+    if (after) g.cum += delta;
+    after = after || &g == &f;
+  }
+  weight_total_ += delta;
+}
+
+void TolerancePlanner::decide_arc_weighing(Element& a, double share, const MismatchReserve& res) {
+  // The corners at the arc's two ends share its zone: the one before it (decided just now, its
+  // err counted) and the one after it (undecided, counted by its weight, then decided within
+  // what the arc left). A full stop at either (the drain pause: err 0, no weight) leaves the arc
+  // more of the share. The four plans are weighed by their costs in the decisions' own terms
+  // (the corners' cost_s or stop_cost_s, the arc's slowing_s, the corner after decided on a copy),
+  // a plan whose stops alone cost more than the best known not tried; the cheapest is kept.
+  const Element before = a;
+  decide_arc_beside_claims(a, share, res);
+  if (!(a.cap < kInf)) return;  // nothing to gain
+  const int drain = drain_pause_j();
+  if (drain < 0) return;
+  const double p_stop = static_cast<double>(drain) * filter_.period_s();
+  std::size_t ia = elems_.size();
+  for (std::size_t k = decided_prefix_; k < elems_.size(); ++k)
+    if (&elems_[k] == &a) {
+      ia = k;
+      break;
+    }
+  if (ia == elems_.size()) return;
+  auto plain_corner = [&](const Element& f) {
+    return f.kind == ElementKind::Corner && f.untol_for == 0 &&
+           f.claim_state != Element::Claim::Claimant;
+  };
+  // The corner before: decided, nothing after it but the arc since, and its block (where its
+  // pause goes) not yet handed on.
+  Element* cs = nullptr;
+  if (ia > 0 && plain_corner(elems_[ia - 1]) && elems_[ia - 1].decided &&
+      elems_[ia - 1].s1 >= a.s0 - 1e-9 && decided_prefix_ == ia && decided_count_ == ia &&
+      elems_[ia - 1].stop_cost_s < kInf && elems_[ia - 1].seq >= window_.front().seq)
+    cs = &elems_[ia - 1];
+  Element* ce = nullptr;
+  if (ia + 1 < elems_.size() && plain_corner(elems_[ia + 1]) && !elems_[ia + 1].decided &&
+      elems_[ia + 1].turn > kClaimTurn && elems_[ia + 1].s0 <= a.s1 + 1e-9 &&
+      p_stop > elems_[ia + 1].pause0)
+    ce = &elems_[ia + 1];
+  if (cs == nullptr && ce == nullptr) return;
+  const Element start = cs != nullptr ? *cs : Element{}, end = ce != nullptr ? *ce : Element{};
+  Element start_stop = start, end_stop = end;
+  if (cs != nullptr) {
+    settle_corner(start_stop, p_stop, start.vmax, 0.0, start.stop_cost_s);
+    start_stop.weight = 0.0;
+  }
+  if (ce != nullptr) {
+    end_stop.decided = true;
+    end_stop.share = share_of(tolerance_near(end));
+    end_stop.claim_state = Element::Claim::Share;
+    settle_corner(end_stop, p_stop, end.vmax, 0.0, p_stop - end.pause0);
+    end_stop.weight = 0.0;
+  }
+  const double start_cost = cs != nullptr ? start.cost_s : 0.0;
+  // An element's saved state put back, its weight with the prefix sums after it, and its own
+  // prefix sum as it is now (the weights before it may have changed since it was saved).
+  auto restore = [&](Element& f, const Element& saved) {
+    set_weight(f, saved.weight);
+    const double cum = f.cum;
+    f = saved;
+    f.cum = cum;
+  };
+  // Puts a plan's corners in place (weights and prefix sums too), the arc undecided.
+  auto place = [&](bool stop_start, bool stop_end) {
+    if (cs != nullptr) restore(*cs, stop_start ? start_stop : start);
+    if (ce != nullptr) restore(*ce, stop_end ? end_stop : end);
+    restore(a, before);
+  };
+  // The corner after decided on a copy beside the arc as it is: its cost.
+  auto end_cost = [&] {
+    const Element decided_arc = a;
+    const std::size_t prefix = decided_prefix_;
+    extend_decided_prefix();
+    decide(*ce);
+    const double cost = ce->cost_s;
+    restore(*ce, end);
+    decided_prefix_ = prefix;
+    restore(a, decided_arc);
+    return cost;
+  };
+  // The plans' costs. The corner after costs at most its own stop (one of the pauses it tries):
+  // a plan where it does not stop is known within [c, c + that] until it is decided on a copy
+  // (end_cost), which is done only where that could change the choice; a plan whose stops alone
+  // cost more than the best known is not tried. Among equal costs the plan as planned wins.
+  ++weigh_depth_;
+  using Plan = std::pair<bool, bool>;  // stops at the start, at the end
+  struct Tried {
+    Plan plan;
+    double cost;  // exact, or the lower end when `open`
+    bool open;    // the corner after does not stop and is not decided yet
+    Element arc;  // the arc's decision in the plan
+  };
+  std::array<Tried, 4> tried{};
+  std::size_t n = 0;
+  const double end_at_most = ce != nullptr ? end_stop.cost_s : 0.0;
+  auto floor_of = [&](Plan p) {
+    return (p.first ? start_stop.cost_s : start_cost) + (p.second ? end_stop.cost_s : 0.0);
+  };
+  auto best_closed = [&] {
+    double best = kInf;
+    for (std::size_t i = 0; i < n; ++i)
+      if (!tried[i].open) best = std::min(best, tried[i].cost);
+    return best;
+  };
+  tried[n++] = {Plan{false, false}, start_cost + slowing_s(a), ce != nullptr, a};
+  const double upper = tried[0].cost + end_at_most;  // the plan as planned costs at most this
+  // Every stop there can be first: the arc's share is then the largest, its slowing the least
+  // of any plan's, which bounds the others' from below.
+  const Plan all{cs != nullptr, ce != nullptr};
+  double least_slowing = 0.0;
+  for (const Plan& p : {all, Plan{false, true}, Plan{true, false}}) {
+    if ((p.first && cs == nullptr) || (p.second && ce == nullptr) || !(p.first || p.second))
+      continue;
+    if (n > 1 && p == all) continue;
+    // Its stops and the least slowing cost more than the best known: not tried.
+    if (!(floor_of(p) + least_slowing < std::min(upper, best_closed()))) continue;
+    place(p.first, p.second);
+    decide_arc_beside_claims(a, share, res);
+    if (p == all) least_slowing = slowing_s(a);
+    tried[n++] = {p, floor_of(p) + slowing_s(a), ce != nullptr && !p.second, a};
+  }
+  if (n == 1) {  // nothing else could be cheaper: the arc stays as decided
+    --weigh_depth_;
+    return;
+  }
+  // The open plans, decided where they could still be the cheapest.
+  for (std::size_t i = 0; i < n; ++i) {
+    Tried& t = tried[i];
+    if (!t.open || !(t.cost < best_closed() + 1e-9)) continue;
+    place(t.plan.first, t.plan.second);
+    restore(a, t.arc);
+    t.cost += end_cost();
+    t.open = false;
+  }
+  // The cheapest closed plan, the plan as planned first among equals.
+  const double best = best_closed();
+  std::size_t pick = 0;
+  while (tried[pick].open || !(tried[pick].cost < best + 1e-9)) ++pick;
+  --weigh_depth_;
+  place(tried[pick].plan.first, tried[pick].plan.second);
+  restore(a, tried[pick].arc);                    // its decision beside them
+  if (tried[pick].plan.second) ++decided_count_;  // the corner after, decided out of order
+}
+
+int TolerancePlanner::drain_pause_j() {
+  // The first pause of the grid whose corner moment is 0: the window holds the vertex only.
+  if (drain_j_ == -2) {
+    CornerMomentGrid& grid = grid_d();
+    drain_j_ = -1;
+    for (int j = 0; j < grid.size() && drain_j_ < 0; ++j)
+      if (!(grid.at(j) > 0.0)) drain_j_ = j;
+  }
+  return drain_j_;
 }
 
 void TolerancePlanner::emit_front() {
@@ -1310,11 +1500,7 @@ void TolerancePlanner::decide_untoleranced_group(std::size_t i) {
   bool corners = near.kind == ElementKind::Corner;
   for (std::size_t k = i; k <= last && corners; ++k)
     corners = !elems_[k].decided && elems_[k].kind == ElementKind::Corner;
-  CornerMomentGrid& grid = grid_d();
-  int drain = -1;
-  if (corners)
-    for (int j = 0; j < grid.size() && drain < 0; ++j)
-      if (!(grid.at(j) > 0.0)) drain = j;
+  const int drain = corners ? drain_pause_j() : -1;
   const double stop_pause = static_cast<double>(drain) * filter_.period_s();
   if (drain < 0 || !(stop_pause > near.pause0)) {
     plan();

@@ -129,6 +129,9 @@ class TolerancePlanner : public CanonSource {
     /// Decided Corner, Stop: the time its decision costs, s (the pause added and the slowing,
     /// corner_cost_s); decide_untoleranced_group weighs a group by it.
     double cost_s = 0;
+    /// Decided Corner: what a full stop there would cost instead (the drain pause), s; infinity
+    /// when it is not an option.
+    double stop_cost_s = std::numeric_limits<double>::infinity();
     // Arc: for pre-compensation (arc_precomp.hpp).
     double radius = 0;      ///< Arc: radius, mm (0: not a circle, never compensated)
     double spiral = 0;      ///< Arc: how far its radius runs below `radius` (a near circle), mm
@@ -186,6 +189,21 @@ class TolerancePlanner : public CanonSource {
   void decide_arc_beside_claims(Element& e, double share, const MismatchReserve& res) const;
   void decide_run(Element& e, double share, const MismatchReserve& res) const;
   void decide_corner(Element& e, double share, const MismatchReserve& res);
+  /// A decided corner: its pause, cap, err, reach and zone for pause P, cap V and D(P) = d.
+  void settle_corner(Element& e, double pause, double v_cap, double d, double cost) const;
+  /// The first pause j of the corner grid (j·T) whose moment D is 0, or −1.
+  int drain_pause_j();
+  int drain_j_ = -2;  ///< drain_pause_j's answer, −2 until asked
+  /// An arc's decision, weighed against full stops at the corners at its ends (the corner before
+  /// it re-decided, the one after it decided too).
+  void decide_arc_weighing(Element& a, double share, const MismatchReserve& res);
+  /// A decided arc's slowing: its length and its zone beside it at its cap instead of 100 %, s.
+  static double slowing_s(const Element& arc);
+  /// Sets f's share weight (the prefix sums after it follow).
+  void set_weight(Element& f, double w);
+  /// Tentative decisions under way (decide_arc_weighing): they assign no claims and weigh
+  /// nothing further.
+  int weigh_depth_ = 0;
   /// Time a corner costs with a pause of pause_s (D(pause) = d): the pause added plus the
   /// slowing; `v` is the cap that keeps it within the share with `res` kept beside it.
   double corner_cost_s(const Element& e, double pause_s, double d, double share,

@@ -224,6 +224,16 @@ std::string exact_stop_version(std::string text) {
   return text;
 }
 
+// The program with a G9 on every move: exact stop at each block end, the tolerance kept along
+// every block (G9 under G64 P).
+std::string stop_everywhere_version(const std::string& text) {
+  std::string out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);)
+    out += line + (line.find('X') != std::string::npos ? " G9\n" : "\n");
+  return out;
+}
+
 void property(int kPrograms, bool encoder, std::uint64_t seed, bool precomp = false,
               const gm::Machine* encoder_machine = nullptr, bool unbounded = false,
               bool vs_exact_stop = false) {
@@ -238,6 +248,8 @@ void property(int kPrograms, bool encoder, std::uint64_t seed, bool precomp = fa
   int arcs = 0, rapids = 0, lines = 0, polylines = 0;
   std::int64_t samples = 0, rapid_samples = 0, paused = 0, capped = 0, compensated = 0;
   int without_arcs = 0, without_arcs_slower = 0, with_arcs = 0, with_arcs_slower = 0;
+  int slower_than_g9 = 0;
+  double total_p = 0, total_g611 = 0, total_g9 = 0;
   double worst_ratio = 0;
   for (int prog = 0; prog < kPrograms; ++prog) {
     // Encoder: the built-in machine, whose Y servo differs from X and Z (speed_error_s).
@@ -318,6 +330,9 @@ void property(int kPrograms, bool encoder, std::uint64_t seed, bool precomp = fa
       const auto full_feed = [](std::int64_t) { return gm::OverrideInput{}; };
       const double at_p = run_program(text, m, full_feed, encoder).cycle_s;
       const double stop = run_program(exact_stop_version(text), m, full_feed, encoder).cycle_s;
+      const double g9 = run_program(stop_everywhere_version(text), m, full_feed, encoder).cycle_s;
+      slower_than_g9 += at_p > g9;
+      total_p += at_p, total_g611 += stop, total_g9 += g9;
       if (text.find("\nG2 ") == std::string::npos && text.find("\nG3 ") == std::string::npos) {
         ++without_arcs;
         without_arcs_slower += at_p > stop;
@@ -358,6 +373,10 @@ void property(int kPrograms, bool encoder, std::uint64_t seed, bool precomp = fa
         fmt::format("at 100 % feed against G61.1: {} programs without arcs, {} slower; {} with "
                     "arcs, {} slower",
                     without_arcs, without_arcs_slower, with_arcs, with_arcs_slower));
+    WARN(
+        fmt::format("against a G9 on every move (exact stop, P kept along each block): {} "
+                    "slower; totals {:.1f} s at P, {:.1f} s G61.1, {:.1f} s G9",
+                    slower_than_g9, total_p, total_g611, total_g9));
   }
   WARN(fmt::format(
       "{} programs ({} polylines), {} cutting + {} rapid samples, worst {:.1f} % of tolerance, "
