@@ -820,17 +820,20 @@ double TolerancePlanner::largest_speed_in_zones(double vmax, double share, doubl
   return lo;
 }
 
-double TolerancePlanner::tolerance_near(const Element& e) const {
+double TolerancePlanner::tolerance_near(const Element& e, double t_from, double t_until) const {
   const double tau = filter_.tau_s();
   // The smallest among the elements that can share a window with e and the blocks the
-  // interpolator is in while the filter still holds e (each judged by its own).
+  // interpolator is in while the filter still holds e (each judged by its own); a full stop
+  // at t_from before e or at t_until after it parts e from what lies beyond (the filter
+  // drains there, and the pause belongs to the block before it).
   double tol = e.tol_mm;
   for (const Element& f : elems_) {
     const double gap = f.t0 > e.t1 ? f.t0 - e.t1 : (e.t0 > f.t1 ? e.t0 - f.t1 : 0.0);
-    if (gap < tau) tol = std::min(tol, f.tol_mm);
+    if (gap < tau && f.t1 > t_from && f.t0 < t_until) tol = std::min(tol, f.tol_mm);
   }
   for (const Block& b : window_)
-    if (b.t1 >= e.t0 && b.t0 < e.t1 + tau && b.m.path_tolerance_mm > 0.0)
+    if (b.t1 >= e.t0 && b.t0 < e.t1 + tau && b.t1 > t_from && b.t0 < t_until &&
+        b.m.path_tolerance_mm > 0.0)
       tol = std::min(tol, b.m.path_tolerance_mm);
   return tol;
 }
@@ -1286,6 +1289,21 @@ void TolerancePlanner::decide_arc_weighing(Element& a, double share, const Misma
     if (ce != nullptr) restore(*ce, stop_end ? end_stop : end);
     restore(a, before);
   };
+  using Plan = std::pair<bool, bool>;  // stops at the start, at the end
+  // The arc decided in a plan: a stop parts it from the tolerances beyond it (tolerance_near).
+  const double tol = tolerance_near(a);
+  // Its cap then ends at the stop: no window holds the arc and what lies past the stop.
+  auto decide_parted = [&](Plan p) {
+    const double t = tolerance_near(a, p.first ? cs->t1 : -kInf, p.second ? ce->t0 : kInf);
+    if (t == tol) {
+      decide_arc_beside_claims(a, share, res);
+    } else {
+      a.share = share_of(t);
+      decide_arc_beside_claims(a, a.share, mismatch_reserve(a, t));
+    }
+    if (p.first) a.z0 = a.reach0 = a.s0;
+    if (p.second) a.z1 = a.reach1 = a.s1;
+  };
   // The corner after decided on a copy beside the arc as it is: its cost.
   auto end_cost = [&] {
     const Element decided_arc = a;
@@ -1303,7 +1321,6 @@ void TolerancePlanner::decide_arc_weighing(Element& a, double share, const Misma
   // (end_cost), which is done only where that could change the choice; a plan whose stops alone
   // cost more than the best known is not tried. Among equal costs the plan as planned wins.
   ++weigh_depth_;
-  using Plan = std::pair<bool, bool>;  // stops at the start, at the end
   struct Tried {
     Plan plan;
     double cost;  // exact, or the lower end when `open`
@@ -1335,7 +1352,7 @@ void TolerancePlanner::decide_arc_weighing(Element& a, double share, const Misma
     // Its stops and the least slowing cost more than the best known: not tried.
     if (!(floor_of(p) + least_slowing < std::min(upper, best_closed()))) continue;
     place(p.first, p.second);
-    decide_arc_beside_claims(a, share, res);
+    decide_parted(p);
     if (p == all) least_slowing = slowing_s(a);
     tried[n++] = {p, floor_of(p) + slowing_s(a), ce != nullptr && !p.second, a};
   }

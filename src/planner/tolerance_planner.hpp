@@ -180,7 +180,10 @@ class TolerancePlanner : public CanonSource {
   bool lookahead_enough() const;
   /// The cap, zone and (corners) pause of e within its share of the tolerance.
   void decide(Element& e);
-  double tolerance_near(const Element& e) const;
+  /// The smallest tolerance e's samples can meet; `t_from`, `t_until`: full stops before and
+  /// after e, beyond which nothing counts.
+  double tolerance_near(const Element& e, double t_from = -std::numeric_limits<double>::infinity(),
+                        double t_until = std::numeric_limits<double>::infinity()) const;
   void decide_arc(Element& e, double share, const MismatchReserve& res) const;
   /// The cap of arc e pre-compensated within `share`, mm/s: `floor` (the curvature bound's
   /// cap) or less when compensating is no faster.
