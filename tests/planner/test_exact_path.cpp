@@ -6,6 +6,7 @@
 #include "pipeline/pipeline.hpp"
 #include "planner/filter_moments.hpp"
 #include "planner/tolerance_planner.hpp"
+#include "support/g9_on_every_move.hpp"
 #include "support/planner_config.hpp"
 #include "support/read_file.hpp"
 #include "support/sample_stepper.hpp"
@@ -306,14 +307,6 @@ std::string chords_before_p(int chords, double turn_rad, const char* p, bool g9)
   text += fmt::format("X{:.4f} Y{:.4f}{}\n", x, y, g9 ? " G9" : "");
   return text + fmt::format("G64 P{}\nG1 X{:.4f} Y{:.4f}\nM2\n", p, x + 10, y);
 }
-// `text` with a G9 on every move: an exact stop at each block end (G9 under G64 P keeps P).
-std::string g9_on_every_move(const std::string& text) {
-  std::string out;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);)
-    out += line + (line.find('X') != std::string::npos ? " G9\n" : "\n");
-  return out;
-}
 }  // namespace
 
 TEST_CASE("unbounded chords before G64 P: only those the P block's samples can see are planned") {
@@ -373,7 +366,7 @@ TEST_CASE("an arc between two sharp corners: full stops there when the arc gains
   const std::string text =
       "G21 G90 G17 G64 P0.005\nG1 X13.9 Y8.95 F2742\n"
       "G2 X23.281214 Y7.118873 I6.900420 J10.418703 F4516\nG1 X40.615642 Y-3.574255 F2443\nM2\n";
-  const Run planned = run(text, m, true), stops = run(g9_on_every_move(text), m, true);
+  const Run planned = run(text, m, true), stops = run(gmtest::g9_on_every_move(text), m, true);
   CHECK(planned.check.cutting().over == 0);
   CHECK(stops.check.cutting().over == 0);
   CHECK(planned.cycle_s <= stops.cycle_s);  // 3.324 against 3.376 s (4.756 s before)
@@ -397,7 +390,7 @@ TEST_CASE("a full stop after an arc parts it from the tighter tolerance that fol
       "G21 G90 G17 G64 P0.05\nG2 X-0.067556 Y10.694158 I-3.830472 J5.323095 F6183\n"
       "G64 P0.005\nG1 X-0.255209 Y13.233212 F3753\nG64 P0.05\nG1 X2.218216 Y12.555585 F7080\n"
       "M2\n";
-  const Run planned = run(text, m, true), stops = run(g9_on_every_move(text), m, true);
+  const Run planned = run(text, m, true), stops = run(gmtest::g9_on_every_move(text), m, true);
   CHECK(planned.check.cutting().over == 0);
   CHECK(stops.check.cutting().over == 0);
   CHECK(planned.cycle_s < 1.2 * stops.cycle_s);  // 1.040 against 0.940 s (2.492 s before)

@@ -9,6 +9,7 @@
 #include "planner/filter_moments.hpp"
 #include "planner/servo_response.hpp"
 #include "planner/tolerance_planner.hpp"
+#include "support/g9_on_every_move.hpp"
 #include "support/planner_config.hpp"
 #include "support/run_command.hpp"
 #include "support/sample_stepper.hpp"
@@ -224,16 +225,6 @@ std::string exact_stop_version(std::string text) {
   return text;
 }
 
-// The program with a G9 on every move: exact stop at each block end, the tolerance kept along
-// every block (G9 under G64 P).
-std::string stop_everywhere_version(const std::string& text) {
-  std::string out;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);)
-    out += line + (line.find('X') != std::string::npos ? " G9\n" : "\n");
-  return out;
-}
-
 void property(int kPrograms, bool encoder, std::uint64_t seed, bool precomp = false,
               const gm::Machine* encoder_machine = nullptr, bool unbounded = false,
               bool vs_exact_stop = false) {
@@ -330,7 +321,7 @@ void property(int kPrograms, bool encoder, std::uint64_t seed, bool precomp = fa
       const auto full_feed = [](std::int64_t) { return gm::OverrideInput{}; };
       const double at_p = run_program(text, m, full_feed, encoder).cycle_s;
       const double stop = run_program(exact_stop_version(text), m, full_feed, encoder).cycle_s;
-      const double g9 = run_program(stop_everywhere_version(text), m, full_feed, encoder).cycle_s;
+      const double g9 = run_program(gmtest::g9_on_every_move(text), m, full_feed, encoder).cycle_s;
       slower_than_g9 += at_p > g9;
       total_p += at_p, total_g611 += stop, total_g9 += g9;
       if (text.find("\nG2 ") == std::string::npos && text.find("\nG3 ") == std::string::npos) {
