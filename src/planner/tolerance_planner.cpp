@@ -1182,10 +1182,10 @@ void TolerancePlanner::decide_corner(Element& e, double share, const MismatchRes
   // Its full stop (the drain pause, D = 0: no cap, err 0), priced for the arc after it to weigh
   // (decide_arc_weighing).
   e.stop_cost_s = kInf;
-  const int drain = drain_pause_j();
-  if (drain >= 0 && pause_at(drain) > e.pause0 && best_d > 0.0) {
+  const double p_stop = drain_pause_s();
+  if (p_stop > e.pause0 && best_d > 0.0) {
     double v_stop = 0.0;
-    e.stop_cost_s = corner_cost_s(e, pause_at(drain), 0.0, share, res, v_ref, v_stop);
+    e.stop_cost_s = corner_cost_s(e, p_stop, 0.0, share, res, v_ref, v_stop);
   }
 }
 
@@ -1234,9 +1234,8 @@ void TolerancePlanner::decide_arc_weighing(Element& a, double share, const Misma
   const Element before = a;
   decide_arc_beside_claims(a, share, res);
   if (!(a.cap < kInf)) return;  // nothing to gain
-  const int drain = drain_pause_j();
-  if (drain < 0) return;
-  const double p_stop = static_cast<double>(drain) * filter_.period_s();
+  const double p_stop = drain_pause_s();
+  if (!(p_stop >= 0.0)) return;
   std::size_t ia = elems_.size();
   for (std::size_t k = decided_prefix_; k < elems_.size(); ++k)
     if (&elems_[k] == &a) {
@@ -1343,12 +1342,13 @@ void TolerancePlanner::decide_arc_weighing(Element& a, double share, const Misma
   const double upper = tried[0].cost + end_at_most;  // the plan as planned costs at most this
   // Every stop there can be first: the arc's share is then the largest, its slowing the least
   // of any plan's, which bounds the others' from below.
+  // With one corner there is only that plan.
   const Plan all{cs != nullptr, ce != nullptr};
+  const std::array<Plan, 3> plans{all, Plan{false, true}, Plan{true, false}};
+  const std::size_t count = cs != nullptr && ce != nullptr ? 3 : 1;
   double least_slowing = 0.0;
-  for (const Plan& p : {all, Plan{false, true}, Plan{true, false}}) {
-    if ((p.first && cs == nullptr) || (p.second && ce == nullptr) || !(p.first || p.second))
-      continue;
-    if (n > 1 && p == all) continue;
+  for (std::size_t i = 0; i < count; ++i) {
+    const Plan& p = plans[i];
     // Its stops and the least slowing cost more than the best known: not tried.
     if (!(floor_of(p) + least_slowing < std::min(upper, best_closed()))) continue;
     place(p.first, p.second);
@@ -1379,7 +1379,7 @@ void TolerancePlanner::decide_arc_weighing(Element& a, double share, const Misma
   if (tried[pick].plan.second) ++decided_count_;  // the corner after, decided out of order
 }
 
-int TolerancePlanner::drain_pause_j() {
+double TolerancePlanner::drain_pause_s() {
   // The first pause of the grid whose corner moment is 0: the window holds the vertex only.
   if (drain_j_ == -2) {
     CornerMomentGrid& grid = grid_d();
@@ -1387,7 +1387,7 @@ int TolerancePlanner::drain_pause_j() {
     for (int j = 0; j < grid.size() && drain_j_ < 0; ++j)
       if (!(grid.at(j) > 0.0)) drain_j_ = j;
   }
-  return drain_j_;
+  return drain_j_ < 0 ? -1.0 : static_cast<double>(drain_j_) * filter_.period_s();
 }
 
 void TolerancePlanner::emit_front() {
@@ -1517,9 +1517,8 @@ void TolerancePlanner::decide_untoleranced_group(std::size_t i) {
   bool corners = near.kind == ElementKind::Corner;
   for (std::size_t k = i; k <= last && corners; ++k)
     corners = !elems_[k].decided && elems_[k].kind == ElementKind::Corner;
-  const int drain = corners ? drain_pause_j() : -1;
-  const double stop_pause = static_cast<double>(drain) * filter_.period_s();
-  if (drain < 0 || !(stop_pause > near.pause0)) {
+  const double stop_pause = corners ? drain_pause_s() : -1.0;
+  if (!(stop_pause > near.pause0)) {  // no stop to weigh, or one already there
     plan();
     extend_decided_prefix();
     return;

@@ -194,9 +194,10 @@ class TolerancePlanner : public CanonSource {
   void decide_corner(Element& e, double share, const MismatchReserve& res);
   /// A decided corner: its pause, cap, err, reach and zone for pause P, cap V and D(P) = d.
   void settle_corner(Element& e, double pause, double v_cap, double d, double cost) const;
-  /// The first pause j of the corner grid (j·T) whose moment D is 0, or −1.
-  int drain_pause_j();
-  int drain_j_ = -2;  ///< drain_pause_j's answer, −2 until asked
+  /// The first pause of the corner grid whose moment D is 0 (the drain: a full stop), s; −1
+  /// when there is none.
+  double drain_pause_s();
+  int drain_j_ = -2;  ///< that pause's grid index, −1 when none, −2 until asked
   /// An arc's decision, weighed against full stops at the corners at its ends (the corner before
   /// it re-decided, the one after it decided too).
   void decide_arc_weighing(Element& a, double share, const MismatchReserve& res);
