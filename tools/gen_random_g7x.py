@@ -6,9 +6,12 @@ increments; one cycle with random D I R (G70: D P). Many are refused by rs274 (n
 parallel lines): those only check that gmotion refuses them too.
 
 Usage: gen_random_g7x.py DIR FIRST_SEED COUNT   (writes DIR/g7x-SEED.ngc)
+COUNT is shrunk by GMOTION_TEST_SCALE (a fraction in (0, 1]), as rs274_diff.py shrinks --random:
+the asan test preset compares the first seeds only.
 """
 import cmath
 import math
+import os
 import random
 import sys
 from pathlib import Path
@@ -102,6 +105,12 @@ def main() -> int:
     for old in d.glob("g7x-*.ngc"):
         old.unlink()
     first, count = int(sys.argv[2]), int(sys.argv[3])
+    try:
+        scale = float(os.environ.get("GMOTION_TEST_SCALE", "1"))
+    except ValueError:
+        scale = 1.0
+    if 0.0 < scale < 1.0:
+        count = max(1, round(count * scale))
     for s in range(first, first + count):
         (d / f"g7x-{s}.ngc").write_text(program(s))
     return 0

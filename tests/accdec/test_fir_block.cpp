@@ -6,6 +6,7 @@
 #include "common/block_columns.hpp"
 #include "common/isa.hpp"
 #include "common/status.hpp"
+#include "support/test_scale.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -226,7 +227,9 @@ TEST_CASE("step_block gives step_n's outputs and settled(), mixed with step_n, o
         for (const Isa isa : isas()) {
           const std::uint64_t run_seed = seed + static_cast<std::uint64_t>(runs++);
           CAPTURE(seed, run_seed, c.spec, c.taps, static_cast<int>(s), axes, gm::isa_name(isa));
-          compare(taps, s, axes, isa, run_seed, 1500, false);
+          // At least three full blocks under the sanitizers.
+          compare(taps, s, axes, isa, run_seed,
+                  std::max(3 * gm::kBlockSamples, gmtest::scaled(1500)), false);
         }
   }
   CHECK(runs > 0);

@@ -4,6 +4,7 @@
 #include "grammar/parse.hpp"
 #include "grammar/plain_words.hpp"
 #include "support/read_file.hpp"
+#include "support/test_scale.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -326,13 +327,14 @@ TEST_CASE("plain-line scanner: the same blocks as the block rule on random lines
   std::uniform_int_distribution<std::size_t> piece(0, std::size(kPieces) - 1);
   std::uniform_int_distribution<int> length(0, 14);
   std::string text;
-  for (int i = 0; i < 60000; ++i) {
+  const auto lines = static_cast<std::size_t>(gmtest::scaled(60000));
+  for (std::size_t i = 0; i < lines; ++i) {
     const int n = length(rng);
     for (int k = 0; k < n; ++k) text += kPieces[piece(rng)];
     text += '\n';
   }
-  CHECK(compare_lines(text, false) == 60000);
-  CHECK(compare_lines(text, true) == 60000);
+  CHECK(compare_lines(text, false) == lines);
+  CHECK(compare_lines(text, true) == lines);
 
   // Plain lines, as CAM writes them: the scanner takes all of them.
   std::uniform_int_distribution<int> digits(0, 99999999);

@@ -8,6 +8,7 @@
 #include "planner/filter_moments.hpp"
 
 #include "support/canon_list.hpp"
+#include "support/test_scale.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -408,7 +409,7 @@ TEST_CASE("the residual table bounds the simulation within its margin", "[arc-pr
     const gm::ArcResidualTable table(check);
     double worst = 0.0, sum = 0.0;
     int n = 0;
-    for (int k = 0; k < 1000; ++k) {
+    for (int k = 0; k < gmtest::scaled(1000); ++k) {
       const double R = 0.3 + 20.0 * uniform() * uniform();
       const double th = std::exp(std::log(0.01) + uniform() * std::log(600.0));
       const double L = R * th * (uniform() < 0.3 ? 1.0 + uniform() : 1.0);  // some helices
