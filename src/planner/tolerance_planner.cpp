@@ -604,6 +604,7 @@ TolerancePlanner::SameRun TolerancePlanner::same_run(const Element& e, ZoneRange
   // As range_weight and range_decided count them: undecided past the decided prefix, else
   // decided (and both ways when decided out of order).
   SameRun same;
+  r = parted(r, e);
   for (std::size_t i = r.first; i < r.last; ++i) {
     const Element& f = elems_[i];
     if (f.kind != ElementKind::Run || f.run_id != e.run_id) continue;
@@ -622,6 +623,27 @@ TolerancePlanner::ZoneRange TolerancePlanner::zone_range(double z0, double z1) c
                                [](const Element& f, double z) { return f.s0 < z; });
   return {static_cast<std::size_t>(first - elems_.begin()),
           static_cast<std::size_t>(last - elems_.begin())};
+}
+
+bool TolerancePlanner::same_element(const Element& f, const Element& e) {
+  return &f == &e || (f.kind == e.kind && f.seq == e.seq);  // e may be a copy of f
+}
+
+TolerancePlanner::ZoneRange TolerancePlanner::parted(ZoneRange r, const Element& e) const {
+  // A full stop (Element::stopped) in the range parts it: no window holds both sides, so only
+  // the elements on e's side share e's zone.
+  for (std::size_t i = r.first; i < r.last; ++i) {
+    const Element& g = elems_[i];
+    if (!g.stopped || same_element(g, e)) continue;
+    if (g.s1 <= e.s0 + 1e-9) {
+      r.first = i + 1;
+    } else if (g.s0 >= e.s1 - 1e-9) {
+      r.last = i;
+      break;
+    }
+  }
+  r.last = std::max(r.last, r.first);
+  return r;
 }
 
 double TolerancePlanner::range_weight(ZoneRange r) const {
@@ -692,6 +714,7 @@ const TolerancePlanner::ZoneMemo& TolerancePlanner::zone_values(ZoneMemo& memo, 
   if (!memo.valid || !(r == memo.range)) {
     memo.range = r;
     memo.valid = true;
+    r = parted(r, e);
     memo.weight = range_weight(r);
     memo.weight_all = range_weight_all(r);
     memo.decided = range_decided(r, e);
@@ -820,12 +843,18 @@ double TolerancePlanner::largest_speed_in_zones(double vmax, double share, doubl
   return lo;
 }
 
-double TolerancePlanner::tolerance_near(const Element& e, double t_from, double t_until) const {
+double TolerancePlanner::tolerance_near(const Element& e) const {
   const double tau = filter_.tau_s();
   // The smallest among the elements that can share a window with e and the blocks the
-  // interpolator is in while the filter still holds e (each judged by its own); a full stop
-  // at t_from before e or at t_until after it parts e from what lies beyond (the filter
-  // drains there, and the pause belongs to the block before it).
+  // interpolator is in while the filter still holds e (each judged by its own). A full stop
+  // decided at a corner (Element::stopped) parts e from what lies beyond it: the filter drains
+  // there, and the pause belongs to the block before it.
+  double t_from = -kInf, t_until = kInf;
+  for (const Element& g : elems_) {
+    if (!g.stopped || same_element(g, e)) continue;
+    if (g.t1 <= e.t0) t_from = std::max(t_from, g.t1);
+    if (g.t0 >= e.t1) t_until = std::min(t_until, g.t0);
+  }
   double tol = e.tol_mm;
   for (const Element& f : elems_) {
     const double gap = f.t0 > e.t1 ? f.t0 - e.t1 : (e.t0 > f.t1 ? e.t0 - f.t1 : 0.0);
@@ -976,6 +1005,12 @@ void TolerancePlanner::decide_arc(Element& e, double share, const MismatchReserv
   e.reach1 = e.s1 + v * tau;
   e.z0 = zone_back(e.s0, tau, e.cap);
   e.z1 = zone_fwd(e.s1, tau, e.cap);
+  // A full stop decided at either end parts it from what lies past it: its cap and zone end there.
+  for (const Element& g : elems_) {
+    if (!g.stopped) continue;
+    if (std::abs(g.s1 - e.s0) <= 1e-9) e.z0 = e.reach0 = e.s0;
+    if (std::abs(g.s0 - e.s1) <= 1e-9) e.z1 = e.reach1 = e.s1;
+  }
 }
 
 double TolerancePlanner::precomp_arc_speed(const Element& e, double share, double floor,
@@ -1193,6 +1228,7 @@ void TolerancePlanner::settle_corner(Element& e, double pause, double v_cap, dou
                                      double cost) const {
   e.pause = pause;
   e.cost_s = cost;
+  e.stopped = !(d > 0.0);
   e.cap = v_cap < e.vmax ? v_cap : kInf;
   const double zt = std::max(filter_.zone_floor_s(), filter_.tau_s() - pause);
   const double v = std::min(v_cap, e.vmax);
@@ -1289,19 +1325,17 @@ void TolerancePlanner::decide_arc_weighing(Element& a, double share, const Misma
     restore(a, before);
   };
   using Plan = std::pair<bool, bool>;  // stops at the start, at the end
-  // The arc decided in a plan: a stop parts it from the tolerances beyond it (tolerance_near).
+  // The arc decided in a plan: a stop parts it from the tolerances beyond it (tolerance_near),
+  // and its zone ends there (decide_arc).
   const double tol = tolerance_near(a);
-  // Its cap then ends at the stop: no window holds the arc and what lies past the stop.
-  auto decide_parted = [&](Plan p) {
-    const double t = tolerance_near(a, p.first ? cs->t1 : -kInf, p.second ? ce->t0 : kInf);
+  auto decide_parted = [&] {
+    const double t = tolerance_near(a);
     if (t == tol) {
       decide_arc_beside_claims(a, share, res);
     } else {
       a.share = share_of(t);
       decide_arc_beside_claims(a, a.share, mismatch_reserve(a, t));
     }
-    if (p.first) a.z0 = a.reach0 = a.s0;
-    if (p.second) a.z1 = a.reach1 = a.s1;
   };
   // The corner after decided on a copy beside the arc as it is: its cost.
   auto end_cost = [&] {
@@ -1352,7 +1386,7 @@ void TolerancePlanner::decide_arc_weighing(Element& a, double share, const Misma
     // Its stops and the least slowing cost more than the best known: not tried.
     if (!(floor_of(p) + least_slowing < std::min(upper, best_closed()))) continue;
     place(p.first, p.second);
-    decide_parted(p);
+    decide_parted();
     if (p == all) least_slowing = slowing_s(a);
     tried[n++] = {p, floor_of(p) + slowing_s(a), ce != nullptr && !p.second, a};
   }
@@ -1486,6 +1520,7 @@ void TolerancePlanner::decide_untoleranced_group(std::size_t i) {
     g.err = 0.0;
     g.share = share_of(g.tol_mm);
     g.pause = pause;
+    g.stopped = false;
     g.cost_s = pause - g.pause0;
     g.reach0 = g.s0;
     g.reach1 = g.s1;
@@ -1534,6 +1569,7 @@ void TolerancePlanner::decide_untoleranced_group(std::size_t i) {
     last_corner_pause_j_ = saved_j;
     for (std::size_t k = i; k <= last; ++k) let_go(elems_[k], elems_[k].pause0);
     let_go(near, stop_pause);
+    near.stopped = true;
   }
   extend_decided_prefix();
 }

@@ -132,6 +132,9 @@ class TolerancePlanner : public CanonSource {
     /// Decided Corner: what a full stop there would cost instead (the drain pause), s; infinity
     /// when it is not an option.
     double stop_cost_s = std::numeric_limits<double>::infinity();
+    /// Decided Corner: a full stop (its pause drains the filter, D = 0). No window holds both
+    /// sides of it: it parts the elements before it from those after (tolerance_near).
+    bool stopped = false;
     // Arc: for pre-compensation (arc_precomp.hpp).
     double radius = 0;      ///< Arc: radius, mm (0: not a circle, never compensated)
     double spiral = 0;      ///< Arc: how far its radius runs below `radius` (a near circle), mm
@@ -180,10 +183,9 @@ class TolerancePlanner : public CanonSource {
   bool lookahead_enough() const;
   /// The cap, zone and (corners) pause of e within its share of the tolerance.
   void decide(Element& e);
-  /// The smallest tolerance e's samples can meet; `t_from`, `t_until`: full stops before and
-  /// after e, beyond which nothing counts.
-  double tolerance_near(const Element& e, double t_from = -std::numeric_limits<double>::infinity(),
-                        double t_until = std::numeric_limits<double>::infinity()) const;
+  /// The smallest tolerance e's samples can meet; nothing past a full stop (Element::stopped)
+  /// counts.
+  double tolerance_near(const Element& e) const;
   void decide_arc(Element& e, double share, const MismatchReserve& res) const;
   /// The cap of arc e pre-compensated within `share`, mm/s: `floor` (the curvature bound's
   /// cap) or less when compensating is no faster.
@@ -224,6 +226,10 @@ class TolerancePlanner : public CanonSource {
   ZoneRange zone_range_from(ZoneRange hint, double z0, double z1) const;
   /// The weights of the range's undecided elements (those past the decided prefix; one
   /// decided out of order counts both ways, weight and err).
+  /// f is e (or e a copy of it: the same kind and block).
+  static bool same_element(const Element& f, const Element& e);
+  /// r without what a full stop in it parts from e (Element::stopped).
+  ZoneRange parted(ZoneRange r, const Element& e) const;
   double range_weight(ZoneRange r) const;
   double range_weight_all(ZoneRange r) const;  ///< every element's, decided or not
   /// What the range's decided elements leave to e (docs/tolerance.md, "Sharing a window"): the

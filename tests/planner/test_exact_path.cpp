@@ -384,7 +384,9 @@ TEST_CASE("a full stop after an arc parts it from the tighter tolerance that fol
   // samples meet only its own P0.05, but its zone reaches the line's block, so it was planned
   // for P0.005: 2.492 s. A full stop at the corner parts the two (the filter drains while the
   // interpolator is still in the arc's block): the arc keeps P0.05 and the weighing takes the
-  // stop, 1.040 s (0.940 s with a G9 on every block).
+  // stop, 1.040 s (0.940 s with a G9 on every block). Since 2026-11-30 the stop also parts the
+  // arc's zone from the corner past the line (4.2 mm of travel at the arc's cap, but beyond the
+  // stop): 0.864 s, faster than the G9s.
   const gm::Machine m;
   const std::string text =
       "G21 G90 G17 G64 P0.05\nG2 X-0.067556 Y10.694158 I-3.830472 J5.323095 F6183\n"
@@ -393,9 +395,31 @@ TEST_CASE("a full stop after an arc parts it from the tighter tolerance that fol
   const Run planned = run(text, m, true), stops = run(gmtest::g9_on_every_move(text), m, true);
   CHECK(planned.check.cutting().over == 0);
   CHECK(stops.check.cutting().over == 0);
-  CHECK(planned.cycle_s < 1.2 * stops.cycle_s);  // 1.040 against 0.940 s (2.492 s before)
+  CHECK(planned.cycle_s < stops.cycle_s);  // 0.864 against 0.940 s (1.040 s, 2.492 s before)
   REQUIRE(!planned.dwell_lines.empty());
   CHECK(planned.dwell_lines.front() == 2);  // the stop after the arc
+}
+
+TEST_CASE("a corner that stops of itself parts the helix after it from the arc before it") {
+  // An R 1.4 mm arc under P0.005, a 72° corner, then a 90 mm helix under P0.1 (S-curve filter,
+  // τ 0.12 s). The corner's cheapest plan is a full stop (the drain pause), but until
+  // 2026-11-30 only the stops the weighing placed parted anything: the helix, within τ of the
+  // arc, was planned for P0.005 and shared its zone with the corner, 16 mm/s for 113: 7.676 s,
+  // against 3.516 s with a G9 on every block. A stop now parts the tolerances (tolerance_near)
+  // and the zones (TolerancePlanner::parted) wherever it is decided: the helix keeps P0.1,
+  // 2.392 s.
+  gm::Machine m;
+  m.profile = "scurve1";
+  m.tau_s = 0.12;
+  const std::string text =
+      "G21 G90 G17 G64 P0.005\nG3 X0.870821 Y0.902474 I1.340040 J-0.421663 F4171\n"
+      "G64 P0.1\nG2 X6.702084 Y-3.765917 Z1.283221 I12.363229 J9.466749 F6787\n"
+      "G1 X7.737615 Y-4.910108 F1990\nM2\n";
+  const Run planned = run(text, m, true), stops = run(gmtest::g9_on_every_move(text), m, true);
+  CHECK(planned.check.cutting().over == 0);
+  CHECK(stops.check.cutting().over == 0);
+  CHECK(planned.cycle_s < stops.cycle_s);  // 2.392 against 3.516 s (7.676 s before)
+  CHECK(planned.cycle_s < 2.6);
 }
 
 TEST_CASE("a fast pre-compensated arc ending into a crawling line: its end rows are a stop's") {
