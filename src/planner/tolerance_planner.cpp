@@ -965,10 +965,12 @@ void TolerancePlanner::decide(Element& e) {
       return;
     case ElementKind::Run:
       decide_run(e, share, res);
+      part_zone(e);
       return;
     case ElementKind::Corner:
     case ElementKind::Stop:
       decide_corner(e, share, res);
+      part_zone(e);
       return;
   }
 }
@@ -1005,11 +1007,22 @@ void TolerancePlanner::decide_arc(Element& e, double share, const MismatchReserv
   e.reach1 = e.s1 + v * tau;
   e.z0 = zone_back(e.s0, tau, e.cap);
   e.z1 = zone_fwd(e.s1, tau, e.cap);
-  // A full stop decided at either end parts it from what lies past it: its cap and zone end there.
+  part_zone(e);
+}
+
+void TolerancePlanner::part_zone(Element& e) const {
+  // A full stop (Element::stopped) before or after e parts it from what lies past the stop: no
+  // window holds both, so e's zone (where its cap holds) and its reach end there.
   for (const Element& g : elems_) {
-    if (!g.stopped) continue;
-    if (std::abs(g.s1 - e.s0) <= 1e-9) e.z0 = e.reach0 = e.s0;
-    if (std::abs(g.s0 - e.s1) <= 1e-9) e.z1 = e.reach1 = e.s1;
+    if (!g.stopped || same_element(g, e)) continue;
+    if (g.s1 <= e.s0 + 1e-9) {
+      e.z0 = std::max(e.z0, g.s1);
+      e.reach0 = std::max(e.reach0, g.s1);
+    }
+    if (g.s0 >= e.s1 - 1e-9) {
+      e.z1 = std::min(e.z1, g.s0);
+      e.reach1 = std::min(e.reach1, g.s0);
+    }
   }
 }
 

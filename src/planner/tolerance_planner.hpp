@@ -228,6 +228,8 @@ class TolerancePlanner : public CanonSource {
   /// decided out of order counts both ways, weight and err).
   /// f is e (or e a copy of it: the same kind and block).
   static bool same_element(const Element& f, const Element& e);
+  /// e's zone and reach ended at the full stops beside it (Element::stopped).
+  void part_zone(Element& e) const;
   /// r without what a full stop in it parts from e (Element::stopped).
   ZoneRange parted(ZoneRange r, const Element& e) const;
   double range_weight(ZoneRange r) const;
