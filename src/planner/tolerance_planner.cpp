@@ -1252,12 +1252,17 @@ void TolerancePlanner::settle_corner(Element& e, double pause, double v_cap, dou
   e.z1 = zone_fwd(e.s1, zt, e.cap);
 }
 
-double TolerancePlanner::slowing_s(const Element& arc) {
-  // Its length and the stretches of its zone beside it at its cap instead of at 100 %.
+double TolerancePlanner::slowing_s(const Element& arc) const {
+  // Its zone (the arc and the stretches beside it) at its cap instead of each block's speed at
+  // 100 %: a slow arc's zone reaching into a rapid costs the rapid's time, not the arc's.
   const double v = std::min(arc.cap, arc.vmax);
-  if (!(v < arc.v100) || !(v > 0.0)) return 0.0;
-  const double len = (arc.s1 - arc.s0) + (arc.s0 - arc.z0) + (arc.z1 - arc.s1);
-  return len / v - len / arc.v100;
+  if (!(v > 0.0)) return 0.0;
+  double cost = 0.0;
+  for (const Block& b : window_) {
+    const double len = std::min(b.s1, arc.z1) - std::max(b.s0, arc.z0);
+    if (len > 0.0 && v < b.v100) cost += len / v - len / b.v100;
+  }
+  return cost;
 }
 
 void TolerancePlanner::set_weight(Element& f, double w) {

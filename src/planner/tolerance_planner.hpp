@@ -203,8 +203,8 @@ class TolerancePlanner : public CanonSource {
   /// An arc's decision, weighed against full stops at the corners at its ends (the corner before
   /// it re-decided, the one after it decided too).
   void decide_arc_weighing(Element& a, double share, const MismatchReserve& res);
-  /// A decided arc's slowing: its length and its zone beside it at its cap instead of 100 %, s.
-  static double slowing_s(const Element& arc);
+  /// A decided arc's slowing: its zone at its cap instead of each block's speed at 100 %, s.
+  double slowing_s(const Element& arc) const;
   /// Sets f's share weight (the prefix sums after it follow).
   void set_weight(Element& f, double w);
   /// Tentative decisions under way (decide_arc_weighing): they assign no claims and weigh

@@ -422,6 +422,25 @@ TEST_CASE("a corner that stops of itself parts the helix after it from the arc b
   CHECK(planned.cycle_s < 2.6);
 }
 
+TEST_CASE("a slow arc's zone reaching into a rapid is priced at the rapid's speed") {
+  // An arc at F832 (13.9 mm/s) under P0.3, then a rapid under P0.02. Planned, the arc's cap
+  // (14.6 mm/s) holds over its zone, τ of travel into the rapid as well; the weighing priced that
+  // stretch at the arc's own feed, so it cost nothing, and a stop at the arc's end (which ends
+  // the zone there) was never tried: the rapid crept at 14 mm/s for 0.17 s, 1.112 s in all
+  // against 0.988 s with a G9 on every block. The slowing is now priced block by block at each
+  // block's speed at 100 % (TolerancePlanner::slowing_s): 0.844 s.
+  const gm::Machine m;
+  const std::string text =
+      "G21 G90 G17 G64 P0.3\nG1 X2.117774 Y-0.710471 F4658\nG1 X0.684077 Y-3.393685 F4291\n"
+      "G3 X1.879690 Y-3.760214 I0.949324 J0.963380 F832\nG64 P0.02\nG0 X-8.468982 Y8.078567\n"
+      "M2\n";
+  const Run planned = run(text, m, true), stops = run(gmtest::g9_on_every_move(text), m, true);
+  CHECK(planned.check.cutting().over == 0);
+  CHECK(planned.check.rapids().over == 0);
+  CHECK(planned.cycle_s < stops.cycle_s);  // 0.844 against 0.988 s (1.112 s before)
+  CHECK(planned.cycle_s < 0.9);
+}
+
 TEST_CASE("a fast pre-compensated arc ending into a crawling line: its end rows are a stop's") {
   // Found by random chains whose feeds change from block to block: an R 17 mm arc at F9000
   // (100 mm/s, the machine's fastest) into a line at F100 (1.7 mm/s). With the rows of an end
