@@ -105,6 +105,19 @@ Run run(const std::string& text, const gm::Machine& m, bool precomp = false,
   return r;
 }
 
+// `text` as planned and with a G9 on every move (an exact stop at every block end, P kept along
+// each block), arcs pre-compensated: both must hold P on every sample.
+struct PlannedAndStops {
+  Run planned, stops;
+};
+PlannedAndStops planned_and_stops(const std::string& text, const gm::Machine& m) {
+  PlannedAndStops r{run(text, m, true), run(gmtest::g9_on_every_move(text), m, true)};
+  CHECK(r.planned.check.cutting().over == 0);
+  CHECK(r.planned.check.rapids().over == 0);
+  CHECK(r.stops.check.cutting().over == 0);
+  return r;
+}
+
 std::string replace_mode(std::string text, const std::string& from, const std::string& to) {
   const auto at = text.find(from);
   REQUIRE(at != std::string::npos);
@@ -366,9 +379,7 @@ TEST_CASE("an arc between two sharp corners: full stops there when the arc gains
   const std::string text =
       "G21 G90 G17 G64 P0.005\nG1 X13.9 Y8.95 F2742\n"
       "G2 X23.281214 Y7.118873 I6.900420 J10.418703 F4516\nG1 X40.615642 Y-3.574255 F2443\nM2\n";
-  const Run planned = run(text, m, true), stops = run(gmtest::g9_on_every_move(text), m, true);
-  CHECK(planned.check.cutting().over == 0);
-  CHECK(stops.check.cutting().over == 0);
+  const auto [planned, stops] = planned_and_stops(text, m);
   CHECK(planned.cycle_s <= stops.cycle_s);  // 3.324 against 3.376 s (4.756 s before)
   // The two drains: after line 2 (the corner into the arc) and after the arc (line 3).
   const std::vector<double> h = gm::design_taps(m.profile, m.tau_s, m.period_s).real;
@@ -392,9 +403,7 @@ TEST_CASE("a full stop after an arc parts it from the tighter tolerance that fol
       "G21 G90 G17 G64 P0.05\nG2 X-0.067556 Y10.694158 I-3.830472 J5.323095 F6183\n"
       "G64 P0.005\nG1 X-0.255209 Y13.233212 F3753\nG64 P0.05\nG1 X2.218216 Y12.555585 F7080\n"
       "M2\n";
-  const Run planned = run(text, m, true), stops = run(gmtest::g9_on_every_move(text), m, true);
-  CHECK(planned.check.cutting().over == 0);
-  CHECK(stops.check.cutting().over == 0);
+  const auto [planned, stops] = planned_and_stops(text, m);
   CHECK(planned.cycle_s < stops.cycle_s);  // 0.864 against 0.940 s (1.040 s, 2.492 s before)
   REQUIRE(!planned.dwell_lines.empty());
   CHECK(planned.dwell_lines.front() == 2);  // the stop after the arc
@@ -415,9 +424,7 @@ TEST_CASE("a corner that stops of itself parts the helix after it from the arc b
       "G21 G90 G17 G64 P0.005\nG3 X0.870821 Y0.902474 I1.340040 J-0.421663 F4171\n"
       "G64 P0.1\nG2 X6.702084 Y-3.765917 Z1.283221 I12.363229 J9.466749 F6787\n"
       "G1 X7.737615 Y-4.910108 F1990\nM2\n";
-  const Run planned = run(text, m, true), stops = run(gmtest::g9_on_every_move(text), m, true);
-  CHECK(planned.check.cutting().over == 0);
-  CHECK(stops.check.cutting().over == 0);
+  const auto [planned, stops] = planned_and_stops(text, m);
   CHECK(planned.cycle_s < stops.cycle_s);  // 2.392 against 3.516 s (7.676 s before)
   CHECK(planned.cycle_s < 2.6);
 }
@@ -434,9 +441,7 @@ TEST_CASE("a slow arc's zone reaching into a rapid is priced at the rapid's spee
       "G21 G90 G17 G64 P0.3\nG1 X2.117774 Y-0.710471 F4658\nG1 X0.684077 Y-3.393685 F4291\n"
       "G3 X1.879690 Y-3.760214 I0.949324 J0.963380 F832\nG64 P0.02\nG0 X-8.468982 Y8.078567\n"
       "M2\n";
-  const Run planned = run(text, m, true), stops = run(gmtest::g9_on_every_move(text), m, true);
-  CHECK(planned.check.cutting().over == 0);
-  CHECK(planned.check.rapids().over == 0);
+  const auto [planned, stops] = planned_and_stops(text, m);
   CHECK(planned.cycle_s < stops.cycle_s);  // 0.844 against 0.988 s (1.112 s before)
   CHECK(planned.cycle_s < 0.9);
 }
