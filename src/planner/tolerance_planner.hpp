@@ -224,14 +224,14 @@ class TolerancePlanner : public CanonSource {
   ZoneRange zone_range(double z0, double z1) const;
   /// zone_range(z0, z1) walked from `hint`, a range near it: cheaper when the two are close.
   ZoneRange zone_range_from(ZoneRange hint, double z0, double z1) const;
-  /// The weights of the range's undecided elements (those past the decided prefix; one
-  /// decided out of order counts both ways, weight and err).
   /// f is e (or e a copy of it: the same kind and block).
   static bool same_element(const Element& f, const Element& e);
   /// e's zone and reach ended at the full stops beside it (Element::stopped).
   void part_zone(Element& e) const;
   /// r without what a full stop in it parts from e (Element::stopped).
   ZoneRange parted(ZoneRange r, const Element& e) const;
+  /// The weights of the range's undecided elements (those past the decided prefix; one
+  /// decided out of order counts both ways, weight and err).
   double range_weight(ZoneRange r) const;
   double range_weight_all(ZoneRange r) const;  ///< every element's, decided or not
   /// What the range's decided elements leave to e (docs/tolerance.md, "Sharing a window"): the
