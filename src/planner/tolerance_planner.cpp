@@ -849,12 +849,9 @@ double TolerancePlanner::tolerance_near(const Element& e) const {
   // interpolator is in while the filter still holds e (each judged by its own). A full stop
   // decided at a corner (Element::stopped) parts e from what lies beyond it: the filter drains
   // there, and the pause belongs to the block before it.
-  double t_from = -kInf, t_until = kInf;
-  for (const Element& g : elems_) {
-    if (!g.stopped || same_element(g, e)) continue;
-    if (g.t1 <= e.t0) t_from = std::max(t_from, g.t1);
-    if (g.t0 >= e.t1) t_until = std::min(t_until, g.t0);
-  }
+  const StopsBeside stops = stops_beside(e);
+  const double t_from = stops.before != nullptr ? stops.before->t1 : -kInf;
+  const double t_until = stops.after != nullptr ? stops.after->t0 : kInf;
   double tol = e.tol_mm;
   for (const Element& f : elems_) {
     const double gap = f.t0 > e.t1 ? f.t0 - e.t1 : (e.t0 > f.t1 ? e.t0 - f.t1 : 0.0);
@@ -1010,19 +1007,32 @@ void TolerancePlanner::decide_arc(Element& e, double share, const MismatchReserv
   part_zone(e);
 }
 
-void TolerancePlanner::part_zone(Element& e) const {
-  // A full stop (Element::stopped) before or after e parts it from what lies past the stop: no
-  // window holds both, so e's zone (where its cap holds) and its reach end there.
+TolerancePlanner::StopsBeside TolerancePlanner::stops_beside(const Element& e) const {
+  // Elements are in path order: the last stop before e and the first after it.
+  StopsBeside r;
   for (const Element& g : elems_) {
     if (!g.stopped || same_element(g, e)) continue;
     if (g.s1 <= e.s0 + 1e-9) {
-      e.z0 = std::max(e.z0, g.s1);
-      e.reach0 = std::max(e.reach0, g.s1);
+      r.before = &g;
+    } else if (g.s0 >= e.s1 - 1e-9) {
+      r.after = &g;
+      break;
     }
-    if (g.s0 >= e.s1 - 1e-9) {
-      e.z1 = std::min(e.z1, g.s0);
-      e.reach1 = std::min(e.reach1, g.s0);
-    }
+  }
+  return r;
+}
+
+void TolerancePlanner::part_zone(Element& e) const {
+  // A full stop (Element::stopped) before or after e parts it from what lies past the stop: no
+  // window holds both, so e's zone (where its cap holds) and its reach end there.
+  const StopsBeside stops = stops_beside(e);
+  if (stops.before != nullptr) {
+    e.z0 = std::max(e.z0, stops.before->s1);
+    e.reach0 = std::max(e.reach0, stops.before->s1);
+  }
+  if (stops.after != nullptr) {
+    e.z1 = std::min(e.z1, stops.after->s0);
+    e.reach1 = std::min(e.reach1, stops.after->s0);
   }
 }
 
@@ -1257,10 +1267,13 @@ double TolerancePlanner::slowing_s(const Element& arc) const {
   // 100 %: a slow arc's zone reaching into a rapid costs the rapid's time, not the arc's.
   const double v = std::min(arc.cap, arc.vmax);
   if (!(v > 0.0)) return 0.0;
+  // The blocks in path order: from the first ending past z0 to the last starting before z1.
+  auto b = std::lower_bound(window_.begin(), window_.end(), arc.z0,
+                            [](const Block& blk, double z) { return blk.s1 <= z; });
   double cost = 0.0;
-  for (const Block& b : window_) {
-    const double len = std::min(b.s1, arc.z1) - std::max(b.s0, arc.z0);
-    if (len > 0.0 && v < b.v100) cost += len / v - len / b.v100;
+  for (; b != window_.end() && b->s0 < arc.z1; ++b) {
+    const double len = std::min(b->s1, arc.z1) - std::max(b->s0, arc.z0);
+    if (len > 0.0 && v < b->v100) cost += len / v - len / b->v100;
   }
   return cost;
 }

@@ -226,6 +226,12 @@ class TolerancePlanner : public CanonSource {
   ZoneRange zone_range_from(ZoneRange hint, double z0, double z1) const;
   /// f is e (or e a copy of it: the same kind and block).
   static bool same_element(const Element& f, const Element& e);
+  /// The nearest full stops (Element::stopped) before and after e, or none.
+  struct StopsBeside {
+    const Element* before = nullptr;
+    const Element* after = nullptr;
+  };
+  StopsBeside stops_beside(const Element& e) const;
   /// e's zone and reach ended at the full stops beside it (Element::stopped).
   void part_zone(Element& e) const;
   /// r without what a full stop in it parts from e (Element::stopped).
