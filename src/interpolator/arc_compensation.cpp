@@ -20,7 +20,7 @@ ArcCompensation::ArcCompensation(const std::vector<double>& weights, double peri
   // S-curves' last tap, an overshooting chain's tail) is as symmetric as its support.
   const auto [first, end] = weights_support(h_);
   for (std::size_t i = first, j = end; i < j; ++i)
-    if (std::abs(h_[i] - h_[--j]) > 1e-12 || h_[i] < 0.0) return;  // not symmetric: off
+    if (std::abs(h_[i] - h_[--j]) > 1e-12) symmetric_ = false;
   if (std::abs(sum - 1.0) > 1e-9 || h_.size() < 2) return;
   // The first crossing of kMinGain: scanned in steps of π/(64·N), then bisected.
   const double step = std::acos(-1.0) / (64.0 * static_cast<double>(h_.size() - 1));
@@ -41,15 +41,17 @@ ArcCompensation::ArcCompensation(const std::vector<double>& weights, double peri
     table_[static_cast<std::size_t>(k)] =
         gain_exact(limit_ * static_cast<double>(k) / static_cast<double>(kTableSteps));
   ramp_samples_ = static_cast<int>(h_.size());
-  rows_on_ = h_[first] <= kTaper * *std::max_element(h_.begin(), h_.end()) &&
+  rows_on_ = symmetric_ && h_[first] <= kTaper * *std::max_element(h_.begin(), h_.end()) &&
              h_.size() <= ArcEndRows::kMaxWindow;
 }
 
 double ArcCompensation::gain_exact(double omega_t) const {
-  double a = 0.0;
-  for (std::size_t i = 0; i < h_.size(); ++i)
+  double a = 0.0, b = 0.0;
+  for (std::size_t i = 0; i < h_.size(); ++i) {
     a += h_[i] * std::cos((static_cast<double>(i) - centre_) * omega_t);
-  return a;
+    if (!symmetric_) b += h_[i] * std::sin((static_cast<double>(i) - centre_) * omega_t);
+  }
+  return symmetric_ ? a : std::hypot(a, b);
 }
 
 double ArcCompensation::blend_length_mm(double length_mm, double planned_mm_s) const {

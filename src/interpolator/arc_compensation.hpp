@@ -1,4 +1,4 @@
-// Pre-compensated arcs: the radial correction that puts a symmetric FIR's steady output on the
+// Pre-compensated arcs: the radial correction that puts a filter's steady output on the
 // programmed radius, the 2-D offsets at the arc's ends and the speed ramp on such arcs.
 #pragma once
 
@@ -14,7 +14,10 @@ namespace gm {
 /// The rule both the interpolator (which commands it) and the tolerance planner (which checks
 /// it) follow. For symmetric weights h_i (i = 0..N, Σ h_i = 1, centre m) a circle of radius r
 /// taken at angular rate ω leaves the filter on radius r·A(ωT), A(ωT) = Σ h_i cos((i − m)ωT),
-/// delayed by mT. Commanding it on r + c with c = r·(1/A − 1) puts the steady output on r.
+/// delayed by mT. Commanding it on r + c with c = r·(1/A − 1) puts the steady output on r. Weights
+/// that are not symmetric (the FIR and servo chain planned with tolerance_on = encoder) leave
+/// the circle on r·|C(e^{jωT})|, C = Σ h_k e^{−jkωT}, turned by arg C: A is then |C|, and the ends
+/// take the radial blend (the end rows are fitted for a symmetric window).
 ///
 /// On an arc the planner marks (Motion::comp_speed_mm_s = v_p > 0, the speed it planned):
 ///  * c is taken from each sample's actual in-plane angular rate (after override and cap);
@@ -47,12 +50,13 @@ class ArcCompensation {
   };
 
   ArcCompensation() = default;  ///< off: enabled() is false
-  /// From the filter's weights (any; enabled() only if they are symmetric) at period T.
+  /// From the filter's weights (Σ = 1; enabled() unless the gain never falls to kMinGain) at
+  /// period T.
   ArcCompensation(const std::vector<double>& weights, double period_s);
 
   bool enabled() const { return !table_.empty(); }
   double period_s() const { return period_s_; }
-  /// A(ωT) by the closed form.
+  /// A(ωT) by the closed form (|C(e^{jωT})| for weights that are not symmetric).
   double gain_exact(double omega_t) const;
   /// A(ωT) from the table (linear interpolation; ωT beyond the limit is taken at the limit).
   double gain(double omega_t) const {
@@ -82,8 +86,9 @@ class ArcCompensation {
   /// smoothstep between.
   /// 0 for a filter whose window does not taper (its first weight above kTaper of the
   /// largest: the linear profile), whose hard edges make the rows' effect depend on where the
-  /// arc's ends fall within a window, and for one longer than ArcEndRows::kMaxWindow weights
-  /// (the rows' fit grows as the window's square); such arcs keep the blend.
+  /// arc's ends fall within a window, for one longer than ArcEndRows::kMaxWindow weights (the
+  /// rows' fit grows as the window's square) and for one that is not symmetric (the rows are
+  /// fitted for A real); such arcs keep the blend.
   double rows_weight(double length_mm, double planned_mm_s) const {
     if (!rows_on_) return 0.0;
     const double t =
@@ -188,7 +193,8 @@ class ArcCompensation {
   double limit_ = 0.0;
   double inv_step_ = 0.0;
   int ramp_samples_ = 1;
-  bool rows_on_ = false;  ///< the end rows apply (rows_weight)
+  bool rows_on_ = false;   ///< the end rows apply (rows_weight)
+  bool symmetric_ = true;  ///< h_ symmetric about its centre: A(ωT) real
   /// The end rows, fitted when an arc first needs them (ArcEndRows::shared).
   const ArcEndRows& end_rows() const {
     if (!rows_) rows_ = ArcEndRows::shared(h_, period_s_, limit_);

@@ -12,7 +12,8 @@
 namespace gm {
 namespace {
 
-InterpolatorConfig interpolator_config(const Machine& m, const Taps& taps, int settle_samples) {
+InterpolatorConfig interpolator_config(const Machine& m, const Taps& taps, int settle_samples,
+                                       const std::vector<double>& planned_weights) {
   InterpolatorConfig c;
   c.period_s = m.period_s;
   c.axes = m.layout;
@@ -21,9 +22,11 @@ InterpolatorConfig interpolator_config(const Machine& m, const Taps& taps, int s
   c.settle_samples = settle_samples;
   c.spindle_accel_rpm_s = m.spindle_accel_rpm_s;
   c.start_mm = AxisVec::Zero();
-  // Pre-compensated arcs follow the filter's rule (only arcs the planner marks use it).
-  std::vector<double> h;
-  for (auto b : taps.integer) h.push_back(static_cast<double>(b) / static_cast<double>(taps.b_s));
+  // Pre-compensated arcs follow the rule of the weights planned for (only arcs the planner
+  // marks use it): the FIR's, or the FIR and servo chain's.
+  std::vector<double> h = planned_weights;
+  if (h.empty())
+    for (auto b : taps.integer) h.push_back(static_cast<double>(b) / static_cast<double>(taps.b_s));
   c.arc_comp = ArcCompensation(h, m.period_s);
   return c;
 }
@@ -57,7 +60,8 @@ Pipeline::Pipeline(const RunConfig& cfg, CanonSource& source)
       taps_(design_taps(cfg.machine.profile, cfg.machine.tau_s, cfg.machine.period_s)),
       interp_(
           interpolator_config(cfg.machine, taps_,
-                              std::max(longest_filter(cfg.machine, taps_), cfg.stop_hold_samples)),
+                              std::max(longest_filter(cfg.machine, taps_), cfg.stop_hold_samples),
+                              cfg.planned_weights),
           source),
       accdec_(taps_, AxisBlu::Zero(), FirStructure::Auto, cfg.machine.axis_count()),
       axes_(cfg.machine.axis_count()),

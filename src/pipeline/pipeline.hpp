@@ -29,6 +29,9 @@ struct RunConfig {
   /// the chain the tolerance is planned for (FIR and servo with tolerance_on = encoder), which
   /// the planner counts as the rest at a stop (Run sets it).
   int stop_hold_samples = 0;
+  /// The weights the tolerance is planned for (Run sets them): the chain's with tolerance_on =
+  /// encoder, whose gain pre-compensated arcs are commanded for; empty: the FIR's.
+  std::vector<double> planned_weights;
 };
 
 enum class PipelineStatus {

@@ -55,6 +55,7 @@ std::unique_ptr<TolerancePlanner> make_planner(RunConfig& run, CanonSource& sour
   double truncation_mm = 0.0;
   const std::vector<double> chain = planned_chain(m, run.servo, truncation_mm, &c.speed_error_s);
   run.stop_hold_samples = static_cast<int>(chain.size());
+  run.planned_weights = chain;
   const FilterMoments moments(chain, m.period_s);
   c.rounding_mm = m.xyz_blu_mm().norm() + truncation_mm;
   c.precompensate_arcs = m.arc_precompensation;

@@ -62,6 +62,27 @@ double ArcPrecompCheck::spiral_mm(double r_min, double r_max, double sweep_abs_r
   return dr * (M / (2.0 * r) + M / L + (circle_mm + U) / (2.0 * r) + M * offset / (L * r));
 }
 
+double ArcPrecompCheck::offset_rate_mm_s(double radius_mm, double sweep_abs_rad, double length_mm,
+                                         double v_plan) const {
+  const double T = period_s_, rate = sweep_abs_rad / length_mm * T;  // ωT per mm/s
+  auto c_at = [&](double v) {
+    return v > 0.0 ? radius_mm * (1.0 / rule_.gain(v * rate) - 1.0) : 0.0;
+  };
+  const double x = v_plan * rate;
+  if (rule_.rows_weight(length_mm, v_plan) > 0.0)
+    return 2.0 * std::abs(c_at(v_plan)) * rule_.largest_offset_factor(x) / T;
+  // |c| and the ramp's steps of c on a grid of a quarter step of speeds up to v_p (a gain that
+  // peaks above 1 gives c < 0, and |c| need not be largest at v_p).
+  const double step = rule_.speed_step_mm_s(v_plan);
+  double c_max = 0.0, dc = 0.0;
+  for (double v = v_plan; v > 0.0; v -= 0.25 * step) {
+    c_max = std::max(c_max, std::abs(c_at(v)));
+    dc = std::max(dc, std::abs(c_at(v) - c_at(v - step)));
+  }
+  const double blend = rule_.blend_length_mm(length_mm, v_plan);
+  return (c_max * (x + v_plan * T / blend) + dc) / T;
+}
+
 double ArcPrecompCheck::speed_limit_mm_s(double sweep_abs_rad, double length_mm) const {
   if (!enabled() || !(sweep_abs_rad > 0.0)) return 0.0;
   return rule_.limit_omega_t() / period_s_ * length_mm / sweep_abs_rad;

@@ -21,7 +21,8 @@ namespace gm {
 /// precision through the weights (rounding is the planner's margin).
 class ArcPrecompCheck {
  public:
-  /// The FIR's weights h_i (symmetric, Σ = 1) at period T; enabled() is false otherwise.
+  /// The weights h_i (Σ = 1: the FIR's, or the FIR and servo chain's) at period T; enabled() is
+  /// false where ArcCompensation's is.
   /// `line_ratio` > 0: the lines beside the arc may run up to line_ratio·v_p (the planner caps
   /// them there, not at v_p), and error_mm also simulates the speed steps at the arc's ends
   /// (stepped_mm at that ratio); 0: the lines run at the arc's speed (constant-speed runs only).
@@ -82,6 +83,15 @@ class ArcPrecompCheck {
   /// interpolator and FIR on near circles (test_arc_precomp.cpp).
   double spiral_mm(double r_min, double r_max, double sweep_abs_rad, double length_mm,
                    double v_plan, double circle_mm) const;
+  /// The fastest the command's offset from the arc (ArcCompensation::offset) moves on an arc
+  /// planned at v_p, at any speed up to v_p, mm/s: the largest |o_k − o_{k−1}|/T, bounded by its
+  /// turning (c_p·ωT), the radial blend's growth (c_p·v_p·T/ℓ) and the ramp's change of c (the
+  /// largest c(v) − c(v − step) over speeds up to v_p, on a grid of a quarter step); with the end
+  /// rows 2·c_p·largest_offset_factor (a row may jump). A servo mismatch of M seconds
+  /// (servo_mismatch_s) moves the table by at most M times this from the offset, as it moves it
+  /// by M·v from the path (Abel summation against the offset's increments).
+  double offset_rate_mm_s(double radius_mm, double sweep_abs_rad, double length_mm,
+                          double v_plan) const;
   /// The ramp's transient on the steady arc, mm.
   double ramp_mm(double radius_mm, double sweep_abs_rad, double length_mm, double v_plan) const;
   /// isolated_mm with each of its runs simulated whole (two of them are paired in isolated_mm,

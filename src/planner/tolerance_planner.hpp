@@ -36,7 +36,9 @@ struct PlannerConfig {
   std::size_t capacity = 4096;  ///< most motion blocks held for look-ahead (memory bound)
   /// Pre-compensated arcs (docs/tolerance.md): an arc whose cap the curvature bound lowers is
   /// commanded on R + c (Motion::comp_speed_mm_s) and capped by the residual of its transitions
-  /// instead, when that is faster. Only for symmetric FIR weights (not an overshooting chain).
+  /// instead, when that is faster. For any weights whose step response stays within [0, 1]: the
+  /// FIR's, or a FIR and servo chain that does not overshoot (the interpolator must command by
+  /// the same weights: RunConfig::planned_weights).
   bool precompensate_arcs = false;  // the machine's arc_precompensation (on by default)
 };
 

@@ -6,6 +6,7 @@
 #include "planner/arc_precomp.hpp"
 #include "planner/arc_residual_table.hpp"
 #include "planner/filter_moments.hpp"
+#include "planner/servo_response.hpp"
 
 #include "support/canon_list.hpp"
 #include "support/test_scale.hpp"
@@ -17,6 +18,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <numbers>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -265,10 +267,23 @@ TEST_CASE("A(ωT): a moving average's closed form by hand, and the table", "[arc
   const gm::ArcCompensation::Offset blended = rule.offset(2.0, 0.03, 0.5, 1.0, 0.0, 0.25, false);
   CHECK(blended.radial_mm == Approx(0.25 * mid.radial_mm).epsilon(1e-12));
   CHECK(blended.along_mm == 0.0);
-  // An asymmetric filter is not compensated; one whose support is symmetric is, whatever zero
-  // weights lengthen it (A(x) = 0.5 + 0.5·cos x about its centre, the zeros left out).
-  CHECK_FALSE(gm::ArcCompensation({0.5, 0.3, 0.2}, 0.004).enabled());
-  CHECK_FALSE(gm::ArcCompensation({0.2, 0.5, 0.3, 0.0}, 0.004).enabled());
+  // An asymmetric filter (the FIR and servo chain of tolerance_on = encoder) turns a circle by
+  // arg C and scales it by |C(e^{jx})|: |C|² = Σ h_i² + 2·Σ_{i<j} h_i·h_j·cos((j − i)·x), for
+  // {0.5, 0.3, 0.2} 0.38 + 0.42·cos x + 0.2·cos 2x. Its ends take the radial blend (the rows are
+  // fitted for a symmetric window), even where the window tapers.
+  const gm::ArcCompensation skew({0.5, 0.3, 0.2}, 0.004);
+  REQUIRE(skew.enabled());
+  for (double x : {0.1, 0.4, 0.9})
+    CHECK(skew.gain_exact(x) ==
+          Approx(std::sqrt(0.38 + 0.42 * std::cos(x) + 0.2 * std::cos(2.0 * x))).epsilon(1e-12));
+  CHECK(skew.gain_exact(skew.limit_omega_t()) ==
+        Approx(gm::ArcCompensation::kMinGain).margin(1e-12));
+  CHECK(skew.rows_weight(10.0, 50.0) == 0.0);
+  const gm::ArcCompensation skew_tapered({0.05, 0.6, 0.3, 0.05}, 0.004);
+  REQUIRE(skew_tapered.enabled());
+  CHECK(skew_tapered.rows_weight(10.0, 50.0) == 0.0);
+  // One whose support is symmetric is symmetric, whatever zero weights lengthen it (A(x) =
+  // 0.5 + 0.5·cos x about its centre, the zeros left out).
   const gm::ArcCompensation padded({0.25, 0.5, 0.25, 0.0}, 0.004);
   REQUIRE(padded.enabled());
   CHECK(padded.gain_exact(0.3) == Approx(0.5 + 0.5 * std::cos(0.3)).epsilon(1e-12));
@@ -403,9 +418,21 @@ TEST_CASE("the residual table bounds the simulation within its margin", "[arc-pr
     z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
     return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
   };
-  for (const char* prof : {"blackman", "linear", "hann", "hamming"}) {
-    const gm::Taps t = gm::design_taps(prof, 0.164, 0.004);
-    const gm::ArcPrecompCheck check(weights(t), 0.004);
+  // The four FIRs, and the FIR + feedforward servo chain tolerance_on = encoder plans for on
+  // programs/machines/default-ff.toml's X (not symmetric: the radial blend, the modulus |C|).
+  gm::Machine ff;
+  ff.tolerance_on = gm::ToleranceOn::Encoder;
+  for (auto& a : ff.axes) a = ff.axes[0], a.ff1 = 0.857, a.ff2_s = 0.01431;
+  double margin_mm = 0.0;
+  const std::pair<const char*, std::vector<double>> filters[] = {
+      {"blackman", weights(gm::design_taps("blackman", 0.164, 0.004))},
+      {"linear", weights(gm::design_taps("linear", 0.164, 0.004))},
+      {"hann", weights(gm::design_taps("hann", 0.164, 0.004))},
+      {"hamming", weights(gm::design_taps("hamming", 0.164, 0.004))},
+      {"blackman + feedforward servo", gm::planned_chain(ff, true, margin_mm)}};
+  for (const auto& [prof, h] : filters) {
+    const gm::ArcPrecompCheck check(h, 0.004);
+    REQUIRE(check.enabled());
     const gm::ArcResidualTable table(check);
     double worst = 0.0, sum = 0.0;
     int n = 0;

@@ -1,8 +1,10 @@
 // The servo's linear step response against the real ServoAxis, and the FIR + servo chain's
 // corner moment against a simulated corner with the servo on (tolerance_on = encoder).
+#include "accdec/fir_filter.hpp"
 #include "accdec/taps.hpp"
 #include "common/status.hpp"
 #include "interp/program.hpp"
+#include "interpolator/arc_compensation.hpp"
 #include "machine/machine.hpp"
 #include "machine/machine_file.hpp"
 #include "pipeline/pipeline.hpp"
@@ -15,6 +17,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <sstream>
 #include <tuple>
 #include <vector>
@@ -202,4 +205,57 @@ TEST_CASE("feedforward chain: the ringing left is clipped, the planner sees no o
       gm::chain_response(taps, plain, m.period_s, 1, 0.05 * blu / 2000.0, 0.5 * blu / 2000.0);
   CHECK(p.clipped_s == 0.0);
   CHECK(p.overshoot_s == Approx(1.593e-3).epsilon(0.01));
+}
+
+TEST_CASE("a circle commanded on R/|C| leaves the FIR and the feedforward servo on R") {
+  // Pre-compensated arcs with tolerance_on = encoder (docs/tolerance.md, "Planning for the
+  // table"): the chain c (FIR and X's feedforward servo, X's on both axes: a mismatch is the
+  // reserve's) is not symmetric, so a circle at rate ω leaves it on r·|C(e^{jωT})|, C = Σ c_k
+  // e^{−jkωT}, turned by arg C. The rule's gain against that sum, then the real FirAccDec and
+  // ServoAxis (1 µm BLU) driven on R/|C| and on R: the table's radius, once settled, is R within
+  // the rounding, against R·|C| without the correction.
+  gm::Machine m;
+  m.tolerance_on = gm::ToleranceOn::Encoder;
+  for (auto& a : m.axes) a = m.axes[0], a.ff1 = 0.857, a.ff2_s = 0.01431;
+  const gm::Taps taps = gm::design_taps(m.profile, m.tau_s, m.period_s);
+  double margin_mm = 0.0;
+  const std::vector<double> c = gm::planned_chain(m, true, margin_mm);
+  const double T = m.period_s;
+  const gm::ArcCompensation rule(c, T);
+  REQUIRE(rule.enabled());
+  const double R_blu = 2000.0;  // 2 mm: well inside the drive's force at these rates
+  for (double frac : {0.2, 0.5, 0.9}) {
+    const double x = frac * rule.limit_omega_t();
+    std::complex<double> C = 0.0;
+    for (std::size_t k = 0; k < c.size(); ++k)
+      C += c[k] * std::polar(1.0, -static_cast<double>(k) * x);
+    CHECK(rule.gain_exact(x) == Approx(std::abs(C)).epsilon(1e-12));
+    CHECK(rule.gain(x) == Approx(std::abs(C)).epsilon(1e-6));
+    for (const bool compensated : {true, false}) {
+      const double rc = compensated ? R_blu / std::abs(C) : R_blu;
+      gm::FirAccDec fir(taps, gm::AxisBlu::Zero());
+      gm::AxisBlu in = gm::AxisBlu::Zero(), out;
+      std::vector<gm::ServoAxis> servo;
+      for (int a = 0; a < 2; ++a) servo.emplace_back(m.axes[a], T, m.servo_substeps, 0);
+      const auto start = std::llround(rc);
+      double lo = 1e300, hi = 0.0;
+      const int settle = 4 * static_cast<int>(c.size()), turn = static_cast<int>(6.3 / x);
+      for (int k = 0; k < settle + turn; ++k) {
+        in[0] = std::llround(rc * std::cos(x * k)) - start;  // relative to the start (rc, 0)
+        in[1] = std::llround(rc * std::sin(x * k));
+        fir.step(in, out);
+        servo[0].step(out[0]);
+        servo[1].step(out[1]);
+        if (k < settle) continue;
+        const double r =
+            std::hypot(servo[0].table_blu() + static_cast<double>(start), servo[1].table_blu());
+        lo = std::min(lo, r), hi = std::max(hi, r);
+      }
+      const double want = compensated ? R_blu : R_blu * std::abs(C);
+      CAPTURE(frac, x, compensated, std::abs(C), lo, hi, want);
+      CHECK(lo > want - 2.0);
+      CHECK(hi < want + 2.0);
+    }
+    CHECK(R_blu * (1.0 - std::abs(C)) > 20.0);  // the correction is far above the rounding
+  }
 }
