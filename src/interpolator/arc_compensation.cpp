@@ -8,7 +8,7 @@
 
 namespace gm {
 
-ArcCompensation::ArcCompensation(const std::vector<double>& weights, double period_s)
+ArcCompensation::ArcCompensation(const std::vector<double>& weights, double period_s, bool end_rows)
     : h_(weights), period_s_(period_s) {
   if (h_.empty() || !(period_s > 0.0)) return;
   double sum = 0.0;
@@ -41,7 +41,8 @@ ArcCompensation::ArcCompensation(const std::vector<double>& weights, double peri
     table_[static_cast<std::size_t>(k)] =
         gain_exact(limit_ * static_cast<double>(k) / static_cast<double>(kTableSteps));
   ramp_samples_ = static_cast<int>(h_.size());
-  rows_on_ = symmetric_ && h_[first] <= kTaper * *std::max_element(h_.begin(), h_.end()) &&
+  if (!symmetric_) h_reversed_.assign(h_.rbegin(), h_.rend());
+  rows_on_ = end_rows && h_[first] <= kTaper * *std::max_element(h_.begin(), h_.end()) &&
              h_.size() <= ArcEndRows::kMaxWindow;
 }
 

@@ -16,8 +16,8 @@ namespace gm {
 /// taken at angular rate ω leaves the filter on radius r·A(ωT), A(ωT) = Σ h_i cos((i − m)ωT),
 /// delayed by mT. Commanding it on r + c with c = r·(1/A − 1) puts the steady output on r. Weights
 /// that are not symmetric (the FIR and servo chain planned with tolerance_on = encoder) leave
-/// the circle on r·|C(e^{jωT})|, C = Σ h_k e^{−jkωT}, turned by arg C: A is then |C|, and the ends
-/// take the radial blend (the end rows are fitted for a symmetric window).
+/// the circle on r·|C(e^{jωT})|, C = Σ h_k e^{−jkωT}, turned by arg C: A is then |C|, and an
+/// arc's end takes the rows fitted for the weights reversed (an end is a start seen backwards).
 ///
 /// On an arc the planner marks (Motion::comp_speed_mm_s = v_p > 0, the speed it planned):
 ///  * c is taken from each sample's actual in-plane angular rate (after override and cap);
@@ -51,8 +51,9 @@ class ArcCompensation {
 
   ArcCompensation() = default;  ///< off: enabled() is false
   /// From the filter's weights (Σ = 1; enabled() unless the gain never falls to kMinGain) at
-  /// period T.
-  ArcCompensation(const std::vector<double>& weights, double period_s);
+  /// period T. `end_rows` false: every arc takes the radial blend (planned for the table with
+  /// servos that differ, whose mismatch the rows' jumps of the command would excite).
+  ArcCompensation(const std::vector<double>& weights, double period_s, bool end_rows = true);
 
   bool enabled() const { return !table_.empty(); }
   double period_s() const { return period_s_; }
@@ -87,8 +88,8 @@ class ArcCompensation {
   /// 0 for a filter whose window does not taper (its first weight above kTaper of the
   /// largest: the linear profile), whose hard edges make the rows' effect depend on where the
   /// arc's ends fall within a window, for one longer than ArcEndRows::kMaxWindow weights (the
-  /// rows' fit grows as the window's square) and for one that is not symmetric (the rows are
-  /// fitted for A real); such arcs keep the blend.
+  /// rows' fit grows as the window's square), and when the rule was built without `end_rows`;
+  /// such arcs keep the blend.
   double rows_weight(double length_mm, double planned_mm_s) const {
     if (!rows_on_) return 0.0;
     const double t =
@@ -110,7 +111,7 @@ class ArcCompensation {
     if (!(rows > 0.0)) return {blend_weight * c, 0.0};  // the rows are not fitted for it
     double radial = 1.0, along = 0.0;
     if (from_start < ArcEndRows::kSpan) {
-      const ArcEndRows::Shape e = end_rows().at(from_start, x, ArcEndRows::Way::Moving);
+      const ArcEndRows::Shape e = start_rows().at(from_start, x, ArcEndRows::Way::Moving);
       radial += e.radial - 1.0;
       along += e.along;
     }
@@ -162,11 +163,12 @@ class ArcCompensation {
   double largest_offset_factor(double x) const {
     if (!rows_on_) return 1.0;
     double worst = 0.0;
-    for (const ArcEndRows::Way way : {ArcEndRows::Way::Moving, ArcEndRows::Way::Stopping})
-      for (int u = 1; u < ArcEndRows::kSpan; ++u) {
-        const ArcEndRows::Shape e = end_rows().at(u, x, way);
-        worst = std::max(worst, std::abs(e.radial - 1.0) + std::abs(e.along));
-      }
+    for (const ArcEndRows* rows : {&start_rows(), &end_rows()})
+      for (const ArcEndRows::Way way : {ArcEndRows::Way::Moving, ArcEndRows::Way::Stopping})
+        for (int u = 1; u < ArcEndRows::kSpan; ++u) {
+          const ArcEndRows::Shape e = rows->at(u, x, way);
+          worst = std::max(worst, std::abs(e.radial - 1.0) + std::abs(e.along));
+        }
     return 1.0 + 2.0 * worst;
   }
   /// The fastest speed a sample `left_mm` before a point the arc's speed must be down to `exit`
@@ -195,12 +197,20 @@ class ArcCompensation {
   int ramp_samples_ = 1;
   bool rows_on_ = false;   ///< the end rows apply (rows_weight)
   bool symmetric_ = true;  ///< h_ symmetric about its centre: A(ωT) real
-  /// The end rows, fitted when an arc first needs them (ArcEndRows::shared).
-  const ArcEndRows& end_rows() const {
+  /// The rows of the arc's start, fitted when an arc first needs them (ArcEndRows::shared).
+  const ArcEndRows& start_rows() const {
     if (!rows_) rows_ = ArcEndRows::shared(h_, period_s_, limit_);
     return *rows_;
   }
-  mutable std::shared_ptr<const ArcEndRows> rows_;
+  /// The rows of its end: an end is a start seen backwards in time, through the weights
+  /// reversed (the same weights when they are symmetric).
+  const ArcEndRows& end_rows() const {
+    if (h_reversed_.empty()) return start_rows();
+    if (!rows_reversed_) rows_reversed_ = ArcEndRows::shared(h_reversed_, period_s_, limit_);
+    return *rows_reversed_;
+  }
+  std::vector<double> h_reversed_;  ///< h_ backwards when it is not symmetric, else empty
+  mutable std::shared_ptr<const ArcEndRows> rows_, rows_reversed_;
 };
 
 }  // namespace gm

@@ -2,6 +2,8 @@
 // fitted for the least worst distance of the Acc/Dec output from the path, and that distance.
 #include "interpolator/arc_end_fit.hpp"
 
+#include "accdec/taps.hpp"
+
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -113,13 +115,19 @@ struct ArcEndFit::Samples {
 ArcEndFit::ArcEndFit(std::vector<double> weights, double period_s)
     : h_(std::move(weights)), period_s_(period_s) {
   for (std::size_t i = 0; i < h_.size(); ++i) centre_ += static_cast<double>(i) * h_[i];
+  const auto [first, end] = weights_support(h_);
+  for (std::size_t i = first, j = end; i < j; ++i)
+    if (std::abs(h_[i] - h_[--j]) > 1e-12) symmetric_ = false;
 }
 
 double ArcEndFit::gain(double x) const {
-  double a = 0.0;
-  for (std::size_t i = 0; i < h_.size(); ++i)
+  // ArcCompensation::gain_exact's: A for symmetric weights, |C| otherwise.
+  double a = 0.0, b = 0.0;
+  for (std::size_t i = 0; i < h_.size(); ++i) {
     a += h_[i] * std::cos((static_cast<double>(i) - centre_) * x);
-  return a;
+    if (!symmetric_) b += h_[i] * std::sin((static_cast<double>(i) - centre_) * x);
+  }
+  return symmetric_ ? a : std::hypot(a, b);
 }
 
 ArcEndFit::Samples ArcEndFit::prepare(const ArcRun& run, bool means) const {

@@ -50,7 +50,7 @@ struct ArcSample {
 /// position s̄ (what adds up over a path's elements: the tolerance planner's measure).
 enum class ArcEndMeasure { Distance, FromMean };
 
-/// The Acc/Dec output of an arc's command, for a symmetric FIR (weights h_i, Σ = 1) at period
+/// The Acc/Dec output of an arc's command, for a filter (weights h_i, Σ = 1) at period
 /// T: measured against the path (the line before, the arc, the line after), and fitted.
 class ArcEndFit {
  public:
@@ -76,7 +76,7 @@ class ArcEndFit {
   /// loss r(1 − A) at the planned speed.
   double worst_fraction(const ArcRun& run, const ArcOffsets& offsets,
                         ArcEndMeasure measure = ArcEndMeasure::Distance) const;
-  /// A(x) = Σ h_i cos((i − m)·x).
+  /// A(x) = Σ h_i cos((i − m)·x); |Σ h_i e^{−j·i·x}| for weights that are not symmetric.
   double gain(double x) const;
 
  private:
@@ -87,6 +87,7 @@ class ArcEndFit {
   std::vector<double> h_;
   double period_s_;
   double centre_ = 0.0;
+  bool symmetric_ = true;  ///< about the centre of the weights' support
 };
 
 }  // namespace gm

@@ -28,7 +28,9 @@ namespace gm {
 /// a path's elements) with a small weight on their size, over kPhases phases of the join within
 /// its sample at once, at constant speed and with the speed falling or rising at the ramp's
 /// rate around the join (an end reached while the speed ramps, seen backwards in time: the
-/// filter is symmetric): Moving on a line into the arc, and from rest with the interpolator's ramp;
+/// filter is symmetric, or these are the rows of a filter's reversed weights, which
+/// ArcCompensation uses at the ends): Moving on a line into the arc, and from rest with the
+/// interpolator's ramp;
 /// Stopping with the command held on the join, which is a stop seen backwards. Each leaves
 /// about 9–13 % of the steady loss r(1 − A) where the radial blend leaves 16–29 %
 /// (docs/tolerance-arc-ends.md, "End rows").
@@ -53,7 +55,7 @@ class ArcEndRows {
   ArcEndRows& operator=(const ArcEndRows&) = delete;
   /// Stops the background fits after the set in hand and waits for it.
   ~ArcEndRows();
-  /// The rows of the FIR's weights (symmetric, Σ = 1) at period T, rates up to `limit_x`
+  /// The rows of the filter's weights (Σ = 1) at period T, rates up to `limit_x`
   /// (ArcCompensation::limit_omega_t()). Each rate knot's set of each way is fitted when at()
   /// first needs it (a program's arcs use a few of them; the fits are the rows' whole cost).
   ArcEndRows(const std::vector<double>& weights, double period_s, double limit_x);

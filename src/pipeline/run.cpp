@@ -53,9 +53,11 @@ std::unique_ptr<TolerancePlanner> make_planner(RunConfig& run, CanonSource& sour
   c.max_override = m.max_override;
   c.rapid_mm_min = m.rapid_mm_min;
   double truncation_mm = 0.0;
-  const std::vector<double> chain = planned_chain(m, run.servo, truncation_mm, &c.speed_error_s);
+  const std::vector<double> chain =
+      planned_chain(m, run.servo, truncation_mm, &c.speed_error_s, &c.step_error);
   run.stop_hold_samples = static_cast<int>(chain.size());
   run.planned_weights = chain;
+  run.planned_end_rows = c.speed_error_s == 0.0;
   const FilterMoments moments(chain, m.period_s);
   c.rounding_mm = m.xyz_blu_mm().norm() + truncation_mm;
   c.precompensate_arcs = m.arc_precompensation;

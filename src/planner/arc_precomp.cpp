@@ -2,6 +2,7 @@
 #include "planner/arc_precomp.hpp"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -26,10 +27,10 @@ std::size_t cache_slot(double r, double sweep, double len, double v) {
 }  // namespace
 
 ArcPrecompCheck::ArcPrecompCheck(const std::vector<double>& weights, double period_s,
-                                 double line_ratio, double near_s)
+                                 double line_ratio, double near_s, bool end_rows)
     : h_(weights),
       period_s_(period_s),
-      rule_(weights, period_s),
+      rule_(weights, period_s, end_rows),
       line_ratio_(line_ratio),
       near_s_(near_s) {
   // The window and the sample before it, each slot twice (window_output reads them in a row).
@@ -62,15 +63,13 @@ double ArcPrecompCheck::spiral_mm(double r_min, double r_max, double sweep_abs_r
   return dr * (M / (2.0 * r) + M / L + (circle_mm + U) / (2.0 * r) + M * offset / (L * r));
 }
 
-double ArcPrecompCheck::offset_rate_mm_s(double radius_mm, double sweep_abs_rad, double length_mm,
-                                         double v_plan) const {
+double ArcPrecompCheck::offset_mismatch_mm(double radius_mm, double sweep_abs_rad, double length_mm,
+                                           double v_plan, double speed_error_s,
+                                           double step_error) const {
   const double T = period_s_, rate = sweep_abs_rad / length_mm * T;  // ωT per mm/s
   auto c_at = [&](double v) {
     return v > 0.0 ? radius_mm * (1.0 / rule_.gain(v * rate) - 1.0) : 0.0;
   };
-  const double x = v_plan * rate;
-  if (rule_.rows_weight(length_mm, v_plan) > 0.0)
-    return 2.0 * std::abs(c_at(v_plan)) * rule_.largest_offset_factor(x) / T;
   // |c| and the ramp's steps of c on a grid of a quarter step of speeds up to v_p (a gain that
   // peaks above 1 gives c < 0, and |c| need not be largest at v_p).
   const double step = rule_.speed_step_mm_s(v_plan);
@@ -79,8 +78,33 @@ double ArcPrecompCheck::offset_rate_mm_s(double radius_mm, double sweep_abs_rad,
     c_max = std::max(c_max, std::abs(c_at(v)));
     dc = std::max(dc, std::abs(c_at(v) - c_at(v - step)));
   }
-  const double blend = rule_.blend_length_mm(length_mm, v_plan);
-  return (c_max * (x + v_plan * T / blend) + dc) / T;
+  const double x = v_plan * rate;
+  const double rows = rule_.rows_weight(length_mm, v_plan);
+  // With the rows, K·|c| over the rates up to x: the rows' shapes are linear in the rate between
+  // its knots (so |shape| within an interval is at most its ends'), c grows with the rate (c ∝
+  // x² for small x) while K falls (the along offsets go as c/x); on 32 intervals of [0, x],
+  // split at the rows' rate knots, each bounded by its ends' largest K times largest |c|.
+  double K_all = 1.0, Kc = c_max;
+  if (rows > 0.0) {
+    std::array<double, 32 + ArcEndRows::kRateKnots.size()> at{};
+    std::size_t n = 0;
+    for (int j = 1; j <= 32; ++j) at[n++] = x * j / 32.0;
+    for (const double knot : ArcEndRows::kRateKnots)
+      if (knot * rule_.limit_omega_t() < x) at[n++] = knot * rule_.limit_omega_t();
+    std::sort(at.begin(), at.begin() + static_cast<std::ptrdiff_t>(n));
+    double K_last = rule_.largest_offset_factor(at[0]), c_last = std::abs(c_at(at[0] / rate));
+    Kc = K_last * c_last;
+    K_all = K_last;
+    for (std::size_t k = 1; k < n; ++k) {
+      const double K = rule_.largest_offset_factor(at[k]), c = std::abs(c_at(at[k] / rate));
+      Kc = std::max(Kc, std::max(K, K_last) * std::max(c, c_last));
+      K_all = std::max(K_all, K);
+      K_last = K, c_last = c;
+    }
+  }
+  const double smooth = (rows > 0.0 ? Kc : c_max) * x + K_all * dc;
+  const double ends = 2.0 * (rows * (ArcEndRows::kSpan + 2) * Kc + (1.0 - rows) * c_max);
+  return speed_error_s / T * smooth + step_error * ends;
 }
 
 double ArcPrecompCheck::speed_limit_mm_s(double sweep_abs_rad, double length_mm) const {

@@ -28,8 +28,9 @@ class ArcPrecompCheck {
   /// (stepped_mm at that ratio); 0: the lines run at the arc's speed (constant-speed runs only).
   /// `near_s`: the lines are at most v_p over near_s·v_p of path beside the arc, and at most
   /// line_ratio·v_p only beyond (0: the step at the arc's ends).
+  /// `end_rows`: as ArcCompensation's.
   ArcPrecompCheck(const std::vector<double>& weights, double period_s, double line_ratio = 0.0,
-                  double near_s = 0.0);
+                  double near_s = 0.0, bool end_rows = true);
 
   bool enabled() const { return rule_.enabled(); }
   /// The lines' speed beside an arc planned at v_p is at most line_ratio()·v_p (0: v_p).
@@ -83,15 +84,18 @@ class ArcPrecompCheck {
   /// interpolator and FIR on near circles (test_arc_precomp.cpp).
   double spiral_mm(double r_min, double r_max, double sweep_abs_rad, double length_mm,
                    double v_plan, double circle_mm) const;
-  /// The fastest the command's offset from the arc (ArcCompensation::offset) moves on an arc
-  /// planned at v_p, at any speed up to v_p, mm/s: the largest |o_k − o_{k−1}|/T, bounded by its
-  /// turning (c_p·ωT), the radial blend's growth (c_p·v_p·T/ℓ) and the ramp's change of c (the
-  /// largest c(v) − c(v − step) over speeds up to v_p, on a grid of a quarter step); with the end
-  /// rows 2·c_p·largest_offset_factor (a row may jump). A servo mismatch of M seconds
-  /// (servo_mismatch_s) moves the table by at most M times this from the offset, as it moves it
-  /// by M·v from the path (Abel summation against the offset's increments).
-  double offset_rate_mm_s(double radius_mm, double sweep_abs_rad, double length_mm,
-                          double v_plan) const;
+  /// What a servo mismatch (M = servo_mismatch_s, E = servo_mismatch_peak) moves the table by
+  /// from the command's offset (ArcCompensation::offset) on an arc planned at v_p, at speeds up
+  /// to v_p, mm. The path's own part, M·v, is the planner's MismatchReserve. Abel summation
+  /// splits the offset's increments o_k − o_{k−1}:
+  ///  * the smooth part on every sample, the offset (at most K·|c|, K = largest_offset_factor)
+  ///    turning by x and changing with c (the ramp's largest c(v) − c(v − step)): M/T times it;
+  ///  * the ends' part, where the offset's shape changes (the blend from 0 to 1, or the rows):
+  ///    E times its total variation, at most (kSpan + 2) changes of at most K·|c| at each end
+  ///    with the rows, |c| with the blend. A jump of the command costs E times its size, not
+  ///    M times its speed.
+  double offset_mismatch_mm(double radius_mm, double sweep_abs_rad, double length_mm, double v_plan,
+                            double speed_error_s, double step_error) const;
   /// The ramp's transient on the steady arc, mm.
   double ramp_mm(double radius_mm, double sweep_abs_rad, double length_mm, double v_plan) const;
   /// isolated_mm with each of its runs simulated whole (two of them are paired in isolated_mm,

@@ -117,29 +117,49 @@ bool same_servo(const AxisConfig& a, const AxisConfig& b) {
 
 }  // namespace
 
-double servo_mismatch_s(const std::vector<const AxisConfig*>& axes, const AxisConfig& ref,
-                        double period_s, int substeps) {
+namespace {
+
+// Each servo's step response against ref's, |S^a_k − S^ref_k| reduced over k by `reduce`
+// (settled servos only) and times `scale`, combined over the axes as a Euclidean norm.
+template <class Reduce>
+double servo_mismatch(const std::vector<const AxisConfig*>& axes, const AxisConfig& ref,
+                      double period_s, int substeps, double scale, Reduce reduce) {
   constexpr int kLen = 1 << 14;
   const std::vector<double> sr = servo_step_response(ref, period_s, substeps, kLen);
   double sum2 = 0.0;
   for (const AxisConfig* a : axes) {
     if (same_servo(*a, ref)) continue;
     const std::vector<double> sa = servo_step_response(*a, period_s, substeps, kLen);
-    double area = 0.0;
-    for (int k = 0; k < kLen; ++k) area += std::abs(sa[k] - sr[k]);
+    double r = 0.0;
+    for (int k = 0; k < kLen; ++k) r = reduce(r, std::abs(sa[k] - sr[k]));
     // Both must have settled: the part not computed would be missing from the area.
     if (!(std::abs(sa.back() - 1.0) < 1e-9 && std::abs(sr.back() - 1.0) < 1e-9))
       throw InputError("tolerance_on = encoder: a servo loop does not settle");
-    sum2 += (period_s * area) * (period_s * area);
+    sum2 += (scale * r) * (scale * r);
   }
   return std::sqrt(sum2);
 }
 
+}  // namespace
+
+double servo_mismatch_s(const std::vector<const AxisConfig*>& axes, const AxisConfig& ref,
+                        double period_s, int substeps) {
+  return servo_mismatch(axes, ref, period_s, substeps, period_s,
+                        [](double sum, double d) { return sum + d; });
+}
+
+double servo_mismatch_peak(const std::vector<const AxisConfig*>& axes, const AxisConfig& ref,
+                           double period_s, int substeps) {
+  return servo_mismatch(axes, ref, period_s, substeps, 1.0,
+                        [](double peak, double d) { return std::max(peak, d); });
+}
+
 std::vector<double> planned_chain(const Machine& m, bool servo, double& extra_margin_mm,
-                                  double* speed_error_s) {
+                                  double* speed_error_s, double* step_error) {
   const Taps taps = design_taps(m.profile, m.tau_s, m.period_s);
   extra_margin_mm = 0.0;
   if (speed_error_s != nullptr) *speed_error_s = 0.0;
+  if (step_error != nullptr) *step_error = 0.0;
   if (!servo || m.tolerance_on != ToleranceOn::Encoder) {
     std::vector<double> h;
     for (auto b : taps.integer) h.push_back(static_cast<double>(b) / static_cast<double>(taps.b_s));
@@ -165,6 +185,8 @@ std::vector<double> planned_chain(const Machine& m, bool servo, double& extra_ma
       if (mm < mismatch) mismatch = mm, ref = cand;
     }
     *speed_error_s = mismatch;
+    if (step_error != nullptr)
+      *step_error = servo_mismatch_peak(linear, *ref, m.period_s, m.servo_substeps);
   }
   // Truncation allowance: 0.05 BLU at 2 m/s (scales with speed; docs/tolerance.md); a step
   // response outside [0, 1] by at most half a BLU at 2 m/s is clipped into it.

@@ -45,6 +45,13 @@ ChainResponse chain_response(const Taps& taps, const AxisConfig& axis, double pe
 /// by at most V·(this) whatever the path (docs/tolerance.md).
 double servo_mismatch_s(const std::vector<const AxisConfig*>& axes, const AxisConfig& ref,
                         double period_s, int substeps);
+/// max_k |S^a_k − S^ref_k| of each servo `a` against `ref`, combined as servo_mismatch_s
+/// (dimensionless). Against FIR output increments Δy_k (FIR taps ≥ 0, Σ = 1, so Σ|Δy| is at
+/// most the command's Σ|Δx|), Abel summation bounds the table's difference by this times the
+/// command's total variation: what a jump of the command costs, where servo_mismatch_s charges a
+/// speed.
+double servo_mismatch_peak(const std::vector<const AxisConfig*>& axes, const AxisConfig& ref,
+                           double period_s, int substeps);
 
 /// The chain the planner plans against for `m`: the FIR alone (tolerance_on = acc_dec, or the
 /// servo off), or FIR + servo (tolerance_on = encoder). `extra_margin_mm` receives the
@@ -53,8 +60,9 @@ double servo_mismatch_s(const std::vector<const AxisConfig*>& axes, const AxisCo
 /// planned with absolute moments (FilterMoments, docs/tolerance.md). When X, Y and Z have different
 /// servos the chain is that of the reference axis (the one closest to the others) and
 /// `*speed_error_s` receives servo_mismatch_s: the planner keeps V·(that) of each tolerance for
-/// it (PlannerConfig::speed_error_s). Without `speed_error_s` different servos are an error.
+/// it (PlannerConfig::speed_error_s), and `*step_error` servo_mismatch_peak against it (when
+/// given). Without `speed_error_s` different servos are an error.
 std::vector<double> planned_chain(const Machine& m, bool servo, double& extra_margin_mm,
-                                  double* speed_error_s = nullptr);
+                                  double* speed_error_s = nullptr, double* step_error = nullptr);
 
 }  // namespace gm

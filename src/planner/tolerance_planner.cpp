@@ -110,7 +110,10 @@ TolerancePlanner::TolerancePlanner(const FilterMoments& filter, const PlannerCon
                                    CanonSource& upstream)
     : filter_(filter), cfg_(cfg), merger_(upstream) {
   if (cfg_.precompensate_arcs && filter_.overshoot_s() == 0.0 && filter_.undershoot_s() == 0.0) {
-    precomp_.emplace(filter_.weights(), filter_.period_s());
+    // Servos that differ (speed_error_s): the arcs' ends take the blend (the rows' jumps of the
+    // command cost too much of the mismatch reserve); the interpolator's rule is built alike
+    // (RunConfig::planned_end_rows).
+    precomp_.emplace(filter_.weights(), filter_.period_s(), 0.0, 0.0, cfg_.speed_error_s == 0.0);
     if (!precomp_->enabled())
       precomp_.reset();
     else
@@ -1054,12 +1057,13 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
     // The arc's error within its allotment (zone_allotment, W = w): a near circle's extra term
     // off it (a circle's is 0), the circle's term at most the allotment wherever the answer is
     // yes.
-    // A servo mismatch (speed_error_s) moves the table by M times the offset's rate too.
-    const double w = z.weight, mine = zone_allotment(share, 1.0, z) -
-                                      (cfg_.speed_error_s > 0.0
-                                           ? cfg_.speed_error_s *
-                                                 precomp_->offset_rate_mm_s(e.radius, e.sweep, L, v)
-                                           : 0.0);
+    // A servo mismatch moves the table by the command's offset too (offset_mismatch_mm).
+    const double w = z.weight,
+                 mine = zone_allotment(share, 1.0, z) -
+                        (cfg_.speed_error_s > 0.0
+                             ? precomp_->offset_mismatch_mm(e.radius, e.sweep, L, v,
+                                                            cfg_.speed_error_s, cfg_.step_error)
+                             : 0.0);
     const double left = (e.spiral > 0.0 ? mine - precomp_->spiral_mm(e.radius - e.spiral, e.radius,
                                                                      e.sweep, L, v, mine)
                                         : mine) *

@@ -33,6 +33,10 @@ struct PlannerConfig {
   /// is every block the chain still holds when it starts; each corner, arc or run keeps this
   /// times the fastest speed its samples can see, at most reserve(tol) (MismatchReserve). 0: none.
   double speed_error_s = 0.0;
+  /// The same servos' largest step-response difference (servo_mismatch_peak): what the table
+  /// moves per mm of the command's total variation, charged for a compensated arc's end rows,
+  /// whose command can jump (ArcPrecompCheck::offset_mismatch_mm). 0: none.
+  double step_error = 0.0;
   std::size_t capacity = 4096;  ///< most motion blocks held for look-ahead (memory bound)
   /// Pre-compensated arcs (docs/tolerance.md): an arc whose cap the curvature bound lowers is
   /// commanded on R + c (Motion::comp_speed_mm_s) and capped by the residual of its transitions

@@ -3,6 +3,7 @@
 #include "accdec/taps.hpp"
 #include "interpolator/arc_compensation.hpp"
 #include "interpolator/interpolator.hpp"
+#include "machine/machine_file.hpp"
 #include "planner/arc_precomp.hpp"
 #include "planner/arc_residual_table.hpp"
 #include "planner/filter_moments.hpp"
@@ -269,8 +270,9 @@ TEST_CASE("A(ωT): a moving average's closed form by hand, and the table", "[arc
   CHECK(blended.along_mm == 0.0);
   // An asymmetric filter (the FIR and servo chain of tolerance_on = encoder) turns a circle by
   // arg C and scales it by |C(e^{jx})|: |C|² = Σ h_i² + 2·Σ_{i<j} h_i·h_j·cos((j − i)·x), for
-  // {0.5, 0.3, 0.2} 0.38 + 0.42·cos x + 0.2·cos 2x. Its ends take the radial blend (the rows are
-  // fitted for a symmetric window), even where the window tapers.
+  // {0.5, 0.3, 0.2} 0.38 + 0.42·cos x + 0.2·cos 2x. Where its window tapers its arcs take end
+  // rows (the end's fitted for the weights reversed), unless the rule is built without them
+  // (servos that differ); {0.5, 0.3, 0.2} does not taper.
   const gm::ArcCompensation skew({0.5, 0.3, 0.2}, 0.004);
   REQUIRE(skew.enabled());
   for (double x : {0.1, 0.4, 0.9})
@@ -279,9 +281,8 @@ TEST_CASE("A(ωT): a moving average's closed form by hand, and the table", "[arc
   CHECK(skew.gain_exact(skew.limit_omega_t()) ==
         Approx(gm::ArcCompensation::kMinGain).margin(1e-12));
   CHECK(skew.rows_weight(10.0, 50.0) == 0.0);
-  const gm::ArcCompensation skew_tapered({0.05, 0.6, 0.3, 0.05}, 0.004);
-  REQUIRE(skew_tapered.enabled());
-  CHECK(skew_tapered.rows_weight(10.0, 50.0) == 0.0);
+  CHECK(gm::ArcCompensation({0.05, 0.6, 0.3, 0.05}, 0.004).rows_weight(10.0, 50.0) == 1.0);
+  CHECK(gm::ArcCompensation({0.05, 0.6, 0.3, 0.05}, 0.004, false).rows_weight(10.0, 50.0) == 0.0);
   // One whose support is symmetric is symmetric, whatever zero weights lengthen it (A(x) =
   // 0.5 + 0.5·cos x about its centre, the zeros left out).
   const gm::ArcCompensation padded({0.25, 0.5, 0.25, 0.0}, 0.004);
@@ -524,6 +525,40 @@ TEST_CASE("speed steps at an arc's ends: the real interpolator and FIR against t
         CHECK(near_run <= 1.05 * near_sim + 3e-6);
         CHECK(near_sim < 0.8 * sim);
       }
+}
+
+TEST_CASE("a shaped filter's arc ends: rows through the reversed weights, real run against check",
+          "[arc-precomp]") {
+  // blackman+zv:30 is not symmetric: an end of an arc is a start seen backwards in time through
+  // the weights reversed, so the end takes the rows fitted for the reversed weights
+  // (ArcCompensation::end_rows). A line into a compensated arc and out of it at v_p through the
+  // real Interpolator and FirAccDec stays within the check's term, and the rows leave well under
+  // the radial blend's term (the planner's speeds go as its square root).
+  // Before 2026-11-30 such filters took the blend at both ends; mirrored rows fitted for the
+  // weights themselves left no gain (docs/tolerance.md, "Weights that are not symmetric").
+  const gm::Taps t = gm::design_taps("blackman+zv:30", 0.164, 0.004);
+  const std::vector<double> h = weights(t);
+  REQUIRE_FALSE(std::equal(h.begin(), h.end(), h.rbegin()));
+  const gm::ArcPrecompCheck check(h, 0.004), blend(h, 0.004, 0.0, 0.0, false);
+  for (double R : {1.0, 2.0, 4.0})
+    for (double th : {0.5 * std::numbers::pi, 1.5 * std::numbers::pi}) {
+      const double vp = std::min(50.0, 0.95 * check.speed_limit_mm_s(th, R * th));
+      REQUIRE(check.rule().rows_weight(R * th, vp) == 1.0);
+      REQUIRE(blend.rule().rows_weight(R * th, vp) == 0.0);
+      const double run = stepped_run_mm(t, R, th, vp, vp);
+      double sim = 0.0;
+      for (int k = 0; k < 8; ++k)
+        sim = std::max(sim, check.stepped_mm(R, th, R * th, vp, vp, vp, k / 8.0));
+      // At half the limit (at the limit a quarter of R 1 is 8 samples long and its rows overlap:
+      // 0.114 mm against the blend's 0.092).
+      const double half = std::min(50.0, 0.5 * check.speed_limit_mm_s(th, R * th));
+      const double rows_term = check.isolated_worst_mm(R, th, R * th, half);
+      const double blend_term = blend.isolated_worst_mm(R, th, R * th, half);
+      CAPTURE(R, th, vp, run, sim, rows_term, blend_term);
+      CHECK(run > 0.05 * sim);
+      CHECK(run <= 1.05 * sim + 3e-6);
+      CHECK(rows_term < 0.7 * blend_term);
+    }
 }
 
 TEST_CASE("a feed hold near a pre-compensated arc stays within the planner's term",
