@@ -241,9 +241,12 @@ struct Sweep {
 };
 
 void property(const Sweep& s) {
-  const auto [kPrograms, encoder, seed, precomp, encoder_machine, unbounded, vs_exact_stop, shaped,
-              own_profile] = s;
-  std::mt19937_64 rng(seed);
+  // Named copies (clang 14 does not let lambdas capture structured bindings).
+  const int kPrograms = s.programs;
+  const bool encoder = s.encoder, precomp = s.precomp, unbounded = s.unbounded,
+             vs_exact_stop = s.vs_exact_stop;
+  const gm::Machine* const encoder_machine = s.encoder_machine;
+  std::mt19937_64 rng(s.seed);
   std::uniform_real_distribution<double> U(0.0, 1.0);
   auto pick = [&](int n) { return std::min(n - 1, static_cast<int>(U(rng) * n)); };
   auto r6 = [](double v) { return std::round(v * 1e6) / 1e6; };
@@ -251,7 +254,7 @@ void property(const Sweep& s) {
   const char* windows[] = {"blackman", "linear", "hann", "scurve1"};
   const char* with_shapers[] = {"blackman+zv:30", "linear+mzv:45", "hann+zv:50@0.05",
                                 "scurve1+ei:40"};
-  const char* const* profiles = shaped ? with_shapers : windows;
+  const char* const* profiles = s.shaped ? with_shapers : windows;
   const double taus[] = {0.164, 0.1, 0.08, 0.12};
   const double tols[] = {0.003, 0.005, 0.01, 0.02, 0.05, 0.1, 0.3};
   int arcs = 0, rapids = 0, lines = 0, polylines = 0;
@@ -265,7 +268,7 @@ void property(const Sweep& s) {
     gm::Machine m =
         encoder ? (encoder_machine ? *encoder_machine : gm::default_machine()) : gm::Machine{};
     m.arc_precompensation = precomp;
-    const int pi = own_profile ? 0 : pick(4);
+    const int pi = s.own_profile ? 0 : pick(4);
     m.profile = profiles[pi];
     m.tau_s = taus[pi];
     auto tol = [&] { return unbounded && U(rng) < 0.35 ? 0.0 : tols[pick(7)]; };
