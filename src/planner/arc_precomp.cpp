@@ -2,7 +2,6 @@
 #include "planner/arc_precomp.hpp"
 
 #include <algorithm>
-#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -66,6 +65,9 @@ double ArcPrecompCheck::spiral_mm(double r_min, double r_max, double sweep_abs_r
 double ArcPrecompCheck::offset_mismatch_mm(double radius_mm, double sweep_abs_rad, double length_mm,
                                            double v_plan, double speed_error_s,
                                            double step_error) const {
+  // The rows jump the command by many times c at the ends: never charged here, the planner
+  // builds its rule without them where servos differ.
+  if (rule_.rows_weight(length_mm, v_plan) > 0.0) return kNoLimit;
   const double T = period_s_, rate = sweep_abs_rad / length_mm * T;  // ωT per mm/s
   auto c_at = [&](double v) {
     return v > 0.0 ? radius_mm * (1.0 / rule_.gain(v * rate) - 1.0) : 0.0;
@@ -79,31 +81,8 @@ double ArcPrecompCheck::offset_mismatch_mm(double radius_mm, double sweep_abs_ra
     dc = std::max(dc, std::abs(c_at(v) - c_at(v - step)));
   }
   const double x = v_plan * rate;
-  const double rows = rule_.rows_weight(length_mm, v_plan);
-  // With the rows, K·|c| over the rates up to x: the rows' shapes are linear in the rate between
-  // its knots (so |shape| within an interval is at most its ends'), c grows with the rate (c ∝
-  // x² for small x) while K falls (the along offsets go as c/x); on 32 intervals of [0, x],
-  // split at the rows' rate knots, each bounded by its ends' largest K times largest |c|.
-  double K_all = 1.0, Kc = c_max;
-  if (rows > 0.0) {
-    std::array<double, 32 + ArcEndRows::kRateKnots.size()> at{};
-    std::size_t n = 0;
-    for (int j = 1; j <= 32; ++j) at[n++] = x * j / 32.0;
-    for (const double knot : ArcEndRows::kRateKnots)
-      if (knot * rule_.limit_omega_t() < x) at[n++] = knot * rule_.limit_omega_t();
-    std::sort(at.begin(), at.begin() + static_cast<std::ptrdiff_t>(n));
-    double K_last = rule_.largest_offset_factor(at[0]), c_last = std::abs(c_at(at[0] / rate));
-    Kc = K_last * c_last;
-    K_all = K_last;
-    for (std::size_t k = 1; k < n; ++k) {
-      const double K = rule_.largest_offset_factor(at[k]), c = std::abs(c_at(at[k] / rate));
-      Kc = std::max(Kc, std::max(K, K_last) * std::max(c, c_last));
-      K_all = std::max(K_all, K);
-      K_last = K, c_last = c;
-    }
-  }
-  const double smooth = (rows > 0.0 ? Kc : c_max) * x + K_all * dc;
-  const double ends = 2.0 * (rows * (ArcEndRows::kSpan + 2) * Kc + (1.0 - rows) * c_max);
+  const double smooth = c_max * x + dc;  // the offset turning, and c changing
+  const double ends = 2.0 * c_max;       // the blend, 0 to 1 at each end
   return speed_error_s / T * smooth + step_error * ends;
 }
 

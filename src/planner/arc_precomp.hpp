@@ -88,12 +88,12 @@ class ArcPrecompCheck {
   /// from the command's offset (ArcCompensation::offset) on an arc planned at v_p, at speeds up
   /// to v_p, mm. The path's own part, M·v, is the planner's MismatchReserve. Abel summation
   /// splits the offset's increments o_k − o_{k−1}:
-  ///  * the smooth part on every sample, the offset (at most K·|c|, K = largest_offset_factor)
-  ///    turning by x and changing with c (the ramp's largest c(v) − c(v − step)): M/T times it;
-  ///  * the ends' part, where the offset's shape changes (the blend from 0 to 1, or the rows):
-  ///    E times its total variation, at most (kSpan + 2) changes of at most K·|c| at each end
-  ///    with the rows, |c| with the blend. A jump of the command costs E times its size, not
-  ///    M times its speed.
+  ///  * the smooth part on every sample, the offset (at most |c|) turning by x and changing with
+  ///    c (the ramp's largest c(v) − c(v − step)): M/T times it;
+  ///  * the blend's part at the ends, from 0 to |c| and back: E times that total variation (a
+  ///    jump of the command costs E times its size, not M times its speed).
+  /// Infinite for an arc that takes the end rows, whose jumps are many times c: the planner
+  /// builds its rule without them where the servos differ.
   double offset_mismatch_mm(double radius_mm, double sweep_abs_rad, double length_mm, double v_plan,
                             double speed_error_s, double step_error) const;
   /// The ramp's transient on the steady arc, mm.
