@@ -13,7 +13,7 @@ namespace gm {
 namespace {
 
 InterpolatorConfig interpolator_config(const Machine& m, const Taps& taps, int settle_samples,
-                                       const std::vector<double>& planned_weights, bool end_rows) {
+                                       const std::vector<double>& planned_weights) {
   InterpolatorConfig c;
   c.period_s = m.period_s;
   c.axes = m.layout;
@@ -27,7 +27,7 @@ InterpolatorConfig interpolator_config(const Machine& m, const Taps& taps, int s
   std::vector<double> h = planned_weights;
   if (h.empty())
     for (auto b : taps.integer) h.push_back(static_cast<double>(b) / static_cast<double>(taps.b_s));
-  c.arc_comp = ArcCompensation(h, m.period_s, end_rows);
+  c.arc_comp = ArcCompensation(h, m.period_s);
   return c;
 }
 
@@ -61,7 +61,7 @@ Pipeline::Pipeline(const RunConfig& cfg, CanonSource& source)
       interp_(
           interpolator_config(cfg.machine, taps_,
                               std::max(longest_filter(cfg.machine, taps_), cfg.stop_hold_samples),
-                              cfg.planned_weights, cfg.planned_end_rows),
+                              cfg.planned_weights),
           source),
       accdec_(taps_, AxisBlu::Zero(), FirStructure::Auto, cfg.machine.axis_count()),
       axes_(cfg.machine.axis_count()),

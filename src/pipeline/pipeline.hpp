@@ -32,10 +32,6 @@ struct RunConfig {
   /// The weights the tolerance is planned for (Run sets them): the chain's with tolerance_on =
   /// encoder, whose gain pre-compensated arcs are commanded for; empty: the FIR's.
   std::vector<double> planned_weights;
-  /// Whether pre-compensated arcs' ends take the end rows (ArcCompensation's `end_rows`): not
-  /// when the plan is for the table with servos that differ (Run sets it, as the planner
-  /// decides from PlannerConfig::speed_error_s).
-  bool planned_end_rows = true;
 };
 
 enum class PipelineStatus {

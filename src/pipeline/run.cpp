@@ -57,7 +57,7 @@ std::unique_ptr<TolerancePlanner> make_planner(RunConfig& run, CanonSource& sour
       planned_chain(m, run.servo, truncation_mm, &c.speed_error_s, &c.step_error);
   run.stop_hold_samples = static_cast<int>(chain.size());
   run.planned_weights = chain;
-  run.planned_end_rows = c.speed_error_s == 0.0;
+  if (c.speed_error_s > 0.0) c.fir_variation = fir_variation(m);
   const FilterMoments moments(chain, m.period_s);
   c.rounding_mm = m.xyz_blu_mm().norm() + truncation_mm;
   c.precompensate_arcs = m.arc_precompensation;

@@ -2,6 +2,7 @@
 #include "planner/arc_precomp.hpp"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -63,11 +64,10 @@ double ArcPrecompCheck::spiral_mm(double r_min, double r_max, double sweep_abs_r
 }
 
 double ArcPrecompCheck::offset_mismatch_mm(double radius_mm, double sweep_abs_rad, double length_mm,
-                                           double v_plan, double speed_error_s,
-                                           double step_error) const {
-  // The rows jump the command by many times c at the ends: never charged here, the planner
-  // builds its rule without them where servos differ.
-  if (rule_.rows_weight(length_mm, v_plan) > 0.0) return kNoLimit;
+                                           double v_plan, double speed_error_s, double step_error,
+                                           double fir_variation) const {
+  const double rows = rule_.rows_weight(length_mm, v_plan);
+  if (rows > 0.0 && !(fir_variation > 0.0)) return kNoLimit;
   const double T = period_s_, rate = sweep_abs_rad / length_mm * T;  // ωT per mm/s
   auto c_at = [&](double v) {
     return v > 0.0 ? radius_mm * (1.0 / rule_.gain(v * rate) - 1.0) : 0.0;
@@ -81,9 +81,32 @@ double ArcPrecompCheck::offset_mismatch_mm(double radius_mm, double sweep_abs_ra
     dc = std::max(dc, std::abs(c_at(v) - c_at(v - step)));
   }
   const double x = v_plan * rate;
-  const double smooth = c_max * x + dc;  // the offset turning, and c changing
-  const double ends = 2.0 * c_max;       // the blend, 0 to 1 at each end
-  return speed_error_s / T * smooth + step_error * ends;
+  // o = s + p: s = c·n, the steady offset, turning and changing with c on every sample (M/T).
+  const double steady = speed_error_s / T * (c_max * x + dc);
+  // The radial blend's p, from −c to 0 and back at the ends: E times that variation (the
+  // filter's taps being >= 0, the servos see no more of it).
+  const double blend = steady + step_error * 2.0 * c_max;
+  if (!(rows > 0.0)) return blend;
+  // The rows' p: at most (K + 1)/2·|c| on each of kSpan + 1 samples per end (the advances count
+  // samples; K = largest_offset_factor), which the filter smooths before the servos see it:
+  // Δ(h ∗ p) = (Δh) ∗ p, at most fir_variation·Σ|p| (E times it). K·|c| over the rates up to x
+  // on 32 intervals of [0, x] split at the rows' rate knots (the shapes are linear in the rate
+  // between knots, so within an interval at most its ends' K), times the interval's largest |c|.
+  double Kc = 0.0, K_last = 1.0, c_last = 0.0;
+  std::array<double, 32 + ArcEndRows::kRateKnots.size()> at{};
+  std::size_t n = 0;
+  for (int j = 1; j <= 32; ++j) at[n++] = x * j / 32.0;
+  for (const double knot : ArcEndRows::kRateKnots)
+    if (knot * rule_.limit_omega_t() < x) at[n++] = knot * rule_.limit_omega_t();
+  std::sort(at.begin(), at.begin() + static_cast<std::ptrdiff_t>(n));
+  for (std::size_t k = 0; k < n; ++k) {
+    const double K = rule_.largest_offset_factor(at[k]), c = std::abs(c_at(at[k] / rate));
+    Kc = std::max(Kc, std::max(K, K_last) * std::max(c, c_last));
+    K_last = K, c_last = c;
+  }
+  const double with_rows =
+      steady + step_error * fir_variation * (ArcEndRows::kSpan + 1) * (Kc + c_max);
+  return rows * with_rows + (1.0 - rows) * blend;
 }
 
 double ArcPrecompCheck::speed_limit_mm_s(double sweep_abs_rad, double length_mm) const {

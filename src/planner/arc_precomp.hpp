@@ -87,15 +87,15 @@ class ArcPrecompCheck {
   /// What a servo mismatch (M = servo_mismatch_s, E = servo_mismatch_peak) moves the table by
   /// from the command's offset (ArcCompensation::offset) on an arc planned at v_p, at speeds up
   /// to v_p, mm. The path's own part, M·v, is the planner's MismatchReserve. Abel summation
-  /// splits the offset's increments o_k − o_{k−1}:
-  ///  * the smooth part on every sample, the offset (at most |c|) turning by x and changing with
-  ///    c (the ramp's largest c(v) − c(v − step)): M/T times it;
-  ///  * the blend's part at the ends, from 0 to |c| and back: E times that total variation (a
-  ///    jump of the command costs E times its size, not M times its speed).
-  /// Infinite for an arc that takes the end rows, whose jumps are many times c: the planner
-  /// builds its rule without them where the servos differ.
+  /// against the filter output's increments splits the offset o = s + p:
+  ///  * the steady offset s = c·n turning by x and changing with c (the ramp's largest
+  ///    c(v) − c(v − step)) on every sample: M/T times it;
+  ///  * the ends' deviation p from it: the blend's, from 0 to c and back, E times that total
+  ///    variation; the rows', whose jumps the filter smooths, E·fir_variation·Σ|p| (Δ(h ∗ p) =
+  ///    (Δh) ∗ p; fir_variation = Σ|h_k − h_{k−1}|, 0: infinite).
+  /// Mixed rows and blend (rows_weight) in proportion.
   double offset_mismatch_mm(double radius_mm, double sweep_abs_rad, double length_mm, double v_plan,
-                            double speed_error_s, double step_error) const;
+                            double speed_error_s, double step_error, double fir_variation) const;
   /// The ramp's transient on the steady arc, mm.
   double ramp_mm(double radius_mm, double sweep_abs_rad, double length_mm, double v_plan) const;
   /// isolated_mm with each of its runs simulated whole (two of them are paired in isolated_mm,

@@ -154,6 +154,17 @@ double servo_mismatch_peak(const std::vector<const AxisConfig*>& axes, const Axi
                         [](double peak, double d) { return std::max(peak, d); });
 }
 
+double fir_variation(const Machine& m) {
+  const Taps taps = design_taps(m.profile, m.tau_s, m.period_s);
+  double v = 0.0, last = 0.0;
+  for (const auto b : taps.integer) {
+    const double h = static_cast<double>(b) / static_cast<double>(taps.b_s);
+    v += std::abs(h - last);
+    last = h;
+  }
+  return v + last;
+}
+
 std::vector<double> planned_chain(const Machine& m, bool servo, double& extra_margin_mm,
                                   double* speed_error_s, double* step_error) {
   const Taps taps = design_taps(m.profile, m.tau_s, m.period_s);

@@ -53,6 +53,11 @@ double servo_mismatch_s(const std::vector<const AxisConfig*>& axes, const AxisCo
 double servo_mismatch_peak(const std::vector<const AxisConfig*>& axes, const AxisConfig& ref,
                            double period_s, int substeps);
 
+/// Σ_k |h_k − h_{k−1}| of `m`'s Acc/Dec weights h (h_{−1} = h_{N+1} = 0): what the filter
+/// passes of a jump of its input at most, in total variation per unit (PlannerConfig::
+/// fir_variation).
+double fir_variation(const Machine& m);
+
 /// The chain the planner plans against for `m`: the FIR alone (tolerance_on = acc_dec, or the
 /// servo off), or FIR + servo (tolerance_on = encoder). `extra_margin_mm` receives the
 /// truncation allowance V_fastest·(tail_area + clipped). A chain whose step response leaves

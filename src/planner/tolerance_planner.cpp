@@ -110,10 +110,7 @@ TolerancePlanner::TolerancePlanner(const FilterMoments& filter, const PlannerCon
                                    CanonSource& upstream)
     : filter_(filter), cfg_(cfg), merger_(upstream) {
   if (cfg_.precompensate_arcs && filter_.overshoot_s() == 0.0 && filter_.undershoot_s() == 0.0) {
-    // Servos that differ (speed_error_s): the arcs' ends take the blend (the rows' jumps of the
-    // command cost too much of the mismatch reserve); the interpolator's rule is built alike
-    // (RunConfig::planned_end_rows).
-    precomp_.emplace(filter_.weights(), filter_.period_s(), 0.0, 0.0, cfg_.speed_error_s == 0.0);
+    precomp_.emplace(filter_.weights(), filter_.period_s());
     if (!precomp_->enabled())
       precomp_.reset();
     else
@@ -1060,10 +1057,10 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
     // A servo mismatch moves the table by the command's offset too (offset_mismatch_mm).
     const double w = z.weight,
                  mine = zone_allotment(share, 1.0, z) -
-                        (cfg_.speed_error_s > 0.0
-                             ? precomp_->offset_mismatch_mm(e.radius, e.sweep, L, v,
-                                                            cfg_.speed_error_s, cfg_.step_error)
-                             : 0.0);
+                        (cfg_.speed_error_s > 0.0 ? precomp_->offset_mismatch_mm(
+                                                        e.radius, e.sweep, L, v, cfg_.speed_error_s,
+                                                        cfg_.step_error, cfg_.fir_variation)
+                                                  : 0.0);
     const double left = (e.spiral > 0.0 ? mine - precomp_->spiral_mm(e.radius - e.spiral, e.radius,
                                                                      e.sweep, L, v, mine)
                                         : mine) *

@@ -37,6 +37,10 @@ struct PlannerConfig {
   /// moves per mm of the command's total variation, charged for a compensated arc's end rows,
   /// whose command can jump (ArcPrecompCheck::offset_mismatch_mm). 0: none.
   double step_error = 0.0;
+  /// Σ_k |h_k − h_{k−1}| of the Acc/Dec filter's weights (zeros beyond them) when the plan is
+  /// for the table: the filter smooths the end rows' jumps of the command before the servos see
+  /// them (ArcPrecompCheck::offset_mismatch_mm). 0: not given.
+  double fir_variation = 0.0;
   std::size_t capacity = 4096;  ///< most motion blocks held for look-ahead (memory bound)
   /// Pre-compensated arcs (docs/tolerance.md): an arc whose cap the curvature bound lowers is
   /// commanded on R + c (Motion::comp_speed_mm_s) and capped by the residual of its transitions

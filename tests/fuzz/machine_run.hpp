@@ -33,7 +33,7 @@ class ListSource : public gm::CanonSource {
 /// Steps a pipeline until it finishes or `max_steps` samples have passed.
 inline void run_pipeline(const gm::Machine& m, bool servo, std::vector<gm::Canon> program,
                          int max_steps) {
-  gm::RunConfig cfg{m, servo, 1.0, 0, {}, true};
+  gm::RunConfig cfg{m, servo, 1.0, 0, {}};
   ListSource source(std::move(program));
   gmtest::SampleStepper pipeline(cfg, source);
   gm::SampleRecord rec;

@@ -259,3 +259,15 @@ TEST_CASE("a circle commanded on R/|C| leaves the FIR and the feedforward servo 
     CHECK(R_blu * (1.0 - std::abs(C)) > 20.0);  // the correction is far above the rounding
   }
 }
+
+TEST_CASE("fir_variation: a window that rises and falls once varies by twice its peak") {
+  // Σ|h_k − h_{k−1}| with zeros beyond the weights: up to the peak and down again, 2·max h for
+  // the default machine's Blackman window (41 taps: 0.139).
+  const gm::Machine m;
+  const gm::Taps t = gm::design_taps(m.profile, m.tau_s, m.period_s);
+  double peak = 0.0;
+  for (const auto b : t.integer)
+    peak = std::max(peak, static_cast<double>(b) / static_cast<double>(t.b_s));
+  CHECK(gm::fir_variation(m) == Approx(2.0 * peak).epsilon(1e-12));
+  CHECK(gm::fir_variation(m) == Approx(0.1386).epsilon(1e-3));
+}

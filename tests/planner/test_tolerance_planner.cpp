@@ -97,6 +97,7 @@ Outcome run_program(const std::string& text, const gm::Machine& m, Ovr ovr, bool
       gm::planned_chain(mm, encoder, truncation_mm, &pc.speed_error_s, &pc.step_error);
   const gm::FilterMoments fm(chain, m.period_s);
   pc.rounding_mm += truncation_mm;
+  if (pc.speed_error_s > 0.0) pc.fir_variation = gm::fir_variation(mm);
   gm::TolerancePlanner planner(fm, pc, stream);
   PlannedCanon planned(planner);
   gm::RunConfig cfg;
@@ -104,7 +105,6 @@ Outcome run_program(const std::string& text, const gm::Machine& m, Ovr ovr, bool
   cfg.servo = encoder;
   cfg.stop_hold_samples = static_cast<int>(chain.size());  // as gmotion run (Run) holds a stop
   cfg.planned_weights = chain;
-  cfg.planned_end_rows = pc.speed_error_s == 0.0;
   gmtest::SampleStepper p(cfg, planned);
   Outcome o;
   o.check = gmtest::ToleranceReference(m.contour_blu_mm(), encoder ? m.contour_blu_mm() : 0.0);
@@ -772,11 +772,12 @@ TEST_CASE("gmotion run --check-tolerance exits 1 when a sample exceeds the toler
 TEST_CASE(
     "planned for the feedforward machine's table, arcs are pre-compensated through the chain") {
   // tolerance_on = encoder plans for the FIR and servo chain c, which is not symmetric: an arc is
-  // commanded on r/|C(e^{jωT})| with the radial blend at its ends, checked through c, and the
-  // servo mismatch between X and Y charged for the offset's rate too (docs/tolerance.md,
-  // "Planning for the table"). Until 2026-11-30 such arcs were slowed to hold r·(1 − |C|):
-  // small-arcs.nc 15.812 s, now 9.532 s; corners.nc 4.144 s, now 3.776 s, 1.10 × the plan for
-  // the Acc/Dec output (3.440 s; the issue's bound is 1.25 ×). Every sample within P + 1 BLU.
+  // commanded on r/|C(e^{jωT})| with end rows fitted for c reversed at its end, checked through
+  // c, and the servo mismatch between X and Y charged for the command's offset too
+  // (docs/tolerance.md, "Weights that are not symmetric"). Until 2026-11-30 such arcs were
+  // slowed to hold r·(1 − |C|): small-arcs.nc 15.812 s, now 8.856 s; corners.nc 4.144 s, now
+  // 3.732 s, 1.08 × the plan for the Acc/Dec output (3.440 s; the issue's bound is 1.25 ×).
+  // Every sample within P + 1 BLU.
   const std::string dir = std::string(GMOTION_TESTS_DIR) + "/../programs/";
   const std::string ff = dir + "machines/default-ff.toml";
   const std::string off = (gmtest::scratch_dir("ff-precomp-off") / "ff-off.toml").string();
