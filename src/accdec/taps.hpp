@@ -1,6 +1,7 @@
 // Acc/Dec tap design (paper sections 2, 4, 5): profile spec + tau + T -> real and integer taps.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -53,6 +54,25 @@ inline std::pair<std::size_t, std::size_t> weights_support(const std::vector<dou
   while (first < end && h[first] == 0.0) ++first;
   while (end > first && h[end - 1] == 0.0) --end;
   return {first, end};
+}
+
+/// Whether the weights' support is symmetric (mirrored weights within 1e-12).
+inline bool weights_symmetric(const std::vector<double>& h) {
+  const auto [first, end] = weights_support(h);
+  for (std::size_t i = first, j = end; i < j; ++i)
+    if (std::abs(h[i] - h[--j]) > 1e-12) return false;
+  return true;
+}
+
+/// The gain of the weights at x rad/sample about `centre` (Σ i·h_i): for symmetric ones the real
+/// A(x) = Σ h_i cos((i − centre)·x), sign and all; otherwise |Σ h_i e^{−j·i·x}|.
+inline double weights_gain(const std::vector<double>& h, double centre, bool symmetric, double x) {
+  double a = 0.0, b = 0.0;
+  for (std::size_t i = 0; i < h.size(); ++i) {
+    a += h[i] * std::cos((static_cast<double>(i) - centre) * x);
+    if (!symmetric) b += h[i] * std::sin((static_cast<double>(i) - centre) * x);
+  }
+  return symmetric ? a : std::hypot(a, b);
 }
 
 }  // namespace gm

@@ -18,9 +18,8 @@ ArcCompensation::ArcCompensation(const std::vector<double>& weights, double peri
   }
   // Symmetric about its centre over its support: a window lengthened by zero weights (the
   // S-curves' last tap, an overshooting chain's tail) is as symmetric as its support.
-  const auto [first, end] = weights_support(h_);
-  for (std::size_t i = first, j = end; i < j; ++i)
-    if (std::abs(h_[i] - h_[--j]) > 1e-12) symmetric_ = false;
+  symmetric_ = weights_symmetric(h_);
+  const std::size_t first = weights_support(h_).first;
   if (std::abs(sum - 1.0) > 1e-9 || h_.size() < 2) return;
   // The first crossing of kMinGain: scanned in steps of π/(64·N), then bisected.
   const double step = std::acos(-1.0) / (64.0 * static_cast<double>(h_.size() - 1));
@@ -47,12 +46,7 @@ ArcCompensation::ArcCompensation(const std::vector<double>& weights, double peri
 }
 
 double ArcCompensation::gain_exact(double omega_t) const {
-  double a = 0.0, b = 0.0;
-  for (std::size_t i = 0; i < h_.size(); ++i) {
-    a += h_[i] * std::cos((static_cast<double>(i) - centre_) * omega_t);
-    if (!symmetric_) b += h_[i] * std::sin((static_cast<double>(i) - centre_) * omega_t);
-  }
-  return symmetric_ ? a : std::hypot(a, b);
+  return weights_gain(h_, centre_, symmetric_, omega_t);
 }
 
 double ArcCompensation::blend_length_mm(double length_mm, double planned_mm_s) const {

@@ -163,12 +163,14 @@ class ArcCompensation {
   double largest_offset_factor(double x) const {
     if (!rows_on_) return 1.0;
     double worst = 0.0;
-    for (const ArcEndRows* rows : {&start_rows(), &end_rows()})
+    for (const ArcEndRows* rows : {&start_rows(), &end_rows()}) {
       for (const ArcEndRows::Way way : {ArcEndRows::Way::Moving, ArcEndRows::Way::Stopping})
         for (int u = 1; u < ArcEndRows::kSpan; ++u) {
           const ArcEndRows::Shape e = rows->at(u, x, way);
           worst = std::max(worst, std::abs(e.radial - 1.0) + std::abs(e.along));
         }
+      if (h_reversed_.empty()) break;  // symmetric: the end's rows are the start's
+    }
     return 1.0 + 2.0 * worst;
   }
   /// The fastest speed a sample `left_mm` before a point the arc's speed must be down to `exit`

@@ -115,19 +115,11 @@ struct ArcEndFit::Samples {
 ArcEndFit::ArcEndFit(std::vector<double> weights, double period_s)
     : h_(std::move(weights)), period_s_(period_s) {
   for (std::size_t i = 0; i < h_.size(); ++i) centre_ += static_cast<double>(i) * h_[i];
-  const auto [first, end] = weights_support(h_);
-  for (std::size_t i = first, j = end; i < j; ++i)
-    if (std::abs(h_[i] - h_[--j]) > 1e-12) symmetric_ = false;
+  symmetric_ = weights_symmetric(h_);
 }
 
 double ArcEndFit::gain(double x) const {
-  // ArcCompensation::gain_exact's: A for symmetric weights, |C| otherwise.
-  double a = 0.0, b = 0.0;
-  for (std::size_t i = 0; i < h_.size(); ++i) {
-    a += h_[i] * std::cos((static_cast<double>(i) - centre_) * x);
-    if (!symmetric_) b += h_[i] * std::sin((static_cast<double>(i) - centre_) * x);
-  }
-  return symmetric_ ? a : std::hypot(a, b);
+  return weights_gain(h_, centre_, symmetric_, x);
 }
 
 ArcEndFit::Samples ArcEndFit::prepare(const ArcRun& run, bool means) const {
