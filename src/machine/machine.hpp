@@ -110,6 +110,11 @@ struct Machine {
   /// commanded on R + c so that the Acc/Dec output lies on R (docs/tolerance.md,
   /// "Pre-compensated arcs").
   bool arc_precompensation = true;
+  /// Machine key servo_matching ("on", the default, or "off"): with tolerance_on = encoder and
+  /// the servo on, X, Y and Z servos that differ have their references shaped to respond as the
+  /// planned chain's servo does (planner/servo_response's design_servo_match; docs/tolerance.md,
+  /// "Servos matched").
+  bool servo_matching = true;
   /// The machine's axes (key `axes.letters`, CLI --axes): a subsequence of XYZABCUVW. Rotary
   /// axes (A, B, C) count in degrees: their `_mm` quantities are degrees (blu_mm = degrees per
   /// count, v_max_mm_s = deg/s). Kinematics are trivial: each axis is one joint.

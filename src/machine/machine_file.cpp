@@ -325,6 +325,16 @@ void read_axis(Reader& r, AxisConfig& a, double machine_blu_mm, double period_s,
   r.reject_unknown();
 }
 
+// An optional "on" | "off" key into `flag` (left as it is when absent).
+void read_on_off(Reader& r, const toml::table& root, const char* key, bool& flag) {
+  std::string value;
+  if (!r.string(key, value, false)) return;
+  if (value != "off" && value != "on")
+    r.fail_at(root.get(key)->source(), key,
+              fmt::format("must be \"off\" or \"on\" (got \"{}\")", value));
+  flag = value == "on";
+}
+
 // The top-level keys of the run: period, rates, override, tolerance, arc rule.
 void read_run_keys(Reader& r, const toml::table& root, Machine& m) {
   r.string("name", m.name, true);
@@ -360,13 +370,8 @@ void read_run_keys(Reader& r, const toml::table& root, Machine& m) {
       r.fail_at(root.get("tolerance_on")->source(), "tolerance_on",
                 fmt::format("must be \"acc_dec\" or \"encoder\" (got \"{}\")", tol_on));
   }
-  std::string precomp;
-  if (r.string("arc_precompensation", precomp, false)) {
-    if (precomp != "off" && precomp != "on")
-      r.fail_at(root.get("arc_precompensation")->source(), "arc_precompensation",
-                fmt::format("must be \"off\" or \"on\" (got \"{}\")", precomp));
-    m.arc_precompensation = precomp == "on";
-  }
+  read_on_off(r, root, "arc_precompensation", m.arc_precompensation);
+  read_on_off(r, root, "servo_matching", m.servo_matching);
 }
 
 // [accdec]: profile and τ; without tau_s the period must suit the default τ.
@@ -493,6 +498,7 @@ std::string toml_top_keys(const Machine& m) {
     s += fmt::format("path_tolerance_mm = {}\n", fmt_double(m.path_tolerance_mm));
   if (m.tolerance_on == ToleranceOn::Encoder) s += "tolerance_on = \"encoder\"\n";
   if (!m.arc_precompensation) s += "arc_precompensation = \"off\"\n";
+  if (!m.servo_matching) s += "servo_matching = \"off\"\n";
   if (!m.subroutine_path.empty()) {
     std::string dirs;
     for (const std::string& d : m.subroutine_path) {

@@ -2,6 +2,7 @@
 #include "pipeline/pipeline.hpp"
 
 #include "common/status.hpp"
+#include "planner/servo_response.hpp"
 
 #include <fmt/format.h>
 
@@ -65,7 +66,8 @@ Pipeline::Pipeline(const RunConfig& cfg, CanonSource& source)
           source),
       accdec_(taps_, AxisBlu::Zero(), FirStructure::Auto, cfg.machine.axis_count()),
       axes_(cfg.machine.axis_count()),
-      lag_samples_(static_cast<std::int64_t>(taps_.integer.size()) +
+      match_(taps_, design_servo_match(cfg.machine, cfg.servo).taps),
+      lag_samples_(static_cast<std::int64_t>(taps_.integer.size()) + match_.length() +
                    (cfg.servo ? servo_lag_samples(cfg.machine) : 0)),
       in_blu_(AxisBlu::Zero()),
       ref_blu_(AxisBlu::Zero()),
@@ -105,6 +107,7 @@ bool Pipeline::settled() const {
   if (!accdec_.settled()) return false;
   for (const OwnAccDec& o : own_accdec_)
     if (!o.fir.settled()) return false;
+  if (!match_.settled()) return false;
   if (!cfg_.servo) return true;
   return quiet_samples_ >= kSettleQuietSamples;
 }
@@ -183,6 +186,8 @@ void Pipeline::stages_n(SampleBlock& b, int first, int count) {
     for (int i = first; i < first + count; ++i) accdec_row<N>(b, i);
   if (!own_accdec_.empty()) [[unlikely]]
     own_accdec_rows(b, first, count);
+  if (!match_.empty()) [[unlikely]]
+    match_.apply(b.cmd_blu, b.ref_blu, first, count);
   if (cfg_.servo) {
     const int done = servo_->step_block<N>(b.ref_blu, b.enc_blu, b.table_blu, first, count,
                                            modes_ ? &b.defl_blu : nullptr);

@@ -11,6 +11,7 @@
 #include "motion/sample_block.hpp"
 #include "motion/sample_record.hpp"
 #include "servo/servo_bank.hpp"
+#include "servo/servo_match.hpp"
 
 #include <array>
 #include <cstdint>
@@ -108,7 +109,8 @@ class Pipeline {
   AxisBlu one_in_blu_ = AxisBlu::Zero(), one_out_blu_ = AxisBlu::Zero();
   int axes_;  ///< the machine's axis count (entries 0..axes_-1 of the per-axis vectors)
   std::optional<ServoBank> servo_;  ///< every axis's servo (with cfg_.servo)
-  bool modes_ = false;        ///< the servo runs structural modes: the block gets their deflection
+  ServoMatch match_;    ///< the servos' references matched to the planned chain's (servo_matching)
+  bool modes_ = false;  ///< the servo runs structural modes: the block gets their deflection
   std::int64_t lag_samples_;  ///< Acc/Dec length + servo lag: how long a past block can be nearest
   CommandSample cmd_{};
   AxisBlu in_blu_, ref_blu_, last_cmd_blu_;

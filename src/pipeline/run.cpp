@@ -52,14 +52,15 @@ std::unique_ptr<TolerancePlanner> make_planner(RunConfig& run, CanonSource& sour
   PlannerConfig c;
   c.max_override = m.max_override;
   c.rapid_mm_min = m.rapid_mm_min;
-  double truncation_mm = 0.0;
-  const std::vector<double> chain =
-      planned_chain(m, run.servo, truncation_mm, &c.speed_error_s, &c.step_error);
-  run.stop_hold_samples = static_cast<int>(chain.size());
-  run.planned_weights = chain;
+  const PlannedChain chain = plan_chain(m, run.servo);
+  c.speed_error_s = chain.speed_error_s;
+  c.step_error = chain.step_error;
+  c.drive_speed_mm_s = chain.drive_speed_mm_s;
+  run.stop_hold_samples = static_cast<int>(chain.weights.size());
+  run.planned_weights = chain.weights;
   if (c.speed_error_s > 0.0) c.fir_variation = fir_variation(m);
-  const FilterMoments moments(chain, m.period_s);
-  c.rounding_mm = m.xyz_blu_mm().norm() + truncation_mm;
+  const FilterMoments moments(chain.weights, m.period_s);
+  c.rounding_mm = m.xyz_blu_mm().norm() + chain.extra_margin_mm;
   c.precompensate_arcs = m.arc_precompensation;
   return std::make_unique<TolerancePlanner>(moments, c, source);
 }

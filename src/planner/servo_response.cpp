@@ -5,8 +5,10 @@
 #include "common/status.hpp"
 #include "servo/discrete_plant.hpp"
 #include "servo/flexible_modes.hpp"
+#include "servo/servo_axis.hpp"
 
 #include <fmt/format.h>
+#include <Eigen/Dense>
 
 #include <algorithm>
 #include <cmath>
@@ -14,8 +16,12 @@
 
 namespace gm {
 
-std::vector<double> servo_step_response(const AxisConfig& axis, double period_s, int substeps,
-                                        int samples) {
+namespace {
+
+// The linear servo's response to a unit step of the reference at k = 0: the table at each
+// period's start, and (when `drive` is given) the drive command of every servo sample.
+std::vector<double> step_response(const AxisConfig& axis, double period_s, int substeps,
+                                  int samples, std::vector<double>* drive) {
   if (!(period_s > 0.0) || substeps < 1 || samples < 1)
     throw InputError("servo response: period > 0, substeps >= 1, samples >= 1");
   const double h = period_s / substeps;
@@ -27,6 +33,7 @@ std::vector<double> servo_step_response(const AxisConfig& axis, double period_s,
   FlexibleModes modes(axis.mode_hz, axis.mode_damping, h, 0.0);
   std::vector<double> s;
   s.reserve(static_cast<std::size_t>(samples));
+  if (drive != nullptr) drive->assign(static_cast<std::size_t>(samples) * substeps, 0.0);
   for (int k = 0; k < samples; ++k) {
     s.push_back(modes.count() > 0 ? modes.output() : plant.position_blu());  // the table, at the
                                                                              // period's start
@@ -41,6 +48,7 @@ std::vector<double> servo_step_response(const AxisConfig& axis, double period_s,
       integ += e * h / kv;
       const double u = axis.kv_form == VelocityLoopForm::Ip ? axis.kvi * integ - axis.kvp * y
                                                             : axis.kvp * e + axis.kvi * integ;
+      if (drive != nullptr) (*drive)[static_cast<std::size_t>(k) * substeps + j] = u;
       plant.step(u);
       if (modes.count() > 0) modes.step(plant.position_blu());
     }
@@ -48,6 +56,20 @@ std::vector<double> servo_step_response(const AxisConfig& axis, double period_s,
     prev_delta = delta;
   }
   return s;
+}
+
+}  // namespace
+
+std::vector<double> servo_step_response(const AxisConfig& axis, double period_s, int substeps,
+                                        int samples) {
+  return step_response(axis, period_s, substeps, samples, nullptr);
+}
+
+std::vector<double> servo_drive_step_response(const AxisConfig& axis, double period_s, int substeps,
+                                              int samples) {
+  std::vector<double> u;
+  step_response(axis, period_s, substeps, samples, &u);
+  return u;
 }
 
 ChainResponse chain_response(const Taps& taps, const AxisConfig& axis, double period_s,
@@ -119,19 +141,44 @@ bool same_servo(const AxisConfig& a, const AxisConfig& b) {
 
 namespace {
 
-// Each servo's step response against ref's, |S^a_k − S^ref_k| reduced over k by `reduce`
-// (settled servos only) and times `scale`, combined over the axes as a Euclidean norm.
+constexpr int kResponseLen = 1 << 14;  ///< samples of a step response (long enough to settle)
+
+// Axis a's step response as its servo sees it: through its matching taps when it has them.
+std::vector<double> matched_step_response(const AxisConfig& a, const MatchTaps* match,
+                                          double period_s, int substeps) {
+  std::vector<double> s = servo_step_response(a, period_s, substeps, kResponseLen);
+  if (match == nullptr) return s;
+  const std::vector<double> f = match->weights();
+  std::vector<double> out(s.size(), 0.0);
+  for (std::size_t k = 0; k < s.size(); ++k)
+    for (std::size_t j = 0; j < f.size() && j <= k; ++j) out[k] += f[j] * s[k - j];
+  return out;
+}
+
+const MatchTaps* match_of(const std::vector<MatchTaps>* match, int axis) {
+  if (match == nullptr) return nullptr;
+  for (const MatchTaps& t : *match)
+    if (t.axis == axis) return &t;
+  return nullptr;
+}
+
+// Each linear servo's step response (matched where `match` says) against ref's,
+// |S^a_k − S^ref_k| reduced over k by `reduce` (settled servos only) and times `scale`,
+// combined over the axes as a Euclidean norm.
 template <class Reduce>
-double servo_mismatch(const std::vector<const AxisConfig*>& axes, const AxisConfig& ref,
-                      double period_s, int substeps, double scale, Reduce reduce) {
-  constexpr int kLen = 1 << 14;
-  const std::vector<double> sr = servo_step_response(ref, period_s, substeps, kLen);
+double servo_mismatch(const Machine& m, int ref, const std::vector<MatchTaps>* match, double scale,
+                      Reduce reduce) {
+  const AxisConfig& rc = m.axes[static_cast<std::size_t>(ref)];
+  const std::vector<double> sr =
+      servo_step_response(rc, m.period_s, m.servo_substeps, kResponseLen);
   double sum2 = 0.0;
-  for (const AxisConfig* a : axes) {
-    if (same_servo(*a, ref)) continue;
-    const std::vector<double> sa = servo_step_response(*a, period_s, substeps, kLen);
+  for (int i = 0; i < m.layout.count; ++i) {
+    const AxisConfig& a = m.axes[static_cast<std::size_t>(i)];
+    if (m.layout.program(i) >= 3 || same_servo(a, rc)) continue;
+    const std::vector<double> sa =
+        matched_step_response(a, match_of(match, i), m.period_s, m.servo_substeps);
     double r = 0.0;
-    for (int k = 0; k < kLen; ++k) r = reduce(r, std::abs(sa[k] - sr[k]));
+    for (int k = 0; k < kResponseLen; ++k) r = reduce(r, std::abs(sa[k] - sr[k]));
     // Both must have settled: the part not computed would be missing from the area.
     if (!(std::abs(sa.back() - 1.0) < 1e-9 && std::abs(sr.back() - 1.0) < 1e-9))
       throw InputError("tolerance_on = encoder: a servo loop does not settle");
@@ -140,18 +187,165 @@ double servo_mismatch(const std::vector<const AxisConfig*>& axes, const AxisConf
   return std::sqrt(sum2);
 }
 
-}  // namespace
-
-double servo_mismatch_s(const std::vector<const AxisConfig*>& axes, const AxisConfig& ref,
-                        double period_s, int substeps) {
-  return servo_mismatch(axes, ref, period_s, substeps, period_s,
-                        [](double sum, double d) { return sum + d; });
+double sum_of(double sum, double d) {
+  return sum + d;
+}
+double max_of(double peak, double d) {
+  return std::max(peak, d);
 }
 
-double servo_mismatch_peak(const std::vector<const AxisConfig*>& axes, const AxisConfig& ref,
-                           double period_s, int substeps) {
-  return servo_mismatch(axes, ref, period_s, substeps, 1.0,
-                        [](double peak, double d) { return std::max(peak, d); });
+// The linear axes' indices.
+std::vector<int> linear_axes(const Machine& m) {
+  std::vector<int> linear;
+  for (int i = 0; i < m.layout.count; ++i)
+    if (m.layout.program(i) < 3) linear.push_back(i);
+  return linear;
+}
+
+// Least-squares matching taps of `a` against `ref` (Σ = 1): minimise Σ_k (S^a ∗ f − S^ref)_k²
+// over the first kFitSamples, with f_0 = 1 − Σ_{j≥1} f_j, then rounded to MatchTaps.
+MatchTaps fit_match(const std::vector<double>& sa, const std::vector<double>& sr, int axis) {
+  constexpr int kTaps = 32, kFitSamples = 1024;
+  Eigen::MatrixXd A(kFitSamples, kTaps - 1);
+  Eigen::VectorXd b(kFitSamples);
+  for (int k = 0; k < kFitSamples; ++k) {
+    b[k] = sr[static_cast<std::size_t>(k)] - sa[static_cast<std::size_t>(k)];
+    for (int j = 1; j < kTaps; ++j)
+      A(k, j - 1) =
+          (k >= j ? sa[static_cast<std::size_t>(k - j)] : 0.0) - sa[static_cast<std::size_t>(k)];
+  }
+  const Eigen::VectorXd f = A.colPivHouseholderQr().solve(b);
+  MatchTaps t;
+  // A fit that is not finite or not small (a loop far from the reference's): no matching.
+  if (!(f.allFinite() && f.cwiseAbs().maxCoeff() < 16.0)) return t;
+  t.axis = axis;
+  t.integer.assign(kTaps, 0);
+  std::int64_t rest = MatchTaps::kScale;
+  for (int j = 1; j < kTaps; ++j) {
+    t.integer[static_cast<std::size_t>(j)] =
+        std::llround(f[j - 1] * static_cast<double>(MatchTaps::kScale));
+    rest -= t.integer[static_cast<std::size_t>(j)];
+  }
+  t.integer[0] = rest;
+  return t;
+}
+
+}  // namespace
+
+int reference_servo_axis(const Machine& m) {
+  const std::vector<int> linear = linear_axes(m);
+  if (linear.empty()) return -1;
+  int ref = linear.front();
+  double best = std::numeric_limits<double>::infinity();
+  for (const int cand : linear) {
+    const double mm = servo_mismatch(m, cand, nullptr, m.period_s, sum_of);
+    if (mm < best) best = mm, ref = cand;
+  }
+  return ref;
+}
+
+double servo_mismatch_s(const Machine& m, int ref, const std::vector<MatchTaps>* match) {
+  return servo_mismatch(m, ref, match, m.period_s, sum_of);
+}
+
+double servo_mismatch_peak(const Machine& m, int ref, const std::vector<MatchTaps>* match) {
+  return servo_mismatch(m, ref, match, 1.0, max_of);
+}
+
+ServoMatchDesign design_servo_match(const Machine& m, bool servo) {
+  ServoMatchDesign d;
+  if (!servo || !m.servo_matching || m.tolerance_on != ToleranceOn::Encoder) return d;
+  const std::vector<int> linear = linear_axes(m);
+  if (linear.empty()) return d;
+  const AxisConfig& first = m.axes[static_cast<std::size_t>(linear.front())];
+  if (std::all_of(linear.begin(), linear.end(),
+                  [&](int i) { return same_servo(m.axes[static_cast<std::size_t>(i)], first); }))
+    return d;  // one servo for all: nothing to match
+  // Loops that do not settle within the responses computed: no matching (a plan for the table
+  // refuses them: servo_mismatch).
+  for (const int i : linear) {
+    const std::vector<double> s = servo_step_response(m.axes[static_cast<std::size_t>(i)],
+                                                      m.period_s, m.servo_substeps, kResponseLen);
+    if (!(std::abs(s.back() - 1.0) < 1e-9)) return d;
+  }
+  const int ref = reference_servo_axis(m);
+  const AxisConfig& rc = m.axes[static_cast<std::size_t>(ref)];
+  const std::vector<double> sr =
+      servo_step_response(rc, m.period_s, m.servo_substeps, kResponseLen);
+  for (const int i : linear) {
+    const AxisConfig& a = m.axes[static_cast<std::size_t>(i)];
+    if (same_servo(a, rc)) continue;
+    const std::vector<double> sa =
+        servo_step_response(a, m.period_s, m.servo_substeps, kResponseLen);
+    MatchTaps t = fit_match(sa, sr, i);
+    if (t.integer.empty()) continue;
+    // Kept only where it lowers the axis's mismatch (area of the step-response difference).
+    const std::vector<double> matched = matched_step_response(a, &t, m.period_s, m.servo_substeps);
+    double before = 0.0, after = 0.0;
+    for (int k = 0; k < kResponseLen; ++k) {
+      before += std::abs(sa[static_cast<std::size_t>(k)] - sr[static_cast<std::size_t>(k)]);
+      after += std::abs(matched[static_cast<std::size_t>(k)] - sr[static_cast<std::size_t>(k)]);
+    }
+    if (!(after < before)) continue;
+    d.taps.push_back(std::move(t));
+  }
+  if (!d.taps.empty()) d.ref_axis = ref;
+  return d;
+}
+
+double drive_speed_limit_mm_s(const Machine& m, const std::vector<MatchTaps>* match) {
+  const Taps taps = design_taps(m.profile, m.tau_s, m.period_s);
+  std::vector<double> h;
+  for (const auto b : taps.integer)
+    h.push_back(static_cast<double>(b) / static_cast<double>(taps.b_s));
+  const int sub = m.servo_substeps;
+  double limit = std::numeric_limits<double>::infinity();
+  for (const int i : linear_axes(m)) {
+    const AxisConfig& a = m.axes[static_cast<std::size_t>(i)];
+    // The weights from command increments to the axis's reference: h, or h ∗ f when matched.
+    std::vector<double> w = h;
+    if (const MatchTaps* t = match_of(match, i)) {
+      const std::vector<double> f = t->weights();
+      w.assign(h.size() + f.size() - 1, 0.0);
+      for (std::size_t p = 0; p < h.size(); ++p)
+        for (std::size_t q = 0; q < f.size(); ++q) w[p + q] += h[p] * f[q];
+    }
+    const std::vector<double> U = servo_drive_step_response(a, m.period_s, sub, kResponseLen);
+    // u at servo sample j of period n is Σ_k W^(j)_k·Δx_{n−k}, W^(j) = U^(j) ∗ w (U^(j)_k the
+    // drive at sample j of period k after a unit step, which settles at 0): |u| is at most
+    // Σ_k |W^(j)_k| times the largest |Δx|, V·T in counts. Weights too long to convolve here
+    // (long filters): Σ|w|·Σ_k|U^(j)_k|, which bounds it.
+    const bool direct = w.size() * static_cast<std::size_t>(sub) <= 4096;
+    double w1 = 0.0;
+    for (const double wp : w) w1 += std::abs(wp);
+    double worst = 0.0;
+    for (int j = 0; j < sub; ++j) {
+      double sum = 0.0;
+      if (!direct) {
+        for (int k = 0; k < kResponseLen; ++k)
+          sum += std::abs(U[static_cast<std::size_t>(k) * sub + j]);
+        worst = std::max(worst, w1 * sum);
+        continue;
+      }
+      for (int k = 0; k < kResponseLen + static_cast<int>(w.size()) - 1; ++k) {
+        double wk = 0.0;
+        for (std::size_t p = 0; p < w.size(); ++p) {
+          const int kk = k - static_cast<int>(p);
+          if (kk >= 0 && kk < kResponseLen) wk += w[p] * U[static_cast<std::size_t>(kk) * sub + j];
+        }
+        sum += std::abs(wk);
+      }
+      worst = std::max(worst, sum);
+    }
+    const ServoAxis servo(a, m.period_s, sub, 0);
+    const double u_max = servo.drive_limit();
+    const double u_friction = a.f_max_N > 0.0 ? a.coulomb_N / a.f_max_N * u_max : 0.0;
+    // No bound where nothing saturates, the drive cannot overcome its friction or the loop does
+    // not settle (the plan refuses such loops where it needs them: servo_mismatch, chain_response).
+    if (!(worst > 0.0) || !std::isfinite(worst) || !(u_max > u_friction)) continue;
+    limit = std::min(limit, (u_max - u_friction) / (worst * m.period_s) * a.blu_mm);
+  }
+  return limit;
 }
 
 double fir_variation(const Machine& m) {
@@ -165,48 +359,34 @@ double fir_variation(const Machine& m) {
   return v + last;
 }
 
-std::vector<double> planned_chain(const Machine& m, bool servo, double& extra_margin_mm,
-                                  double* speed_error_s, double* step_error) {
+PlannedChain plan_chain(const Machine& m, bool servo) {
   const Taps taps = design_taps(m.profile, m.tau_s, m.period_s);
-  extra_margin_mm = 0.0;
-  if (speed_error_s != nullptr) *speed_error_s = 0.0;
-  if (step_error != nullptr) *step_error = 0.0;
+  PlannedChain c;
   if (!servo || m.tolerance_on != ToleranceOn::Encoder) {
-    std::vector<double> h;
-    for (auto b : taps.integer) h.push_back(static_cast<double>(b) / static_cast<double>(taps.b_s));
-    return h;
+    for (auto b : taps.integer)
+      c.weights.push_back(static_cast<double>(b) / static_cast<double>(taps.b_s));
+    return c;
   }
-  std::vector<const AxisConfig*> linear;
-  for (int i = 0; i < m.layout.count; ++i)
-    if (m.layout.program(i) < 3) linear.push_back(&m.axes[static_cast<std::size_t>(i)]);
+  const std::vector<int> linear = linear_axes(m);
   if (linear.empty()) throw InputError("tolerance_on = encoder: the machine has no X, Y or Z");
   // The reference chain: the linear axis whose servo is closest to the others (smallest
-  // mismatch); one servo for all gives 0 and the chain is exact.
-  const AxisConfig* ref = linear.front();
-  double mismatch = 0.0;
-  const bool all_same = std::all_of(linear.begin(), linear.end(),
-                                    [&](const AxisConfig* a) { return same_servo(*a, *ref); });
-  if (!all_same) {
-    if (speed_error_s == nullptr)
-      throw InputError(
-          "tolerance_on = encoder needs the same servo (plant, gains) on X, Y and Z here");
-    mismatch = std::numeric_limits<double>::infinity();
-    for (const AxisConfig* cand : linear) {
-      const double mm = servo_mismatch_s(linear, *cand, m.period_s, m.servo_substeps);
-      if (mm < mismatch) mismatch = mm, ref = cand;
-    }
-    *speed_error_s = mismatch;
-    if (step_error != nullptr)
-      *step_error = servo_mismatch_peak(linear, *ref, m.period_s, m.servo_substeps);
-  }
+  // mismatch); one servo for all gives 0 and the chain is exact. The others are matched to it
+  // (servo_matching) and what is left of their difference is charged.
+  const ServoMatchDesign match = design_servo_match(m, servo);
+  const int ref = match.ref_axis >= 0 ? match.ref_axis : reference_servo_axis(m);
+  c.speed_error_s = servo_mismatch_s(m, ref, &match.taps);
+  c.step_error = servo_mismatch_peak(m, ref, &match.taps);
+  c.drive_speed_mm_s = drive_speed_limit_mm_s(m, &match.taps);
   // Truncation allowance: 0.05 BLU at 2 m/s (scales with speed; docs/tolerance.md); a step
   // response outside [0, 1] by at most half a BLU at 2 m/s is clipped into it.
   constexpr double kFastMmS = 2000.0;
   const double blu = m.contour_blu_mm();
-  const ChainResponse r = chain_response(taps, *ref, m.period_s, m.servo_substeps,
-                                         0.05 * blu / kFastMmS, 0.5 * blu / kFastMmS);
-  extra_margin_mm = kFastMmS * (r.tail_area_s + r.clipped_s);
-  return r.weights;
+  const ChainResponse r =
+      chain_response(taps, m.axes[static_cast<std::size_t>(ref)], m.period_s, m.servo_substeps,
+                     0.05 * blu / kFastMmS, 0.5 * blu / kFastMmS);
+  c.extra_margin_mm = kFastMmS * (r.tail_area_s + r.clipped_s);
+  c.weights = r.weights;
+  return c;
 }
 
 }  // namespace gm

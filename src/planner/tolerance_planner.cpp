@@ -298,10 +298,13 @@ TolerancePlanner::Block& TolerancePlanner::push_block(const Motion& m) {
   s_end_ = b.s1;
   t_end_ = b.t1;
   b.cap_all = kInf;
-  if (cfg_.speed_error_s > 0.0 && m.path_tolerance_mm > 0.0) {
+  if (m.path_tolerance_mm > 0.0 && (cfg_.speed_error_s > 0.0 || cfg_.drive_speed_mm_s < kInf)) {
     // The mismatch at a sample of b comes from the speeds within one chain length before it:
-    // b and the blocks the chain still holds when b starts keep to reserve/speed_error.
-    const double v = reserve_of(m.path_tolerance_mm) / cfg_.speed_error_s;
+    // b and the blocks the chain still holds when b starts keep to reserve/speed_error; and so
+    // does the drive command, kept below saturation by the drive's speed.
+    const double v = std::min(
+        cfg_.drive_speed_mm_s,
+        cfg_.speed_error_s > 0.0 ? reserve_of(m.path_tolerance_mm) / cfg_.speed_error_s : kInf);
     b.cap_all = v;
     for (auto it = std::next(window_.rbegin());  // the blocks before b
          it != window_.rend() && it->t1 > b.t0 - tau; ++it)

@@ -41,6 +41,10 @@ struct PlannerConfig {
   /// for the table: the filter smooths the end rows' jumps of the command before the servos see
   /// them (ArcPrecompCheck::offset_mismatch_mm). 0: not given.
   double fir_variation = 0.0;
+  /// Planned for the table: the path speed below which no drive saturates
+  /// (drive_speed_limit_mm_s), where the chain is linear. Every block with a tolerance is capped
+  /// at it, and so is every block the chain still holds when it starts. Infinity: none.
+  double drive_speed_mm_s = std::numeric_limits<double>::infinity();
   std::size_t capacity = 4096;  ///< most motion blocks held for look-ahead (memory bound)
   /// Pre-compensated arcs (docs/tolerance.md): an arc whose cap the curvature bound lowers is
   /// commanded on R + c (Motion::comp_speed_mm_s) and capped by the residual of its transitions

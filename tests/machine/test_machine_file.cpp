@@ -24,6 +24,9 @@ void require_equal(const Machine& a, const Machine& b) {
   CHECK(a.profile == b.profile);
   CHECK(a.tau_s == b.tau_s);
   CHECK(a.arc_rule == b.arc_rule);
+  CHECK(a.tolerance_on == b.tolerance_on);
+  CHECK(a.arc_precompensation == b.arc_precompensation);
+  CHECK(a.servo_matching == b.servo_matching);
   CHECK(a.tool_lengths_mm == b.tool_lengths_mm);
   for (std::size_t g = 0; g < 6; ++g) CHECK(a.work_offsets_mm[g] == b.work_offsets_mm[g]);
   CHECK(a.layout.letters() == b.layout.letters());
@@ -163,6 +166,9 @@ TEST_CASE("machine_to_toml round-trips the default and a modified machine", "[ma
   m.program_inch = true;
   m.lathe = true;
   m.spindle_accel_rpm_s = 250.0;
+  m.tolerance_on = gm::ToleranceOn::Encoder;
+  m.arc_precompensation = false;
+  m.servo_matching = false;
   require_equal(gm::parse_machine_toml(gm::machine_to_toml(m), "rt.toml"), m);
   // Names with TOML's special characters (found by fuzz_machine: backslashes did not survive).
   for (const char* name :
@@ -194,8 +200,10 @@ TEST_CASE("minimal file: optional keys take the documented defaults", "[machine]
   CHECK(f.axes[0].ff2_s == 0.01431);
   CHECK(f.axes[1].ff1 == 0.0);
   CHECK(gm::machine_to_toml(f).find("ff1 = 0.857\nff2_s = 0.01431\n") != std::string::npos);
-  CHECK_FALSE(m.program_inch);  // programs start in G21
-  CHECK_FALSE(m.lathe);         // kind = "mill"
+  CHECK(m.servo_matching);       // "on"
+  CHECK(m.arc_precompensation);  // "on"
+  CHECK_FALSE(m.program_inch);   // programs start in G21
+  CHECK_FALSE(m.lathe);          // kind = "mill"
   CHECK(
       gm::parse_machine_toml(
           replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\nkind = \"lathe\"\n"), "t.toml")
@@ -242,6 +250,9 @@ TEST_CASE("out-of-range value: exact message with key, file and line", "[machine
   CHECK(error_of(
             replace(kMinimal, "period_s = 0.004\n", "period_s = 0.004\narc_rule = \"fanuc\"\n")) ==
         "t.toml:3: key 'arc_rule': must be \"linuxcnc\", \"grbl\" or \"g2core\" (got \"fanuc\")");
+  CHECK(error_of(replace(kMinimal, "period_s = 0.004\n",
+                         "period_s = 0.004\nservo_matching = \"yes\"\n")) ==
+        "t.toml:3: key 'servo_matching': must be \"off\" or \"on\" (got \"yes\")");
   CHECK(error_of(replace(kMinimal, "[axes.z]\n", "[axes.z]\nkv_form = \"pid\"\n")) ==
         "t.toml:16: key 'axes.z.kv_form': must be \"ip\" or \"pi\" (got \"pid\")");
   CHECK(error_of(replace(kMinimal, "plant_den = [1, 13.823]", "plant_den = [0, 13.823]")) ==

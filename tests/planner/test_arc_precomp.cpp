@@ -424,13 +424,12 @@ TEST_CASE("the residual table bounds the simulation within its margin", "[arc-pr
   gm::Machine ff;
   ff.tolerance_on = gm::ToleranceOn::Encoder;
   for (auto& a : ff.axes) a = ff.axes[0], a.ff1 = 0.857, a.ff2_s = 0.01431;
-  double margin_mm = 0.0;
   const std::pair<const char*, std::vector<double>> filters[] = {
       {"blackman", weights(gm::design_taps("blackman", 0.164, 0.004))},
       {"linear", weights(gm::design_taps("linear", 0.164, 0.004))},
       {"hann", weights(gm::design_taps("hann", 0.164, 0.004))},
       {"hamming", weights(gm::design_taps("hamming", 0.164, 0.004))},
-      {"blackman + feedforward servo", gm::planned_chain(ff, true, margin_mm)}};
+      {"blackman + feedforward servo", gm::plan_chain(ff, true).weights}};
   for (const auto& [prof, h] : filters) {
     const gm::ArcPrecompCheck check(h, 0.004);
     REQUIRE(check.enabled());

@@ -149,8 +149,7 @@ TEST_CASE("corner moment grid: negative weights whose step response stays in [0,
 TEST_CASE("corner moment grid: FIR + servo chains that overshoot (the encoder plan)") {
   gm::Machine m;
   m.tolerance_on = gm::ToleranceOn::Encoder;
-  double margin_mm = 0.0;
-  const gm::FilterMoments chain(gm::planned_chain(m, true, margin_mm), m.period_s);
+  const gm::FilterMoments chain(gm::plan_chain(m, true).weights, m.period_s);
   REQUIRE(chain.overshoot_s() > 0.0);
   check_grid(chain, 1);
 
@@ -162,7 +161,7 @@ TEST_CASE("corner moment grid: FIR + servo chains that overshoot (the encoder pl
     a.mode_hz = {20.0};
     a.mode_damping = {0.05};
   }
-  const gm::FilterMoments mode(gm::planned_chain(ringing, true, margin_mm), ringing.period_s);
+  const gm::FilterMoments mode(gm::plan_chain(ringing, true).weights, ringing.period_s);
   CHECK(mode.weights().size() > 1000);
   check_grid(mode, 37);
 
