@@ -23,14 +23,13 @@ std::vector<double> MatchTaps::weights() const {
 }
 
 ServoMatch::ServoMatch(const Taps& fir, std::vector<MatchTaps> axes) {
-  const std::int64_t b_s =
-      std::accumulate(fir.integer.begin(), fir.integer.end(), std::int64_t{0});
+  const std::int64_t b_s = std::accumulate(fir.integer.begin(), fir.integer.end(), std::int64_t{0});
   scale_ = b_s * MatchTaps::kScale;
   for (const MatchTaps& t : axes) {
     if (t.axis < 0 || t.axis >= kMaxAxes || t.integer.empty() ||
         std::accumulate(t.integer.begin(), t.integer.end(), std::int64_t{0}) != MatchTaps::kScale)
-      throw InputError(fmt::format("servo matching: axis {}: taps must sum to {}", t.axis,
-                                   MatchTaps::kScale));
+      throw InputError(
+          fmt::format("servo matching: axis {}: taps must sum to {}", t.axis, MatchTaps::kScale));
     if (!(b_s > 0) || b_s > (std::int64_t{1} << 36))
       throw InputError(fmt::format("servo matching: Acc/Dec b_s = {} out of range", b_s));
     Axis a;
