@@ -23,12 +23,12 @@ struct MatchTaps {
 
 /// A matched axis's Acc/Dec: its reference is the command filtered by the Acc/Dec taps b and its
 /// MatchTaps F together, rounded once,
-///   out[k] = x[k] + round_half_away( Σ_i c_i·(x[k−i] − x[k]) / (b_s·kScale) ),  c = b ∗ F,
-/// in exact integer arithmetic (so, with Σ c_i = b_s·kScale, once the last len inputs are equal
-/// the output is the input exactly). It replaces the shared FirAccDec's output on that axis: one
-/// rounding, as the filter's, so the planner's rounding margin is unchanged. The history before
-/// the first sample is the start position 0 (the Acc/Dec filter's). Allocates only in the
-/// constructor.
+///   out[k] = round_half_away( Σ_i c_i·x[k−i] / (b_s·kScale) ),  c = b ∗ F,
+/// exactly (a double sum where its error bound decides the rounding, else 128-bit integers), so,
+/// with Σ c_i = b_s·kScale, once the last len inputs are equal the output is the input exactly. It
+/// replaces the shared FirAccDec's output on that axis: one rounding, as the filter's, so the
+/// planner's rounding margin is unchanged. The history before the first sample is the start
+/// position 0 (the Acc/Dec filter's). Allocates only in the constructor.
 class ServoMatch {
  public:
   ServoMatch() = default;
@@ -46,8 +46,13 @@ class ServoMatch {
  private:
   struct Axis {
     int axis = -1;
-    std::vector<std::int64_t> c;     ///< b ∗ F, newest weight first
-    std::vector<std::int64_t> hist;  ///< the last len inputs, ring, newest at `head`
+    std::vector<std::int64_t> c;  ///< b ∗ F, newest weight first
+    std::vector<double> cd;       ///< c as doubles
+    bool fast = false;            ///< every |c_i| < 2^52: the double sum may be used
+    /// The last len inputs, newest at `head`, each stored at slot s and s + len so that the
+    /// window lies in a row: hist[head + j] = x[k − j]. histd: the same as doubles.
+    std::vector<std::int64_t> hist;
+    std::vector<double> histd;
     int head = 0;
     int equal_run = 0;  ///< how many of the last inputs equal the newest
   };

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <random>
 #include <vector>
 
 namespace {
@@ -90,4 +91,88 @@ TEST_CASE("servo matching: a long move ends exactly where the command does") {
   }
   CHECK(last == 123'457);
   CHECK(match.settled());
+}
+
+TEST_CASE("servo matching: F = identity gives the Acc/Dec filter's output, ties and all") {
+  // With F = {S} the matched axis's reference is the FIR's own output, rounded half away as
+  // FirAccDec rounds it: a random walk of steps up to ±3,000 counts (ties of b_s = 4 taps
+  // {1, 2, 1} are frequent) and the Blackman taps, against FirAccDec bit for bit.
+  for (const gm::Taps& taps : {taps_121(), gm::design_taps("blackman", 0.164, 0.004)}) {
+    gm::MatchTaps f;
+    f.axis = 0;
+    f.integer = {gm::MatchTaps::kScale};
+    gm::ServoMatch match(taps, {f});
+    gm::FirAccDec fir(taps, gm::AxisBlu::Zero(), gm::FirStructure::Auto, 1);
+    auto cmd = std::make_unique<gm::BluColumns>();
+    auto ref = std::make_unique<gm::BluColumns>();
+    std::mt19937_64 rng(20261130);
+    std::int64_t x = 0;
+    int mismatches = 0;
+    for (int block = 0; block < 20; ++block) {
+      for (int i = 0; i < gm::kBlockSamples; ++i) {
+        x += static_cast<std::int64_t>(rng() % 6001) - 3000;
+        cmd->v[0][i] = x;
+      }
+      match.apply(*cmd, *ref, 0, gm::kBlockSamples);
+      for (int i = 0; i < gm::kBlockSamples; ++i) {
+        gm::AxisBlu in = gm::AxisBlu::Zero(), out = gm::AxisBlu::Zero();
+        in[0] = cmd->v[0][i];
+        fir.step(in, out);
+        mismatches += out[0] == ref->v[0][i] ? 0 : 1;
+      }
+    }
+    CAPTURE(taps.profile);
+    CHECK(mismatches == 0);
+  }
+}
+
+TEST_CASE("servo matching: the sums against 128-bit integers, far from the origin too") {
+  // Random F near the identity and random walks at positions up to 2^50 and past 2^52 (where
+  // the double sum is not used): every output equals round_half_away(Σ c_i x[k−i] / (b_s S))
+  // computed here in 128 bits from the positions themselves.
+  __extension__ using I128 = __int128;
+  constexpr std::int64_t S = gm::MatchTaps::kScale;
+  const gm::Taps taps = gm::design_taps("hann", 0.08, 0.004);
+  std::mt19937_64 rng(7);
+  for (const std::int64_t origin :
+       {std::int64_t{0}, std::int64_t{1} << 50, std::int64_t{3} << 52}) {
+    gm::MatchTaps f;
+    f.axis = 2;
+    f.integer.assign(12, 0);
+    std::int64_t rest = S;
+    for (std::size_t j = 1; j < f.integer.size(); ++j) {
+      f.integer[j] = static_cast<std::int64_t>(rng() % 200001) - 100000;
+      rest -= f.integer[j];
+    }
+    f.integer[0] = rest;
+    std::vector<std::int64_t> c(taps.integer.size() + f.integer.size() - 1, 0);
+    for (std::size_t i = 0; i < taps.integer.size(); ++i)
+      for (std::size_t j = 0; j < f.integer.size(); ++j) c[i + j] += taps.integer[i] * f.integer[j];
+    const I128 scale = static_cast<I128>(taps.b_s) * S;
+    gm::ServoMatch match(taps, {f});
+    auto cmd = std::make_unique<gm::BluColumns>();
+    auto ref = std::make_unique<gm::BluColumns>();
+    std::vector<std::int64_t> all;
+    std::int64_t x = origin;
+    int wrong = 0;
+    for (int block = 0; block < 8; ++block) {
+      for (int i = 0; i < gm::kBlockSamples; ++i) {
+        x += static_cast<std::int64_t>(rng() % 20001) - 10000;
+        cmd->v[2][i] = x;
+        all.push_back(x);
+      }
+      match.apply(*cmd, *ref, 0, gm::kBlockSamples);
+      for (int i = 0; i < gm::kBlockSamples; ++i) {
+        const std::size_t k = all.size() - gm::kBlockSamples + static_cast<std::size_t>(i);
+        I128 sum = 0;  // before the first sample the history is 0
+        for (std::size_t j = 0; j < c.size(); ++j)
+          sum += static_cast<I128>(c[j]) * (j <= k ? all[k - j] : 0);
+        const I128 mag = (sum < 0 ? -sum : sum) + scale / 2;
+        const auto q = static_cast<std::int64_t>(mag / scale);
+        wrong += ref->v[2][i] == (sum < 0 ? -q : q) ? 0 : 1;
+      }
+    }
+    CAPTURE(origin);
+    CHECK(wrong == 0);
+  }
 }
