@@ -417,6 +417,9 @@ TEST_CASE("property: with the servo on and tolerance_on = encoder, the table hol
   property({.programs = gmtest::scaled(24), .encoder = true, .seed = 20261124});
 }
 
+// With Y matched to X and without the drive cap (drive_speed_limit_mm_s), program 1 here (Hann
+// τ 0.08 s, `G0 X-3.033915 Y-17.820654` from rest at 200 %) left P by 539 % on its rapid: the
+// drive saturated once the mismatch reserve no longer capped the block (2026-11-30).
 TEST_CASE(
     "property: the feedforward machine's table holds G64 P + 1 BLU (tolerance_on = encoder)") {
   const gm::Machine ff = feedforward_machine();
