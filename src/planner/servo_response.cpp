@@ -143,16 +143,31 @@ namespace {
 
 constexpr int kResponseLen = 1 << 14;  ///< samples of a step response (long enough to settle)
 
-// Axis a's step response as its servo sees it: through its matching taps when it has them.
-std::vector<double> matched_step_response(const AxisConfig& a, const MatchTaps* match,
-                                          double period_s, int substeps) {
-  std::vector<double> s = servo_step_response(a, period_s, substeps, kResponseLen);
+// A step response through matching taps (none: as it is).
+std::vector<double> through_match(std::vector<double> s, const MatchTaps* match) {
   if (match == nullptr) return s;
   const std::vector<double> f = match->weights();
   std::vector<double> out(s.size(), 0.0);
   for (std::size_t k = 0; k < s.size(); ++k)
     for (std::size_t j = 0; j < f.size() && j <= k; ++j) out[k] += f[j] * s[k - j];
   return out;
+}
+
+// Axis a's step response as its servo sees it: through its matching taps when it has them.
+std::vector<double> matched_step_response(const AxisConfig& a, const MatchTaps* match,
+                                          double period_s, int substeps) {
+  return through_match(servo_step_response(a, period_s, substeps, kResponseLen), match);
+}
+
+// Σ_k |a_k − b_k|: the area between two step responses, in samples.
+double area_between(const std::vector<double>& a, const std::vector<double>& b) {
+  double sum = 0.0;
+  for (std::size_t k = 0; k < a.size(); ++k) sum += std::abs(a[k] - b[k]);
+  return sum;
+}
+
+bool settled(const std::vector<double>& s) {
+  return std::abs(s.back() - 1.0) < 1e-9;
 }
 
 const MatchTaps* match_of(const std::vector<MatchTaps>* match, int axis) {
@@ -180,7 +195,7 @@ double servo_mismatch(const Machine& m, int ref, const std::vector<MatchTaps>* m
     double r = 0.0;
     for (int k = 0; k < kResponseLen; ++k) r = reduce(r, std::abs(sa[k] - sr[k]));
     // Both must have settled: the part not computed would be missing from the area.
-    if (!(std::abs(sa.back() - 1.0) < 1e-9 && std::abs(sr.back() - 1.0) < 1e-9))
+    if (!(settled(sa) && settled(sr)))
       throw InputError("tolerance_on = encoder: a servo loop does not settle");
     sum2 += (scale * r) * (scale * r);
   }
@@ -230,18 +245,42 @@ MatchTaps fit_match(const std::vector<double>& sa, const std::vector<double>& sr
   return t;
 }
 
+// The linear axes' step responses (S[n] for linear[n]), each computed once.
+std::vector<std::vector<double>> linear_responses(const Machine& m,
+                                                  const std::vector<int>& linear) {
+  std::vector<std::vector<double>> S;
+  for (const int i : linear)
+    S.push_back(servo_step_response(m.axes[static_cast<std::size_t>(i)], m.period_s,
+                                    m.servo_substeps, kResponseLen));
+  return S;
+}
+
+// The linear axis (index into `linear`) whose servo is closest to the others': the least
+// Euclidean norm of the areas between its step response and theirs.
+std::size_t reference_of(const Machine& m, const std::vector<int>& linear,
+                         const std::vector<std::vector<double>>& S) {
+  std::size_t ref = 0;
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t c = 0; c < linear.size(); ++c) {
+    const AxisConfig& cand = m.axes[static_cast<std::size_t>(linear[c])];
+    double sum2 = 0.0;
+    for (std::size_t n = 0; n < linear.size(); ++n)
+      if (!same_servo(m.axes[static_cast<std::size_t>(linear[n])], cand))
+        sum2 += std::pow(area_between(S[n], S[c]), 2);
+    if (sum2 < best) best = sum2, ref = c;
+  }
+  return ref;
+}
+
 }  // namespace
 
 int reference_servo_axis(const Machine& m) {
   const std::vector<int> linear = linear_axes(m);
   if (linear.empty()) return -1;
-  int ref = linear.front();
-  double best = std::numeric_limits<double>::infinity();
-  for (const int cand : linear) {
-    const double mm = servo_mismatch(m, cand, nullptr, m.period_s, sum_of);
-    if (mm < best) best = mm, ref = cand;
-  }
-  return ref;
+  const std::vector<std::vector<double>> S = linear_responses(m, linear);
+  if (!std::all_of(S.begin(), S.end(), settled))
+    throw InputError("tolerance_on = encoder: a servo loop does not settle");
+  return linear[reference_of(m, linear, S)];
 }
 
 double servo_mismatch_s(const Machine& m, int ref, const std::vector<MatchTaps>* match) {
@@ -263,33 +302,19 @@ ServoMatchDesign design_servo_match(const Machine& m, bool servo) {
     return d;  // one servo for all: nothing to match
   // Loops that do not settle within the responses computed: no matching (a plan for the table
   // refuses them: servo_mismatch).
-  for (const int i : linear) {
-    const std::vector<double> s = servo_step_response(m.axes[static_cast<std::size_t>(i)],
-                                                      m.period_s, m.servo_substeps, kResponseLen);
-    if (!(std::abs(s.back() - 1.0) < 1e-9)) return d;
-  }
-  const int ref = reference_servo_axis(m);
-  const AxisConfig& rc = m.axes[static_cast<std::size_t>(ref)];
-  const std::vector<double> sr =
-      servo_step_response(rc, m.period_s, m.servo_substeps, kResponseLen);
-  for (const int i : linear) {
-    const AxisConfig& a = m.axes[static_cast<std::size_t>(i)];
-    if (same_servo(a, rc)) continue;
-    const std::vector<double> sa =
-        servo_step_response(a, m.period_s, m.servo_substeps, kResponseLen);
-    MatchTaps t = fit_match(sa, sr, i);
+  const std::vector<std::vector<double>> S = linear_responses(m, linear);
+  if (!std::all_of(S.begin(), S.end(), settled)) return d;
+  const std::size_t ref = reference_of(m, linear, S);
+  const AxisConfig& rc = m.axes[static_cast<std::size_t>(linear[ref])];
+  for (std::size_t n = 0; n < linear.size(); ++n) {
+    if (same_servo(m.axes[static_cast<std::size_t>(linear[n])], rc)) continue;
+    MatchTaps t = fit_match(S[n], S[ref], linear[n]);
     if (t.integer.empty()) continue;
     // Kept only where it lowers the axis's mismatch (area of the step-response difference).
-    const std::vector<double> matched = matched_step_response(a, &t, m.period_s, m.servo_substeps);
-    double before = 0.0, after = 0.0;
-    for (int k = 0; k < kResponseLen; ++k) {
-      before += std::abs(sa[static_cast<std::size_t>(k)] - sr[static_cast<std::size_t>(k)]);
-      after += std::abs(matched[static_cast<std::size_t>(k)] - sr[static_cast<std::size_t>(k)]);
-    }
-    if (!(after < before)) continue;
+    if (!(area_between(through_match(S[n], &t), S[ref]) < area_between(S[n], S[ref]))) continue;
     d.taps.push_back(std::move(t));
   }
-  if (!d.taps.empty()) d.ref_axis = ref;
+  if (!d.taps.empty()) d.ref_axis = linear[ref];
   return d;
 }
 
