@@ -39,6 +39,10 @@ ArcCompensation::ArcCompensation(const std::vector<double>& weights, double peri
   for (int k = 0; k <= kTableSteps; ++k)
     table_[static_cast<std::size_t>(k)] =
         gain_exact(limit_ * static_cast<double>(k) / static_cast<double>(kTableSteps));
+  ratio_max_.resize(table_.size());
+  double ratio = 0.0;
+  for (std::size_t k = 0; k < table_.size(); ++k)
+    ratio_max_[k] = ratio = std::max(ratio, std::abs(1.0 / table_[k] - 1.0) * (1.0 + 1e-9));
   ramp_samples_ = static_cast<int>(h_.size());
   if (!symmetric_) h_reversed_.assign(h_.rbegin(), h_.rend());
   rows_on_ = end_rows && h_[first] <= kTaper * *std::max_element(h_.begin(), h_.end()) &&

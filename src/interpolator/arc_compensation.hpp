@@ -70,6 +70,15 @@ class ArcCompensation {
   }
   /// Largest ωT with A(ωT) >= kMinGain.
   double limit_omega_t() const { return limit_; }
+  /// At least max |1/A − 1| over ωT in [0, omega_t] (A from the table, interpolated or clamped):
+  /// the largest |c|/r there.
+  double correction_ratio_cap(double omega_t) const {
+    const double x = omega_t * inv_step_;
+    const std::size_t i = x < static_cast<double>(kTableSteps)
+                              ? static_cast<std::size_t>(std::max(x, 0.0)) + 1
+                              : static_cast<std::size_t>(kTableSteps);
+    return ratio_max_[i];
+  }
   /// The radial correction c = r·(1/A − 1) at angular rate `omega_rad_s`, mm.
   double correction_mm(double radius_mm, double omega_rad_s) const {
     return radius_mm * (1.0 / gain(omega_rad_s * period_s_) - 1.0);
@@ -165,10 +174,7 @@ class ArcCompensation {
     double worst = 0.0;
     for (const ArcEndRows* rows : {&start_rows(), &end_rows()}) {
       for (const ArcEndRows::Way way : {ArcEndRows::Way::Moving, ArcEndRows::Way::Stopping})
-        for (int u = 1; u < ArcEndRows::kSpan; ++u) {
-          const ArcEndRows::Shape e = rows->at(u, x, way);
-          worst = std::max(worst, std::abs(e.radial - 1.0) + std::abs(e.along));
-        }
+        worst = std::max(worst, rows->largest_deviation(x, way));
       if (h_reversed_.empty()) break;  // symmetric: the end's rows are the start's
     }
     return 1.0 + 2.0 * worst;
@@ -191,6 +197,9 @@ class ArcCompensation {
 
  private:
   std::vector<double> h_;
+  /// ratio_max_[k] = max_{j ≤ k} |1/table_[j] − 1| (times 1 + 10⁻⁹ for the interpolation's
+  /// rounding): correction_ratio_cap.
+  std::vector<double> ratio_max_;
   double centre_ = 0.0;
   double period_s_ = 0.0;
   std::vector<double> table_;  ///< A at k·limit/kTableSteps, k = 0..kTableSteps

@@ -175,18 +175,39 @@ std::shared_ptr<const ArcEndRows> ArcEndRows::shared(const std::vector<double>& 
   return e.rows;
 }
 
-ArcEndRows::Shape ArcEndRows::at(double u, double x, Way way) const {
-  double fixed;
-  std::array<double, kInner> hat;
-  basis(u, fixed, hat);
-  if (!enabled_) return {u > 0.0 ? 1.0 : 0.0, 0.0};
+ArcEndRows::RateKnots ArcEndRows::rate_knots(double x, Way way) const {
   // The rate knots below and above x/limit, linear between, clamped.
   const double r = x / limit_x_;
   std::size_t j = 0;
   while (j + 2 < kRateKnots.size() && kRateKnots[j + 1] <= r) ++j;
   const double f = std::clamp((r - kRateKnots[j]) / (kRateKnots[j + 1] - kRateKnots[j]), 0.0, 1.0);
-  const Knots& lo = knots(j, way);
-  const Knots& hi = knots(j + 1, way);
+  return {&knots(j, way), &knots(j + 1, way), f};
+}
+
+double ArcEndRows::largest_deviation(double x, Way way) const {
+  if (!enabled_) return 0.0;  // at() is then (1, 0) for every u > 0
+  // As at(): basis(u) is hat_{u−1} = 1, the others and `fixed` 0 at whole u < kSpan, so its
+  // sums are the knot's value exactly.
+  const RateKnots k = rate_knots(x, way);
+  const Knots &lo = *k.lo, &hi = *k.hi;
+  const double f = k.f;
+  double worst = 0.0;
+  for (std::size_t q = 0; q < kInner; ++q) {
+    const double rad = lo[q] + f * (hi[q] - lo[q]);
+    const double along = lo[kInner + q] + f * (hi[kInner + q] - lo[kInner + q]);
+    worst = std::max(worst, std::abs(rad - 1.0) + std::abs(along));
+  }
+  return worst;
+}
+
+ArcEndRows::Shape ArcEndRows::at(double u, double x, Way way) const {
+  double fixed;
+  std::array<double, kInner> hat;
+  basis(u, fixed, hat);
+  if (!enabled_) return {u > 0.0 ? 1.0 : 0.0, 0.0};
+  const RateKnots k = rate_knots(x, way);
+  const Knots &lo = *k.lo, &hi = *k.hi;
+  const double f = k.f;
   const auto knot = [&](std::size_t i) { return lo[i] + f * (hi[i] - lo[i]); };
   Shape s{fixed, 0.0};
   for (std::size_t q = 0; q < kInner; ++q) {

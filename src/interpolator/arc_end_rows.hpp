@@ -72,6 +72,9 @@ class ArcEndRows {
   bool empty() const { return !enabled_; }
   /// The end's shape at u advances from it (u < kSpan) at rate x.
   Shape at(double u, double x, Way way) const;
+  /// max over u = 1 .. kSpan − 1 of |radial − 1| + |along| of at(u, x, way), bit for bit, with
+  /// one lookup of the rate's knots (at whole u the shape is its inner knot's).
+  double largest_deviation(double x, Way way) const;
 
  private:
   static constexpr int kInner = kSpan - 1;  ///< knots u = 1 .. kSpan − 1
@@ -79,6 +82,12 @@ class ArcEndRows {
   static void basis(double u, double& fixed, std::array<double, kInner>& hat);
   /// One rate knot's set of one way: radial at the inner knots, then along (in units of c).
   using Knots = std::array<double, 2 * kInner>;
+  /// The sets of the rate knots below and above rate x (clamped) and x's place between them.
+  struct RateKnots {
+    const Knots *lo, *hi;
+    double f;
+  };
+  RateKnots rate_knots(double x, Way way) const;
   /// The set of rate knot `rate` and `way`, fitted on the first request (thread-safe).
   const Knots& knots(std::size_t rate, Way way) const;
   Knots fit(std::size_t rate, Way way) const;  ///< that set's fit

@@ -39,6 +39,7 @@ ArcPrecompCheck::ArcPrecompCheck(const std::vector<double>& weights, double peri
   fork_ring_.resize(ring_.size());
   fork_ring_p_.resize(ring_p_.size());
   cache_.resize(kCacheSlots);
+  knot_factor_.fill(std::numeric_limits<double>::quiet_NaN());
   nonnegative_ = std::all_of(h_.begin(), h_.end(), [](double h) { return h >= 0.0; });
   double mean = 0.0, second = 0.0;
   for (std::size_t i = 0; i < h_.size(); ++i) {
@@ -61,6 +62,32 @@ double ArcPrecompCheck::spiral_mm(double r_min, double r_max, double sweep_abs_r
   const double offset =
       rule_.correction_mm(r_max, omega) * rule_.largest_offset_factor(omega * period_s_);
   return dr * (M / (2.0 * r) + M / L + (circle_mm + U) / (2.0 * r) + M * offset / (L * r));
+}
+
+double ArcPrecompCheck::offset_mismatch_cap_mm(double radius_mm, double sweep_abs_rad,
+                                               double length_mm, double v_plan,
+                                               double speed_error_s, double step_error,
+                                               double fir_variation) const {
+  const double rows = rule_.rows_weight(length_mm, v_plan);
+  if (rows > 0.0 && !(fir_variation > 0.0)) return kNoLimit;
+  const double T = period_s_, x = v_plan * sweep_abs_rad / length_mm * T;
+  const double c = radius_mm * rule_.correction_ratio_cap(x);  // |c(v)| for every v <= v_p
+  const double steady = speed_error_s / T * (c * x + 2.0 * c);
+  // (1 + 10⁻⁹: over the exact term's roundings.)
+  const double blend = (steady + step_error * 2.0 * c) * (1.0 + 1e-9);
+  if (!(rows > 0.0)) return blend;
+  // K at the knots up to the first at or past x (beyond the last, clamped to it).
+  const double limit = rule_.limit_omega_t();
+  double K = 0.0;
+  for (std::size_t j = 0; j < knot_factor_.size(); ++j) {
+    if (std::isnan(knot_factor_[j]))
+      knot_factor_[j] = rule_.largest_offset_factor(ArcEndRows::kRateKnots[j] * limit);
+    K = std::max(K, knot_factor_[j]);
+    if (ArcEndRows::kRateKnots[j] * limit >= x) break;
+  }
+  const double with_rows =
+      steady + step_error * fir_variation * (ArcEndRows::kSpan + 1) * (K * c + c);
+  return std::max(with_rows * (1.0 + 1e-9), blend);
 }
 
 double ArcPrecompCheck::offset_mismatch_mm(double radius_mm, double sweep_abs_rad, double length_mm,

@@ -96,6 +96,13 @@ class ArcPrecompCheck {
   /// Mixed rows and blend (rows_weight) in proportion.
   double offset_mismatch_mm(double radius_mm, double sweep_abs_rad, double length_mm, double v_plan,
                             double speed_error_s, double step_error, double fir_variation) const;
+  /// At least offset_mismatch_mm, cheaply: |c| and its steps at most r times the table's
+  /// largest |1/A − 1| up to the arc's rate (correction_ratio_cap), the offset factor K at most
+  /// its largest at the rows' rate knots up to the one past that rate (K is convex between
+  /// knots, the shapes being linear in the rate there).
+  double offset_mismatch_cap_mm(double radius_mm, double sweep_abs_rad, double length_mm,
+                                double v_plan, double speed_error_s, double step_error,
+                                double fir_variation) const;
   /// The ramp's transient on the steady arc, mm.
   double ramp_mm(double radius_mm, double sweep_abs_rad, double length_mm, double v_plan) const;
   /// isolated_mm with each of its runs simulated whole (two of them are paired in isolated_mm,
@@ -183,6 +190,8 @@ class ArcPrecompCheck {
     bool exact = false;
   };
   mutable std::vector<Cached> cache_;
+  /// largest_offset_factor at each rate knot (NaN: not yet computed): offset_mismatch_cap_mm.
+  mutable std::array<double, ArcEndRows::kRateKnots.size()> knot_factor_{};
 };
 
 }  // namespace gm

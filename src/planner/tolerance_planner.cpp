@@ -1058,12 +1058,28 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
     // off it (a circle's is 0), the circle's term at most the allotment wherever the answer is
     // yes.
     // A servo mismatch moves the table by the command's offset too (offset_mismatch_mm).
-    const double w = z.weight,
-                 mine = zone_allotment(share, 1.0, z) -
-                        (cfg_.speed_error_s > 0.0 ? precomp_->offset_mismatch_mm(
-                                                        e.radius, e.sweep, L, v, cfg_.speed_error_s,
+    const double w = z.weight, allotment = zone_allotment(share, 1.0, z);
+    if (cfg_.speed_error_s > 0.0 && !(e.spiral > 0.0) && residual_->covers(e.sweep, L, v)) {
+      // offset_mismatch_mm (>= 0) bracketed first, the same answer at less cost: an arc that
+      // does not fit without it does not fit, one that fits with its cheap cap fits.
+      const double bound = residual_->error_bound_mm(*precomp_, e.radius, e.sweep, L, v) * w;
+      if (!(bound <= allotment * w)) return false;
+      const double cap_left =
+          (allotment - precomp_->offset_mismatch_cap_mm(e.radius, e.sweep, L, v, cfg_.speed_error_s,
+                                                        cfg_.step_error, cfg_.fir_variation)) *
+          w;
+      if (cap_left > 0.0 && bound <= cap_left) return true;
+      const double left =
+          (allotment - precomp_->offset_mismatch_mm(e.radius, e.sweep, L, v, cfg_.speed_error_s,
+                                                    cfg_.step_error, cfg_.fir_variation)) *
+          w;
+      return left > 0.0 && bound <= left;
+    }
+    const double mine =
+        allotment - (cfg_.speed_error_s > 0.0
+                         ? precomp_->offset_mismatch_mm(e.radius, e.sweep, L, v, cfg_.speed_error_s,
                                                         cfg_.step_error, cfg_.fir_variation)
-                                                  : 0.0);
+                         : 0.0);
     const double left = (e.spiral > 0.0 ? mine - precomp_->spiral_mm(e.radius - e.spiral, e.radius,
                                                                      e.sweep, L, v, mine)
                                         : mine) *
