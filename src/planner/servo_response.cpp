@@ -3,6 +3,7 @@
 #include "planner/servo_response.hpp"
 
 #include "common/status.hpp"
+#include "planner/loop_shaping.hpp"
 #include "servo/discrete_plant.hpp"
 #include "servo/flexible_modes.hpp"
 #include "servo/servo_axis.hpp"
@@ -72,12 +73,28 @@ std::vector<double> servo_drive_step_response(const AxisConfig& axis, double per
   return u;
 }
 
+namespace {
+
+// A step response through matching taps (none: as it is).
+std::vector<double> through_match(std::vector<double> s, const MatchTaps* match) {
+  if (match == nullptr) return s;
+  const std::vector<double> f = match->weights();
+  std::vector<double> out(s.size(), 0.0);
+  for (std::size_t k = 0; k < s.size(); ++k)
+    for (std::size_t j = 0; j < f.size() && j <= k; ++j) out[k] += f[j] * s[k - j];
+  return out;
+}
+
+}  // namespace
+
 ChainResponse chain_response(const Taps& taps, const AxisConfig& axis, double period_s,
-                             int substeps, double tail_area_s, double clip_area_s) {
+                             int substeps, double tail_area_s, double clip_area_s,
+                             const MatchTaps* shaping) {
   if (taps.integer.empty() || taps.b_s <= 0) throw InputError("chain response: no taps");
   // Long enough for any stable loop we accept: grow until the tail is below the limit.
   for (int len = 256;; len *= 2) {
-    const std::vector<double> servo = servo_step_response(axis, period_s, substeps, len);
+    const std::vector<double> servo =
+        through_match(servo_step_response(axis, period_s, substeps, len), shaping);
     std::vector<double> g(servo.size());
     for (std::size_t k = 0; k < servo.size(); ++k) g[k] = servo[k] - (k ? servo[k - 1] : 0.0);
     const std::size_t n = taps.integer.size();
@@ -143,16 +160,6 @@ namespace {
 
 constexpr int kResponseLen = 1 << 14;  ///< samples of a step response (long enough to settle)
 
-// A step response through matching taps (none: as it is).
-std::vector<double> through_match(std::vector<double> s, const MatchTaps* match) {
-  if (match == nullptr) return s;
-  const std::vector<double> f = match->weights();
-  std::vector<double> out(s.size(), 0.0);
-  for (std::size_t k = 0; k < s.size(); ++k)
-    for (std::size_t j = 0; j < f.size() && j <= k; ++j) out[k] += f[j] * s[k - j];
-  return out;
-}
-
 // Axis a's step response as its servo sees it: through its matching taps when it has them.
 std::vector<double> matched_step_response(const AxisConfig& a, const MatchTaps* match,
                                           double period_s, int substeps) {
@@ -185,7 +192,7 @@ double servo_mismatch(const Machine& m, int ref, const std::vector<MatchTaps>* m
                       Reduce reduce) {
   const AxisConfig& rc = m.axes[static_cast<std::size_t>(ref)];
   const std::vector<double> sr =
-      servo_step_response(rc, m.period_s, m.servo_substeps, kResponseLen);
+      matched_step_response(rc, match_of(match, ref), m.period_s, m.servo_substeps);
   double sum2 = 0.0;
   for (int i = 0; i < m.layout.count; ++i) {
     const AxisConfig& a = m.axes[static_cast<std::size_t>(i)];
@@ -217,6 +224,23 @@ std::vector<int> linear_axes(const Machine& m) {
   return linear;
 }
 
+// Weights w (Σ = 1) as MatchTaps of `axis`: w_1.. rounded to 1/kScale, F_0 the rest (Σ exact).
+// Empty where a weight is not finite or too large for the filter's integer sums (|w| ≥ 2^10).
+MatchTaps to_match_taps(const std::vector<double>& w, int axis) {
+  MatchTaps t;
+  for (const double x : w)
+    if (!(std::abs(x) < 1024.0)) return t;
+  t.axis = axis;
+  t.integer.assign(w.size(), 0);
+  std::int64_t rest = MatchTaps::kScale;
+  for (std::size_t j = 1; j < w.size(); ++j) {
+    t.integer[j] = std::llround(w[j] * static_cast<double>(MatchTaps::kScale));
+    rest -= t.integer[j];
+  }
+  t.integer[0] = rest;
+  return t;
+}
+
 // Least-squares matching taps of `a` against `ref` (Σ = 1): minimise Σ_k (S^a ∗ f − S^ref)_k²
 // over the first kFitSamples, with f_0 = 1 − Σ_{j≥1} f_j, then rounded to MatchTaps.
 MatchTaps fit_match(const std::vector<double>& sa, const std::vector<double>& sr, int axis) {
@@ -233,16 +257,9 @@ MatchTaps fit_match(const std::vector<double>& sa, const std::vector<double>& sr
   MatchTaps t;
   // A fit that is not finite or not small (a loop far from the reference's): no matching.
   if (!(f.allFinite() && f.cwiseAbs().maxCoeff() < 16.0)) return t;
-  t.axis = axis;
-  t.integer.assign(kTaps, 0);
-  std::int64_t rest = MatchTaps::kScale;
-  for (int j = 1; j < kTaps; ++j) {
-    t.integer[static_cast<std::size_t>(j)] =
-        std::llround(f[j - 1] * static_cast<double>(MatchTaps::kScale));
-    rest -= t.integer[static_cast<std::size_t>(j)];
-  }
-  t.integer[0] = rest;
-  return t;
+  std::vector<double> w(kTaps);
+  for (int j = 1; j < kTaps; ++j) w[static_cast<std::size_t>(j)] = f[j - 1];
+  return to_match_taps(w, axis);
 }
 
 // The linear axes' step responses (S[n] for linear[n]), each computed once.
@@ -291,21 +308,65 @@ double servo_mismatch_peak(const Machine& m, int ref, const std::vector<MatchTap
   return servo_mismatch(m, ref, match, 1.0, max_of);
 }
 
+namespace {
+
+// The chain the plan is made for: the Acc/Dec taps and axis ref's servo (through its shaping
+// taps where it has them), its tail cut where 0.05 BLU at 2 m/s is left (the truncation
+// allowance; it scales with speed, docs/tolerance.md) and a step response outside [0, 1] by at
+// most half a BLU at 2 m/s clipped into it.
+constexpr double kFastMmS = 2000.0;
+ChainResponse reference_chain(const Machine& m, const Taps& taps, int ref,
+                              const MatchTaps* shaping) {
+  const double blu = m.contour_blu_mm();
+  return chain_response(taps, m.axes[static_cast<std::size_t>(ref)], m.period_s, m.servo_substeps,
+                        0.05 * blu / kFastMmS, 0.5 * blu / kFastMmS, shaping);
+}
+
+bool overshoots(const ChainResponse& r) {
+  return r.overshoot_s + r.undershoot_s > r.clipped_s;
+}
+
+// Every linear axis's zero-phase-error tracking taps (zpetc_weights of its identified loop);
+// empty where one cannot be designed.
+std::vector<MatchTaps> shaping_taps(const std::vector<int>& linear,
+                                    const std::vector<std::vector<double>>& S) {
+  std::vector<MatchTaps> taps;
+  for (std::size_t n = 0; n < linear.size(); ++n) {
+    const LoopModel loop = identify_loop(S[n]);
+    if (loop.a.empty()) return {};
+    MatchTaps t = to_match_taps(zpetc_weights(loop), linear[n]);
+    if (t.integer.empty()) return {};
+    taps.push_back(std::move(t));
+  }
+  return taps;
+}
+
+}  // namespace
+
 ServoMatchDesign design_servo_match(const Machine& m, bool servo) {
   ServoMatchDesign d;
   if (!servo || !m.servo_matching || m.tolerance_on != ToleranceOn::Encoder) return d;
   const std::vector<int> linear = linear_axes(m);
   if (linear.empty()) return d;
-  const AxisConfig& first = m.axes[static_cast<std::size_t>(linear.front())];
-  if (std::all_of(linear.begin(), linear.end(),
-                  [&](int i) { return same_servo(m.axes[static_cast<std::size_t>(i)], first); }))
-    return d;  // one servo for all: nothing to match
   // Loops that do not settle within the responses computed: no matching (a plan for the table
   // refuses them: servo_mismatch).
   const std::vector<std::vector<double>> S = linear_responses(m, linear);
   if (!std::all_of(S.begin(), S.end(), settled)) return d;
   const std::size_t ref = reference_of(m, linear, S);
-  const AxisConfig& rc = m.axes[static_cast<std::size_t>(linear[ref])];
+  const int ref_axis = linear[ref];
+  // A reference chain that overshoots (a loop without feedforward): every axis shaped by its
+  // zero-phase-error taps, kept where the shaped chain does not overshoot.
+  const Taps taps = design_taps(m.profile, m.tau_s, m.period_s);
+  if (overshoots(reference_chain(m, taps, ref_axis, nullptr))) {
+    std::vector<MatchTaps> shaped = shaping_taps(linear, S);
+    if (!shaped.empty() && !overshoots(reference_chain(m, taps, ref_axis, &shaped[ref]))) {
+      d.ref_axis = ref_axis;
+      d.taps = std::move(shaped);
+      d.shaped = true;
+      return d;
+    }
+  }
+  const AxisConfig& rc = m.axes[static_cast<std::size_t>(ref_axis)];
   for (std::size_t n = 0; n < linear.size(); ++n) {
     if (same_servo(m.axes[static_cast<std::size_t>(linear[n])], rc)) continue;
     MatchTaps t = fit_match(S[n], S[ref], linear[n]);
@@ -314,7 +375,7 @@ ServoMatchDesign design_servo_match(const Machine& m, bool servo) {
     if (!(area_between(through_match(S[n], &t), S[ref]) < area_between(S[n], S[ref]))) continue;
     d.taps.push_back(std::move(t));
   }
-  if (!d.taps.empty()) d.ref_axis = linear[ref];
+  if (!d.taps.empty()) d.ref_axis = ref_axis;
   return d;
 }
 
@@ -402,13 +463,7 @@ PlannedChain plan_chain(const Machine& m, bool servo) {
   c.speed_error_s = servo_mismatch_s(m, ref, &match.taps);
   c.step_error = servo_mismatch_peak(m, ref, &match.taps);
   c.drive_speed_mm_s = drive_speed_limit_mm_s(m, &match.taps);
-  // Truncation allowance: 0.05 BLU at 2 m/s (scales with speed; docs/tolerance.md); a step
-  // response outside [0, 1] by at most half a BLU at 2 m/s is clipped into it.
-  constexpr double kFastMmS = 2000.0;
-  const double blu = m.contour_blu_mm();
-  const ChainResponse r =
-      chain_response(taps, m.axes[static_cast<std::size_t>(ref)], m.period_s, m.servo_substeps,
-                     0.05 * blu / kFastMmS, 0.5 * blu / kFastMmS);
+  const ChainResponse r = reference_chain(m, taps, ref, match_of(&match.taps, ref));
   c.extra_margin_mm = kFastMmS * (r.tail_area_s + r.clipped_s);
   c.weights = r.weights;
   return c;

@@ -44,7 +44,8 @@ struct ChainResponse {
   double clipped_s = 0.0;     ///< overshoot_s + undershoot_s when clipped away, else 0
 };
 ChainResponse chain_response(const Taps& taps, const AxisConfig& axis, double period_s,
-                             int substeps, double tail_area_s, double clip_area_s = 0.0);
+                             int substeps, double tail_area_s, double clip_area_s = 0.0,
+                             const MatchTaps* shaping = nullptr);
 
 /// The X/Y/Z axis whose servo is closest to the others' (least servo_mismatch_s against it,
 /// unmatched): the planned chain's servo. −1 without a linear axis.
@@ -75,6 +76,7 @@ double servo_mismatch_peak(const Machine& m, int ref,
 struct ServoMatchDesign {
   int ref_axis = -1;            ///< the reference axis (−1: no matching)
   std::vector<MatchTaps> taps;  ///< the matched axes' taps (empty: none)
+  bool shaped = false;          ///< every linear axis shaped (zero-phase-error taps)
 };
 ServoMatchDesign design_servo_match(const Machine& m, bool servo);
 

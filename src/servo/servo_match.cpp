@@ -35,10 +35,17 @@ ServoMatch::ServoMatch(const Taps& fir, std::vector<MatchTaps> axes) {
       throw InputError(fmt::format("servo matching: Acc/Dec b_s = {} out of range", b_s));
     Axis a;
     a.axis = t.axis;
-    a.c.assign(fir.integer.size() + t.integer.size() - 1, 0);
+    // c = b ∗ F exactly; each |c_i| below 2^62 (every sum of a window then fits 128 bits).
+    std::vector<Acc> c(fir.integer.size() + t.integer.size() - 1, 0);
     for (std::size_t i = 0; i < fir.integer.size(); ++i)
       for (std::size_t j = 0; j < t.integer.size(); ++j)
-        a.c[i + j] += fir.integer[i] * t.integer[j];
+        c[i + j] += static_cast<Acc>(fir.integer[i]) * t.integer[j];
+    constexpr Acc kMaxWeight = Acc{1} << 62;
+    for (const Acc ci : c) {
+      if (ci >= kMaxWeight || ci <= -kMaxWeight)
+        throw InputError(fmt::format("servo matching: axis {}: taps too large", t.axis));
+      a.c.push_back(static_cast<std::int64_t>(ci));
+    }
     // The weights as doubles, exact below 2^52 (else every sample takes the exact sum).
     a.fast = true;
     for (const std::int64_t ci : a.c) {

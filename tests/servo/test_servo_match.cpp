@@ -67,6 +67,14 @@ TEST_CASE("servo matching: the taps must sum to the scale") {
   f.integer = {gm::MatchTaps::kScale};
   f.axis = gm::kMaxAxes;
   CHECK_THROWS_AS(gm::ServoMatch(taps_121(), {f}), gm::InputError);
+  // Σ right, but b ∗ F has a weight of 2^62 (b = {1, 2, 1}, F = {S − B, B}: c_2 = F_0 + 2·F_1 =
+  // S + B with B = 2^62 − S): refused, where B − 1 is taken.
+  f.axis = 0;
+  constexpr std::int64_t big = (std::int64_t{1} << 62) - gm::MatchTaps::kScale;
+  f.integer = {gm::MatchTaps::kScale - big, big};
+  CHECK_THROWS_AS(gm::ServoMatch(taps_121(), {f}), gm::InputError);
+  f.integer = {gm::MatchTaps::kScale - (big - 1), big - 1};
+  CHECK_NOTHROW(gm::ServoMatch(taps_121(), {f}));
 }
 
 TEST_CASE("servo matching: a long move ends exactly where the command does") {
