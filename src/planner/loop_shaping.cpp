@@ -40,7 +40,8 @@ LoopModel identify_loop(const std::vector<double>& s) {
     for (int k = 0; k < len && worst <= kModelTol; ++k) {
       double yk = 0.0;
       for (int j = 0; j <= n && j <= k; ++j) yk += model.b[static_cast<std::size_t>(j)];
-      for (int j = 1; j <= n; ++j) yk -= model.a[static_cast<std::size_t>(j)] * y[static_cast<std::size_t>(j - 1)];
+      for (int j = 1; j <= n; ++j)
+        yk -= model.a[static_cast<std::size_t>(j)] * y[static_cast<std::size_t>(j - 1)];
       std::rotate(y.rbegin(), y.rbegin() + 1, y.rend());
       y[0] = yk;
       worst = std::max(worst, std::abs(yk - s[static_cast<std::size_t>(k)]));
