@@ -35,7 +35,7 @@ LoopModel identify_loop(const std::vector<double>& s) {
       model.b.push_back(bk);
     }
     // The model's own step response against s over its whole length.
-    std::vector<double> y(static_cast<std::size_t>(n) + 1, 0.0);  // y_{k−1} .. y_{k−n}
+    std::vector<double> y(static_cast<std::size_t>(n), 0.0);  // y_{k−1} .. y_{k−n}
     double worst = 0.0;
     for (int k = 0; k < len && worst <= kModelTol; ++k) {
       double yk = 0.0;

@@ -8,6 +8,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <iterator>
 #include <limits>
 
@@ -1059,27 +1060,23 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
     // yes.
     // A servo mismatch moves the table by the command's offset too (offset_mismatch_mm).
     const double w = z.weight, allotment = zone_allotment(share, 1.0, z);
+    auto mismatch_mm = [&](bool cap) {  // offset_mismatch_mm, or its cheap cap
+      return std::invoke(
+          cap ? &ArcPrecompCheck::offset_mismatch_cap_mm : &ArcPrecompCheck::offset_mismatch_mm,
+          *precomp_, e.radius, e.sweep, L, v, cfg_.speed_error_s, cfg_.step_error,
+          cfg_.fir_variation);
+    };
     if (cfg_.speed_error_s > 0.0 && !(e.spiral > 0.0) && residual_->covers(e.sweep, L, v)) {
       // offset_mismatch_mm (>= 0) bracketed first, the same answer at less cost: an arc that
       // does not fit without it does not fit, one that fits with its cheap cap fits.
       const double bound = residual_->error_bound_mm(*precomp_, e.radius, e.sweep, L, v) * w;
       if (!(bound <= allotment * w)) return false;
-      const double cap_left =
-          (allotment - precomp_->offset_mismatch_cap_mm(e.radius, e.sweep, L, v, cfg_.speed_error_s,
-                                                        cfg_.step_error, cfg_.fir_variation)) *
-          w;
+      const double cap_left = (allotment - mismatch_mm(true)) * w;
       if (cap_left > 0.0 && bound <= cap_left) return true;
-      const double left =
-          (allotment - precomp_->offset_mismatch_mm(e.radius, e.sweep, L, v, cfg_.speed_error_s,
-                                                    cfg_.step_error, cfg_.fir_variation)) *
-          w;
+      const double left = (allotment - mismatch_mm(false)) * w;
       return left > 0.0 && bound <= left;
     }
-    const double mine =
-        allotment - (cfg_.speed_error_s > 0.0
-                         ? precomp_->offset_mismatch_mm(e.radius, e.sweep, L, v, cfg_.speed_error_s,
-                                                        cfg_.step_error, cfg_.fir_variation)
-                         : 0.0);
+    const double mine = allotment - (cfg_.speed_error_s > 0.0 ? mismatch_mm(false) : 0.0);
     const double left = (e.spiral > 0.0 ? mine - precomp_->spiral_mm(e.radius - e.spiral, e.radius,
                                                                      e.sweep, L, v, mine)
                                         : mine) *

@@ -820,6 +820,23 @@ double cycle_time_s(const char* dir, const std::string& prog, const std::string&
   return std::stod(text.substr(at + 15));
 }
 
+// PROG at --tolerance 0.01 on programs/machines/MACHINE.toml: the Acc/Dec plan's cycle time (run
+// with `accdec_args`), the encoder plan's, and the encoder plan's on a copy with servo_matching
+// off (written to scratch directory `dir`: `off_machine`).
+struct EncoderPlanCycles {
+  double accdec, on, off;
+  std::string off_machine;
+};
+EncoderPlanCycles encoder_plan_cycles(const char* machine, const char* dir, const char* prog,
+                                      const char* accdec_args) {
+  const std::string file =
+      std::string(GMOTION_TESTS_DIR) + "/../programs/machines/" + machine + ".toml";
+  const std::string off = machine_with(machine, dir, "servo_matching = \"off\"");
+  const std::string p001 = " --tolerance 0.01", enc = p001 + " --tolerance-on encoder";
+  return {cycle_time_s(dir, prog, file, accdec_args + p001), cycle_time_s(dir, prog, file, enc),
+          cycle_time_s(dir, prog, off, enc), off};
+}
+
 }  // namespace
 
 TEST_CASE(
@@ -857,24 +874,17 @@ TEST_CASE(
   // 2.64e-5 s). Measured 2026-11-30 at P0.01: small-arcs.nc 8.856 -> 6.660 s against the
   // Acc/Dec plan's 5.420 s (1.63 -> 1.23 x), cam-fillets.nc 18.620 -> 16.760 s against
   // 14.496 s (1.28 -> 1.16 x). Every sample within P + 1 BLU.
-  const std::string ff = std::string(GMOTION_TESTS_DIR) + "/../programs/machines/default-ff.toml";
-  const std::string off = machine_with("default-ff", "ff-unmatched", "servo_matching = \"off\"");
-  auto cycle = [&](const std::string& prog, const std::string& machine, const char* mode) {
-    return cycle_time_s("ff-unmatched", prog, machine, std::string(mode) + " --tolerance 0.01");
-  };
-  const char* enc = " --tolerance-on encoder";
   // Under the sanitizers (GMOTION_TEST_SCALE) small-arcs.nc alone: cam-fillets.nc's three runs
   // took most of 39 s there.
   const char* const progs[] = {"small-arcs.nc", "cam-fillets.nc"};
   for (int i = 0; i < gmtest::scaled(2); ++i) {
     const char* prog = progs[i];
-    const double accdec = cycle(prog, ff, ""), matched = cycle(prog, ff, enc),
-                 unmatched = cycle(prog, off, enc);
-    CAPTURE(prog, accdec, matched, unmatched);
-    CHECK(matched <= 1.25 * accdec);
-    CHECK(unmatched > 1.25 * accdec);
+    const EncoderPlanCycles c = encoder_plan_cycles("default-ff", "ff-unmatched", prog, "");
+    CAPTURE(prog, c.accdec, c.on, c.off);
+    CHECK(c.on <= 1.25 * c.accdec);
+    CHECK(c.off > 1.25 * c.accdec);
     // The Acc/Dec plan does not match (its planned output is the FIR's on every axis).
-    CHECK(cycle(prog, off, "") == accdec);
+    CHECK(cycle_time_s("ff-unmatched", prog, c.off_machine, " --tolerance 0.01") == c.accdec);
   }
 }
 
@@ -886,20 +896,14 @@ TEST_CASE("the default machine's loops shaped: its encoder plan within 1.25 x th
   // shaped"), the table follows the FIR's output through three steps and the plan is nearly the
   // Acc/Dec plan's: measured 2026-11-30 5.500 and 14.652 s (1.03 and 1.02 x). Every sample
   // within P + 1 BLU.
-  const std::string def = std::string(GMOTION_TESTS_DIR) + "/../programs/machines/default.toml";
-  const std::string off = machine_with("default", "default-unshaped", "servo_matching = \"off\"");
-  auto cycle = [&](const std::string& prog, const std::string& machine, const char* mode) {
-    return cycle_time_s("default-unshaped", prog, machine, std::string(mode) + " --tolerance 0.01");
-  };
-  const char* enc = " --tolerance-on encoder";
   const char* const progs[] = {"small-arcs.nc", "cam-fillets.nc"};
   for (int i = 0; i < gmtest::scaled(2); ++i) {
     const char* prog = progs[i];
-    const double accdec = cycle(prog, def, " --no-servo"), shaped = cycle(prog, def, enc),
-                 unshaped = cycle(prog, off, enc);
-    CAPTURE(prog, accdec, shaped, unshaped);
-    CHECK(shaped <= 1.25 * accdec);
-    CHECK(unshaped > 3.0 * accdec);
+    const EncoderPlanCycles c =
+        encoder_plan_cycles("default", "default-unshaped", prog, " --no-servo");
+    CAPTURE(prog, c.accdec, c.on, c.off);
+    CHECK(c.on <= 1.25 * c.accdec);
+    CHECK(c.off > 3.0 * c.accdec);
   }
 }
 
