@@ -153,11 +153,29 @@ void TolerancePlanner::pull() {
   const bool toleranced = b.m.path_tolerance_mm > 0.0;
   if (toleranced && !untoleranced_.empty()) plan_untoleranced(b);
   const Block* prev = window_.size() >= 2 ? &window_[window_.size() - 2] : nullptr;
+  // Arcs on one circle (split circles, helices written as half turns) are one arc element, a
+  // chain, when nothing else is within reach of its start or end (close_chain).
+  Element* growing = prev != nullptr ? growing_arc(*prev) : nullptr;
+  const Block* first = prev;  // the circle's first block: the chain's, or prev
+  if (growing != nullptr && growing->seq < prev->seq)
+    first = &window_[window_.size() - 1 - static_cast<std::size_t>(b.seq - growing->seq)];
+  const bool on_circle = prev != nullptr && same_circle(*first, *prev, b);
+  if (prev != nullptr && !on_circle) close_chain(*prev, b);
   if (prev != nullptr) add_corner(*prev, b);
   if (b.m.kind == MotionKind::Arc) end_run();
-  if (b.m.kind == MotionKind::Arc && toleranced) {
+  // Afresh: a join that is not tangent to the rounding pushed a corner (and elements move).
+  growing = on_circle ? growing_arc(*prev) : nullptr;
+  if (growing != nullptr && growing->chainable) {  // the chain grows by b
+    growing->seq_last = b.seq;
+    growing->t1 = b.t1;
+    growing->s1 = b.s1;
+    growing->sweep += std::abs(b.g.sweep_rad);
+  } else if (b.m.kind == MotionKind::Arc && toleranced) {
     Element e = arc_element(b);
     e.split = splits(b.m);
+    // A chain may start here when nothing else is within reach before it (else its single
+    // v_p would be what is beside its start allows).
+    e.chainable = e.radius > 0.0 && e.spiral == 0.0 && nothing_within_reach_before(b);
     push_element(e);
   } else if (b.m.kind == MotionKind::Arc) {
     untoleranced_.push_back(Untoleranced{b.seq, true, b.t0, b.t1 + filter_.tau_s()});
@@ -363,7 +381,7 @@ TolerancePlanner::Element TolerancePlanner::arc_element(const Block& b) {
   const double r = std::min(b.g.r0_mm, b.g.r1_mm);
   Element e;
   e.kind = ElementKind::Arc;
-  e.seq = b.seq;
+  e.seq = e.seq_last = b.seq;
   e.t0 = b.t0;
   e.t1 = b.t1;
   e.s0 = b.s0;
@@ -383,6 +401,88 @@ TolerancePlanner::Element TolerancePlanner::arc_element(const Block& b) {
     e.sweep = std::abs(b.g.sweep_rad);
   }
   return e;
+}
+
+bool TolerancePlanner::same_circle(const Block& first, const Block& prev, const Block& b) const {
+  // Nothing between prev and b (no stop, dwell or event after prev; tangent: no corner),
+  // circles (not near circles) that turn once, with the same feed, tolerance and mode; the
+  // circle and lead those of `first` (the chain's first block: no drift along a chain).
+  if (!precomp_ || prev.m.kind != MotionKind::Arc || b.m.kind != MotionKind::Arc ||
+      prev.stop_after || !prev.after.empty() || !splits(prev.m) || !splits(b.m))
+    return false;
+  if (prev.m.path_mode != PathMode::Continuous || b.m.path_mode != PathMode::Continuous ||
+      !(b.m.path_tolerance_mm > 0.0) || prev.m.path_tolerance_mm != b.m.path_tolerance_mm ||
+      prev.v100 != b.v100)
+    return false;
+  const BlockGeometry &g = first.g, &h = b.g;
+  if (h.ax.a != g.ax.a || h.ax.b != g.ax.b || g.rest_moves || h.rest_moves ||
+      (h.sweep_rad > 0.0) != (g.sweep_rad > 0.0))
+    return false;
+  // The same circle, as arc_element's circles: centres and radii within 0.1 µm.
+  constexpr double kSame = 1e-4;
+  if (std::abs(h.center_mm[h.ax.a] - g.center_mm[g.ax.a]) > kSame ||
+      std::abs(h.center_mm[h.ax.b] - g.center_mm[g.ax.b]) > kSame ||
+      std::abs(g.r0_mm - g.r1_mm) > kSame || std::abs(h.r0_mm - h.r1_mm) > kSame ||
+      std::abs(h.r0_mm - g.r0_mm) > kSame)
+    return false;
+  // The same lead per radian along the normal: a helix goes on as the same helix.
+  const int n = g.ax.n;
+  const double lead_g = (g.end_mm[n] - g.start_mm[n]) / g.sweep_rad,
+               lead_h = (h.end_mm[n] - h.start_mm[n]) / h.sweep_rad;
+  if (!(std::abs(lead_g - lead_h) <= 1e-9 * std::max(1.0, std::abs(lead_g)))) return false;
+  // Tangent as add_corner judges it (no corner element between them).
+  return !((h.tangent_at_fraction(0.0) - prev.g.tangent_at_fraction(1.0)).norm() > kMinTurn);
+}
+
+TolerancePlanner::Element* TolerancePlanner::growing_arc(const Block& prev) {
+  if (elems_.empty()) return nullptr;
+  Element& e = elems_.back();
+  return e.kind == ElementKind::Arc && !e.decided && e.seq_last == prev.seq ? &e : nullptr;
+}
+
+bool TolerancePlanner::nothing_within_reach_before(const Block& b) const {
+  // A stop or a dwell just before b parts it from whatever lies before.
+  const Block* prev = window_.size() >= 2 ? &window_[window_.size() - 2] : nullptr;
+  if (prev != nullptr && (prev->stop_after || prev->dwell_after_s > 0.0)) return true;
+  const double from = b.s0 - b.v100 * filter_.tau_s();
+  return elems_.empty() || !(elems_.back().s1 > from - 1e-9);
+}
+
+void TolerancePlanner::close_chain(const Block& prev, const Block& b) {
+  // A chain has one v_p: an element within reach of its end would slow all of it, where the
+  // same blocks as arcs of their own slow only near it (docs/tolerance.md, "Arcs on one
+  // circle"). So it stays a chain only when what follows is a stop, a dwell or a tangent line
+  // of at least τ of travel at 100 %; else its blocks are made arcs of their own again.
+  Element* chain = growing_arc(prev);
+  if (chain == nullptr || !(chain->seq_last > chain->seq)) return;
+  const double turn = (b.g.tangent_at_fraction(0.0) - prev.g.tangent_at_fraction(1.0)).norm();
+  const bool clear = prev.stop_after || prev.dwell_after_s > 0.0 ||
+                     (b.m.kind == MotionKind::Line && b.m.path_tolerance_mm > 0.0 &&
+                      !(turn > kMinTurn) && b.g.length_mm >= prev.v100 * filter_.tau_s());
+  if (clear) return;
+  const std::uint64_t first = chain->seq, last = chain->seq_last;
+  weight_total_ -= chain->weight;
+  elems_.pop_back();
+  claim_cursor_ = std::min(claim_cursor_, elems_.size());  // the arcs pushed get theirs
+  for (const Block& c : window_)
+    if (c.seq >= first && c.seq <= last) {
+      Element e = arc_element(c);
+      e.split = true;  // same_circle: it turns once
+      push_element(e);
+    }
+}
+
+const TolerancePlanner::Element* TolerancePlanner::chain_of(const Block& b) const {
+  if (b.m.kind != MotionKind::Arc) return nullptr;
+  for (const Element& e : elems_)
+    if (e.kind == ElementKind::Arc && e.seq <= b.seq && b.seq <= e.seq_last)
+      return e.seq_last > e.seq ? &e : nullptr;
+  return nullptr;
+}
+
+double TolerancePlanner::emit_horizon_t(const Block& b) const {
+  const Element* chain = chain_of(b);
+  return chain != nullptr ? std::max(b.t1, chain->t1) : b.t1;
 }
 
 double TolerancePlanner::share_of(double tol) const {
@@ -520,20 +620,22 @@ bool TolerancePlanner::lookahead_enough() const {
   if (ended_ || window_.size() >= cfg_.capacity) return true;
   const double tau = filter_.tau_s();
   const Block& f = window_.front();
-  double need = f.t1 + 2.0 * tau;
+  // A chain of arcs is cut into pieces whole, when its first block is handed on.
+  const double f_t1 = emit_horizon_t(f);
+  double need = f_t1 + 2.0 * tau;
   // Near-tangent corners waiting for their claim (assign_claims, through τ past a decision)
   // need the blocks within τ after them.
   const double reach = claim_candidates_ > 0 ? 2.0 * tau : tau;
-  double horizon = f.t1 + tau;  // what the decisions emitting f see, and zones reaching f
+  double horizon = f_t1 + tau;  // what the decisions emitting f see, and zones reaching f
   for (const Element& e : elems_)
-    if (!e.decided && e.t0 < f.t1 + tau) {
+    if (!e.decided && e.t0 < f_t1 + tau) {
       // A group planned for a later block's tolerance is decided whole, from its last element.
       const double t1 = e.untol_for != 0 ? std::max(e.t1, e.group_t1) : e.t1;
       need = std::max(need, t1 + reach);
       horizon = std::max(horizon, t1 + tau);
     }
   // A chunk being gathered spans at most τ: it is closed before it is needed.
-  if (run_.open && run_.chunk.t0 < f.t1 + tau) need = std::max(need, run_.chunk.t0 + 2.0 * tau);
+  if (run_.open && run_.chunk.t0 < f_t1 + tau) need = std::max(need, run_.chunk.t0 + 2.0 * tau);
   // A corner or arc without a tolerance that these decisions can see, or whose zone (at most τ
   // of travel before it) can reach f, is first planned or let go (plan_untoleranced,
   // drop_untoleranced): the window must reach its end, and every one still waiting ends past
@@ -1051,15 +1153,36 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
   // The term from the residual table (a bound of the simulation, docs/tolerance.md "Planning
   // cost") where it covers the arc, else simulated.
   ZoneMemo memo;
+  // A chain of arcs (seq_last > seq) is long: a window that holds some of it lies within τ of
+  // travel of its start, or of its end, or on it, and holds only what those three ranges hold.
+  // Its term (err) is charged in each, so its allotment is the least of the three instead of
+  // that of its whole zone: the elements beside its start and those beside its end do not
+  // share it with each other (docs/tolerance.md, "Arcs on one circle").
+  const bool chain = e.seq_last > e.seq;
+  std::array<ZoneMemo, 3> ends{};
+  auto chain_allotment = [&](double v) {
+    const double reach = v * tau;
+    const std::array<std::pair<double, double>, 3> ranges{
+        {{e.s0 - reach, e.s0 + reach}, {e.s0, e.s1}, {e.s1 - reach, e.s1 + reach}}};
+    double least = kInf;
+    for (std::size_t k = 0; k < 3; ++k)
+      least = std::min(
+          least, zone_allotment(share, 1.0,
+                                zone_values(ends[k], zone_range(ranges[k].first, ranges[k].second),
+                                            e, false)));
+    return least;
+  };
   auto within = [&](double v) {
-    const ZoneRange r = memo.valid ? zone_range_from(memo.range, e.s0 - v * tau, e.s1 + v * tau)
-                                   : zone_range(e.s0 - v * tau, e.s1 + v * tau);
-    const ZoneMemo& z = zone_values(memo, r, e, false);
+    const ZoneRange r = chain        ? ZoneRange{}
+                        : memo.valid ? zone_range_from(memo.range, e.s0 - v * tau, e.s1 + v * tau)
+                                     : zone_range(e.s0 - v * tau, e.s1 + v * tau);
+    const ZoneMemo& z = chain ? memo : zone_values(memo, r, e, false);
     // The arc's error within its allotment (zone_allotment, W = w): a near circle's extra term
     // off it (a circle's is 0), the circle's term at most the allotment wherever the answer is
     // yes.
     // A servo mismatch moves the table by the command's offset too (offset_mismatch_mm).
-    const double w = z.weight, allotment = zone_allotment(share, 1.0, z);
+    const double w = chain ? 1.0 : z.weight,
+                 allotment = chain ? chain_allotment(v) : zone_allotment(share, 1.0, z);
     auto mismatch_mm = [&](bool cap) {  // offset_mismatch_mm, or its cheap cap
       return std::invoke(
           cap ? &ArcPrecompCheck::offset_mismatch_cap_mm : &ArcPrecompCheck::offset_mismatch_mm,
@@ -1089,6 +1212,7 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
   // Where the answer is yes, the arc's error (its term and a near circle's extra) is within
   // its allotment at that speed: the bound it leaves (err).
   auto allotted = [&](double v) {
+    if (chain) return chain_allotment(v);
     return zone_allotment(share, 1.0,
                           zone_values(memo, zone_range(e.s0 - v * tau, e.s1 + v * tau), e, false));
   };
@@ -1485,27 +1609,36 @@ void TolerancePlanner::emit_front() {
     last.forced_stop = !exact_path;  // an exact-path end stops as it is
   }
   Block& b = window_.front();
-  decide_reachable(b);
+  decide_reachable(emit_horizon_t(b));
   const double comp_v = comp_speed_of(b);  // the v_p of a pre-compensated arc, else 0
-  cut_pieces(b, comp_v);
-  merge_short_pieces(b);
-  brake_comp_pieces(comp_v);
-  emit_pieces(b, comp_v);
-  const std::size_t last_piece = ready_.size() - 1;
-  bool paused = false;
-  for (const Element& e : elems_)
-    if (e.kind != ElementKind::Arc && e.seq == b.seq && e.pause > e.pause0 + 1e-12) {
-      make_ready(Dwell{b.m.line, e.pause - e.pause0});
-      paused = true;
-    }
-  // A pre-compensated arc (handed on whole) whose command stops on its end point.
-  // So does, for its end rows, one followed by a block that crawls in comparison (at most
-  // kCrawlRatio of v_p at its fastest): its check simulates the end moving on at v_p and
-  // stopping, and a step down to a few % of v_p is a stop far more than it is moving on.
-  if (Motion& arc = std::get<Motion>(ready_[last_piece].canon); arc.comp_speed_mm_s > 0.0) {
-    const bool crawls = window_.size() > 1 && window_[1].vmax < kCrawlRatio * arc.comp_speed_mm_s;
-    arc.comp_stops_at_end = paused || stops_after(b) || crawls;
+  const Element* chain = comp_v > 0.0 ? chain_of(b) : nullptr;
+  if (chain == nullptr) {
+    cut_pieces(b.s0, b.s1, b.cap_all, b.m.kind == MotionKind::Arc && !splits(b.m), comp_v);
+    merge_short_pieces(b);
+    brake_comp_pieces(comp_v);
+  } else if (b.seq == chain->seq) {  // the chain's pieces, cut once (its blocks are alike)
+    double cap_all = kInf;
+    const Block* last = &b;
+    for (const Block& c : window_)
+      if (c.seq <= chain->seq_last) {
+        cap_all = std::min(cap_all, c.cap_all);
+        last = &c;
+      }
+    cut_pieces(chain->s0, chain->s1, cap_all, false, comp_v);
+    merge_short_pieces(b);
+    brake_comp_pieces(comp_v);
+    chain_pieces_ = pieces_;
+    // Every block of the chain takes the rows its end takes (they act near that end only).
+    chain_stops_ = comp_stops_after(*last, comp_v);
   }
+  emit_pieces(b, comp_v, chain);
+  const std::size_t last_piece = ready_.size() - 1;
+  for (const Element& e : elems_)
+    if (e.kind != ElementKind::Arc && e.seq == b.seq && e.pause > e.pause0 + 1e-12)
+      make_ready(Dwell{b.m.line, e.pause - e.pause0});
+  if (Motion& arc = std::get<Motion>(ready_[last_piece].canon);
+      arc.comp_speed_mm_s > 0.0 && chain == nullptr)
+    arc.comp_stops_at_end = comp_stops_after(b, arc.comp_speed_mm_s);
   if (b.forced_stop) make_ready(Dwell{b.m.line, tau});
   for (Canon& c : b.after) make_ready(std::move(c));
   emitted_t1_ = b.t1;
@@ -1518,6 +1651,19 @@ void TolerancePlanner::emit_front() {
     --decided_count_;
     if (decided_prefix_ > 0) --decided_prefix_;
   }
+}
+
+bool TolerancePlanner::comp_stops_after(const Block& b, double comp_v) const {
+  // Its command stops on its end point (a pause at the corner after it, or stops_after). So
+  // does, for its end rows, one followed by a block that crawls in comparison (at most
+  // kCrawlRatio of v_p at its fastest): its check simulates the end moving on at v_p and
+  // stopping, and a step down to a few % of v_p is a stop far more than it is moving on.
+  for (const Element& e : elems_)
+    if (e.kind != ElementKind::Arc && e.seq == b.seq && e.pause > e.pause0 + 1e-12) return true;
+  const std::size_t i = static_cast<std::size_t>(b.seq - window_.front().seq);  // b's slot
+  const Block* next = i + 1 < window_.size() ? &window_[i + 1] : nullptr;
+  if (next != nullptr && next->vmax < kCrawlRatio * comp_v) return true;
+  return stops_after(b) || (ended_ && next == nullptr);
 }
 
 bool TolerancePlanner::stops_after(const Block& b) const {
@@ -1534,17 +1680,17 @@ bool TolerancePlanner::stops_after(const Block& b) const {
   return false;
 }
 
-void TolerancePlanner::decide_reachable(const Block& b) {
+void TolerancePlanner::decide_reachable(double t1_s) {
   const double tau = filter_.tau_s();
   if (run_.open) {  // a chunk some decision can reach is closed first, so that it is counted
-    double horizon = b.t1 + 2.0 * tau;
+    double horizon = t1_s + 2.0 * tau;
     for (const Element& e : elems_)
-      if (!e.decided && e.t0 < b.t1 + tau) horizon = std::max(horizon, e.t1 + tau);
+      if (!e.decided && e.t0 < t1_s + tau) horizon = std::max(horizon, e.t1 + tau);
     if (run_.chunk.t0 < horizon) close_run_chunk();
   }
   for (std::size_t i = 0; i < elems_.size(); ++i) {
     Element& e = elems_[i];
-    if (e.decided || !(e.t0 < b.t1 + tau)) continue;
+    if (e.decided || !(e.t0 < t1_s + tau)) continue;
     if (e.untol_for != 0) {
       decide_untoleranced_group(i);
       continue;
@@ -1629,32 +1775,31 @@ void TolerancePlanner::decide_untoleranced_group(std::size_t i) {
 double TolerancePlanner::comp_speed_of(const Block& b) const {
   if (b.m.kind != MotionKind::Arc) return 0.0;
   for (const Element& e : elems_)
-    if (e.kind == ElementKind::Arc && e.seq == b.seq) return e.comp_speed;
+    if (e.kind == ElementKind::Arc && e.seq <= b.seq && b.seq <= e.seq_last) return e.comp_speed;
   return 0.0;
 }
 
-void TolerancePlanner::cut_pieces(const Block& b, double comp_v) {
+void TolerancePlanner::cut_pieces(double s0, double s1, double cap_all, bool whole, double comp_v) {
   // Pieces of the block between zone boundaries, each with the smallest cap over it.
   // An arc of several turns is not split: it takes the smallest cap of the zones touching it.
   // A pre-compensated arc is cut, but not within kCompEndSamples samples of travel at v_p of its
   // ends (its end rows, radial blend and speed hold are the whole arc's, as its plan judged
   // them): a cut nearer an end moves away from it, and each piece takes the smallest cap of
   // the zones overlapping it (the slower piece grows).
-  bool whole = b.m.kind == MotionKind::Arc && !splits(b.m);
-  double lo = b.s0, hi = b.s1;
+  double lo = s0, hi = s1;
   if (comp_v > 0.0) {
     const double end = kCompEndSamples * filter_.period_s() * comp_v;
-    lo = b.s0 + end;
-    hi = b.s1 - end;
+    lo = s0 + end;
+    hi = s1 - end;
     if (!(hi > lo)) whole = true;
   }
   std::vector<double>& cuts = cuts_;
-  cuts.assign({b.s0, b.s1});
+  cuts.assign({s0, s1});
   if (!whole)
     for (const Element& e : elems_)
       if (e.decided && e.cap < kInf)
         for (double z : {e.z0, e.z1})
-          if (z > b.s0 && z < b.s1) cuts.push_back(std::clamp(z, lo, hi));
+          if (z > s0 && z < s1) cuts.push_back(std::clamp(z, lo, hi));
   std::sort(cuts.begin(), cuts.end());
   cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
   std::vector<Piece>& pieces = pieces_;
@@ -1665,7 +1810,7 @@ void TolerancePlanner::cut_pieces(const Block& b, double comp_v) {
       pieces.back().c = c;
       continue;
     }
-    double cap = b.cap_all;
+    double cap = cap_all;
     for (const Element& e : elems_) {
       if (!e.decided || !(e.cap < kInf)) continue;
       const bool covers = whole || comp_v > 0.0 ? (e.z0 < c && e.z1 > a)
@@ -1721,20 +1866,39 @@ void TolerancePlanner::brake_comp_pieces(double comp_v) {
   // (Motion::comp_exit_speed_mm_s). A piece too short for that takes the next one's cap.
   std::vector<Piece>& pieces = pieces_;
   if (!(comp_v > 0.0) || pieces.size() < 2) return;
-  const double step = precomp_->rule().speed_step_mm_s(comp_v), T = filter_.period_s();
   for (std::size_t i = pieces.size() - 1; i-- > 0;) {
     const double from = std::min(pieces[i].cap, comp_v), to = std::min(pieces[i + 1].cap, comp_v);
     if (!(to < from)) continue;
-    // The ramp's samples from `from` down to `to`, one more at `from` (the sample it starts in).
-    const double m = std::ceil((from - to) / step);
-    if (pieces[i].c - pieces[i].a < T * ((m + 1.0) * to + step * (m + 1.0) * (m + 2.0) / 2.0))
+    if (pieces[i].c - pieces[i].a < braking_length_mm(from, to, comp_v))
       pieces[i].cap = pieces[i + 1].cap;
   }
 }
 
-void TolerancePlanner::emit_pieces(const Block& b, double comp_v) {
-  const std::vector<Piece>& pieces = pieces_;
+double TolerancePlanner::braking_length_mm(double from, double to, double comp_v) const {
+  // The ramp's samples from `from` down to `to`, one more at `from` (the sample it starts in).
+  const double step = precomp_->rule().speed_step_mm_s(comp_v), T = filter_.period_s();
+  const double m = std::ceil((from - to) / step);
+  return T * ((m + 1.0) * to + step * (m + 1.0) * (m + 2.0) / 2.0);
+}
+
+void TolerancePlanner::emit_pieces(const Block& b, double comp_v, const Element* chain) {
   const double L = b.s1 - b.s0;
+  // A chain's block: its part of the chain's pieces, and where each of those ends and the
+  // speed the next one needs (the chain's ramp brakes to it before that end).
+  if (chain != nullptr) {
+    block_pieces_.clear();
+    for (std::size_t k = 0; k < chain_pieces_.size(); ++k) {
+      const Piece& q = chain_pieces_[k];
+      const double a = std::max(q.a, b.s0), c = std::min(q.c, b.s1);
+      if (!(c - a > 1e-9) && !(q.a <= b.s0 && b.s1 <= q.c)) continue;
+      const double next =
+          std::min(k + 1 < chain_pieces_.size() ? chain_pieces_[k + 1].cap : kInf, comp_v);
+      block_pieces_.push_back({a, c, q.cap, q.c, next < std::min(q.cap, comp_v) ? next : 0.0});
+    }
+  }
+  const std::vector<Piece>& pieces = chain != nullptr ? block_pieces_ : pieces_;
+  const double arc_s0 = chain != nullptr ? chain->s0 : b.s0;
+  const double arc_len = chain != nullptr ? chain->s1 - chain->s0 : L;
   for (std::size_t i = 0; i < pieces.size(); ++i) {
     Ready& r = ready_.push_back_slot();  // the piece is written in its slot
     r.canon = b.m;
@@ -1749,7 +1913,17 @@ void TolerancePlanner::emit_pieces(const Block& b, double comp_v) {
     }
     if (q.cap < b.vmax * (1.0 - 1e-12)) p.speed_cap_mm_s = q.cap;
     p.comp_speed_mm_s = comp_v;
-    if (comp_v > 0.0 && pieces.size() > 1) {  // a piece of the arc (cut_pieces)
+    if (chain != nullptr) {  // a piece of the chain's arc
+      p.comp_arc_from_mm = q.a - arc_s0;
+      p.comp_arc_length_mm = arc_len;
+      // It brakes to the next piece's speed by its own end where the chain's piece ends in it,
+      // or where what is left of that piece past this block is too short to brake in.
+      if (q.exit_speed > 0.0 &&
+          (q.exit_at <= b.s1 + 1e-9 ||
+           q.exit_at - b.s1 < braking_length_mm(std::min(q.cap, comp_v), q.exit_speed, comp_v)))
+        p.comp_exit_speed_mm_s = q.exit_speed;
+      p.comp_stops_at_end = chain_stops_;
+    } else if (comp_v > 0.0 && pieces.size() > 1) {  // a piece of the arc (cut_pieces)
       p.comp_arc_from_mm = q.a - b.s0;
       p.comp_arc_length_mm = L;
       if (i + 1 < pieces.size() && std::min(pieces[i + 1].cap, comp_v) < std::min(q.cap, comp_v))

@@ -120,8 +120,13 @@ class TolerancePlanner : public CanonSource {
     std::uint64_t run_id = 0;  ///< Run: the run it is a chunk of
     double delta = 0;          ///< Run: the largest turn |Δu|
     std::uint64_t seq = 0;     ///< Corner, Stop, Run: the block before it; Arc: the arc
-    double t0 = 0, t1 = 0;     ///< extent in fastest travel time
-    double s0 = 0, s1 = 0;     ///< extent in path length
+    /// Arc: its last block. A chain of arcs on one circle (or helix) is one arc element
+    /// (same_circle): seq..seq_last; one block: seq_last == seq.
+    std::uint64_t seq_last = 0;
+    /// Arc: the next block on its circle joins it (same_circle): nothing within reach before.
+    bool chainable = false;
+    double t0 = 0, t1 = 0;  ///< extent in fastest travel time
+    double s0 = 0, s1 = 0;  ///< extent in path length
     double tol_mm = 0;
     double turn = 0;    ///< Corner, Stop: |u_after − u_before| = 2 sin(φ/2) (1 for a Stop)
     double kappa = 0;   ///< Arc: curvature bound; Run: κ_eff, 1/mm
@@ -180,6 +185,19 @@ class TolerancePlanner : public CanonSource {
   void add_corner(const Block& prev, const Block& b);
   static Element corner_element(const Block& prev, const Block& b, double turn, double tol);
   static Element arc_element(const Block& b);
+  /// b goes on from prev along first's circle (first: the chain's first block, or prev): the
+  /// same centre and radius (within 0.1 µm), plane, direction and lead per radian, the same
+  /// feed, tolerance and mode, nothing between prev and b.
+  bool same_circle(const Block& first, const Block& prev, const Block& b) const;
+  /// The arc element ending with prev when it is the last element and undecided, or none.
+  Element* growing_arc(const Block& prev);
+  /// No element within τ of travel at 100 % feed before b, or a stop or dwell just before it.
+  bool nothing_within_reach_before(const Block& b) const;
+  /// A chain ending at prev, b not on its circle: its blocks made arcs of their own again
+  /// when b brings another element within reach of its end.
+  void close_chain(const Block& prev, const Block& b);
+  /// The arc element of a chain of two or more blocks that b is in, or none.
+  const Element* chain_of(const Block& b) const;
   void mark_stop(Block& b);  ///< the filter drains after b (and the overshoot is planned for)
   /// G61: the window's last block, when it is exact path and its end is not yet decided, either
   /// passes a tangent join to `next` (a block of the path) or stops (next == nullptr: anything
@@ -326,22 +344,34 @@ class TolerancePlanner : public CanonSource {
   /// Hands on the window's front block: as pieces with their caps, then its pauses and what
   /// follows it.
   void emit_front();
-  void decide_reachable(const Block& b);  ///< decides every element the block can reach
+  /// Decides every element a block ending at t1_s (fastest travel time) can reach.
+  void decide_reachable(double t1_s);
+  /// Where the decisions that hand on b must see to: b's end, or its chain's (chain_of).
+  double emit_horizon_t(const Block& b) const;
   /// Decides the elements plan_untoleranced pushed for one block, the group elems_[i] belongs
   /// to, from the one nearest that block back; those wholly before the zone of a capped one
   /// decided nearer are let go.
   void decide_untoleranced_group(std::size_t i);
-  /// pieces_ between the zone boundaries in b; comp_v: b's v_p when it is a pre-compensated arc
-  void cut_pieces(const Block& b, double comp_v);
+  /// pieces_ between the zone boundaries in [s0, s1] (a block, or a chain of arcs: chain_of);
+  /// comp_v: its v_p when it is a pre-compensated arc; cap_all: the blocks' smallest cap_all;
+  /// whole: not cut at all (an arc of several turns).
+  void cut_pieces(double s0, double s1, double cap_all, bool whole, double comp_v);
+  /// Path length over which a pre-compensated arc's ramp brakes from `from` to `to`, mm.
+  double braking_length_mm(double from, double to, double comp_v) const;
   /// The command stops on b's end point before the next motion (the interpolator waits there).
   bool stops_after(const Block& b) const;
+  /// A pre-compensated arc ending with b takes the end rows for a stop (Motion::
+  /// comp_stops_at_end): its command stops there, or the block after it crawls.
+  bool comp_stops_after(const Block& b, double comp_v) const;
   void merge_short_pieces(const Block& b);
   /// A pre-compensated arc's pieces: each brakes to the next one's cap by the arc's ramp
   /// (Motion::comp_exit_speed_mm_s), or takes it where it is too short to.
   void brake_comp_pieces(double comp_v);
   /// The v_p of b when it is a pre-compensated arc, else 0.
   double comp_speed_of(const Block& b) const;
-  void emit_pieces(const Block& b, double comp_v);
+  /// b handed on as pieces_; a chain's block (chain: its element) as its part of the chain's
+  /// pieces, each commanded as a piece of the chain's arc.
+  void emit_pieces(const Block& b, double comp_v, const Element* chain);
   /// Runs of small turns (CAM polylines): a vertex joins the run being gathered; a chunk is
   /// closed (pushed as one element, or as its corners while the run is short) when it spans τ,
   /// when a decision could reach it, and when the run ends.
@@ -394,9 +424,17 @@ class TolerancePlanner : public CanonSource {
   /// and its pieces between them.
   struct Piece {
     double a, c, cap;
+    /// A chain's block's part of a chain piece: where that piece ends and the speed the next
+    /// one needs (0: none lower).
+    double exit_at = 0.0, exit_speed = 0.0;
   };
   std::vector<double> cuts_;
   std::vector<Piece> pieces_;
+  /// A chain of arcs pre-compensated as one: its pieces, cut once over the whole chain when its
+  /// first block is handed on (every zone reaching it decided then), and the blocks take theirs.
+  std::vector<Piece> chain_pieces_;
+  std::vector<Piece> block_pieces_;  ///< emit_pieces' scratch: one block's part of them
+  bool chain_stops_ = false;         ///< the chain's command stops on its end point
   /// decide_untoleranced_group's copy of a group, restored when a stop is cheaper (kept).
   std::vector<Element> saved_group_;
   Canon scratch_;

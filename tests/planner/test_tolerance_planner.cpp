@@ -46,6 +46,11 @@ class PlannedCanon : public gm::CanonSource {
       const bool capped = mo->speed_cap_mm_s > 0.0;
       capped_pieces += capped ? 1 : 0;
       compensated_arcs += mo->comp_speed_mm_s > 0.0 ? 1 : 0;
+      // A block that goes on with an arc of another line (a chain's block after its first).
+      chained_blocks +=
+          mo->comp_speed_mm_s > 0.0 && mo->comp_arc_from_mm > 0.0 && mo->line != line_ && line_ != 0
+              ? 1
+              : 0;
       if (line_ != 0 && mo->line != line_ && (capped_ || paused_ || capped)) ++planned_vertices;
       line_ = mo->line;
       capped_ = capped;
@@ -62,6 +67,7 @@ class PlannedCanon : public gm::CanonSource {
   std::int64_t pauses = 0;
   std::int64_t planned_vertices = 0;
   std::int64_t compensated_arcs = 0;
+  std::int64_t chained_blocks = 0;
 
  private:
   gm::CanonSource& planner_;
@@ -78,6 +84,7 @@ struct Outcome {
   std::int64_t pauses = 0;            ///< dwells the planner added
   std::int64_t planned_vertices = 0;  ///< vertices with a capped piece or a pause beside them
   std::int64_t compensated_arcs = 0;  ///< arcs handed on pre-compensated
+  std::int64_t chained_blocks = 0;    ///< blocks handed on as a chain's arc after its first
 };
 
 // Runs `text` through planner and pipeline, the servo off, or on with the tolerance planned
@@ -122,6 +129,7 @@ Outcome run_program(const std::string& text, const gm::Machine& m, Ovr ovr, bool
   o.pauses = planned.pauses;
   o.planned_vertices = planned.planned_vertices;
   o.compensated_arcs = planned.compensated_arcs;
+  o.chained_blocks = planned.chained_blocks;
   return o;
 }
 
@@ -239,13 +247,16 @@ struct Sweep {
   bool precomp = false;
   const gm::Machine* encoder_machine = nullptr;
   bool unbounded = false, vs_exact_stop = false, shaped = false;
+  /// Arcs written as 1 to 6 blocks on one circle (CAM quadrants, half-turn helices), a third of
+  /// them sweeping up to three times as far: chains of arcs (TolerancePlanner::same_circle).
+  bool split_arcs = false;
 };
 
 void property(const Sweep& s) {
   // Named copies (clang 14 does not let lambdas capture structured bindings).
   const int kPrograms = s.programs;
   const bool encoder = s.encoder, precomp = s.precomp, unbounded = s.unbounded,
-             vs_exact_stop = s.vs_exact_stop;
+             vs_exact_stop = s.vs_exact_stop, split_arcs = s.split_arcs;
   const gm::Machine* const encoder_machine = s.encoder_machine;
   std::mt19937_64 rng(s.seed);
   std::uniform_real_distribution<double> U(0.0, 1.0);
@@ -259,7 +270,7 @@ void property(const Sweep& s) {
   const double taus[] = {0.164, 0.1, 0.08, 0.12};
   const double tols[] = {0.003, 0.005, 0.01, 0.02, 0.05, 0.1, 0.3};
   int arcs = 0, rapids = 0, lines = 0, polylines = 0;
-  std::int64_t samples = 0, rapid_samples = 0, paused = 0, capped = 0, compensated = 0;
+  std::int64_t samples = 0, rapid_samples = 0, paused = 0, capped = 0, compensated = 0, chained = 0;
   int without_arcs = 0, without_arcs_slower = 0, with_arcs = 0, with_arcs_slower = 0;
   int slower_than_g9 = 0;
   double total_p = 0, total_g611 = 0, total_g9 = 0;
@@ -305,6 +316,7 @@ void property(const Sweep& s) {
         }
         ++polylines;
       } else {  // arc or helix, the end on the circle (to the printed digits)
+        const double x_from = x, y_from = y;
         const double R = U(rng) < 0.5 ? 0.3 + 2 * U(rng) : 2 + 15 * U(rng);
         const double a0 = 2 * 3.141592653589793 * U(rng);
         const double i_off = r6(-R * std::cos(a0)), j_off = r6(-R * std::sin(a0));
@@ -314,9 +326,52 @@ void property(const Sweep& s) {
         const double a1 = a0 + sweep;
         x = r6(cx + rr * std::cos(a1)), y = r6(cy + rr * std::sin(a1));
         std::string zw;
+        const double z_from = z;
         if (U(rng) < 0.3) z = r6(z + (U(rng) - 0.5) * 4), zw = fmt::format(" Z{}", g(z));
-        text += fmt::format("G{} X{} Y{}{} I{} J{} F{}\n", U(rng) < 0.5 ? 2 : 3, g(x), g(y), zw,
-                            g(i_off), g(j_off), feed);
+        const int dir = U(rng) < 0.5 ? 2 : 3;
+        if (!split_arcs) {
+          text += fmt::format("G{} X{} Y{}{} I{} J{} F{}\n", dir, g(x), g(y), zw, g(i_off),
+                              g(j_off), feed);
+        } else {  // quarter circles of one circle (and lead), as CAM posts split them
+          // From a quadrant point of a circle of 3-decimal radius: every join lies on an axis
+          // of the circle, exactly tangent (TolerancePlanner::same_circle). Entered and left by
+          // nothing (what comes before and after is within reach: arcs of their own), by
+          // tangent lines of 1.1 τ of travel at 100 % (a chain), or by dwells (a chain).
+          const int quarters = 1 + pick(8);
+          const double rq = std::max(0.3, std::round(R * 1000.0) / 1000.0);
+          const int q0 = pick(4);
+          const double cxs[4] = {1, 0, -1, 0}, sns[4] = {0, 1, 0, -1};
+          const double dz = U(rng) < 0.3 ? std::round((U(rng) - 0.5) * 1000.0) / 1000.0 : 0.0;
+          const int step = dir == 3 ? 1 : -1;
+          const int context = dz != 0.0 ? 2 * pick(2) : pick(3);        // 0 none, 1 lines, 2 dwells
+          const double lead = std::ceil(1.1 * feed / 60.0 * taus[pi]);  // mm
+          auto tx = [&](int q) { return -step * sns[q]; };              // the tangent at quadrant q
+          auto ty = [&](int q) { return step * cxs[q]; };
+          x = x_from, y = y_from;
+          if (context == 1) {
+            x = r6(x + lead * tx(q0)), y = r6(y + lead * ty(q0));
+            text += fmt::format("G1 X{} Y{} F{}\n", g(x), g(y), feed);
+          } else if (context == 2) {
+            text += "G4 P0.1\n";
+          }
+          const double qcx = r6(x - rq * cxs[q0]), qcy = r6(y - rq * sns[q0]);
+          int q = q0;
+          for (int k = 1; k <= quarters; ++k) {
+            q = ((q0 + step * k) % 4 + 4) % 4;
+            const double ex = r6(qcx + rq * cxs[q]), ey = r6(qcy + rq * sns[q]);
+            const std::string pz = dz != 0.0 ? fmt::format(" Z{}", g(z_from + dz * k)) : "";
+            text += fmt::format("G{} X{} Y{}{} I{} J{} F{}\n", dir, g(ex), g(ey), pz,
+                                g(r6(qcx - x)), g(r6(qcy - y)), feed);
+            x = ex, y = ey;
+          }
+          z = z_from + dz * quarters;
+          if (context == 1) {
+            x = r6(x + lead * tx(q)), y = r6(y + lead * ty(q));
+            text += fmt::format("G1 X{} Y{} F{}\n", g(x), g(y), feed);
+          } else if (context == 2) {
+            text += "G4 P0.1\n";
+          }
+        }
         ++arcs;
       }
     }
@@ -365,6 +420,7 @@ void property(const Sweep& s) {
     paused += o.pauses;
     capped += o.capped_pieces;
     compensated += o.compensated_arcs;
+    chained += o.chained_blocks;
   }
   // What the run covered (printed with -s; figures in docs/tolerance.md).
   INFO(fmt::format(
@@ -380,6 +436,7 @@ void property(const Sweep& s) {
   CHECK(capped > 0);
   CHECK(polylines > 0);
   CHECK((compensated > 0) == precomp);
+  CHECK((chained > 0) == (precomp && split_arcs));
   if (vs_exact_stop) {
     CHECK(without_arcs > kPrograms / 20);  // 5 of the first 50, 32 of 200, 163 of 1,000
     WARN(
@@ -393,9 +450,9 @@ void property(const Sweep& s) {
   }
   WARN(fmt::format(
       "{} programs ({} polylines), {} cutting + {} rapid samples, worst {:.1f} % of tolerance, "
-      "{} pauses, {} capped pieces, {} arcs pre-compensated",
-      kPrograms, polylines, samples, rapid_samples, 100 * worst_ratio, paused, capped,
-      compensated));
+      "{} pauses, {} capped pieces, {} arcs pre-compensated, {} blocks chained",
+      kPrograms, polylines, samples, rapid_samples, 100 * worst_ratio, paused, capped, compensated,
+      chained));
 }
 
 // The shipped feedforward machine (its chain clipped into [0, 1], docs/tolerance.md); `matched`:
@@ -491,6 +548,21 @@ TEST_CASE("property-1000: 1,000 random programs, shaped filters, pre-compensated
       {.programs = 1000, .seed = 20261123, .precomp = true, .vs_exact_stop = true, .shaped = true});
 }
 
+TEST_CASE("property: arcs split on one circle (quadrants, half-turn helices) hold G64 P",
+          "[precomp]") {
+  property(
+      {.programs = gmtest::scaled(100), .seed = 20261130, .precomp = true, .split_arcs = true});
+}
+
+TEST_CASE("property-1000: 1,000 random programs with arcs split on one circle, servo off",
+          "[.][property-1000][precomp-1000]") {
+  property({.programs = 1000,
+            .seed = 20261130,
+            .precomp = true,
+            .vs_exact_stop = true,
+            .split_arcs = true});
+}
+
 TEST_CASE("property-1000: 1,000 random programs, servo on, tolerance_on = encoder",
           "[.][property-1000]") {
   property({.programs = 1000, .encoder = true, .seed = 20261124});
@@ -510,6 +582,24 @@ TEST_CASE(
     "pre-compensated, tolerance_on = encoder",
     "[.][property-1000]") {
   property({.programs = 1000, .encoder = true, .seed = 20261124, .precomp = true});
+}
+
+TEST_CASE(
+    "property: arcs split on one circle, the default machine's loops shaped: the table holds G64 "
+    "P + 1 BLU") {
+  property({.programs = gmtest::scaled(24),
+            .encoder = true,
+            .seed = 20261130,
+            .precomp = true,
+            .split_arcs = true});
+}
+
+TEST_CASE(
+    "property-1000: 1,000 random programs with arcs split on one circle, the default machine's "
+    "loops shaped, tolerance_on = encoder",
+    "[.][property-1000]") {
+  property(
+      {.programs = 1000, .encoder = true, .seed = 20261130, .precomp = true, .split_arcs = true});
 }
 
 TEST_CASE("property: P changes between blocks, P0 among them, arcs pre-compensated: within P",
@@ -1009,6 +1099,40 @@ TEST_CASE("an arc is cut at zone boundaries into exact arcs of the same centre")
   const double first = arc.front().speed_cap_mm_s, last = arc.back().speed_cap_mm_s;
   CHECK(first > 0.0);
   CHECK((last == 0.0 || first < last));
+}
+
+TEST_CASE("a circle split into halves or quadrants runs as the whole circle") {
+  // An R 3 circle at F3000 between two tangent lines, under P0.01 (docs/tolerance.md, "Arcs on
+  // one circle"): written as one G3, as two halves or as four quarters. The pieces go on along
+  // one circle, so the planner makes them one arc (one element, one pre-compensated command
+  // through the joins): the same plan, the same samples, the same worst error.
+  const gm::Machine m;
+  const std::string head = "G21 G90 G17 G64 P0.01\nG0 X0 Y0\nG1 X10 Y0 F3000\n",
+                    tail = "G1 X20 Y0\nM2\n";
+  const Outcome one = run_program(head + "G3 X10 Y0 I0 J3\n" + tail, m, full);
+  const Outcome halves = run_program(head + "G3 X10 Y6 I0 J3\nG3 X10 Y0 I0 J-3\n" + tail, m, full);
+  const Outcome quarters = run_program(
+      head + "G3 X13 Y3 I0 J3\nG3 X10 Y6 I-3 J0\nG3 X7 Y3 I0 J-3\nG3 X10 Y0 I3 J0\n" + tail, m,
+      full);
+  for (const Outcome* o : {&one, &halves, &quarters}) {
+    REQUIRE(o->finished);
+    CHECK(o->end_exact);
+    CHECK(o->check.cutting().over == 0);
+    CHECK(o->compensated_arcs > 0);
+  }
+  CHECK(halves.cycle_s == one.cycle_s);
+  CHECK(quarters.cycle_s == one.cycle_s);
+  CHECK(halves.check.cutting().err_mm == Approx(one.check.cutting().err_mm).margin(1e-6));
+  CHECK(quarters.check.cutting().err_mm == Approx(one.check.cutting().err_mm).margin(1e-6));
+  CHECK(one.chained_blocks == 0);
+  CHECK(halves.chained_blocks == 1);
+  CHECK(quarters.chained_blocks == 3);
+  // Arc by arc (a tangent line between the halves parts them: no chain) each join is an end.
+  const Outcome parted =
+      run_program(head + "G3 X10 Y6 I0 J3\nG1 X9.999 Y6\nG3 X9.999 Y0 I0 J-3\n" + tail, m, full);
+  REQUIRE(parted.finished);
+  CHECK(parted.check.cutting().over == 0);
+  CHECK(parted.cycle_s > one.cycle_s + 0.1);
 }
 
 TEST_CASE("a corner that drains the filter leaves the arc beside it the whole share") {
