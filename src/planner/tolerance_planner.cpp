@@ -202,7 +202,7 @@ void TolerancePlanner::plan_untoleranced(const Block& b) {
       e.split = splits(p.m);
     } else {
       const Block& n = window_[i + 1];
-      const double turn = (n.g.tangent_at_fraction(0.0) - p.g.tangent_at_fraction(1.0)).norm();
+      const double turn = join_turn(p, n);
       if (!(turn > kMinTurn)) continue;
       e = corner_element(p, n, turn, tol);
     }
@@ -341,13 +341,11 @@ void TolerancePlanner::add_corner(const Block& prev, const Block& b) {
     // Without a tolerance the turn matters only to a run of small turns being gathered (a turn
     // ends it: the run's bound does not cover it), and to a block with a tolerance that may
     // start within τ (plan_untoleranced computes it then).
-    if ((run_.open || run_.vertices > 0) &&
-        (b.g.tangent_at_fraction(0.0) - prev.g.tangent_at_fraction(1.0)).norm() > kMinTurn)
-      end_run();
+    if ((run_.open || run_.vertices > 0) && join_turn(prev, b) > kMinTurn) end_run();
     untoleranced_.push_back(Untoleranced{prev.seq, false, prev.t1, prev.t1 + filter_.tau_s()});
     return;
   }
-  const double turn = (b.g.tangent_at_fraction(0.0) - prev.g.tangent_at_fraction(1.0)).norm();
+  const double turn = join_turn(prev, b);
   if (!(turn > kMinTurn)) return;
   const Element e = corner_element(prev, b, turn, tol);
   const double seg = prev.s1 - prev.s0;
@@ -403,6 +401,10 @@ TolerancePlanner::Element TolerancePlanner::arc_element(const Block& b) {
   return e;
 }
 
+double TolerancePlanner::join_turn(const Block& prev, const Block& b) {
+  return (b.g.tangent_at_fraction(0.0) - prev.g.tangent_at_fraction(1.0)).norm();
+}
+
 bool TolerancePlanner::same_circle(const Block& first, const Block& prev, const Block& b) const {
   // Nothing between prev and b (no stop, dwell or event after prev; tangent: no corner),
   // circles (not near circles) that turn once, with the same feed, tolerance and mode; the
@@ -431,7 +433,7 @@ bool TolerancePlanner::same_circle(const Block& first, const Block& prev, const 
                lead_h = (h.end_mm[n] - h.start_mm[n]) / h.sweep_rad;
   if (!(std::abs(lead_g - lead_h) <= 1e-9 * std::max(1.0, std::abs(lead_g)))) return false;
   // Tangent as add_corner judges it (no corner element between them).
-  return !((h.tangent_at_fraction(0.0) - prev.g.tangent_at_fraction(1.0)).norm() > kMinTurn);
+  return !(join_turn(prev, b) > kMinTurn);
 }
 
 TolerancePlanner::Element* TolerancePlanner::growing_arc(const Block& prev) {
@@ -455,7 +457,7 @@ void TolerancePlanner::close_chain(const Block& prev, const Block& b) {
   // of at least τ of travel at 100 %; else its blocks are made arcs of their own again.
   Element* chain = growing_arc(prev);
   if (chain == nullptr || !(chain->seq_last > chain->seq)) return;
-  const double turn = (b.g.tangent_at_fraction(0.0) - prev.g.tangent_at_fraction(1.0)).norm();
+  const double turn = join_turn(prev, b);
   const bool clear = prev.stop_after || prev.dwell_after_s > 0.0 ||
                      (b.m.kind == MotionKind::Line && b.m.path_tolerance_mm > 0.0 &&
                       !(turn > kMinTurn) && b.g.length_mm >= prev.v100 * filter_.tau_s());
@@ -472,12 +474,16 @@ void TolerancePlanner::close_chain(const Block& prev, const Block& b) {
     }
 }
 
-const TolerancePlanner::Element* TolerancePlanner::chain_of(const Block& b) const {
+const TolerancePlanner::Element* TolerancePlanner::arc_of(const Block& b) const {
   if (b.m.kind != MotionKind::Arc) return nullptr;
   for (const Element& e : elems_)
-    if (e.kind == ElementKind::Arc && e.seq <= b.seq && b.seq <= e.seq_last)
-      return e.seq_last > e.seq ? &e : nullptr;
+    if (e.kind == ElementKind::Arc && e.seq <= b.seq && b.seq <= e.seq_last) return &e;
   return nullptr;
+}
+
+const TolerancePlanner::Element* TolerancePlanner::chain_of(const Block& b) const {
+  const Element* e = arc_of(b);
+  return e != nullptr && e->seq_last > e->seq ? e : nullptr;
 }
 
 double TolerancePlanner::emit_horizon_t(const Block& b) const {
@@ -1610,8 +1616,9 @@ void TolerancePlanner::emit_front() {
   }
   Block& b = window_.front();
   decide_reachable(emit_horizon_t(b));
-  const double comp_v = comp_speed_of(b);  // the v_p of a pre-compensated arc, else 0
-  const Element* chain = comp_v > 0.0 ? chain_of(b) : nullptr;
+  const Element* own = arc_of(b);  // b's arc element (its own or its chain's), if an arc
+  const double comp_v = own != nullptr ? own->comp_speed : 0.0;  // v_p when pre-compensated
+  const Element* chain = comp_v > 0.0 && own->seq_last > own->seq ? own : nullptr;
   if (chain == nullptr) {
     cut_pieces(b.s0, b.s1, b.cap_all, b.m.kind == MotionKind::Arc && !splits(b.m), comp_v);
     merge_short_pieces(b);
@@ -1770,13 +1777,6 @@ void TolerancePlanner::decide_untoleranced_group(std::size_t i) {
     near.stopped = true;
   }
   extend_decided_prefix();
-}
-
-double TolerancePlanner::comp_speed_of(const Block& b) const {
-  if (b.m.kind != MotionKind::Arc) return 0.0;
-  for (const Element& e : elems_)
-    if (e.kind == ElementKind::Arc && e.seq <= b.seq && b.seq <= e.seq_last) return e.comp_speed;
-  return 0.0;
 }
 
 void TolerancePlanner::cut_pieces(double s0, double s1, double cap_all, bool whole, double comp_v) {

@@ -196,8 +196,12 @@ class TolerancePlanner : public CanonSource {
   /// A chain ending at prev, b not on its circle: its blocks made arcs of their own again
   /// when b brings another element within reach of its end.
   void close_chain(const Block& prev, const Block& b);
+  /// The arc element b is in (its own, or its chain's), or none.
+  const Element* arc_of(const Block& b) const;
   /// The arc element of a chain of two or more blocks that b is in, or none.
   const Element* chain_of(const Block& b) const;
+  /// |u_after − u_before| at the join of prev and b.
+  static double join_turn(const Block& prev, const Block& b);
   void mark_stop(Block& b);  ///< the filter drains after b (and the overshoot is planned for)
   /// G61: the window's last block, when it is exact path and its end is not yet decided, either
   /// passes a tangent join to `next` (a block of the path) or stops (next == nullptr: anything
@@ -367,8 +371,6 @@ class TolerancePlanner : public CanonSource {
   /// A pre-compensated arc's pieces: each brakes to the next one's cap by the arc's ramp
   /// (Motion::comp_exit_speed_mm_s), or takes it where it is too short to.
   void brake_comp_pieces(double comp_v);
-  /// The v_p of b when it is a pre-compensated arc, else 0.
-  double comp_speed_of(const Block& b) const;
   /// b handed on as pieces_; a chain's block (chain: its element) as its part of the chain's
   /// pieces, each commanded as a piece of the chain's arc.
   void emit_pieces(const Block& b, double comp_v, const Element* chain);

@@ -247,8 +247,8 @@ struct Sweep {
   bool precomp = false;
   const gm::Machine* encoder_machine = nullptr;
   bool unbounded = false, vs_exact_stop = false, shaped = false;
-  /// Arcs written as 1 to 6 blocks on one circle (CAM quadrants, half-turn helices), a third of
-  /// them sweeping up to three times as far: chains of arcs (TolerancePlanner::same_circle).
+  /// Arcs written as 1 to 8 quarter circles of one circle (CAM quadrants), a third of them
+  /// helices, between nothing, tangent lines or dwells: chains (TolerancePlanner::same_circle).
   bool split_arcs = false;
 };
 
