@@ -347,7 +347,10 @@ void TolerancePlanner::add_corner(const Block& prev, const Block& b) {
   }
   const double turn = join_turn(prev, b);
   if (!(turn > kMinTurn)) return;
-  const Element e = corner_element(prev, b, turn, tol);
+  Element e = corner_element(prev, b, turn, tol);
+  // A dwell that drains the filter is a full stop whatever the corner's decision: the elements
+  // decided before it are parted from what lies past it (tolerance_near, part_zone).
+  if (e.pause0 > 0.0 && !(corner_moment(e.pause0) > 0.0)) e.stopped = true;
   const double seg = prev.s1 - prev.s0;
   if (prev.m.kind == MotionKind::Line && b.m.kind == MotionKind::Line && turn <= kRunTurn &&
       turn * e.v100 * filter_.abs_moment_s() <= kRunDeltaShare * tol &&
@@ -963,15 +966,32 @@ double TolerancePlanner::tolerance_near(const Element& e) const {
   const StopsBeside stops = stops_beside(e);
   const double t_from = stops.before != nullptr ? stops.before->t1 : -kInf;
   const double t_until = stops.after != nullptr ? stops.after->t0 : kInf;
+  // The times are at the fastest speeds; an arc decided with a cap wholly between s_a and s_b
+  // takes at least its length at that cap (its zone holds it), which parts e further from what
+  // lies beyond it: a window that holds samples of both spans that time too (docs/
+  // tolerance.md, "Tolerances near"). Summed only for a tolerance that would lower e's.
+  auto extra_s = [this](double s_a, double s_b) {
+    double extra = 0.0;
+    for (const Element& g : elems_) {
+      if (g.s0 > s_b + 1e-9) break;
+      if (g.decided && g.kind == ElementKind::Arc && g.cap > 0.0 && g.cap < kInf &&
+          g.s0 >= s_a - 1e-9 && g.s1 <= s_b + 1e-9)
+        extra += std::max(0.0, (g.s1 - g.s0) / g.cap - (g.t1 - g.t0));
+    }
+    return extra;
+  };
   double tol = e.tol_mm;
   for (const Element& f : elems_) {
-    const double gap = f.t0 > e.t1 ? f.t0 - e.t1 : (e.t0 > f.t1 ? e.t0 - f.t1 : 0.0);
-    if (gap < tau && f.t1 > t_from && f.t0 < t_until) tol = std::min(tol, f.tol_mm);
+    if (!(f.tol_mm < tol) || !(f.t1 > t_from && f.t0 < t_until)) continue;
+    const double gap = f.t0 > e.t1 ? f.t0 - e.t1 + extra_s(e.s1, f.s0)
+                                   : (e.t0 > f.t1 ? e.t0 - f.t1 + extra_s(f.s1, e.s0) : 0.0);
+    if (gap < tau) tol = f.tol_mm;
   }
   for (const Block& b : window_)
-    if (b.t1 >= e.t0 && b.t0 < e.t1 + tau && b.t1 > t_from && b.t0 < t_until &&
-        b.m.path_tolerance_mm > 0.0)
-      tol = std::min(tol, b.m.path_tolerance_mm);
+    if (b.m.path_tolerance_mm > 0.0 && b.m.path_tolerance_mm < tol && b.t1 >= e.t0 &&
+        b.t0 < e.t1 + tau && b.t1 > t_from && b.t0 < t_until &&
+        (!(b.t0 > e.t1) || b.t0 + extra_s(e.s1, b.s0) < e.t1 + tau))
+      tol = b.m.path_tolerance_mm;
   return tol;
 }
 
@@ -1445,10 +1465,12 @@ void TolerancePlanner::set_weight(Element& f, double w) {
 void TolerancePlanner::decide_arc_weighing(Element& a, double share, const MismatchReserve& res) {
   // The corners at the arc's two ends share its zone: the one before it (decided just now, its
   // err counted) and the one after it (undecided, counted by its weight, then decided within
-  // what the arc left). A full stop at either (the drain pause: err 0, no weight) leaves the arc
-  // more of the share. The four plans are weighed by their costs in the decisions' own terms
-  // (the corners' cost_s or stop_cost_s, the arc's slowing_s, the corner after decided on a copy),
-  // a plan whose stops alone cost more than the best known not tried; the cheapest is kept.
+  // what the arc left; at its end, or past a tangent line within τ of it at the fastest
+  // speeds, where a stop still parts the arc from the tolerances beyond: tolerance_near). A full
+  // stop at either (the drain pause: err 0, no weight) leaves the arc more of the share. The four
+  // plans are weighed by their costs in the decisions' own terms (the corners' cost_s or
+  // stop_cost_s, the arc's slowing_s, the corner after decided on a copy), a plan whose stops alone
+  // cost more than the best known not tried; the cheapest is kept.
   const Element before = a;
   decide_arc_beside_claims(a, share, res);
   if (!(a.cap < kInf)) return;  // nothing to gain
@@ -1474,7 +1496,7 @@ void TolerancePlanner::decide_arc_weighing(Element& a, double share, const Misma
     cs = &elems_[ia - 1];
   Element* ce = nullptr;
   if (ia + 1 < elems_.size() && plain_corner(elems_[ia + 1]) && !elems_[ia + 1].decided &&
-      elems_[ia + 1].turn > kClaimTurn && elems_[ia + 1].s0 <= a.s1 + 1e-9 &&
+      elems_[ia + 1].turn > kClaimTurn && elems_[ia + 1].t0 < a.t1 + filter_.tau_s() &&
       p_stop > elems_[ia + 1].pause0)
     ce = &elems_[ia + 1];
   if (cs == nullptr && ce == nullptr) return;

@@ -1158,6 +1158,90 @@ TEST_CASE("a corner that drains the filter leaves the arc beside it the whole sh
   CHECK(arc_cap == Approx(v).epsilon(1e-9));
 }
 
+namespace {
+
+// The largest speed cap the planner gave the moves of program line `line` (0: none).
+double largest_cap(const std::vector<gm::Canon>& canon, int line) {
+  double cap = 0.0;
+  for (const auto& c : canon)
+    if (const auto* mo = std::get_if<gm::Motion>(&c); mo != nullptr && mo->line == line)
+      cap = std::max(cap, mo->speed_cap_mm_s);
+  return cap;
+}
+
+}  // namespace
+
+TEST_CASE("a dwell that drains the filter parts the tolerances on its two sides") {
+  // A half circle of R 4 at F3000 under P0.3, a 0.2 s dwell at its end (the filter drains:
+  // D(0.2 s) = 0), then a 90° corner into a line under P0.003. No window holds samples of both
+  // sides, so the arc is planned for P0.3 alone: the same cap as with P0.3 after the dwell too.
+  // Until 2026-11-30 the corner at the dwell, decided after the arc, lent it its P0.003 (the
+  // arc took 326 samples instead of 62).
+  const gm::Machine m;
+  const std::string head =
+                        "G21 G90 G17 G64 P0.3\nG0 X0 Y0\nG1 X10 Y0 F3000\nG3 X10 Y8 I0 J4\n"
+                        "G4 P0.2\n",
+                    tail = "G1 X10 Y20\nG1 X0 Y20\nM2\n";
+  const gm::FilterMoments fm(gm::design_taps(m.profile, m.tau_s, m.period_s), m.period_s);
+  REQUIRE(fm.corner_moment_s(0.2) == 0.0);
+  const double fine = largest_cap(canon_of(head + "G64 P0.003\n" + tail, m, true), 4),
+               coarse = largest_cap(canon_of(head + tail, m, true), 4);
+  CHECK(coarse == 0.0);  // at P0.3 the arc runs at its feed
+  CHECK(fine == coarse);
+  const Outcome o = run_program(head + "G64 P0.003\n" + tail, m, full);
+  REQUIRE(o.finished);
+  CHECK(o.check.cutting().over == 0);
+}
+
+TEST_CASE("an arc slowed by a tolerance near its start does not lend it to the arc after it") {
+  // A CAM S-bend: an R 0.432 fillet under P0.003, then tangent quarters of R 6.479 under P0.05
+  // (feeds 1 mm/min apart: arcs of their own, not a chain). The first quarter's window reaches
+  // the fillet, so it takes its P0.003 and runs slowly; the second lies a whole slow quarter
+  // (far more than τ of time) past the fillet and is planned for P0.05. Until 2026-11-30 the
+  // times that part them were taken at the fastest speeds: the second quarter ran as slowly as
+  // the first (229 samples each; now 125).
+  const gm::Machine m;
+  const std::string text =
+      "G21 G90 G17 G64 P0.003\nG0 X0 Y-5\nG1 X0 Y0 F1289\nG2 X0.432 Y0.432 I0.432 J0\n"
+      "G64 P0.05\nG3 X6.911 Y6.911 I0 J6.479 F3729\nG3 X0.432 Y13.39 I-6.479 J0 F3728\nM2\n";
+  const auto canon = canon_of(text, m, true);
+  const double first = largest_cap(canon, 6), second = largest_cap(canon, 7);
+  CAPTURE(first, second);
+  CHECK(first > 0.0);
+  CHECK(second > 1.5 * first);
+  const Outcome o = run_program(text, m, full);
+  REQUIRE(o.finished);
+  CHECK(o.check.cutting().over == 0);
+  CHECK(o.cycle_s < run_program(gmtest::g9_on_every_move(text), m, full).cycle_s);
+}
+
+TEST_CASE("a stop is weighed at a corner a line past the arc, not only at the arc's own ends") {
+  // An R 10 circle at F6000 under P0.1 (four quarters: one chain), out along a tangent line of
+  // 20 mm into two sharp corners, the second into a line under P0.003, which lies within τ of
+  // the circle's end at the fastest speeds. Planned for P0.003 the whole circle would crawl; a
+  // stop at the first corner parts it from that tolerance, and the weighing of the circle's
+  // plans now tries it there (the next element, within τ of its end) as it did at a corner
+  // at the arc's own end. Every quarter then runs at the circle's cap. Until 2026-11-30 the
+  // cycle took 4.160 s, now 1.928 s; with a G9 on every move 3.212 s.
+  const gm::Machine m;
+  const std::string text =
+      "G21 G90 G17 G64 P0.1\nG0 X-20 Y0\nG1 X0 Y0 F6000\nG2 X10 Y-10 I0 J-10\n"
+      "G2 X0 Y-20 I-10 J0\nG2 X-10 Y-10 I0 J10\nG2 X0 Y0 I10 J0\nG1 X20 Y0\nG1 X25 Y8\n"
+      "G64 P0.003\nG1 X15 Y8\nM2\n";
+  const auto canon = canon_of(text, m, true);
+  const double cap = largest_cap(canon, 4);
+  CHECK(cap > 0.0);
+  for (int line = 5; line <= 7; ++line) {
+    CAPTURE(line);
+    CHECK(largest_cap(canon, line) == cap);
+  }
+  const Outcome o = run_program(text, m, full);
+  REQUIRE(o.finished);
+  CHECK(o.check.cutting().over == 0);
+  CHECK(o.chained_blocks == 3);
+  CHECK(o.cycle_s < 0.7 * run_program(gmtest::g9_on_every_move(text), m, full).cycle_s);
+}
+
 TEST_CASE("corners.nc at P0.01: every sample within P, and faster than exact stop") {
   // programs/corners.nc (sharp corners closer together than the filter, an R 4 arc between two
   // of them) at F3000, servo off: the arc takes the share the corners beside it leave.
