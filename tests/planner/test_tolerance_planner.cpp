@@ -153,6 +153,15 @@ std::vector<gm::Canon> canon_of(const std::string& text, const gm::Machine& m, b
 
 constexpr const char* kSquare = "G21 G90 G17 {}\nG1 X20 Y0 F6000\nY20\nX0\nY0\nM2\n";
 
+// The largest speed cap the planner gave the moves of program line `line` (0: none).
+double largest_cap(const std::vector<gm::Canon>& canon, int line) {
+  double cap = 0.0;
+  for (const auto& c : canon)
+    if (const auto* mo = std::get_if<gm::Motion>(&c); mo != nullptr && mo->line == line)
+      cap = std::max(cap, mo->speed_cap_mm_s);
+  return cap;
+}
+
 }  // namespace
 
 TEST_CASE("without a tolerance the planner hands on the interpreter's canon unchanged") {
@@ -1151,25 +1160,8 @@ TEST_CASE("a corner that drains the filter leaves the arc beside it the whole sh
   const double share = 0.05 - planner_config(m).rounding_mm;
   const double v = std::sqrt(2.0 * share / (0.25 * fm.variance_s2()));
   REQUIRE(v < 50.0);  // below F3000: the arc is capped
-  double arc_cap = 0.0;
-  for (const auto& c : canon)
-    if (const auto* mo = std::get_if<gm::Motion>(&c); mo != nullptr && mo->line == 5)
-      arc_cap = std::max(arc_cap, mo->speed_cap_mm_s);
-  CHECK(arc_cap == Approx(v).epsilon(1e-9));
+  CHECK(largest_cap(canon, 5) == Approx(v).epsilon(1e-9));
 }
-
-namespace {
-
-// The largest speed cap the planner gave the moves of program line `line` (0: none).
-double largest_cap(const std::vector<gm::Canon>& canon, int line) {
-  double cap = 0.0;
-  for (const auto& c : canon)
-    if (const auto* mo = std::get_if<gm::Motion>(&c); mo != nullptr && mo->line == line)
-      cap = std::max(cap, mo->speed_cap_mm_s);
-  return cap;
-}
-
-}  // namespace
 
 TEST_CASE("a dwell that drains the filter parts the tolerances on its two sides") {
   // A half circle of R 4 at F3000 under P0.3, a 0.2 s dwell at its end (the filter drains:
