@@ -110,6 +110,10 @@ struct Machine {
   /// commanded on R + c so that the Acc/Dec output lies on R (docs/tolerance.md,
   /// "Pre-compensated arcs").
   bool arc_precompensation = true;
+  /// Machine key g61_arc_precompensation ("off", the default, or "on"): arcs under G61 (exact
+  /// path, no tolerance) are commanded pre-compensated at their feed too, not slowed, so that
+  /// their steady part lies on R instead of inside it (docs/tolerance.md, "G61: exact path").
+  bool g61_arc_precompensation = false;
   /// Machine key servo_matching ("on", the default, or "off"): with tolerance_on = encoder and
   /// the servo on, X, Y and Z servos that differ have their references shaped to respond as the
   /// planned chain's servo does (planner/servo_response's design_servo_match; docs/tolerance.md,

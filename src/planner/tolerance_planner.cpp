@@ -1639,8 +1639,9 @@ void TolerancePlanner::emit_front() {
   Block& b = window_.front();
   decide_reachable(emit_horizon_t(b));
   const Element* own = arc_of(b);  // b's arc element (its own or its chain's), if an arc
-  const double comp_v = own != nullptr ? own->comp_speed : 0.0;  // v_p when pre-compensated
-  const Element* chain = comp_v > 0.0 && own->seq_last > own->seq ? own : nullptr;
+  // v_p when pre-compensated (a G61 arc: at its fastest speed, exact_path_comp_speed)
+  const double comp_v = own != nullptr ? own->comp_speed : exact_path_comp_speed(b);
+  const Element* chain = comp_v > 0.0 && own != nullptr && own->seq_last > own->seq ? own : nullptr;
   if (chain == nullptr) {
     cut_pieces(b.s0, b.s1, b.cap_all, b.m.kind == MotionKind::Arc && !splits(b.m), comp_v);
     merge_short_pieces(b);
@@ -1671,6 +1672,7 @@ void TolerancePlanner::emit_front() {
   if (b.forced_stop) make_ready(Dwell{b.m.line, tau});
   for (Canon& c : b.after) make_ready(std::move(c));
   emitted_t1_ = b.t1;
+  if (b.m.path_tolerance_mm > 0.0) toleranced_t1_ = b.t1;
   window_.pop_front();
   // Elements that can no longer reach a block still to come, nor be counted by one.
   const double keep_from = window_.empty() ? kInf : window_.front().t0 - 2.0 * tau;
@@ -1680,6 +1682,24 @@ void TolerancePlanner::emit_front() {
     --decided_count_;
     if (decided_prefix_ > 0) --decided_prefix_;
   }
+}
+
+double TolerancePlanner::exact_path_comp_speed(const Block& b) const {
+  // A G61 arc keeps its feed (exact path rounds no corner, and it does not slow an arc).
+  // Commanded pre-compensated at its fastest speed, its steady part lies on the programmed arc
+  // instead of r·(1 − A(ωT)) inside it, and its ends leave what the transitions leave: not
+  // planned against anything, as G61 has no P. Not where A(ωT) falls below kMinGain at that
+  // speed, nor within τ of a block with a tolerance (whose plan counts this arc as the filter
+  // shrinks it).
+  if (!cfg_.precompensate_g61_arcs || !precomp_ || b.m.kind != MotionKind::Arc ||
+      b.m.path_mode != PathMode::ExactPath || b.m.path_tolerance_mm > 0.0 ||
+      b.t0 < toleranced_t1_ + filter_.tau_s())
+    return 0.0;
+  for (const Block& c : window_)
+    if (c.t0 < b.t1 + filter_.tau_s() && c.m.path_tolerance_mm > 0.0) return 0.0;
+  const Element e = arc_element(b);
+  if (!(e.radius > 0.0) || e.spiral > 0.0 || !(e.sweep > 0.0)) return 0.0;
+  return b.vmax <= precomp_->speed_limit_mm_s(e.sweep, b.s1 - b.s0) ? b.vmax : 0.0;
 }
 
 bool TolerancePlanner::comp_stops_after(const Block& b, double comp_v) const {

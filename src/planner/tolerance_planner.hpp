@@ -52,6 +52,9 @@ struct PlannerConfig {
   /// FIR's, or a FIR and servo chain that does not overshoot (the interpolator must command by
   /// the same weights: RunConfig::planned_weights).
   bool precompensate_arcs = false;  // the machine's arc_precompensation (on by default)
+  /// G61 arcs (exact path, no tolerance) pre-compensated at their fastest speed, not slowed and
+  /// not checked (TolerancePlanner::exact_path_comp_speed): g61_arc_precompensation (off).
+  bool precompensate_g61_arcs = false;
 };
 
 /// Reads canon from `upstream` (through NaiveCamMerger: G64 Q) and hands on the same program with,
@@ -174,6 +177,8 @@ class TolerancePlanner : public CanonSource {
   /// An arc is cut at zone boundaries into arcs of the same centre when it turns at most once
   /// (K/P full turns: it takes the smallest cap of the zones touching it whole).
   static bool splits(const Motion& m) { return m.kind != MotionKind::Arc || m.turns == 1; }
+  /// v_p for a G61 arc pre-compensated at its fastest speed (precompensate_g61_arcs), else 0.
+  double exact_path_comp_speed(const Block& b) const;
 
   void pull();  ///< one item from upstream into the window
   /// pull() of an item that is not a block of the path: held after the window's last block.
@@ -445,6 +450,8 @@ class TolerancePlanner : public CanonSource {
   double s_end_ = 0, t_end_ = 0;  ///< where the last block in the window ends
   /// Where the last block handed on ends (fastest travel time): blocks before the window.
   double emitted_t1_ = -std::numeric_limits<double>::infinity();
+  /// The end of the last block handed on that has a tolerance (exact_path_comp_speed).
+  double toleranced_t1_ = -std::numeric_limits<double>::infinity();
   double weight_total_ = 0.0;       ///< weights of all elements pushed so far
   std::size_t decided_prefix_ = 0;  ///< elems_[0, decided_prefix_) are decided
   std::size_t decided_count_ = 0;   ///< decided elements in elems_

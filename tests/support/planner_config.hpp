@@ -14,6 +14,7 @@ inline gm::PlannerConfig fir_planner_config(const gm::Machine& m, bool precomp) 
   c.rapid_mm_min = m.rapid_mm_min;
   c.rounding_mm = m.xyz_blu_mm().norm();
   c.precompensate_arcs = precomp;
+  c.precompensate_g61_arcs = m.g61_arc_precompensation;
   return c;
 }
 
