@@ -1695,8 +1695,10 @@ double TolerancePlanner::exact_path_comp_speed(const Block& b) const {
       b.m.path_mode != PathMode::ExactPath || b.m.path_tolerance_mm > 0.0 ||
       b.t0 < toleranced_t1_ + filter_.tau_s())
     return 0.0;
-  for (const Block& c : window_)
-    if (c.t0 < b.t1 + filter_.tau_s() && c.m.path_tolerance_mm > 0.0) return 0.0;
+  for (const Block& c : window_) {  // in path order: those starting within τ after b
+    if (!(c.t0 < b.t1 + filter_.tau_s())) break;
+    if (c.m.path_tolerance_mm > 0.0) return 0.0;
+  }
   const Element e = arc_element(b);
   if (!(e.radius > 0.0) || e.spiral > 0.0 || !(e.sweep > 0.0)) return 0.0;
   return b.vmax <= precomp_->speed_limit_mm_s(e.sweep, b.s1 - b.s0) ? b.vmax : 0.0;
