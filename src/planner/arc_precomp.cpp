@@ -1,11 +1,14 @@
 // ArcPrecompCheck: the isolated compensated arc and the ramp's transient, through the weights.
 #include "planner/arc_precomp.hpp"
 
+#include "common/isa.hpp"
+
 #include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <utility>
 
 namespace gm {
@@ -24,6 +27,41 @@ std::size_t cache_slot(double r, double sweep, double len, double v) {
   return static_cast<std::size_t>(h) & (kCacheSlots - 1);
 }
 
+// The outputs of ArcPrecompCheck::kBatch (4) windows of n weights h whose newest samples are
+// at ring slots 0..3 (xy: the slots' (x, y) pairs in a row, p their in-plane lengths): lane j
+// sums h_i·x_{i+j} for i = 0..n−1 in this order, a product and a sum each (no fused
+// multiply-add), so each output is window_output's bit for bit whatever the vector width. Four
+// windows at once keep four sums in flight where one would wait on each addition.
+using Lanes = double __attribute__((vector_size(32)));
+__attribute__((always_inline)) inline void batch_sums(const double* h, std::size_t n,
+                                                      const double* xy, const double* p,
+                                                      double* out_xy, double* out_p) {
+  Lanes a01 = {0.0, 0.0, 0.0, 0.0}, a23 = a01, ap = a01;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Lanes hv = {h[i], h[i], h[i], h[i]};
+    Lanes x01, x23, pv;
+    std::memcpy(&x01, xy + 2 * i, sizeof x01);      // slots i, i + 1
+    std::memcpy(&x23, xy + 2 * i + 4, sizeof x23);  // slots i + 2, i + 3
+    std::memcpy(&pv, p + i, sizeof pv);
+    const Lanes m01 = hv * x01, m23 = hv * x23, mp = hv * pv;
+    a01 += m01;
+    a23 += m23;
+    ap += mp;
+  }
+  std::memcpy(out_xy, &a01, sizeof a01);
+  std::memcpy(out_xy + 4, &a23, sizeof a23);
+  std::memcpy(out_p, &ap, sizeof ap);
+}
+__attribute__((target("avx2"))) void batch_sums_avx2(const double* h, std::size_t n,
+                                                     const double* xy, const double* p,
+                                                     double* out_xy, double* out_p) {
+  batch_sums(h, n, xy, p, out_xy, out_p);
+}
+void batch_sums_portable(const double* h, std::size_t n, const double* xy, const double* p,
+                         double* out_xy, double* out_p) {
+  batch_sums(h, n, xy, p, out_xy, out_p);
+}
+
 }  // namespace
 
 ArcPrecompCheck::ArcPrecompCheck(const std::vector<double>& weights, double period_s,
@@ -33,9 +71,11 @@ ArcPrecompCheck::ArcPrecompCheck(const std::vector<double>& weights, double peri
       rule_(weights, period_s, end_rows),
       line_ratio_(line_ratio),
       near_s_(near_s) {
-  // The window and the sample before it, each slot twice (window_output reads them in a row).
-  ring_.resize(2 * (h_.size() + 1));
-  ring_p_.resize(2 * (h_.size() + 1));
+  // The window and the kBatch − 1 samples before it, each slot twice (the outputs read a window
+  // in a row).
+  ring_.resize(2 * ring_slots());
+  ring_p_.resize(2 * ring_slots());
+  use_avx2_ = active_isa() != Isa::Portable;
   fork_ring_.resize(ring_.size());
   fork_ring_p_.resize(ring_p_.size());
   cache_.resize(kCacheSlots);
@@ -149,7 +189,7 @@ Eigen::Vector2d ArcPrecompCheck::point(double p) const {
 }
 
 void ArcPrecompCheck::put(std::size_t& head, const Eigen::Vector2d& x, double p) const {
-  const std::size_t m = h_.size() + 1;
+  const std::size_t m = ring_slots();
   head = head == 0 ? m - 1 : head - 1;  // newest at head
   ring_[head] = ring_[head + m] = x;
   ring_p_[head] = ring_p_[head + m] = p;
@@ -173,32 +213,25 @@ void ArcPrecompCheck::window_output(std::size_t head, Eigen::Vector2d& y, double
   pbar = pb;
 }
 
-void ArcPrecompCheck::window_outputs(std::size_t head, Eigen::Vector2d& y, double& pbar,
-                                     Eigen::Vector2d& y_before, double& pbar_before) const {
-  // window_output at head and at head + 1 (the sample before) in one pass: each of the six sums
-  // in window_output's order, so each result is its bit for bit; the two windows' sums are
-  // independent, which the processor overlaps.
-  const std::size_t n = h_.size();
-  const double* h = h_.data();
-  const Eigen::Vector2d* x = ring_.data() + head;
-  const double* p = ring_p_.data() + head;
-  double yx = 0.0, yy = 0.0, pb = 0.0, bx = 0.0, by = 0.0, bp = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    yx += h[i] * x[i].x();
-    yy += h[i] * x[i].y();
-    pb += h[i] * p[i];
-    bx += h[i] * x[i + 1].x();
-    by += h[i] * x[i + 1].y();
-    bp += h[i] * p[i + 1];
-  }
-  y = Eigen::Vector2d(yx, yy);
-  pbar = pb;
-  y_before = Eigen::Vector2d(bx, by);
-  pbar_before = bp;
+void ArcPrecompCheck::batch_outputs(std::size_t head, std::array<Eigen::Vector2d, kBatch>& y,
+                                    std::array<double, kBatch>& pbar) const {
+  std::array<double, 2 * kBatch> xy;
+  if (use_avx2_)
+    batch_sums_avx2(h_.data(), h_.size(), ring_[head].data(), ring_p_.data() + head, xy.data(),
+                    pbar.data());
+  else
+    batch_sums_portable(h_.data(), h_.size(), ring_[head].data(), ring_p_.data() + head, xy.data(),
+                        pbar.data());
+  for (std::size_t j = 0; j < kBatch; ++j) y[j] = Eigen::Vector2d(xy[2 * j], xy[2 * j + 1]);
 }
 
 void ArcPrecompCheck::judge(SimState& s, const Eigen::Vector2d& y, double pbar) const {
-  const double d = (y - point(pbar)).norm();
+  // The square first: sqrt is monotone, so only a square above the worst's can give a
+  // distance above it (the same worst, bit for bit, as comparing every distance).
+  const double d2 = (y - point(pbar)).squaredNorm();
+  if (!(d2 > s.worst2)) return;
+  s.worst2 = d2;
+  const double d = std::sqrt(d2);
   if (d > s.worst) {
     s.worst = d;
     if (over(d)) stopped_ = true;
@@ -206,12 +239,14 @@ void ArcPrecompCheck::judge(SimState& s, const Eigen::Vector2d& y, double pbar) 
 }
 
 void ArcPrecompCheck::flush(SimState& s) const {
-  if (!s.pending) return;
-  s.pending = false;
-  Eigen::Vector2d y;
-  double pbar;
-  window_output(s.head, y, pbar);
-  judge(s, y, pbar);
+  if (s.pending == 0) return;
+  // The pending outputs' windows end at slots head + pending − 1 (the oldest) .. head; judged
+  // oldest first, as they came.
+  std::array<Eigen::Vector2d, kBatch> y;
+  std::array<double, kBatch> pbar;
+  batch_outputs(s.head, y, pbar);
+  for (std::size_t j = s.pending; j-- > 0;) judge(s, y[j], pbar[j]);
+  s.pending = 0;
 }
 
 void ArcPrecompCheck::advance(SimState& s) const {
@@ -256,19 +291,11 @@ void ArcPrecompCheck::push_sample(SimState& s) const {
   // weights >= 0 also p̄ <= 0): x_i = (p_i, 0), y = (Σ h_i p_i, 0) by the same operations as
   // p̄, and x(p̄) = (p̄, 0): the distance is exactly 0.
   const bool needed = !(s.p <= 0.0 && nonnegative_);
-  // An output waits for the next sample's, to be computed with it (flush: the last one).
-  if (!s.pending) {
-    s.pending = needed;
-    return;
-  }
-  // With the pending one, this output is judged too even where it is not needed: its distance
-  // is then exactly 0 (above), which changes nothing.
-  s.pending = false;
-  Eigen::Vector2d y, y_before;
-  double pbar, pbar_before;
-  window_outputs(s.head, y, pbar, y_before, pbar_before);
-  judge(s, y_before, pbar_before);
-  judge(s, y, pbar);
+  // Outputs wait to be computed kBatch at a time (flush: the last ones). After a pending one,
+  // an output is judged too even where it is not needed: its distance is then exactly 0
+  // (above), which changes nothing.
+  if (s.pending == 0 && !needed) return;
+  if (++s.pending == kBatch) flush(s);
 }
 
 double ArcPrecompCheck::run_segment(double p_from, double p_to, double phase, Start start,

@@ -6,6 +6,8 @@
 
 #include <Eigen/Core>
 
+#include <array>
+
 #include <cstddef>
 #include <limits>
 #include <vector>
@@ -121,13 +123,13 @@ class ArcPrecompCheck {
   double run_segment(double p_from, double p_to, double phase, Start start, End end) const;
   /// One run's state between samples.
   /// `since_first`, `phase_in`: the interpolator's count and phase for the end rows.
-  /// `pending`: the newest sample's output is not yet judged (push_sample judges it with the
-  /// next one's, flush alone).
+  /// `pending`: the newest samples' outputs not yet judged (push_sample judges kBatch at once,
+  /// flush the rest).
   struct SimState {
-    double p = 0, v = 0, worst = 0, phase_in = 0;
+    double p = 0, v = 0, worst = 0, worst2 = 0, phase_in = 0;  ///< worst2: the worst's square
     std::size_t rest = 0, count = 0, head = 0;
     int since_first = -1;
-    bool pending = false;
+    std::size_t pending = 0;
   };
   /// Advances the command by one sample (s.v: its speed).
   void advance(SimState& s) const;
@@ -150,12 +152,16 @@ class ArcPrecompCheck {
   /// The filter output y and p̄ = Σ h_i p_i of the window whose newest sample is at ring slot
   /// `head`.
   void window_output(std::size_t head, Eigen::Vector2d& y, double& pbar) const;
-  /// window_output at `head` and at the sample before it, each bit for bit, in one pass.
-  void window_outputs(std::size_t head, Eigen::Vector2d& y, double& pbar, Eigen::Vector2d& y_before,
-                      double& pbar_before) const;
+  static constexpr std::size_t kBatch = 4;  ///< outputs computed together (batch_outputs)
+  /// Ring slots: the window and the kBatch − 1 samples before it.
+  std::size_t ring_slots() const { return h_.size() + kBatch - 1; }
+  /// window_output at head + j for j = 0..kBatch − 1 (the newest first), each bit for bit, in
+  /// one pass.
+  void batch_outputs(std::size_t head, std::array<Eigen::Vector2d, kBatch>& y,
+                     std::array<double, kBatch>& pbar) const;
   /// The output's distance from the path into s.worst (and the early stop).
   void judge(SimState& s, const Eigen::Vector2d& y, double pbar) const;
-  /// Judges the pending output, if any.
+  /// Judges the pending outputs, if any.
   void flush(SimState& s) const;
 
   std::vector<double> h_;
@@ -163,6 +169,7 @@ class ArcPrecompCheck {
   double spread_ = 0.0;       ///< Σ_ij |h_i||h_j||i − j|, samples (spiral_mm)
   double variance_s2_ = 0.0;  ///< σ² of the weights' time, s² (spiral_mm)
   double period_s_;
+  bool use_avx2_ = false;  ///< batch_outputs' kernel (active_isa())
   ArcCompensation rule_;
   // The isolated arc being simulated (set by isolated_mm): radius, in-plane length, q = r·|θ|/L,
   // the radial blend's length (path) and the end rows' weight against it, the path the ends
@@ -173,8 +180,8 @@ class ArcPrecompCheck {
   /// stepped_mm: the arc's cap, the lines' speed and the in-plane stretch beside the arc at v.
   mutable double vplan_ = 0, vline_ = 0, near_p_ = 0;
   double line_ratio_ = 0.0, near_s_ = 0.0;
-  /// The window and the sample before it (N + 2 slots), each slot stored twice (at k and
-  /// k + N + 2) so that a window lies in a row; the newest at a moving head.
+  /// The window and the kBatch − 1 samples before it (ring_slots()), each slot stored twice
+  /// (at k and k + ring_slots()) so that a window lies in a row; the newest at a moving head.
   mutable std::vector<Eigen::Vector2d> ring_, fork_ring_;
   mutable std::vector<double> ring_p_, fork_ring_p_;
   /// error_within's early stop: a run ends once (its worst + stop_add_)·stop_scale_ > stop_share_

@@ -9,6 +9,8 @@
 #include "interpolator/interpolator.hpp"
 #include "machine/machine_file.hpp"
 #include "pipeline/pipeline.hpp"
+#include "planner/arc_residual_table.hpp"
+#include "planner/filter_moments.hpp"
 #include "servo/servo_axis.hpp"
 #include "servo/servo_bank.hpp"
 #include "support/sample_stepper.hpp"
@@ -285,6 +287,28 @@ void BM_FirServo(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * n);
 }
 BENCHMARK(BM_FirServo)->Arg(0)->Arg(8)->Arg(16)->Arg(32)->Arg(64)->Arg(128);
+
+// The tolerance planner's residual table (docs/tolerance.md, "Planning cost"): nodes simulated
+// per second, the default machine's filter (blackman, tau 0.164 s, T 4 ms). Each iteration fills
+// the 64 nodes about 16 arcs of R 10 mm (sweeps 0.1 to 3 rad, rates near the planner's arc
+// speeds) in a fresh table, as a program's first arcs do.
+void BM_ArcResidualNodes(benchmark::State& state) {
+  const gm::FilterMoments filter(gm::design_taps("blackman", 0.164, 0.004), 0.004);
+  const gm::ArcPrecompCheck check(filter.weights(), filter.period_s());
+  std::size_t nodes = 0;
+  for (auto _ : state) {
+    const gm::ArcResidualTable table(check);
+    double sum = 0.0;
+    for (int a = 0; a < 16; ++a) {
+      const double sweep = 0.1 * std::pow(30.0, a / 15.0), R = 10.0, v = 20.0 + 7.0 * a;
+      sum += table.error_bound_mm(check, R, sweep, R * sweep, v);
+    }
+    benchmark::DoNotOptimize(sum);
+    nodes += table.nodes_filled();
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(nodes));  // nodes
+}
+BENCHMARK(BM_ArcResidualNodes)->Unit(benchmark::kMillisecond);
 
 class TextSource : public gm::CanonSource {
  public:
