@@ -4,6 +4,7 @@
 #include "machine/tool_table.hpp"
 
 #include <catch2/catch.hpp>
+#include <fmt/format.h>
 
 #include <sstream>
 
