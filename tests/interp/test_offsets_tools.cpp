@@ -3,8 +3,8 @@
 #include "gcode_helpers.hpp"
 #include "machine/tool_table.hpp"
 
-#include <catch2/catch.hpp>
 #include <fmt/format.h>
+#include <catch2/catch.hpp>
 
 #include <sstream>
 
