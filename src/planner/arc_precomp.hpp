@@ -7,7 +7,6 @@
 #include <Eigen/Core>
 
 #include <array>
-
 #include <cstddef>
 #include <limits>
 #include <vector>
