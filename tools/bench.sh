@@ -13,7 +13,8 @@
 #     long-move program;
 #   - `gmotion run` on the same program with A, B, C moving on a six-axis machine (--axes XYZABC);
 #   - `gmotion run` on a 40,000-block program of the same kind at `G64 P0.01` (the tolerance
-#     planner) against without P: samples/s and their ratio;
+#     planner) against without P: samples/s and their ratio, and the CPU seconds of the
+#     planner's thread (the run's busiest; tools/thread_cpu.py, best of 5);
 #   - `gmotion run --trace`: CSV rows/s to /dev/null and to a file, binary rows/s to a file;
 #   - with --instructions: callgrind's instructions per sample on each thread of the long-move
 #     run, and the per-stage breakdown of the main thread (valgrind; slow: about a minute);
@@ -133,7 +134,8 @@ measure 3 "$bin/gmotion" run "$plan_p" --summary-json "$work/summary-plan.json"
 psamples=$(samples_of "$work/summary-plan.json")
 plan_rate=$(calc "%.4f" "$psamples / 1e6 / $secs")
 plan_user=$(calc "%.4f" "$psamples / 1e6 / $user_s")
-rows+=("| \`gmotion run\`, \`G64 P0.01\` (40,000 blocks, planned) | $(calc "%.2f" "$plan_rate") M samples/s, $(calc "%.2f" "$plan_rate / $free_rate")x the rate without P ($(calc "%.2f" "$plan_user / $free_user")x by user CPU) | $psamples samples in $secs s ($user_s s user), peak RSS $((rss_kb / 1024)) MB; without P $(calc "%.2f" "$free_rate") M samples/s |")
+plan_cpu=$(busiest 5 "$bin/gmotion" run "$plan_p")  # the planner's thread, the run's busiest
+rows+=("| \`gmotion run\`, \`G64 P0.01\` (40,000 blocks, planned) | $(calc "%.2f" "$plan_rate") M samples/s, $(calc "%.2f" "$plan_rate / $free_rate")x the rate without P ($(calc "%.2f" "$plan_user / $free_user")x by user CPU) | $psamples samples in $secs s ($user_s s user), peak RSS $((rss_kb / 1024)) MB; without P $(calc "%.2f" "$free_rate") M samples/s; the planner's thread $plan_cpu s of CPU (\`tools/thread_cpu.py\`, best of 5) |")
 
 # Long moves: every move takes at least 100 samples (what the block engine's headline is on).
 long=$work/long-20000.nc
