@@ -85,7 +85,6 @@ class RingDeque {
     head_ = (head_ + 1) & mask_;
     --size_;
   }
-  void pop_back() { --size_; }  ///< the slot keeps its value until reused
   void clear() { head_ = size_ = 0; }
 
   iterator begin() { return iterator(this, 0); }

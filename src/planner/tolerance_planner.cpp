@@ -97,6 +97,9 @@ constexpr double kCrawlRatio = 0.1;
 /// travel at v_p: its end rows (ArcEndRows::kSpan advances), the radial blend (two samples)
 /// and the speed hold before its end lie within them.
 constexpr double kCompEndSamples = ArcEndRows::kSpan + 2;
+/// A chain's ends are planned slower than its middle (slower_ends) only where its middle gains
+/// more than this fraction of its speed.
+constexpr double kSlowerEndsGain = 0.02;
 constexpr int kMinRunVertices = 3;
 constexpr double kRunDeltaShare = 4.0;
 
@@ -154,13 +157,12 @@ void TolerancePlanner::pull() {
   if (toleranced && !untoleranced_.empty()) plan_untoleranced(b);
   const Block* prev = window_.size() >= 2 ? &window_[window_.size() - 2] : nullptr;
   // Arcs on one circle (split circles, helices written as half turns) are one arc element, a
-  // chain, when nothing else is within reach of its start or end (close_chain).
+  // chain (its ends may be planned slower than its middle: slower_ends).
   Element* growing = prev != nullptr ? growing_arc(*prev) : nullptr;
   const Block* first = prev;  // the circle's first block: the chain's, or prev
   if (growing != nullptr && growing->seq < prev->seq)
     first = &window_[window_.size() - 1 - static_cast<std::size_t>(b.seq - growing->seq)];
   const bool on_circle = prev != nullptr && same_circle(*first, *prev, b);
-  if (prev != nullptr && !on_circle) close_chain(*prev, b);
   if (prev != nullptr) add_corner(*prev, b);
   if (b.m.kind == MotionKind::Arc) end_run();
   // Afresh: a join that is not tangent to the rounding pushed a corner (and elements move).
@@ -173,9 +175,7 @@ void TolerancePlanner::pull() {
   } else if (b.m.kind == MotionKind::Arc && toleranced) {
     Element e = arc_element(b);
     e.split = splits(b.m);
-    // A chain may start here when nothing else is within reach before it (else its single
-    // v_p would be what is beside its start allows).
-    e.chainable = e.radius > 0.0 && e.spiral == 0.0 && nothing_within_reach_before(b);
+    e.chainable = e.radius > 0.0 && e.spiral == 0.0;  // a near circle's radius drifts
     push_element(e);
   } else if (b.m.kind == MotionKind::Arc) {
     untoleranced_.push_back(Untoleranced{b.seq, true, b.t0, b.t1 + filter_.tau_s()});
@@ -443,38 +443,6 @@ TolerancePlanner::Element* TolerancePlanner::growing_arc(const Block& prev) {
   if (elems_.empty()) return nullptr;
   Element& e = elems_.back();
   return e.kind == ElementKind::Arc && !e.decided && e.seq_last == prev.seq ? &e : nullptr;
-}
-
-bool TolerancePlanner::nothing_within_reach_before(const Block& b) const {
-  // A stop or a dwell just before b parts it from whatever lies before.
-  const Block* prev = window_.size() >= 2 ? &window_[window_.size() - 2] : nullptr;
-  if (prev != nullptr && (prev->stop_after || prev->dwell_after_s > 0.0)) return true;
-  const double from = b.s0 - b.v100 * filter_.tau_s();
-  return elems_.empty() || !(elems_.back().s1 > from - 1e-9);
-}
-
-void TolerancePlanner::close_chain(const Block& prev, const Block& b) {
-  // A chain has one v_p: an element within reach of its end would slow all of it, where the
-  // same blocks as arcs of their own slow only near it (docs/tolerance.md, "Arcs on one
-  // circle"). So it stays a chain only when what follows is a stop, a dwell or a tangent line
-  // of at least τ of travel at 100 %; else its blocks are made arcs of their own again.
-  Element* chain = growing_arc(prev);
-  if (chain == nullptr || !(chain->seq_last > chain->seq)) return;
-  const double turn = join_turn(prev, b);
-  const bool clear = prev.stop_after || prev.dwell_after_s > 0.0 ||
-                     (b.m.kind == MotionKind::Line && b.m.path_tolerance_mm > 0.0 &&
-                      !(turn > kMinTurn) && b.g.length_mm >= prev.v100 * filter_.tau_s());
-  if (clear) return;
-  const std::uint64_t first = chain->seq, last = chain->seq_last;
-  weight_total_ -= chain->weight;
-  elems_.pop_back();
-  claim_cursor_ = std::min(claim_cursor_, elems_.size());  // the arcs pushed get theirs
-  for (const Block& c : window_)
-    if (c.seq >= first && c.seq <= last) {
-      Element e = arc_element(c);
-      e.split = true;  // same_circle: it turns once
-      push_element(e);
-    }
 }
 
 const TolerancePlanner::Element* TolerancePlanner::arc_of(const Block& b) const {
@@ -779,6 +747,14 @@ bool TolerancePlanner::counts_decided(const Element& f, const Element& e) {
   return f.decided && &f != &e && f.reach1 > e.s0 - 1e-9 && f.reach0 < e.s1 + 1e-9;
 }
 
+double TolerancePlanner::err_seen(const Element& f, const Element& e) {
+  if (f.slower_ends()) {
+    if (e.s0 >= f.s1 - 1e-9) return f.ends[1].err;
+    if (e.s1 <= f.s0 + 1e-9) return f.ends[0].err;
+  }
+  return f.err;
+}
+
 TolerancePlanner::Decided TolerancePlanner::range_decided(ZoneRange r, const Element& e,
                                                           const Element* run_of) const {
   // The undecided elements besides e start at the range's first past the prefix (e aside):
@@ -796,7 +772,8 @@ TolerancePlanner::Decided TolerancePlanner::range_decided(ZoneRange r, const Ele
     if (run_of != nullptr && !(f.kind == ElementKind::Run && f.run_id == run_of->run_id)) continue;
     // The part of its share it uses, in e's share: an instant with both is within the larger
     // tolerance of the two (each element's is the smallest around it), and parts add to 1.
-    const double err = f.share == e.share || !(f.share > 0.0) ? f.err : f.err / f.share * e.share;
+    const double seen = err_seen(f, e);
+    const double err = f.share == e.share || !(f.share > 0.0) ? seen : seen / f.share * e.share;
     d.all += err;
     if (i >= decided_prefix_ || f.reach1 > undecided_from) d.shared += err;
   }
@@ -1118,13 +1095,16 @@ void TolerancePlanner::decide_arc(Element& e, double share, const MismatchReserv
   double v = largest_speed_in_zones(e.vmax, share, e.s0, e.s1, tau, load, guess);
   e.comp_speed = 0.0;
   e.err = a * v * v;
+  e.ends = {};
   if (v < e.vmax && precomp_) {
     double err = 0.0;
-    const double vc = precomp_arc_speed(e, share - res.ceiling_mm(), v, err);
+    std::array<Element::EndCap, 2> ends{};
+    const double vc = precomp_arc_speed(e, share - res.ceiling_mm(), v, err, &ends);
     if (vc > v) {
       v = vc;
       e.comp_speed = vc;
       e.err = err;
+      e.ends = ends;
     }
   }
   // A pre-compensated arc keeps its zone even at its fastest speed: its term holds for lines at
@@ -1165,10 +1145,15 @@ void TolerancePlanner::part_zone(Element& e) const {
     e.z1 = std::min(e.z1, stops.after->s0);
     e.reach1 = std::min(e.reach1, stops.after->s0);
   }
+  for (Element::EndCap& c : e.ends) {
+    if (stops.before != nullptr) c.lo = std::max(c.lo, stops.before->s1);
+    if (stops.after != nullptr) c.hi = std::min(c.hi, stops.after->s0);
+  }
 }
 
 double TolerancePlanner::precomp_arc_speed(const Element& e, double share, double floor,
-                                           double& err) const {
+                                           double& err,
+                                           std::array<Element::EndCap, 2>* ends_out) const {
   if (!(e.radius > 0.0) || !(e.sweep > 0.0)) return 0.0;
   const double tau = filter_.tau_s(), L = e.s1 - e.s0;
   // The isolated arc's term (transitions at its ends, the ramp's transient) against its share
@@ -1198,17 +1183,11 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
                                             e, false)));
     return least;
   };
-  auto within = [&](double v) {
-    const ZoneRange r = chain        ? ZoneRange{}
-                        : memo.valid ? zone_range_from(memo.range, e.s0 - v * tau, e.s1 + v * tau)
-                                     : zone_range(e.s0 - v * tau, e.s1 + v * tau);
-    const ZoneMemo& z = chain ? memo : zone_values(memo, r, e, false);
-    // The arc's error within its allotment (zone_allotment, W = w): a near circle's extra term
-    // off it (a circle's is 0), the circle's term at most the allotment wherever the answer is
-    // yes.
-    // A servo mismatch moves the table by the command's offset too (offset_mismatch_mm).
-    const double w = chain ? 1.0 : z.weight,
-                 allotment = chain ? chain_allotment(v) : zone_allotment(share, 1.0, z);
+  // The arc's error at v within `allotment` (zone_allotment, W = w): a near circle's extra term
+  // off it (a circle's is 0), the circle's term at most the allotment wherever the answer is
+  // yes.
+  // A servo mismatch moves the table by the command's offset too (offset_mismatch_mm).
+  auto fits = [&](double v, double allotment, double w) {
     auto mismatch_mm = [&](bool cap) {  // offset_mismatch_mm, or its cheap cap
       return std::invoke(
           cap ? &ArcPrecompCheck::offset_mismatch_cap_mm : &ArcPrecompCheck::offset_mismatch_mm,
@@ -1235,6 +1214,13 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
       return residual_->error_bound_mm(*precomp_, e.radius, e.sweep, L, v) * w <= left;
     return precomp_->error_within(e.radius, e.sweep, L, v, w, left);
   };
+  auto within = [&](double v) {
+    if (chain) return fits(v, chain_allotment(v), 1.0);
+    const ZoneRange r = memo.valid ? zone_range_from(memo.range, e.s0 - v * tau, e.s1 + v * tau)
+                                   : zone_range(e.s0 - v * tau, e.s1 + v * tau);
+    const ZoneMemo& z = zone_values(memo, r, e, false);
+    return fits(v, zone_allotment(share, 1.0, z), z.weight);
+  };
   // Where the answer is yes, the arc's error (its term and a near circle's extra) is within
   // its allotment at that speed: the bound it leaves (err).
   auto allotted = [&](double v) {
@@ -1254,7 +1240,70 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
     (within(mid) ? lo : hi) = mid;
   }
   err = allotted(lo);
+  if (chain && ends_out != nullptr && lo > floor) {
+    double mid_err = 0.0;
+    const double v_mid = slower_ends(e, lo, vlim, share, fits, *ends_out, mid_err);
+    if (v_mid > 0.0) {
+      err = std::max({mid_err, (*ends_out)[0].err, (*ends_out)[1].err});
+      return v_mid;
+    }
+  }
   return lo;
+}
+
+template <class Fits>
+double TolerancePlanner::slower_ends(const Element& e, double v_one, double vlim, double share,
+                                     Fits& fits, std::array<Element::EndCap, 2>& ends,
+                                     double& mid_err) const {
+  // A chain at one speed v_one takes the least allotment of its start's, its end's and its
+  // own ranges (precomp_arc_speed). Its middle may run faster where its ends are crowded: a
+  // window wholly on the chain holds nothing else (its allotment is the whole share), and the
+  // chain's error there is the ramp's transient, which its term at the middle's speed covers.
+  // Each end then runs at the speed its own range allows over 2τ + kCompEndSamples samples of
+  // travel on the chain (a window holding the end's transition, its rows, or the ramp from or to
+  // rest there, holds no sample of the ramp between the end's speed and the middle's) and τ of
+  // travel beside it, as an arc planned at that speed: its term at that speed is charged in its
+  // range, and the elements beyond that end see that end's allotment only (err_seen).
+  const double tau = filter_.tau_s(), L = e.s1 - e.s0;
+  ZoneMemo mid_memo;
+  const double mid_allot = zone_allotment(
+      share, 1.0, zone_values(mid_memo, zone_range(e.s0 + 1e-6, e.s1 - 1e-6), e, false));
+  auto largest = [&](double lo, double hi, auto ok) {
+    if (ok(hi)) return hi;
+    for (int it = 0; it < 10; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (ok(mid) ? lo : hi) = mid;
+    }
+    return lo;
+  };
+  const double v_mid = largest(v_one, vlim, [&](double v) { return fits(v, mid_allot, 1.0); });
+  if (!(v_mid > v_one * (1.0 + kSlowerEndsGain))) return 0.0;
+  std::array<ZoneMemo, 2> memos{};
+  auto end_allot = [&](std::size_t k, double v) {
+    const double at = k == 0 ? e.s0 : e.s1, reach = v * tau;
+    return zone_allotment(share, 1.0,
+                          zone_values(memos[k], zone_range(at - reach, at + reach), e, false));
+  };
+  std::array<double, 2> v_end{};
+  double need = 0.0;  // the chain's path its slower ends and the ramps to them take
+  for (std::size_t k = 0; k < 2; ++k) {
+    v_end[k] = largest(v_one, v_mid, [&](double v) { return fits(v, end_allot(k, v), 1.0); });
+    if (v_end[k] < v_mid)
+      need += v_end[k] * (2.0 * tau + kCompEndSamples * filter_.period_s()) +
+              braking_length_mm(v_mid, v_end[k], v_mid);
+  }
+  if (!(need < L)) return 0.0;
+  for (std::size_t k = 0; k < 2; ++k) {
+    Element::EndCap& c = ends[k];
+    c.err = end_allot(k, v_end[k]);
+    if (!(v_end[k] < v_mid)) continue;
+    c.cap = v_end[k];
+    const double own = v_end[k] * (2.0 * tau + kCompEndSamples * filter_.period_s());
+    c.lo = k == 0 ? zone_back(e.s0, tau, c.cap) : e.s1 - own;
+    c.hi = k == 0 ? e.s0 + own : zone_fwd(e.s1, tau, c.cap);
+  }
+  mid_err = mid_allot;
+  return v_mid;
 }
 
 void TolerancePlanner::decide_arc_beside_claims(Element& e, double share,
@@ -1654,12 +1703,13 @@ void TolerancePlanner::emit_front() {
         cap_all = std::min(cap_all, c.cap_all);
         last = &c;
       }
-    cut_pieces(chain->s0, chain->s1, cap_all, false, comp_v);
+    cut_pieces(chain->s0, chain->s1, cap_all, false, comp_v, chain);
     merge_short_pieces(b);
     brake_comp_pieces(comp_v);
     chain_pieces_ = pieces_;
-    // Every block of the chain takes the rows its end takes (they act near that end only).
-    chain_stops_ = comp_stops_after(*last, comp_v);
+    // Every block of the chain takes the rows its end takes (they act near that end only),
+    // judged at its last piece's v_p.
+    chain_stops_ = comp_stops_after(*last, chain_pieces_.back().plan_or(comp_v));
   }
   emit_pieces(b, comp_v, chain);
   const std::size_t last_piece = ready_.size() - 1;
@@ -1823,7 +1873,8 @@ void TolerancePlanner::decide_untoleranced_group(std::size_t i) {
   extend_decided_prefix();
 }
 
-void TolerancePlanner::cut_pieces(double s0, double s1, double cap_all, bool whole, double comp_v) {
+void TolerancePlanner::cut_pieces(double s0, double s1, double cap_all, bool whole, double comp_v,
+                                  const Element* own) {
   // Pieces of the block between zone boundaries, each with the smallest cap over it.
   // An arc of several turns is not split: it takes the smallest cap of the zones touching it.
   // A pre-compensated arc is cut, but not within kCompEndSamples samples of travel at v_p of its
@@ -1839,11 +1890,21 @@ void TolerancePlanner::cut_pieces(double s0, double s1, double cap_all, bool who
   }
   std::vector<double>& cuts = cuts_;
   cuts.assign({s0, s1});
+  // Each decided element's capped stretches: its zone, and a chain's slower ends'.
+  auto each_capped = [&](auto fn) {
+    for (const Element& e : elems_) {
+      if (!e.decided) continue;
+      if (e.cap < kInf) fn(e.z0, e.z1, e.cap);
+      if (e.slower_ends())
+        for (const Element::EndCap& c : e.ends)
+          if (c.cap < kInf) fn(c.lo, c.hi, c.cap);
+    }
+  };
   if (!whole)
-    for (const Element& e : elems_)
-      if (e.decided && e.cap < kInf)
-        for (double z : {e.z0, e.z1})
-          if (z > s0 && z < s1) cuts.push_back(std::clamp(z, lo, hi));
+    each_capped([&](double z0, double z1, double) {
+      for (double z : {z0, z1})
+        if (z > s0 && z < s1) cuts.push_back(std::clamp(z, lo, hi));
+    });
   std::sort(cuts.begin(), cuts.end());
   cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
   std::vector<Piece>& pieces = pieces_;
@@ -1855,17 +1916,21 @@ void TolerancePlanner::cut_pieces(double s0, double s1, double cap_all, bool who
       continue;
     }
     double cap = cap_all;
-    for (const Element& e : elems_) {
-      if (!e.decided || !(e.cap < kInf)) continue;
-      const bool covers = whole || comp_v > 0.0 ? (e.z0 < c && e.z1 > a)
-                                                : (e.z0 <= 0.5 * (a + c) && 0.5 * (a + c) <= e.z1);
-      if (covers) cap = std::min(cap, e.cap);
-    }
+    each_capped([&](double z0, double z1, double zcap) {
+      const bool covers =
+          whole || comp_v > 0.0 ? (z0 < c && z1 > a) : (z0 <= 0.5 * (a + c) && 0.5 * (a + c) <= z1);
+      if (covers) cap = std::min(cap, zcap);
+    });
     if (!pieces.empty() && pieces.back().cap == cap)
       pieces.back().c = c;
     else
       pieces.push_back({a, c, cap});
   }
+  // The chain's own pieces over its slower ends are planned at those ends' caps.
+  if (own != nullptr && own->slower_ends())
+    for (Piece& q : pieces)
+      for (const Element::EndCap& e : own->ends)
+        if (e.cap < kInf && e.lo < q.c && e.hi > q.a) q.plan = std::min(q.plan_or(comp_v), e.cap);
 }
 
 void TolerancePlanner::merge_short_pieces(const Block& b) {
@@ -1911,9 +1976,11 @@ void TolerancePlanner::brake_comp_pieces(double comp_v) {
   std::vector<Piece>& pieces = pieces_;
   if (!(comp_v > 0.0) || pieces.size() < 2) return;
   for (std::size_t i = pieces.size() - 1; i-- > 0;) {
-    const double from = std::min(pieces[i].cap, comp_v), to = std::min(pieces[i + 1].cap, comp_v);
+    const double plan = pieces[i].plan_or(comp_v);
+    const double from = std::min(pieces[i].cap, plan),
+                 to = std::min(pieces[i + 1].cap, pieces[i + 1].plan_or(comp_v));
     if (!(to < from)) continue;
-    if (pieces[i].c - pieces[i].a < braking_length_mm(from, to, comp_v))
+    if (pieces[i].c - pieces[i].a < braking_length_mm(from, to, plan))
       pieces[i].cap = pieces[i + 1].cap;
   }
 }
@@ -1936,8 +2003,11 @@ void TolerancePlanner::emit_pieces(const Block& b, double comp_v, const Element*
       const double a = std::max(q.a, b.s0), c = std::min(q.c, b.s1);
       if (!(c - a > 1e-9) && !(q.a <= b.s0 && b.s1 <= q.c)) continue;
       const double next =
-          std::min(k + 1 < chain_pieces_.size() ? chain_pieces_[k + 1].cap : kInf, comp_v);
-      block_pieces_.push_back({a, c, q.cap, q.c, next < std::min(q.cap, comp_v) ? next : 0.0});
+          k + 1 < chain_pieces_.size()
+              ? std::min(chain_pieces_[k + 1].cap, chain_pieces_[k + 1].plan_or(comp_v))
+              : comp_v;
+      const double speed = std::min(q.cap, q.plan_or(comp_v));
+      block_pieces_.push_back({a, c, q.cap, q.c, next < speed ? next : 0.0, q.plan});
     }
   }
   const std::vector<Piece>& pieces = chain != nullptr ? block_pieces_ : pieces_;
@@ -1956,15 +2026,16 @@ void TolerancePlanner::emit_pieces(const Block& b, double comp_v, const Element*
       if (b.m.inverse_time_s > 0.0) p.inverse_time_s = b.m.inverse_time_s * (q.c - q.a) / L;
     }
     if (q.cap < b.vmax * (1.0 - 1e-12)) p.speed_cap_mm_s = q.cap;
-    p.comp_speed_mm_s = comp_v;
+    p.comp_speed_mm_s = q.plan_or(comp_v);
     if (chain != nullptr) {  // a piece of the chain's arc
       p.comp_arc_from_mm = q.a - arc_s0;
       p.comp_arc_length_mm = arc_len;
       // It brakes to the next piece's speed by its own end where the chain's piece ends in it,
       // or where what is left of that piece past this block is too short to brake in.
+      const double plan = q.plan_or(comp_v);
       if (q.exit_speed > 0.0 &&
           (q.exit_at <= b.s1 + 1e-9 ||
-           q.exit_at - b.s1 < braking_length_mm(std::min(q.cap, comp_v), q.exit_speed, comp_v)))
+           q.exit_at - b.s1 < braking_length_mm(std::min(q.cap, plan), q.exit_speed, plan)))
         p.comp_exit_speed_mm_s = q.exit_speed;
       p.comp_stops_at_end = chain_stops_;
     } else if (comp_v > 0.0 && pieces.size() > 1) {  // a piece of the arc (cut_pieces)

@@ -14,6 +14,7 @@
 #include "planner/naive_cam.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <optional>
@@ -126,7 +127,7 @@ class TolerancePlanner : public CanonSource {
     /// Arc: its last block. A chain of arcs on one circle (or helix) is one arc element
     /// (same_circle): seq..seq_last; one block: seq_last == seq.
     std::uint64_t seq_last = 0;
-    /// Arc: the next block on its circle joins it (same_circle): nothing within reach before.
+    /// Arc: the next block on its circle joins it (same_circle): a circle, not a near one.
     bool chainable = false;
     double t0 = 0, t1 = 0;  ///< extent in fastest travel time
     double s0 = 0, s1 = 0;  ///< extent in path length
@@ -169,6 +170,20 @@ class TolerancePlanner : public CanonSource {
     double claim = 0;                                            ///< Claimant: its error bound, mm
     double claim_cap = std::numeric_limits<double>::infinity();  ///< Claimant: its cap, or none
     bool split = false;  ///< Arc: cut at zone boundaries like a line (splits)
+    /// Decided chain of arcs whose ends are slower than its middle (docs/tolerance.md, "A chain's
+    /// ends slower than its middle"): the cap of its start and of its end (infinity: `cap`),
+    /// each over its stretch [lo, hi] (the path beside the end within τ of travel, the chain's
+    /// own up to 2τ + kCompEndSamples samples of travel), and the error bound each end leaves
+    /// (err0 seen by the elements before the chain, err1 by those after it; err the largest).
+    struct EndCap {
+      double cap = std::numeric_limits<double>::infinity();
+      double lo = 0, hi = 0, err = 0;
+    };
+    std::array<EndCap, 2> ends{};
+    bool slower_ends() const {
+      return ends[0].cap < std::numeric_limits<double>::infinity() ||
+             ends[1].cap < std::numeric_limits<double>::infinity();
+    }
     /// Planned for the tolerance of a later block (plan_untoleranced): that block's seq, else 0;
     /// and the t1 of the group's last element (the one nearest that block).
     std::uint64_t untol_for = 0;
@@ -196,11 +211,6 @@ class TolerancePlanner : public CanonSource {
   bool same_circle(const Block& first, const Block& prev, const Block& b) const;
   /// The arc element ending with prev when it is the last element and undecided, or none.
   Element* growing_arc(const Block& prev);
-  /// No element within τ of travel at 100 % feed before b, or a stop or dwell just before it.
-  bool nothing_within_reach_before(const Block& b) const;
-  /// A chain ending at prev, b not on its circle: its blocks made arcs of their own again
-  /// when b brings another element within reach of its end.
-  void close_chain(const Block& prev, const Block& b);
   /// The arc element b is in (its own, or its chain's), or none.
   const Element* arc_of(const Block& b) const;
   /// The arc element of a chain of two or more blocks that b is in, or none.
@@ -230,7 +240,17 @@ class TolerancePlanner : public CanonSource {
   void decide_arc(Element& e, double share, const MismatchReserve& res) const;
   /// The cap of arc e pre-compensated within `share`, mm/s: `floor` (the curvature bound's
   /// cap) or less when compensating is no faster.
-  double precomp_arc_speed(const Element& e, double share, double floor, double& err) const;
+  /// A chain's ends may be slower than its middle: `ends` (when not null) then gets their caps
+  /// and errs (caps infinite: one speed).
+  double precomp_arc_speed(const Element& e, double share, double floor, double& err,
+                           std::array<Element::EndCap, 2>* ends = nullptr) const;
+  /// A chain planned at one speed v_one (its least range's) whose middle alone could run
+  /// faster (up to vlim, `fits` its check): the middle's speed, its ends' caps in `ends` and the
+  /// middle's allotment in mid_err; 0 (ends untouched) when the chain is too short for it or the
+  /// middle gains too little.
+  template <class Fits>
+  double slower_ends(const Element& e, double v_one, double vlim, double share, Fits& fits,
+                     std::array<Element::EndCap, 2>& ends, double& mid_err) const;
   /// decide_arc with the claims beside the arc taken off its share.
   void decide_arc_beside_claims(Element& e, double share, const MismatchReserve& res) const;
   void decide_run(Element& e, double share, const MismatchReserve& res) const;
@@ -292,6 +312,9 @@ class TolerancePlanner : public CanonSource {
   Decided range_decided(ZoneRange r, const Element& e, const Element* run_of = nullptr) const;
   /// Whether range_decided(…, e) counts f: decided, not e, its zone reaching e.
   static bool counts_decided(const Element& f, const Element& e);
+  /// The bound decided f leaves on its error in windows e shares with it: a chain with slower
+  /// ends leaves each end's to the elements beyond that end.
+  static double err_seen(const Element& f, const Element& e);
   double range_claims(ZoneRange r) const;  ///< zone_claims of the range
   /// range_weight, range_decided and (with claims) zone_claims of the last range asked for.
   struct ZoneMemo {
@@ -364,7 +387,10 @@ class TolerancePlanner : public CanonSource {
   /// pieces_ between the zone boundaries in [s0, s1] (a block, or a chain of arcs: chain_of);
   /// comp_v: its v_p when it is a pre-compensated arc; cap_all: the blocks' smallest cap_all;
   /// whole: not cut at all (an arc of several turns).
-  void cut_pieces(double s0, double s1, double cap_all, bool whole, double comp_v);
+  /// own: the chain being cut, whose pieces within its slower ends' stretches are planned at
+  /// those ends' caps (Piece::plan).
+  void cut_pieces(double s0, double s1, double cap_all, bool whole, double comp_v,
+                  const Element* own = nullptr);
   /// Path length over which a pre-compensated arc's ramp brakes from `from` to `to`, mm.
   double braking_length_mm(double from, double to, double comp_v) const;
   /// The command stops on b's end point before the next motion (the interpolator waits there).
@@ -434,6 +460,9 @@ class TolerancePlanner : public CanonSource {
     /// A chain's block's part of a chain piece: where that piece ends and the speed the next
     /// one needs (0: none lower).
     double exit_at = 0.0, exit_speed = 0.0;
+    /// A pre-compensated piece's v_p when it is not the arc's (a chain's slower end), else 0.
+    double plan = 0.0;
+    double plan_or(double comp_v) const { return plan > 0.0 ? plan : comp_v; }
   };
   std::vector<double> cuts_;
   std::vector<Piece> pieces_;

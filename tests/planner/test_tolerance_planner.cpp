@@ -1144,6 +1144,54 @@ TEST_CASE("a circle split into halves or quadrants runs as the whole circle") {
   CHECK(parted.cycle_s > one.cycle_s + 0.1);
 }
 
+TEST_CASE("a helix between crowded ends runs its middle as if alone, its ends slower") {
+  // A bore as CAM posts write it (docs/tolerance.md, "A chain's ends slower than its middle"):
+  // a tangent lead-in quarter of R 0.3, a helix of R 0.6 as twelve half turns of 0.25 mm lead at
+  // F1000, then a flat circle on the same centre (a 1.9° kink: the lead changes) under P0.01.
+  // The helix is one chain; the lead-in and the kink crowd its ends. A window wholly on the
+  // chain holds nothing else, so its middle runs as the same helix between two dwells that
+  // drain the filter (nothing beside it at all), and only its ends run slower. Until
+  // 2026-11-30 a chain with crowded ends was made arcs of their own again, each sharing P with
+  // the half turns beside it (8.6 against 11.8 mm/s on the same geometry).
+  const gm::Machine m;
+  std::string helix;
+  for (int k = 1; k <= 12; ++k)
+    helix += fmt::format("G3 X{} Y10 Z{:.2f} I{} J0\n", k % 2 == 1 ? "9.4" : "10.6", -0.25 * k,
+                         k % 2 == 1 ? "-0.6" : "0.6");
+  const std::string head =
+      "G21 G90 G17 G64 P0.01\nG0 X10 Y9.7 Z1\nG1 Z0 F1000\nG1 X10.3\nG3 X10.6 Y10 I0 J0.3\n";
+  const std::string exit = "G3 X9.4 Y10 I-0.6 J0\nG3 X10.6 Y10 I0.6 J0\nG1 X10 Y10\nG0 Z5\nM2\n";
+  const std::string crowded = head + helix + exit,
+                    alone = head + "G4 P0.2\n" + helix + "G4 P0.2\n" + exit;
+  // Lines 6..17 are the half turns in `crowded`, 7..18 in `alone`.
+  const auto c_canon = canon_of(crowded, m, true), a_canon = canon_of(alone, m, true);
+  const double middle = largest_cap(c_canon, 11), alone_speed = largest_cap(a_canon, 12);
+  REQUIRE(alone_speed > 0.0);
+  CHECK(middle == Approx(alone_speed).epsilon(0.01));
+  // The end: pieces of the last half turn capped below the middle, commanded as an arc planned
+  // at their cap (the start runs at the middle's speed: the lead-in arc, slow itself, leaves it
+  // enough of P).
+  auto slowest = [&](int line) {
+    double least = std::numeric_limits<double>::infinity();
+    for (const auto& c : c_canon)
+      if (const auto* mo = std::get_if<gm::Motion>(&c); mo != nullptr && mo->line == line) {
+        if (mo->speed_cap_mm_s > 0.0) least = std::min(least, mo->speed_cap_mm_s);
+        CHECK(mo->comp_speed_mm_s > 0.0);
+        CHECK(mo->comp_speed_mm_s <= middle * (1.0 + 1e-12));
+      }
+    return least;
+  };
+  CHECK(slowest(6) == Approx(middle));
+  CHECK(slowest(17) < 0.9 * middle);
+  for (const std::string* text : {&crowded, &alone}) {
+    const Outcome o = run_program(*text, m, full);
+    REQUIRE(o.finished);
+    CHECK(o.end_exact);
+    CHECK(o.check.cutting().over == 0);
+    CHECK(o.chained_blocks >= 11);
+  }
+}
+
 TEST_CASE("a corner that drains the filter leaves the arc beside it the whole share") {
   // Up +Y into a half circle of R 4 (its start tangent +X: a 90° corner, |Δu| = √2) at F3000
   // under P0.05, with a dwell of 0.2 s at the corner: the filter drains there (τ = 0.164 s),
