@@ -106,6 +106,14 @@ class ArcPrecompCheck {
                                 double fir_variation) const;
   /// The ramp's transient on the steady arc, mm.
   double ramp_mm(double radius_mm, double sweep_abs_rad, double length_mm, double v_plan) const;
+  /// The largest transient of ramps from v_p down to f·v_p and back on the steady arc, f in
+  /// kRampFloors, held a window at f·v_p or turning at once, twice (reversals_mm): a ramp
+  /// shorter than the window has its start and end in one window (where ramp_mm's, from v_p to
+  /// rest, are a window apart), and a reversal doubles the change of acceleration, mm. The
+  /// whole error of a window on the steady arc away from its ends (the planner's middle of a
+  /// chain: slower_ends).
+  double ramps_mm(double radius_mm, double sweep_abs_rad, double length_mm, double v_plan) const;
+  static constexpr std::array<double, 6> kRampFloors{0.0, 0.2, 0.4, 0.6, 0.8, 0.9};
   /// isolated_mm with each of its runs simulated whole (two of them are paired in isolated_mm,
   /// one forked from the other where they part): the reference isolated_mm must equal exactly.
   double isolated_unpaired_mm(double radius_mm, double sweep_abs_rad, double length_mm,
@@ -120,6 +128,12 @@ class ArcPrecompCheck {
   /// from rest: a window at the start, then the ramp), the largest |y − x(s̄)| once the window
   /// is full.
   double run_segment(double p_from, double p_to, double phase, Start start, End end) const;
+  /// From v_p down to floor·v_p and up, twice, turning at once, mm.
+  double reversals_mm(double radius_mm, double sweep_abs_rad, double length_mm, double v_plan,
+                      double floor) const;
+  /// ramp_mm's run with the ramp down to floor·v_p instead of rest.
+  double ramp_to_mm(double radius_mm, double sweep_abs_rad, double length_mm, double v_plan,
+                    double floor) const;
   /// One run's state between samples.
   /// `since_first`, `phase_in`: the interpolator's count and phase for the end rows.
   /// `pending`: the newest samples' outputs not yet judged (push_sample judges kBatch at once,

@@ -1187,13 +1187,14 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
   // off it (a circle's is 0), the circle's term at most the allotment wherever the answer is
   // yes.
   // A servo mismatch moves the table by the command's offset too (offset_mismatch_mm).
+  auto mismatch_at = [&](double v, bool cap) {  // offset_mismatch_mm, or its cheap cap
+    return std::invoke(
+        cap ? &ArcPrecompCheck::offset_mismatch_cap_mm : &ArcPrecompCheck::offset_mismatch_mm,
+        *precomp_, e.radius, e.sweep, L, v, cfg_.speed_error_s, cfg_.step_error,
+        cfg_.fir_variation);
+  };
   auto fits = [&](double v, double allotment, double w) {
-    auto mismatch_mm = [&](bool cap) {  // offset_mismatch_mm, or its cheap cap
-      return std::invoke(
-          cap ? &ArcPrecompCheck::offset_mismatch_cap_mm : &ArcPrecompCheck::offset_mismatch_mm,
-          *precomp_, e.radius, e.sweep, L, v, cfg_.speed_error_s, cfg_.step_error,
-          cfg_.fir_variation);
-    };
+    auto mismatch_mm = [&](bool cap) { return mismatch_at(v, cap); };
     if (cfg_.speed_error_s > 0.0 && !(e.spiral > 0.0) && residual_->covers(e.sweep, L, v)) {
       // offset_mismatch_mm (>= 0) bracketed first, the same answer at less cost: an arc that
       // does not fit without it does not fit, one that fits with its cheap cap fits.
@@ -1242,7 +1243,13 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
   err = allotted(lo);
   if (chain && ends_out != nullptr && lo > floor) {
     double mid_err = 0.0;
-    const double v_mid = slower_ends(e, lo, vlim, share, fits, *ends_out, mid_err);
+    // Away from its ends the arc's error is the ramps' transient on the steady arc (ramps_mm:
+    // the whole error there, the steady correction's included).
+    auto fits_middle = [&](double v, double allotment) {
+      const double mine = allotment - (cfg_.speed_error_s > 0.0 ? mismatch_at(v, false) : 0.0);
+      return mine > 0.0 && precomp_->ramps_mm(e.radius, e.sweep, L, v) <= mine;
+    };
+    const double v_mid = slower_ends(e, lo, vlim, share, fits, fits_middle, *ends_out, mid_err);
     if (v_mid > 0.0) {
       err = std::max({mid_err, (*ends_out)[0].err, (*ends_out)[1].err});
       return v_mid;
@@ -1251,14 +1258,14 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
   return lo;
 }
 
-template <class Fits>
+template <class Fits, class FitsMiddle>
 double TolerancePlanner::slower_ends(const Element& e, double v_one, double vlim, double share,
-                                     Fits& fits, std::array<Element::EndCap, 2>& ends,
-                                     double& mid_err) const {
+                                     Fits& fits, FitsMiddle& fits_middle,
+                                     std::array<Element::EndCap, 2>& ends, double& mid_err) const {
   // A chain at one speed v_one takes the least allotment of its start's, its end's and its
-  // own ranges (precomp_arc_speed). Its middle may run faster where its ends are crowded: a
-  // window wholly on the chain holds nothing else (its allotment is the whole share), and the
-  // chain's error there is the ramp's transient, which its term at the middle's speed covers.
+  // own ranges, its whole term charged in each (precomp_arc_speed). Its middle may run faster:
+  // a window wholly on the chain holds nothing else (its allotment is the whole share), and the
+  // chain's error there is the ramp's transient (fits_middle), not its ends' transitions.
   // Each end then runs at the speed its own range allows over 2τ + kCompEndSamples samples of
   // travel on the chain (a window holding the end's transition, its rows, or the ramp from or to
   // rest there, holds no sample of the ramp between the end's speed and the middle's) and τ of
@@ -1276,7 +1283,7 @@ double TolerancePlanner::slower_ends(const Element& e, double v_one, double vlim
     }
     return lo;
   };
-  const double v_mid = largest(v_one, vlim, [&](double v) { return fits(v, mid_allot, 1.0); });
+  const double v_mid = largest(v_one, vlim, [&](double v) { return fits_middle(v, mid_allot); });
   if (!(v_mid > v_one * (1.0 + kSlowerEndsGain))) return 0.0;
   std::array<ZoneMemo, 2> memos{};
   auto end_allot = [&](std::size_t k, double v) {
@@ -1692,7 +1699,7 @@ void TolerancePlanner::emit_front() {
   const double comp_v = own != nullptr ? own->comp_speed : exact_path_comp_speed(b);
   const Element* chain = comp_v > 0.0 && own != nullptr && own->seq_last > own->seq ? own : nullptr;
   if (chain == nullptr) {
-    cut_pieces(b.s0, b.s1, b.cap_all, b.m.kind == MotionKind::Arc && !splits(b.m), comp_v);
+    cut_pieces(b.s0, b.s1, b.cap_all, b.m.kind == MotionKind::Arc && !splits(b.m), comp_v, own);
     merge_short_pieces(b);
     brake_comp_pieces(comp_v);
   } else if (b.seq == chain->seq) {  // the chain's pieces, cut once (its blocks are alike)

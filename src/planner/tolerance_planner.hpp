@@ -245,12 +245,13 @@ class TolerancePlanner : public CanonSource {
   double precomp_arc_speed(const Element& e, double share, double floor, double& err,
                            std::array<Element::EndCap, 2>* ends = nullptr) const;
   /// A chain planned at one speed v_one (its least range's) whose middle alone could run
-  /// faster (up to vlim, `fits` its check): the middle's speed, its ends' caps in `ends` and the
-  /// middle's allotment in mid_err; 0 (ends untouched) when the chain is too short for it or the
-  /// middle gains too little.
-  template <class Fits>
+  /// faster (up to vlim; `fits` the check of an end, `fits_middle` of the middle): the middle's
+  /// speed, its ends' caps in `ends` and the middle's allotment in mid_err; 0 (ends untouched)
+  /// when the chain is too short for it or the middle gains too little.
+  template <class Fits, class FitsMiddle>
   double slower_ends(const Element& e, double v_one, double vlim, double share, Fits& fits,
-                     std::array<Element::EndCap, 2>& ends, double& mid_err) const;
+                     FitsMiddle& fits_middle, std::array<Element::EndCap, 2>& ends,
+                     double& mid_err) const;
   /// decide_arc with the claims beside the arc taken off its share.
   void decide_arc_beside_claims(Element& e, double share, const MismatchReserve& res) const;
   void decide_run(Element& e, double share, const MismatchReserve& res) const;

@@ -425,6 +425,20 @@ void property(const Sweep& s) {
     CHECK(o.check.rapids().over == 0);
     samples += o.check.cutting().samples;
     rapid_samples += o.check.rapids().samples;
+    if (o.check.cutting().over > 0) {
+      static int nn = 0;
+      std::string fn = "/tmp/over" + std::to_string(nn) + ".nc";
+      FILE* f = std::fopen(fn.c_str(), "w");
+      std::fputs(text.c_str(), f);
+      std::fclose(f);
+      fn = "/tmp/over" + std::to_string(nn++) + ".ovr";
+      f = std::fopen(fn.c_str(), "w");
+      for (std::size_t k = 0; k < sched.size(); ++k)
+        std::fprintf(f, "%.6f,%.6f\n%.6f,rapid=%.6f\n", k * m.period_s, 100 * sched[k].first,
+                     k * m.period_s, 100 * sched[k].second);
+      std::fclose(f);
+      std::fprintf(stderr, "OVER %s prog %d profile %s\n", fn.c_str(), prog, m.profile.c_str());
+    }
     worst_ratio = std::max({worst_ratio, o.check.cutting().ratio, o.check.rapids().ratio});
     paused += o.pauses;
     capped += o.capped_pieces;
@@ -1149,10 +1163,10 @@ TEST_CASE("a helix between crowded ends runs its middle as if alone, its ends sl
   // a tangent lead-in quarter of R 0.3, a helix of R 0.6 as twelve half turns of 0.25 mm lead at
   // F1000, then a flat circle on the same centre (a 1.9° kink: the lead changes) under P0.01.
   // The helix is one chain; the lead-in and the kink crowd its ends. A window wholly on the
-  // chain holds nothing else, so its middle runs as the same helix between two dwells that
-  // drain the filter (nothing beside it at all), and only its ends run slower. Until
-  // 2026-11-30 a chain with crowded ends was made arcs of their own again, each sharing P with
-  // the half turns beside it (8.6 against 11.8 mm/s on the same geometry).
+  // chain holds nothing else and no end's transition, so its middle runs as the same helix
+  // between two dwells that drain the filter (nothing beside it at all), about F1000, and only
+  // its ends run slower. Until 2026-11-30 a chain with crowded ends was made arcs of their own
+  // again, each sharing P with the half turns beside it (8.66 mm/s).
   const gm::Machine m;
   std::string helix;
   for (int k = 1; k <= 12; ++k)
@@ -1168,9 +1182,9 @@ TEST_CASE("a helix between crowded ends runs its middle as if alone, its ends sl
   const double middle = largest_cap(c_canon, 11), alone_speed = largest_cap(a_canon, 12);
   REQUIRE(alone_speed > 0.0);
   CHECK(middle == Approx(alone_speed).epsilon(0.01));
-  // The end: pieces of the last half turn capped below the middle, commanded as an arc planned
-  // at their cap (the start runs at the middle's speed: the lead-in arc, slow itself, leaves it
-  // enough of P).
+  CHECK(middle >= 1000.0 / 60.0);  // its feed: the ramp's transient at F1000 fits P0.01
+  // The ends: pieces of the first and last half turns capped below the middle, commanded as
+  // arcs planned at their caps.
   auto slowest = [&](int line) {
     double least = std::numeric_limits<double>::infinity();
     for (const auto& c : c_canon)
@@ -1181,7 +1195,7 @@ TEST_CASE("a helix between crowded ends runs its middle as if alone, its ends sl
       }
     return least;
   };
-  CHECK(slowest(6) == Approx(middle));
+  CHECK(slowest(6) < 0.9 * middle);
   CHECK(slowest(17) < 0.9 * middle);
   for (const std::string* text : {&crowded, &alone}) {
     const Outcome o = run_program(*text, m, full);
