@@ -521,29 +521,17 @@ double ArcPrecompCheck::ramps_mm(double radius_mm, double sweep_abs_rad, double 
   return worst;
 }
 
-double ArcPrecompCheck::reversals_mm(double radius_mm, double sweep_abs_rad, double length_mm,
-                                     double v_plan, double floor) const {
+template <class Profile>
+double ArcPrecompCheck::steady_arc_mm(double radius_mm, double sweep_abs_rad, double length_mm,
+                                      double v_start, Profile next_speed) const {
   const std::size_t n = h_.size();
   const double q = radius_mm * sweep_abs_rad / length_mm, r = radius_mm;
-  const double dv = rule_.speed_step_mm_s(v_plan);
   const auto on_circle = [r](double p, double rad) {
     return Eigen::Vector2d(rad * std::sin(p / r), r - rad * std::cos(p / r));
   };
-  // v_p for a window, then down to floor·v_p, up to v_p, down and up again, each turning at
-  // once (the speed's step reverses: twice the ramp's change of acceleration), then a window
-  // at v_p.
-  const double low = floor * v_plan;
-  const std::array<double, 4> targets{low, v_plan, low, v_plan};
-  std::size_t leg = 0, count = 0, head = 0, after = 0;
-  double v = v_plan, p = 0.0, worst = 0.0;
-  for (std::size_t k = 0; after <= n; ++k) {
-    if (k >= n && leg < targets.size()) {
-      const double t = targets[leg];
-      v = t < v ? std::max(t, v - dv) : std::min(t, v + dv);
-      if (v == t) ++leg;
-    } else if (leg == targets.size()) {
-      ++after;
-    }
+  double v = v_start, p = 0.0, worst = 0.0;
+  std::size_t count = 0, head = 0;
+  for (std::size_t k = 0; next_speed(k, v); ++k) {
     p += q * v * period_s_;
     put(head, on_circle(p, r + rule_.correction_mm(r, v * sweep_abs_rad / length_mm)), p);
     if (++count < n) continue;
@@ -555,35 +543,44 @@ double ArcPrecompCheck::reversals_mm(double radius_mm, double sweep_abs_rad, dou
   return worst;
 }
 
+double ArcPrecompCheck::reversals_mm(double radius_mm, double sweep_abs_rad, double length_mm,
+                                     double v_plan, double floor) const {
+  // v_p for a window, then down to floor·v_p, up to v_p, down and up again, each turning at
+  // once (the speed's step reverses: twice the ramp's change of acceleration), then a window
+  // at v_p.
+  const std::size_t n = h_.size();
+  const double dv = rule_.speed_step_mm_s(v_plan), low = floor * v_plan;
+  const std::array<double, 4> targets{low, v_plan, low, v_plan};
+  std::size_t leg = 0, after = 0;
+  return steady_arc_mm(radius_mm, sweep_abs_rad, length_mm, v_plan, [&](std::size_t k, double& v) {
+    if (after > n) return false;
+    if (k >= n && leg < targets.size()) {
+      const double t = targets[leg];
+      v = t < v ? std::max(t, v - dv) : std::min(t, v + dv);
+      if (v == t) ++leg;
+    } else if (leg == targets.size()) {
+      ++after;
+    }
+    return true;
+  });
+}
+
 double ArcPrecompCheck::ramp_to_mm(double radius_mm, double sweep_abs_rad, double length_mm,
                                    double v_plan, double floor) const {
-  const std::size_t n = h_.size();
-  const double q = radius_mm * sweep_abs_rad / length_mm, r = radius_mm;
-  const double dv = rule_.speed_step_mm_s(v_plan);
-  const auto on_circle = [r](double p, double rad) {
-    return Eigen::Vector2d(rad * std::sin(p / r), r - rad * std::cos(p / r));
-  };
   // v_p for a window, down to floor·v_p, a window there, up to v_p, a window at v_p.
+  const int n = static_cast<int>(h_.size());
+  const double dv = rule_.speed_step_mm_s(v_plan), low = floor * v_plan;
   const int ramp = rule_.ramp_samples();
-  const int total = static_cast<int>(3 * n) + 2 * ramp + 2;
-  const double low = floor * v_plan;
-  double v = v_plan, p = 0.0, worst = 0.0;
-  std::size_t count = 0, head = 0;
-  for (int k = 0; k < total; ++k) {
-    const int t = k - static_cast<int>(n);
+  const int total = 3 * n + 2 * ramp + 2;
+  return steady_arc_mm(radius_mm, sweep_abs_rad, length_mm, v_plan, [&](std::size_t k, double& v) {
+    if (!(static_cast<int>(k) < total)) return false;
+    const int t = static_cast<int>(k) - n;
     if (t >= 0 && t <= ramp)
       v = std::max(low, v - dv);
-    else if (t > ramp + static_cast<int>(n))
+    else if (t > ramp + n)
       v = std::min(v_plan, v + dv);
-    p += q * v * period_s_;
-    put(head, on_circle(p, r + rule_.correction_mm(r, v * sweep_abs_rad / length_mm)), p);
-    if (++count < n) continue;
-    Eigen::Vector2d y;
-    double pbar;
-    window_output(head, y, pbar);
-    worst = std::max(worst, (y - on_circle(pbar, r)).norm());
-  }
-  return worst;
+    return true;
+  });
 }
 
 double ArcPrecompCheck::isolated_worst_mm(double radius_mm, double sweep_abs_rad, double length_mm,

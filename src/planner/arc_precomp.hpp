@@ -131,6 +131,12 @@ class ArcPrecompCheck {
   /// From v_p down to floor·v_p and up, twice, turning at once, mm.
   double reversals_mm(double radius_mm, double sweep_abs_rad, double length_mm, double v_plan,
                       double floor) const;
+  /// The filter over the steady arc (its correction at each sample's speed) from v_start, the
+  /// speed of sample k set by next_speed(k, v) (false: the run is over): the largest
+  /// |y − x(s̄)| once the window is full, mm.
+  template <class Profile>
+  double steady_arc_mm(double radius_mm, double sweep_abs_rad, double length_mm, double v_start,
+                       Profile next_speed) const;
   /// ramp_mm's run with the ramp down to floor·v_p instead of rest.
   double ramp_to_mm(double radius_mm, double sweep_abs_rad, double length_mm, double v_plan,
                     double floor) const;
