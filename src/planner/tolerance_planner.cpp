@@ -1491,15 +1491,25 @@ void TolerancePlanner::settle_corner(Element& e, double pause, double v_cap, dou
 
 double TolerancePlanner::slowing_s(const Element& arc) const {
   // Its zone (the arc and the stretches beside it) at its cap instead of each block's speed at
-  // 100 %: a slow arc's zone reaching into a rapid costs the rapid's time, not the arc's.
+  // 100 %: a slow arc's zone reaching into a rapid costs the rapid's time, not the arc's; a
+  // chain's slower ends, their stretches at their caps.
   const double v = std::min(arc.cap, arc.vmax);
   if (!(v > 0.0)) return 0.0;
+  double cost = stretch_slowing_s(arc.z0, arc.z1, v);
+  if (arc.slower_ends())
+    for (const Element::EndCap& c : arc.ends)
+      if (c.cap < v)
+        cost += stretch_slowing_s(c.lo, c.hi, c.cap) - stretch_slowing_s(c.lo, c.hi, v);
+  return cost;
+}
+
+double TolerancePlanner::stretch_slowing_s(double z0, double z1, double v) const {
   // The blocks in path order: from the first ending past z0 to the last starting before z1.
-  auto b = std::lower_bound(window_.begin(), window_.end(), arc.z0,
+  auto b = std::lower_bound(window_.begin(), window_.end(), z0,
                             [](const Block& blk, double z) { return blk.s1 <= z; });
   double cost = 0.0;
-  for (; b != window_.end() && b->s0 < arc.z1; ++b) {
-    const double len = std::min(b->s1, arc.z1) - std::max(b->s0, arc.z0);
+  for (; b != window_.end() && b->s0 < z1; ++b) {
+    const double len = std::min(b->s1, z1) - std::max(b->s0, z0);
     if (len > 0.0 && v < b->v100) cost += len / v - len / b->v100;
   }
   return cost;

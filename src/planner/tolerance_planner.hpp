@@ -265,8 +265,11 @@ class TolerancePlanner : public CanonSource {
   /// An arc's decision, weighed against full stops at the corners at its ends (the corner before
   /// it re-decided, the one after it decided too).
   void decide_arc_weighing(Element& a, double share, const MismatchReserve& res);
-  /// A decided arc's slowing: its zone at its cap instead of each block's speed at 100 %, s.
+  /// A decided arc's slowing: its zone at its cap instead of each block's speed at 100 % (a
+  /// chain's slower ends at theirs), s.
   double slowing_s(const Element& arc) const;
+  /// [z0, z1] of the window's blocks at v instead of their speeds at 100 %, s.
+  double stretch_slowing_s(double z0, double z1, double v) const;
   /// Sets f's share weight (the prefix sums after it follow).
   void set_weight(Element& f, double w);
   /// Tentative decisions under way (decide_arc_weighing): they assign no claims and weigh
