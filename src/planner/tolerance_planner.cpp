@@ -1241,9 +1241,7 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
     (within(mid) ? lo : hi) = mid;
   }
   err = allotted(lo);
-  // Its middle faster than its ends: a chain, or an arc cut at zone boundaries (one turn at
-  // most) that is a circle (a near circle's extra term is not the ramps').
-  if ((chain || (e.split && !(e.spiral > 0.0))) && ends_out != nullptr && lo > floor) {
+  if (chain && ends_out != nullptr && lo > floor) {
     double mid_err = 0.0;
     // Away from its ends the arc's error is the ramps' transient on the steady arc (ramps_mm:
     // the whole error there, the steady correction's included).
@@ -1264,13 +1262,12 @@ template <class Fits, class FitsMiddle>
 double TolerancePlanner::slower_ends(const Element& e, double v_one, double vlim, double share,
                                      Fits& fits, FitsMiddle& fits_middle,
                                      std::array<Element::EndCap, 2>& ends, double& mid_err) const {
-  // An arc (a chain, or one block) at one speed v_one takes the allotment of its whole zone, or
-  // a chain the least of its start's, its end's and its own ranges', its whole term charged in
-  // each (precomp_arc_speed). Its middle may run faster: a window wholly on the arc holds
-  // nothing else (its allotment is the whole share), and the arc's error there is the ramps'
-  // transient (fits_middle), not its ends' transitions.
+  // A chain at one speed v_one takes the least allotment of its start's, its end's and its
+  // own ranges, its whole term charged in each (precomp_arc_speed). Its middle may run faster:
+  // a window wholly on the chain holds nothing else (its allotment is the whole share), and the
+  // chain's error there is the ramp's transient (fits_middle), not its ends' transitions.
   // Each end then runs at the speed its own range allows over 2τ + kCompEndSamples samples of
-  // travel on the arc (a window holding the end's transition, its rows, or the ramp from or to
+  // travel on the chain (a window holding the end's transition, its rows, or the ramp from or to
   // rest there, holds no sample of the ramp between the end's speed and the middle's) and τ of
   // travel beside it, as an arc planned at that speed: its term at that speed is charged in its
   // range, and the elements beyond that end see that end's allotment only (err_seen).
@@ -1295,7 +1292,7 @@ double TolerancePlanner::slower_ends(const Element& e, double v_one, double vlim
                           zone_values(memos[k], zone_range(at - reach, at + reach), e, false));
   };
   std::array<double, 2> v_end{};
-  double need = 0.0;  // the arc's path its slower ends and the ramps to them take
+  double need = 0.0;  // the chain's path its slower ends and the ramps to them take
   for (std::size_t k = 0; k < 2; ++k) {
     v_end[k] = largest(v_one, v_mid, [&](double v) { return fits(v, end_allot(k, v), 1.0); });
     if (v_end[k] < v_mid)
@@ -1494,8 +1491,8 @@ void TolerancePlanner::settle_corner(Element& e, double pause, double v_cap, dou
 
 double TolerancePlanner::slowing_s(const Element& arc) const {
   // Its zone (the arc and the stretches beside it) at its cap instead of each block's speed at
-  // 100 %: a slow arc's zone reaching into a rapid costs the rapid's time, not the arc's; its
-  // slower ends, their stretches at their caps.
+  // 100 %: a slow arc's zone reaching into a rapid costs the rapid's time, not the arc's; a
+  // chain's slower ends, their stretches at their caps.
   const double v = std::min(arc.cap, arc.vmax);
   if (!(v > 0.0)) return 0.0;
   double cost = stretch_slowing_s(arc.z0, arc.z1, v);
@@ -1910,7 +1907,7 @@ void TolerancePlanner::cut_pieces(double s0, double s1, double cap_all, bool who
   }
   std::vector<double>& cuts = cuts_;
   cuts.assign({s0, s1});
-  // Each decided element's capped stretches: its zone, and an arc's slower ends'.
+  // Each decided element's capped stretches: its zone, and a chain's slower ends'.
   auto each_capped = [&](auto fn) {
     for (const Element& e : elems_) {
       if (!e.decided) continue;
