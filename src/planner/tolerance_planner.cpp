@@ -1291,13 +1291,15 @@ double TolerancePlanner::slower_ends(const Element& e, double v_one, double vlim
     return zone_allotment(share, 1.0,
                           zone_values(memos[k], zone_range(at - reach, at + reach), e, false));
   };
+  // The chain's own path an end at v takes.
+  auto end_stretch = [&](double v) {
+    return v * (2.0 * tau + kCompEndSamples * filter_.period_s());
+  };
   std::array<double, 2> v_end{};
   double need = 0.0;  // the chain's path its slower ends and the ramps to them take
   for (std::size_t k = 0; k < 2; ++k) {
     v_end[k] = largest(v_one, v_mid, [&](double v) { return fits(v, end_allot(k, v), 1.0); });
-    if (v_end[k] < v_mid)
-      need += v_end[k] * (2.0 * tau + kCompEndSamples * filter_.period_s()) +
-              braking_length_mm(v_mid, v_end[k], v_mid);
+    if (v_end[k] < v_mid) need += end_stretch(v_end[k]) + braking_length_mm(v_mid, v_end[k], v_mid);
   }
   if (!(need < L)) return 0.0;
   for (std::size_t k = 0; k < 2; ++k) {
@@ -1305,9 +1307,8 @@ double TolerancePlanner::slower_ends(const Element& e, double v_one, double vlim
     c.err = end_allot(k, v_end[k]);
     if (!(v_end[k] < v_mid)) continue;
     c.cap = v_end[k];
-    const double own = v_end[k] * (2.0 * tau + kCompEndSamples * filter_.period_s());
-    c.lo = k == 0 ? zone_back(e.s0, tau, c.cap) : e.s1 - own;
-    c.hi = k == 0 ? e.s0 + own : zone_fwd(e.s1, tau, c.cap);
+    c.lo = k == 0 ? zone_back(e.s0, tau, c.cap) : e.s1 - end_stretch(c.cap);
+    c.hi = k == 0 ? e.s0 + end_stretch(c.cap) : zone_fwd(e.s1, tau, c.cap);
   }
   mid_err = mid_allot;
   return v_mid;

@@ -174,7 +174,8 @@ class TolerancePlanner : public CanonSource {
     /// ends slower than its middle"): the cap of its start and of its end (infinity: `cap`),
     /// each over its stretch [lo, hi] (the path beside the end within τ of travel, the chain's
     /// own up to 2τ + kCompEndSamples samples of travel), and the error bound each end leaves
-    /// (err0 seen by the elements before the chain, err1 by those after it; err the largest).
+    /// (ends[0].err seen by the elements before the chain, ends[1].err by those after it; err
+    /// the largest).
     struct EndCap {
       double cap = std::numeric_limits<double>::infinity();
       double lo = 0, hi = 0, err = 0;

@@ -425,20 +425,6 @@ void property(const Sweep& s) {
     CHECK(o.check.rapids().over == 0);
     samples += o.check.cutting().samples;
     rapid_samples += o.check.rapids().samples;
-    if (o.check.cutting().over > 0) {
-      static int nn = 0;
-      std::string fn = "/tmp/over" + std::to_string(nn) + ".nc";
-      FILE* f = std::fopen(fn.c_str(), "w");
-      std::fputs(text.c_str(), f);
-      std::fclose(f);
-      fn = "/tmp/over" + std::to_string(nn++) + ".ovr";
-      f = std::fopen(fn.c_str(), "w");
-      for (std::size_t k = 0; k < sched.size(); ++k)
-        std::fprintf(f, "%.6f,%.6f\n%.6f,rapid=%.6f\n", k * m.period_s, 100 * sched[k].first,
-                     k * m.period_s, 100 * sched[k].second);
-      std::fclose(f);
-      std::fprintf(stderr, "OVER %s prog %d profile %s\n", fn.c_str(), prog, m.profile.c_str());
-    }
     worst_ratio = std::max({worst_ratio, o.check.cutting().ratio, o.check.rapids().ratio});
     paused += o.pauses;
     capped += o.capped_pieces;
