@@ -21,6 +21,7 @@ ArcResidualTable::ArcResidualTable(const ArcPrecompCheck& check)
   nth_ = static_cast<std::size_t>(std::ceil(std::log(th_top_ / kMinSweep) * inv_log_step_)) + 1;
   log_g_.assign(nx_ * nth_, std::numeric_limits<double>::quiet_NaN());
   ramp_.assign(nx_, std::numeric_limits<double>::quiet_NaN());
+  log_ramps_.assign(nx_, std::numeric_limits<double>::quiet_NaN());
 }
 
 double ArcResidualTable::row_ramp(const ArcPrecompCheck& check, std::size_t k, double x) const {
@@ -50,12 +51,34 @@ double ArcResidualTable::log_g(const ArcPrecompCheck& check, std::size_t k, std:
   return g;
 }
 
+double ArcResidualTable::log_ramps(const ArcPrecompCheck& check, std::size_t k) const {
+  double& g = log_ramps_[k];
+  if (std::isnan(g)) {
+    const double x = x0_ * std::pow(kStep, static_cast<double>(k));
+    g = std::log(std::max(check.ramps_mm(1.0, 1.0, 1.0, x / period_s_), 1e-300) / (x * x));
+    ++filled_;
+  }
+  return g;
+}
+
+double ArcResidualTable::rate_index(double x) const {
+  return std::clamp(std::log(x / x0_) * inv_log_step_, 0.0, static_cast<double>(nx_ - 1));
+}
+
+double ArcResidualTable::ramps_bound_mm(const ArcPrecompCheck& check, double radius_mm,
+                                        double sweep_abs_rad, double length_mm,
+                                        double v_plan) const {
+  const double x = v_plan * sweep_abs_rad / length_mm * period_s_, fx = rate_index(x);
+  const std::size_t k = std::min(static_cast<std::size_t>(fx), nx_ - 2);
+  const double tx = fx - static_cast<double>(k);
+  const double lg = (1.0 - tx) * log_ramps(check, k) + tx * log_ramps(check, k + 1);
+  return radius_mm * x * x * std::exp(lg) * (1.0 + kMargin);
+}
+
 double ArcResidualTable::error_bound_mm(const ArcPrecompCheck& check, double radius_mm,
                                         double sweep_abs_rad, double length_mm,
                                         double v_plan) const {
-  const double x = v_plan * sweep_abs_rad / length_mm * period_s_;
-  const double fx =
-      std::clamp(std::log(x / x0_) * inv_log_step_, 0.0, static_cast<double>(nx_ - 1));
+  const double x = v_plan * sweep_abs_rad / length_mm * period_s_, fx = rate_index(x);
   const double fth = std::clamp(std::log(sweep_abs_rad / kMinSweep) * inv_log_step_, 0.0,
                                 static_cast<double>(nth_ - 1));
   const std::size_t k = std::min(static_cast<std::size_t>(fx), nx_ - 2);

@@ -42,7 +42,14 @@ class ArcResidualTable {
   /// table was built for) simulates the nodes not yet filled.
   double error_bound_mm(const ArcPrecompCheck& check, double radius_mm, double sweep_abs_rad,
                         double length_mm, double v_plan) const;
-  /// Nodes simulated so far.
+  /// r·M(x)·(1 + kMargin) with M(x) = ramps_mm(1, 1, 1, x/T), a bound on
+  /// ArcPrecompCheck::ramps_mm (the middle of an arc whose ends are slower): like the ramp, the
+  /// ramps run on the steady arc, whose samples turn by x and whose correction is r·(1/A(x) − 1),
+  /// so they depend on r and x only. One row of nodes in x, M/x² interpolated linearly in log x
+  /// on its logarithm (covers() must hold), mm.
+  double ramps_bound_mm(const ArcPrecompCheck& check, double radius_mm, double sweep_abs_rad,
+                        double length_mm, double v_plan) const;
+  /// Nodes simulated so far (the ramps' row included).
   std::size_t nodes_filled() const { return filled_; }
 
  private:
@@ -52,11 +59,16 @@ class ArcResidualTable {
   /// x_k/T) is the same for every θ (q = θ/θ = 1, the rate x_k/T·θ/θ = x_k/T) but for the
   /// rounding of v·θ/θ; the row takes it at θ = 1, where that rounding is exact.
   double row_ramp(const ArcPrecompCheck& check, std::size_t k, double x) const;
+  /// log(M/x²) at x_k, simulated by `check` the first time.
+  double log_ramps(const ArcPrecompCheck& check, std::size_t k) const;
+  /// The grid's position of rate x: fractional index, clamped to the grid.
+  double rate_index(double x) const;
   double period_s_ = 0;
   double x0_ = 0, x_top_ = 0, th_top_ = 0, inv_log_step_ = 0;
   std::size_t nx_ = 0, nth_ = 0;
-  mutable std::vector<double> log_g_;  ///< nx_·nth_, NaN until simulated
-  mutable std::vector<double> ramp_;   ///< nx_, NaN until simulated
+  mutable std::vector<double> log_g_;      ///< nx_·nth_, NaN until simulated
+  mutable std::vector<double> ramp_;       ///< nx_, NaN until simulated
+  mutable std::vector<double> log_ramps_;  ///< nx_: log(M/x²), NaN until simulated
   mutable std::size_t filled_ = 0;
 };
 

@@ -1241,13 +1241,19 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
     (within(mid) ? lo : hi) = mid;
   }
   err = allotted(lo);
-  if (chain && ends_out != nullptr && lo > floor) {
+  // Its middle faster than its ends: a chain, or an arc cut at zone boundaries (one turn at
+  // most) that is a circle (a near circle's extra term is not the ramps').
+  if ((chain || (e.split && !(e.spiral > 0.0))) && ends_out != nullptr && lo > floor) {
     double mid_err = 0.0;
     // Away from its ends the arc's error is the ramps' transient on the steady arc (ramps_mm:
-    // the whole error there, the steady correction's included).
-    auto fits_middle = [&](double v, double allotment) {
+    // the whole error there, the steady correction's included), simulated, or (`exact` false)
+    // bounded by the table where it covers.
+    auto fits_middle = [&](double v, double allotment, bool exact) {
       const double mine = allotment - (cfg_.speed_error_s > 0.0 ? mismatch_at(v, false) : 0.0);
-      return mine > 0.0 && precomp_->ramps_mm(e.radius, e.sweep, L, v) <= mine;
+      if (!(mine > 0.0)) return false;
+      return (!exact && residual_->covers(e.sweep, L, v)
+                  ? residual_->ramps_bound_mm(*precomp_, e.radius, e.sweep, L, v)
+                  : precomp_->ramps_mm(e.radius, e.sweep, L, v)) <= mine;
     };
     const double v_mid = slower_ends(e, lo, vlim, share, fits, fits_middle, *ends_out, mid_err);
     if (v_mid > 0.0) {
@@ -1262,16 +1268,26 @@ template <class Fits, class FitsMiddle>
 double TolerancePlanner::slower_ends(const Element& e, double v_one, double vlim, double share,
                                      Fits& fits, FitsMiddle& fits_middle,
                                      std::array<Element::EndCap, 2>& ends, double& mid_err) const {
-  // A chain at one speed v_one takes the least allotment of its start's, its end's and its
-  // own ranges, its whole term charged in each (precomp_arc_speed). Its middle may run faster:
-  // a window wholly on the chain holds nothing else (its allotment is the whole share), and the
-  // chain's error there is the ramp's transient (fits_middle), not its ends' transitions.
+  // An arc (a chain, or one block) at one speed v_one takes the allotment of its whole zone, or
+  // a chain the least of its start's, its end's and its own ranges', its whole term charged in
+  // each (precomp_arc_speed). Its middle may run faster: a window wholly on the arc holds
+  // nothing else (its allotment is the whole share), and the arc's error there is the ramps'
+  // transient (fits_middle), not its ends' transitions.
   // Each end then runs at the speed its own range allows over 2τ + kCompEndSamples samples of
-  // travel on the chain (a window holding the end's transition, its rows, or the ramp from or to
+  // travel on the arc (a window holding the end's transition, its rows, or the ramp from or to
   // rest there, holds no sample of the ramp between the end's speed and the middle's) and τ of
   // travel beside it, as an arc planned at that speed: its term at that speed is charged in its
   // range, and the elements beyond that end see that end's allotment only (err_seen).
   const double tau = filter_.tau_s(), L = e.s1 - e.s0;
+  // The chain's own path an end at v takes.
+  auto end_stretch = [&](double v) {
+    return v * (2.0 * tau + kCompEndSamples * filter_.period_s());
+  };
+  // At least one end is slower (both as fast as the middle would fit the whole zone at it) and
+  // no slower than v_one: too short for that, the arc runs at one speed.
+  if (!(end_stretch(v_one) < L)) return 0.0;
+  const double v_gain = v_one * (1.0 + kSlowerEndsGain);
+  if (!fits_middle(v_gain, share, false)) return 0.0;  // its allotment is at most the share
   ZoneMemo mid_memo;
   const double mid_allot = zone_allotment(
       share, 1.0, zone_values(mid_memo, zone_range(e.s0 + 1e-6, e.s1 - 1e-6), e, false));
@@ -1283,25 +1299,33 @@ double TolerancePlanner::slower_ends(const Element& e, double v_one, double vlim
     }
     return lo;
   };
-  const double v_mid = largest(v_one, vlim, [&](double v) { return fits_middle(v, mid_allot); });
-  if (!(v_mid > v_one * (1.0 + kSlowerEndsGain))) return 0.0;
+  // The middle's speed by the table first (cheap: most arcs are then too short for their ends).
+  double v_mid = largest(v_one, vlim, [&](double v) { return fits_middle(v, mid_allot, false); });
+  if (!(v_mid > v_gain)) return 0.0;
   std::array<ZoneMemo, 2> memos{};
   auto end_allot = [&](std::size_t k, double v) {
     const double at = k == 0 ? e.s0 : e.s1, reach = v * tau;
     return zone_allotment(share, 1.0,
                           zone_values(memos[k], zone_range(at - reach, at + reach), e, false));
   };
-  // The chain's own path an end at v takes.
-  auto end_stretch = [&](double v) {
-    return v * (2.0 * tau + kCompEndSamples * filter_.period_s());
+  // The ends' speeds under a middle at vm, and the arc's path the slower ends and the ramps to
+  // them take.
+  auto plan_ends = [&](double vm, std::array<double, 2>& v_end) {
+    double need = 0.0;
+    for (std::size_t k = 0; k < 2; ++k) {
+      v_end[k] = largest(v_one, vm, [&](double v) { return fits(v, end_allot(k, v), 1.0); });
+      if (v_end[k] < vm) need += end_stretch(v_end[k]) + braking_length_mm(vm, v_end[k], vm);
+    }
+    return need;
   };
   std::array<double, 2> v_end{};
-  double need = 0.0;  // the chain's path its slower ends and the ramps to them take
-  for (std::size_t k = 0; k < 2; ++k) {
-    v_end[k] = largest(v_one, v_mid, [&](double v) { return fits(v, end_allot(k, v), 1.0); });
-    if (v_end[k] < v_mid) need += end_stretch(v_end[k]) + braking_length_mm(v_mid, v_end[k], v_mid);
-  }
-  if (!(need < L)) return 0.0;
+  if (!(plan_ends(v_mid, v_end) < L)) return 0.0;
+  // Then as fast as the simulation allows (the table's bound is kMargin above it), where the
+  // ends still fit.
+  const double v_sim =
+      largest(v_mid, vlim, [&](double v) { return fits_middle(v, mid_allot, true); });
+  if (std::array<double, 2> v_end_sim{}; v_sim > v_mid && plan_ends(v_sim, v_end_sim) < L)
+    v_mid = v_sim, v_end = v_end_sim;
   for (std::size_t k = 0; k < 2; ++k) {
     Element::EndCap& c = ends[k];
     c.err = end_allot(k, v_end[k]);
@@ -1492,8 +1516,8 @@ void TolerancePlanner::settle_corner(Element& e, double pause, double v_cap, dou
 
 double TolerancePlanner::slowing_s(const Element& arc) const {
   // Its zone (the arc and the stretches beside it) at its cap instead of each block's speed at
-  // 100 %: a slow arc's zone reaching into a rapid costs the rapid's time, not the arc's; a
-  // chain's slower ends, their stretches at their caps.
+  // 100 %: a slow arc's zone reaching into a rapid costs the rapid's time, not the arc's; its
+  // slower ends, their stretches at their caps.
   const double v = std::min(arc.cap, arc.vmax);
   if (!(v > 0.0)) return 0.0;
   double cost = stretch_slowing_s(arc.z0, arc.z1, v);
@@ -1908,7 +1932,7 @@ void TolerancePlanner::cut_pieces(double s0, double s1, double cap_all, bool who
   }
   std::vector<double>& cuts = cuts_;
   cuts.assign({s0, s1});
-  // Each decided element's capped stretches: its zone, and a chain's slower ends'.
+  // Each decided element's capped stretches: its zone, and an arc's slower ends'.
   auto each_capped = [&](auto fn) {
     for (const Element& e : elems_) {
       if (!e.decided) continue;

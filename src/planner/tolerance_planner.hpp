@@ -170,12 +170,12 @@ class TolerancePlanner : public CanonSource {
     double claim = 0;                                            ///< Claimant: its error bound, mm
     double claim_cap = std::numeric_limits<double>::infinity();  ///< Claimant: its cap, or none
     bool split = false;  ///< Arc: cut at zone boundaries like a line (splits)
-    /// Decided chain of arcs whose ends are slower than its middle (docs/tolerance.md, "A chain's
-    /// ends slower than its middle"): the cap of its start and of its end (infinity: `cap`),
-    /// each over its stretch [lo, hi] (the path beside the end within τ of travel, the chain's
-    /// own up to 2τ + kCompEndSamples samples of travel), and the error bound each end leaves
-    /// (ends[0].err seen by the elements before the chain, ends[1].err by those after it; err
-    /// the largest).
+    /// Decided arc (a chain, or one block) whose ends are slower than its middle (docs/
+    /// tolerance.md, "A chain's ends slower than its middle"): the cap of its start and of its
+    /// end (infinity: `cap`), each over its stretch [lo, hi] (the path beside the end within τ
+    /// of travel, the arc's own up to 2τ + kCompEndSamples samples of travel), and the error
+    /// bound each end leaves (ends[0].err seen by the elements before the arc, ends[1].err by
+    /// those after it; err the largest).
     struct EndCap {
       double cap = std::numeric_limits<double>::infinity();
       double lo = 0, hi = 0, err = 0;
@@ -241,14 +241,15 @@ class TolerancePlanner : public CanonSource {
   void decide_arc(Element& e, double share, const MismatchReserve& res) const;
   /// The cap of arc e pre-compensated within `share`, mm/s: `floor` (the curvature bound's
   /// cap) or less when compensating is no faster.
-  /// A chain's ends may be slower than its middle: `ends` (when not null) then gets their caps
+  /// An arc's ends may be slower than its middle: `ends` (when not null) then gets their caps
   /// and errs (caps infinite: one speed).
   double precomp_arc_speed(const Element& e, double share, double floor, double& err,
                            std::array<Element::EndCap, 2>* ends = nullptr) const;
-  /// A chain planned at one speed v_one (its least range's) whose middle alone could run
-  /// faster (up to vlim; `fits` the check of an end, `fits_middle` of the middle): the middle's
-  /// speed, its ends' caps in `ends` and the middle's allotment in mid_err; 0 (ends untouched)
-  /// when the chain is too short for it or the middle gains too little.
+  /// An arc (a chain, or one block) planned at one speed v_one whose middle alone could run
+  /// faster (up to vlim; `fits` the check of an end, `fits_middle(v, allotment, exact)` of the
+  /// middle, by the table or simulated): the middle's speed, its ends' caps in `ends` and the
+  /// middle's allotment in mid_err; 0 (ends untouched) when the arc is too short for it or the
+  /// middle gains too little.
   template <class Fits, class FitsMiddle>
   double slower_ends(const Element& e, double v_one, double vlim, double share, Fits& fits,
                      FitsMiddle& fits_middle, std::array<Element::EndCap, 2>& ends,
@@ -266,8 +267,8 @@ class TolerancePlanner : public CanonSource {
   /// An arc's decision, weighed against full stops at the corners at its ends (the corner before
   /// it re-decided, the one after it decided too).
   void decide_arc_weighing(Element& a, double share, const MismatchReserve& res);
-  /// A decided arc's slowing: its zone at its cap instead of each block's speed at 100 % (a
-  /// chain's slower ends at theirs), s.
+  /// A decided arc's slowing: its zone at its cap instead of each block's speed at 100 % (its
+  /// slower ends at theirs), s.
   double slowing_s(const Element& arc) const;
   /// [z0, z1] of the window's blocks at v instead of their speeds at 100 %, s.
   double stretch_slowing_s(double z0, double z1, double v) const;
@@ -317,7 +318,7 @@ class TolerancePlanner : public CanonSource {
   Decided range_decided(ZoneRange r, const Element& e, const Element* run_of = nullptr) const;
   /// Whether range_decided(…, e) counts f: decided, not e, its zone reaching e.
   static bool counts_decided(const Element& f, const Element& e);
-  /// The bound decided f leaves on its error in windows e shares with it: a chain with slower
+  /// The bound decided f leaves on its error in windows e shares with it: an arc with slower
   /// ends leaves each end's to the elements beyond that end.
   static double err_seen(const Element& f, const Element& e);
   double range_claims(ZoneRange r) const;  ///< zone_claims of the range
@@ -392,8 +393,8 @@ class TolerancePlanner : public CanonSource {
   /// pieces_ between the zone boundaries in [s0, s1] (a block, or a chain of arcs: chain_of);
   /// comp_v: its v_p when it is a pre-compensated arc; cap_all: the blocks' smallest cap_all;
   /// whole: not cut at all (an arc of several turns).
-  /// own: the chain being cut, whose pieces within its slower ends' stretches are planned at
-  /// those ends' caps (Piece::plan).
+  /// own: the arc (or chain) being cut, whose pieces within its slower ends' stretches are
+  /// planned at those ends' caps (Piece::plan).
   void cut_pieces(double s0, double s1, double cap_all, bool whole, double comp_v,
                   const Element* own = nullptr);
   /// Path length over which a pre-compensated arc's ramp brakes from `from` to `to`, mm.
@@ -465,7 +466,7 @@ class TolerancePlanner : public CanonSource {
     /// A chain's block's part of a chain piece: where that piece ends and the speed the next
     /// one needs (0: none lower).
     double exit_at = 0.0, exit_speed = 0.0;
-    /// A pre-compensated piece's v_p when it is not the arc's (a chain's slower end), else 0.
+    /// A pre-compensated piece's v_p when it is not the arc's (an arc's slower end), else 0.
     double plan = 0.0;
     double plan_or(double comp_v) const { return plan > 0.0 ? plan : comp_v; }
   };

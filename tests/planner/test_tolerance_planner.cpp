@@ -1192,6 +1192,42 @@ TEST_CASE("a helix between crowded ends runs its middle as if alone, its ends sl
   }
 }
 
+TEST_CASE("an arc between two corners runs its middle as if alone, its ends slower") {
+  // A half circle of R 10 at F6000 under P0.004 between two 10° kinks (docs/tolerance.md, "A
+  // chain's ends slower than its middle": an arc is a chain of one block). Its middle's windows
+  // hold the arc alone, so its cap there is that of the same arc between two dwells that drain
+  // the filter; its ends share P with the kinks and run slower. Until 2026-11-30 the whole arc
+  // took the share of its whole zone, kinks included.
+  const gm::Machine m;
+  const std::string head = "G21 G90 G17 G64 P0.004\nG0 X0.152 Y-3.473\nG1 X20 Y0 F6000\n",
+                    arc = "G3 X20 Y20 I0 J10\n", tail = "G1 X0.152 Y23.473\nM2\n";
+  const auto crowded = canon_of(head + arc + tail, m, true),
+             alone = canon_of(head + "G4 P0.2\n" + arc + "G4 P0.2\n" + tail, m, true);
+  auto caps = [](const std::vector<gm::Canon>& canon, int line) {
+    double least = std::numeric_limits<double>::infinity(), most = 0.0;
+    for (const auto& c : canon)
+      if (const auto* mo = std::get_if<gm::Motion>(&c); mo != nullptr && mo->line == line) {
+        CHECK(mo->comp_speed_mm_s > 0.0);
+        least = std::min(least, mo->speed_cap_mm_s);
+        most = std::max(most, mo->speed_cap_mm_s);
+      }
+    return std::pair{least, most};
+  };
+  const auto [c_least, c_most] = caps(crowded, 4);
+  const auto [a_least, a_most] = caps(alone, 5);
+  REQUIRE(a_most > 0.0);
+  CHECK(c_most == Approx(a_most).epsilon(0.01));
+  CHECK(c_least < 0.9 * c_most);
+  CHECK(a_least < a_most);  // alone too, its ends' transitions are slower than its middle
+  for (const std::string& text :
+       {head + arc + tail, head + "G4 P0.2\n" + arc + "G4 P0.2\n" + tail}) {
+    const Outcome o = run_program(text, m, full);
+    REQUIRE(o.finished);
+    CHECK(o.end_exact);
+    CHECK(o.check.cutting().over == 0);
+  }
+}
+
 TEST_CASE("a corner that drains the filter leaves the arc beside it the whole share") {
   // Up +Y into a half circle of R 4 (its start tangent +X: a 90° corner, |Δu| = √2) at F3000
   // under P0.05, with a dwell of 0.2 s at the corner: the filter drains there (τ = 0.164 s),
