@@ -95,6 +95,39 @@ class TolerancePlanner : public CanonSource {
   const NaiveCamMerger& naive_cam() const { return merger_; }
 
  private:
+  // The planner's rules (docs/tolerance.md, "The planner").
+  static constexpr double kInf = std::numeric_limits<double>::infinity();
+  static constexpr double kMinTurn = 1e-9;  ///< |Δu| below which a join is tangent; least weight
+  /// A vertex between two G1 lines joins a run of small turns when it turns by at most this
+  /// (|Δu|, about 5.7°), by so little that the run's δ term alone keeps within the tolerance at
+  /// 100 % feed (δ·V·M₁ <= tol; larger turns do better corner by corner, where they can pause),
+  /// and the line before it is shorter than τ of travel. A run of fewer than kMinRunVertices
+  /// vertices is planned corner by corner.
+  static constexpr double kRunTurn = 0.1;
+  /// A corner turning by at most this (|Δu|, about 0.57°: CAM output rounded to 3 decimals turns
+  /// 0 to 0.13° at joins meant to be tangent) may claim its error at its fastest speed, above
+  /// 100 % feed too (assign_claims).
+  static constexpr double kClaimFreeTurn = 0.01;
+  /// A corner turning by at most this (|Δu|, about 5.7°: arcs rounded to 4 decimals of an inch
+  /// meet at kinks of 0.1 to 2°) may claim its error at 100 % feed, its zone capped there.
+  static constexpr double kClaimTurn = 0.1;
+  /// A near circle: its radii differ by at most this fraction of the smaller;
+  /// ArcPrecompCheck::spiral_mm's bound assumes Δr/r small.
+  static constexpr double kNearCircle = 0.01;
+  /// A block after a pre-compensated arc whose fastest speed is below this fraction of the arc's
+  /// v_p makes the arc's end a stop for its end rows (emit_front): measured, 2 of 450 random
+  /// feed-changing chains were over P (to 107 %) with the moving rows there, 0 with these.
+  static constexpr double kCrawlRatio = 0.1;
+  /// A pre-compensated arc is cut at zone boundaries no nearer its ends than this many samples of
+  /// travel at v_p: its end rows (ArcEndRows::kSpan advances), the radial blend (two samples)
+  /// and the speed hold before its end lie within them.
+  static constexpr double kCompEndSamples = ArcEndRows::kSpan + 2;
+  /// A chain's ends are planned slower than its middle (slower_ends) only where its middle gains
+  /// more than this fraction of its speed.
+  static constexpr double kSlowerEndsGain = 0.02;
+  static constexpr int kMinRunVertices = 3;
+  static constexpr double kRunDeltaShare = 4.0;
+
   struct Block {
     Motion m;
     BlockGeometry g;
