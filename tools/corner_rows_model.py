@@ -10,8 +10,9 @@ within K of the vertex, one piecewise-linear shape in u (the sample's advances f
 knots at the integers) for every phase of the vertex within its sample, each offset at most
 B*D(0)*|du|*v, fitted by a linear programme for the least worst component of y - x(sbar) over
 every sample of the runs at four phases. Printed: the worst |y - x(sbar)| as a fraction of
-D(0)*|du|*v, with per-phase fits (each phase its own offsets: a lower bound) beside. Nothing here
-is in gmotion yet. Needs numpy and scipy (python3-scipy comes with python3-matplotlib).
+D(0)*|du|*v, with per-phase fits (each phase its own offsets: a lower bound) beside; then the
+same shapes when the speed steps near the vertex (an override change, a feed hold), each
+sample's offset scaled by its own speed. Nothing here is in gmotion yet. Needs numpy and scipy (python3-scipy comes with python3-matplotlib).
 """
 import argparse
 import math
@@ -89,7 +90,52 @@ def fit(h, period, theta, v, span, bound, phases):
     o = res.x[:2 * nk]
     before = max(float(np.linalg.norm(e)) for _, e in runs)
     after = max(float(np.hypot(e[0] + w @ o[:nk], e[1] + w @ o[nk:])) for w, e in runs)
-    return after, before
+    return after, before, (knots, o[:nk], o[nk:])
+
+
+def stepped(h, period, theta, v, shape, speeds, start):
+    """The worst |y - x(sbar)| of the corner run at per-sample `speeds` from path position
+    `start`, each sample commanded off the path by the shape at its u (its distance from the
+    vertex in advances at its own speed), scaled by its own speed as the fit's offsets are by v
+    (None: no offsets), mm."""
+    n = len(h)
+    s = start + np.cumsum(speeds) * period
+    u1 = np.array([1.0, 0.0])
+    u2 = np.array([math.cos(theta), math.sin(theta)])
+    x = np.where(s[:, None] < 0.0, s[:, None] * u1, s[:, None] * u2)
+    if shape is not None:
+        knots, ox, oy = shape
+        for k, vk in enumerate(speeds):
+            if vk > 0.0:
+                u = s[k] / (vk * period)
+                if knots[0] <= u <= knots[-1]:
+                    x[k] += np.array([np.interp(u, knots, ox), np.interp(u, knots, oy)]) * vk / v
+    worst = 0.0
+    for k in range(n - 1, len(s)):
+        win = np.arange(k, k - n, -1)
+        y = (h[:, None] * x[win]).sum(0)
+        sbar = float((h * s[win]).sum())
+        worst = max(worst, float(np.linalg.norm(y - (sbar * u1 if sbar < 0.0 else sbar * u2))))
+    return worst
+
+
+def worst_step(h, period, theta, v, shape):
+    """stepped's worst over speed steps near the vertex: down from v to f*v, or up from f*v to v
+    (f = 0, 0.3, 0.6, 0.9), at every second sample from 40 before to 40 after the one where the
+    vertex lies at constant speed, two phases."""
+    worst = 0.0
+    for f in (0.0, 0.3, 0.6, 0.9):
+        for j in range(-40, 41, 2):
+            for ph in (0.0, 0.5):
+                down = np.full(300, v)
+                down[150 + j:] = f * v
+                worst = max(worst, stepped(h, period, theta, v, shape, down, (ph - 150) * v * period))
+                if f > 0.0:
+                    up = np.full(300, f * v)
+                    up[150 + j:] = v
+                    worst = max(worst, stepped(h, period, theta, v, shape, up,
+                                               (ph - 150) * f * v * period))
+    return worst
 
 
 def main():
@@ -105,13 +151,23 @@ def main():
           f"corner at {args.speed} mm/s: D(0)*|du|*v = {scale * 1000:.3f} um")
     print("| offsets within (x D(0)|du|v) | knots each side | one shape, 4 phases | per phase |")
     print("| --- | --- | --- | --- |")
+    shapes = {}
     for b in (2.5, 5.0, 12.0):
         for span in (2, 5, 10, 20):
-            one, before = fit(h, args.period, theta, args.speed, span, b * scale, PHASES)
+            one, before, shapes[b, span] = fit(h, args.period, theta, args.speed, span, b * scale,
+                                               PHASES)
             each = max(fit(h, args.period, theta, args.speed, span, b * scale, (p,))[0]
                        for p in PHASES)
             print(f"| {b} | {span} | {one / scale:.3f} | {each / scale:.3f} |")
     print(f"(without offsets: {before / scale:.3f})")
+    print()
+    print("The same shapes when the speed steps near the vertex (worst_step), / D(0)|du|v:")
+    print("| offsets within | knots each side | worst over the steps |")
+    print("| --- | --- | --- |")
+    for key in ((5.0, 5), (5.0, 10)):
+        worst = worst_step(h, args.period, theta, args.speed, shapes[key])
+        print(f"| {key[0]} | {key[1]} | {worst / scale:.3f} |")
+    print(f"(without offsets: {worst_step(h, args.period, theta, args.speed, None) / scale:.3f})")
 
 
 if __name__ == "__main__":
