@@ -183,8 +183,9 @@ double TolerancePlanner::slower_ends(const Element& e, double v_one, double vlim
   auto end_stretch = [&](double v) {
     return v * (2.0 * tau + kCompEndSamples * filter_.period_s());
   };
-  // At least one end is slower (both as fast as the middle would fit the whole zone at it) and
-  // no slower than v_one: too short for that, the arc runs at one speed.
+  // An arc too short for one end slower than its middle (an end is no slower than v_one) runs
+  // at one speed. (This also gives up, on such short arcs, a middle faster with both ends as
+  // fast, which only a chain whose one speed is its own range's could have.)
   if (!(end_stretch(v_one) < L)) return 0.0;
   const double v_gain = v_one * (1.0 + kSlowerEndsGain);
   if (!fits_middle(v_gain, share, false)) return 0.0;  // its allotment is at most the share
