@@ -216,6 +216,35 @@ double stepped_run_mm(const gm::Taps& t, double R, double th, double vp, double 
   return stepped_run(t, R, th, vp, v_line).term_mm;
 }
 
+/// splitmix64 → [0, 1), from a seed: the random arcs below.
+class Uniform {
+ public:
+  explicit Uniform(std::uint64_t seed) : state_(seed) {}
+  double operator()() {
+    std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+  }
+
+ private:
+  std::uint64_t state_;
+};
+
+/// A random arc for the residual table's tests: radius 0.3-20 mm (most small), sweep 0.01-6 rad,
+/// 30 % helices up to twice as long, speed 0.002 to 1 times `check`'s limit for it.
+struct RandomArc {
+  double R, th, L, v;
+};
+RandomArc random_arc(Uniform& uniform, const gm::ArcPrecompCheck& check) {
+  RandomArc a{};
+  a.R = 0.3 + 20.0 * uniform() * uniform();
+  a.th = std::exp(std::log(0.01) + uniform() * std::log(600.0));
+  a.L = a.R * a.th * (uniform() < 0.3 ? 1.0 + uniform() : 1.0);
+  a.v = std::exp(std::log(0.002) + uniform() * std::log(500.0)) * check.speed_limit_mm_s(a.th, a.L);
+  return a;
+}
+
 }  // namespace
 
 TEST_CASE("A(ωT): a moving average's closed form by hand, and the table", "[arc-precomp]") {
@@ -366,13 +395,7 @@ TEST_CASE("the planner's check, made cheaper, decides exactly as the whole simul
   // error_within stops a simulation once it exceeds and caches the terms of an arc. Neither
   // may change a plan: over random arcs (short ones, whose four runs all cross the arc, and long
   // ones), both must equal the whole simulation bit for bit.
-  std::uint64_t state = 20261128;
-  auto uniform = [&state] {  // splitmix64 → [0, 1)
-    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
-  };
+  Uniform uniform(20261128);
   int within = 0, over = 0, short_arcs = 0;
   for (const char* prof : {"blackman", "linear", "hann"}) {
     const gm::Taps t = gm::design_taps(prof, 0.12, 0.004);
@@ -412,13 +435,7 @@ TEST_CASE("the residual table bounds the simulation within its margin", "[arc-pr
   // error_bound_mm (four table nodes, interpolated, times 1 + kMargin) against error_mm (the
   // simulation) on random arcs the table covers, three profiles: never below it, and on
   // average within a few per cent above (the planner's speeds go as 1/sqrt of it).
-  std::uint64_t state = 20261201;
-  auto uniform = [&state] {  // splitmix64 → [0, 1)
-    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
-  };
+  Uniform uniform(20261201);
   // The four FIRs, and the FIR + feedforward servo chain tolerance_on = encoder plans for on
   // programs/machines/default-ff.toml's X (not symmetric: the radial blend, the modulus |C|).
   gm::Machine ff;
@@ -437,11 +454,8 @@ TEST_CASE("the residual table bounds the simulation within its margin", "[arc-pr
     double worst = 0.0, sum = 0.0;
     int n = 0;
     for (int k = 0; k < gmtest::scaled(1000); ++k) {
-      const double R = 0.3 + 20.0 * uniform() * uniform();
-      const double th = std::exp(std::log(0.01) + uniform() * std::log(600.0));
-      const double L = R * th * (uniform() < 0.3 ? 1.0 + uniform() : 1.0);  // some helices
-      const double v =
-          std::exp(std::log(0.002) + uniform() * std::log(500.0)) * check.speed_limit_mm_s(th, L);
+      const RandomArc a = random_arc(uniform, check);
+      const double R = a.R, th = a.th, L = a.L, v = a.v;
       if (!table.covers(th, L, v)) continue;
       const double e = check.error_mm(R, th, L, v), b = table.error_bound_mm(check, R, th, L, v);
       CAPTURE(prof, R, th, L, v, e, b);
@@ -460,13 +474,7 @@ TEST_CASE("the residual table's ramps row bounds ramps_mm within its margin", "[
   // against ramps_mm (twelve simulations) on random arcs the table covers, helices too: never
   // below it, and on average within a few per cent above. The row exists because ramps_mm
   // depends on r and x only: a unit arc at x gives r times the same, whatever its sweep.
-  std::uint64_t state = 20261130;
-  auto uniform = [&state] {  // splitmix64 → [0, 1)
-    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
-  };
+  Uniform uniform(20261130);
   for (const char* prof : {"blackman", "linear", "hann"}) {
     const gm::ArcPrecompCheck check(weights(gm::design_taps(prof, 0.164, 0.004)), 0.004);
     REQUIRE(check.enabled());
@@ -481,11 +489,8 @@ TEST_CASE("the residual table's ramps row bounds ramps_mm within its margin", "[
     double worst = 0.0, sum = 0.0;
     int n = 0;
     for (int k = 0; k < gmtest::scaled(200); ++k) {
-      const double R = 0.3 + 20.0 * uniform() * uniform();
-      const double th = std::exp(std::log(0.01) + uniform() * std::log(600.0));
-      const double L = R * th * (uniform() < 0.3 ? 1.0 + uniform() : 1.0);
-      const double v =
-          std::exp(std::log(0.002) + uniform() * std::log(500.0)) * check.speed_limit_mm_s(th, L);
+      const RandomArc a = random_arc(uniform, check);
+      const double R = a.R, th = a.th, L = a.L, v = a.v;
       if (!table.covers(th, L, v)) continue;
       const double e = check.ramps_mm(R, th, L, v), b = table.ramps_bound_mm(check, R, th, L, v);
       CAPTURE(prof, R, th, L, v, e, b);
