@@ -245,6 +245,31 @@ RandomArc random_arc(Uniform& uniform, const gm::ArcPrecompCheck& check) {
   return a;
 }
 
+/// `count` random arcs that `table` covers, each checked bound(arc) >= simulation(arc): how
+/// many, the worst simulation/bound and the mean bound/simulation.
+struct BoundFit {
+  int n = 0;
+  double worst = 0.0, mean = 0.0;
+};
+template <class Sim, class Bound>
+BoundFit bound_vs_simulation(Uniform& uniform, const gm::ArcPrecompCheck& check,
+                             const gm::ArcResidualTable& table, int count, Sim sim, Bound bound) {
+  BoundFit f;
+  double sum = 0.0;
+  for (int k = 0; k < count; ++k) {
+    const RandomArc a = random_arc(uniform, check);
+    if (!table.covers(a.th, a.L, a.v)) continue;
+    const double e = sim(a), b = bound(a);
+    CAPTURE(a.R, a.th, a.L, a.v, e, b);
+    CHECK(b >= e);
+    f.worst = std::max(f.worst, e / b);
+    sum += b / e;
+    ++f.n;
+  }
+  f.mean = sum / f.n;
+  return f;
+}
+
 }  // namespace
 
 TEST_CASE("A(ωT): a moving average's closed form by hand, and the table", "[arc-precomp]") {
@@ -451,21 +476,13 @@ TEST_CASE("the residual table bounds the simulation within its margin", "[arc-pr
     const gm::ArcPrecompCheck check(h, 0.004);
     REQUIRE(check.enabled());
     const gm::ArcResidualTable table(check);
-    double worst = 0.0, sum = 0.0;
-    int n = 0;
-    for (int k = 0; k < gmtest::scaled(1000); ++k) {
-      const RandomArc a = random_arc(uniform, check);
-      const double R = a.R, th = a.th, L = a.L, v = a.v;
-      if (!table.covers(th, L, v)) continue;
-      const double e = check.error_mm(R, th, L, v), b = table.error_bound_mm(check, R, th, L, v);
-      CAPTURE(prof, R, th, L, v, e, b);
-      CHECK(b >= e);
-      worst = std::max(worst, e / b);
-      sum += b / e;
-      ++n;
-    }
-    WARN(prof << ": " << n << " arcs, worst simulation/bound " << worst
-              << ", mean bound/simulation " << sum / n << ", nodes " << table.nodes_filled());
+    CAPTURE(prof);
+    const BoundFit f = bound_vs_simulation(
+        uniform, check, table, gmtest::scaled(1000),
+        [&](const RandomArc& a) { return check.error_mm(a.R, a.th, a.L, a.v); },
+        [&](const RandomArc& a) { return table.error_bound_mm(check, a.R, a.th, a.L, a.v); });
+    WARN(prof << ": " << f.n << " arcs, worst simulation/bound " << f.worst
+              << ", mean bound/simulation " << f.mean << ", nodes " << table.nodes_filled());
   }
 }
 
@@ -486,22 +503,14 @@ TEST_CASE("the residual table's ramps row bounds ramps_mm within its margin", "[
             Approx(2.5 * unit).epsilon(1e-9));
     }
     const gm::ArcResidualTable table(check);
-    double worst = 0.0, sum = 0.0;
-    int n = 0;
-    for (int k = 0; k < gmtest::scaled(200); ++k) {
-      const RandomArc a = random_arc(uniform, check);
-      const double R = a.R, th = a.th, L = a.L, v = a.v;
-      if (!table.covers(th, L, v)) continue;
-      const double e = check.ramps_mm(R, th, L, v), b = table.ramps_bound_mm(check, R, th, L, v);
-      CAPTURE(prof, R, th, L, v, e, b);
-      CHECK(b >= e);
-      worst = std::max(worst, e / b);
-      sum += b / e;
-      ++n;
-    }
-    CHECK(n > gmtest::scaled(200) / 4);
-    WARN(prof << ": " << n << " arcs, worst ramps/bound " << worst << ", mean bound/ramps "
-              << sum / n);
+    CAPTURE(prof);
+    const BoundFit f = bound_vs_simulation(
+        uniform, check, table, gmtest::scaled(200),
+        [&](const RandomArc& a) { return check.ramps_mm(a.R, a.th, a.L, a.v); },
+        [&](const RandomArc& a) { return table.ramps_bound_mm(check, a.R, a.th, a.L, a.v); });
+    CHECK(f.n > gmtest::scaled(200) / 4);
+    WARN(prof << ": " << f.n << " arcs, worst ramps/bound " << f.worst << ", mean bound/ramps "
+              << f.mean);
   }
 }
 
