@@ -300,6 +300,15 @@ class TolerancePlanner : public CanonSource {
   /// An arc's decision, weighed against full stops at the corners at its ends (the corner before
   /// it re-decided, the one after it decided too).
   void decide_arc_weighing(Element& a, double share, const MismatchReserve& res);
+  /// The corners at arc a's ends whose full stop decide_arc_weighing weighs (null: none).
+  struct WeighedCorners {
+    Element* start = nullptr;
+    Element* end = nullptr;
+  };
+  WeighedCorners weighed_corners(const Element& a, double p_stop);
+  /// A copy of `corner` settled as a full stop (pause p_stop, D 0, no weight); `after`: the
+  /// corner after the arc, decided here.
+  Element stopped_corner(const Element& corner, double p_stop, bool after) const;
   /// A decided arc's slowing: its zone at its cap instead of each block's speed at 100 % (its
   /// slower ends at theirs), s.
   double slowing_s(const Element& arc) const;

@@ -278,6 +278,47 @@ double TolerancePlanner::stretch_slowing_s(double z0, double z1, double v) const
   return cost;
 }
 
+TolerancePlanner::WeighedCorners TolerancePlanner::weighed_corners(const Element& a,
+                                                                   double p_stop) {
+  std::size_t ia = elems_.size();
+  for (std::size_t k = decided_prefix_; k < elems_.size(); ++k)
+    if (&elems_[k] == &a) {
+      ia = k;
+      break;
+    }
+  WeighedCorners w;
+  if (ia == elems_.size()) return w;
+  auto plain_corner = [&](const Element& f) {
+    return f.kind == ElementKind::Corner && f.untol_for == 0 &&
+           f.claim_state != Element::Claim::Claimant;
+  };
+  // The corner before: decided, nothing after it but the arc since, and its block (where its
+  // pause goes) not yet handed on.
+  if (ia > 0 && plain_corner(elems_[ia - 1]) && elems_[ia - 1].decided &&
+      elems_[ia - 1].s1 >= a.s0 - 1e-9 && decided_prefix_ == ia && decided_count_ == ia &&
+      elems_[ia - 1].stop_cost_s < kInf && elems_[ia - 1].seq >= window_.front().seq)
+    w.start = &elems_[ia - 1];
+  // The corner after: not decided yet, turning too much to claim, and reached within τ.
+  if (ia + 1 < elems_.size() && plain_corner(elems_[ia + 1]) && !elems_[ia + 1].decided &&
+      elems_[ia + 1].turn > kClaimTurn && elems_[ia + 1].t0 < a.t1 + filter_.tau_s() &&
+      p_stop > elems_[ia + 1].pause0)
+    w.end = &elems_[ia + 1];
+  return w;
+}
+
+TolerancePlanner::Element TolerancePlanner::stopped_corner(const Element& corner, double p_stop,
+                                                           bool after) const {
+  Element c = corner;
+  if (after) {  // decided here, within the tolerance near it
+    c.decided = true;
+    c.share = share_of(tolerance_near(corner));
+    c.claim_state = Element::Claim::Share;
+  }
+  settle_corner(c, p_stop, corner.vmax, 0.0, after ? p_stop - corner.pause0 : corner.stop_cost_s);
+  c.weight = 0.0;
+  return c;
+}
+
 void TolerancePlanner::decide_arc_weighing(Element& a, double share, const MismatchReserve& res) {
   // The corners at the arc's two ends share its zone: the one before it (decided just now, its
   // err counted) and the one after it (undecided, counted by its weight, then decided within
@@ -292,43 +333,13 @@ void TolerancePlanner::decide_arc_weighing(Element& a, double share, const Misma
   if (!(a.cap < kInf)) return;  // nothing to gain
   const double p_stop = drain_pause_s();
   if (!(p_stop >= 0.0)) return;
-  std::size_t ia = elems_.size();
-  for (std::size_t k = decided_prefix_; k < elems_.size(); ++k)
-    if (&elems_[k] == &a) {
-      ia = k;
-      break;
-    }
-  if (ia == elems_.size()) return;
-  auto plain_corner = [&](const Element& f) {
-    return f.kind == ElementKind::Corner && f.untol_for == 0 &&
-           f.claim_state != Element::Claim::Claimant;
-  };
-  // The corner before: decided, nothing after it but the arc since, and its block (where its
-  // pause goes) not yet handed on.
-  Element* cs = nullptr;
-  if (ia > 0 && plain_corner(elems_[ia - 1]) && elems_[ia - 1].decided &&
-      elems_[ia - 1].s1 >= a.s0 - 1e-9 && decided_prefix_ == ia && decided_count_ == ia &&
-      elems_[ia - 1].stop_cost_s < kInf && elems_[ia - 1].seq >= window_.front().seq)
-    cs = &elems_[ia - 1];
-  Element* ce = nullptr;
-  if (ia + 1 < elems_.size() && plain_corner(elems_[ia + 1]) && !elems_[ia + 1].decided &&
-      elems_[ia + 1].turn > kClaimTurn && elems_[ia + 1].t0 < a.t1 + filter_.tau_s() &&
-      p_stop > elems_[ia + 1].pause0)
-    ce = &elems_[ia + 1];
+  const WeighedCorners corners = weighed_corners(a, p_stop);
+  Element* const cs = corners.start;
+  Element* const ce = corners.end;
   if (cs == nullptr && ce == nullptr) return;
   const Element start = cs != nullptr ? *cs : Element{}, end = ce != nullptr ? *ce : Element{};
-  Element start_stop = start, end_stop = end;
-  if (cs != nullptr) {
-    settle_corner(start_stop, p_stop, start.vmax, 0.0, start.stop_cost_s);
-    start_stop.weight = 0.0;
-  }
-  if (ce != nullptr) {
-    end_stop.decided = true;
-    end_stop.share = share_of(tolerance_near(end));
-    end_stop.claim_state = Element::Claim::Share;
-    settle_corner(end_stop, p_stop, end.vmax, 0.0, p_stop - end.pause0);
-    end_stop.weight = 0.0;
-  }
+  const Element start_stop = cs != nullptr ? stopped_corner(start, p_stop, false) : start,
+                end_stop = ce != nullptr ? stopped_corner(end, p_stop, true) : end;
   const double start_cost = cs != nullptr ? start.cost_s : 0.0;
   // An element's saved state put back, its weight with the prefix sums after it, and its own
   // prefix sum as it is now (the weights before it may have changed since it was saved).
