@@ -32,7 +32,7 @@ double ArcResidualTable::row_ramp(const ArcPrecompCheck& check, std::size_t k, d
 
 bool ArcResidualTable::covers(double sweep_abs_rad, double length_mm, double v_plan) const {
   if (nx_ == 0 || !(length_mm > 0.0)) return false;
-  const double x = v_plan * sweep_abs_rad / length_mm * period_s_;
+  const double x = rate(sweep_abs_rad, length_mm, v_plan);
   // x_top_·(1 + 1e-9): the arc at its speed limit, x recomputed from that speed.
   return x >= x0_ && x <= x_top_ * (1.0 + 1e-9) && sweep_abs_rad >= kMinSweep &&
          sweep_abs_rad >= kMinSamples * x;
@@ -61,6 +61,10 @@ double ArcResidualTable::log_ramps(const ArcPrecompCheck& check, std::size_t k) 
   return g;
 }
 
+double ArcResidualTable::rate(double sweep_abs_rad, double length_mm, double v_plan) const {
+  return v_plan * sweep_abs_rad / length_mm * period_s_;
+}
+
 double ArcResidualTable::rate_index(double x) const {
   return std::clamp(std::log(x / x0_) * inv_log_step_, 0.0, static_cast<double>(nx_ - 1));
 }
@@ -68,7 +72,7 @@ double ArcResidualTable::rate_index(double x) const {
 double ArcResidualTable::ramps_bound_mm(const ArcPrecompCheck& check, double radius_mm,
                                         double sweep_abs_rad, double length_mm,
                                         double v_plan) const {
-  const double x = v_plan * sweep_abs_rad / length_mm * period_s_, fx = rate_index(x);
+  const double x = rate(sweep_abs_rad, length_mm, v_plan), fx = rate_index(x);
   const std::size_t k = std::min(static_cast<std::size_t>(fx), nx_ - 2);
   const double tx = fx - static_cast<double>(k);
   const double lg = (1.0 - tx) * log_ramps(check, k) + tx * log_ramps(check, k + 1);
@@ -78,7 +82,7 @@ double ArcResidualTable::ramps_bound_mm(const ArcPrecompCheck& check, double rad
 double ArcResidualTable::error_bound_mm(const ArcPrecompCheck& check, double radius_mm,
                                         double sweep_abs_rad, double length_mm,
                                         double v_plan) const {
-  const double x = v_plan * sweep_abs_rad / length_mm * period_s_, fx = rate_index(x);
+  const double x = rate(sweep_abs_rad, length_mm, v_plan), fx = rate_index(x);
   const double fth = std::clamp(std::log(sweep_abs_rad / kMinSweep) * inv_log_step_, 0.0,
                                 static_cast<double>(nth_ - 1));
   const std::size_t k = std::min(static_cast<std::size_t>(fx), nx_ - 2);

@@ -61,6 +61,8 @@ class ArcResidualTable {
   double row_ramp(const ArcPrecompCheck& check, std::size_t k, double x) const;
   /// log(M/x²) at x_k, simulated by `check` the first time.
   double log_ramps(const ArcPrecompCheck& check, std::size_t k) const;
+  /// The arc's in-plane rate x = ωT = v_p·|θ|/L·T.
+  double rate(double sweep_abs_rad, double length_mm, double v_plan) const;
   /// The grid's position of rate x: fractional index, clamped to the grid.
   double rate_index(double x) const;
   double period_s_ = 0;

@@ -13,6 +13,22 @@
 
 namespace gm {
 
+namespace {
+
+/// The largest speed in [lo, hi] with ok (monotone: true below a speed, false above it; ok(lo)
+/// taken as true): hi when ok(hi), else lo after ten halvings.
+template <class Ok>
+double largest_fitting(double lo, double hi, Ok ok) {
+  if (ok(hi)) return hi;
+  for (int it = 0; it < 10; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (ok(mid) ? lo : hi) = mid;
+  }
+  return lo;
+}
+
+}  // namespace
+
 void TolerancePlanner::decide_arc(Element& e, double share, const MismatchReserve& res) const {
   const double tau = filter_.tau_s();
   // κ·v²·σ²/2 <= (share − reserve)/W
@@ -131,16 +147,10 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
   };
   const double vlim = std::min(e.vmax, precomp_->speed_limit_mm_s(e.sweep, L));
   if (!(vlim > floor)) return 0.0;
-  if (within(vlim)) {
-    err = allotted(vlim);
-    return vlim;
-  }
-  double lo = floor, hi = vlim;  // lo: no better than the curvature cap until shown
-  for (int it = 0; it < 10; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    (within(mid) ? lo : hi) = mid;
-  }
+  // lo: no better than the curvature cap until shown.
+  const double lo = largest_fitting(floor, vlim, within);
   err = allotted(lo);
+  if (lo == vlim) return lo;  // fits at its fastest: one speed
   // Its middle faster than its ends: a chain, or an arc cut at zone boundaries (one turn at
   // most) that is a circle (a near circle's extra term is not the ramps').
   if ((chain || (e.split && !(e.spiral > 0.0))) && ends_out != nullptr && lo > floor) {
@@ -192,16 +202,9 @@ double TolerancePlanner::slower_ends(const Element& e, double v_one, double vlim
   ZoneMemo mid_memo;
   const double mid_allot = zone_allotment(
       share, 1.0, zone_values(mid_memo, zone_range(e.s0 + 1e-6, e.s1 - 1e-6), e, false));
-  auto largest = [&](double lo, double hi, auto ok) {
-    if (ok(hi)) return hi;
-    for (int it = 0; it < 10; ++it) {
-      const double mid = 0.5 * (lo + hi);
-      (ok(mid) ? lo : hi) = mid;
-    }
-    return lo;
-  };
   // The middle's speed by the table first (cheap: most arcs are then too short for their ends).
-  double v_mid = largest(v_one, vlim, [&](double v) { return fits_middle(v, mid_allot, false); });
+  double v_mid =
+      largest_fitting(v_one, vlim, [&](double v) { return fits_middle(v, mid_allot, false); });
   if (!(v_mid > v_gain)) return 0.0;
   std::array<ZoneMemo, 2> memos{};
   auto end_allot = [&](std::size_t k, double v) {
@@ -214,7 +217,8 @@ double TolerancePlanner::slower_ends(const Element& e, double v_one, double vlim
   auto plan_ends = [&](double vm, std::array<double, 2>& v_end) {
     double need = 0.0;
     for (std::size_t k = 0; k < 2; ++k) {
-      v_end[k] = largest(v_one, vm, [&](double v) { return fits(v, end_allot(k, v), 1.0); });
+      v_end[k] =
+          largest_fitting(v_one, vm, [&](double v) { return fits(v, end_allot(k, v), 1.0); });
       if (v_end[k] < vm) need += end_stretch(v_end[k]) + braking_length_mm(vm, v_end[k], vm);
     }
     return need;
@@ -224,7 +228,7 @@ double TolerancePlanner::slower_ends(const Element& e, double v_one, double vlim
   // Then as fast as the simulation allows (the table's bound is kMargin above it), where the
   // ends still fit.
   const double v_sim =
-      largest(v_mid, vlim, [&](double v) { return fits_middle(v, mid_allot, true); });
+      largest_fitting(v_mid, vlim, [&](double v) { return fits_middle(v, mid_allot, true); });
   if (std::array<double, 2> v_end_sim{}; v_sim > v_mid && plan_ends(v_sim, v_end_sim) < L)
     v_mid = v_sim, v_end = v_end_sim;
   for (std::size_t k = 0; k < 2; ++k) {
