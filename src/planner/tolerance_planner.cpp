@@ -309,16 +309,18 @@ void TolerancePlanner::decide(Element& e) {
   // (share − claims)·w_e/W_e, so that with the claimants any instant stays within the share.
   switch (e.kind) {
     case ElementKind::Arc:
-      if (weigh_depth_ == 0)
-        decide_arc_weighing(e, share, res);
-      else
-        decide_arc_beside_claims(e, share, res);
-      return;
     case ElementKind::Run:
-      decide_run(e, share, res);
-      part_zone(e);
+      if (weigh_depth_ == 0)
+        decide_weighing_stops(e, share, res);
+      else
+        decide_between_corners(e, share, res);
       return;
     case ElementKind::Corner:
+      if (weigh_depth_ == 0 && e.untol_for == 0) {
+        decide_corner_weighing(e, tol, share, res);
+        return;
+      }
+      [[fallthrough]];
     case ElementKind::Stop:
       decide_corner(e, share, res);
       part_zone(e);

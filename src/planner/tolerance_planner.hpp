@@ -297,10 +297,17 @@ class TolerancePlanner : public CanonSource {
   /// when there is none.
   double drain_pause_s();
   int drain_j_ = -2;  ///< that pause's grid index, −1 when none, −2 until asked
-  /// An arc's decision, weighed against full stops at the corners at its ends (the corner before
-  /// it re-decided, the one after it decided too).
-  void decide_arc_weighing(Element& a, double share, const MismatchReserve& res);
-  /// The corners at arc a's ends whose full stop decide_arc_weighing weighs (null: none).
+  /// An arc's or a run's decision, weighed against full stops at the corners at its ends (the
+  /// corner before it re-decided, the one after it decided too).
+  void decide_weighing_stops(Element& a, double share, const MismatchReserve& res);
+  /// An arc's (decide_arc_beside_claims) or a run's decision (decide_run, part_zone), the
+  /// corners beside it as they are.
+  void decide_between_corners(Element& e, double share, const MismatchReserve& res) const;
+  /// A corner's decision, weighed against a full stop at the corner after it where a smaller
+  /// tolerance beyond that corner lowers its own (`tol`, from tolerance_near): the stop parts
+  /// it from there.
+  void decide_corner_weighing(Element& e, double tol, double share, const MismatchReserve& res);
+  /// The corners at arc a's ends whose full stop decide_weighing_stops weighs (null: none).
   struct WeighedCorners {
     Element* start = nullptr;
     Element* end = nullptr;
@@ -316,7 +323,13 @@ class TolerancePlanner : public CanonSource {
   double stretch_slowing_s(double z0, double z1, double v) const;
   /// Sets f's share weight (the prefix sums after it follow).
   void set_weight(Element& f, double w);
-  /// Tentative decisions under way (decide_arc_weighing): they assign no claims and weigh
+  /// e's index in elems_, searched from the decided prefix on (elems_.size(): not there).
+  std::size_t index_past_prefix(const Element& e) const;
+  /// An element's saved state put back (a tentative decision undone): its weight with the prefix
+  /// sums after it, and its own prefix sum as it is now (the weights before it may have changed
+  /// since it was saved).
+  void restore(Element& f, const Element& saved);
+  /// Tentative decisions under way (decide_weighing_stops): they assign no claims and weigh
   /// nothing further.
   int weigh_depth_ = 0;
   /// Time a corner costs with a pause of pause_s (D(pause) = d): the pause added plus the

@@ -284,28 +284,23 @@ double TolerancePlanner::stretch_slowing_s(double z0, double z1, double v) const
 
 TolerancePlanner::WeighedCorners TolerancePlanner::weighed_corners(const Element& a,
                                                                    double p_stop) {
-  std::size_t ia = elems_.size();
-  for (std::size_t k = decided_prefix_; k < elems_.size(); ++k)
-    if (&elems_[k] == &a) {
-      ia = k;
-      break;
-    }
+  const std::size_t ia = index_past_prefix(a);
   WeighedCorners w;
   if (ia == elems_.size()) return w;
   auto plain_corner = [&](const Element& f) {
     return f.kind == ElementKind::Corner && f.untol_for == 0 &&
            f.claim_state != Element::Claim::Claimant;
   };
-  // The corner before: decided, nothing after it but the arc since, and its block (where its
-  // pause goes) not yet handed on.
+  // The corner before: decided, nothing after it but the arc since (a run: its first segment,
+  // which has no element), and its block (where its pause goes) not yet handed on.
   if (ia > 0 && plain_corner(elems_[ia - 1]) && elems_[ia - 1].decided &&
-      elems_[ia - 1].s1 >= a.s0 - 1e-9 && decided_prefix_ == ia && decided_count_ == ia &&
-      elems_[ia - 1].stop_cost_s < kInf && elems_[ia - 1].seq >= window_.front().seq)
+      (a.kind == ElementKind::Run || elems_[ia - 1].s1 >= a.s0 - 1e-9) && decided_prefix_ == ia &&
+      decided_count_ == ia && elems_[ia - 1].stop_cost_s < kInf &&
+      elems_[ia - 1].seq >= window_.front().seq)
     w.start = &elems_[ia - 1];
-  // The corner after: not decided yet, turning too much to claim, and reached within τ.
+  // The corner after: not decided yet, not claiming, and reached within τ.
   if (ia + 1 < elems_.size() && plain_corner(elems_[ia + 1]) && !elems_[ia + 1].decided &&
-      elems_[ia + 1].turn > kClaimTurn && elems_[ia + 1].t0 < a.t1 + filter_.tau_s() &&
-      p_stop > elems_[ia + 1].pause0)
+      elems_[ia + 1].t0 < a.t1 + filter_.tau_s() && p_stop > elems_[ia + 1].pause0)
     w.end = &elems_[ia + 1];
   return w;
 }
@@ -323,7 +318,17 @@ TolerancePlanner::Element TolerancePlanner::stopped_corner(const Element& corner
   return c;
 }
 
-void TolerancePlanner::decide_arc_weighing(Element& a, double share, const MismatchReserve& res) {
+void TolerancePlanner::decide_between_corners(Element& e, double share,
+                                              const MismatchReserve& res) const {
+  if (e.kind == ElementKind::Arc) {
+    decide_arc_beside_claims(e, share, res);
+    return;
+  }
+  decide_run(e, share, res);
+  part_zone(e);
+}
+
+void TolerancePlanner::decide_weighing_stops(Element& a, double share, const MismatchReserve& res) {
   // The corners at the arc's two ends share its zone: the one before it (decided just now, its
   // err counted) and the one after it (undecided, counted by its weight, then decided within
   // what the arc left; at its end, or past a tangent line within τ of it at the fastest
@@ -333,7 +338,7 @@ void TolerancePlanner::decide_arc_weighing(Element& a, double share, const Misma
   // stop_cost_s, the arc's slowing_s, the corner after decided on a copy), a plan whose stops alone
   // cost more than the best known not tried; the cheapest is kept.
   const Element before = a;
-  decide_arc_beside_claims(a, share, res);
+  decide_between_corners(a, share, res);
   if (!(a.cap < kInf)) return;  // nothing to gain
   const double p_stop = drain_pause_s();
   if (!(p_stop >= 0.0)) return;
@@ -345,14 +350,6 @@ void TolerancePlanner::decide_arc_weighing(Element& a, double share, const Misma
   const Element start_stop = cs != nullptr ? stopped_corner(start, p_stop, false) : start,
                 end_stop = ce != nullptr ? stopped_corner(end, p_stop, true) : end;
   const double start_cost = cs != nullptr ? start.cost_s : 0.0;
-  // An element's saved state put back, its weight with the prefix sums after it, and its own
-  // prefix sum as it is now (the weights before it may have changed since it was saved).
-  auto restore = [&](Element& f, const Element& saved) {
-    set_weight(f, saved.weight);
-    const double cum = f.cum;
-    f = saved;
-    f.cum = cum;
-  };
   // Puts a plan's corners in place (weights and prefix sums too), the arc undecided.
   auto place = [&](bool stop_start, bool stop_end) {
     if (cs != nullptr) restore(*cs, stop_start ? start_stop : start);
@@ -366,10 +363,10 @@ void TolerancePlanner::decide_arc_weighing(Element& a, double share, const Misma
   auto decide_parted = [&] {
     const double t = tolerance_near(a);
     if (t == tol) {
-      decide_arc_beside_claims(a, share, res);
+      decide_between_corners(a, share, res);
     } else {
       a.share = share_of(t);
-      decide_arc_beside_claims(a, a.share, mismatch_reserve(a, t));
+      decide_between_corners(a, a.share, mismatch_reserve(a, t));
     }
   };
   // The corner after decided on a copy beside the arc as it is: its cost.

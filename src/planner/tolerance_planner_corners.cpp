@@ -167,7 +167,7 @@ void TolerancePlanner::decide_corner(Element& e, double share, const MismatchRes
   if (best_j >= 0) last_corner_pause_j_ = best_j;
   settle_corner(e, best_p, best_v, best_d, best_cost);
   // Its full stop (the drain pause, D = 0: no cap, err 0), priced for the arc after it to weigh
-  // (decide_arc_weighing).
+  // (decide_weighing_stops).
   e.stop_cost_s = kInf;
   const double p_stop = drain_pause_s();
   if (p_stop > e.pause0 && best_d > 0.0) {
@@ -189,6 +189,90 @@ void TolerancePlanner::settle_corner(Element& e, double pause, double v_cap, dou
   e.reach1 = e.s1 + v * zt;
   e.z0 = zone_back(e.s0, zt, e.cap);
   e.z1 = zone_fwd(e.s1, zt, e.cap);
+}
+
+std::size_t TolerancePlanner::index_past_prefix(const Element& e) const {
+  for (std::size_t k = decided_prefix_; k < elems_.size(); ++k)
+    if (&elems_[k] == &e) return k;
+  return elems_.size();
+}
+
+void TolerancePlanner::restore(Element& f, const Element& saved) {
+  set_weight(f, saved.weight);
+  const double cum = f.cum;
+  f = saved;
+  f.cum = cum;
+}
+
+void TolerancePlanner::decide_corner_weighing(Element& e, double tol, double share,
+                                              const MismatchReserve& res) {
+  // A smaller tolerance within τ past e lowers e's share (tolerance_near), and so its cap, as
+  // it does every element's it reaches; a full stop at the corner after e (the drain pause:
+  // err 0, no weight) parts e from it. The two plans are weighed by their costs in the
+  // decisions' own terms (decide_weighing_stops'): e's cost_s, plus the corner after decided
+  // on a copy beside e as planned, or that corner's stop. The plan as planned wins among
+  // equals.
+  const Element undecided = e;
+  const int hint = last_corner_pause_j_;
+  decide_corner(e, share, res);
+  part_zone(e);
+  const double planned_cost = e.cost_s;
+  if (!(tol < e.tol_mm)) return;
+  const double p_stop = drain_pause_s();
+  if (!(p_stop >= 0.0)) return;
+  // The corner after: next in path order, not decided, not claiming, reached within τ, and not
+  // stopping already.
+  const std::size_t ie = index_past_prefix(e);
+  if (ie + 1 >= elems_.size()) return;
+  Element& c = elems_[ie + 1];
+  if (c.kind != ElementKind::Corner || c.untol_for != 0 ||
+      c.claim_state == Element::Claim::Claimant || c.decided || !(c.t0 < e.t1 + filter_.tau_s()) ||
+      !(p_stop > c.pause0))
+    return;
+  const Element planned = e, corner = c;
+  const int planned_hint = last_corner_pause_j_;
+  const Element corner_stop = stopped_corner(corner, p_stop, true);
+  restore(c, corner_stop);
+  const double parted = tolerance_near(e);
+  if (!(parted > tol)) {  // the smaller tolerance is not (only) beyond that corner
+    restore(c, corner);
+    return;
+  }
+  ++weigh_depth_;
+  // The stop's plan: e decided within the tolerance the stop leaves it.
+  restore(e, undecided);
+  last_corner_pause_j_ = hint;
+  e.share = share_of(parted);
+  decide_corner(e, e.share, mismatch_reserve(e, parted));
+  part_zone(e);
+  const double stop_cost = e.cost_s + corner_stop.cost_s;
+  // The plan as planned costs at least e's cost there (the corner after costs nothing or more) and
+  // at most that plus the corner's stop (one of the pauses it tries).
+  bool stop = stop_cost < planned_cost - 1e-9;
+  if (!stop && stop_cost < planned_cost + corner_stop.cost_s - 1e-9) {
+    const Element stopped_plan = e;
+    const int stopped_hint = last_corner_pause_j_;
+    restore(e, planned);
+    restore(c, corner);
+    last_corner_pause_j_ = planned_hint;
+    const std::size_t prefix = decided_prefix_;
+    extend_decided_prefix();
+    decide(c);
+    const double as_planned = planned_cost + c.cost_s;
+    restore(c, corner_stop);
+    decided_prefix_ = prefix;
+    restore(e, stopped_plan);
+    last_corner_pause_j_ = stopped_hint;
+    stop = stop_cost < as_planned - 1e-9;
+  }
+  --weigh_depth_;
+  if (stop) {
+    ++decided_count_;  // the corner after, decided out of order
+    return;
+  }
+  restore(c, corner);
+  restore(e, planned);
+  last_corner_pause_j_ = planned_hint;
 }
 
 void TolerancePlanner::set_weight(Element& f, double w) {
