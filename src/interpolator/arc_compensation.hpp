@@ -156,6 +156,10 @@ class ArcCompensation {
   /// below what is left, less kLengthEps). ArcEndRows::kSpan or more: farther.
   double advances_to_end(double left_mm, double v, double target, double step, double cap) const {
     constexpr double kLengthEps = 1e-9;  // the interpolator's
+    // No sample advances more than cap·T (next_speed is at most cap): from kSpan + 1 of those
+    // (and the slack) before the end on, the loop would count to kSpan. Most samples are there.
+    if (left_mm > (ArcEndRows::kSpan + 1) * cap * period_s_ + 2.0 * kLengthEps)
+      return ArcEndRows::kSpan;
     for (int j = 0; j < ArcEndRows::kSpan; ++j) {
       const double next = next_speed(v, target, step, cap, left_mm);
       if (!(next > 0.0)) break;  // held: no end in sight
