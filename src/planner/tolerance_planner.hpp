@@ -316,8 +316,8 @@ class TolerancePlanner : public CanonSource {
   /// A copy of `corner` settled as a full stop (pause p_stop, D 0, no weight); `after`: the
   /// corner after the arc, decided here.
   Element stopped_corner(const Element& corner, double p_stop, bool after) const;
-  /// A decided arc's slowing: its zone at its cap instead of each block's speed at 100 % (its
-  /// slower ends at theirs), s.
+  /// A decided arc's (or run's) slowing: its zone at its cap instead of each block's speed at
+  /// 100 % (an arc's slower ends at theirs), s.
   double slowing_s(const Element& arc) const;
   /// [z0, z1] of the window's blocks at v instead of their speeds at 100 %, s.
   double stretch_slowing_s(double z0, double z1, double v) const;

@@ -1,4 +1,5 @@
-// TolerancePlanner's arcs: curvature bound or pre-compensated cap, slower ends, stops weighed.
+// TolerancePlanner's arcs: curvature bound or pre-compensated cap, slower ends; the stops beside
+// an arc or a run, weighed.
 #include "planner/tolerance_planner.hpp"
 
 #include "common/units.hpp"
@@ -329,6 +330,7 @@ void TolerancePlanner::decide_between_corners(Element& e, double share,
 }
 
 void TolerancePlanner::decide_weighing_stops(Element& a, double share, const MismatchReserve& res) {
+  // (An arc's or a run's: "the arc" below is either; a run's slowing_s is its zone's.)
   // The corners at the arc's two ends share its zone: the one before it (decided just now, its
   // err counted) and the one after it (undecided, counted by its weight, then decided within
   // what the arc left; at its end, or past a tangent line within τ of it at the fastest
