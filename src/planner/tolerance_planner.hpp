@@ -307,6 +307,9 @@ class TolerancePlanner : public CanonSource {
   /// tolerance beyond that corner lowers its own (`tol`, from tolerance_near): the stop parts
   /// it from there.
   void decide_corner_weighing(Element& e, double tol, double share, const MismatchReserve& res);
+  /// The corner c (undecided) decided on a copy beside `beside` as it is (the decided prefix
+  /// extended for it): its cost_s; c, `beside` and the prefix left as they were.
+  double cost_decided_aside(Element& c, Element& beside);
   /// The corners at arc a's ends whose full stop decide_weighing_stops weighs (null: none).
   struct WeighedCorners {
     Element* start = nullptr;

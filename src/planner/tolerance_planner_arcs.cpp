@@ -319,6 +319,18 @@ TolerancePlanner::Element TolerancePlanner::stopped_corner(const Element& corner
   return c;
 }
 
+double TolerancePlanner::cost_decided_aside(Element& c, Element& beside) {
+  const Element undecided = c, as_is = beside;
+  const std::size_t prefix = decided_prefix_;
+  extend_decided_prefix();
+  decide(c);
+  const double cost = c.cost_s;
+  restore(c, undecided);
+  decided_prefix_ = prefix;
+  restore(beside, as_is);
+  return cost;
+}
+
 void TolerancePlanner::decide_between_corners(Element& e, double share,
                                               const MismatchReserve& res) const {
   if (e.kind == ElementKind::Arc) {
@@ -372,17 +384,7 @@ void TolerancePlanner::decide_weighing_stops(Element& a, double share, const Mis
     }
   };
   // The corner after decided on a copy beside the arc as it is: its cost.
-  auto end_cost = [&] {
-    const Element decided_arc = a;
-    const std::size_t prefix = decided_prefix_;
-    extend_decided_prefix();
-    decide(*ce);
-    const double cost = ce->cost_s;
-    restore(*ce, end);
-    decided_prefix_ = prefix;
-    restore(a, decided_arc);
-    return cost;
-  };
+  auto end_cost = [&] { return cost_decided_aside(*ce, a); };
   // The plans' costs. The corner after costs at most its own stop (one of the pauses it tries):
   // a plan where it does not stop is known within [c, c + that] until it is decided on a copy
   // (end_cost), which is done only where that could change the choice; a plan whose stops alone

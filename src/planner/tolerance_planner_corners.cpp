@@ -255,12 +255,8 @@ void TolerancePlanner::decide_corner_weighing(Element& e, double tol, double sha
     restore(e, planned);
     restore(c, corner);
     last_corner_pause_j_ = planned_hint;
-    const std::size_t prefix = decided_prefix_;
-    extend_decided_prefix();
-    decide(c);
-    const double as_planned = planned_cost + c.cost_s;
+    const double as_planned = planned_cost + cost_decided_aside(c, e);
     restore(c, corner_stop);
-    decided_prefix_ = prefix;
     restore(e, stopped_plan);
     last_corner_pause_j_ = stopped_hint;
     stop = stop_cost < as_planned - 1e-9;
