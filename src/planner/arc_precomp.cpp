@@ -184,8 +184,8 @@ double ArcPrecompCheck::speed_limit_mm_s(double sweep_abs_rad, double length_mm)
 Eigen::Vector2d ArcPrecompCheck::point(double p) const {
   if (p <= 0.0) return {p, 0.0};
   if (p < lp_) return {r_ * std::sin(p / r_), r_ - r_ * std::cos(p / r_)};
-  const double th = lp_ / r_, d = p - lp_;
-  return {r_ * std::sin(th) + d * std::cos(th), r_ - r_ * std::cos(th) + d * std::sin(th)};
+  const double d = p - lp_;
+  return {end_sin_r_ + d * end_cos_, end_1mcos_r_ + d * end_sin_};
 }
 
 void ArcPrecompCheck::put(std::size_t& head, const Eigen::Vector2d& x, double p) const {
@@ -361,6 +361,11 @@ void ArcPrecompCheck::set_arc(double radius_mm, double sweep_abs_rad, double len
   len_ = length_mm;
   lp_ = radius_mm * sweep_abs_rad;
   q_ = lp_ / length_mm;
+  const double th = lp_ / r_;
+  end_sin_ = std::sin(th);
+  end_cos_ = std::cos(th);
+  end_sin_r_ = r_ * end_sin_;
+  end_1mcos_r_ = r_ - r_ * end_cos_;
   v_ = v;
   vplan_ = v_plan;
   dv_ = rule_.speed_step_mm_s(v_plan);

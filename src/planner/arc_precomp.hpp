@@ -195,6 +195,8 @@ class ArcPrecompCheck {
   // cover (at most L/2), in-plane step per sample.
   mutable double r_ = 0, lp_ = 0, q_ = 0, len_ = 0, blend_ = 0, rows_ = 0, end_len_ = 0, dp_ = 0,
                  v_ = 0, dv_ = 0;
+  /// The end's direction (sin, cos of lp_/r_) and point, for point() past the arc (set_arc).
+  mutable double end_sin_ = 0, end_cos_ = 1, end_sin_r_ = 0, end_1mcos_r_ = 0;
   mutable bool stops_ = false;  ///< the run stops on the arc's end point: its end rows for a stop
   /// stepped_mm: the arc's cap, the lines' speed and the in-plane stretch beside the arc at v.
   mutable double vplan_ = 0, vline_ = 0, near_p_ = 0;
