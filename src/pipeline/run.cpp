@@ -200,8 +200,10 @@ RunStatus Run::fill_n(int max_rows) {
     const int row = b.count - 1;
     ++k_;
     line_ = b.line[row];
-    stop = stop_rule(b, row);
-    if (!stop.empty()) break;
+    if (const StopRule rule = broken_rule(b, row); rule != StopRule::None) {
+      stop = stop_message(rule, b, row);
+      break;
+    }
     if (realtime_)
       std::this_thread::sleep_until(
           t0_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
@@ -220,9 +222,11 @@ RunStatus Run::fill_n(int max_rows) {
     k_ += span;
     // A rule broken in the span is broken first at its first row (an interrupt: as if the
     // signal came before the span) or at the first row past the time limit.
-    if (!(stop = stop_rule(b, b.count - 1)).empty()) {
+    if (broken_rule(b, b.count - 1) != StopRule::None) {
       int r = r0;
-      while ((stop = stop_rule(b, r)).empty()) ++r;
+      StopRule rule = StopRule::None;
+      while ((rule = broken_rule(b, r)) == StopRule::None) ++r;
+      stop = stop_message(rule, b, r);
       b.count = r + 1;
       break;
     }
@@ -255,20 +259,35 @@ RunStatus Run::fill_n(int max_rows) {
   return RunStatus::Working;
 }
 
-std::string Run::stop_rule(const SampleBlock& b, int row) const {
+Run::StopRule Run::broken_rule(const SampleBlock& b, int row) const {
+  const RunOptions& o = options_;
+  if (o.interrupted != nullptr && *o.interrupted != 0) return StopRule::Interrupted;
+  if (o.max_time_s > 0 &&
+      static_cast<double>(b.k0 + row) * o.config.machine.period_s > o.max_time_s)
+    return StopRule::MaxTime;
+  if ((b.events[row] & kEventHold) != 0 && !live_open_ && !player_.may_change())
+    return StopRule::Held;
+  return StopRule::None;
+}
+
+std::string Run::stop_message(StopRule rule, const SampleBlock& b, int row) const {
   const RunOptions& o = options_;
   const double t_s = static_cast<double>(b.k0 + row) * o.config.machine.period_s;
-  if (o.interrupted != nullptr && *o.interrupted != 0)
-    return fmt::format("interrupted at t = {:.3f} s (line {}){}", t_s, line_,
-                       o.keep_partial ? "" : "; no trace was kept");
-  if (o.max_time_s > 0 && t_s > o.max_time_s)
-    return fmt::format("run stopped at --max-time {} s (line {}, feed override {} %)", o.max_time_s,
-                       line_, player_.feed_percent());
-  if ((b.events[row] & kEventHold) != 0 && !live_open_ && !player_.may_change())
-    return fmt::format(
-        "feed held at 0 % override at line {} (t = {:.3f} s) and nothing in the override "
-        "schedule resumes it",
-        line_, t_s);
+  switch (rule) {
+    case StopRule::Interrupted:
+      return fmt::format("interrupted at t = {:.3f} s (line {}){}", t_s, line_,
+                         o.keep_partial ? "" : "; no trace was kept");
+    case StopRule::MaxTime:
+      return fmt::format("run stopped at --max-time {} s (line {}, feed override {} %)",
+                         o.max_time_s, line_, player_.feed_percent());
+    case StopRule::Held:
+      return fmt::format(
+          "feed held at 0 % override at line {} (t = {:.3f} s) and nothing in the override "
+          "schedule resumes it",
+          line_, t_s);
+    case StopRule::None:
+      break;
+  }
   return {};
 }
 

@@ -128,8 +128,12 @@ class Run {
   /// Both public constructors: the moves from `source`, or else interpreted from `program`.
   Run(RunOptions options, CanonSource* source, std::istream* program, InterpreterOptions opts);
   void init();
-  /// The stop rule row `row` of `b` breaks, as its message; "" when none does.
-  std::string stop_rule(const SampleBlock& b, int row) const;
+  /// The stop rules a run checks on every row, in the order they are checked.
+  enum class StopRule { None, Interrupted, MaxTime, Held };
+  /// The first stop rule row `row` of `b` breaks (None: none does); cheap, checked per row.
+  StopRule broken_rule(const SampleBlock& b, int row) const;
+  /// The message of `rule`, broken at row `row` of `b`.
+  std::string stop_message(StopRule rule, const SampleBlock& b, int row) const;
   /// Produces up to `max_rows` samples (at most to the end of the current block) for a machine
   /// of N axes: the pipeline's command_n<N> row by row, then its stages_n<N> over them.
   template <int N>
