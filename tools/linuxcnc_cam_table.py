@@ -14,6 +14,12 @@ not in CI (each LinuxCNC session takes its cycle time plus about 10 s):
 
   /usr/bin/python3 tools/linuxcnc_cam_table.py [--modes P0.01 P0.05 G61 G64]
       [--accel 610 1750] [--programs NAME ...] [--repeat 1] [--gmotion PATH]
+      [--max-override 100]
+
+Both planners plan for the same largest feed override, `--max-override` percent (100: LinuxCNC's
+default when its INI has no [DISPLAY]MAX_FEED_OVERRIDE; gmotion's built-in machine says 200):
+LinuxCNC's MAX_FEED_OVERRIDE and gmotion's `max_override_percent` (tools/linuxcnc_headless/
+run.py, `gmotion_machine`). The G61.1 column is gmotion on the same machine.
 
 Modes: `P<tol>` is `G64 P<tol>`, `G64` is G64 without P (unbounded), `G61` is LinuxCNC's exact
 path (gmotion's G61 is the same: docs/tolerance.md, "G61: exact path"), `G61.1` exact stop.
@@ -130,10 +136,12 @@ def write_program(name, mode, tmp):
     return path
 
 
-def run_gmotion(gm, prog):
-    """Cycle time, worst contour error (mm, every sample) and samples over P, servo off."""
+def run_gmotion(gm, prog, machine=None):
+    """Cycle time, worst contour error (mm, every sample) and samples over P, servo off, on
+    `machine` (a machine file; None: the built-in one)."""
     with tempfile.NamedTemporaryFile(suffix=".json") as js:
-        subprocess.run([gm, "run", prog, "--no-servo", "--summary-json", js.name],
+        subprocess.run([gm, "run", prog, "--no-servo", "--summary-json", js.name]
+                       + (["--machine", machine] if machine else []),
                        capture_output=True, check=True)
         d = json.load(open(js.name))
     tol = d.get("tolerance", {})
@@ -148,7 +156,8 @@ def linuxcnc_cell(a, prog, segs, acc, tmp, label, notes, counter):
         for attempt in range(3):  # a loaded machine can time a session out
             counter[0] += 1
             try:
-                r, info = headless.run_linuxcnc(prog, acc, os.path.join(tmp, f"run{counter[0]}"))
+                r, info = headless.run_linuxcnc(prog, acc, os.path.join(tmp, f"run{counter[0]}"),
+                                                a.max_override)
                 m = headless.measure(r, info, segs)
                 break
             except (SystemExit, subprocess.TimeoutExpired) as e:
@@ -178,6 +187,8 @@ def main():
                     help="project names (programs/NAME.nc) or paths under programs/")
     ap.add_argument("--no-g611", action="store_true", help="leave out the gmotion G61.1 column")
     ap.add_argument("--gmotion", default=os.path.join(TOP, "build", "bin", "gmotion"))
+    ap.add_argument("--max-override", type=float, default=100.0,
+                    help="the largest feed override both planners plan for, percent")
     a = ap.parse_args()
     modes = a.modes or ([f"P{t:g}" for t in a.tol] if a.tol else MODES)
     for m in modes:
@@ -197,10 +208,11 @@ def main():
     tmp = tempfile.mkdtemp(prefix="lcnc-cam.")
     os.chmod(tmp, 0o755)
     rows, notes, counter, version = [], [], [0], ""
+    machine = headless.gmotion_machine(a.max_override, tmp)
     for name in a.programs:
         label = os.path.basename(source_of(name)[0])
         if not a.no_g611:
-            st, se, _ = run_gmotion(a.gmotion, write_program(name, "G61.1", tmp))
+            st, se, _ = run_gmotion(a.gmotion, write_program(name, "G61.1", tmp), machine)
             stop = f" {st:.3f} s |"
         for mode in modes:
             prog = write_program(name, mode, tmp)
@@ -210,13 +222,14 @@ def main():
                 v, cell = linuxcnc_cell(a, prog, segs, acc, tmp, f"{label} {mode}", notes, counter)
                 version = version or v
                 cells.append(cell)
-            gt, ge, over = run_gmotion(a.gmotion, prog)
+            gt, ge, over = run_gmotion(a.gmotion, prog, machine)
             cells.append(f"{gt:.3f} s, {ge:.4f} mm, " + ("-" if over is None else f"{over} over"))
             rows.append(f"| {label} | {mode} | " + " | ".join(cells) + " |"
                         + ("" if a.no_g611 else stop))
             print(rows[-1], file=sys.stderr, flush=True)
     print(f"\nLinuxCNC {version}, servo 1 ms, median of {a.repeat} run(s); "
-          "gmotion run --no-servo --check-tolerance\n")
+          "gmotion run --no-servo --check-tolerance; both planned for overrides up to "
+          f"{a.max_override:g} %\n")
     print("| program | mode | " + " | ".join(f"LinuxCNC a {acc:g}: time, error" for acc in a.accel)
           + " | gmotion: time, error, samples over P |"
           + ("" if a.no_g611 else " gmotion G61.1: time |"))

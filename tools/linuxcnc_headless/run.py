@@ -7,6 +7,12 @@ positions every 1 ms servo cycle, and prints a markdown table next to `gmotion r
 and the blend-rule model (tools/linuxcnc_blend_estimate.py). Run by hand as root, not in CI:
 
   /usr/bin/python3 tools/linuxcnc_headless/run.py [--repeat 3] [--accel 610 1750]
+      [--max-override 100]
+
+Both planners plan for the same largest feed override (`--max-override`, percent): LinuxCNC's
+[DISPLAY]MAX_FEED_OVERRIDE (its planner's maxFeedScale, 1.0 when the INI leaves it out:
+src/emc/ini/initraj.cc) and gmotion's `max_override_percent` (a copy of
+programs/machines/default.toml, the built-in machine, with that key changed).
 
 "model" is tools/linuxcnc_blend_estimate.py: its blend rules alone, and with the two line
 accelerations the runs showed (G61 0.9 a_max, the last G64 line a_max / 2).
@@ -15,6 +21,7 @@ import argparse
 import json
 import math
 import os
+import re
 import shutil
 import statistics
 import subprocess
@@ -114,8 +121,9 @@ def worst_distance(pts, segs):
     return float(best[k]), k
 
 
-def run_linuxcnc(prog, accel, work):
-    """One LinuxCNC session in its own HOME and working dir; returns the samples and info."""
+def run_linuxcnc(prog, accel, work, max_override=100.0):
+    """One LinuxCNC session in its own HOME and working dir, planned for feed overrides up to
+    max_override percent; returns the samples and info."""
     os.makedirs(work)
     os.chmod(work, 0o755)
     home, run, fifo = (os.path.join(work, d) for d in ("home", "run", "rtapi"))
@@ -124,7 +132,8 @@ def run_linuxcnc(prog, accel, work):
     os.chown(fifo, 65534, -1)  # rtapi_app creates its socket as RTAPI_UID (nobody)
     ini = open(os.path.join(HERE, "sim.ini.in")).read()
     with open(os.path.join(run, "sim.ini"), "w") as f:
-        f.write(ini.replace("@ACCEL@", f"{accel:g}").replace("@DIR@", HERE))
+        f.write(ini.replace("@ACCEL@", f"{accel:g}").replace("@DIR@", HERE)
+                .replace("@MAX_FEED_OVERRIDE@", f"{max_override / 100.0:g}"))
     with open(os.path.join(run, "tool.tbl"), "w") as f:  # T1 for programs that change to it
         f.write("T1 P1 D6 Z0 ;6 mm end mill, no length\n")
     samples = os.path.join(run, "samples.txt")
@@ -163,10 +172,24 @@ def measure(rows, info, segs):
             "cycles": last - first + 1, "version": info.get("version", "")}
 
 
-def run_gmotion(gm, prog):
+def gmotion_machine(max_override, tmp):
+    """The built-in machine (programs/machines/default.toml) planned for feed overrides up to
+    max_override percent, written to tmp; its path."""
+    text = open(os.path.join(TOP, "programs", "machines", "default.toml")).read()
+    text, n = re.subn(r"(?m)^max_override_percent\s*=\s*[0-9.]+",
+                      f"max_override_percent = {max_override:g}", text)
+    if n != 1:
+        sys.exit("run.py: no max_override_percent line in programs/machines/default.toml")
+    path = os.path.join(tmp, f"machine-{max_override:g}.toml")
+    with open(path, "w") as f:
+        f.write(text)
+    return path
+
+
+def run_gmotion(gm, prog, machine):
     with tempfile.NamedTemporaryFile(suffix=".json") as js:
-        subprocess.run([gm, "run", prog, "--no-servo", "--summary-json", js.name],
-                       capture_output=True, check=True)
+        subprocess.run([gm, "run", prog, "--no-servo", "--machine", machine, "--summary-json",
+                        js.name], capture_output=True, check=True)
         d = json.load(open(js.name))
     return d["cycle_time_s"], d["contour_err_max_blu"]["value"] * 1e-3  # built-in BLU 1 um
 
@@ -178,6 +201,8 @@ def main():
     ap.add_argument("--gmotion", default=os.path.join(TOP, "build", "bin", "gmotion"))
     ap.add_argument("--only", help="run only programs whose name contains this")
     ap.add_argument("--keep", action="store_true", help="keep the work directory")
+    ap.add_argument("--max-override", type=float, default=100.0,
+                    help="the largest feed override both planners plan for, percent")
     a = ap.parse_args()
     for tool in ("linuxcnc", "halsampler", "rtapi_app", "milltask"):
         if not shutil.which(tool):
@@ -194,13 +219,15 @@ def main():
     tmp = tempfile.mkdtemp(prefix="lcnc-headless.")
     os.chmod(tmp, 0o755)
     progs = [p for p in programs(tmp) if not a.only or a.only in p[0]]
+    machine = gmotion_machine(a.max_override, tmp)
     res, notes, n = {}, [], 0
     for name, prog, tol in progs:
         segs = path_of(a.gmotion, prog)
         for acc in a.accel:
             for k in range(a.repeat):
                 n += 1
-                rows, info = run_linuxcnc(prog, acc, os.path.join(tmp, f"run{n}"))
+                rows, info = run_linuxcnc(prog, acc, os.path.join(tmp, f"run{n}"),
+                                          a.max_override)
                 m = measure(rows, info, segs)
                 res.setdefault((name, acc), []).append(m)
                 print(f"{name:18} a {acc:g}: {m['cycle_s']:.3f} s  {m['err_mm']:.4f} mm  "
@@ -212,7 +239,8 @@ def main():
     hdr = "| program | " + " | ".join(
         f"LinuxCNC a {acc:g}: time (spread), error | model a {acc:g}: rules / +measured"
         for acc in a.accel) + " | gmotion: time, error |"
-    print(f"\nLinuxCNC {version}, servo 1 ms, {a.repeat} runs each; gmotion run --no-servo\n")
+    print(f"\nLinuxCNC {version}, servo 1 ms, {a.repeat} runs each; gmotion run --no-servo; "
+          f"both planned for overrides up to {a.max_override:g} %\n")
     print(hdr)
     print("|" + " --- |" * (2 + 2 * len(a.accel)))
     for name, prog, tol in progs:
@@ -232,7 +260,7 @@ def main():
                 rules, meas = (square_time(20, 6000, acc, tol, as_measured=x)[0]
                                for x in (False, kink))
                 cells.append(f"{rules:.3f} / {meas:.3f} s")
-        gt, ge = run_gmotion(a.gmotion, prog)
+        gt, ge = run_gmotion(a.gmotion, prog, machine)
         cells.append(f"{gt:.3f} s, {ge:.4f} mm")
         print(f"| {name} | " + " | ".join(cells) + " |")
     all_m = [m for ms in res.values() for m in ms]
