@@ -254,8 +254,10 @@ bool TolerancePlanner::lookahead_enough() const {
   const double f_t1 = emit_horizon_t(f);
   double need = f_t1 + 2.0 * tau;
   // Near-tangent corners waiting for their claim (assign_claims, through τ past a decision)
-  // need the blocks within τ after them.
-  const double reach = claim_candidates_ > 0 ? 2.0 * tau : tau;
+  // need the blocks within τ after them; so do a short run's first vertices, pushed as such
+  // corners when decide_reachable closes the run (up to 2τ ahead of what it decides).
+  const bool short_run = run_.open && run_.vertices < kMinRunVertices;
+  const double reach = claim_candidates_ > 0 || short_run ? 2.0 * tau : tau;
   double horizon = f_t1 + tau;  // what the decisions emitting f see, and zones reaching f
   for (const Element& e : elems_)
     if (!e.decided && e.t0 < f_t1 + tau) {

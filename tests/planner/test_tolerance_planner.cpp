@@ -991,6 +991,28 @@ TEST_CASE(
   }
 }
 
+TEST_CASE("planned for overrides up to 100 %, cam-fillets.nc is no slower than planned for 200 %") {
+  // Each side of its plate is two lines joined at a tab, 0.001 to 0.01 deg apart: the first
+  // vertex of a run of small turns, pushed as a corner once the run stays short. Planned for
+  // 100 % (max_override_percent = 100, as a LinuxCNC INI without MAX_FEED_OVERRIDE plans), the
+  // run closed up to 2τ ahead of the decisions while the look-ahead reached only τ past them
+  // for such a vertex: its claim could not be checked and it took a share instead, capping the
+  // side at 35 mm/s against the feed's 50 (14.684 s against 14.424 s planned for 200 %).
+  const std::string dir = gmtest::scratch_dir("override-100").string();
+  const std::string def = std::string(GMOTION_TESTS_DIR) + "/../programs/machines/default.toml";
+  std::ifstream in(def);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t at = text.find("max_override_percent = 200");
+  REQUIRE(at != std::string::npos);
+  text.replace(at, 26, "max_override_percent = 100");
+  const std::string m100 = dir + "/default-100.toml";
+  std::ofstream(m100) << text;
+  const double at_200 = cycle_time_s("override-200", "cam-fillets.nc", def, " --no-servo");
+  const double at_100 = cycle_time_s("override-100", "cam-fillets.nc", m100, " --no-servo");
+  CAPTURE(at_200, at_100);
+  CHECK(at_100 <= at_200);
+}
+
 TEST_CASE("the default machine's loops shaped: its encoder plan within 1.25 x the Acc/Dec plan") {
   // default.toml's loops (no feedforward) overshoot and creep: planned for the table unshaped,
   // small-arcs.nc took 27.852 s and cam-fillets.nc 47.716 s at P0.01, 5.2 and 3.3 x the Acc/Dec
