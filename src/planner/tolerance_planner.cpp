@@ -141,10 +141,17 @@ bool TolerancePlanner::exact_path_passes(const Block& prev, const Motion& next,
   // An arc keeps today's G61 (full feed, the filter's steady shrink κ·V²·σ²/2): one at least τ
   // of travel long reaches that shrink between stops as well, so passing its joins adds nothing
   // to its error; a shorter one (a fillet) passed at speed would be blended like a corner of its
-  // whole turn, so its joins stop.
+  // whole turn, so its joins stop. Not a join between two arcs of one circle (a helix written
+  // as half turns), where the path goes on along the same circle: the arcs between two stops
+  // are then one arc to the filter, and the chain's own ends keep the rule. Not with
+  // pre-compensated G61 arcs either, whose corrections blend out at every block end.
   const double tau = filter_.tau_s();
-  if (prev.m.kind == MotionKind::Arc && prev.g.length_mm < prev.vmax * tau) return false;
-  if (next.kind == MotionKind::Arc && next_g.length_mm < v_next * tau) return false;
+  const bool circle_goes_on = prev.m.kind == MotionKind::Arc && next.kind == MotionKind::Arc &&
+                              !cfg_.precompensate_g61_arcs && one_circle(prev.g, next_g);
+  if (!circle_goes_on) {
+    if (prev.m.kind == MotionKind::Arc && prev.g.length_mm < prev.vmax * tau) return false;
+    if (next.kind == MotionKind::Arc && next_g.length_mm < v_next * tau) return false;
+  }
   const double v = std::min(prev.vmax, v_next);
   const double a = units::mm_min_to_mm_s(cfg_.rapid_mm_min) / tau;
   const double a_inst = v / filter_.period_s() + a;

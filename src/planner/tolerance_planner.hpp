@@ -243,6 +243,9 @@ class TolerancePlanner : public CanonSource {
   /// same centre and radius (within 0.1 µm), plane, direction and lead per radian, the same
   /// feed, tolerance and mode, nothing between prev and b.
   bool same_circle(const Block& first, const Block& prev, const Block& b) const;
+  /// Arcs g and h on one circle: the same plane, sense, centre and radius (within 0.1 µm, not
+  /// near circles) and the same lead per radian (a helix goes on as the same helix).
+  static bool one_circle(const BlockGeometry& g, const BlockGeometry& h);
   /// The arc element ending with prev when it is the last element and undecided, or none.
   Element* growing_arc(const Block& prev);
   /// The arc element b is in (its own, or its chain's), or none.

@@ -108,7 +108,12 @@ bool TolerancePlanner::same_circle(const Block& first, const Block& prev, const 
       !(b.m.path_tolerance_mm > 0.0) || prev.m.path_tolerance_mm != b.m.path_tolerance_mm ||
       prev.v100 != b.v100)
     return false;
-  const BlockGeometry &g = first.g, &h = b.g;
+  // The circle and lead those of the chain's first block; tangent as add_corner judges it (no
+  // corner element between them).
+  return one_circle(first.g, b.g) && !(join_turn(prev, b) > kMinTurn);
+}
+
+bool TolerancePlanner::one_circle(const BlockGeometry& g, const BlockGeometry& h) {
   if (h.ax.a != g.ax.a || h.ax.b != g.ax.b || g.rest_moves || h.rest_moves ||
       (h.sweep_rad > 0.0) != (g.sweep_rad > 0.0))
     return false;
@@ -123,9 +128,7 @@ bool TolerancePlanner::same_circle(const Block& first, const Block& prev, const 
   const int n = g.ax.n;
   const double lead_g = (g.end_mm[n] - g.start_mm[n]) / g.sweep_rad,
                lead_h = (h.end_mm[n] - h.start_mm[n]) / h.sweep_rad;
-  if (!(std::abs(lead_g - lead_h) <= 1e-9 * std::max(1.0, std::abs(lead_g)))) return false;
-  // Tangent as add_corner judges it (no corner element between them).
-  return !(join_turn(prev, b) > kMinTurn);
+  return std::abs(lead_g - lead_h) <= 1e-9 * std::max(1.0, std::abs(lead_g));
 }
 
 TolerancePlanner::Element* TolerancePlanner::growing_arc(const Block& prev) {
