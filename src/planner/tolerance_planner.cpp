@@ -141,14 +141,15 @@ bool TolerancePlanner::exact_path_passes(const Block& prev, const Motion& next,
   // An arc keeps today's G61 (full feed, the filter's steady shrink κ·V²·σ²/2): one at least τ
   // of travel long reaches that shrink between stops as well, so passing its joins adds nothing
   // to its error; a shorter one (a fillet) passed at speed would be blended like a corner of its
-  // whole turn, so its joins stop. Not a join between two arcs of one circle (a helix written
-  // as half turns), where the path goes on along the same circle: the arcs between two stops
-  // are then one arc to the filter, and the chain's own ends keep the rule. Not with
-  // pre-compensated G61 arcs either, whose corrections blend out at every block end.
+  // whole turn, so its joins stop. Not a join between two arcs that turn the same way in one
+  // plane with radii within kG61CurveRatio of each other (a helix written as half turns, CAM
+  // biarcs): the curvature the filter's window sees stays within the tighter arc's, as on one
+  // arc, and the chain's own ends keep the rule. Not with pre-compensated G61 arcs either, whose
+  // corrections blend out at every block end.
   const double tau = filter_.tau_s();
-  const bool circle_goes_on = prev.m.kind == MotionKind::Arc && next.kind == MotionKind::Arc &&
-                              !cfg_.precompensate_g61_arcs && one_circle(prev.g, next_g);
-  if (!circle_goes_on) {
+  const bool curve_goes_on = prev.m.kind == MotionKind::Arc && next.kind == MotionKind::Arc &&
+                             !cfg_.precompensate_g61_arcs && one_curve(prev.g, next_g);
+  if (!curve_goes_on) {
     if (prev.m.kind == MotionKind::Arc && prev.g.length_mm < prev.vmax * tau) return false;
     if (next.kind == MotionKind::Arc && next_g.length_mm < v_next * tau) return false;
   }

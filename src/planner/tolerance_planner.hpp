@@ -125,6 +125,11 @@ class TolerancePlanner : public CanonSource {
   /// A chain's ends are planned slower than its middle (slower_ends) only where its middle gains
   /// more than this fraction of its speed.
   static constexpr double kSlowerEndsGain = 0.02;
+  /// Two arcs of one curve for G61 (one_curve): the larger radius at most this times the
+  /// smaller. Measured 2026-12-01 on the CAM table: 1.5 and 2 the same but for cambam-engrave.nc
+  /// (95.532 and 94.040 s in G61), 4 took fusion-bore-tests.nc's R 0.27 lead arcs into its
+  /// R 0.6 helices (0.1216 → 0.1252 mm).
+  static constexpr double kG61CurveRatio = 2.0;
   static constexpr int kMinRunVertices = 3;
   static constexpr double kRunDeltaShare = 4.0;
 
@@ -246,6 +251,10 @@ class TolerancePlanner : public CanonSource {
   /// Arcs g and h on one circle: the same plane, sense, centre and radius (within 0.1 µm, not
   /// near circles) and the same lead per radian (a helix goes on as the same helix).
   static bool one_circle(const BlockGeometry& g, const BlockGeometry& h);
+  /// Arcs g and h turning the same way in one plane, their radii within kG61CurveRatio of each
+  /// other (one_circle among them): G61 passes a tangent join between them whatever their
+  /// lengths (exact_path_passes).
+  static bool one_curve(const BlockGeometry& g, const BlockGeometry& h);
   /// The arc element ending with prev when it is the last element and undecided, or none.
   Element* growing_arc(const Block& prev);
   /// The arc element b is in (its own, or its chain's), or none.

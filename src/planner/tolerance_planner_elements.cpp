@@ -113,6 +113,15 @@ bool TolerancePlanner::same_circle(const Block& first, const Block& prev, const 
   return one_circle(first.g, b.g) && !(join_turn(prev, b) > kMinTurn);
 }
 
+bool TolerancePlanner::one_curve(const BlockGeometry& g, const BlockGeometry& h) {
+  if (h.ax.a != g.ax.a || h.ax.b != g.ax.b || (h.sweep_rad > 0.0) != (g.sweep_rad > 0.0))
+    return false;
+  if (one_circle(g, h)) return true;
+  const double lo = std::min({g.r0_mm, g.r1_mm, h.r0_mm, h.r1_mm}),
+               hi = std::max({g.r0_mm, g.r1_mm, h.r0_mm, h.r1_mm});
+  return lo > 0.0 && hi <= kG61CurveRatio * lo;
+}
+
 bool TolerancePlanner::one_circle(const BlockGeometry& g, const BlockGeometry& h) {
   if (h.ax.a != g.ax.a || h.ax.b != g.ax.b || g.rest_moves || h.rest_moves ||
       (h.sweep_rad > 0.0) != (g.sweep_rad > 0.0))

@@ -249,6 +249,45 @@ TEST_CASE("G61: a helix written as half turns passes its joins as the one arc of
   CHECK(worst(h) <= worst(a) + 1.0);
 }
 
+TEST_CASE("G61: short tangent arcs turning one way, radii within 2x, pass their joins") {
+  // Ten 45° arcs, R 2 and R 3.5 mm in turn (1.6 and 2.7 mm, each shorter than τ of travel at
+  // F3000), each tangent to the one before, all counter-clockwise; then the same with R 2 and
+  // R 5 (2.5 x: their joins stop, as a short arc's do).
+  auto chain = [](double r_a, double r_b) {
+    std::string t = "G21 G90 G17 G61\nG0 X0 Y0\nG1 X5 F3000\n";
+    double px = 5, py = 0, heading = 0;  // position, direction of travel (rad)
+    for (int k = 0; k < 10; ++k) {
+      const double r = k % 2 == 0 ? r_a : r_b;
+      const double cx = px - r * std::sin(heading), cy = py + r * std::cos(heading);
+      const double a = std::atan2(py - cy, px - cx) + std::numbers::pi / 4;
+      const double ex = cx + r * std::cos(a), ey = cy + r * std::sin(a);
+      t += fmt::format("G3 X{:.6f} Y{:.6f} I{:.6f} J{:.6f}\n", ex, ey, cx - px, cy - py);
+      px = ex, py = ey, heading += std::numbers::pi / 4;
+    }
+    t += fmt::format("G1 X{:.6f} Y{:.6f}\nM2\n", px + 5 * std::cos(heading),
+                     py + 5 * std::sin(heading));
+    return t;
+  };
+  const gm::Machine m;
+  const auto near = planned_canon(chain(2.0, 3.5), m), far = planned_canon(chain(2.0, 5.0), m);
+  for (int line = 4; line <= 12; ++line) {  // the joins between the arcs (lines 4..13)
+    CAPTURE(line);
+    CHECK_FALSE(block_stops(near, line));
+    CHECK(block_stops(far, line));
+  }
+  const Run passed = run(chain(2.0, 3.5), m);
+  const Run stopped = run(replace_mode(chain(2.0, 3.5), "G61\n", "G61.1\n"), m);
+  // The R 2 arc's steady shrink at F3000, κ·V²·σ²/2 (σ² of the default Blackman window), bounds
+  // the chain's error as it bounds one long R 2 arc's.
+  const gm::FilterMoments fm(gm::design_taps(m.profile, m.tau_s, m.period_s), m.period_s);
+  const double shrink_blu = 0.5 * (1.0 / 2.0) * 50.0 * 50.0 * fm.variance_s2() / 0.001;
+  CAPTURE(passed.cycle_s, stopped.cycle_s, worst(passed), shrink_blu);
+  CHECK(worst(passed) <= shrink_blu + 2.0);
+  CHECK(passed.dwells == 0);
+  // 9 stops of the filter's drain fewer than exact stop (G61.1), as the joins stopped before.
+  CHECK(passed.cycle_s < stopped.cycle_s - 9 * 0.1);
+}
+
 TEST_CASE("g61_arc_precompensation: a G61 arc commanded pre-compensated at its feed") {
   // corners.nc in G61: its R 4 arc (line 9) at F3000 lies between two sharp joins, which stop.
   // Left to the filter its middle runs inside the arc by R·(1 − A(ωT)) ≈ κ·V²·σ²/2 =
