@@ -136,13 +136,12 @@ def write_program(name, mode, tmp):
     return path
 
 
-def run_gmotion(gm, prog, machine=None):
-    """Cycle time, worst contour error (mm, every sample) and samples over P, servo off, on
-    `machine` (a machine file; None: the built-in one)."""
+def run_gmotion(gm, prog, machine):
+    """Cycle time, worst contour error (mm, every sample) and samples over P, servo off, on the
+    machine file `machine` (headless.gmotion_machine)."""
     with tempfile.NamedTemporaryFile(suffix=".json") as js:
-        subprocess.run([gm, "run", prog, "--no-servo", "--summary-json", js.name]
-                       + (["--machine", machine] if machine else []),
-                       capture_output=True, check=True)
+        subprocess.run([gm, "run", prog, "--no-servo", "--machine", machine, "--summary-json",
+                        js.name], capture_output=True, check=True)
         d = json.load(open(js.name))
     tol = d.get("tolerance", {})
     over = sum(tol.get(k, {}).get("over", 0) for k in ("cutting", "rapids")) if tol else None

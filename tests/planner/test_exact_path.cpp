@@ -22,6 +22,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -140,6 +141,25 @@ double worst(const Run& r) {
   return w;
 }
 
+// A G61 program at `feed`: a line along +X to (5, 0), then tangent arcs turning one way
+// (`sense` +1: G3, −1: G2), each (radius, sweep in rad), then 5 mm of line along the last tangent.
+std::string tangent_chain(int feed, double sense,
+                          const std::vector<std::pair<double, double>>& arcs) {
+  std::string t = fmt::format("G21 G90 G17 G61\nG0 X0 Y0\nG1 X5 F{}\n", feed);
+  double px = 5, py = 0, heading = 0;  // position, direction of travel (rad)
+  for (const auto& [r, sweep] : arcs) {
+    const double cx = px - sense * r * std::sin(heading), cy = py + sense * r * std::cos(heading);
+    const double a = std::atan2(py - cy, px - cx) + sense * sweep;
+    const double ex = cx + r * std::cos(a), ey = cy + r * std::sin(a);
+    t += fmt::format("{} X{:.6f} Y{:.6f} I{:.6f} J{:.6f}\n", sense > 0 ? "G3" : "G2", ex, ey,
+                     cx - px, cy - py);
+    px = ex, py = ey, heading += sense * sweep;
+  }
+  t += fmt::format("G1 X{:.6f} Y{:.6f}\nM2\n", px + 5 * std::cos(heading),
+                   py + 5 * std::sin(heading));
+  return t;
+}
+
 bool block_stops(const std::vector<gm::Canon>& canon, int line) {
   // The last piece of the line's block: exact path kept (the interpolator drains) or not.
   const gm::Motion* last = nullptr;
@@ -256,19 +276,9 @@ TEST_CASE("G61: short tangent arcs turning one way, radii within 2x, pass their 
   // F3000), each tangent to the one before, all counter-clockwise; then the same with R 2 and
   // R 5 (2.5 x: their joins stop, as a short arc's do).
   auto chain = [](double r_a, double r_b) {
-    std::string t = "G21 G90 G17 G61\nG0 X0 Y0\nG1 X5 F3000\n";
-    double px = 5, py = 0, heading = 0;  // position, direction of travel (rad)
-    for (int k = 0; k < 10; ++k) {
-      const double r = k % 2 == 0 ? r_a : r_b;
-      const double cx = px - r * std::sin(heading), cy = py + r * std::cos(heading);
-      const double a = std::atan2(py - cy, px - cx) + std::numbers::pi / 4;
-      const double ex = cx + r * std::cos(a), ey = cy + r * std::sin(a);
-      t += fmt::format("G3 X{:.6f} Y{:.6f} I{:.6f} J{:.6f}\n", ex, ey, cx - px, cy - py);
-      px = ex, py = ey, heading += std::numbers::pi / 4;
-    }
-    t += fmt::format("G1 X{:.6f} Y{:.6f}\nM2\n", px + 5 * std::cos(heading),
-                     py + 5 * std::sin(heading));
-    return t;
+    std::vector<std::pair<double, double>> arcs;
+    for (int k = 0; k < 10; ++k) arcs.emplace_back(k % 2 == 0 ? r_a : r_b, std::numbers::pi / 4);
+    return tangent_chain(3000, 1.0, arcs);
   };
   const gm::Machine m;
   const auto near = planned_canon(chain(2.0, 3.5), m), far = planned_canon(chain(2.0, 5.0), m);
@@ -304,22 +314,16 @@ TEST_CASE("G61: random chains of one curve stay within their tighter arc's stead
   for (int i = 0; i < gmtest::scaled(40); ++i) {
     const int feed = feeds[static_cast<int>(U(rng) * 6) % 6];
     const double r0 = 0.5 + 7.5 * U(rng), sense = U(rng) < 0.5 ? 1.0 : -1.0;
-    const int arcs = 3 + static_cast<int>(U(rng) * 10) % 10;
-    std::string t = fmt::format("G21 G90 G17 G61\nG0 X0 Y0\nG1 X5 F{}\n", feed);
-    double px = 5, py = 0, heading = 0, r_min = 1e9;
-    for (int k = 0; k < arcs; ++k) {
+    const int count = 3 + static_cast<int>(U(rng) * 10) % 10;
+    std::vector<std::pair<double, double>> arcs;
+    double r_min = 1e9;
+    for (int k = 0; k < count; ++k) {
       const double r = U(rng) < 0.5 ? r0 * (1.0 + U(rng)) : r0;
       const double sweep = (10.0 + 110.0 * U(rng)) * std::numbers::pi / 180.0;
       r_min = std::min(r_min, r);
-      const double cx = px - sense * r * std::sin(heading), cy = py + sense * r * std::cos(heading);
-      const double a = std::atan2(py - cy, px - cx) + sense * sweep;
-      const double ex = cx + r * std::cos(a), ey = cy + r * std::sin(a);
-      t += fmt::format("{} X{:.6f} Y{:.6f} I{:.6f} J{:.6f}\n", sense > 0 ? "G3" : "G2", ex, ey,
-                       cx - px, cy - py);
-      px = ex, py = ey, heading += sense * sweep;
+      arcs.emplace_back(r, sweep);
     }
-    t += fmt::format("G1 X{:.6f} Y{:.6f}\nM2\n", px + 5 * std::cos(heading),
-                     py + 5 * std::sin(heading));
+    const std::string t = tangent_chain(feed, sense, arcs);
     const double v = feed / 60.0;
     const double bound_blu = 0.5 / r_min * v * v * fm.variance_s2() / 0.001 + 2.0;
     const Run r = run(t, m);

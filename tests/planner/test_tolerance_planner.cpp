@@ -1002,9 +1002,10 @@ TEST_CASE("planned for overrides up to 100 %, cam-fillets.nc is no slower than p
   const std::string def = std::string(GMOTION_TESTS_DIR) + "/../programs/machines/default.toml";
   std::ifstream in(def);
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::size_t at = text.find("max_override_percent = 200");
+  const std::string key_200 = "max_override_percent = 200";
+  const std::size_t at = text.find(key_200);
   REQUIRE(at != std::string::npos);
-  text.replace(at, 26, "max_override_percent = 100");
+  text.replace(at, key_200.size(), "max_override_percent = 100");
   const std::string m100 = dir + "/default-100.toml";
   std::ofstream(m100) << text;
   const double at_200 = cycle_time_s("override-200", "cam-fillets.nc", def, " --no-servo");
