@@ -15,6 +15,11 @@ namespace gm {
 TolerancePlanner::TolerancePlanner(const FilterMoments& filter, const PlannerConfig& cfg,
                                    CanonSource& upstream)
     : filter_(filter), cfg_(cfg), merger_(upstream) {
+  const std::vector<double>& h = filter_.weights();
+  if (std::all_of(h.begin(), h.end(), [](double w) { return w >= 0.0; })) {
+    const double n = static_cast<double>(filter_.order()), m = filter_.centre();
+    tent_s_ = filter_.period_s() * std::max(m, n - m);
+  }
   if (cfg_.precompensate_arcs && filter_.overshoot_s() == 0.0 && filter_.undershoot_s() == 0.0) {
     precomp_.emplace(filter_.weights(), filter_.period_s());
     if (!precomp_->enabled())

@@ -207,6 +207,8 @@ class TolerancePlanner : public CanonSource {
     enum class Claim : std::uint8_t { Unassigned, Claimant, Share } claim_state = Claim::Unassigned;
     double claim = 0;                                            ///< Claimant: its error bound, mm
     double claim_cap = std::numeric_limits<double>::infinity();  ///< Claimant: its cap, or none
+    /// Claimant: the half-width of its tent (claim_at), tent_s_ times its speed, mm; 0: none.
+    double claim_half = 0;
     bool split = false;  ///< Arc: cut at zone boundaries like a line (splits)
     /// Decided arc (a chain, or one block) whose ends are slower than its middle (docs/
     /// tolerance.md, "A chain's ends slower than its middle"): the cap of its start and of its
@@ -436,11 +438,16 @@ class TolerancePlanner : public CanonSource {
                                 Load&& load, Guess&& guess) const;
   /// After a decision: the decided prefix grows over every decided element at its front.
   void extend_decided_prefix();
-  /// Near-tangent corners: claimants are assigned in path order through time `t_until`; a
-  /// claimant's claims within τ (either side) stay within half its share.
+  /// Near-tangent corners: claimants are assigned in path order through time `t_until`; at
+  /// every instant a claimant is active, it and the claimants before it stay within half its
+  /// share.
   void assign_claims(double t_until);
-  /// The largest sum of claims within τ of each other among the claimants in [z0, z1]: what can
-  /// be active at one instant beside an element with that zone, taken off its share.
+  /// What claimant c adds to the error of the window whose weighted mean is at path length x:
+  /// with weights >= 0 its tent, claim·max(0, 1 − |x − s|/claim_half) (docs/tolerance.md,
+  /// "Claims by their tents"); else its whole claim.
+  double claim_at(const Element& c, double x) const;
+  /// The largest sum of the claims active at one instant among the claimants in [z0, z1]: what
+  /// can be active beside an element with that zone, taken off its share.
   double zone_claims(double z0, double z1) const;
   void push_element(Element e);
   CornerMomentGrid& grid_d();  ///< grid_d_, built on first use
@@ -564,6 +571,10 @@ class TolerancePlanner : public CanonSource {
   std::uint64_t runs_ = 0;
   std::optional<ArcPrecompCheck> precomp_;    ///< set when arcs may be pre-compensated
   std::optional<ArcResidualTable> residual_;  ///< precomp_'s term tabulated (with precomp_)
+  /// T·max(m, N − m) (m the weights' centre) when every weight is >= 0: a corner's rounding in a
+  /// window is then at most its bound times a tent of half-width V·tent_s_ about the corner in
+  /// the window's weighted mean (claim_at); 0 with negative weights (no tents).
+  double tent_s_ = 0.0;
   std::size_t claim_cursor_ = 0;        ///< elems_[0, claim_cursor_) have their claim assigned
   std::uint64_t claimants_ = 0;         ///< claimants so far (none: zone_claims is 0 at once)
   std::uint64_t claim_candidates_ = 0;  ///< near-tangent corners pushed, not yet assigned

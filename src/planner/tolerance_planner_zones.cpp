@@ -242,21 +242,37 @@ void TolerancePlanner::assign_claims(double t_until) {
     // (g has no cap).
     const double share = share_of(tol) - mismatch_reserve(g, tol).ceiling_mm();
     // Claims active with g lie within τ of it; those after g are assigned after it and count g.
-    double near = 0.0;
-    for (std::size_t i = claim_cursor_; i-- > 0 && elems_[i].t1 >= g.t0 - tau;)
-      if (elems_[i].claim_state == Element::Claim::Claimant) near += elems_[i].claim;
+    std::size_t near_from = claim_cursor_;
+    while (near_from > 0 && elems_[near_from - 1].t1 >= g.t0 - tau) --near_from;
     // At its fastest speed (no cap: only the smallest turns, or where no override can run the
     // path faster than 100 %), else at 100 % feed with its zone capped there.
     for (const double v : {g.vmax, std::min(g.vmax, g.v100)}) {
       if (v == g.vmax && g.turn > kClaimFreeTurn && g.v100 < g.vmax) continue;
-      const double claim = v * corner_moment(g.pause0) * g.turn;
-      if (near + claim > 0.5 * share) continue;
+      g.claim = v * corner_moment(g.pause0) * g.turn;
+      g.claim_half = tent_s_ * v;
+      // The claims' sum at the instants g is active: piecewise linear in the window's mean x,
+      // largest at a tent's peak or at the ends of g's (with the whole claims: g's vertex).
+      auto claims_at = [&](double x) {
+        double near = 0.0;
+        for (std::size_t i = claim_cursor_; i-- > near_from;)
+          if (elems_[i].claim_state == Element::Claim::Claimant) near += claim_at(elems_[i], x);
+        return near + claim_at(g, x);
+      };
+      double worst = claims_at(g.s0);
+      if (tent_s_ > 0.0) {
+        worst = std::max({worst, claims_at(g.s0 - g.claim_half), claims_at(g.s0 + g.claim_half)});
+        for (std::size_t i = near_from; i < claim_cursor_; ++i)
+          if (elems_[i].claim_state == Element::Claim::Claimant &&
+              std::abs(elems_[i].s0 - g.s0) < g.claim_half)
+            worst = std::max(worst, claims_at(elems_[i].s0));
+      }
+      if (worst > 0.5 * share) continue;
       g.claim_state = Element::Claim::Claimant;
-      g.claim = claim;
       g.claim_cap = v < g.vmax ? v : kInf;
       ++claimants_;
       break;
     }
+    if (g.claim_state != Element::Claim::Claimant) g.claim = g.claim_half = 0.0;
   }
 }
 
@@ -265,12 +281,33 @@ double TolerancePlanner::zone_claims(double z0, double z1) const {
   return range_claims(zone_range(z0, z1));
 }
 
+double TolerancePlanner::claim_at(const Element& c, double x) const {
+  if (!(c.claim_half > 0.0)) return c.claim;  // no tents (negative weights)
+  return c.claim * std::max(0.0, 1.0 - std::abs(x - c.s0) / c.claim_half);
+}
+
 double TolerancePlanner::range_claims(ZoneRange r) const {
   if (claimants_ == 0) return 0.0;
   const double tau = filter_.tau_s();
   const auto first = elems_.begin() + static_cast<std::ptrdiff_t>(r.first);
   const auto last = elems_.begin() + static_cast<std::ptrdiff_t>(r.last);
-  double best = 0.0, sum = 0.0;
+  double best = 0.0;
+  if (tent_s_ > 0.0) {
+    // The tents' sum is piecewise linear in the window's mean, largest at a peak: at each
+    // claimant's vertex, the tents of the claimants within τ of it (the others cannot share a
+    // window with it).
+    auto lo = first;
+    for (auto it = first; it != last; ++it) {
+      if (it->claim_state != Element::Claim::Claimant) continue;
+      while (lo->t1 < it->t0 - tau) ++lo;
+      double sum = 0.0;
+      for (auto j = lo; j != last && !(j->t0 > it->t1 + tau); ++j)
+        if (j->claim_state == Element::Claim::Claimant) sum += claim_at(*j, it->s0);
+      best = std::max(best, sum);
+    }
+    return best;
+  }
+  double sum = 0.0;
   auto lo = first;
   for (auto it = first; it != last; ++it) {
     if (it->claim_state != Element::Claim::Claimant) continue;
