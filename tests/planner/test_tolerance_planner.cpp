@@ -838,42 +838,11 @@ std::string kinked_engraving(const char* tol) {
   return text + "M2\n";
 }
 
-}  // namespace
-
-TEST_CASE("kinks of 1° between arcs claim at 100 % feed: no pause, within P up to 200 %") {
-  // Each kink's error at 100 % feed with no pause, V·D(0)·|Δu| = 25.4 mm/s · 8.94 ms · 0.0175 =
-  // 4.0 µm, is within half the share at P0.05 (about 24 µm) but not at the fastest speed for
-  // kinks a filter window apart (2 × 4.0 µm each, plus the arcs): until 2026-11-29 only turns
-  // up to |Δu| = 0.01 claimed, and each of these paused (docs/tolerance.md, "Claims at 100 %
-  // feed"). Now each claims at 100 % feed and caps its zone there: no pause, and an override
-  // of 200 % does not run the path faster near it.
+// kinked_engraving(tol) run at 100 % and 200 % feed override: no pause, every sample within P
+// (servo off); returns the cycle time at 100 %.
+double check_kinked_engraving(const char* tol) {
   const gm::Machine m;
-  const std::string text = kinked_engraving("0.05");
-  for (const double feed : {1.0, 2.0}) {
-    CAPTURE(feed);
-    const Outcome o = run_program(text, m, [&](std::int64_t) {
-      gm::OverrideInput in;
-      in.feed_scale = feed;
-      return in;
-    });
-    REQUIRE(o.finished);
-    CHECK(o.end_exact);
-    CHECK(o.pauses == 0);
-    CHECK(o.check.cutting().over == 0);
-    CHECK(o.check.cutting().samples > 100);
-  }
-}
-
-TEST_CASE("kinks of 1° farther apart than their tents claim together at P0.01") {
-  // A corner's rounding in a window whose weighted mean is x is at most its bound times a tent,
-  // max(0, 1 − |x − c|/h), h = V·T·max(m, N − m) = 25.4 mm/s · 0.004 s · 20 = 2.03 mm at 100 %
-  // feed (Blackman, 41 weights, m = 20; docs/tolerance.md, "Claims by their tents"). The
-  // engraving's kinks lie 2.62 mm (R 10, 15°) and 5.24 mm (R 20) apart: at any instant at most
-  // one of them adds its 4.0 µm, within half the share of P0.01 ((10 − 1.73)/2 = 4.13 µm). As
-  // sums of whole claims within τ of each other (the fastest travel, 8.3 mm at 200 %) they were
-  // 8.0 µm and more: until 2026-12-01 no two neighbours claimed, and the kinks paused or shared.
-  const gm::Machine m;
-  const std::string text = kinked_engraving("0.01");
+  const std::string text = kinked_engraving(tol);
   double cycle_100 = 0.0;
   for (const double feed : {1.0, 2.0}) {
     CAPTURE(feed);
@@ -889,6 +858,30 @@ TEST_CASE("kinks of 1° farther apart than their tents claim together at P0.01")
     CHECK(o.check.cutting().samples > 100);
     if (feed == 1.0) cycle_100 = o.cycle_s;
   }
+  return cycle_100;
+}
+
+}  // namespace
+
+TEST_CASE("kinks of 1° between arcs claim at 100 % feed: no pause, within P up to 200 %") {
+  // Each kink's error at 100 % feed with no pause, V·D(0)·|Δu| = 25.4 mm/s · 8.94 ms · 0.0175 =
+  // 4.0 µm, is within half the share at P0.05 (about 24 µm) but not at the fastest speed for
+  // kinks a filter window apart (2 × 4.0 µm each, plus the arcs): until 2026-11-29 only turns
+  // up to |Δu| = 0.01 claimed, and each of these paused (docs/tolerance.md, "Claims at 100 %
+  // feed"). Now each claims at 100 % feed and caps its zone there: no pause, and an override
+  // of 200 % does not run the path faster near it.
+  check_kinked_engraving("0.05");
+}
+
+TEST_CASE("kinks of 1° farther apart than their tents claim together at P0.01") {
+  // A corner's rounding in a window whose weighted mean is x is at most its bound times a tent,
+  // max(0, 1 − |x − c|/h), h = V·T·max(m, N − m) = 25.4 mm/s · 0.004 s · 20 = 2.03 mm at 100 %
+  // feed (Blackman, 41 weights, m = 20; docs/tolerance.md, "Claims by their tents"). The
+  // engraving's kinks lie 2.62 mm (R 10, 15°) and 5.24 mm (R 20) apart: at any instant at most
+  // one of them adds its 4.0 µm, within half the share of P0.01 ((10 − 1.73)/2 = 4.13 µm). As
+  // sums of whole claims within τ of each other (the fastest travel, 8.3 mm at 200 %) they were
+  // 8.0 µm and more: until 2026-12-01 no two neighbours claimed, and the kinks paused or shared.
+  const double cycle_100 = check_kinked_engraving("0.01");
   // The path (2 mm of line, 12 arcs of 2.618 mm and 12 of 5.236 mm) at F1524 alone takes
   // 96.25 mm / 25.4 mm/s = 3.79 s; with the sums of whole claims the kinks paused 15 times and
   // the run took 6.616 s, now 4.628 s (the arcs share what the claims leave).
