@@ -202,11 +202,11 @@ class TolerancePlanner : public CanonSource {
     double sweep = 0;       ///< Arc: |θ|, rad
     double comp_speed = 0;  ///< Arc: > 0 when compensated, the speed it was planned for, mm/s
     /// A near-tangent corner (|Δu| <= kClaimTurn) may take its error as a claim instead of a
-    /// share (assign_claims): claim = v·D(pause0)·|Δu|, no pause; v its fastest speed (no cap)
-    /// or its speed at 100 % feed (claim_cap, its zone capped there).
+    /// share (assign_claims): claim = v·D(pause0)·|Δu|, no pause; v its fastest speed or its
+    /// speed at 100 % feed (claim_cap: its zone capped there either way).
     enum class Claim : std::uint8_t { Unassigned, Claimant, Share } claim_state = Claim::Unassigned;
     double claim = 0;                                            ///< Claimant: its error bound, mm
-    double claim_cap = std::numeric_limits<double>::infinity();  ///< Claimant: its cap, or none
+    double claim_cap = std::numeric_limits<double>::infinity();  ///< Claimant: its cap
     /// Claimant: the half-width of its tent (claim_at), tent_s_ times its speed, mm; 0: none.
     double claim_half = 0;
     bool split = false;  ///< Arc: cut at zone boundaries like a line (splits)

@@ -239,13 +239,13 @@ void TolerancePlanner::assign_claims(double t_until) {
     if (!ended_ && window_.back().t1 < g.t1 + tau) continue;
     const double tol = tolerance_near(g);
     // The mismatch at a sample where g is active: at most M times the fastest block within reach
-    // (g has no cap).
+    // (its cap not chosen yet).
     const double share = share_of(tol) - mismatch_reserve(g, tol).ceiling_mm();
     // Claims active with g lie within τ of it; those after g are assigned after it and count g.
     std::size_t near_from = claim_cursor_;
     while (near_from > 0 && elems_[near_from - 1].t1 >= g.t0 - tau) --near_from;
-    // At its fastest speed (no cap: only the smallest turns, or where no override can run the
-    // path faster than 100 %), else at 100 % feed with its zone capped there.
+    // At its fastest speed (only the smallest turns, or where no override can run the path
+    // faster than 100 %), else at 100 % feed; its zone capped at that speed either way.
     for (const double v : {g.vmax, std::min(g.vmax, g.v100)}) {
       if (v == g.vmax && g.turn > kClaimFreeTurn && g.v100 < g.vmax) continue;
       g.claim = v * corner_moment(g.pause0) * g.turn;
@@ -268,7 +268,9 @@ void TolerancePlanner::assign_claims(double t_until) {
       }
       if (worst > 0.5 * share) continue;
       g.claim_state = Element::Claim::Claimant;
-      g.claim_cap = v < g.vmax ? v : kInf;
+      // The claim (and its tent) needs every advance in g's windows at most v·T, beside
+      // blocks faster than its own too: its zone is capped at v even at its fastest speed.
+      g.claim_cap = v;
       ++claimants_;
       break;
     }

@@ -888,6 +888,34 @@ TEST_CASE("kinks of 1° farther apart than their tents claim together at P0.01")
   CHECK(cycle_100 < 5.0);
 }
 
+TEST_CASE("a claim at its fastest speed caps a faster block within its window") {
+  // A 0.55° join (|Δu| = 0.0096) between lines at F700 claims at its fastest speed, 23.3 mm/s
+  // at 200 %: 23.3 mm/s · 8.94 ms · 0.0096 = 2.0 µm, within half the share of P0.01. 0.3 mm
+  // on, a tangent line runs at F6000. The claim holds only if every sample of a window holding
+  // the join advances at most 23.3 mm/s·T; until 2026-12-01 a claim at the fastest speed capped
+  // nothing, the fast line's first samples were in those windows, and the join rounded by
+  // 3.0 µm (servo off, 200 %): 1.5 times its claim. Now its zone is capped at its speed.
+  const gm::Machine m;
+  constexpr double kDeg = 3.141592653589793 / 180.0;
+  const double a = 0.55 * kDeg, bx = 20.0 + 0.3 * std::cos(a), by = 0.3 * std::sin(a);
+  const std::string text = fmt::format(
+      "G21 G90 G17 G64 P0.01\nG0 X0 Y0\nG1 X20 Y0 F700\nG1 X{:.4f} Y{:.4f}\n"
+      "G1 X{:.4f} Y{:.4f} F6000\nM2\n",
+      bx, by, bx + 50.0 * std::cos(a), by + 50.0 * std::sin(a));
+  const Outcome o = run_program(text, m, [](std::int64_t) {
+    gm::OverrideInput in;
+    in.feed_scale = 2.0;
+    return in;
+  });
+  REQUIRE(o.finished);
+  CHECK(o.pauses == 0);
+  CHECK(o.capped_pieces >= 1);
+  CHECK(o.check.cutting().over == 0);
+  // The claim, plus half a BLU per axis of rounding on the two moving axes.
+  const double claim_mm = 700.0 / 60.0 * 2.0 * 0.00894 * 2.0 * std::sin(a / 2.0);
+  CHECK(o.check.cutting().err_mm < claim_mm + 0.0006);
+}
+
 TEST_CASE("gmotion run --check-tolerance exits 1 when a sample exceeds the tolerance") {
   const std::string prog = std::string(GMOTION_TESTS_DIR) + "/../programs/corners.nc";
   // Servo off: the planned Acc/Dec output holds P0.02 (exit 0, both kinds judged).
