@@ -379,6 +379,13 @@ class TolerancePlanner : public CanonSource {
   /// decided out of order counts both ways, weight and err).
   double range_weight(ZoneRange r) const;
   double range_weight_all(ZoneRange r) const;  ///< every element's, decided or not
+  /// The largest weights one window holds (window_weights): of the undecided elements, of all.
+  /// The same for every span in [span_lo, span_hi].
+  struct WindowWeights {
+    double undecided = 0;
+    double all = 0;
+    double span_lo = -kInf, span_hi = kInf;
+  };
   /// What the range's decided elements leave to e (docs/tolerance.md, "Sharing a window"): the
   /// errs of those whose own zone reaches e (only those can be active at one instant with it),
   /// and of those among them whose zone also reaches an undecided element of the range besides
@@ -398,11 +405,22 @@ class TolerancePlanner : public CanonSource {
   struct ZoneMemo {
     ZoneRange range;
     bool valid = false;
-    double weight = 0;      ///< the undecided elements' (range_weight)
-    double weight_all = 0;  ///< every element's, decided or not
+    /// The windows' span the weights are for (window_weights); negative: the whole zone's.
+    double span = -1.0;
+    ZoneRange parted;                 ///< range, parted for the element (parted)
+    double zone_weight = 0;           ///< the parted range's undecided elements' (range_weight)
+    double zone_weight_all = 0;       ///< every one's, decided or not
+    double weight = 0;                ///< the undecided elements' one window holds, or zone_weight
+    double weight_all = 0;            ///< every element's, decided or not
+    double span_lo = 0, span_hi = 0;  ///< the spans the weights hold for (WindowWeights)
     double claims = 0;
     Decided decided;
   };
+  /// The largest weights of the elements of z's parted range one window can overlap, a window
+  /// spanning at most `span` of travel and overlapping e: every element active at an instant
+  /// with e is overlapped by the window then (docs/tolerance.md, "Sharing a window"). Of the
+  /// undecided ones (as range_weight counts them) and of all.
+  WindowWeights window_weights(const ZoneMemo& z, const Element& e, double span) const;
   /// The load of an element with error `own` and share weight w beside a zone's values, to be
   /// within the share (less the reserve): own within the larger of its share by weight,
   /// (share − claims)·w/W_all, and what the decided elements leave, the smaller of
@@ -419,9 +437,10 @@ class TolerancePlanner : public CanonSource {
     return std::max(left * w / z.weight_all,
                     std::min((left - z.decided.shared) * w / z.weight, left - z.decided.all));
   }
-  /// memo's values for range r beside e, recomputed only when r differs from memo's range.
-  const ZoneMemo& zone_values(ZoneMemo& memo, ZoneRange r, const Element& e,
-                              bool with_claims) const;
+  /// memo's values for range r beside e, recomputed only when r differs from memo's range;
+  /// with span >= 0 the weights are the largest one window of that span holds (window_weights).
+  const ZoneMemo& zone_values(ZoneMemo& memo, ZoneRange r, const Element& e, bool with_claims,
+                              double span = -1.0) const;
   /// The largest v <= vmax with load(v, range of [s0 − v·t, s1 + v·t]) <= share (the load grows
   /// with v): vmax, else by 40 halvings; guess(range) estimates where the load of that range
   /// reaches the share, which ends them early with the same result.

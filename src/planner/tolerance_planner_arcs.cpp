@@ -36,10 +36,12 @@ void TolerancePlanner::decide_arc(Element& e, double share, const MismatchReserv
   ZoneMemo memo;
   const double a = 0.5 * e.kappa * filter_.variance_s2();
   auto load = [&](double v, ZoneRange r) {
-    return zone_load(a * v * v, 1.0, zone_values(memo, r, e, false)) + res.at(v, v < e.vmax);
+    return zone_load(a * v * v, 1.0, zone_values(memo, r, e, false, v * tau)) +
+           res.at(v, v < e.vmax);
   };
   auto guess = [&](ZoneRange r) {
-    const double left = std::max(0.0, zone_allotment(share, 1.0, zone_values(memo, r, e, false)));
+    const double left =
+        std::max(0.0, zone_allotment(share, 1.0, zone_values(memo, r, e, false, memo.span)));
     return res.m_s > 0.0 ? res.root(a, 0.0, left) : std::sqrt(left / a);
   };
   double v = largest_speed_in_zones(e.vmax, share, e.s0, e.s1, tau, load, guess);
@@ -136,15 +138,16 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
     if (chain) return fits(v, chain_allotment(v), 1.0);
     const ZoneRange r = memo.valid ? zone_range_from(memo.range, e.s0 - v * tau, e.s1 + v * tau)
                                    : zone_range(e.s0 - v * tau, e.s1 + v * tau);
-    const ZoneMemo& z = zone_values(memo, r, e, false);
+    const ZoneMemo& z = zone_values(memo, r, e, false, v * tau);
     return fits(v, zone_allotment(share, 1.0, z), z.weight);
   };
   // Where the answer is yes, the arc's error (its term and a near circle's extra) is within
   // its allotment at that speed: the bound it leaves (err).
   auto allotted = [&](double v) {
     if (chain) return chain_allotment(v);
-    return zone_allotment(share, 1.0,
-                          zone_values(memo, zone_range(e.s0 - v * tau, e.s1 + v * tau), e, false));
+    return zone_allotment(
+        share, 1.0,
+        zone_values(memo, zone_range(e.s0 - v * tau, e.s1 + v * tau), e, false, v * tau));
   };
   const double vlim = std::min(e.vmax, precomp_->speed_limit_mm_s(e.sweep, L));
   if (!(vlim > floor)) return 0.0;

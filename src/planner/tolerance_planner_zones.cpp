@@ -174,18 +174,86 @@ TolerancePlanner::ZoneRange TolerancePlanner::zone_range_from(ZoneRange hint, do
 }
 
 const TolerancePlanner::ZoneMemo& TolerancePlanner::zone_values(ZoneMemo& memo, ZoneRange r,
-                                                                const Element& e,
-                                                                bool with_claims) const {
-  if (!memo.valid || !(r == memo.range)) {
+                                                                const Element& e, bool with_claims,
+                                                                double span) const {
+  const bool new_range = !memo.valid || !(r == memo.range);
+  if (!new_range && (span == memo.span || (span >= 0.0 && memo.span >= 0.0 &&
+                                           span >= memo.span_lo && span <= memo.span_hi))) {
+    memo.span = span;
+    return memo;
+  }
+  if (new_range) {
     memo.range = r;
     memo.valid = true;
-    r = parted(r, e);
-    memo.weight = range_weight(r);
-    memo.weight_all = range_weight_all(r);
-    memo.decided = range_decided(r, e);
-    memo.claims = with_claims ? range_claims(r) : 0.0;
+    memo.parted = parted(r, e);
+    memo.zone_weight = range_weight(memo.parted);
+    memo.zone_weight_all = range_weight_all(memo.parted);
+    memo.decided = range_decided(memo.parted, e);
+    memo.claims = with_claims ? range_claims(memo.parted) : 0.0;
   }
+  memo.span = span;
+  const WindowWeights w = span >= 0.0 ? window_weights(memo, e, span)
+                                      : WindowWeights{memo.zone_weight, memo.zone_weight_all};
+  memo.weight = w.undecided;
+  memo.weight_all = w.all;
+  memo.span_lo = w.span_lo;
+  memo.span_hi = w.span_hi;
   return memo;
+}
+
+TolerancePlanner::WindowWeights TolerancePlanner::window_weights(const ZoneMemo& z,
+                                                                 const Element& e,
+                                                                 double span) const {
+  // A window [a, a + span] overlaps f when f.s1 > a − 1e-9 and f.s0 < a + span + 1e-9 (the
+  // zone tests' slack), and overlaps e for a in [e.s0 − span, e.s1]. Each f counts for a in an
+  // interval ending at f.s1: the sum is largest at one of those ends or at e.s1. The elements
+  // are in path order (s0 and s1 both ascending), so those f are a range [lo, hi), walked once.
+  // Every test that involves the span narrows the spans [span_lo, span_hi] for which all tests
+  // come out the same, so the same sums: a bisection reuses them (kMargin keeps the bounds
+  // clear of the tests' rounding).
+  constexpr double kMargin = 1e-7;
+  WindowWeights best;
+  const ZoneRange r = z.parted;
+  if (r.first == r.last) return best;
+  const double a0 = e.s0 - span;
+  const Element& first = elems_[r.first];
+  // One window from the first element's end holds the whole range: its weights.
+  const double first_s1 = first.s1, last_s0 = elems_[r.last - 1].s0;
+  if (first_s1 >= a0 && last_s0 < first_s1 + span + 1e-9) {
+    best.undecided = z.zone_weight;
+    best.all = z.zone_weight_all;
+    best.span_lo = std::max(e.s0 - first_s1, last_s0 - first_s1 - 1e-9) + kMargin;
+    return best;
+  }
+  auto at_least = [&](double bound) { best.span_lo = std::max(best.span_lo, bound + kMargin); };
+  auto at_most = [&](double bound) { best.span_hi = std::min(best.span_hi, bound - kMargin); };
+  const std::size_t from = std::max(r.first, decided_prefix_);
+  auto cum = [&](std::size_t i) { return i == elems_.size() ? weight_total_ : elems_[i].cum; };
+  std::size_t lo = r.first, hi = r.first;
+  auto hold = [&](double a) {
+    while (lo < r.last && !(elems_[lo].s1 > a - 1e-9)) ++lo;
+    for (; hi < r.last; ++hi) {
+      const double bound = elems_[hi].s0 - a - 1e-9;
+      if (!(elems_[hi].s0 < a + span + 1e-9)) {
+        at_most(bound);
+        break;
+      }
+      at_least(bound);
+    }
+    if (hi > lo) best.all = std::max(best.all, cum(hi) - cum(lo));
+    const std::size_t f = std::max(lo, from);
+    if (hi > f) best.undecided = std::max(best.undecided, cum(hi) - cum(f));
+  };
+  for (std::size_t i = r.first; i < r.last && elems_[i].s1 < e.s1; ++i) {
+    if (!(elems_[i].s1 >= a0)) {
+      at_most(e.s0 - elems_[i].s1);
+      continue;
+    }
+    at_least(e.s0 - elems_[i].s1);
+    hold(elems_[i].s1);
+  }
+  hold(e.s1);
+  return best;
 }
 
 double TolerancePlanner::tolerance_near(const Element& e) const {
