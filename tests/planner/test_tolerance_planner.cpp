@@ -838,11 +838,10 @@ std::string kinked_engraving(const char* tol) {
   return text + "M2\n";
 }
 
-// kinked_engraving(tol) run at 100 % and 200 % feed override: no pause, every sample within P
-// (servo off); returns the cycle time at 100 %.
-double check_kinked_engraving(const char* tol) {
+// A program run on the default machine at 100 % and 200 % feed override: no pause, every sample
+// within P (servo off), the end exact; returns the cycle time at 100 %.
+double check_no_pause_within_p(const std::string& text) {
   const gm::Machine m;
-  const std::string text = kinked_engraving(tol);
   double cycle_100 = 0.0;
   for (const double feed : {1.0, 2.0}) {
     CAPTURE(feed);
@@ -870,7 +869,7 @@ TEST_CASE("kinks of 1° between arcs claim at 100 % feed: no pause, within P up 
   // up to |Δu| = 0.01 claimed, and each of these paused (docs/tolerance.md, "Claims at 100 %
   // feed"). Now each claims at 100 % feed and caps its zone there: no pause, and an override
   // of 200 % does not run the path faster near it.
-  check_kinked_engraving("0.05");
+  check_no_pause_within_p(kinked_engraving("0.05"));
 }
 
 TEST_CASE("kinks of 1° farther apart than their tents claim together at P0.01") {
@@ -881,7 +880,7 @@ TEST_CASE("kinks of 1° farther apart than their tents claim together at P0.01")
   // one of them adds its 4.0 µm, within half the share of P0.01 ((10 − 1.73)/2 = 4.13 µm). As
   // sums of whole claims within τ of each other (the fastest travel, 8.3 mm at 200 %) they were
   // 8.0 µm and more: until 2026-12-01 no two neighbours claimed, and the kinks paused or shared.
-  const double cycle_100 = check_kinked_engraving("0.01");
+  const double cycle_100 = check_no_pause_within_p(kinked_engraving("0.01"));
   // The path (2 mm of line, 12 arcs of 2.618 mm and 12 of 5.236 mm) at F1524 alone takes
   // 96.25 mm / 25.4 mm/s = 3.79 s; with the sums of whole claims the kinks paused 15 times and
   // the run took 6.616 s, now 4.628 s (the arcs share what the claims leave).
@@ -1481,21 +1480,7 @@ TEST_CASE("a row of tangent arcs shares P by what one window holds, not by its w
   }
   text += fmt::format("G1 X{:.6f} Y{:.6f}\nM2\n", x + 20.0 * std::cos(heading),
                       y + 20.0 * std::sin(heading));
-  const gm::Machine m;
-  double cycle_100 = 0.0;
-  for (const double feed : {1.0, 2.0}) {
-    CAPTURE(feed);
-    const Outcome o = run_program(text, m, [&](std::int64_t) {
-      gm::OverrideInput in;
-      in.feed_scale = feed;
-      return in;
-    });
-    REQUIRE(o.finished);
-    CHECK(o.end_exact);
-    CHECK(o.pauses == 0);
-    CHECK(o.check.cutting().over == 0);
-    if (feed == 1.0) cycle_100 = o.cycle_s;
-  }
+  const double cycle_100 = check_no_pause_within_p(text);
   CHECK(cycle_100 < 1.55);
 }
 
