@@ -495,6 +495,8 @@ class TolerancePlanner : public CanonSource {
                   const Element* own = nullptr);
   /// Path length over which a pre-compensated arc's ramp brakes from `from` to `to`, mm.
   double braking_length_mm(double from, double to, double comp_v) const;
+  /// The fastest speed from which that ramp brakes to `to` within len mm (to when none is).
+  double fastest_braking_mm_s(double to, double len, double comp_v) const;
   /// The command stops on b's end point before the next motion (the interpolator waits there).
   bool stops_after(const Block& b) const;
   /// A pre-compensated arc ending with b takes the end rows for a stop (Motion::
@@ -502,7 +504,8 @@ class TolerancePlanner : public CanonSource {
   bool comp_stops_after(const Block& b, double comp_v) const;
   void merge_short_pieces(const Block& b);
   /// A pre-compensated arc's pieces: each brakes to the next one's cap by the arc's ramp
-  /// (Motion::comp_exit_speed_mm_s), or takes it where it is too short to.
+  /// (Motion::comp_exit_speed_mm_s), or where it is too short to, runs at the fastest speed it
+  /// can brake from (fastest_braking_mm_s).
   void brake_comp_pieces(double comp_v);
   /// b handed on as pieces_; a chain's block (chain: its element) as its part of the chain's
   /// pieces, each commanded as a piece of the chain's arc.

@@ -111,7 +111,9 @@ void TolerancePlanner::merge_short_pieces(const Block& b) {
 void TolerancePlanner::brake_comp_pieces(double comp_v) {
   // The pieces of a pre-compensated arc change speed by the arc's ramp (v_p/(N + 1) a sample),
   // which its plan judged; a piece brakes to the next one's cap before its end
-  // (Motion::comp_exit_speed_mm_s). A piece too short for that takes the next one's cap.
+  // (Motion::comp_exit_speed_mm_s). A piece too short for that runs at the fastest speed it can
+  // brake from within its length (a cap like any zone's, below its plan), or at the next one's
+  // cap when it cannot brake by one step.
   std::vector<Piece>& pieces = pieces_;
   if (!(comp_v > 0.0) || pieces.size() < 2) return;
   for (std::size_t i = pieces.size() - 1; i-- > 0;) {
@@ -119,9 +121,23 @@ void TolerancePlanner::brake_comp_pieces(double comp_v) {
     const double from = std::min(pieces[i].cap, plan),
                  to = std::min(pieces[i + 1].cap, pieces[i + 1].plan_or(comp_v));
     if (!(to < from)) continue;
-    if (pieces[i].c - pieces[i].a < braking_length_mm(from, to, plan))
-      pieces[i].cap = pieces[i + 1].cap;
+    const double len = pieces[i].c - pieces[i].a;
+    if (len < braking_length_mm(from, to, plan)) {
+      const double v = fastest_braking_mm_s(to, len, plan);
+      pieces[i].cap = v > to ? v : pieces[i + 1].cap;
+    }
   }
+}
+
+double TolerancePlanner::fastest_braking_mm_s(double to, double len, double comp_v) const {
+  // to + m steps for the largest m whose ramp fits (braking_length_mm counts ceil of the steps:
+  // the speed sits just below m steps so that it counts m); m is at most the ramp's N + 1.
+  const double step = precomp_->rule().speed_step_mm_s(comp_v);
+  auto speed = [&](int m) { return to + m * step * (1.0 - 1e-9); };
+  int m = 0;
+  while (m <= precomp_->rule().ramp_samples() && braking_length_mm(speed(m + 1), to, comp_v) <= len)
+    ++m;
+  return speed(m);
 }
 
 double TolerancePlanner::braking_length_mm(double from, double to, double comp_v) const {

@@ -658,6 +658,47 @@ TEST_CASE("a pre-compensated arc is cut where a kink's zone begins, and brakes t
   CHECK(run(text, m, true).check.cutting().over == 0);
 }
 
+TEST_CASE("a pre-compensated arc too short to brake whole to a slow zone brakes from what it can") {
+  // An R 3 mm arc of 30° (1.571 mm) at F1500, 0.1 mm of tangent line, then a fillet posted as
+  // seven 0.06 mm chords turning 12.86° each, under P0.01. The chords' corners cap their zone
+  // at about 1.2 mm/s, τ of travel back into the arc's last piece; the arc alone fits at
+  // 15.7 mm/s, and its first piece (1.2 mm) is too short for the arc's ramp to brake from there
+  // to the chords' cap (1.38 mm). Until 2026-12-01 such a piece took the next one's cap, and
+  // the whole arc crawled: 2.772 s. It now runs at the fastest speed it can brake from within
+  // its length (TolerancePlanner::fastest_braking_mm_s): 1.948 s.
+  const gm::Machine m;
+  const std::string text =
+      "G21 G90 G17 G64 P0.01\nG0 X-5 Y0\nG1 X0 Y0 F1500\nG3 X1.500 Y0.402 I0 J3\n"
+      "G1 X1.587 Y0.452\nX1.631 Y0.493\nX1.664 Y0.542\nX1.686 Y0.598\nX1.695 Y0.658\n"
+      "X1.691 Y0.717\nX1.673 Y0.775\nX1.643 Y0.827\nX-0.859 Y5.156\nM2\n";
+  std::vector<gm::Motion> arc;
+  for (const gm::Canon& c : planned_canon(text, m, true))
+    if (const auto* mo = std::get_if<gm::Motion>(&c); mo != nullptr && mo->line == 4)
+      arc.push_back(*mo);
+  REQUIRE(arc.size() == 2);
+  const double vp = arc[0].comp_speed_mm_s, slow = arc[1].speed_cap_mm_s;
+  const double first = gm::MotionGeometry::of(arc[0]).length_mm;
+  CAPTURE(vp, slow, first, arc[0].speed_cap_mm_s);
+  CHECK(slow < 0.1 * vp);
+  // The first piece runs faster than the slow zone, slower than v_p, and brakes to the slow
+  // zone's cap by the arc's ramp (v_p/(N + 1) a sample; N + 1 = 41) within its length: m steps
+  // take T·((m + 1)·slow + step·(m + 1)(m + 2)/2) mm.
+  const double v1 = arc[0].speed_cap_mm_s, step = vp / 41.0;
+  CHECK(v1 > slow + step);
+  CHECK(v1 < vp);
+  CHECK(arc[0].comp_exit_speed_mm_s == slow);
+  const double steps = std::ceil((v1 - slow) / step);
+  CHECK(m.period_s * ((steps + 1.0) * slow + step * (steps + 1.0) * (steps + 2.0) / 2.0) <= first);
+  // One step more would not fit.
+  CHECK(m.period_s * ((steps + 2.0) * slow + step * (steps + 2.0) * (steps + 3.0) / 2.0) > first);
+  for (const double feed : {1.0, 2.0}) {
+    CAPTURE(feed);
+    const Run r = run(text, m, true, feed);
+    CHECK(r.check.cutting().over == 0);
+    if (feed == 1.0) CHECK(r.cycle_s < 2.2);  // 1.948 s; the arc at the slow cap 2.772 s
+  }
+}
+
 TEST_CASE("a line into a polyline of 5 µm chords keeps its slow zone as short as planned") {
   // A 3 mm line at F6000 under P0.005 into a CAM polyline of 5 µm chords turning 0.01 rad each,
   // at F4000 under P0.3. The polyline's run caps the line's last 0.1 mm or so at under 1 mm/s.
