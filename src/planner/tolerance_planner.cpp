@@ -19,6 +19,7 @@ TolerancePlanner::TolerancePlanner(const FilterMoments& filter, const PlannerCon
   if (std::all_of(h.begin(), h.end(), [](double w) { return w >= 0.0; })) {
     const double n = static_cast<double>(filter_.order()), m = filter_.centre();
     tent_s_ = filter_.period_s() * std::max(m, n - m);
+    dense_runs_ = true;
   }
   if (cfg_.precompensate_arcs && filter_.overshoot_s() == 0.0 && filter_.undershoot_s() == 0.0) {
     precomp_.emplace(filter_.weights(), filter_.period_s());

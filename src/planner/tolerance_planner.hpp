@@ -104,6 +104,15 @@ class TolerancePlanner : public CanonSource {
   /// and the line before it is shorter than τ of travel. A run of fewer than kMinRunVertices
   /// vertices is planned corner by corner.
   static constexpr double kRunTurn = 0.1;
+  /// A dense polyline (a fillet posted as chords): where the line before the vertex is shorter
+  /// than kDenseRunSegment of τ's travel at 100 % feed, turns up to kDenseRunTurn (about 14°)
+  /// with δ·V₁₀₀·M₁ <= kDenseRunDeltaShare·tol join a run too. So many corners lie in each
+  /// other's zones there that each would count the others' weights, while the run counts its
+  /// worst turn once (δ) and the rest as curvature (κ_eff). Only for chains without negative
+  /// weights, whose M₁ = 2·D(0): a run's absolute moments are then as tight as a corner's.
+  static constexpr double kDenseRunTurn = 0.25;
+  static constexpr double kDenseRunSegment = 0.05;
+  static constexpr double kDenseRunDeltaShare = 8.0;
   /// A corner turning by at most this (|Δu|, about 0.57°: CAM output rounded to 3 decimals turns
   /// 0 to 0.13° at joins meant to be tangent) may claim its error at its fastest speed, above
   /// 100 % feed too (assign_claims).
@@ -597,6 +606,7 @@ class TolerancePlanner : public CanonSource {
   /// window is then at most its bound times a tent of half-width V·tent_s_ about the corner in
   /// the window's weighted mean (claim_at); 0 with negative weights (no tents).
   double tent_s_ = 0.0;
+  bool dense_runs_ = false;  ///< every weight >= 0: dense polylines may join runs (kDenseRunTurn)
   std::size_t claim_cursor_ = 0;        ///< elems_[0, claim_cursor_) have their claim assigned
   std::uint64_t claimants_ = 0;         ///< claimants so far (none: zone_claims is 0 at once)
   std::uint64_t claim_candidates_ = 0;  ///< near-tangent corners pushed, not yet assigned

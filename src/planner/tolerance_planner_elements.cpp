@@ -41,8 +41,11 @@ void TolerancePlanner::add_corner(const Block& prev, const Block& b) {
   // decided before it are parted from what lies past it (tolerance_near, part_zone).
   if (e.pause0 > 0.0 && !(corner_moment(e.pause0) > 0.0)) e.stopped = true;
   const double seg = prev.s1 - prev.s0;
-  if (prev.m.kind == MotionKind::Line && b.m.kind == MotionKind::Line && turn <= kRunTurn &&
-      turn * e.v100 * filter_.abs_moment_s() <= kRunDeltaShare * tol &&
+  const bool dense = dense_runs_ && seg < kDenseRunSegment * e.v100 * filter_.tau_s();
+  const double run_turn = dense ? kDenseRunTurn : kRunTurn;
+  const double delta_share = dense ? kDenseRunDeltaShare : kRunDeltaShare;
+  if (prev.m.kind == MotionKind::Line && b.m.kind == MotionKind::Line && turn <= run_turn &&
+      turn * e.v100 * filter_.abs_moment_s() <= delta_share * tol &&
       seg < prev.vmax * filter_.tau_s()) {
     add_run_vertex(e, seg);
   } else {
