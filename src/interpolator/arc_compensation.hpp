@@ -115,18 +115,23 @@ class ArcCompensation {
   /// end, `rows` = rows_weight(), `blend_weight` the blend's at the sample (blend()); `stops`:
   /// the command stops on the arc's end point (the end rows for a stop).
   Offset offset(double radius_mm, double x, double from_start, double to_end, double rows,
-                double blend_weight, bool stops) const {
+                double blend_weight, bool stops, bool start_distance = false,
+                bool end_distance = false) const {
     const double c = radius_mm * (1.0 / gain(x) - 1.0);
     if (!(rows > 0.0)) return {blend_weight * c, 0.0};  // the rows are not fitted for it
     double radial = 1.0, along = 0.0;
     if (from_start < ArcEndRows::kSpan) {
-      const ArcEndRows::Shape e = start_rows().at(from_start, x, ArcEndRows::Way::Moving);
+      const ArcEndRows::Shape e = start_rows().at(
+          from_start, x,
+          start_distance ? ArcEndRows::Way::MovingDistance : ArcEndRows::Way::Moving);
       radial += e.radial - 1.0;
       along += e.along;
     }
     if (to_end < ArcEndRows::kSpan) {
-      const ArcEndRows::Shape e =
-          end_rows().at(to_end, x, stops ? ArcEndRows::Way::Stopping : ArcEndRows::Way::Moving);
+      const ArcEndRows::Shape e = end_rows().at(to_end, x,
+                                                stops          ? ArcEndRows::Way::Stopping
+                                                : end_distance ? ArcEndRows::Way::MovingDistance
+                                                               : ArcEndRows::Way::Moving);
       radial += e.radial - 1.0;
       along -= e.along;
     }
@@ -172,13 +177,16 @@ class ArcCompensation {
   }
   /// The largest |radial| + |along| of offset() over a sample's advances, both ends reaching
   /// it, in units of c at rate x: 1 + 2·max(|radial − 1| + |along|) over the end rows' knots
-  /// of both ways (1 without the rows: the blend is radial, at most c).
-  double largest_offset_factor(double x) const {
+  /// of both ways, and of the distance's with `distance` (1 without the rows: the blend is
+  /// radial, at most c).
+  double largest_offset_factor(double x, bool distance = false) const {
     if (!rows_on_) return 1.0;
     double worst = 0.0;
     for (const ArcEndRows* rows : {&start_rows(), &end_rows()}) {
       for (const ArcEndRows::Way way : {ArcEndRows::Way::Moving, ArcEndRows::Way::Stopping})
         worst = std::max(worst, rows->largest_deviation(x, way));
+      if (distance)
+        worst = std::max(worst, rows->largest_deviation(x, ArcEndRows::Way::MovingDistance));
       if (h_reversed_.empty()) break;  // symmetric: the end's rows are the start's
     }
     return 1.0 + 2.0 * worst;

@@ -213,8 +213,8 @@ double power_of_two(double x, int p) {
 }  // namespace
 
 std::vector<double> ArcEndFit::fit_shared(const std::vector<ArcRun>& runs,
-                                          const std::vector<ArcCommandModel>& models,
-                                          double mu) const {
+                                          const std::vector<ArcCommandModel>& models, double mu,
+                                          ArcEndMeasure measure) const {
   // At most kMaxUnknowns unknowns: the solver's vectors and matrices on the stack. The rows'
   // sums are plain loops over flat arrays (they are most of the work).
   using Vec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxUnknowns, 1>;
@@ -225,11 +225,18 @@ std::vector<double> ArcEndFit::fit_shared(const std::vector<ArcRun>& runs,
   // command (rx, ry) and its derivative by the unknowns (jx, jy: f each; the filter is linear in
   // them). Rows the unknowns do not reach keep only their constant |r| (`fixed`).
   std::vector<double> rx, ry, jx, jy, fixed;
+  // By the distance: each reached row's base output (absolute), its window's mean and its run
+  // (the distance is linearised again around each pass's unknowns).
+  const bool by_distance = measure == ArcEndMeasure::Distance;
+  std::vector<Samples> prepared;
+  std::vector<double> yb_x, yb_y, row_sbar;
+  std::vector<std::size_t> row_run;
   double c_unit = 0.0;
   std::vector<double> bx, by, cx, cy;
   std::vector<std::size_t> col_first(f), col_last(f);
   for (std::size_t r = 0; r < runs.size(); ++r) {
-    const Samples sm = prepare(runs[r]);
+    prepared.push_back(prepare(runs[r]));
+    const Samples& sm = prepared.back();
     if (r == 0) c_unit = sm.c_planned;
     // An offset's command at sample i: radial along the normal, along the motion.
     const auto offset = [&sm](const ArcOffsets& off, std::size_t i, double& x, double& y) {
@@ -265,16 +272,23 @@ std::vector<double> ArcEndFit::fit_shared(const std::vector<ArcRun>& runs,
         yx += h_[i] * bx[k - i];
         yy += h_[i] * by[k - i];
       }
-      const EndVec at = sm.at(sm.sbar[k]);
-      yx -= at.x;
-      yy -= at.y;
       bool reached = false;
       for (std::size_t q = 0; q < f && !reached; ++q)
         reached = col_first[q] <= col_last[q] && col_first[q] <= k && col_last[q] + m > k;
       if (!reached) {
-        fixed.push_back(std::hypot(yx, yy));
+        fixed.push_back(by_distance ? sm.distance({yx, yy}, sm.sbar[k]).first
+                                    : sm.from_mean({yx, yy}, sm.sbar[k]).first);
         continue;
       }
+      if (by_distance) {
+        yb_x.push_back(yx);
+        yb_y.push_back(yy);
+        row_sbar.push_back(sm.sbar[k]);
+        row_run.push_back(r);
+      }
+      const EndVec at = sm.at(sm.sbar[k]);
+      yx -= at.x;
+      yy -= at.y;
       rx.push_back(yx);
       ry.push_back(yy);
       for (std::size_t q = 0; q < f; ++q) {
@@ -290,6 +304,8 @@ std::vector<double> ArcEndFit::fit_shared(const std::vector<ArcRun>& runs,
     }
   }
   const std::size_t rows = rx.size();
+  const std::vector<double> jx_abs = by_distance ? jx : std::vector<double>{},
+                            jy_abs = by_distance ? jy : std::vector<double>{};
   const double n = static_cast<double>(rows + fixed.size()), reg = mu * c_unit * c_unit;
   const double fixed_top = fixed.empty() ? 0.0 : *std::max_element(fixed.begin(), fixed.end());
   Vec u = Vec::Zero(static_cast<Eigen::Index>(f));
@@ -322,53 +338,96 @@ std::vector<double> ArcEndFit::fit_shared(const std::vector<ArcRun>& runs,
     return mp * mp + reg * v.squaredNorm();
   };
   double jr[kMaxUnknowns];
-  for (int p = 2; p <= 128 && f > 0; p *= 2) {
-    for (int it = 0; it < 30; ++it) {
-      double t0, s;
-      evaluate(u, p, t0, s);
-      if (!(t0 > 0.0)) break;
-      const double mp = t0 * std::pow(s, 1.0 / p), j0 = mp * mp + reg * u.squaredNorm();
-      // M_p² = G^(2/p), G = mean |r_k|^p: ∇ = 2·S^(2/p − 1)·mean(ρ^(p−2)·Jᵀr) = g and
-      // ∇² = H − (p/2 − 1)/M_p²·g·gᵀ, H = 2·S^(2/p − 1)·mean(ρ^(p−2)·Jᵀ(I + (p − 2)·r̂r̂ᵀ)J):
-      // Newton on the whole, or on H alone where the whole is not positive definite.
-      const double scale = 2.0 * std::pow(s, 2.0 / p - 1.0) / n;
-      const auto nf = static_cast<Eigen::Index>(f);
-      Vec grad = 2.0 * reg * u;
-      Mat hess = Mat::Zero(nf, nf);
-      hess.diagonal().array() += 2.0 * reg;
-      for (std::size_t k = 0; k < rows; ++k) {
-        if (!(dist[k] > 0.0)) continue;
-        const double rho = dist[k] / t0, w = scale * power_of_two(rho, p) / (rho * rho);
-        const double* ax = &jx[k * f];
-        const double* ay = &jy[k * f];
-        for (std::size_t q = 0; q < f; ++q) jr[q] = ax[q] * ex[k] + ay[q] * ey[k];
-        const double w2 = w * (p - 2.0) / (dist[k] * dist[k]);
-        for (std::size_t a = 0; a < f; ++a) {
-          grad[static_cast<Eigen::Index>(a)] += w * jr[a];
-          for (std::size_t b = 0; b <= a; ++b)
-            hess(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) +=
-                w * (ax[a] * ax[b] + ay[a] * ay[b]) + w2 * jr[a] * jr[b];
+  // Minimises the power mean of |r + J·u| from p_first on, from the present u.
+  const auto solve = [&](int p_first) {
+    for (int p = p_first; p <= 128 && f > 0; p *= 2) {
+      for (int it = 0; it < 30; ++it) {
+        double t0, s;
+        evaluate(u, p, t0, s);
+        if (!(t0 > 0.0)) break;
+        const double mp = t0 * std::pow(s, 1.0 / p), j0 = mp * mp + reg * u.squaredNorm();
+        // M_p² = G^(2/p), G = mean |r_k|^p: ∇ = 2·S^(2/p − 1)·mean(ρ^(p−2)·Jᵀr) = g and
+        // ∇² = H − (p/2 − 1)/M_p²·g·gᵀ, H = 2·S^(2/p − 1)·mean(ρ^(p−2)·Jᵀ(I + (p − 2)·r̂r̂ᵀ)J):
+        // Newton on the whole, or on H alone where the whole is not positive definite.
+        const double scale = 2.0 * std::pow(s, 2.0 / p - 1.0) / n;
+        const auto nf = static_cast<Eigen::Index>(f);
+        Vec grad = 2.0 * reg * u;
+        Mat hess = Mat::Zero(nf, nf);
+        hess.diagonal().array() += 2.0 * reg;
+        for (std::size_t k = 0; k < rows; ++k) {
+          if (!(dist[k] > 0.0)) continue;
+          const double rho = dist[k] / t0, w = scale * power_of_two(rho, p) / (rho * rho);
+          const double* ax = &jx[k * f];
+          const double* ay = &jy[k * f];
+          for (std::size_t q = 0; q < f; ++q) jr[q] = ax[q] * ex[k] + ay[q] * ey[k];
+          const double w2 = w * (p - 2.0) / (dist[k] * dist[k]);
+          for (std::size_t a = 0; a < f; ++a) {
+            grad[static_cast<Eigen::Index>(a)] += w * jr[a];
+            for (std::size_t b = 0; b <= a; ++b)
+              hess(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) +=
+                  w * (ax[a] * ax[b] + ay[a] * ay[b]) + w2 * jr[a] * jr[b];
+          }
         }
+        hess.template triangularView<Eigen::StrictlyUpper>() = hess.transpose();
+        const Vec g_mp = grad - 2.0 * reg * u;
+        const Eigen::LLT<Mat> whole(
+            Mat(hess - (0.5 * p - 1.0) / (mp * mp) * g_mp * g_mp.transpose()));
+        const Vec step = whole.info() == Eigen::Success ? Vec(-whole.solve(grad))
+                                                        : Vec(-hess.ldlt().solve(grad));
+        double a = 1.0;
+        bool better = false;
+        for (; a > 1e-6; a *= 0.5)
+          if (objective(u + a * step, p) <= j0) {
+            better = true;
+            break;
+          }
+        if (!better) break;
+        u += a * step;
+        if ((a * step).norm() <= 1e-9 * (1.0 + u.norm())) break;
       }
-      hess.template triangularView<Eigen::StrictlyUpper>() = hess.transpose();
-      const Vec g_mp = grad - 2.0 * reg * u;
-      const Eigen::LLT<Mat> whole(
-          Mat(hess - (0.5 * p - 1.0) / (mp * mp) * g_mp * g_mp.transpose()));
-      const Vec step =
-          whole.info() == Eigen::Success ? Vec(-whole.solve(grad)) : Vec(-hess.ldlt().solve(grad));
-      double a = 1.0;
-      bool better = false;
-      for (; a > 1e-6; a *= 0.5)
-        if (objective(u + a * step, p) <= j0) {
-          better = true;
-          break;
-        }
-      if (!better) break;
-      u += a * step;
-      if ((a * step).norm() <= 1e-9 * (1.0 + u.norm())) break;
     }
+  };
+  if (!by_distance || f == 0) {
+    solve(2);
+    return {u.data(), u.data() + u.size()};
   }
-  return {u.data(), u.data() + u.size()};
+  // By the distance d: around the present u it is d(u') ≈ d(u) + g·J·(u' − u) (g its gradient
+  // at the output), a residual along g, whose power mean is minimised as above; then again
+  // around the result. The unknowns with the least worst true distance are kept.
+  const auto output = [&](const Vec& v, std::size_t k) {
+    EndVec y{yb_x[k], yb_y[k]};
+    for (std::size_t q = 0; q < f; ++q) {
+      y.x += jx_abs[k * f + q] * v[static_cast<Eigen::Index>(q)];
+      y.y += jy_abs[k * f + q] * v[static_cast<Eigen::Index>(q)];
+    }
+    return y;
+  };
+  const auto worst_distance = [&](const Vec& v) {
+    double worst = fixed_top;
+    for (std::size_t k = 0; k < rows; ++k)
+      worst = std::max(worst, prepared[row_run[k]].distance(output(v, k), row_sbar[k]).first);
+    return worst;
+  };
+  Vec best = u;
+  double best_worst = worst_distance(u);
+  for (int pass = 0; pass < kDistancePasses; ++pass) {
+    for (std::size_t k = 0; k < rows; ++k) {
+      const auto [d, g] = prepared[row_run[k]].distance(output(u, k), row_sbar[k]);
+      double gju = 0.0;
+      for (std::size_t q = 0; q < f; ++q) {
+        const double gj = g.x * jx_abs[k * f + q] + g.y * jy_abs[k * f + q];
+        jx[k * f + q] = g.x * gj;
+        jy[k * f + q] = g.y * gj;
+        gju += gj * u[static_cast<Eigen::Index>(q)];
+      }
+      rx[k] = g.x * (d - gju);
+      ry[k] = g.y * (d - gju);
+    }
+    solve(pass == 0 ? 2 : 32);
+    const double w = worst_distance(u);
+    if (w < best_worst) best_worst = w, best = u;
+  }
+  return {best.data(), best.data() + best.size()};
 }
 
 double ArcEndFit::worst_fraction(const ArcRun& run, const ArcOffsets& off,

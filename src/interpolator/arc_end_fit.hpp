@@ -65,8 +65,12 @@ class ArcEndFit {
   /// 128 (M_p then within a factor N^(1/128) of the worst of N samples), Newton steps with a
   /// line search at each p from the last p's optimum. The problem is convex (y is linear in u):
   /// the result is its optimum whatever the path to it.
+  /// With `measure` Distance: the distance from the path in place of |y − x(s̄)|, linearised
+  /// around the unknowns and minimised again kDistancePasses times (the passes' best kept).
   std::vector<double> fit_shared(const std::vector<ArcRun>& runs,
-                                 const std::vector<ArcCommandModel>& models, double mu) const;
+                                 const std::vector<ArcCommandModel>& models, double mu,
+                                 ArcEndMeasure measure = ArcEndMeasure::FromMean) const;
+  static constexpr int kDistancePasses = 8;
   /// The run's samples.
   std::vector<ArcSample> samples(const ArcRun& run) const;
   /// The radial blend: c blended in (out) linearly over the arc's first (last)

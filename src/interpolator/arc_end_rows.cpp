@@ -44,7 +44,7 @@ bool ArcEndRows::claim_and_fit(std::size_t rate, std::size_t way) const {
   Lazy& l = lazy_[rate][way];
   int expected = kNotBegun;
   if (!l.state.compare_exchange_strong(expected, kFitting, std::memory_order_acq_rel)) return false;
-  l.k = fit(rate, way == 0 ? Way::Moving : Way::Stopping);
+  l.k = fit(rate, static_cast<Way>(way));
   {
     const std::lock_guard<std::mutex> hold(done_lock_);
     l.state.store(kDone, std::memory_order_release);
@@ -54,17 +54,22 @@ bool ArcEndRows::claim_and_fit(std::size_t rate, std::size_t way) const {
 }
 
 void ArcEndRows::fit_the_rest() const {
-  for (std::size_t rate = 0; rate < kRateKnots.size(); ++rate)
-    for (std::size_t way = 0; way < 2; ++way) {
+  // The distance's sets only once one of them is asked for (private arcs are rarer).
+  for (std::size_t way = 0; way < kWays; ++way)
+    for (std::size_t rate = 0; rate < kRateKnots.size(); ++rate) {
       if (stop_.load(std::memory_order_relaxed)) return;
+      if (static_cast<Way>(way) == Way::MovingDistance &&
+          !distance_wanted_.load(std::memory_order_relaxed))
+        return;
       claim_and_fit(rate, way);
     }
 }
 
 const ArcEndRows::Knots& ArcEndRows::knots(std::size_t rate, Way way) const {
-  const std::size_t w = way == Way::Moving ? 0 : 1;
+  const auto w = static_cast<std::size_t>(way);
   Lazy& l = lazy_[rate][w];
   if (l.state.load(std::memory_order_acquire) == kDone) return l.k;
+  if (way == Way::MovingDistance) distance_wanted_.store(true, std::memory_order_relaxed);
   std::call_once(rest_started_, [this] { rest_ = std::thread([this] { fit_the_rest(); }); });
   if (!claim_and_fit(rate, w)) {  // the other thread has it in hand
     std::unique_lock<std::mutex> hold(done_lock_);
@@ -95,7 +100,7 @@ ArcEndRows::Knots ArcEndRows::fit(std::size_t rate, Way way) const {
       // The interpolator's advances from the start: the count since the arc's first
       // sample plus how far past the start that one lay, of its advance (Stopping, the
       // mirror of an end: of the advance at speed v, as the end's are counted).
-      if (since_first < 0) phase_in = smp[i].s_mm / (way == Way::Moving ? smp[i].advance_mm : x);
+      if (since_first < 0) phase_in = smp[i].s_mm / (way != Way::Stopping ? smp[i].advance_mm : x);
       ++since_first;
       double fixed;
       std::array<double, kInner> hat;
@@ -138,7 +143,25 @@ ArcEndRows::Knots ArcEndRows::fit(std::size_t rate, Way way) const {
       }
       add(std::move(run));
     }
-  if (way == Way::Moving) {
+  // The distance's rows command large offsets along the path, which hold only for the speeds
+  // they were fitted for: the line before a private arc takes a change of the override by the
+  // arc's ramp too (Motion::override_ramp_mm_s), so also the speed falling at that rate from
+  // `k` samples before the join on, and rising at it to reach v `k` samples before the join
+  // (seen backwards in time: a fall begun on the line after an end).
+  if (way == Way::MovingDistance)
+    for (int p = 0; p < kPhases; p += 2)
+      for (const int k : {1, 2, 4, 8, 16, 24})
+        for (const bool falling : {true, false}) {
+          const double phase = (static_cast<double>(p) + 0.5) / kPhases;
+          ArcRun run = ArcRun::constant(1.0, endless, v, period_s_, phase, window);
+          const int at = run.first - k;  // the ramp's first sample (falling) or last (rising)
+          for (std::size_t i = 0; i < run.speed_mm_s.size(); ++i) {
+            const double d = static_cast<double>(static_cast<int>(i) - at) / window;
+            run.speed_mm_s[i] = v * std::clamp(falling ? 1.0 - d : 1.0 + d, 0.0, 1.0);
+          }
+          add(std::move(run));
+        }
+  if (way != Way::Stopping) {
     // From rest at the arc's start, the speed ramped as the interpolator does (v/(N + 1) a
     // sample): its first sample one advance past the start.
     ArcRun rest = ArcRun::constant(1.0, endless, v, period_s_, 1.0, window);
@@ -147,7 +170,9 @@ ArcEndRows::Knots ArcEndRows::fit(std::size_t rate, Way way) const {
           v * std::clamp(static_cast<double>(i - rest.first + 1) / window, 0.0, 1.0);
     add(std::move(rest));
   }
-  const std::vector<double> u = fitter.fit_shared(runs, models, kMu);
+  const std::vector<double> u = fitter.fit_shared(
+      runs, models, kMu,
+      way == Way::MovingDistance ? ArcEndMeasure::Distance : ArcEndMeasure::FromMean);
   Knots k{};
   for (std::size_t q = 0; q < kInner; ++q) {
     k[q] = u[q];
@@ -181,7 +206,8 @@ ArcEndRows::RateKnots ArcEndRows::rate_knots(double x, Way way) const {
   std::size_t j = 0;
   while (j + 2 < kRateKnots.size() && kRateKnots[j + 1] <= r) ++j;
   const double f = std::clamp((r - kRateKnots[j]) / (kRateKnots[j + 1] - kRateKnots[j]), 0.0, 1.0);
-  return {&knots(j, way), &knots(j + 1, way), f};
+  return {&knots(j, way), &knots(j + 1, way), f, kRateKnots[j] * limit_x_,
+          kRateKnots[j + 1] * limit_x_};
 }
 
 double ArcEndRows::largest_deviation(double x, Way way) const {
@@ -194,10 +220,18 @@ double ArcEndRows::largest_deviation(double x, Way way) const {
   double worst = 0.0;
   for (std::size_t q = 0; q < kInner; ++q) {
     const double rad = lo[q] + f * (hi[q] - lo[q]);
-    const double along = lo[kInner + q] + f * (hi[kInner + q] - lo[kInner + q]);
-    worst = std::max(worst, std::abs(rad - 1.0) + std::abs(along));
+    worst = std::max(worst, std::abs(rad - 1.0) + std::abs(along_at(k, kInner + q, way)));
   }
   return worst;
+}
+
+double ArcEndRows::along_at(const RateKnots& k, std::size_t i, Way way) {
+  const Knots &lo = *k.lo, &hi = *k.hi;
+  if (way != Way::MovingDistance) return lo[i] + k.f * (hi[i] - lo[i]);
+  // The distance's along knots go about as 1/x (its drift along the path, in samples' advances,
+  // changes little with the rate): read linearly in along·x.
+  return (lo[i] * k.x_lo + k.f * (hi[i] * k.x_hi - lo[i] * k.x_lo)) /
+         (k.x_lo + k.f * (k.x_hi - k.x_lo));
 }
 
 ArcEndRows::Shape ArcEndRows::at(double u, double x, Way way) const {
@@ -211,7 +245,7 @@ ArcEndRows::Shape ArcEndRows::at(double u, double x, Way way) const {
   const auto knot = [&](std::size_t i) { return lo[i] + f * (hi[i] - lo[i]); };
   Shape s{fixed, 0.0};
   for (std::size_t q = 0; q < kInner; ++q) {
-    const double rad = knot(q), along = knot(kInner + q);
+    const double rad = knot(q), along = along_at(k, kInner + q, way);
     s.radial += hat[q] * rad;
     s.along += hat[q] * along;
   }

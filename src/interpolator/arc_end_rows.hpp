@@ -19,9 +19,9 @@ namespace gm {
 /// correction at its in-plane advance x·r. radial and along are piecewise linear in u with
 /// knots at u = 1 .. kSpan − 1, (0, 0) at u = 0 and the steady (1, 0) from u = kSpan on; the
 /// knot values depend on x (linear between rate knots at fractions of the rule's limit,
-/// clamped). Where both ends reach a sample their deviations from the steady offset add. Two
+/// clamped). Where both ends reach a sample their deviations from the steady offset add. Three
 /// sets: Way::Moving for a start and an end the command moves on from, Way::Stopping for an
-/// end where it stops on the end point.
+/// end where it stops on the end point, Way::MovingDistance for a moving end of a private arc.
 ///
 /// The knot values are fitted (ArcEndFit::fit_shared) on endless arcs at constant rate for the
 /// least worst |y − x(s̄)| of the Acc/Dec output (the measure the tolerance planner adds up over
@@ -33,7 +33,11 @@ namespace gm {
 /// interpolator's ramp;
 /// Stopping with the command held on the join, which is a stop seen backwards. Each leaves
 /// about 9–13 % of the steady loss r(1 − A) where the radial blend leaves 16–29 %
-/// (docs/tolerance-arc-ends.md, "End rows").
+/// (docs/tolerance-arc-ends.md, "End rows"). MovingDistance: Moving's runs and the speed ramped
+/// through positions on the line before the join, fitted for the least worst distance from the
+/// path (the output may run ahead of or behind s̄): 5–6.5 % of the loss by the distance, where
+/// Moving's leave 9–12 % (docs/tolerance-arc-ends.md, "Private arcs"); fitted only once a
+/// private arc asks for one.
 class ArcEndRows {
  public:
   static constexpr int kSpan = 4;
@@ -48,7 +52,11 @@ class ArcEndRows {
   struct Shape {
     double radial = 1.0, along = 0.0;
   };
-  enum class Way { Moving, Stopping };
+  /// MovingDistance: Moving's runs, fitted for the least worst distance from the path instead
+  /// (the output may run ahead of or behind s̄ near the join); its along knots are read
+  /// linearly in along·x between the rate knots (they go about as 1/x).
+  enum class Way { Moving, Stopping, MovingDistance };
+  static constexpr std::size_t kWays = 3;
 
   ArcEndRows() = default;  ///< empty: the steady offset everywhere
   ArcEndRows(const ArcEndRows&) = delete;
@@ -86,8 +94,11 @@ class ArcEndRows {
   struct RateKnots {
     const Knots *lo, *hi;
     double f;
+    double x_lo, x_hi;  ///< the two knots' rates
   };
   RateKnots rate_knots(double x, Way way) const;
+  /// The along knot i (kInner..) of `way` between k's rate knots.
+  static double along_at(const RateKnots& k, std::size_t i, Way way);
   /// The set of rate knot `rate` and `way`, fitted on the first request (thread-safe).
   const Knots& knots(std::size_t rate, Way way) const;
   Knots fit(std::size_t rate, Way way) const;  ///< that set's fit
@@ -102,12 +113,13 @@ class ArcEndRows {
     std::atomic<int> state{kNotBegun};
     Knots k{};  ///< written before state becomes kDone (release), read after (acquire)
   };
-  mutable std::array<std::array<Lazy, 2>, kRateKnots.size()> lazy_;  ///< [rate][way]
+  mutable std::array<std::array<Lazy, kWays>, kRateKnots.size()> lazy_;  ///< [rate][way]
   mutable std::mutex done_lock_;
   mutable std::condition_variable done_;  ///< a set became kDone
   mutable std::once_flag rest_started_;
   mutable std::atomic<bool> stop_{false};
-  mutable std::thread rest_;  ///< fit_the_rest, joined by the destructor
+  mutable std::atomic<bool> distance_wanted_{false};  ///< a MovingDistance set was asked for
+  mutable std::thread rest_;                          ///< fit_the_rest, joined by the destructor
 };
 
 }  // namespace gm
