@@ -74,6 +74,8 @@ bool Interpolator::pull_next() {
                                                       : units::mm_min_to_mm_s(block_.feed_mm_min);
       speed_cap_mm_s_ = block_.speed_cap_mm_s > 0.0 ? block_.speed_cap_mm_s
                                                     : std::numeric_limits<double>::infinity();
+      override_ramp_mm_s_ = block_.override_ramp_mm_s;
+      if (!(override_ramp_mm_s_ > 0.0)) override_ramping_ = false;
       comp_block_ = cfg_.arc_comp.enabled() && block_.kind == MotionKind::Arc &&
                     block_.comp_speed_mm_s > 0.0 && geom_.length_mm > 0.0;
       if (comp_block_) {
@@ -85,6 +87,7 @@ bool Interpolator::pull_next() {
         comp_blend_mm_ = cfg_.arc_comp.blend_length_mm(comp_length_mm_, block_.comp_speed_mm_s);
         comp_rows_ = cfg_.arc_comp.rows_weight(comp_length_mm_, block_.comp_speed_mm_s);
         comp_stops_ = block_.comp_stops_at_end;
+        comp_private_ = block_.comp_private;
         if (comp_from_mm_ == 0.0) {
           comp_since_first_ = -1;
           comp_tail_scale_ = 0.0;
@@ -170,7 +173,8 @@ void Interpolator::apply_arc_comp(double v, double target) {
                                                       comp_speed_step_, comp_cap_mm_s_);
   const ArcCompensation::Offset off = cfg_.arc_comp.offset(
       r, advance * comp_rad_per_mm_, comp_since_first_ + comp_phase_in_, to_end, comp_rows_,
-      ArcCompensation::blend(s_arc, comp_length_mm_, comp_blend_mm_), comp_stops_);
+      ArcCompensation::blend(s_arc, comp_length_mm_, comp_blend_mm_), comp_stops_, comp_private_,
+      comp_private_);
   // Outward (da, db)/r; along the motion (−db, da)/r counter-clockwise, (db, −da)/r clockwise.
   const double along = geom_.sweep_rad > 0.0 ? off.along_mm : -off.along_mm;
   pos_mm_[a] += (off.radial_mm * da - along * db) / r;
@@ -235,9 +239,10 @@ InterpStatus Interpolator::step_n(const OverrideInput& ovr, CommandSample& out) 
     const double target = block_speed_mm_s(ovr);
     if (comp_block_ || comp_tail_left_ > 0)
       comp_tail_scale_ = std::max(comp_tail_scale_, ovr.feed_scale);
-    const double v = comp_block_           ? comp_ramped_speed(target)
-                     : comp_tail_left_ > 0 ? comp_tail_speed(target)
-                                           : target;
+    const double v = comp_block_                 ? comp_ramped_speed(target)
+                     : override_ramp_mm_s_ > 0.0 ? override_ramped_speed(target)
+                     : comp_tail_left_ > 0       ? comp_tail_speed(target)
+                                                 : target;
     sample_speed = v;
     if (!(v > 0.0)) {
       if (geom_.length_mm <= 0.0) {  // zero-length move: done, no time spent
@@ -303,7 +308,8 @@ int Interpolator::span_n(const OverrideInput& ovr, int max, BluColumns& out, int
   // What step_n does in a sample that starts and ends inside the current motion: nothing waits,
   // nothing is pulled, the speed does not depend on the position or on the spindle's ramp.
   if (finished_ || settle_left_ > 0 || dwell_left_s_ > 0.0 || !in_motion_ || pending_events_ != 0 ||
-      spindle_ramp_block_ || css_block_ || comp_block_ || comp_tail_left_ > 0)
+      spindle_ramp_block_ || css_block_ || comp_block_ || comp_tail_left_ > 0 ||
+      override_ramp_mm_s_ > 0.0)
     return 0;
   if (cfg_.spindle_accel_rpm_s > 0.0 &&
       (spindle_rpm_ != spindle_target_rpm() || block_.css_surface_mm_min > 0.0))

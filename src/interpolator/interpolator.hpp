@@ -148,6 +148,7 @@ class Interpolator {
   double comp_blend_mm_ = 0.0;    ///< the radial blend's length at each end
   double comp_rows_ = 0.0;        ///< the end rows' weight against the blend (rows_weight)
   bool comp_stops_ = false;       ///< the arc's command stops on its end point
+  bool comp_private_ = false;     ///< its moving ends take the distance rows (Motion::comp_private)
   int comp_since_first_ = -1;     ///< samples on the arc since its first (−1: none yet)
   double comp_phase_in_ = 0.0;    ///< how far past the start the first lay, of its advance
   double comp_rad_per_mm_ = 0.0;  ///< in-plane angle per path length, |sweep| / L
@@ -186,6 +187,26 @@ class Interpolator {
     const double slowest = std::min(last_speed_mm_s_ - comp_speed_step_,
                                     std::min(speed_cap_mm_s_, speed_100_mm_s_ * comp_tail_scale_));
     return std::max(target, slowest);
+  }
+  /// A line before a private arc (Motion::override_ramp_mm_s): a fall of the speed below the
+  /// block's cap (the override's: the planner caps such lines at the arc's speed) takes at most
+  /// that step a sample, as the arc's ramp does, and so does the rise back after it (the arc's
+  /// rows for the distance are fitted for such speeds); a fall to the cap, and a rise the
+  /// program or the plan asks for, at once.
+  double override_ramp_mm_s_ = 0.0;
+  bool override_ramping_ = false;  ///< a fall was ramped: the rise back is ramped too
+  double override_ramped_speed(double target) {
+    if (rapid_block_ || synced_block_ || css_block_ || spindle_ramp_block_) return target;
+    const double step = override_ramp_mm_s_, last = last_speed_mm_s_;
+    if (target < last) {
+      const double v = std::max(target, std::min(last - step, speed_cap_mm_s_));
+      if (v < speed_cap_mm_s_) override_ramping_ = true;
+      return v;
+    }
+    if (!override_ramping_) return target;
+    const double v = std::min(target, last + step);
+    if (v == target) override_ramping_ = false;
+    return v;
   }
   /// Moves pos_mm_ (on the arc at s_mm_) by the correction for speed v, radial and (at the
   /// arc's ends) along the path; `target` the speed the arc's ramp is heading for.

@@ -114,6 +114,11 @@ struct Machine {
   /// path, no tolerance) are commanded pre-compensated at their feed too, not slowed, so that
   /// their steady part lies on R instead of inside it (docs/tolerance.md, "G61: exact path").
   bool g61_arc_precompensation = false;
+  /// Machine key private_arcs ("on", the default, or "off"): a pre-compensated arc with nothing
+  /// else within its filter's reach but near-tangent corners takes end rows fitted for the
+  /// distance from the path and is planned by that distance (docs/tolerance-arc-ends.md,
+  /// "Private arcs"); "off": every arc as one that shares its windows.
+  bool private_arcs = true;
   /// Machine key servo_matching ("on", the default, or "off"): with tolerance_on = encoder and
   /// the servo on, X, Y and Z servos that differ have their references shaped to respond as the
   /// planned chain's servo does (planner/servo_response's design_servo_match; docs/tolerance.md,

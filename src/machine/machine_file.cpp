@@ -372,6 +372,7 @@ void read_run_keys(Reader& r, const toml::table& root, Machine& m) {
   }
   read_on_off(r, root, "arc_precompensation", m.arc_precompensation);
   read_on_off(r, root, "g61_arc_precompensation", m.g61_arc_precompensation);
+  read_on_off(r, root, "private_arcs", m.private_arcs);
   read_on_off(r, root, "servo_matching", m.servo_matching);
 }
 
@@ -500,6 +501,7 @@ std::string toml_top_keys(const Machine& m) {
   if (m.tolerance_on == ToleranceOn::Encoder) s += "tolerance_on = \"encoder\"\n";
   if (!m.arc_precompensation) s += "arc_precompensation = \"off\"\n";
   if (m.g61_arc_precompensation) s += "g61_arc_precompensation = \"on\"\n";
+  if (!m.private_arcs) s += "private_arcs = \"off\"\n";
   if (!m.servo_matching) s += "servo_matching = \"off\"\n";
   if (!m.subroutine_path.empty()) {
     std::string dirs;

@@ -88,6 +88,14 @@ struct Motion {
   /// stop or the program's end follows) or nearly (the next block crawls at under a tenth of
   /// the arc's speed), so its end takes the rows for a stop.
   bool comp_stops_at_end = false;
+  /// Pre-compensated arcs the planner found private (nothing else within its filter's reach:
+  /// TolerancePlanner::arc_is_private): its moving ends take the end rows fitted for the
+  /// distance from the path (ArcEndRows::Way::MovingDistance).
+  bool comp_private = false;
+  /// The lines within a window before a private arc (comp_private): a change of the feed
+  /// override takes at most this change of speed per sample (the arc's ramp), mm/s, instead of
+  /// acting at once; 0 = at once. The arc's rows for the distance hold for such speeds only.
+  double override_ramp_mm_s = 0.0;
   /// Pre-compensated arcs cut at zone boundaries into pieces of the same centre: how far this
   /// piece starts from the whole arc's start and the whole arc's length, mm of path (length 0:
   /// the piece is the whole arc). The correction, its end rows and its ramp are the whole arc's.

@@ -63,6 +63,7 @@ std::unique_ptr<TolerancePlanner> make_planner(RunConfig& run, CanonSource& sour
   c.rounding_mm = m.xyz_blu_mm().norm() + chain.extra_margin_mm;
   c.precompensate_arcs = m.arc_precompensation;
   c.precompensate_g61_arcs = m.g61_arc_precompensation;
+  c.private_arcs = m.private_arcs;
   return std::make_unique<TolerancePlanner>(moments, c, source);
 }
 

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <numbers>
 #include <utility>
 
 namespace gm {
@@ -79,7 +80,7 @@ ArcPrecompCheck::ArcPrecompCheck(const std::vector<double>& weights, double peri
   fork_ring_.resize(ring_.size());
   fork_ring_p_.resize(ring_p_.size());
   cache_.resize(kCacheSlots);
-  knot_factor_.fill(std::numeric_limits<double>::quiet_NaN());
+  for (auto& f : knot_factor_) f.fill(std::numeric_limits<double>::quiet_NaN());
   nonnegative_ = std::all_of(h_.begin(), h_.end(), [](double h) { return h >= 0.0; });
   double mean = 0.0, second = 0.0;
   for (std::size_t i = 0; i < h_.size(); ++i) {
@@ -99,8 +100,8 @@ double ArcPrecompCheck::spiral_mm(double r_min, double r_max, double sweep_abs_r
   const double M = v_plan * period_s_ * spread_;
   const double U = v_plan * v_plan * variance_s2_ / (2.0 * r);
   const double omega = v_plan * sweep_abs_rad / L;
-  const double offset =
-      rule_.correction_mm(r_max, omega) * rule_.largest_offset_factor(omega * period_s_);
+  const double offset = rule_.correction_mm(r_max, omega) *
+                        rule_.largest_offset_factor(omega * period_s_, distance_rows());
   return dr * (M / (2.0 * r) + M / L + (circle_mm + U) / (2.0 * r) + M * offset / (L * r));
 }
 
@@ -119,10 +120,11 @@ double ArcPrecompCheck::offset_mismatch_cap_mm(double radius_mm, double sweep_ab
   // K at the knots up to the first at or past x (beyond the last, clamped to it).
   const double limit = rule_.limit_omega_t();
   double K = 0.0;
-  for (std::size_t j = 0; j < knot_factor_.size(); ++j) {
-    if (std::isnan(knot_factor_[j]))
-      knot_factor_[j] = rule_.largest_offset_factor(ArcEndRows::kRateKnots[j] * limit);
-    K = std::max(K, knot_factor_[j]);
+  auto& factors = knot_factor_[distance_rows() ? 1 : 0];
+  for (std::size_t j = 0; j < factors.size(); ++j) {
+    if (std::isnan(factors[j]))
+      factors[j] = rule_.largest_offset_factor(ArcEndRows::kRateKnots[j] * limit, distance_rows());
+    K = std::max(K, factors[j]);
     if (ArcEndRows::kRateKnots[j] * limit >= x) break;
   }
   const double with_rows =
@@ -167,7 +169,8 @@ double ArcPrecompCheck::offset_mismatch_mm(double radius_mm, double sweep_abs_ra
     if (knot * rule_.limit_omega_t() < x) at[n++] = knot * rule_.limit_omega_t();
   std::sort(at.begin(), at.begin() + static_cast<std::ptrdiff_t>(n));
   for (std::size_t k = 0; k < n; ++k) {
-    const double K = rule_.largest_offset_factor(at[k]), c = std::abs(c_at(at[k] / rate));
+    const double K = rule_.largest_offset_factor(at[k], distance_rows()),
+                 c = std::abs(c_at(at[k] / rate));
     Kc = std::max(Kc, std::max(K, K_last) * std::max(c, c_last));
     K_last = K, c_last = c;
   }
@@ -225,7 +228,35 @@ void ArcPrecompCheck::batch_outputs(std::size_t head, std::array<Eigen::Vector2d
   for (std::size_t j = 0; j < kBatch; ++j) y[j] = Eigen::Vector2d(xy[2 * j], xy[2 * j + 1]);
 }
 
+double ArcPrecompCheck::path_distance(const Eigen::Vector2d& y) const {
+  // The line before: (p, 0) for p <= 0; from rest, only the start point (the path before a
+  // stop at the arc's start may turn there).
+  double d = y.x() <= 0.0 && !rest_start_ ? std::abs(y.y()) : y.norm();
+  // The arc, centre (0, r), from the origin counter-clockwise through lp_/r_ (whole turns and
+  // more: every angle).
+  const double th = lp_ / r_, rho = std::hypot(y.x(), y.y() - r_);
+  double at = std::atan2(y.y() - r_, y.x()) + 0.5 * std::numbers::pi;  // 0 at the start
+  if (at < 0.0) at += 2.0 * std::numbers::pi;
+  if (at <= th) d = std::min(d, std::abs(rho - r_));
+  // The line after, from the end point along the end's direction; stopping there, only the end
+  // point.
+  const Eigen::Vector2d e(end_sin_r_, end_1mcos_r_), u(end_cos_, end_sin_);
+  const Eigen::Vector2d w = y - e;
+  const double along = w.dot(u);
+  d = std::min(d, along >= 0.0 && !stops_ ? std::abs(w.x() * u.y() - w.y() * u.x()) : w.norm());
+  return d;
+}
+
 void ArcPrecompCheck::judge(SimState& s, const Eigen::Vector2d& y, double pbar) const {
+  if (judging_ == Judging::Private) {
+    const double d = path_distance(y);
+    if (d > s.worst) {
+      s.worst = d;
+      s.worst2 = d * d;
+      if (over(d)) stopped_ = true;
+    }
+    return;
+  }
   // The square first: sqrt is monotone, so only a square above the worst's can give a
   // distance above it (the same worst, bit for bit, as comparing every distance).
   const double d2 = (y - point(pbar)).squaredNorm();
@@ -278,9 +309,9 @@ void ArcPrecompCheck::push_sample(SimState& s) const {
       ++s.since_first;
     }
     const double to_end = rule_.advances_to_end((lp_ - s.p) / q_, s.v, v_, dv_, vplan_);
-    const ArcCompensation::Offset off =
-        rule_.offset(r_, advance / r_, s.since_first + s.phase_in, to_end, rows_,
-                     ArcCompensation::blend(s.p / q_, len_, blend_), stops_);
+    const ArcCompensation::Offset off = rule_.offset(
+        r_, advance / r_, s.since_first + s.phase_in, to_end, rows_,
+        ArcCompensation::blend(s.p / q_, len_, blend_), stops_, distance_rows(), distance_rows());
     x += off.radial_mm * Eigen::Vector2d(sn, -cs) + off.along_mm * Eigen::Vector2d(cs, sn);
   } else {
     x = point(s.p);
@@ -308,6 +339,7 @@ double ArcPrecompCheck::run_segment(double p_from, double p_to, double phase, St
   s.rest = start == Start::FromRest ? n : 0;
   const bool stop = end == End::Stop, both = end == End::Both;
   stops_ = stop;  // the end rows for a stop (push_sample)
+  rest_start_ = start == Start::FromRest;
   std::size_t at_end = 0;
   SimState fork;
   bool forked = false;
@@ -543,7 +575,9 @@ double ArcPrecompCheck::steady_arc_mm(double radius_mm, double sweep_abs_rad, do
     Eigen::Vector2d y;
     double pbar;
     window_output(head, y, pbar);
-    worst = std::max(worst, (y - on_circle(pbar, r)).norm());
+    worst =
+        std::max(worst, judging_ == Judging::Private ? std::abs(std::hypot(y.x(), y.y() - r) - r)
+                                                     : (y - on_circle(pbar, r)).norm());
   }
   return worst;
 }
@@ -610,8 +644,8 @@ double ArcPrecompCheck::error_mm(double radius_mm, double sweep_abs_rad, double 
 bool ArcPrecompCheck::error_within(double radius_mm, double sweep_abs_rad, double length_mm,
                                    double v_plan, double scale, double share) const {
   Cached& e = cache_[cache_slot(radius_mm, sweep_abs_rad, length_mm, v_plan)];
-  const bool hit =
-      e.r == radius_mm && e.sweep == sweep_abs_rad && e.len == length_mm && e.v == v_plan;
+  const bool hit = e.r == radius_mm && e.sweep == sweep_abs_rad && e.len == length_mm &&
+                   e.v == v_plan && e.judging == judging_;
   // error_mm = max(0, isolated at v_p, at 0.6·v_p) + ramp; every partial maximum is a lower
   // bound of it, and (x + ramp)·scale grows with x in floating point too.
   if (hit && (e.exact || (e.iso + e.ramp) * scale > share))
@@ -636,7 +670,7 @@ bool ArcPrecompCheck::error_within(double radius_mm, double sweep_abs_rad, doubl
   stop_scale_ = 1.0;
   stop_share_ = std::numeric_limits<double>::infinity();
   stopped_ = false;
-  e = Cached{radius_mm, sweep_abs_rad, length_mm, v_plan, ramp, worst, exact};
+  e = Cached{radius_mm, sweep_abs_rad, length_mm, v_plan, ramp, worst, exact, judging_};
   return exact && (worst + ramp) * scale <= share;
 }
 

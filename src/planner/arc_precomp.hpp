@@ -34,6 +34,31 @@ class ArcPrecompCheck {
                   double near_s = 0.0, bool end_rows = true);
 
   bool enabled() const { return rule_.enabled(); }
+  /// How the check commands and judges an arc. Shared: the end rows fitted for |y − x(s̄)|,
+  /// judged so (what adds up over a path's elements: the planner's sharing). Private: an arc
+  /// whose windows hold nothing else (the tolerance planner's arc_privacy: no other element
+  /// within its reach but near-tangent corners): its moving ends take the rows fitted for the
+  /// distance (ArcEndRows::Way::MovingDistance) and every output is judged by its distance from
+  /// the path (the line before, the arc, the line after); in such a window the output's error
+  /// is the arc's alone and the path near it the simulated one. PrivateDrift: the same command
+  /// judged by |y − x(s̄)|, which bounds what a near-tangent corner beside a private arc turns
+  /// into distance (docs/tolerance-arc-ends.md, "Private arcs").
+  enum class Judging { Shared, Private, PrivateDrift };
+  /// While one lives, the check judges as `how`.
+  class Judged {
+   public:
+    Judged(const ArcPrecompCheck& check, Judging how) : check_(check), was_(check.judging_) {
+      check_.judging_ = how;
+    }
+    Judged(const Judged&) = delete;
+    Judged& operator=(const Judged&) = delete;
+    ~Judged() { check_.judging_ = was_; }
+
+   private:
+    const ArcPrecompCheck& check_;
+    Judging was_;
+  };
+  Judging judging() const { return judging_; }
   /// The lines' speed beside an arc planned at v_p is at most line_ratio()·v_p (0: v_p).
   double line_ratio() const { return line_ratio_; }
   /// ... but at most v_p over near_s()·v_p of path next to the arc.
@@ -180,6 +205,11 @@ class ArcPrecompCheck {
                      std::array<double, kBatch>& pbar) const;
   /// The output's distance from the path into s.worst (and the early stop).
   void judge(SimState& s, const Eigen::Vector2d& y, double pbar) const;
+  /// The moving ends take the rows fitted for the distance (Private, PrivateDrift).
+  bool distance_rows() const { return judging_ != Judging::Shared; }
+  /// The distance of y from the isolated path (the line before, the arc, the line after; from
+  /// rest without the line before, stopping without the line after: a full stop may turn there).
+  double path_distance(const Eigen::Vector2d& y) const;
   /// Judges the pending outputs, if any.
   void flush(SimState& s) const;
 
@@ -198,6 +228,8 @@ class ArcPrecompCheck {
   /// The end's direction (sin, cos of lp_/r_) and point, for point() past the arc (set_arc).
   mutable double end_sin_ = 0, end_cos_ = 1, end_sin_r_ = 0, end_1mcos_r_ = 0;
   mutable bool stops_ = false;  ///< the run stops on the arc's end point: its end rows for a stop
+  mutable Judging judging_ = Judging::Shared;  ///< Judged
+  mutable bool rest_start_ = false;  ///< run_segment's run starts from rest (path_distance)
   /// stepped_mm: the arc's cap, the lines' speed and the in-plane stretch beside the arc at v.
   mutable double vplan_ = 0, vline_ = 0, near_p_ = 0;
   double line_ratio_ = 0.0, near_s_ = 0.0;
@@ -216,10 +248,12 @@ class ArcPrecompCheck {
   struct Cached {
     double r = -1, sweep = 0, len = 0, v = 0, ramp = 0, iso = 0;
     bool exact = false;
+    Judging judging = Judging::Shared;
   };
   mutable std::vector<Cached> cache_;
   /// largest_offset_factor at each rate knot (NaN: not yet computed): offset_mismatch_cap_mm.
-  mutable std::array<double, ArcEndRows::kRateKnots.size()> knot_factor_{};
+  /// (The shared rows', then the distance's: distance_rows().)
+  mutable std::array<std::array<double, ArcEndRows::kRateKnots.size()>, 2> knot_factor_{};
 };
 
 }  // namespace gm

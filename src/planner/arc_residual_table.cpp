@@ -8,8 +8,8 @@
 
 namespace gm {
 
-ArcResidualTable::ArcResidualTable(const ArcPrecompCheck& check)
-    : period_s_(check.rule().period_s()) {
+ArcResidualTable::ArcResidualTable(const ArcPrecompCheck& check, ArcPrecompCheck::Judging judging)
+    : period_s_(check.rule().period_s()), judging_(judging) {
   if (!check.enabled()) return;
   const double log_step = std::log(kStep);
   inv_log_step_ = 1.0 / log_step;
@@ -26,7 +26,10 @@ ArcResidualTable::ArcResidualTable(const ArcPrecompCheck& check)
 
 double ArcResidualTable::row_ramp(const ArcPrecompCheck& check, std::size_t k, double x) const {
   double& ramp = ramp_[k];
-  if (std::isnan(ramp)) ramp = check.ramp_mm(1.0, 1.0, 1.0, x / period_s_);
+  if (std::isnan(ramp)) {
+    const ArcPrecompCheck::Judged judged(check, judging_);
+    ramp = check.ramp_mm(1.0, 1.0, 1.0, x / period_s_);
+  }
   return ramp;
 }
 
@@ -44,6 +47,7 @@ double ArcResidualTable::log_g(const ArcPrecompCheck& check, std::size_t k, std:
     const double x = x0_ * std::pow(kStep, static_cast<double>(k));
     const double th = kMinSweep * std::pow(kStep, static_cast<double>(j));
     // error_mm(1, θ, θ, x/T), its ramp term kept per row.
+    const ArcPrecompCheck::Judged judged(check, judging_);
     const double e = check.isolated_worst_mm(1.0, th, th, x / period_s_) + row_ramp(check, k, x);
     g = std::log(std::max(e, 1e-300) / (x * x));
     ++filled_;
@@ -55,6 +59,7 @@ double ArcResidualTable::log_ramps(const ArcPrecompCheck& check, std::size_t k) 
   double& g = log_ramps_[k];
   if (std::isnan(g)) {
     const double x = x0_ * std::pow(kStep, static_cast<double>(k));
+    const ArcPrecompCheck::Judged judged(check, judging_);
     g = std::log(std::max(check.ramps_mm(1.0, 1.0, 1.0, x / period_s_), 1e-300) / (x * x));
     ++filled_;
   }

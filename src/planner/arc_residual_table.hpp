@@ -35,7 +35,10 @@ class ArcResidualTable {
   static constexpr double kRateRange = 4096.0;  ///< the grid's x from limit/kRateRange
   static constexpr double kMinSamples = 0.5;    ///< the arc at least this many samples long
 
-  explicit ArcResidualTable(const ArcPrecompCheck& check);
+  /// `judging`: how the check judges the arcs of this table (ArcPrecompCheck::Judging), its
+  /// nodes simulated so.
+  explicit ArcResidualTable(const ArcPrecompCheck& check,
+                            ArcPrecompCheck::Judging judging = ArcPrecompCheck::Judging::Shared);
   /// Whether error_bound_mm covers this arc at this speed.
   bool covers(double sweep_abs_rad, double length_mm, double v_plan) const;
   /// r·E(x, |θ|)·(1 + kMargin) by the table (covers() must hold), mm; `check` (the one the
@@ -66,6 +69,7 @@ class ArcResidualTable {
   /// The grid's position of rate x: fractional index, clamped to the grid.
   double rate_index(double x) const;
   double period_s_ = 0;
+  ArcPrecompCheck::Judging judging_ = ArcPrecompCheck::Judging::Shared;
   double x0_ = 0, x_top_ = 0, th_top_ = 0, inv_log_step_ = 0;
   std::size_t nx_ = 0, nth_ = 0;
   mutable std::vector<double> log_g_;      ///< nx_·nth_, NaN until simulated

@@ -25,8 +25,11 @@ TolerancePlanner::TolerancePlanner(const FilterMoments& filter, const PlannerCon
     precomp_.emplace(filter_.weights(), filter_.period_s());
     if (!precomp_->enabled())
       precomp_.reset();
-    else
+    else {
       residual_.emplace(*precomp_);
+      residual_private_.emplace(*precomp_, ArcPrecompCheck::Judging::Private);
+      residual_drift_.emplace(*precomp_, ArcPrecompCheck::Judging::PrivateDrift);
+    }
   }
 }
 
@@ -378,8 +381,12 @@ void TolerancePlanner::emit_front() {
     // judged at its last piece's v_p.
     chain_stops_ = comp_stops_after(*last, chain_pieces_.back().plan_or(comp_v));
   }
-  emit_pieces(b, comp_v, chain);
+  const std::size_t first_piece = ready_.size();
+  emit_pieces(b, comp_v, chain, own != nullptr && own->comp_private && comp_v > 0.0);
   const std::size_t last_piece = ready_.size() - 1;
+  if (const double ramp = override_ramp_before(b); ramp > 0.0)
+    for (std::size_t i = first_piece; i <= last_piece; ++i)
+      std::get<Motion>(ready_[i].canon).override_ramp_mm_s = ramp;
   for (const Element& e : elems_)
     if (e.kind != ElementKind::Arc && e.seq == b.seq && e.pause > e.pause0 + 1e-12)
       make_ready(Dwell{b.m.line, e.pause - e.pause0});
@@ -399,6 +406,20 @@ void TolerancePlanner::emit_front() {
     --decided_count_;
     if (decided_prefix_ > 0) --decided_prefix_;
   }
+}
+
+double TolerancePlanner::override_ramp_before(const Block& b) const {
+  // The first private arc starting within its reach (v_p·τ) after b's end, b a line.
+  if (b.m.kind != MotionKind::Line || !precomp_) return 0.0;
+  const double tau = filter_.tau_s();
+  for (const Element& e : elems_) {
+    if (e.s0 < b.s1 - 1e-9) continue;
+    if (e.kind == ElementKind::Arc && e.comp_private && e.comp_speed > 0.0 &&
+        e.s0 - b.s1 <= e.comp_speed * tau + 1e-9)
+      return precomp_->rule().speed_step_mm_s(e.comp_speed);
+    if (e.s0 > b.s1 + e.vmax * tau) break;  // (in path order)
+  }
+  return 0.0;
 }
 
 double TolerancePlanner::exact_path_comp_speed(const Block& b) const {

@@ -56,6 +56,9 @@ struct PlannerConfig {
   /// G61 arcs (exact path, no tolerance) pre-compensated at their fastest speed, not slowed and
   /// not checked (TolerancePlanner::exact_path_comp_speed): g61_arc_precompensation (off).
   bool precompensate_g61_arcs = false;
+  /// Pre-compensated arcs with nothing else within their filter's reach (arc_privacy) take the
+  /// rows fitted for the distance and are planned by it: private_arcs (on).
+  bool private_arcs = false;
 };
 
 /// Reads canon from `upstream` (through NaiveCamMerger: G64 Q) and hands on the same program with,
@@ -206,10 +209,11 @@ class TolerancePlanner : public CanonSource {
     /// sides of it: it parts the elements before it from those after (tolerance_near).
     bool stopped = false;
     // Arc: for pre-compensation (arc_precomp.hpp).
-    double radius = 0;      ///< Arc: radius, mm (0: not a circle, never compensated)
-    double spiral = 0;      ///< Arc: how far its radius runs below `radius` (a near circle), mm
-    double sweep = 0;       ///< Arc: |θ|, rad
-    double comp_speed = 0;  ///< Arc: > 0 when compensated, the speed it was planned for, mm/s
+    double radius = 0;          ///< Arc: radius, mm (0: not a circle, never compensated)
+    double spiral = 0;          ///< Arc: how far its radius runs below `radius` (a near circle), mm
+    double sweep = 0;           ///< Arc: |θ|, rad
+    double comp_speed = 0;      ///< Arc: > 0 when compensated, the speed it was planned for, mm/s
+    bool comp_private = false;  ///< Arc: compensated as a private arc (arc_is_private)
     /// A near-tangent corner (|Δu| <= kClaimTurn) may take its error as a claim instead of a
     /// share (assign_claims): claim = v·D(pause0)·|Δu|, no pause; v its fastest speed or its
     /// speed at 100 % feed (claim_cap: its zone capped there either way).
@@ -299,8 +303,11 @@ class TolerancePlanner : public CanonSource {
   /// cap) or less when compensating is no faster.
   /// An arc's ends may be slower than its middle: `ends` (when not null) then gets their caps
   /// and errs (caps infinite: one speed).
+  /// `private_arc` (when not null): whether the speed returned is a private arc's
+  /// (arc_is_private at it), commanded with the distance rows.
   double precomp_arc_speed(const Element& e, double share, double floor, double& err,
-                           std::array<Element::EndCap, 2>* ends = nullptr) const;
+                           std::array<Element::EndCap, 2>* ends = nullptr,
+                           bool* private_arc = nullptr) const;
   /// An arc (a chain, or one block) planned at one speed v_one whose middle alone could run
   /// faster (up to vlim; `fits` the check of an end, `fits_middle(v, allotment, exact)` of the
   /// middle, by the table or simulated): the middle's speed, its ends' caps in `ends` and the
@@ -430,6 +437,27 @@ class TolerancePlanner : public CanonSource {
   /// with e is overlapped by the window then (docs/tolerance.md, "Sharing a window"). Of the
   /// undecided ones (as range_weight counts them) and of all.
   WindowWeights window_weights(const ZoneMemo& z, const Element& e, double span) const;
+  /// Arc e at speed v, private or not (arc_privacy), and the turns its drift meets.
+  struct Privacy {
+    bool on = false;
+    double turns = 0.0;  ///< Σ|Δu| of the near-tangent corners within reach, and a near circle's
+  };
+  /// Whether arc e (planar, a circle or near circle, symmetric weights) at speed v is private:
+  /// within v·τ of travel of its ends (its zone at that speed, `z`) no other arc and no run, and
+  /// every block that near a line with a tolerance, still to be emitted, whose joins turn by at
+  /// most kPrivateTurn each and kPrivateTurns in all (full stops at its own ends aside). Its cap
+  /// holds the lines at v within v·τ, so its windows hold its samples, its lines' and the
+  /// corners' only: the output is the arc's error plus the corners' (their own terms, shared),
+  /// and the path near it the simulated one turned by at most those corners, which turns the
+  /// arc's drift along its lines by at most kDriftTurnFactor·turns·(its |y − x(s̄)|) into
+  /// distance (ArcPrecompCheck::Judging::Private, docs/tolerance-arc-ends.md, "Private arcs").
+  Privacy arc_privacy(const Element& e, double v, const ZoneMemo& z) const;
+  static constexpr double kPrivateTurn = 0.02;   ///< |Δu|, 1.15°
+  static constexpr double kPrivateTurns = 0.05;  ///< Σ|Δu|
+  /// |s̄ − s_q| <= (π/2)·2·|e| (arc length to chord on the path near the output): 4 > π; and
+  /// 1.25 on the check's |e| (PrivateDrift), which feed holds on the arc exceed by up to 3 %
+  /// (test "a private arc: ...") and its residual table falls below by up to 5 %.
+  static constexpr double kDriftTurnFactor = 4.0 * 1.25;
   /// The load of an element with error `own` and share weight w beside a zone's values, to be
   /// within the share (less the reserve): own within the larger of its share by weight,
   /// (share − claims)·w/W_all, and what the decided elements leave, the smaller of
@@ -518,7 +546,12 @@ class TolerancePlanner : public CanonSource {
   void brake_comp_pieces(double comp_v);
   /// b handed on as pieces_; a chain's block (chain: its element) as its part of the chain's
   /// pieces, each commanded as a piece of the chain's arc.
-  void emit_pieces(const Block& b, double comp_v, const Element* chain);
+  /// Motion::override_ramp_mm_s of line b: the ramp's step of the first private arc whose reach
+  /// (v_p·τ before its start) b ends in, else 0. Every such line is still to be emitted when
+  /// the arc is decided private (arc_privacy), so each gets it.
+  double override_ramp_before(const Block& b) const;
+  /// `comp_private`: the arc is a private one (Motion::comp_private on every piece).
+  void emit_pieces(const Block& b, double comp_v, const Element* chain, bool comp_private);
   /// Runs of small turns (CAM polylines): a vertex joins the run being gathered; a chunk is
   /// closed (pushed as one element, or as its corners while the run is short) when it spans τ,
   /// when a decision could reach it, and when the run ends.
@@ -600,8 +633,10 @@ class TolerancePlanner : public CanonSource {
   std::size_t decided_count_ = 0;   ///< decided elements in elems_
   PendingRun run_;
   std::uint64_t runs_ = 0;
-  std::optional<ArcPrecompCheck> precomp_;    ///< set when arcs may be pre-compensated
-  std::optional<ArcResidualTable> residual_;  ///< precomp_'s term tabulated (with precomp_)
+  std::optional<ArcPrecompCheck> precomp_;            ///< set when arcs may be pre-compensated
+  std::optional<ArcResidualTable> residual_;          ///< precomp_'s term tabulated (with precomp_)
+  std::optional<ArcResidualTable> residual_private_;  ///< the same of private arcs
+  std::optional<ArcResidualTable> residual_drift_;    ///< their |y − x(s̄)| (fits_private)
   /// T·max(m, N − m) (m the weights' centre) when every weight is >= 0: a corner's rounding in a
   /// window is then at most its bound times a tent of half-width V·tent_s_ about the corner in
   /// the window's weighted mean (claim_at); 0 with negative weights (no tents).

@@ -46,15 +46,18 @@ void TolerancePlanner::decide_arc(Element& e, double share, const MismatchReserv
   };
   double v = largest_speed_in_zones(e.vmax, share, e.s0, e.s1, tau, load, guess);
   e.comp_speed = 0.0;
+  e.comp_private = false;
   e.err = a * v * v;
   e.ends = {};
   if (v < e.vmax && precomp_) {
     double err = 0.0;
     std::array<Element::EndCap, 2> ends{};
-    const double vc = precomp_arc_speed(e, share - res.ceiling_mm(), v, err, &ends);
+    bool private_arc = false;
+    const double vc = precomp_arc_speed(e, share - res.ceiling_mm(), v, err, &ends, &private_arc);
     if (vc > v) {
       v = vc;
       e.comp_speed = vc;
+      e.comp_private = private_arc;
       e.err = err;
       e.ends = ends;
     }
@@ -70,9 +73,64 @@ void TolerancePlanner::decide_arc(Element& e, double share, const MismatchReserv
   part_zone(e);
 }
 
+TolerancePlanner::Privacy TolerancePlanner::arc_privacy(const Element& e, double v,
+                                                        const ZoneMemo& z) const {
+  Privacy p;
+  // No other arc, and no run of small turns, in its zone at v (parted at full stops).
+  for (std::size_t i = z.parted.first; i < z.parted.last; ++i) {
+    const Element& f = elems_[i];
+    if (!same_element(f, e) && (f.kind == ElementKind::Arc || f.kind == ElementKind::Run)) return p;
+  }
+  // Every block within reach is still to be emitted (the lines before it then take the arc's
+  // ramp for a change of the override: override_ramp_before), has a tolerance (an untoleranced
+  // corner is no element), and is a line or the arc; those ahead are known (or the program
+  // ends). Their joins turn by at most kPrivateTurn each, kPrivateTurns in all, but for a full
+  // stop at the arc's own start or end (the check judges a start from rest and a stop against
+  // the start and end points alone).
+  const double reach = v * filter_.tau_s(), lo = e.s0 - reach, hi = e.s1 + reach;
+  if (window_.empty() || window_.front().s0 > std::max(lo, 0.0) + 1e-9) return p;
+  if (!ended_ && window_.back().s1 < hi) return p;
+  auto drained_at = [&](const Block& before, double s) {
+    if (before.stop_after) return true;
+    for (std::size_t i = z.parted.first; i < z.parted.last; ++i) {
+      const Element& f = elems_[i];
+      if ((f.kind == ElementKind::Corner || f.kind == ElementKind::Stop) &&
+          std::abs(f.s0 - s) <= 1e-9 &&
+          (f.stopped || (f.decided && !(corner_moment(f.pause) > 0.0))))
+        return true;
+    }
+    return false;
+  };
+  const Block* prev = nullptr;
+  for (const Block& b : window_) {
+    if (b.s1 <= lo) continue;
+    if (b.s0 >= hi) break;
+    const bool own = b.seq >= e.seq && b.seq <= e.seq_last;  // a chain's blocks
+    if (!(b.m.path_tolerance_mm > 0.0) || (!own && b.m.kind != MotionKind::Line)) return p;
+    if (prev != nullptr) {
+      const double turn = join_turn(*prev, b);
+      const bool arc_end = std::abs(b.s0 - e.s0) <= 1e-9 || std::abs(b.s0 - e.s1) <= 1e-9;
+      if (turn > kMinTurn && !(arc_end && drained_at(*prev, b.s0))) {
+        if (!(turn <= kPrivateTurn)) return p;
+        p.turns += turn;
+      }
+    }
+    prev = &b;
+  }
+  // A near circle at equal path length is its circle moved radially by δ(s), |δ'| <= Δr/L and
+  // |δ| <= Δr/2: its path turns against the circle's by at most Δr/L + Δr/(2r).
+  if (e.spiral > 0.0) {
+    const double L = e.s1 - e.s0, r = e.radius - e.spiral;
+    p.turns += e.spiral / L + e.spiral / (2.0 * r);
+  }
+  p.on = p.turns <= kPrivateTurns;
+  return p;
+}
+
 double TolerancePlanner::precomp_arc_speed(const Element& e, double share, double floor,
-                                           double& err,
-                                           std::array<Element::EndCap, 2>* ends_out) const {
+                                           double& err, std::array<Element::EndCap, 2>* ends_out,
+                                           bool* private_out) const {
+  if (private_out != nullptr) *private_out = false;
   if (!(e.radius > 0.0) || !(e.sweep > 0.0)) return 0.0;
   const double tau = filter_.tau_s(), L = e.s1 - e.s0;
   // The isolated arc's term (transitions at its ends, the ramp's transient) against its share
@@ -112,12 +170,44 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
         *precomp_, e.radius, e.sweep, L, v, cfg_.speed_error_s, cfg_.step_error,
         cfg_.fir_variation);
   };
-  auto fits = [&](double v, double allotment, double w) {
+  // A private arc (arc_privacy) is judged by the distance, its own table or runs, plus what
+  // the turns beside it make of its drift (fits_private).
+  auto fits_private = [&](double v, double allotment, double w, double turns) {
+    using Judging = ArcPrecompCheck::Judging;
+    double left = allotment;
+    if (cfg_.speed_error_s > 0.0) {  // the command's offset by the distance's rows
+      const ArcPrecompCheck::Judged judged(*precomp_, Judging::Private);
+      left -= mismatch_at(v, false);
+    }
+    if (e.spiral > 0.0) {
+      const ArcPrecompCheck::Judged judged(*precomp_, Judging::Private);
+      left -= precomp_->spiral_mm(e.radius - e.spiral, e.radius, e.sweep, L, v, allotment);
+    }
+    if (turns > 0.0 && left > 0.0) {
+      double drift;
+      if (residual_drift_->covers(e.sweep, L, v)) {
+        drift = residual_drift_->error_bound_mm(*precomp_, e.radius, e.sweep, L, v);
+      } else {
+        const ArcPrecompCheck::Judged judged(*precomp_, Judging::PrivateDrift);
+        drift = precomp_->error_mm(e.radius, e.sweep, L, v);
+      }
+      left -= kDriftTurnFactor * turns * drift;
+    }
+    left *= w;
+    if (!(left > 0.0)) return false;
+    if (residual_private_->covers(e.sweep, L, v))
+      return residual_private_->error_bound_mm(*precomp_, e.radius, e.sweep, L, v) * w <= left;
+    const ArcPrecompCheck::Judged judged(*precomp_, Judging::Private);
+    return precomp_->error_within(e.radius, e.sweep, L, v, w, left);
+  };
+  auto fits = [&](double v, double allotment, double w, const Privacy& priv) {
+    if (priv.on) return fits_private(v, allotment, w, priv.turns);
+    const ArcResidualTable& table = *residual_;
     auto mismatch_mm = [&](bool cap) { return mismatch_at(v, cap); };
-    if (cfg_.speed_error_s > 0.0 && !(e.spiral > 0.0) && residual_->covers(e.sweep, L, v)) {
+    if (cfg_.speed_error_s > 0.0 && !(e.spiral > 0.0) && table.covers(e.sweep, L, v)) {
       // offset_mismatch_mm (>= 0) bracketed first, the same answer at less cost: an arc that
       // does not fit without it does not fit, one that fits with its cheap cap fits.
-      const double bound = residual_->error_bound_mm(*precomp_, e.radius, e.sweep, L, v) * w;
+      const double bound = table.error_bound_mm(*precomp_, e.radius, e.sweep, L, v) * w;
       if (!(bound <= allotment * w)) return false;
       const double cap_left = (allotment - mismatch_mm(true)) * w;
       if (cap_left > 0.0 && bound <= cap_left) return true;
@@ -130,16 +220,44 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
                                         : mine) *
                         w;
     if (!(left > 0.0)) return false;
-    if (residual_->covers(e.sweep, L, v))
-      return residual_->error_bound_mm(*precomp_, e.radius, e.sweep, L, v) * w <= left;
+    if (table.covers(e.sweep, L, v))
+      return table.error_bound_mm(*precomp_, e.radius, e.sweep, L, v) * w <= left;
     return precomp_->error_within(e.radius, e.sweep, L, v, w, left);
   };
-  auto within = [&](double v) {
-    if (chain) return fits(v, chain_allotment(v), 1.0);
+  // A planar arc (or chain of arcs on one circle): private where arc_privacy holds at the speed
+  // tried (docs/tolerance-arc-ends.md, "Private arcs"). Planar: its path no longer than its
+  // largest radius's circle (a helix's is longer; a circle's radius is its smaller, up to 0.1 µm
+  // below its larger: arc_element). Symmetric weights only: the distance's rows are measured
+  // against feed holds there, not through reversed weights.
+  const bool plain =
+      cfg_.private_arcs && filter_.symmetric() && L <= (e.radius + 1e-4) * e.sweep * (1.0 + 1e-9);
+  auto zone_at = [&](double v) -> const ZoneMemo& {
     const ZoneRange r = memo.valid ? zone_range_from(memo.range, e.s0 - v * tau, e.s1 + v * tau)
                                    : zone_range(e.s0 - v * tau, e.s1 + v * tau);
-    const ZoneMemo& z = zone_values(memo, r, e, false, v * tau);
-    return fits(v, zone_allotment(share, 1.0, z), z.weight);
+    return zone_values(memo, r, e, false, v * tau);
+  };
+  auto privacy_at = [&](double v, const ZoneMemo& z) {
+    return plain ? arc_privacy(e, v, z) : Privacy{};
+  };
+  // Set while the arc is planned as one that shares its windows whatever its privacy.
+  bool shared_only = false;
+  auto fits_end = [&](double v, double allotment, double w) {
+    return fits(v, allotment, w, Privacy{});
+  };
+  // At v: fits as a private arc (and is one), or as one that shares its windows. Each is
+  // monotone in v, so is either; the private arc's is taken where both fit.
+  auto fits_privately = [&](double v) {
+    const Privacy p = privacy_at(v, zone_at(v));
+    if (!p.on) return false;
+    if (chain) return fits(v, chain_allotment(v), 1.0, p);
+    const ZoneMemo& z = zone_at(v);
+    return fits(v, zone_allotment(share, 1.0, z), z.weight, p);
+  };
+  auto within = [&](double v) {
+    if (!shared_only && fits_privately(v)) return true;
+    if (chain) return fits(v, chain_allotment(v), 1.0, Privacy{});
+    const ZoneMemo& z = zone_at(v);
+    return fits(v, zone_allotment(share, 1.0, z), z.weight, Privacy{});
   };
   // Where the answer is yes, the arc's error (its term and a near circle's extra) is within
   // its allotment at that speed: the bound it leaves (err).
@@ -154,10 +272,21 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
   // lo: no better than the curvature cap until shown.
   const double lo = largest_fitting(floor, vlim, within);
   err = allotted(lo);
+  const bool lo_private = lo > floor && fits_privately(lo);
+  if (private_out != nullptr) *private_out = lo_private;
   if (lo == vlim) return lo;  // fits at its fastest: one speed
   // Its middle faster than its ends: a chain, or an arc cut at zone boundaries (one turn at
-  // most) that is a circle (a near circle's extra term is not the ramps').
+  // most) that is a circle (a near circle's extra term is not the ramps'). A private arc runs
+  // at one speed (its middle's windows hold its ends' drift: not planned), unless the arc
+  // planned as one that shares its windows, its ends slower than its middle, is faster.
   if ((chain || (e.split && !(e.spiral > 0.0))) && ends_out != nullptr && lo > floor) {
+    double lo_shared = lo;
+    if (lo_private) {
+      shared_only = true;
+      lo_shared = largest_fitting(floor, vlim, within);
+      shared_only = false;
+    }
+    if (!(lo_shared > floor)) return lo;
     double mid_err = 0.0;
     // Away from its ends the arc's error is the ramps' transient on the steady arc (ramps_mm:
     // the whole error there, the steady correction's included), simulated, or (`exact` false)
@@ -169,10 +298,25 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
                   ? residual_->ramps_bound_mm(*precomp_, e.radius, e.sweep, L, v)
                   : precomp_->ramps_mm(e.radius, e.sweep, L, v)) <= mine;
     };
-    const double v_mid = slower_ends(e, lo, vlim, share, fits, fits_middle, *ends_out, mid_err);
+    std::array<Element::EndCap, 2> slow{};
+    const double v_mid =
+        slower_ends(e, lo_shared, vlim, share, fits_end, fits_middle, slow, mid_err);
     if (v_mid > 0.0) {
-      err = std::max({mid_err, (*ends_out)[0].err, (*ends_out)[1].err});
-      return v_mid;
+      // Its time: each slower end over the arc's path its cap holds, the middle at v_mid.
+      double t_shared = 0.0, rest = L;
+      for (std::size_t k = 0; k < 2; ++k)
+        if (slow[k].cap < kInf) {
+          const double on_arc = std::clamp(k == 0 ? slow[k].hi - e.s0 : e.s1 - slow[k].lo, 0.0, L);
+          t_shared += on_arc / slow[k].cap;
+          rest -= on_arc;
+        }
+      t_shared += std::max(0.0, rest) / v_mid;
+      if (!lo_private || t_shared < L / lo) {
+        if (private_out != nullptr) *private_out = false;
+        *ends_out = slow;
+        err = std::max({mid_err, slow[0].err, slow[1].err});
+        return v_mid;
+      }
     }
   }
   return lo;

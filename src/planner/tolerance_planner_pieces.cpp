@@ -147,7 +147,8 @@ double TolerancePlanner::braking_length_mm(double from, double to, double comp_v
   return T * ((m + 1.0) * to + step * (m + 1.0) * (m + 2.0) / 2.0);
 }
 
-void TolerancePlanner::emit_pieces(const Block& b, double comp_v, const Element* chain) {
+void TolerancePlanner::emit_pieces(const Block& b, double comp_v, const Element* chain,
+                                   bool comp_private) {
   const double L = b.s1 - b.s0;
   // A chain's block: its part of the chain's pieces, and where each of those ends and the
   // speed the next one needs (the chain's ramp brakes to it before that end).
@@ -182,6 +183,7 @@ void TolerancePlanner::emit_pieces(const Block& b, double comp_v, const Element*
     }
     if (q.cap < b.vmax * (1.0 - 1e-12)) p.speed_cap_mm_s = q.cap;
     p.comp_speed_mm_s = q.plan_or(comp_v);
+    p.comp_private = comp_private;
     if (chain != nullptr) {  // a piece of the chain's arc
       p.comp_arc_from_mm = q.a - arc_s0;
       p.comp_arc_length_mm = arc_len;

@@ -27,6 +27,7 @@ void require_equal(const Machine& a, const Machine& b) {
   CHECK(a.tolerance_on == b.tolerance_on);
   CHECK(a.arc_precompensation == b.arc_precompensation);
   CHECK(a.g61_arc_precompensation == b.g61_arc_precompensation);
+  CHECK(a.private_arcs == b.private_arcs);
   CHECK(a.servo_matching == b.servo_matching);
   CHECK(a.tool_lengths_mm == b.tool_lengths_mm);
   for (std::size_t g = 0; g < 6; ++g) CHECK(a.work_offsets_mm[g] == b.work_offsets_mm[g]);
@@ -170,6 +171,7 @@ TEST_CASE("machine_to_toml round-trips the default and a modified machine", "[ma
   m.tolerance_on = gm::ToleranceOn::Encoder;
   m.arc_precompensation = false;
   m.g61_arc_precompensation = true;
+  m.private_arcs = false;
   m.servo_matching = false;
   require_equal(gm::parse_machine_toml(gm::machine_to_toml(m), "rt.toml"), m);
   // Names with TOML's special characters (found by fuzz_machine: backslashes did not survive).
@@ -205,6 +207,7 @@ TEST_CASE("minimal file: optional keys take the documented defaults", "[machine]
   CHECK(m.servo_matching);                 // "on"
   CHECK(m.arc_precompensation);            // "on"
   CHECK_FALSE(m.g61_arc_precompensation);  // "off"
+  CHECK(m.private_arcs);                   // "on"
   CHECK(gm::machine_to_toml(m).find("g61_arc") == std::string::npos);
   CHECK_FALSE(m.program_inch);  // programs start in G21
   CHECK_FALSE(m.lathe);         // kind = "mill"

@@ -104,8 +104,9 @@ SteppedRun run_through_filter(const gm::Taps& t, std::vector<gm::Canon> canon, F
 
 // `near_mm` > 0: the last near_mm of the line before and the first of the line after are at v_p,
 // the rest of them at v_line.
+// `comp_private`: the arc commanded as a private one (Motion::comp_private: the distance rows).
 SteppedRun stepped_run(const gm::Taps& t, double R, double th, double vp, double v_line,
-                       double near_mm = 0.0, FeedHold hold = {}) {
+                       double near_mm = 0.0, FeedHold hold = {}, bool comp_private = false) {
   using gm::AxisVec;
   const double a = std::max(5.0, 0.5 * v_line), b = a, L = R * th;
   const AxisVec p1 = gm::xyz(a, 0, 0), c = gm::xyz(a, R, 0);
@@ -119,6 +120,8 @@ SteppedRun stepped_run(const gm::Taps& t, double R, double th, double vp, double
   m.feed_mm_min = 60000;
   m.path_tolerance_mm = 0.01;
   m.speed_cap_mm_s = v_line;
+  // Before a private arc the planner has the line take the override by the arc's ramp.
+  if (comp_private) m.override_ramp_mm_s = vp / static_cast<double>(t.integer.size());
   if (near_mm > 0.0) {
     m.end_mm = gm::xyz(a - near_mm, 0, 0);
     canon.push_back(m);
@@ -130,8 +133,10 @@ SteppedRun stepped_run(const gm::Taps& t, double R, double th, double vp, double
   const std::uint64_t arc_seq = canon.size() + 1;
   gm::Motion arc = compensated_arc(m, p1, p2, c, vp);
   arc.speed_cap_mm_s = vp;
+  arc.comp_private = comp_private;
   canon.push_back(arc);
   m.start_mm = p2;
+  m.override_ramp_mm_s = 0.0;
   if (near_mm > 0.0) {
     m.end_mm = p2 + near_mm * u2;
     m.speed_cap_mm_s = vp;
@@ -486,6 +491,34 @@ TEST_CASE("the residual table bounds the simulation within its margin", "[arc-pr
   }
 }
 
+TEST_CASE("the private arcs' residual tables bound their simulations within the margin",
+          "[arc-precomp]") {
+  // As above for an arc judged as a private one (ArcPrecompCheck::Judging::Private: the rows
+  // for the distance, judged by the distance) and for the same command's |y − x(s̄)|
+  // (PrivateDrift), the tables the planner keeps for them. The drift's table falls up to 5 %
+  // below its simulation (the drift changes with the join's phase more than the distance does):
+  // the planner takes it 1.25 times (TolerancePlanner::kDriftTurnFactor).
+  Uniform uniform(20261202);
+  const std::vector<double> h = weights(gm::design_taps("blackman", 0.164, 0.004));
+  const gm::ArcPrecompCheck check(h, 0.004);
+  for (const auto how :
+       {gm::ArcPrecompCheck::Judging::Private, gm::ArcPrecompCheck::Judging::PrivateDrift}) {
+    const gm::ArcResidualTable table(check, how);
+    const BoundFit f = bound_vs_simulation(
+        uniform, check, table, gmtest::scaled(1000),
+        [&](const RandomArc& a) {
+          const gm::ArcPrecompCheck::Judged judged(check, how);
+          return check.error_mm(a.R, a.th, a.L, a.v);
+        },
+        [&](const RandomArc& a) {
+          const double margin = how == gm::ArcPrecompCheck::Judging::PrivateDrift ? 1.25 : 1.0;
+          return margin * table.error_bound_mm(check, a.R, a.th, a.L, a.v);
+        });
+    WARN(static_cast<int>(how) << ": " << f.n << " arcs, worst simulation/bound " << f.worst
+                               << ", mean bound/simulation " << f.mean);
+  }
+}
+
 TEST_CASE("the residual table's ramps row bounds ramps_mm within its margin", "[arc-precomp]") {
   // ramps_bound_mm (two nodes of one row in the rate x, interpolated, times 1 + kMargin)
   // against ramps_mm (twelve simulations) on random arcs the table covers, helices too: never
@@ -779,5 +812,56 @@ TEST_CASE("a helix's term is its ends': half a turn or five turns, the same", "[
     CAPTURE(v, loss, iso[0], iso[1], ramp);
     CHECK(iso[1] == Approx(iso[0]).epsilon(0.02));  // the end's phase in its sample differs
     CHECK(iso[1] + ramp < 0.2 * loss);              // a fraction of the uncompensated shrinkage
+  }
+}
+
+TEST_CASE("a private arc: the real run's distance from the path within the check's term",
+          "[arc-precomp]") {
+  // An arc between long tangent lines, commanded with the end rows fitted for the distance
+  // (Motion::comp_private), through the real Interpolator and FirAccDec at v_p, and under
+  // feed holds of 5 samples and of a window from every other sample near the arc: its worst
+  // distance from the path stays within the term the check gives it judged so
+  // (ArcPrecompCheck::Judging::Private), which is 0.55 to 0.8 of the term of the rows that
+  // share their windows (the planner's speeds go as its square root); its |y − x(s̄)| does
+  // not (the output runs ahead of or behind s̄ near the joins: what PrivateDrift bounds, within
+  // 3 % under holds on the arc). The line before takes the override by the arc's ramp
+  // (Motion::override_ramp_mm_s): stopped at once, a hold 1 to 3 samples before the arc left
+  // up to 2.5 times the term (the rows' offsets along the path are fitted for the timing).
+  const gm::Taps t = gm::design_taps("blackman", 0.164, 0.004);
+  const gm::ArcPrecompCheck check(weights(t), 0.004);
+  const double T = 0.004, pi = std::numbers::pi;
+  struct Case {
+    double R, th, vp;
+  };
+  for (const Case c :
+       {Case{1.0, pi, 15.5}, Case{2.0, pi / 2.0, 22.0}, Case{0.5, pi, 12.0}, Case{4.0, pi, 33.0}}) {
+    const double L = c.R * c.th, shared = check.error_mm(c.R, c.th, L, c.vp);
+    double term = 0.0, drift = 0.0;
+    {
+      const gm::ArcPrecompCheck::Judged judged(check, gm::ArcPrecompCheck::Judging::Private);
+      term = check.error_mm(c.R, c.th, L, c.vp);
+    }
+    {
+      const gm::ArcPrecompCheck::Judged judged(check, gm::ArcPrecompCheck::Judging::PrivateDrift);
+      drift = check.error_mm(c.R, c.th, L, c.vp);
+    }
+    CAPTURE(c.R, c.th, c.vp, term, shared, drift);
+    CHECK(term < 0.85 * shared);
+    CHECK(drift > term);
+    const int arc_start = static_cast<int>(std::max(5.0, 0.5 * c.vp) / c.vp / T);
+    const int arc_end = arc_start + static_cast<int>(L / c.vp / T);
+    const int n = static_cast<int>(t.integer.size());
+    double worst = stepped_run(t, c.R, c.th, c.vp, c.vp, 0.0, {}, true).contour_mm;
+    CHECK(worst <= term + 1e-6);
+    for (int samples : {5, n})
+      for (int from = arc_start - 5; from <= arc_end + n; from += 2) {
+        const SteppedRun run =
+            stepped_run(t, c.R, c.th, c.vp, c.vp, 0.0, FeedHold{from, samples}, true);
+        CAPTURE(samples, from);
+        CHECK(run.contour_mm <= term + 1e-6);
+        CHECK(run.term_mm <= 1.05 * drift + 1e-6);  // the planner takes 1.25 times it
+        worst = std::max(worst, run.contour_mm);
+      }
+    CHECK(worst > 0.6 * term);  // the runs do reach the arc's ends
   }
 }

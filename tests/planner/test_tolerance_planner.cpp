@@ -1030,13 +1030,22 @@ TEST_CASE(
   // 14.496 s (1.28 -> 1.16 x). Every sample within P + 1 BLU.
   // Under the sanitizers (GMOTION_TEST_SCALE) small-arcs.nc alone: cam-fillets.nc's three runs
   // took most of 39 s there.
+  // Since private arcs (2026-12-02: docs/tolerance-arc-ends.md, "Private arcs") the Acc/Dec
+  // plan is faster where an arc has nothing else within its window's reach: small-arcs.nc
+  // 5.420 -> 4.784 s. The encoder plan's weights are the chain's, not symmetric, and no arc is
+  // private there: 6.660 s, 1.39 x the Acc/Dec plan. The 1.25 x holds against the Acc/Dec
+  // plan whose arcs all share their windows (private_arcs = "off"), as it was measured.
+  const std::string shared = machine_with("default-ff", "ff-shared-arcs", "private_arcs = \"off\"");
   const char* const progs[] = {"small-arcs.nc", "cam-fillets.nc"};
   for (int i = 0; i < gmtest::scaled(2); ++i) {
     const char* prog = progs[i];
     const EncoderPlanCycles c = encoder_plan_cycles("default-ff", "ff-unmatched", prog, "");
-    CAPTURE(prog, c.accdec, c.on, c.off);
-    CHECK(c.on <= 1.25 * c.accdec);
-    CHECK(c.off > 1.25 * c.accdec);
+    const double accdec_shared = cycle_time_s("ff-shared-arcs", prog, shared, " --tolerance 0.01");
+    CAPTURE(prog, c.accdec, accdec_shared, c.on, c.off);
+    CHECK(c.accdec <= accdec_shared);
+    CHECK(c.on <= 1.25 * accdec_shared);
+    CHECK(c.on <= 1.4 * c.accdec);
+    CHECK(c.off > 1.25 * accdec_shared);
     // The Acc/Dec plan does not match (its planned output is the FIR's on every axis).
     CHECK(cycle_time_s("ff-unmatched", prog, c.off_machine, " --tolerance 0.01") == c.accdec);
   }

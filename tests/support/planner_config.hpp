@@ -15,6 +15,7 @@ inline gm::PlannerConfig fir_planner_config(const gm::Machine& m, bool precomp) 
   c.rounding_mm = m.xyz_blu_mm().norm();
   c.precompensate_arcs = precomp;
   c.precompensate_g61_arcs = m.g61_arc_precompensation;
+  c.private_arcs = m.private_arcs;
   return c;
 }
 
