@@ -101,10 +101,16 @@ TolerancePlanner::Privacy TolerancePlanner::arc_privacy(const Element& e, double
     }
     return false;
   };
+  // The blocks within reach, found from the arc's own (window_ holds blocks by sequence).
+  const std::uint64_t first = window_.front().seq;
+  if (e.seq < first || e.seq_last - first >= window_.size()) return p;
+  std::size_t i0 = static_cast<std::size_t>(e.seq - first),
+              i1 = static_cast<std::size_t>(e.seq_last - first);
+  while (i0 > 0 && window_[i0 - 1].s1 > lo) --i0;
+  while (i1 + 1 < window_.size() && window_[i1 + 1].s0 < hi) ++i1;
   const Block* prev = nullptr;
-  for (const Block& b : window_) {
-    if (b.s1 <= lo) continue;
-    if (b.s0 >= hi) break;
+  for (std::size_t i = i0; i <= i1; ++i) {
+    const Block& b = window_[i];
     const bool own = b.seq >= e.seq && b.seq <= e.seq_last;  // a chain's blocks
     if (!(b.m.path_tolerance_mm > 0.0) || (!own && b.m.kind != MotionKind::Line)) return p;
     if (prev != nullptr) {
