@@ -247,16 +247,16 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
   };
   // Set while the arc is planned as one that shares its windows whatever its privacy.
   bool shared_only = false;
-  auto fits_end = [&](double v, double allotment, double w) {
+  auto fits_shared = [&](double v, double allotment, double w) {
     return fits(v, allotment, w, Privacy{});
   };
   // At v: fits as a private arc (and is one), or as one that shares its windows. Each is
   // monotone in v, so is either; the private arc's is taken where both fit.
   auto fits_privately = [&](double v) {
-    const Privacy p = privacy_at(v, zone_at(v));
+    const ZoneMemo& z = zone_at(v);
+    const Privacy p = privacy_at(v, z);
     if (!p.on) return false;
     if (chain) return fits(v, chain_allotment(v), 1.0, p);
-    const ZoneMemo& z = zone_at(v);
     return fits(v, zone_allotment(share, 1.0, z), z.weight, p);
   };
   auto within = [&](double v) {
@@ -306,7 +306,7 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
     };
     std::array<Element::EndCap, 2> slow{};
     const double v_mid =
-        slower_ends(e, lo_shared, vlim, share, fits_end, fits_middle, slow, mid_err);
+        slower_ends(e, lo_shared, vlim, share, fits_shared, fits_middle, slow, mid_err);
     if (v_mid > 0.0) {
       // Its time: each slower end over the arc's path its cap holds, the middle at v_mid.
       double t_shared = 0.0, rest = L;
