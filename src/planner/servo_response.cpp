@@ -140,6 +140,9 @@ ChainResponse chain_response(const Taps& taps, const AxisConfig& axis, double pe
       }
       r.weights.back() = 1.0 - prev;
     }
+    // Weights that are exactly 0 at the end (a clipped step response at 1 from there on) hold
+    // nothing: the window ends at the last one that does.
+    while (r.weights.size() > 1 && r.weights.back() == 0.0) r.weights.pop_back();
     return r;
   }
 }

@@ -445,7 +445,8 @@ class TolerancePlanner : public CanonSource {
   /// Whether arc e (planar, a circle or near circle, symmetric weights) at speed v is private:
   /// within v·τ of travel of its ends (its zone at that speed, `z`) no other arc and no run, and
   /// every block that near a line with a tolerance, still to be emitted, whose joins turn by at
-  /// most kPrivateTurn each and kPrivateTurns in all (full stops at its own ends aside). Its cap
+  /// most kPrivateTurn each and kPrivateTurns in all (a full stop at its own start or end ends
+  /// that reach: nothing beyond it shares a window with the arc). Its cap
   /// holds the lines at v within v·τ, so its windows hold its samples, its lines' and the
   /// corners' only: the output is the arc's error plus the corners' (their own terms, shared),
   /// and the path near it the simulated one turned by at most those corners, which turns the

@@ -76,23 +76,17 @@ void TolerancePlanner::decide_arc(Element& e, double share, const MismatchReserv
 TolerancePlanner::Privacy TolerancePlanner::arc_privacy(const Element& e, double v,
                                                         const ZoneMemo& z) const {
   Privacy p;
-  // No other arc, and no run of small turns, in its zone at v (parted at full stops).
-  for (std::size_t i = z.parted.first; i < z.parted.last; ++i) {
-    const Element& f = elems_[i];
-    if (!same_element(f, e) && (f.kind == ElementKind::Arc || f.kind == ElementKind::Run)) return p;
-  }
-  // Every block within reach is still to be emitted (the lines before it then take the arc's
-  // ramp for a change of the override: override_ramp_before), has a tolerance (an untoleranced
-  // corner is no element), and is a line or the arc; those ahead are known (or the program
-  // ends). Their joins turn by at most kPrivateTurn each, kPrivateTurns in all, but for a full
-  // stop at the arc's own start or end (the check judges a start from rest and a stop against
-  // the start and end points alone).
-  const double reach = v * filter_.tau_s(), lo = e.s0 - reach, hi = e.s1 + reach;
-  if (window_.empty() || window_.front().s0 > std::max(lo, 0.0) + 1e-9) return p;
-  if (!ended_ && window_.back().s1 < hi) return p;
-  auto drained_at = [&](const Block& before, double s) {
-    if (before.stop_after) return true;
-    for (std::size_t i = z.parted.first; i < z.parted.last; ++i) {
+  if (window_.empty()) return p;
+  // The arc's blocks (window_ holds blocks by sequence).
+  const std::uint64_t first = window_.front().seq;
+  if (e.seq < first || e.seq_last - first >= window_.size()) return p;
+  const auto a0 = static_cast<std::size_t>(e.seq - first),
+             a1 = static_cast<std::size_t>(e.seq_last - first);
+  // A full stop at s (a corner where the filter drains, an exact stop), the block before it
+  // `before` (null: not known here). Its element may lie outside the parted zone: a stop parts it.
+  auto drained_at = [&](const Block* before, double s) {
+    if (before != nullptr && before->stop_after) return true;
+    for (std::size_t i = z.range.first; i < z.range.last; ++i) {
       const Element& f = elems_[i];
       if ((f.kind == ElementKind::Corner || f.kind == ElementKind::Stop) &&
           std::abs(f.s0 - s) <= 1e-9 &&
@@ -101,22 +95,38 @@ TolerancePlanner::Privacy TolerancePlanner::arc_privacy(const Element& e, double
     }
     return false;
   };
-  // The blocks within reach, found from the arc's own (window_ holds blocks by sequence).
-  const std::uint64_t first = window_.front().seq;
-  if (e.seq < first || e.seq_last - first >= window_.size()) return p;
-  std::size_t i0 = static_cast<std::size_t>(e.seq - first),
-              i1 = static_cast<std::size_t>(e.seq_last - first);
-  while (i0 > 0 && window_[i0 - 1].s1 > lo) --i0;
-  while (i1 + 1 < window_.size() && window_[i1 + 1].s0 < hi) ++i1;
+  // A full stop at the arc's own start or end parts its windows from what lies beyond (the
+  // check judges a start from rest, and a stop against the end point alone): reach ends there.
+  const bool rest_before = drained_at(a0 > 0 ? &window_[a0 - 1] : nullptr, e.s0);
+  const bool rest_after = drained_at(&window_[a1], e.s1);
+  const double reach = v * filter_.tau_s();
+  const double lo = rest_before ? e.s0 : e.s0 - reach, hi = rest_after ? e.s1 : e.s1 + reach;
+  // No other arc, and no run of small turns, within reach (in its zone at v, parted at full
+  // stops).
+  for (std::size_t i = z.parted.first; i < z.parted.last; ++i) {
+    const Element& f = elems_[i];
+    if (f.s1 <= lo || f.s0 >= hi) continue;
+    if (!same_element(f, e) && (f.kind == ElementKind::Arc || f.kind == ElementKind::Run)) return p;
+  }
+  // Every block within reach is still to be emitted (the lines before it then take the arc's
+  // ramp for a change of the override: override_ramp_before), has a tolerance (an untoleranced
+  // corner is no element), and is a line or the arc; those ahead are known (or the program
+  // ends). Their joins turn by at most kPrivateTurn each, kPrivateTurns in all.
+  if (window_.front().s0 > std::max(lo, 0.0) + 1e-9) return p;
+  if (!ended_ && window_.back().s1 < hi) return p;
+  std::size_t i0 = a0, i1 = a1;
+  if (!rest_before)
+    while (i0 > 0 && window_[i0 - 1].s1 > lo) --i0;
+  if (!rest_after)
+    while (i1 + 1 < window_.size() && window_[i1 + 1].s0 < hi) ++i1;
   const Block* prev = nullptr;
   for (std::size_t i = i0; i <= i1; ++i) {
     const Block& b = window_[i];
-    const bool own = b.seq >= e.seq && b.seq <= e.seq_last;  // a chain's blocks
+    const bool own = i >= a0 && i <= a1;  // a chain's blocks
     if (!(b.m.path_tolerance_mm > 0.0) || (!own && b.m.kind != MotionKind::Line)) return p;
     if (prev != nullptr) {
       const double turn = join_turn(*prev, b);
-      const bool arc_end = std::abs(b.s0 - e.s0) <= 1e-9 || std::abs(b.s0 - e.s1) <= 1e-9;
-      if (turn > kMinTurn && !(arc_end && drained_at(*prev, b.s0))) {
+      if (turn > kMinTurn) {
         if (!(turn <= kPrivateTurn)) return p;
         p.turns += turn;
       }

@@ -1035,6 +1035,12 @@ TEST_CASE(
   // 5.420 -> 4.784 s. The encoder plan's weights are the chain's, not symmetric, and no arc is
   // private there: 6.660 s, 1.39 x the Acc/Dec plan. The 1.25 x holds against the Acc/Dec
   // plan whose arcs all share their windows (private_arcs = "off"), as it was measured.
+  // Since the chain's window ends at its last weight that is not 0 (its clipped step response at
+  // 1 from there: 74 -> 60 weights, 2026-12-02) and a stop at an arc's end ends its reach:
+  // small-arcs.nc 6.660 -> 6.300 s (1.32 x the Acc/Dec plan, 1.16 x its plan with arcs
+  // shared; 8.856 -> 8.316 s unmatched), cam-fillets.nc 16.760 -> 15.948 s against 14.108 s
+  // (unmatched 18.620 -> 17.284 s, no longer above 1.25 x: matching now saves 8 % there, 32 % on
+  // small-arcs.nc).
   const std::string shared = machine_with("default-ff", "ff-shared-arcs", "private_arcs = \"off\"");
   const char* const progs[] = {"small-arcs.nc", "cam-fillets.nc"};
   for (int i = 0; i < gmtest::scaled(2); ++i) {
@@ -1044,8 +1050,8 @@ TEST_CASE(
     CAPTURE(prog, c.accdec, accdec_shared, c.on, c.off);
     CHECK(c.accdec <= accdec_shared);
     CHECK(c.on <= 1.25 * accdec_shared);
-    CHECK(c.on <= 1.4 * c.accdec);
-    CHECK(c.off > 1.25 * accdec_shared);
+    CHECK(c.on <= 1.35 * c.accdec);
+    CHECK(c.off > 1.05 * c.on);
     // The Acc/Dec plan does not match (its planned output is the FIR's on every axis).
     CHECK(cycle_time_s("ff-unmatched", prog, c.off_machine, " --tolerance 0.01") == c.accdec);
   }
@@ -1419,6 +1425,27 @@ TEST_CASE("a corner before a finer P weighs the stop that parts it from there") 
   REQUIRE(o.finished);
   CHECK(o.check.cutting().over == 0);
   CHECK(o.cycle_s <= run_program(head + " G9" + tail, m, full).cycle_s);
+}
+
+TEST_CASE("an arc whose end corner the planner stops at is private, as with a G9 there") {
+  // An R 1.3 arc at F3775 under P0.01 from rest, then a 67° corner into a slow line under P0.05
+  // and a small helix. The weighing of the arc's plans stops at that corner; privacy
+  // (docs/tolerance-arc-ends.md, "Private arcs") looked for the stop in the zone the stop parts,
+  // where it is not, and walked on over the blocks past it: the arc shared its windows unless
+  // the program wrote the stop (a G9). Until 2026-12-02 2.128 s, with the G9 2.076 s; now
+  // 2.060 s.
+  const gm::Machine m;
+  const std::string head =
+                        "G21 G90 G17 G64 P0.01\nG2 X1.615476 Y1.320111 I0.314810 J1.263272 F3775",
+                    tail =
+                        "\nG64 P0.05\nG1 X5.309243 Y-1.549565 F237\n"
+                        "G2 X5.838326 Y-1.843815 Z-0.103906 I0.201675 J-0.260164 F5725\nM2\n";
+  const Outcome o = run_program(head + tail, m, full);
+  const Outcome g9 = run_program(head + " G9" + tail, m, full);
+  REQUIRE(o.finished);
+  CHECK(o.check.cutting().over == 0);
+  CAPTURE(o.cycle_s, g9.cycle_s);
+  CHECK(o.cycle_s <= g9.cycle_s);
 }
 
 TEST_CASE("a roughing polyline before a finer P is parted from it by a stop at the corner") {
