@@ -184,6 +184,20 @@ double ArcPrecompCheck::speed_limit_mm_s(double sweep_abs_rad, double length_mm)
   return rule_.limit_omega_t() / period_s_ * length_mm / sweep_abs_rad;
 }
 
+double ArcPrecompCheck::command_limit_mm_s(double sweep_abs_rad, double length_mm,
+                                           double command_mm_s) const {
+  const double hi = speed_limit_mm_s(sweep_abs_rad, length_mm);
+  if (!(hi > 0.0) || hi / rule_.gain(hi * period_s_ * sweep_abs_rad / length_mm) <= command_mm_s)
+    return hi;
+  // v/A(v·T·|θ|/L) grows with v (A falls from 1): bisection.
+  double lo = 0.0, up = hi;
+  for (int it = 0; it < 60; ++it) {
+    const double mid = 0.5 * (lo + up);
+    (mid / rule_.gain(mid * period_s_ * sweep_abs_rad / length_mm) <= command_mm_s ? lo : up) = mid;
+  }
+  return lo;
+}
+
 Eigen::Vector2d ArcPrecompCheck::point(double p) const {
   if (p <= 0.0) return {p, 0.0};
   if (p < lp_) return {r_ * std::sin(p / r_), r_ - r_ * std::cos(p / r_)};

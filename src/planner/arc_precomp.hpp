@@ -69,6 +69,10 @@ class ArcPrecompCheck {
   /// Largest path speed at which an arc of `sweep_abs_rad` over `length_mm` of path may be
   /// compensated: A(ωT) >= ArcCompensation::kMinGain with ω = v·|θ|/L.
   double speed_limit_mm_s(double sweep_abs_rad, double length_mm) const;
+  /// Largest path speed up to speed_limit_mm_s at which the compensated command's steady speed
+  /// v/A(ωT) stays within `command_mm_s` (a drive's speed limit: the command, not the path,
+  /// moves the drive).
+  double command_limit_mm_s(double sweep_abs_rad, double length_mm, double command_mm_s) const;
   /// The term of an arc of radius r, |θ| and path length L planned at v_p (the interpolator's
   /// blend and ramp for v_p): the largest of the isolated arc at constant speeds v_p and 0.6·v_p
   /// (with line_ratio() > 0 also with the lines beside it at line_ratio() times those speeds,

@@ -442,7 +442,7 @@ class TolerancePlanner : public CanonSource {
     bool on = false;
     double turns = 0.0;  ///< Σ|Δu| of the near-tangent corners within reach, and a near circle's
   };
-  /// Whether arc e (planar, a circle or near circle, symmetric weights) at speed v is private:
+  /// Whether arc e (planar, a circle or near circle) at speed v is private:
   /// within v·τ of travel of its ends (its zone at that speed, `z`) no other arc and no run, and
   /// every block that near a line with a tolerance, still to be emitted, whose joins turn by at
   /// most kPrivateTurn each and kPrivateTurns in all (a full stop at its own start or end ends

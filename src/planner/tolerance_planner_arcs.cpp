@@ -243,10 +243,8 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
   // A planar arc (or chain of arcs on one circle): private where arc_privacy holds at the speed
   // tried (docs/tolerance-arc-ends.md, "Private arcs"). Planar: its path no longer than its
   // largest radius's circle (a helix's is longer; a circle's radius is its smaller, up to 0.1 µm
-  // below its larger: arc_element). Symmetric weights only: the distance's rows are measured
-  // against feed holds there, not through reversed weights.
-  const bool plain =
-      cfg_.private_arcs && filter_.symmetric() && L <= (e.radius + 1e-4) * e.sweep * (1.0 + 1e-9);
+  // below its larger: arc_element).
+  const bool plain = cfg_.private_arcs && L <= (e.radius + 1e-4) * e.sweep * (1.0 + 1e-9);
   auto zone_at = [&](double v) -> const ZoneMemo& {
     const ZoneRange r = memo.valid ? zone_range_from(memo.range, e.s0 - v * tau, e.s1 + v * tau)
                                    : zone_range(e.s0 - v * tau, e.s1 + v * tau);
@@ -283,7 +281,12 @@ double TolerancePlanner::precomp_arc_speed(const Element& e, double share, doubl
         share, 1.0,
         zone_values(memo, zone_range(e.s0 - v * tau, e.s1 + v * tau), e, false, v * tau));
   };
-  const double vlim = std::min(e.vmax, precomp_->speed_limit_mm_s(e.sweep, L));
+  // Planned for the table, the drives see the command: a compensated arc's moves at v/A(ωT), up
+  // to twice the path's speed, and the drive's speed limit (cap_all on the path) holds for it.
+  const double vlim =
+      std::min(e.vmax, cfg_.drive_speed_mm_s < kInf
+                           ? precomp_->command_limit_mm_s(e.sweep, L, cfg_.drive_speed_mm_s)
+                           : precomp_->speed_limit_mm_s(e.sweep, L));
   if (!(vlim > floor)) return 0.0;
   // lo: no better than the curvature cap until shown.
   const double lo = largest_fitting(floor, vlim, within);

@@ -865,3 +865,28 @@ TEST_CASE("a private arc: the real run's distance from the path within the check
     CHECK(worst > 0.6 * term);  // the runs do reach the arc's ends
   }
 }
+
+TEST_CASE("a compensated arc's command within a drive's speed: v/A(ωT) at the limit",
+          "[arc-precomp]") {
+  // Planned for the table the drives follow the command, which runs on R/A(ωT): at path speed v
+  // it moves at v/A, up to twice v (TolerancePlanner caps arcs there, docs/tolerance-arc-ends.md
+  // "Through any weights"). The limit solves v/A(v·T·|θ|/L) = V, A the rule's gain.
+  const gm::Taps t = gm::design_taps("blackman", 0.164, 0.004);
+  const gm::ArcPrecompCheck check(weights(t), 0.004);
+  const double T = 0.004, pi = std::numbers::pi;
+  for (const double R : {0.5, 4.28, 20.0}) {
+    const double th = pi / 2.0, L = R * th, top = check.speed_limit_mm_s(th, L);
+    const double gain_at_top = check.rule().gain(top * T * th / L);
+    CAPTURE(R, top, gain_at_top);
+    CHECK(gain_at_top == Approx(gm::ArcCompensation::kMinGain).epsilon(1e-6));
+    // A drive faster than the command at the rule's own limit: that limit.
+    CHECK(check.command_limit_mm_s(th, L, 1.01 * top / gain_at_top) == top);
+    for (const double frac : {0.3, 0.6, 0.9}) {
+      const double drive = frac * top / gain_at_top;
+      const double v = check.command_limit_mm_s(th, L, drive);
+      CAPTURE(frac, drive, v);
+      CHECK(v < top);
+      CHECK(v / check.rule().gain(v * T * th / L) == Approx(drive).epsilon(1e-9));
+    }
+  }
+}
