@@ -141,8 +141,12 @@ ChainResponse chain_response(const Taps& taps, const AxisConfig& axis, double pe
       r.weights.back() = 1.0 - prev;
     }
     // Weights that are exactly 0 at the end (a clipped step response at 1 from there on) hold
-    // nothing: the window ends at the last one that does.
+    // nothing: the window ends at the last one that does. Those at the start (the servo's pure
+    // delay) only delay the output, whose path stays the same: the window starts at the first.
     while (r.weights.size() > 1 && r.weights.back() == 0.0) r.weights.pop_back();
+    const auto first =
+        std::find_if(r.weights.begin(), r.weights.end() - 1, [](double w) { return w != 0.0; });
+    r.weights.erase(r.weights.begin(), first);
     return r;
   }
 }

@@ -209,12 +209,14 @@ TEST_CASE("feedforward chain: the ringing left is clipped, the planner sees no o
       gm::chain_response(taps, m.axes[0], m.period_s, 1, 0.05 * blu / 2000.0, 1e-9);
   CHECK(none.clipped_s == 0.0);
   // Clipped, the step response stays at 1 from some weight on and the zero weights after it
-  // are dropped (74 -> 60 weights, 2026-12-02): the chain's output is the same, its window
-  // shorter. Unclipped, the ringing's tail holds to the truncation limit.
+  // are dropped, as are the servo's delay's before the first (74 -> 58 weights, 2026-12-02):
+  // the chain's output is the same path, two samples earlier, its window shorter. Unclipped,
+  // the ringing's tail holds to the truncation limit.
   CHECK(r.weights.size() < none.weights.size());
+  CHECK(r.weights.front() != 0.0);
   CHECK(r.weights.back() != 0.0);
-  CHECK(none.weights.size() == 74);
-  CHECK(r.weights.size() == 60);
+  CHECK(none.weights.size() == 72);
+  CHECK(r.weights.size() == 58);
   gm::AxisConfig plain = m.axes[0];
   plain.ff1 = plain.ff2_s = 0.0;
   const gm::ChainResponse p =

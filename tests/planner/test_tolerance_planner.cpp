@@ -1042,7 +1042,9 @@ TEST_CASE(
   // (unmatched 18.620 -> 17.284 s, no longer above 1.25 x: matching now saves 8 % there, 32 % on
   // small-arcs.nc). Since arcs are private through any weights, their command kept within the
   // drives' speed (the same day): small-arcs.nc 6.064 s (1.27 x), cam-fillets.nc 15.588 s
-  // (1.10 x).
+  // (1.10 x); since the chain's window starts at its first weight that is not 0 (the servo's
+  // delay dropped, 60 -> 58 weights): 5.960 s (1.246 x) and 15.448 s (1.095 x), the issue's
+  // 1.25 x against the Acc/Dec plan with private arcs too.
   const std::string shared = machine_with("default-ff", "ff-shared-arcs", "private_arcs = \"off\"");
   const char* const progs[] = {"small-arcs.nc", "cam-fillets.nc"};
   for (int i = 0; i < gmtest::scaled(2); ++i) {
@@ -1052,7 +1054,7 @@ TEST_CASE(
     CAPTURE(prog, c.accdec, accdec_shared, c.on, c.off);
     CHECK(c.accdec <= accdec_shared);
     CHECK(c.on <= 1.25 * accdec_shared);
-    CHECK(c.on <= 1.3 * c.accdec);
+    CHECK(c.on <= 1.25 * c.accdec);
     CHECK(c.off > 1.05 * c.on);
     // The Acc/Dec plan does not match (its planned output is the FIR's on every axis).
     CHECK(cycle_time_s("ff-unmatched", prog, c.off_machine, " --tolerance 0.01") == c.accdec);
