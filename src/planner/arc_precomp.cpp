@@ -186,14 +186,16 @@ double ArcPrecompCheck::speed_limit_mm_s(double sweep_abs_rad, double length_mm)
 
 double ArcPrecompCheck::command_limit_mm_s(double sweep_abs_rad, double length_mm,
                                            double command_mm_s) const {
+  // The command's steady speed v/A(v·T·|θ|/L) grows with v (A falls from 1): bisection.
+  auto within = [&](double v) {
+    return v / rule_.gain(v * period_s_ * sweep_abs_rad / length_mm) <= command_mm_s;
+  };
   const double hi = speed_limit_mm_s(sweep_abs_rad, length_mm);
-  if (!(hi > 0.0) || hi / rule_.gain(hi * period_s_ * sweep_abs_rad / length_mm) <= command_mm_s)
-    return hi;
-  // v/A(v·T·|θ|/L) grows with v (A falls from 1): bisection.
+  if (!(hi > 0.0) || within(hi)) return hi;
   double lo = 0.0, up = hi;
   for (int it = 0; it < 60; ++it) {
     const double mid = 0.5 * (lo + up);
-    (mid / rule_.gain(mid * period_s_ * sweep_abs_rad / length_mm) <= command_mm_s ? lo : up) = mid;
+    (within(mid) ? lo : up) = mid;
   }
   return lo;
 }
