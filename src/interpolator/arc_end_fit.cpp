@@ -7,6 +7,8 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -308,16 +310,31 @@ std::vector<double> ArcEndFit::fit_shared(const std::vector<ArcRun>& runs,
                             jy_abs = by_distance ? jy : std::vector<double>{};
   const double n = static_cast<double>(rows + fixed.size()), reg = mu * c_unit * c_unit;
   const double fixed_top = fixed.empty() ? 0.0 : *std::max_element(fixed.begin(), fixed.end());
+  // The rows the unknowns do not reach enter every power mean as one sum: Σ (d/t0)^p =
+  // (fixed_top/t0)^p · Σ (d/fixed_top)^p, the second factor once per p (p = 2^j, j < 8). They
+  // are most of the rows (an endless run's steady part), so most of the power means' cost.
+  std::array<double, 8> fixed_scaled{};
+  if (fixed_top > 0.0)
+    for (std::size_t j = 1; j < fixed_scaled.size(); ++j)
+      for (double d : fixed) fixed_scaled[j] += power_of_two(d / fixed_top, 1 << j);
+  const auto fixed_sum = [&](int p, double t0) {
+    if (!(fixed_top > 0.0)) return 0.0;
+    return fixed_scaled[static_cast<std::size_t>(std::countr_zero(static_cast<unsigned>(p)))] *
+           power_of_two(fixed_top / t0, p);
+  };
   Vec u = Vec::Zero(static_cast<Eigen::Index>(f));
   std::vector<double> dist(rows), ex(rows), ey(rows);
   // At u: the residuals, their lengths, the largest t0 and S = mean((|r_k| / t0)^p).
   const auto evaluate = [&](const Vec& v, int p, double& t0, double& s) {
     t0 = fixed_top;
+    const double* vq = v.data();
     for (std::size_t k = 0; k < rows; ++k) {
       double x = rx[k], y = ry[k];
+      const double* ax = &jx[k * f];
+      const double* ay = &jy[k * f];
       for (std::size_t q = 0; q < f; ++q) {
-        x += jx[k * f + q] * v[static_cast<Eigen::Index>(q)];
-        y += jy[k * f + q] * v[static_cast<Eigen::Index>(q)];
+        x += ax[q] * vq[q];
+        y += ay[q] * vq[q];
       }
       ex[k] = x;
       ey[k] = y;
@@ -327,7 +344,7 @@ std::vector<double> ArcEndFit::fit_shared(const std::vector<ArcRun>& runs,
     s = 0.0;
     if (!(t0 > 0.0)) return;
     for (double d : dist) s += power_of_two(d / t0, p);
-    for (double d : fixed) s += power_of_two(d / t0, p);
+    s += fixed_sum(p, t0);
     s /= n;
   };
   // J(u) = M_p² + reg·|u|², M_p = t0·S^(1/p).
@@ -337,7 +354,7 @@ std::vector<double> ArcEndFit::fit_shared(const std::vector<ArcRun>& runs,
     const double mp = t0 * std::pow(s, 1.0 / p);
     return mp * mp + reg * v.squaredNorm();
   };
-  double jr[kMaxUnknowns];
+  double jr[kMaxUnknowns], grad_sum[kMaxUnknowns], hess_sum[kMaxUnknowns * kMaxUnknowns];
   // Minimises the power mean of |r + J·u| from p_first on, from the present u.
   const auto solve = [&](int p_first) {
     for (int p = p_first; p <= 128 && f > 0; p *= 2) {
@@ -351,22 +368,33 @@ std::vector<double> ArcEndFit::fit_shared(const std::vector<ArcRun>& runs,
         // Newton on the whole, or on H alone where the whole is not positive definite.
         const double scale = 2.0 * std::pow(s, 2.0 / p - 1.0) / n;
         const auto nf = static_cast<Eigen::Index>(f);
-        Vec grad = 2.0 * reg * u;
-        Mat hess = Mat::Zero(nf, nf);
-        hess.diagonal().array() += 2.0 * reg;
+        // The sums in plain arrays (hess_sum: the lower triangle, row a at a·f), then Eigen's.
+        for (std::size_t a = 0; a < f; ++a) {
+          grad_sum[a] = 2.0 * reg * u[static_cast<Eigen::Index>(a)];
+          for (std::size_t b = 0; b <= a; ++b) hess_sum[a * f + b] = a == b ? 2.0 * reg : 0.0;
+        }
         for (std::size_t k = 0; k < rows; ++k) {
           if (!(dist[k] > 0.0)) continue;
-          const double rho = dist[k] / t0, w = scale * power_of_two(rho, p) / (rho * rho);
+          // A row whose ρ^p is below 10⁻²⁰ of the worst's (ρ = 1) is below the sums' rounding.
+          const double rho = dist[k] / t0, rho_p = power_of_two(rho, p);
+          if (rho_p < 1e-20) continue;
+          const double w = scale * rho_p / (rho * rho);
           const double* ax = &jx[k * f];
           const double* ay = &jy[k * f];
           for (std::size_t q = 0; q < f; ++q) jr[q] = ax[q] * ex[k] + ay[q] * ey[k];
           const double w2 = w * (p - 2.0) / (dist[k] * dist[k]);
           for (std::size_t a = 0; a < f; ++a) {
-            grad[static_cast<Eigen::Index>(a)] += w * jr[a];
+            grad_sum[a] += w * jr[a];
             for (std::size_t b = 0; b <= a; ++b)
-              hess(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) +=
-                  w * (ax[a] * ax[b] + ay[a] * ay[b]) + w2 * jr[a] * jr[b];
+              hess_sum[a * f + b] += w * (ax[a] * ax[b] + ay[a] * ay[b]) + w2 * jr[a] * jr[b];
           }
+        }
+        Vec grad(nf);
+        Mat hess(nf, nf);
+        for (std::size_t a = 0; a < f; ++a) {
+          grad[static_cast<Eigen::Index>(a)] = grad_sum[a];
+          for (std::size_t b = 0; b <= a; ++b)
+            hess(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) = hess_sum[a * f + b];
         }
         hess.template triangularView<Eigen::StrictlyUpper>() = hess.transpose();
         const Vec g_mp = grad - 2.0 * reg * u;
@@ -396,9 +424,10 @@ std::vector<double> ArcEndFit::fit_shared(const std::vector<ArcRun>& runs,
   // around the result. The unknowns with the least worst true distance are kept.
   const auto output = [&](const Vec& v, std::size_t k) {
     EndVec y{yb_x[k], yb_y[k]};
+    const double* vq = v.data();
     for (std::size_t q = 0; q < f; ++q) {
-      y.x += jx_abs[k * f + q] * v[static_cast<Eigen::Index>(q)];
-      y.y += jy_abs[k * f + q] * v[static_cast<Eigen::Index>(q)];
+      y.x += jx_abs[k * f + q] * vq[q];
+      y.y += jy_abs[k * f + q] * vq[q];
     }
     return y;
   };
@@ -411,6 +440,7 @@ std::vector<double> ArcEndFit::fit_shared(const std::vector<ArcRun>& runs,
   Vec best = u;
   double best_worst = worst_distance(u);
   for (int pass = 0; pass < kDistancePasses; ++pass) {
+    const double* uq = u.data();
     for (std::size_t k = 0; k < rows; ++k) {
       const auto [d, g] = prepared[row_run[k]].distance(output(u, k), row_sbar[k]);
       double gju = 0.0;
@@ -418,7 +448,7 @@ std::vector<double> ArcEndFit::fit_shared(const std::vector<ArcRun>& runs,
         const double gj = g.x * jx_abs[k * f + q] + g.y * jy_abs[k * f + q];
         jx[k * f + q] = g.x * gj;
         jy[k * f + q] = g.y * gj;
-        gju += gj * u[static_cast<Eigen::Index>(q)];
+        gju += gj * uq[q];
       }
       rx[k] = g.x * (d - gju);
       ry[k] = g.y * (d - gju);

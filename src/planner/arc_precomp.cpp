@@ -220,12 +220,12 @@ void ArcPrecompCheck::window_output(std::size_t head, Eigen::Vector2d& y, double
   // all the compiler knows).
   const std::size_t n = h_.size();
   const double* h = h_.data();
-  const Eigen::Vector2d* x = ring_.data() + head;
+  const double* x = ring_[head].data();  // x then y of each slot, in a row
   const double* p = ring_p_.data() + head;
   double yx = 0.0, yy = 0.0, pb = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
-    yx += h[i] * x[i].x();
-    yy += h[i] * x[i].y();
+    yx += h[i] * x[2 * i];
+    yy += h[i] * x[2 * i + 1];
     pb += h[i] * p[i];
   }
   y = Eigen::Vector2d(yx, yy);
