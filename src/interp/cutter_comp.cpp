@@ -195,10 +195,11 @@ bool move_end_and_flush(BlockCtx& ctx, P2 p) {
 }
 
 // Feed of this block's compensated moves: G94 the modal feed; G93 the rate that makes the
-// programmed (uncompensated) path take 1/F minutes (LinuxCNC inverse_time_rate_*).
-double block_feed(const BlockCtx& ctx, double programmed_len_mm) {
-  if (!ctx.s.inverse_time) return ctx.s.feed_mm_min;
-  return std::max(0.1 * ctx.scale(), programmed_len_mm * ctx.inverse_f);
+// programmed (uncompensated) path take 1/F minutes (LinuxCNC inverse_time_rate_*), false with
+// the error where it is out of range.
+bool block_feed(BlockCtx& ctx, double programmed_len_mm, double& feed) {
+  feed = ctx.s.feed_mm_min;
+  return !ctx.s.inverse_time || inverse_time_feed(ctx, programmed_len_mm, feed);
 }
 
 CompQueued straight_item(const BlockCtx& ctx, MotionKind kind, const Pos9& end, double feed,
@@ -413,7 +414,8 @@ bool comp_straight_entry(BlockCtx& ctx, MotionKind kind, const Pos9& target, P2 
   set_endpoint(cc, c);
   const Pos9 end = with_plane(target, ax, e);
   Pos9 prog_from = s.position_mm;
-  const double feed = block_feed(ctx, (target - prog_from).norm());
+  double feed;
+  if (!block_feed(ctx, (target - prog_from).norm(), feed)) return false;
   if (!enqueue(ctx, straight_item(ctx, kind, end, feed, std::cos(alpha), std::sin(alpha))))
     return false;
   cc.first_move = false;
@@ -471,7 +473,8 @@ bool comp_straight(BlockCtx& ctx, MotionKind kind, const Pos9& target) {
   if (cc.first_move) return comp_straight_entry(ctx, kind, target, c, p);
 
   const P2 o{cc.prog_a, cc.prog_b};
-  const double feed = block_feed(ctx, (target - comp_program_point(ctx)).norm());
+  double feed;
+  if (!block_feed(ctx, (target - comp_program_point(ctx)).norm(), feed)) return false;
   if (p == o) {  // no motion in the plane: the tool keeps its offset point
     const Pos9 end = with_plane(target, ax, c);
     if (!enqueue(ctx, straight_item(ctx, kind, end, feed, 0.0, 0.0))) return false;
@@ -528,15 +531,15 @@ bool programmed_centre(BlockCtx& ctx, const Code& code, const Pos9& from, const 
 }
 
 // The feed of the compensated moves of an arc block: block_feed of the programmed arc.
-double arc_block_feed(const BlockCtx& ctx, const Pos9& from, const Pos9& target,
-                      const Pos9& centre9, bool ccw, int turns) {
+bool arc_block_feed(BlockCtx& ctx, const Pos9& from, const Pos9& target, const Pos9& centre9,
+                    bool ccw, int turns, double& feed) {
   Motion prog = motion_template(ctx, MotionKind::Arc);
   prog.start_mm = to_machine(from, ctx.machine.layout);
   prog.end_mm = to_machine(target, ctx.machine.layout);
   prog.center_mm = to_machine(centre9, ctx.machine.layout);
   prog.ccw = ccw;
   prog.turns = turns;
-  return block_feed(ctx, motion_length_mm(prog));
+  return block_feed(ctx, motion_length_mm(prog), feed);
 }
 
 // What both arc moves under compensation start from: the plane, the tool radius, the signed
@@ -580,7 +583,8 @@ bool comp_arc_entry(BlockCtx& ctx, const Code& code, const Pos9& target, int tur
   const P2 centre = in_plane(centre9, ax);
   if (!ctx.w.has('R') && tool_inside && dist(centre, c) <= r)
     return tool_too_large(ctx, "the arc radius", dist(centre, c));
-  const double feed = arc_block_feed(ctx, s.position_mm, target, centre9, ccw, turns);
+  double feed;
+  if (!arc_block_feed(ctx, s.position_mm, target, centre9, ccw, turns, feed)) return false;
   const double gamma = tool_inside ? angle(e, centre) : angle(centre, e);
   cc.first_move = false;
   cc.prog_a = e.a;
@@ -677,7 +681,8 @@ bool comp_arc(BlockCtx& ctx, const Code& code, const Pos9& target, int turns,
   Pos9 centre9;
   if (!programmed_centre(ctx, code, o9, target, centre_mm, centre9)) return false;
   const P2 centre = in_plane(centre9, ax);
-  const double feed = arc_block_feed(ctx, o9, target, centre9, ccw, turns);
+  double feed;
+  if (!arc_block_feed(ctx, o9, target, centre9, ccw, turns, feed)) return false;
 
   const double arc_radius = dist(centre, e);
   const double theta = angle(o, c) - cc.side * kPi / 2;  // direction of the previous move

@@ -125,6 +125,10 @@ bool run_rigid_tap(BlockCtx&, const Code&);  ///< G33.1
 /// block's spindle speed (G97) or surface speed (G96); its feed_mm_min is the feed at its start
 /// (mo.start_mm must be set; the compensation queue sets it again when it emits the move).
 void set_spindle_feed(const BlockCtx& ctx, Motion& mo, double mm_per_rev);
+/// G93's rate for a move of `length_mm` (LinuxCNC interp_inverse.cc: max(0.1, length × F) in
+/// program units a minute), false with the error where it passes kMaxFeedMmMin. Compensated moves
+/// take the rate of their programmed path (cutter_comp.cpp).
+bool inverse_time_feed(BlockCtx& ctx, double length_mm, double& feed_mm_min);
 bool run_lathe_mode(BlockCtx&, const Code&);
 bool run_g92(BlockCtx&, const Code&);
 bool run_g92_x(BlockCtx&, const Code&);  ///< G92.1 G92.2 G92.3

@@ -50,16 +50,20 @@ bool set_feed(BlockCtx& ctx, Motion& mo) {
     return true;
   }
   const double length_mm = motion_length_mm(mo);
-  mo.feed_mm_min = std::max(0.1 * ctx.scale(), length_mm * ctx.inverse_f);
+  if (!inverse_time_feed(ctx, length_mm, mo.feed_mm_min)) return false;
   mo.inverse_time_s = units::kSecondsPerMinute * length_mm / mo.feed_mm_min;
-  if (!within(mo.feed_mm_min, kMaxFeedMmMin))
-    return ctx.fail(ErrorCode::ValueOutOfRange, ctx.w['F']->loc,
-                    fmt::format("G93 F{:g} over {:g} mm is {:g} mm/min, beyond {:g} mm/min",
-                                ctx.inverse_f, length_mm, mo.feed_mm_min, kMaxFeedMmMin));
   return true;
 }
 
 }  // namespace
+
+bool inverse_time_feed(BlockCtx& ctx, double length_mm, double& feed_mm_min) {
+  feed_mm_min = std::max(0.1 * ctx.scale(), length_mm * ctx.inverse_f);
+  if (within(feed_mm_min, kMaxFeedMmMin)) return true;
+  return ctx.fail(ErrorCode::ValueOutOfRange, ctx.w['F']->loc,
+                  fmt::format("G93 F{:g} over {:g} mm is {:g} mm/min, beyond {:g} mm/min",
+                              ctx.inverse_f, length_mm, feed_mm_min, kMaxFeedMmMin));
+}
 
 void set_spindle_feed(const BlockCtx& ctx, Motion& mo, double mm_per_rev) {
   const ModalState& s = ctx.s;

@@ -258,6 +258,13 @@ TEST_CASE("one test per block error: code and line:col") {
       {"G91 G0 X600000000000\nX600000000000\nM2\n", ErrorCode::ValueOutOfRange, 2, 1},
       {"G1 F10000000000000\nM2\n", ErrorCode::ValueOutOfRange, 1, 4},
       {"G93 G1 X10 F1000000000000\nM2\n", ErrorCode::ValueOutOfRange, 1, 12},
+      // Under cutter compensation too (the rate of the programmed path; fuzz_program found inf).
+      {"T1 M6\nG0 X-8 Y0\nG42 G1 X0 Y0 F400\nG93 G1 X10 F1000000000000\nM2\n",
+       ErrorCode::ValueOutOfRange, 4, 12},
+      {"T1 M6\nG0 X-8 Y0\nG42 G1 X0 Y0 F400\nG1 X5\nG93 G2 X15 Y0 I5 J0 F1000000000000\nM2\n",
+       ErrorCode::ValueOutOfRange, 5, 21},
+      {"T1 M6\nG0 X-8 Y0\nG93 G42 G1 X0 Y0 F1000000000000\nM2\n", ErrorCode::ValueOutOfRange, 3,
+       18},
       {"G1 F100\nG2 X1 R1000000000001\nM2\n", ErrorCode::ValueOutOfRange, 2, 7},
       {"G1 X1 N5 F1\nM2\n", ErrorCode::LineNumberNotFirst, 1, 7},
       {"M50 P2\nM2\n", ErrorCode::BadPWord, 1, 5},
