@@ -86,13 +86,17 @@ struct Outcome {
   std::int64_t planned_vertices = 0;  ///< vertices with a capped piece or a pause beside them
   std::int64_t compensated_arcs = 0;  ///< arcs handed on pre-compensated
   std::int64_t chained_blocks = 0;    ///< blocks handed on as a chain's arc after its first
+  std::int64_t line_first_k = -1;     ///< the first and last sample the interpolator spent in
+  std::int64_t line_last_k = -1;      ///< run_program's `watch_line` (-1: none)
 };
 
 // Runs `text` through planner and pipeline, the servo off, or on with the tolerance planned
 // for the table (tolerance_on = encoder: FIR + servo chain, one BLU allowed over); `ovr(k)`
-// gives the feed and rapid override of sample k.
+// gives the feed and rapid override of sample k; `watch_line`: a source line whose first and last
+// sample are recorded.
 template <class Ovr>
-Outcome run_program(const std::string& text, const gm::Machine& m, Ovr ovr, bool encoder = false) {
+Outcome run_program(const std::string& text, const gm::Machine& m, Ovr ovr, bool encoder = false,
+                    int watch_line = -1) {
   std::istringstream in(text);
   gm::InterpreterOptions opts;
   opts.machine = &m;
@@ -121,8 +125,13 @@ Outcome run_program(const std::string& text, const gm::Machine& m, Ovr ovr, bool
   gm::SampleRecord rec;
   gm::PipelineStatus st;
   std::int64_t k = 0;
-  while ((st = p.step(ovr(k++), rec)) == gm::PipelineStatus::Working)
+  while ((st = p.step(ovr(k++), rec)) == gm::PipelineStatus::Working) {
     o.check.add(rec, p.started_motion());
+    if (rec.line == watch_line) {
+      if (o.line_first_k < 0) o.line_first_k = rec.k;
+      o.line_last_k = rec.k;
+    }
+  }
   o.finished = st == gm::PipelineStatus::Finished;
   o.cycle_s = rec.t_s + m.period_s;
   o.end_exact = rec.ref_blu == p.program_end_blu() && rec.cmd_blu == p.program_end_blu();
@@ -1059,6 +1068,54 @@ TEST_CASE(
     // The Acc/Dec plan does not match (its planned output is the FIR's on every axis).
     CHECK(cycle_time_s("ff-unmatched", prog, c.off_machine, " --tolerance 0.01") == c.accdec);
   }
+}
+
+TEST_CASE("a feed hold at a private arc's ends, planned for the feedforward machine's table") {
+  // An R 4 quarter between two 30 mm lines at F3000 under P0.01, planned for default-ff.toml's
+  // table (FIR and servo chain): the arc has nothing else within its window's reach, so it is
+  // private (docs/tolerance-arc-ends.md, "Private arcs") and commanded with the rows fitted for
+  // the distance, whose offsets along the path hold only for the speeds they were fitted for.
+  // A feed hold (the override to 0 for 5 samples or for the chain's window, then back to 100 %)
+  // begun at every third sample from before the arc to a window past its end, through the real
+  // interpolator, Acc/Dec, servos and encoders: every sample within P + 1 BLU, the program's end
+  // exact. (test_arc_precomp.cpp's hold test runs the FIR alone.)
+  const gm::Machine ff = feedforward_machine();
+  gm::Machine shared = ff;
+  shared.private_arcs = false;
+  const std::string text =
+      "G21 G90 G17 G64 P0.01\nG0 X0 Y0\nG1 X30 F3000\nG3 X34 Y4 I0 J4\nG1 Y34\nM2\n";
+  const Outcome alone = run_program(text, ff, full, true, 4);
+  REQUIRE(alone.finished);
+  REQUIRE(alone.compensated_arcs == 1);
+  REQUIRE(alone.line_first_k > 0);
+  // Private, it is faster than sharing its windows (else the holds below test the shared rows).
+  CHECK(alone.cycle_s < run_program(text, shared, full, true).cycle_s);
+  const auto window = static_cast<std::int64_t>(gm::plan_chain(ff, true).weights.size());
+  int runs = 0, longer = 0;  // runs, and those the hold made longer (a short one ramps: it may not)
+  double worst = 0.0;
+  for (const std::int64_t samples : {std::int64_t{5}, window})
+    for (std::int64_t from = alone.line_first_k - 10; from <= alone.line_last_k + window;
+         from += 3) {
+      const auto hold = [&](std::int64_t k) {
+        gm::OverrideInput o;
+        if (k >= from && k < from + samples) o.feed_scale = 0.0;
+        return o;
+      };
+      const Outcome o = run_program(text, ff, hold, true);
+      CAPTURE(samples, from, alone.line_first_k, alone.line_last_k);
+      REQUIRE(o.finished);
+      CHECK(o.end_exact);
+      CHECK(o.check.cutting().over == 0);
+      CHECK(o.cycle_s >= alone.cycle_s);
+      longer += o.cycle_s > alone.cycle_s;
+      worst = std::max(worst, o.check.cutting().ratio);
+      ++runs;
+    }
+  CAPTURE(runs, longer, worst);
+  WARN(runs << " holds, " << longer << " longer, worst " << worst);
+  CHECK(runs > 40);
+  CHECK(longer > runs / 2);
+  CHECK(worst > 0.5);  // the holds run where the error is
 }
 
 TEST_CASE("planned for overrides up to 100 %, cam-fillets.nc is no slower than planned for 200 %") {
