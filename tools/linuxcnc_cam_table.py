@@ -14,12 +14,14 @@ not in CI (each LinuxCNC session takes its cycle time plus about 10 s):
 
   /usr/bin/python3 tools/linuxcnc_cam_table.py [--modes P0.01 P0.05 G61 G64]
       [--accel 610 1750] [--programs NAME ...] [--repeat 1] [--gmotion PATH]
-      [--max-override 100]
+      [--max-override 100] [--tau 0.164]
 
 Both planners plan for the same largest feed override, `--max-override` percent (100: LinuxCNC's
 default when its INI has no [DISPLAY]MAX_FEED_OVERRIDE; gmotion's built-in machine says 200):
 LinuxCNC's MAX_FEED_OVERRIDE and gmotion's `max_override_percent` (tools/linuxcnc_headless/
-run.py, `gmotion_machine`). The G61.1 column is gmotion on the same machine.
+run.py, `gmotion_machine`). The G61.1 column is gmotion on the same machine. `--tau S` runs
+gmotion with an Acc/Dec filter S seconds long instead of the built-in 0.164 s (its mean ramp
+acceleration to 100 mm/s is then 100/S mm/s², the `--accel` to compare it with).
 
 Modes: `P<tol>` is `G64 P<tol>`, `G64` is G64 without P (unbounded), `G61` is LinuxCNC's exact
 path (gmotion's G61 is the same: docs/tolerance.md, "G61: exact path"), `G61.1` exact stop.
@@ -188,6 +190,9 @@ def main():
     ap.add_argument("--gmotion", default=os.path.join(TOP, "build", "bin", "gmotion"))
     ap.add_argument("--max-override", type=float, default=100.0,
                     help="the largest feed override both planners plan for, percent")
+    ap.add_argument("--tau", type=float, default=None,
+                    help="gmotion's Acc/Dec filter length, s (default the built-in machine's "
+                    "0.164; its mean ramp acceleration to 100 mm/s is 100/tau mm/s2)")
     a = ap.parse_args()
     modes = a.modes or ([f"P{t:g}" for t in a.tol] if a.tol else MODES)
     for m in modes:
@@ -207,7 +212,7 @@ def main():
     tmp = tempfile.mkdtemp(prefix="lcnc-cam.")
     os.chmod(tmp, 0o755)
     rows, notes, counter, version = [], [], [0], ""
-    machine = headless.gmotion_machine(a.max_override, tmp)
+    machine = headless.gmotion_machine(a.max_override, tmp, a.tau)
     for name in a.programs:
         label = os.path.basename(source_of(name)[0])
         if not a.no_g611:
@@ -228,7 +233,8 @@ def main():
             print(rows[-1], file=sys.stderr, flush=True)
     print(f"\nLinuxCNC {version}, servo 1 ms, median of {a.repeat} run(s); "
           "gmotion run --no-servo --check-tolerance; both planned for overrides up to "
-          f"{a.max_override:g} %\n")
+          f"{a.max_override:g} %" + ("" if a.tau is None else f"; gmotion's tau {a.tau:g} s")
+          + "\n")
     print("| program | mode | " + " | ".join(f"LinuxCNC a {acc:g}: time, error" for acc in a.accel)
           + " | gmotion: time, error, samples over P |"
           + ("" if a.no_g611 else " gmotion G61.1: time |"))

@@ -172,15 +172,21 @@ def measure(rows, info, segs):
             "cycles": last - first + 1, "version": info.get("version", "")}
 
 
-def gmotion_machine(max_override, tmp):
+def gmotion_machine(max_override, tmp, tau_s=None):
     """The built-in machine (programs/machines/default.toml) planned for feed overrides up to
-    max_override percent, written to tmp; its path."""
+    max_override percent, and with its Acc/Dec filter `tau_s` long when given (its [accdec]
+    tau_s, 0.164 s, otherwise), written to tmp; its path."""
     text = open(os.path.join(TOP, "programs", "machines", "default.toml")).read()
     text, n = re.subn(r"(?m)^max_override_percent\s*=\s*[0-9.]+",
                       f"max_override_percent = {max_override:g}", text)
     if n != 1:
         sys.exit("run.py: no max_override_percent line in programs/machines/default.toml")
-    path = os.path.join(tmp, f"machine-{max_override:g}.toml")
+    if tau_s is not None:
+        text, n = re.subn(r"(?m)^tau_s\s*=\s*[0-9.]+", f"tau_s = {tau_s:g}", text)
+        if n != 1:
+            sys.exit("run.py: no tau_s line in programs/machines/default.toml")
+    path = os.path.join(tmp, f"machine-{max_override:g}" +
+                        ("" if tau_s is None else f"-tau{tau_s:g}") + ".toml")
     with open(path, "w") as f:
         f.write(text)
     return path
